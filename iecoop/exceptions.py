@@ -1,0 +1,135 @@
+"""Runtime faults and definition errors.
+
+``PlcException`` is what a PLC raises at run time (ST: the exception caught by
+``__TRY ... __CATCH(exc)``); its ``.code`` is an ``ExceptionCode``
+(``__SYSTEM.ExceptionCode``). ``DefinitionError`` is the analog of a compile
+error and ``AccessError`` of a forbidden access.
+
+>>> try:
+...     raise PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, "INT division by zero")
+... except PlcException as exc:
+...     print(exc.code.name, hex(exc.code))
+RTSEXCPT_DIVIDEBYZERO 0x102
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+__all__ = [
+    "AccessError",
+    "DefinitionError",
+    "ExceptionCode",
+    "IecError",
+    "PlcException",
+    "TryBlock",
+    "try_catch",
+]
+
+
+class ExceptionCode(enum.IntEnum):
+    """``__SYSTEM.ExceptionCode`` (a UDINT enum, identical in TwinCAT 3 and CODESYS)."""
+
+    RTSEXCPT_NOEXCEPTION = 0x00000000
+    RTSEXCPT_WATCHDOG = 0x10
+    RTSEXCPT_HARDWAREWATCHDOG = 0x11
+    RTSEXCPT_IO_CONFIG_ERROR = 0x12
+    RTSEXCPT_PROGRAMCHECKSUM = 0x13
+    RTSEXCPT_FIELDBUS_ERROR = 0x14
+    RTSEXCPT_IOUPDATE_ERROR = 0x15
+    RTSEXCPT_CYCLE_TIME_EXCEED = 0x16
+    RTSEXCPT_ONLCHANGE_PROGRAM_EXCEEDED = 0x17
+    RTSEXCPT_UNRESOLVED_EXTREFS = 0x18
+    RTSEXCPT_DOWNLOAD_REJECTED = 0x19
+    RTSEXCPT_BOOTPROJECT_REJECTED_DUE_RETAIN_ERROR = 0x1A
+    RTSEXCPT_LOADBOOTPROJECT_FAILED = 0x1B
+    RTSEXCPT_OUT_OF_MEMORY = 0x1C
+    RTSEXCPT_RETAIN_MEMORY_ERROR = 0x1D
+    RTSEXCPT_BOOTPROJECT_CRASH = 0x1E
+    RTSEXCPT_BOOTPROJECTTARGETMISMATCH = 0x21
+    RTSEXCPT_SCHEDULEERROR = 0x22
+    RTSEXCPT_FILE_CHECKSUM_ERR = 0x23
+    RTSEXCPT_RETAIN_IDENTITY_MISMATCH = 0x24
+    RTSEXCPT_IEC_TASK_CONFIG_ERROR = 0x25
+    RTSEXCPT_APP_TARGET_MISMATCH = 0x26
+    RTSEXCPT_ILLEGAL_INSTRUCTION = 0x50
+    RTSEXCPT_ACCESS_VIOLATION = 0x51
+    RTSEXCPT_PRIV_INSTRUCTION = 0x52
+    RTSEXCPT_IN_PAGE_ERROR = 0x53
+    RTSEXCPT_STACK_OVERFLOW = 0x54
+    RTSEXCPT_INVALID_DISPOSITION = 0x55
+    RTSEXCPT_INVALID_HANDLE = 0x56
+    RTSEXCPT_GUARD_PAGE = 0x57
+    RTSEXCPT_DOUBLE_FAULT = 0x58
+    RTSEXCPT_INVALID_OPCODE = 0x59
+    RTSEXCPT_MISALIGNMENT = 0x100
+    RTSEXCPT_ARRAYBOUNDS = 0x101
+    RTSEXCPT_DIVIDEBYZERO = 0x102
+    RTSEXCPT_OVERFLOW = 0x103
+    RTSEXCPT_NONCONTINUABLE = 0x104
+    RTSEXCPT_PROCESSORLOAD_WATCHDOG = 0x105
+    RTSEXCPT_FPU_ERROR = 0x150
+    RTSEXCPT_FPU_DENORMAL_OPERAND = 0x151
+    RTSEXCPT_FPU_DIVIDEBYZERO = 0x152
+    RTSEXCPT_FPU_INEXACT_RESULT = 0x153
+    RTSEXCPT_FPU_INVALID_OPERATION = 0x154
+    RTSEXCPT_FPU_OVERFLOW = 0x155
+    RTSEXCPT_FPU_STACK_CHECK = 0x156
+    RTSEXCPT_FPU_UNDERFLOW = 0x157
+    RTSEXCPT_BREAKPOINT = 0x200
+    RTSEXCPT_UNKNOWN = 0xFFFFFFFF
+
+
+class IecError(Exception):
+    """Base of every error iecoop raises on purpose."""
+
+
+class PlcException(IecError):
+    """A runtime fault (ST: ``__CATCH(exc)``); ``.code`` is the ExceptionCode."""
+
+    def __init__(self, code: ExceptionCode, message: str = "") -> None:
+        self.code = ExceptionCode(code)
+        self.message = message
+        text = f"{self.code.name} (16#{int(self.code):X})"
+        super().__init__(f"{text}: {message}" if message else text)
+
+
+class DefinitionError(IecError, TypeError):
+    """A class breaks an IEC 61131-3 rule: the analog of a compile error."""
+
+
+class AccessError(IecError):
+    """A member was used from where its access specifier or VAR section forbids it."""
+
+
+class TryBlock:
+    """What ``try_catch`` caught: ``.code`` is RTSEXCPT_NOEXCEPTION when nothing was raised."""
+
+    __slots__ = ("code", "exception")
+
+    def __init__(self) -> None:
+        self.code: ExceptionCode = ExceptionCode.RTSEXCPT_NOEXCEPTION
+        self.exception: PlcException | None = None
+
+
+@contextmanager
+def try_catch() -> Iterator[TryBlock]:
+    """``__TRY ... __CATCH(exc) ... __ENDTRY``: a runtime fault skips the rest of the block.
+
+    ZeroDivisionError is caught as RTSEXCPT_DIVIDEBYZERO, as the PLC would.
+
+    >>> with try_catch() as exc:
+    ...     x = 1 // 0
+    >>> exc.code.name
+    'RTSEXCPT_DIVIDEBYZERO'
+    """
+    block = TryBlock()
+    try:
+        yield block
+    except PlcException as exc:
+        block.code, block.exception = exc.code, exc
+    except ZeroDivisionError as exc:
+        fault = PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, str(exc))
+        block.code, block.exception = fault.code, fault
