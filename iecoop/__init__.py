@@ -1,6 +1,12 @@
 """iecoop: IEC 61131-3 object-oriented PLC code as type-checked Python."""
 
+from iecoop.declarations import VAR, VAR_EXTERNAL, VAR_IN_OUT, VAR_INPUT, VAR_INST, VAR_OUTPUT, VAR_STAT, VAR_TEMP
 from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException, try_catch
+from iecoop.literals import D, T
+from iecoop.memory import (
+    ARRAY, POINTER_TO, REFERENCE_TO, TYPE_CLASS, Alias, IecEnum, NullInterface, Pointer, Struct, Union, VarInfo,
+    adr, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
+)
 from iecoop.profiles import Profile, active_profile, use_profile
 from iecoop.types import (
     BOOL, BYTE, DATE, DINT, DT, DWORD, INT, LINT, LREAL, LTIME, LWORD, REAL, SINT, STRING, TIME, TOD,
@@ -8,6 +14,9 @@ from iecoop.types import (
 )
 
 __all__ = [
+    "ARRAY", "Alias", "D", "IecEnum", "NullInterface", "POINTER_TO", "Pointer", "REFERENCE_TO", "Struct", "T",
+    "TYPE_CLASS", "Union", "VAR", "VAR_EXTERNAL", "VAR_INPUT", "VAR_INST", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_STAT",
+    "VAR_TEMP", "VarInfo", "adr", "is_valid_ref", "memcmp", "memcpy", "memset", "ref_assign", "sizeof", "var_info",
     "AccessError", "BOOL", "BYTE", "DATE", "DINT", "DT", "DWORD", "DefinitionError", "ExceptionCode",
     "INT", "LINT", "LREAL", "LTIME", "LWORD", "PlcException", "Profile", "REAL", "SINT", "STRING",
     "TIME", "TOD", "UDINT", "UINT", "ULINT", "USINT", "WORD", "WSTRING", "active_profile",

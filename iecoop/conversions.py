@@ -1,0 +1,662 @@
+"""Type conversions (``TO_INT``, ``REAL_TO_INT`` ...) and IEC integer division (DIV, MOD).
+
+A conversion returns what a variable of the target type holds afterwards:
+
+* a float becomes an integer by rounding to the nearest value. The vendors do
+  not document the rule for an exact .5 (UNCONFIRMED), so it is the setting
+  ``active_profile().round_tie``: "even" in both vendor profiles, as x64 SSE
+  conversion does, or "away" from zero. NaN and infinity raise
+  RTSEXCPT_FPU_INVALID_OPERATION;
+* the integer is then stored as the target stores it, modulo 2^n. A value out
+  of the target's range is undefined on a PLC (platform dependent, may even
+  fault); the emulation wraps, which is what an integer store does;
+* to REAL the value is rounded to the nearest 32-bit float; to BOOL it is
+  ``x <> 0``.
+
+A source-named form (``REAL_TO_INT``, ``WORD_TO_INT``) first takes its argument
+as the source type holds it, so ``REAL_TO_INT`` sees the 32-bit value and
+``WORD_TO_INT(65535)`` reads the WORD's bits as an INT.
+
+DIV truncates toward zero and MOD takes the sign of the dividend (C semantics,
+as the PLCs' native code); dividing by zero raises a PlcException, as TwinCAT
+does.
+
+ST: ``iValue := REAL_TO_INT(rValue);``  Python: ``self.iValue = REAL_TO_INT(self.rValue)``
+
+>>> REAL_TO_INT(1.5), REAL_TO_INT(-1.5), REAL_TO_INT(2.5), TO_USINT(300)
+(2, -2, 2, 44)
+>>> DIV(-7, 2), MOD(-7, 2), WORD_TO_INT(65535)
+(-3, -1, -1)
+>>> DIV(1, 0)
+Traceback (most recent call last):
+    ...
+iecoop.exceptions.PlcException: RTSEXCPT_DIVIDEBYZERO (16#102): DIV(1, 0): integer division by zero
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Final, overload
+
+from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.profiles import active_profile
+from iecoop.types import (
+    BOOL_T,
+    BYTE_T,
+    DINT_T,
+    DWORD_T,
+    INT_T,
+    LINT_T,
+    LREAL_T,
+    LTIME_T,
+    LWORD_T,
+    REAL_T,
+    SINT_T,
+    TIME_T,
+    UDINT_T,
+    UINT_T,
+    ULINT_T,
+    USINT_T,
+    WORD_T,
+    ElementaryType,
+)
+
+__all__ = [
+    "BOOL_TO_INT",
+    "DINT_TO_DWORD",
+    "DINT_TO_LREAL",
+    "DINT_TO_REAL",
+    "DINT_TO_TIME",
+    "DIV",
+    "DWORD_TO_DINT",
+    "INT_TO_BOOL",
+    "INT_TO_BYTE",
+    "INT_TO_LREAL",
+    "INT_TO_REAL",
+    "INT_TO_UINT",
+    "INT_TO_WORD",
+    "LREAL_TO_BOOL",
+    "LREAL_TO_BYTE",
+    "LREAL_TO_DINT",
+    "LREAL_TO_DWORD",
+    "LREAL_TO_INT",
+    "LREAL_TO_LINT",
+    "LREAL_TO_LTIME",
+    "LREAL_TO_LWORD",
+    "LREAL_TO_REAL",
+    "LREAL_TO_SINT",
+    "LREAL_TO_TIME",
+    "LREAL_TO_UDINT",
+    "LREAL_TO_UINT",
+    "LREAL_TO_ULINT",
+    "LREAL_TO_USINT",
+    "LREAL_TO_WORD",
+    "LTIME_TO_TIME",
+    "MOD",
+    "REAL_TO_BOOL",
+    "REAL_TO_BYTE",
+    "REAL_TO_DINT",
+    "REAL_TO_DWORD",
+    "REAL_TO_INT",
+    "REAL_TO_LINT",
+    "REAL_TO_LREAL",
+    "REAL_TO_LTIME",
+    "REAL_TO_LWORD",
+    "REAL_TO_SINT",
+    "REAL_TO_TIME",
+    "REAL_TO_UDINT",
+    "REAL_TO_UINT",
+    "REAL_TO_ULINT",
+    "REAL_TO_USINT",
+    "REAL_TO_WORD",
+    "TIME_TO_DINT",
+    "TIME_TO_LTIME",
+    "TO_BOOL",
+    "TO_BYTE",
+    "TO_DINT",
+    "TO_DWORD",
+    "TO_INT",
+    "TO_LINT",
+    "TO_LREAL",
+    "TO_LTIME",
+    "TO_LWORD",
+    "TO_REAL",
+    "TO_SINT",
+    "TO_TIME",
+    "TO_UDINT",
+    "TO_UINT",
+    "TO_ULINT",
+    "TO_USINT",
+    "TO_WORD",
+    "TRUNC",
+    "TRUNC_INT",
+    "UINT_TO_INT",
+    "WORD_TO_INT",
+]
+
+Number = int | float | bool
+
+# Above 2^53 a Python int -> float conversion already rounds, and rounding that
+# double again to 24 bits can land on the wrong float32 (double rounding).
+_EXACT_IN_DOUBLE: Final = 1 << 53
+_REAL_MANTISSA_BITS: Final = 24
+_NS_PER_MS: Final = 1_000_000
+
+
+# --- the engine ------------------------------------------------------------------------------
+
+
+def _round_to_int(x: float, op: str) -> int:
+    """``x`` rounded to the nearest integer, ties per the active profile."""
+    if math.isnan(x) or math.isinf(x):
+        raise PlcException(
+            ExceptionCode.RTSEXCPT_FPU_INVALID_OPERATION, f"{op}({x}): {x} has no integer value"
+        )
+    low = math.floor(x)
+    # x - low is exact for a float, so the tie test below is exact too.
+    rest = x - low
+    if rest > 0.5:
+        return low + 1
+    if rest < 0.5:
+        return low
+    if active_profile().round_tie == "even":
+        return low if low % 2 == 0 else low + 1
+    return low + 1 if x > 0 else low
+
+
+def _to_integer(x: Number, target: ElementaryType, op: str) -> int:
+    value = _round_to_int(x, op) if isinstance(x, float) else int(x)
+    return int(target.store(value))
+
+
+def _int_to_real(n: int) -> float:
+    """The float32 nearest to ``n``, rounded once, half to even (as cvtsi2ss does)."""
+    if -_EXACT_IN_DOUBLE <= n <= _EXACT_IN_DOUBLE:
+        return float(REAL_T.store(n))
+    magnitude = abs(n)
+    if magnitude.bit_length() > 128:
+        return math.copysign(math.inf, n)
+    shift = magnitude.bit_length() - _REAL_MANTISSA_BITS
+    kept, dropped = divmod(magnitude, 1 << shift)
+    half = 1 << (shift - 1)
+    if dropped > half or (dropped == half and kept & 1):
+        kept += 1
+    # kept has at most 25 bits, so ldexp is exact; REAL's store maps 2^128 to infinity.
+    return float(REAL_T.store(math.copysign(math.ldexp(kept, shift), n)))
+
+
+def _to_real(x: Number) -> float:
+    if isinstance(x, float):
+        return float(REAL_T.store(x))
+    return _int_to_real(int(x))
+
+
+def _from_real(x: float) -> float:
+    """The argument as a REAL variable would hold it."""
+    return float(REAL_T.store(x))
+
+
+def _source(x: int, source: ElementaryType) -> int:
+    """The argument as a variable of the source type would hold it."""
+    return int(source.store(x))
+
+
+# --- generic TO_<type> -----------------------------------------------------------------------
+
+
+def TO_BOOL(x: Number) -> bool:
+    """TO_BOOL: ``x <> 0``."""
+    return bool(x != 0)
+
+
+def TO_SINT(x: Number) -> int:
+    """TO_SINT: nearest integer, stored as a SINT (wraps modulo 2^8)."""
+    return _to_integer(x, SINT_T, "TO_SINT")
+
+
+def TO_USINT(x: Number) -> int:
+    """TO_USINT: nearest integer, stored as a USINT (wraps modulo 2^8)."""
+    return _to_integer(x, USINT_T, "TO_USINT")
+
+
+def TO_INT(x: Number) -> int:
+    """TO_INT: nearest integer, stored as an INT (wraps modulo 2^16).
+
+    >>> TO_INT(40000), TO_INT(-2.5)
+    (-25536, -2)
+    """
+    return _to_integer(x, INT_T, "TO_INT")
+
+
+def TO_UINT(x: Number) -> int:
+    """TO_UINT: nearest integer, stored as a UINT (wraps modulo 2^16)."""
+    return _to_integer(x, UINT_T, "TO_UINT")
+
+
+def TO_DINT(x: Number) -> int:
+    """TO_DINT: nearest integer, stored as a DINT (wraps modulo 2^32)."""
+    return _to_integer(x, DINT_T, "TO_DINT")
+
+
+def TO_UDINT(x: Number) -> int:
+    """TO_UDINT: nearest integer, stored as a UDINT (wraps modulo 2^32)."""
+    return _to_integer(x, UDINT_T, "TO_UDINT")
+
+
+def TO_LINT(x: Number) -> int:
+    """TO_LINT: nearest integer, stored as a LINT (wraps modulo 2^64)."""
+    return _to_integer(x, LINT_T, "TO_LINT")
+
+
+def TO_ULINT(x: Number) -> int:
+    """TO_ULINT: nearest integer, stored as a ULINT (wraps modulo 2^64)."""
+    return _to_integer(x, ULINT_T, "TO_ULINT")
+
+
+def TO_BYTE(x: Number) -> int:
+    """TO_BYTE: nearest integer, stored as a BYTE (wraps modulo 2^8).
+
+    >>> TO_BYTE(-1)
+    255
+    """
+    return _to_integer(x, BYTE_T, "TO_BYTE")
+
+
+def TO_WORD(x: Number) -> int:
+    """TO_WORD: nearest integer, stored as a WORD (wraps modulo 2^16)."""
+    return _to_integer(x, WORD_T, "TO_WORD")
+
+
+def TO_DWORD(x: Number) -> int:
+    """TO_DWORD: nearest integer, stored as a DWORD (wraps modulo 2^32)."""
+    return _to_integer(x, DWORD_T, "TO_DWORD")
+
+
+def TO_LWORD(x: Number) -> int:
+    """TO_LWORD: nearest integer, stored as an LWORD (wraps modulo 2^64)."""
+    return _to_integer(x, LWORD_T, "TO_LWORD")
+
+
+def TO_REAL(x: Number) -> float:
+    """TO_REAL: the nearest 32-bit float.
+
+    >>> TO_REAL(16777217), TO_REAL(0.1)
+    (16777216.0, 0.10000000149011612)
+    """
+    return _to_real(x)
+
+
+def TO_LREAL(x: Number) -> float:
+    """TO_LREAL: the nearest 64-bit float."""
+    return float(x)
+
+
+def TO_TIME(x: Number) -> int:
+    """TO_TIME: ``x`` milliseconds, rounded to the nearest, stored as a TIME (wraps modulo 2^32).
+
+    >>> TO_TIME(1500), TO_TIME(2.5)
+    (1500, 2)
+    """
+    return _to_integer(x, TIME_T, "TO_TIME")
+
+
+def TO_LTIME(x: Number) -> int:
+    """TO_LTIME: ``x`` nanoseconds, rounded to the nearest, stored as an LTIME (wraps modulo 2^64)."""
+    return _to_integer(x, LTIME_T, "TO_LTIME")
+
+
+# --- REAL_TO_<type> --------------------------------------------------------------------------
+
+
+def REAL_TO_BOOL(x: float) -> bool:
+    """REAL_TO_BOOL: ``x <> 0``."""
+    return _from_real(x) != 0
+
+
+def REAL_TO_SINT(x: float) -> int:
+    """REAL_TO_SINT: nearest integer, stored as a SINT."""
+    return _to_integer(_from_real(x), SINT_T, "REAL_TO_SINT")
+
+
+def REAL_TO_USINT(x: float) -> int:
+    """REAL_TO_USINT: nearest integer, stored as a USINT."""
+    return _to_integer(_from_real(x), USINT_T, "REAL_TO_USINT")
+
+
+def REAL_TO_INT(x: float) -> int:
+    """REAL_TO_INT: nearest integer, stored as an INT.
+
+    >>> REAL_TO_INT(1.4), REAL_TO_INT(-1.4), REAL_TO_INT(-1.5)
+    (1, -1, -2)
+    """
+    return _to_integer(_from_real(x), INT_T, "REAL_TO_INT")
+
+
+def REAL_TO_UINT(x: float) -> int:
+    """REAL_TO_UINT: nearest integer, stored as a UINT."""
+    return _to_integer(_from_real(x), UINT_T, "REAL_TO_UINT")
+
+
+def REAL_TO_DINT(x: float) -> int:
+    """REAL_TO_DINT: nearest integer, stored as a DINT."""
+    return _to_integer(_from_real(x), DINT_T, "REAL_TO_DINT")
+
+
+def REAL_TO_UDINT(x: float) -> int:
+    """REAL_TO_UDINT: nearest integer, stored as a UDINT."""
+    return _to_integer(_from_real(x), UDINT_T, "REAL_TO_UDINT")
+
+
+def REAL_TO_LINT(x: float) -> int:
+    """REAL_TO_LINT: nearest integer, stored as a LINT."""
+    return _to_integer(_from_real(x), LINT_T, "REAL_TO_LINT")
+
+
+def REAL_TO_ULINT(x: float) -> int:
+    """REAL_TO_ULINT: nearest integer, stored as a ULINT."""
+    return _to_integer(_from_real(x), ULINT_T, "REAL_TO_ULINT")
+
+
+def REAL_TO_BYTE(x: float) -> int:
+    """REAL_TO_BYTE: nearest integer, stored as a BYTE."""
+    return _to_integer(_from_real(x), BYTE_T, "REAL_TO_BYTE")
+
+
+def REAL_TO_WORD(x: float) -> int:
+    """REAL_TO_WORD: nearest integer, stored as a WORD."""
+    return _to_integer(_from_real(x), WORD_T, "REAL_TO_WORD")
+
+
+def REAL_TO_DWORD(x: float) -> int:
+    """REAL_TO_DWORD: nearest integer, stored as a DWORD."""
+    return _to_integer(_from_real(x), DWORD_T, "REAL_TO_DWORD")
+
+
+def REAL_TO_LWORD(x: float) -> int:
+    """REAL_TO_LWORD: nearest integer, stored as an LWORD."""
+    return _to_integer(_from_real(x), LWORD_T, "REAL_TO_LWORD")
+
+
+def REAL_TO_TIME(x: float) -> int:
+    """REAL_TO_TIME: ``x`` milliseconds, rounded to the nearest, as a TIME."""
+    return _to_integer(_from_real(x), TIME_T, "REAL_TO_TIME")
+
+
+def REAL_TO_LTIME(x: float) -> int:
+    """REAL_TO_LTIME: ``x`` nanoseconds, rounded to the nearest, as an LTIME."""
+    return _to_integer(_from_real(x), LTIME_T, "REAL_TO_LTIME")
+
+
+def REAL_TO_LREAL(x: float) -> float:
+    """REAL_TO_LREAL: widening, exact.
+
+    >>> REAL_TO_LREAL(0.1)
+    0.10000000149011612
+    """
+    return _from_real(x)
+
+
+# --- LREAL_TO_<type> -------------------------------------------------------------------------
+
+
+def LREAL_TO_BOOL(x: float) -> bool:
+    """LREAL_TO_BOOL: ``x <> 0``."""
+    return x != 0
+
+
+def LREAL_TO_SINT(x: float) -> int:
+    """LREAL_TO_SINT: nearest integer, stored as a SINT."""
+    return _to_integer(float(x), SINT_T, "LREAL_TO_SINT")
+
+
+def LREAL_TO_USINT(x: float) -> int:
+    """LREAL_TO_USINT: nearest integer, stored as a USINT."""
+    return _to_integer(float(x), USINT_T, "LREAL_TO_USINT")
+
+
+def LREAL_TO_INT(x: float) -> int:
+    """LREAL_TO_INT: nearest integer, stored as an INT."""
+    return _to_integer(float(x), INT_T, "LREAL_TO_INT")
+
+
+def LREAL_TO_UINT(x: float) -> int:
+    """LREAL_TO_UINT: nearest integer, stored as a UINT."""
+    return _to_integer(float(x), UINT_T, "LREAL_TO_UINT")
+
+
+def LREAL_TO_DINT(x: float) -> int:
+    """LREAL_TO_DINT: nearest integer, stored as a DINT."""
+    return _to_integer(float(x), DINT_T, "LREAL_TO_DINT")
+
+
+def LREAL_TO_UDINT(x: float) -> int:
+    """LREAL_TO_UDINT: nearest integer, stored as a UDINT."""
+    return _to_integer(float(x), UDINT_T, "LREAL_TO_UDINT")
+
+
+def LREAL_TO_LINT(x: float) -> int:
+    """LREAL_TO_LINT: nearest integer, stored as a LINT."""
+    return _to_integer(float(x), LINT_T, "LREAL_TO_LINT")
+
+
+def LREAL_TO_ULINT(x: float) -> int:
+    """LREAL_TO_ULINT: nearest integer, stored as a ULINT."""
+    return _to_integer(float(x), ULINT_T, "LREAL_TO_ULINT")
+
+
+def LREAL_TO_BYTE(x: float) -> int:
+    """LREAL_TO_BYTE: nearest integer, stored as a BYTE."""
+    return _to_integer(float(x), BYTE_T, "LREAL_TO_BYTE")
+
+
+def LREAL_TO_WORD(x: float) -> int:
+    """LREAL_TO_WORD: nearest integer, stored as a WORD."""
+    return _to_integer(float(x), WORD_T, "LREAL_TO_WORD")
+
+
+def LREAL_TO_DWORD(x: float) -> int:
+    """LREAL_TO_DWORD: nearest integer, stored as a DWORD."""
+    return _to_integer(float(x), DWORD_T, "LREAL_TO_DWORD")
+
+
+def LREAL_TO_LWORD(x: float) -> int:
+    """LREAL_TO_LWORD: nearest integer, stored as an LWORD."""
+    return _to_integer(float(x), LWORD_T, "LREAL_TO_LWORD")
+
+
+def LREAL_TO_TIME(x: float) -> int:
+    """LREAL_TO_TIME: ``x`` milliseconds, rounded to the nearest, as a TIME."""
+    return _to_integer(float(x), TIME_T, "LREAL_TO_TIME")
+
+
+def LREAL_TO_LTIME(x: float) -> int:
+    """LREAL_TO_LTIME: ``x`` nanoseconds, rounded to the nearest, as an LTIME."""
+    return _to_integer(float(x), LTIME_T, "LREAL_TO_LTIME")
+
+
+def LREAL_TO_REAL(x: float) -> float:
+    """LREAL_TO_REAL: the nearest 32-bit float (infinity past REAL's range).
+
+    >>> LREAL_TO_REAL(16777217.0)
+    16777216.0
+    """
+    return _from_real(x)
+
+
+# --- other source-named conversions ----------------------------------------------------------
+
+
+def INT_TO_REAL(x: int) -> float:
+    """INT_TO_REAL: exact."""
+    return _int_to_real(_source(x, INT_T))
+
+
+def DINT_TO_REAL(x: int) -> float:
+    """DINT_TO_REAL: the nearest 32-bit float (a DINT has more digits than a REAL holds).
+
+    >>> DINT_TO_REAL(16777217)
+    16777216.0
+    """
+    return _int_to_real(_source(x, DINT_T))
+
+
+def INT_TO_LREAL(x: int) -> float:
+    """INT_TO_LREAL: exact."""
+    return float(_source(x, INT_T))
+
+
+def DINT_TO_LREAL(x: int) -> float:
+    """DINT_TO_LREAL: exact."""
+    return float(_source(x, DINT_T))
+
+
+def BOOL_TO_INT(x: bool) -> int:
+    """BOOL_TO_INT: FALSE -> 0, TRUE -> 1."""
+    return int(BOOL_T.store(x))
+
+
+def INT_TO_BOOL(x: int) -> bool:
+    """INT_TO_BOOL: ``x <> 0``."""
+    return _source(x, INT_T) != 0
+
+
+def TIME_TO_DINT(x: int) -> int:
+    """TIME_TO_DINT: the milliseconds, read as a DINT (a TIME past 2^31-1 ms turns negative)."""
+    return int(DINT_T.store(_source(x, TIME_T)))
+
+
+def DINT_TO_TIME(x: int) -> int:
+    """DINT_TO_TIME: ``x`` milliseconds as a TIME (a negative DINT wraps, TIME is unsigned)."""
+    return int(TIME_T.store(_source(x, DINT_T)))
+
+
+def TIME_TO_LTIME(x: int) -> int:
+    """TIME_TO_LTIME: milliseconds to nanoseconds, exact.
+
+    >>> TIME_TO_LTIME(1500)
+    1500000000
+    """
+    return int(LTIME_T.store(_source(x, TIME_T) * _NS_PER_MS))
+
+
+def LTIME_TO_TIME(x: int) -> int:
+    """LTIME_TO_TIME: nanoseconds to milliseconds, truncated; wraps past T#49d17h2m47s295ms.
+
+    >>> LTIME_TO_TIME(1_999_999)
+    1
+    """
+    return int(TIME_T.store(_source(x, LTIME_T) // _NS_PER_MS))
+
+
+def INT_TO_BYTE(x: int) -> int:
+    """INT_TO_BYTE: the low 8 bits."""
+    return int(BYTE_T.store(_source(x, INT_T)))
+
+
+def WORD_TO_INT(x: int) -> int:
+    """WORD_TO_INT: the 16 bits read as a signed INT."""
+    return int(INT_T.store(_source(x, WORD_T)))
+
+
+def INT_TO_WORD(x: int) -> int:
+    """INT_TO_WORD: the INT's 16 bits as a WORD."""
+    return int(WORD_T.store(_source(x, INT_T)))
+
+
+def DWORD_TO_DINT(x: int) -> int:
+    """DWORD_TO_DINT: the 32 bits read as a signed DINT."""
+    return int(DINT_T.store(_source(x, DWORD_T)))
+
+
+def DINT_TO_DWORD(x: int) -> int:
+    """DINT_TO_DWORD: the DINT's 32 bits as a DWORD."""
+    return int(DWORD_T.store(_source(x, DINT_T)))
+
+
+def UINT_TO_INT(x: int) -> int:
+    """UINT_TO_INT: the 16 bits read as a signed INT."""
+    return int(INT_T.store(_source(x, UINT_T)))
+
+
+def INT_TO_UINT(x: int) -> int:
+    """INT_TO_UINT: the INT's 16 bits as a UINT."""
+    return int(UINT_T.store(_source(x, INT_T)))
+
+
+# --- TRUNC, DIV, MOD -------------------------------------------------------------------------
+
+
+def _truncate(x: float, op: str) -> int:
+    if math.isnan(x) or math.isinf(x):
+        raise PlcException(
+            ExceptionCode.RTSEXCPT_FPU_INVALID_OPERATION, f"{op}({x}): {x} has no integer value"
+        )
+    return math.trunc(x)
+
+
+def TRUNC(x: float) -> int:
+    """TRUNC: toward zero, as a DINT.
+
+    >>> TRUNC(1.9), TRUNC(-1.4)
+    (1, -1)
+    """
+    return int(DINT_T.store(_truncate(x, "TRUNC")))
+
+
+def TRUNC_INT(x: float) -> int:
+    """TRUNC_INT: toward zero, as an INT."""
+    return int(INT_T.store(_truncate(x, "TRUNC_INT")))
+
+
+@overload
+def DIV(a: int, b: int) -> int: ...
+
+
+@overload
+def DIV(a: float, b: float) -> float: ...
+
+
+def DIV(a: int | float, b: int | float) -> int | float:
+    """DIV (ST: ``a / b``): integers truncate toward zero; otherwise a float quotient.
+
+    Division by zero raises RTSEXCPT_DIVIDEBYZERO for integers and
+    RTSEXCPT_FPU_DIVIDEBYZERO for floats (TwinCAT stops the task either way).
+
+    >>> DIV(7, 2), DIV(-7, 2), DIV(7.0, 2)
+    (3, -3, 3.5)
+    """
+    if isinstance(a, float) or isinstance(b, float):
+        if b == 0:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_FPU_DIVIDEBYZERO, f"DIV({a}, {b}): floating-point division by zero"
+            )
+        return a / b
+    return _int_div(a, b, "DIV")
+
+
+def _int_div(a: int, b: int, op: str) -> int:
+    if b == 0:
+        raise PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, f"{op}({a}, {b}): integer division by zero")
+    quotient = a // b
+    # Python floors; the PLC truncates, which differs when the division is inexact and negative.
+    if quotient < 0 and quotient * b != a:
+        quotient += 1
+    return quotient
+
+
+def MOD(a: int, b: int) -> int:
+    """MOD (ST: ``a MOD b``): remainder with the sign of the dividend; integer types only.
+
+    >>> MOD(7, 2), MOD(-7, 2), MOD(7, -2)
+    (1, -1, 1)
+    """
+    for operand in (a, b):
+        _require_integer(operand)
+    return a - b * _int_div(a, b, "MOD")
+
+
+def _require_integer(operand: object) -> None:
+    if not isinstance(operand, int):
+        raise TypeError(
+            f"MOD is defined for integer types only, got {type(operand).__name__} {operand!r}"
+        )

@@ -1,0 +1,44 @@
+"""The memory model: C-compatible layouts, checked pointers and references.
+
+Instances of structs, unions, arrays and POUs are real ctypes memory blocks
+laid out like a TwinCAT 3 x64 target. Pointers, references and interface
+variables hold checked handles, so a bad address raises
+RTSEXCPT_ACCESS_VIOLATION instead of crashing the interpreter.
+"""
+
+from iecoop.memory._core import ARRAY, POINTER_TO, REFERENCE_TO, Alias, NullInterface, Pointer
+from iecoop.memory.datatypes import IecEnum, Struct, Union
+from iecoop.memory.operators import (
+    TYPE_CLASS,
+    VarInfo,
+    adr,
+    is_valid_ref,
+    memcmp,
+    memcpy,
+    memset,
+    ref_assign,
+    sizeof,
+    var_info,
+)
+
+__all__ = [
+    "ARRAY",
+    "Alias",
+    "IecEnum",
+    "NullInterface",
+    "POINTER_TO",
+    "Pointer",
+    "REFERENCE_TO",
+    "Struct",
+    "TYPE_CLASS",
+    "Union",
+    "VarInfo",
+    "adr",
+    "is_valid_ref",
+    "memcmp",
+    "memcpy",
+    "memset",
+    "ref_assign",
+    "sizeof",
+    "var_info",
+]

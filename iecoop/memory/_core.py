@@ -1,0 +1,1122 @@
+"""The memory engine: allocations, checked handles, and how each IEC type lives in memory.
+
+Every instance of a Struct, Union, ARRAY or POU is a real ctypes block. A
+pointer, reference or interface variable stored in a block holds an 8-byte
+*handle* (allocation id << 32 | byte offset), never a raw address: using a
+handle looks the allocation up and checks liveness and bounds, so no user
+action can read or write outside a live block.
+
+A ``TypeInfo`` says how one IEC type is stored: its ctypes storage, its size,
+how to load and store a value at (block, offset), how checked mode validates a
+write, and whether a ctypes field gives the Python value directly (ints,
+floats, BOOL, aggregates: no Python code on a read) or needs a descriptor
+(STRING, enums, pointers, references, interfaces).
+"""
+
+from __future__ import annotations
+
+import bisect
+import ctypes
+import enum
+import typing
+import weakref
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Generic, TypeVar
+
+from iecoop.exceptions import DefinitionError, ExceptionCode, PlcException
+from iecoop.types import ElementaryType, StringType, elementary_type
+
+_T = TypeVar("_T")
+
+_AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+_HANDLE_MASK = 0xFFFFFFFF
+
+
+def access_violation(message: str) -> PlcException:
+    return PlcException(_AV, message)
+
+
+# ---------------------------------------------------------------------------
+# Allocations
+# ---------------------------------------------------------------------------
+
+
+class Allocation:
+    """One live memory block: a root ctypes object, known by a never-reused id."""
+
+    __slots__ = ("id", "ref", "base", "size", "label", "freed")
+
+    def __init__(self, ident: int, root: Any, label: str) -> None:
+        self.id = ident
+        self.base = ctypes.addressof(root)
+        self.size = ctypes.sizeof(root)
+        self.label = label
+        self.freed = False
+        self.ref = weakref.ref(root, self._collected)
+
+    def _collected(self, _ref: object) -> None:
+        _forget(self)
+
+    def __repr__(self) -> str:
+        return f"<allocation {self.id} {self.label} {self.size} bytes>"
+
+
+_allocations: dict[int, Allocation] = {}
+_bases: list[int] = []
+_by_base: dict[int, Allocation] = {}
+_next_id = [1]
+
+
+def _forget(alloc: Allocation) -> None:
+    if _allocations.get(alloc.id) is not alloc:
+        return
+    del _allocations[alloc.id]
+    if _by_base.get(alloc.base) is alloc:
+        del _by_base[alloc.base]
+        index = bisect.bisect_left(_bases, alloc.base)
+        if index < len(_bases) and _bases[index] == alloc.base:
+            del _bases[index]
+
+
+def register(root: Any) -> Allocation:
+    """Make ``root`` (a ctypes object owning its memory) an addressable allocation."""
+    ident = _next_id[0]
+    _next_id[0] += 1
+    alloc = Allocation(ident, root, type(root).__name__)
+    stale = _by_base.get(alloc.base)
+    if stale is not None:
+        _forget(stale)
+    _allocations[ident] = alloc
+    _by_base[alloc.base] = alloc
+    bisect.insort(_bases, alloc.base)
+    return alloc
+
+
+def free(alloc: Allocation) -> None:
+    """Release an allocation (``__DELETE``): every handle into it stops resolving."""
+    alloc.freed = True
+    _forget(alloc)
+
+
+def _root_of(obj: Any) -> Any:
+    root = obj
+    while getattr(root, "_b_base_", None) is not None:
+        root = root._b_base_
+    return root
+
+
+def allocation_of(obj: Any) -> tuple[Allocation, int]:
+    """The allocation holding ctypes object ``obj`` and the byte offset of ``obj`` in it."""
+    address = ctypes.addressof(obj)
+    index = bisect.bisect_right(_bases, address) - 1
+    if index >= 0:
+        alloc = _by_base[_bases[index]]
+        if address < alloc.base + max(alloc.size, 1):
+            return alloc, address - alloc.base
+    alloc = register(_root_of(obj))
+    offset = address - alloc.base
+    if not 0 <= offset < max(alloc.size, 1):
+        raise access_violation(f"{type(obj).__name__} instance lies outside any known memory block")
+    return alloc, offset
+
+
+def handle_of(obj: Any, extra_offset: int = 0) -> int:
+    """The handle (what ADR returns, as stored in memory) of ``obj`` plus ``extra_offset`` bytes."""
+    alloc, offset = allocation_of(obj)
+    return (alloc.id << 32) | ((offset + extra_offset) & _HANDLE_MASK)
+
+
+def resolve(handle: int, size: int, what: str) -> tuple[Any, int]:
+    """The (root block, offset) a handle designates, checked for ``size`` bytes."""
+    if handle == 0:
+        raise access_violation(f"{what}: null pointer (0) dereferenced")
+    alloc = _allocations.get(handle >> 32)
+    root = alloc.ref() if alloc is not None else None
+    if alloc is None or root is None:
+        raise access_violation(f"{what}: the target memory was deleted or no longer exists")
+    offset = handle & _HANDLE_MASK
+    if offset + size > alloc.size:
+        raise access_violation(
+            f"{what}: address {offset} + {size} bytes lies outside its {alloc.size}-byte block ({alloc.label})"
+        )
+    return root, offset
+
+
+def allocation_for_handle(handle: int) -> Allocation | None:
+    return _allocations.get(handle >> 32)
+
+
+# ---------------------------------------------------------------------------
+# Class tags: how a handle to an FB finds the FB's dynamic class
+# ---------------------------------------------------------------------------
+
+_class_by_tag: list[type] = [type(None)]
+
+
+def new_class_tag(cls: type) -> int:
+    _class_by_tag.append(cls)
+    return len(_class_by_tag) - 1
+
+
+def class_for_tag(tag: int) -> type | None:
+    if 0 < tag < len(_class_by_tag):
+        return _class_by_tag[tag]
+    return None
+
+
+# ---------------------------------------------------------------------------
+# Type information
+# ---------------------------------------------------------------------------
+
+
+class TypeInfo:
+    """How values of one IEC type are stored (base class)."""
+
+    name: str = "?"
+    ctype: Any = None
+    #: True when a ctypes field of ``ctype`` already yields the Python value (no descriptor).
+    direct: bool = True
+
+    @property
+    def size(self) -> int:
+        return int(ctypes.sizeof(self.ctype))
+
+    @property
+    def signature(self) -> str:
+        """Type text recorded with remanent data so a changed type is never loaded."""
+        return self.name
+
+    def load(self, root: Any, offset: int) -> Any:
+        raise NotImplementedError
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        raise NotImplementedError
+
+    def validate(self, value: Any, where: str) -> None:
+        """Checked mode: raise TypeError naming ``where`` if ``value`` is of the wrong kind."""
+
+    def default(self) -> Any:
+        """The implicit initial value (what zeroed memory means)."""
+        return None
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        """A Python descriptor for a field of this type, or None to keep the raw ctypes field."""
+        return None
+
+    def load_handle(self, handle: int, what: str) -> Any:
+        root, offset = resolve(handle, self.size, what)
+        return self.load(root, offset)
+
+    def store_handle(self, handle: int, value: Any, what: str) -> None:
+        root, offset = resolve(handle, self.size, what)
+        self.store(root, offset, value, what)
+
+    def __repr__(self) -> str:
+        return f"<TypeInfo {self.name}>"
+
+
+def _kind_error(where: str, expected: str, value: object) -> TypeError:
+    return TypeError(f"{where}: cannot store {type(value).__name__} {value!r} in {expected}")
+
+
+class ElementaryInfo(TypeInfo):
+    """BOOL, integers, bit strings, REAL/LREAL, TIME and dates: ctypes stores and wraps them."""
+
+    def __init__(self, record: ElementaryType, name: str | None = None) -> None:
+        self.record = record
+        self.name = name or record.name
+        self.ctype = record.ctype
+
+    def load(self, root: Any, offset: int) -> Any:
+        return self.ctype.from_buffer(root, offset).value
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        self.validate(value, where)
+        self.ctype.from_buffer(root, offset).value = value
+
+    def validate(self, value: Any, where: str) -> None:
+        kind = self.record.kind
+        if kind == "bool":
+            if not isinstance(value, bool):
+                raise _kind_error(where, "BOOL (use True / False)", value)
+        elif kind == "real":
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise _kind_error(where, self.name, value)
+        elif isinstance(value, bool) or not isinstance(value, int):
+            raise _kind_error(where, self.name, value)
+
+    def default(self) -> Any:
+        return self.record.py_type()
+
+
+class StringInfo(TypeInfo):
+    """STRING(n) / WSTRING(n): a terminated buffer shown to Python as ``str``."""
+
+    direct = False
+
+    def __init__(self, record: StringType, length: int) -> None:
+        self.record = record
+        self.length = length
+        self.name = f"{record.name}({length})"
+        self.ctype = record.ctype(length)
+
+    def _decode(self, data: bytes) -> str:
+        if self.record.name == "STRING":
+            return data.split(b"\x00", 1)[0].decode("latin-1")
+        text = data.decode("utf-16-le", errors="replace")
+        return text.split("\x00", 1)[0]
+
+    def _encode(self, value: Any, where: str) -> bytes:
+        data = self.record.encode(value, self.length, where)
+        return data + b"\x00" * (self.size - len(data))
+
+    def load(self, root: Any, offset: int) -> str:
+        return self._decode((ctypes.c_char * self.size).from_buffer(root, offset).raw)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        ctypes.memmove(ctypes.addressof(root) + offset, self._encode(value, where), self.size)
+
+    def validate(self, value: Any, where: str) -> None:
+        self.record.encode(value, self.length, where)
+
+    def default(self) -> str:
+        return ""
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return _StringField(self, raw.offset, f"{owner}.{name}")
+
+
+class _StringField:
+    __slots__ = ("info", "offset", "where")
+
+    def __init__(self, info: StringInfo, offset: int, where: str) -> None:
+        self.info, self.offset, self.where = info, offset, where
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        return self.info._decode((ctypes.c_char * self.info.size).from_buffer(obj, self.offset).raw)
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        data = self.info._encode(value, self.where)
+        ctypes.memmove(ctypes.addressof(obj) + self.offset, data, self.info.size)
+
+
+class EnumInfo(TypeInfo):
+    """An enumeration with an IEC base type; reads give the member (or the raw number)."""
+
+    direct = False
+
+    def __init__(self, enum_cls: type[enum.IntEnum], base: ElementaryType) -> None:
+        self.enum_cls = enum_cls
+        self.base = base
+        self.name = enum_cls.__name__
+        self.ctype = base.ctype
+
+    @property
+    def signature(self) -> str:
+        return f"{self.name}:{self.base.name}"
+
+    def _member(self, raw: int) -> Any:
+        try:
+            return self.enum_cls(raw)
+        except ValueError:
+            return raw
+
+    def load(self, root: Any, offset: int) -> Any:
+        return self._member(self.ctype.from_buffer(root, offset).value)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        self.validate(value, where)
+        self.ctype.from_buffer(root, offset).value = int(value)
+
+    def validate(self, value: Any, where: str) -> None:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise _kind_error(where, self.name, value)
+        if not isinstance(value, self.enum_cls) and isinstance(value, enum.Enum):
+            raise _kind_error(where, self.name, value)
+
+    def default(self) -> Any:
+        return self._member(0)
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return _EnumField(self, raw, f"{owner}.{name}")
+
+
+class _EnumField:
+    __slots__ = ("info", "raw", "where")
+
+    def __init__(self, info: EnumInfo, raw: Any, where: str) -> None:
+        self.info, self.raw, self.where = info, raw, where
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        return self.info._member(self.raw.__get__(obj))
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        self.info.validate(value, self.where)
+        self.raw.__set__(obj, int(value))
+
+
+class AggregateInfo(TypeInfo):
+    """A Struct, Union or FB type placed inline: reading gives a view of the memory."""
+
+    def __init__(self, cls: type) -> None:
+        self.cls = cls
+        self.name = cls.__name__
+        self.ctype = cls
+
+    @property
+    def signature(self) -> str:
+        layout = getattr(self.cls, "_iec_layout_", None)
+        if layout is None:
+            return self.name
+        inner = ",".join(f"{f.name}:{f.info.signature}" for f in layout.fields)
+        return f"{self.name}{{{inner}}}"
+
+    def load(self, root: Any, offset: int) -> Any:
+        cls = self.cls
+        if getattr(cls, "_iec_tagged_", False):
+            tag = ctypes.c_uint64.from_buffer(root, offset).value
+            dynamic = class_for_tag(tag)
+            if dynamic is None or not issubclass(dynamic, cls):
+                raise access_violation(f"no {self.name} instance at this address (type tag {tag})")
+            cls = dynamic
+        if offset == 0 and type(root) is cls:
+            return root
+        return cls.from_buffer(root, offset)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        self.validate(value, where)
+        ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
+
+    def validate(self, value: Any, where: str) -> None:
+        if not isinstance(value, self.cls):
+            raise _kind_error(where, self.name, value)
+
+    def load_handle(self, handle: int, what: str) -> Any:
+        root, offset = resolve(handle, self.size, what)
+        return self.load(root, offset)
+
+
+# ---------------------------------------------------------------------------
+# Pointers
+# ---------------------------------------------------------------------------
+
+
+class Pointer(Generic[_T]):
+    """``POINTER TO T``: an address into a checked memory block.
+
+    Arithmetic is in bytes, as in ST (``p + 2 * sizeof(INT)``); ``p.deref`` is
+    ``p^``. A null pointer is falsy; dereferencing it, or an address outside
+    its block or into deleted memory, raises RTSEXCPT_ACCESS_VIOLATION.
+
+    >>> from iecoop import INT, Struct, adr, sizeof
+    >>> class Pair(Struct):
+    ...     a: INT = 1
+    ...     b: INT = 2
+    >>> pair = Pair()
+    >>> p = adr(pair, "a")
+    >>> (p + sizeof(INT)).deref
+    2
+    """
+
+    __slots__ = ("_handle", "_target")
+
+    _handle: int
+    _target: TypeInfo | None
+
+    def __init__(self, handle: int = 0, target: TypeInfo | None = None) -> None:
+        self._handle = handle & 0xFFFFFFFFFFFFFFFF
+        self._target = target
+
+    @property
+    def handle(self) -> int:
+        """The stored 8-byte value (the address as PVOID / __UXINT)."""
+        return self._handle
+
+    def _require_target(self) -> TypeInfo:
+        if self._target is None:
+            raise TypeError("an untyped pointer (PVOID) cannot be dereferenced; cast it with typed()")
+        return self._target
+
+    @property
+    def deref(self) -> _T:
+        """``p^``: the value (or a view of the struct / FB) the pointer designates."""
+        target = self._require_target()
+        return typing.cast(_T, target.load_handle(self._handle, f"POINTER TO {target.name}"))
+
+    @deref.setter
+    def deref(self, value: _T) -> None:
+        target = self._require_target()
+        target.store_handle(self._handle, value, f"POINTER TO {target.name}")
+
+    @property
+    def is_null(self) -> bool:
+        return self._handle == 0
+
+    def typed(self, target: Any) -> Pointer[Any]:
+        """The same address seen as ``POINTER TO target`` (an IEC type annotation)."""
+        return Pointer(self._handle, resolve_type(target, "pointer cast"))
+
+    def __bool__(self) -> bool:
+        return self._handle != 0
+
+    def __int__(self) -> int:
+        return self._handle
+
+    def __index__(self) -> int:
+        return self._handle
+
+    def _moved(self, delta: int) -> Pointer[_T]:
+        base = self._handle & ~_HANDLE_MASK
+        return Pointer(base | ((self._handle + delta) & _HANDLE_MASK), self._target)
+
+    def __add__(self, offset: int) -> Pointer[_T]:
+        if not isinstance(offset, int):
+            return NotImplemented
+        return self._moved(offset)
+
+    __radd__ = __add__
+
+    @typing.overload
+    def __sub__(self, other: int) -> Pointer[_T]: ...
+
+    @typing.overload
+    def __sub__(self, other: Pointer[Any]) -> int: ...
+
+    def __sub__(self, other: int | Pointer[Any]) -> Pointer[_T] | int:
+        if isinstance(other, Pointer):
+            if (self._handle >> 32) != (other._handle >> 32):
+                raise access_violation("pointer difference between two different memory blocks")
+            return (self._handle & _HANDLE_MASK) - (other._handle & _HANDLE_MASK)
+        if isinstance(other, int):
+            return self._moved(-other)
+        return NotImplemented
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Pointer):
+            return self._handle == other._handle
+        if isinstance(other, int) and not isinstance(other, bool):
+            return self._handle == other
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(self._handle)
+
+    def __repr__(self) -> str:
+        target = self._target.name if self._target is not None else "PVOID"
+        if self._handle == 0:
+            return f"<POINTER TO {target}: 0>"
+        alloc = allocation_for_handle(self._handle)
+        where = alloc.label if alloc is not None else "freed memory"
+        return f"<POINTER TO {target}: {where}+{self._handle & _HANDLE_MASK}>"
+
+
+#: ``POINTER TO T``; ``POINTER_TO[INT]`` in annotations.
+POINTER_TO = Pointer
+
+
+class PointerInfo(TypeInfo):
+    direct = False
+    ctype = ctypes.c_uint64
+
+    def __init__(self, target: Callable[[], TypeInfo | None], target_name: str) -> None:
+        self._target_thunk = target
+        self._target: TypeInfo | None = None
+        self.name = f"POINTER TO {target_name}"
+
+    @property
+    def target(self) -> TypeInfo | None:
+        if self._target is None:
+            self._target = self._target_thunk()
+        return self._target
+
+    def load(self, root: Any, offset: int) -> Pointer[Any]:
+        return Pointer(ctypes.c_uint64.from_buffer(root, offset).value, self.target)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        ctypes.c_uint64.from_buffer(root, offset).value = self.coerce(value, where)
+
+    def coerce(self, value: Any, where: str) -> int:
+        if isinstance(value, Pointer):
+            return value._handle
+        if value is None or (isinstance(value, int) and not isinstance(value, bool) and value == 0):
+            return 0
+        raise _kind_error(where, self.name + " (use adr(...))", value)
+
+    def validate(self, value: Any, where: str) -> None:
+        self.coerce(value, where)
+
+    def default(self) -> Pointer[Any]:
+        return Pointer(0, self.target)
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return _PointerField(self, raw, f"{owner}.{name}")
+
+
+class _PointerField:
+    __slots__ = ("info", "raw", "where")
+
+    def __init__(self, info: PointerInfo, raw: Any, where: str) -> None:
+        self.info, self.raw, self.where = info, raw, where
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        return Pointer(self.raw.__get__(obj), self.info.target)
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        self.raw.__set__(obj, self.info.coerce(value, self.where))
+
+
+# ---------------------------------------------------------------------------
+# References and interface variables: handles that dereference themselves
+# ---------------------------------------------------------------------------
+
+
+class Alias:
+    """Metadata naming a type alias: ``T_Speed = Annotated[REAL, Alias("T_Speed")]``.
+
+    ST: ``TYPE T_Speed : REAL; END_TYPE``. Values behave as the base type; the
+    alias name shows in ``var_info`` and diagrams.
+    """
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __repr__(self) -> str:
+        return f"Alias({self.name!r})"
+
+
+class _ReferenceMarker:
+    """Metadata marking ``REFERENCE_TO[T]`` inside an Annotated type."""
+
+    def __repr__(self) -> str:
+        return "REFERENCE"
+
+
+REFERENCE: Any = _ReferenceMarker()
+
+#: ``REFERENCE TO T``: a type checker sees ``T`` (reads and writes go through).
+REFERENCE_TO = Annotated[_T, REFERENCE]
+
+
+class ReferenceInfo(TypeInfo):
+    direct = False
+    ctype = ctypes.c_uint64
+
+    def __init__(self, target: TypeInfo) -> None:
+        self.target = target
+        self.name = f"REFERENCE TO {target.name}"
+
+    def load(self, root: Any, offset: int) -> Any:
+        handle = ctypes.c_uint64.from_buffer(root, offset).value
+        return self.target.load_handle(handle, self.name)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        handle = ctypes.c_uint64.from_buffer(root, offset).value
+        if handle == 0:
+            raise access_violation(f"{where}: reference is not bound (REF= missing)")
+        self.target.store_handle(handle, value, where)
+
+    def bind_handle(self, target: Any, where: str) -> int:
+        """The handle ``REF= target`` stores: target is a pointer or an aggregate instance."""
+        if isinstance(target, Pointer):
+            if target._target is not None and target._target.size < self.target.size:
+                raise TypeError(f"{where}: REF= to {target._target.name} does not fit {self.name}")
+            return target._handle
+        if target is None:
+            return 0
+        if isinstance(self.target, AggregateInfo):
+            self.target.validate(target, where)
+            return handle_of(target)
+        raise TypeError(
+            f"{where}: REF= needs adr(...) or a struct / FB instance, got {type(target).__name__}"
+        )
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return _ReferenceField(self, raw, f"{owner}.{name}")
+
+
+class _ReferenceField:
+    __slots__ = ("info", "raw", "where")
+
+    def __init__(self, info: ReferenceInfo, raw: Any, where: str) -> None:
+        self.info, self.raw, self.where = info, raw, where
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        handle = self.raw.__get__(obj)
+        if handle == 0:
+            raise access_violation(f"{self.where}: reference is not bound (REF= missing)")
+        return self.info.target.load_handle(handle, self.where)
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        handle = self.raw.__get__(obj)
+        if handle == 0:
+            raise access_violation(f"{self.where}: reference is not bound (REF= missing)")
+        self.info.target.store_handle(handle, value, self.where)
+
+
+class NullInterface:
+    """The value of an interface variable that references nothing (ST: ``itf = 0``).
+
+    It is falsy; calling a method or reading a property through it raises
+    RTSEXCPT_ACCESS_VIOLATION, as the PLC does.
+    """
+
+    __slots__ = ("_iface", "_where")
+
+    def __init__(self, iface: str, where: str) -> None:
+        object.__setattr__(self, "_iface", iface)
+        object.__setattr__(self, "_where", where)
+
+    def __getattr__(self, name: str) -> Any:
+        raise access_violation(f"{self._where}: {self._iface}.{name} called through a null interface reference")
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise access_violation(f"{self._where}: {self._iface}.{name} written through a null interface reference")
+
+    def __bool__(self) -> bool:
+        return False
+
+    def __eq__(self, other: object) -> bool:
+        return other is None or isinstance(other, NullInterface) or (isinstance(other, int) and other == 0)
+
+    def __hash__(self) -> int:
+        return 0
+
+    def __repr__(self) -> str:
+        return f"<{self._iface} = 0>"
+
+
+class InterfaceInfo(TypeInfo):
+    direct = False
+    ctype = ctypes.c_uint64
+
+    def __init__(self, iface: type) -> None:
+        self.iface = iface
+        self.name = iface.__name__
+
+    def handle_for(self, value: Any, where: str) -> int:
+        if value is None or isinstance(value, NullInterface):
+            return 0
+        if isinstance(value, int) and not isinstance(value, bool) and value == 0:
+            return 0
+        if not isinstance(value, self.iface):
+            raise TypeError(
+                f"{where}: {type(value).__name__} does not implement {self.name} and cannot be assigned to it"
+            )
+        return handle_of(value)
+
+    def value_for(self, handle: int, where: str) -> Any:
+        if handle == 0:
+            return NullInterface(self.name, where)
+        root, offset = resolve(handle, 8, where)
+        tag = ctypes.c_uint64.from_buffer(root, offset).value
+        cls = class_for_tag(tag)
+        if cls is None:
+            raise access_violation(f"{where}: interface reference to memory that holds no function block")
+        if offset == 0 and type(root) is cls:
+            return root
+        return cls.from_buffer(root, offset)
+
+    def load(self, root: Any, offset: int) -> Any:
+        return self.value_for(ctypes.c_uint64.from_buffer(root, offset).value, self.name)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        ctypes.c_uint64.from_buffer(root, offset).value = self.handle_for(value, where)
+
+    def validate(self, value: Any, where: str) -> None:
+        if value is None or isinstance(value, NullInterface):
+            return
+        if not isinstance(value, self.iface):
+            raise TypeError(f"{where}: {type(value).__name__} does not implement {self.name}")
+
+    def default(self) -> Any:
+        return NullInterface(self.name, self.name)
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return _InterfaceField(self, raw, f"{owner}.{name}")
+
+
+class _InterfaceField:
+    __slots__ = ("info", "raw", "where")
+
+    def __init__(self, info: InterfaceInfo, raw: Any, where: str) -> None:
+        self.info, self.raw, self.where = info, raw, where
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        return self.info.value_for(self.raw.__get__(obj), self.where)
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        self.raw.__set__(obj, self.info.handle_for(value, self.where))
+
+
+# ---------------------------------------------------------------------------
+# Arrays
+# ---------------------------------------------------------------------------
+
+
+class ARRAY(Generic[_T]):
+    """``ARRAY[lo..hi] OF T``: declared as ``ARRAY[INT]`` with ``VAR(bounds=(lo, hi))``.
+
+    Indices are the declared ones (``a[lo]`` .. ``a[hi]``); several bound pairs
+    make a multi-dimensional array indexed ``a[i, j]``. An index outside the
+    bounds raises RTSEXCPT_ARRAYBOUNDS.
+
+    >>> from iecoop import INT, Struct, VAR
+    >>> class Fifo(Struct):
+    ...     items: ARRAY[INT] = VAR(bounds=(1, 3))
+    >>> fifo = Fifo()
+    >>> fifo.items[3] = 7
+    >>> list(fifo.items), fifo.items.low, fifo.items.high
+    ([0, 0, 7], 1, 3)
+    """
+
+    if TYPE_CHECKING:
+        low: int
+        high: int
+        bounds: tuple[tuple[int, int], ...]
+
+        def __getitem__(self, index: int | tuple[int, ...]) -> _T: ...
+
+        def __setitem__(self, index: int | tuple[int, ...], value: _T) -> None: ...
+
+        def __len__(self) -> int: ...
+
+        def __iter__(self) -> Iterator[_T]: ...
+
+
+_array_cache: dict[tuple[int, tuple[tuple[int, int], ...]], type] = {}
+_array_infos: dict[tuple[int, tuple[tuple[int, int], ...]], ArrayInfo] = {}
+
+
+def _bounds_error(cls: Any, index: object) -> PlcException:
+    dims = ", ".join(f"{lo}..{hi}" for lo, hi in cls._iec_bounds_)
+    return PlcException(
+        ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"index {index!r} outside ARRAY[{dims}] OF {cls._iec_elem_.name}"
+    )
+
+
+def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> type:
+    key = (id(elem), bounds)
+    cached = _array_cache.get(key)
+    if cached is not None:
+        return cached
+    count = 1
+    for lo, hi in bounds:
+        count *= hi - lo + 1
+    base = elem.ctype * count
+    one_dim = len(bounds) == 1
+    lo0, hi0 = bounds[0]
+    strides: list[int] = []
+    step = 1
+    for lo, hi in reversed(bounds):
+        strides.insert(0, step)
+        step *= hi - lo + 1
+    raw_get = base.__getitem__
+    raw_set = base.__setitem__
+    size = elem.size
+
+    def flat(self: Any, index: Any) -> int:
+        if one_dim:
+            if type(index) is int and lo0 <= index <= hi0:
+                return index - lo0
+            raise _bounds_error(type(self), index)
+        if not isinstance(index, tuple) or len(index) != len(bounds):
+            raise _bounds_error(type(self), index)
+        position = 0
+        for i, (lo, hi), stride in zip(index, bounds, strides):
+            if type(i) is not int or not lo <= i <= hi:
+                raise _bounds_error(type(self), index)
+            position += (i - lo) * stride
+        return position
+
+    namespace: dict[str, Any] = {
+        "__slots__": (),
+        "_iec_elem_": elem,
+        "_iec_bounds_": bounds,
+        "low": lo0,
+        "high": hi0,
+        "bounds": bounds,
+        "_flat": flat,
+    }
+    if elem.direct:
+
+        def getitem(self: Any, index: Any) -> Any:
+            if type(index) is int and lo0 <= index <= hi0 and one_dim:
+                return raw_get(self, index - lo0)
+            return raw_get(self, flat(self, index))
+
+        def setitem(self: Any, index: Any, value: Any) -> None:
+            if type(index) is int and lo0 <= index <= hi0 and one_dim:
+                raw_set(self, index - lo0, value)
+            else:
+                raw_set(self, flat(self, index), value)
+
+    else:
+
+        def getitem(self: Any, index: Any) -> Any:
+            return elem.load(self, flat(self, index) * size)
+
+        def setitem(self: Any, index: Any, value: Any) -> None:
+            elem.store(self, flat(self, index) * size, value, f"element {index!r}")
+
+    def iterate(self: Any) -> Iterator[Any]:
+        if elem.direct:
+            for i in range(count):
+                yield raw_get(self, i)
+        else:
+            for i in range(count):
+                yield elem.load(self, i * size)
+
+    def eq(self: Any, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return bytes(memoryview(self).cast("B")) == bytes(memoryview(typing.cast(Any, other)).cast("B"))
+
+    dims = ", ".join(f"{lo}..{hi}" for lo, hi in bounds)
+
+    def rep(self: Any) -> str:
+        return f"ARRAY[{dims}] OF {elem.name}({list(iterate(self))!r})"
+
+    namespace.update(
+        __getitem__=getitem,
+        __setitem__=setitem,
+        __iter__=iterate,
+        __len__=lambda self: count,
+        __eq__=eq,
+        __hash__=None,
+        __repr__=rep,
+    )
+    cls = type(f"ARRAY[{dims}] OF {elem.name}", (base,), namespace)
+    _array_cache[key] = cls
+    return cls
+
+
+class ArrayInfo(TypeInfo):
+    def __init__(self, elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> None:
+        self.elem = elem
+        self.bounds = bounds
+        dims = ", ".join(f"{lo}..{hi}" for lo, hi in bounds)
+        self.name = f"ARRAY[{dims}] OF {elem.name}"
+        self.ctype = _make_array_type(elem, bounds)
+        self.ctype._iec_info_ = self
+
+    @property
+    def signature(self) -> str:
+        dims = ", ".join(f"{lo}..{hi}" for lo, hi in self.bounds)
+        return f"ARRAY[{dims}] OF {self.elem.signature}"
+
+    @property
+    def count(self) -> int:
+        return int(self.ctype._length_)
+
+    def load(self, root: Any, offset: int) -> Any:
+        return self.ctype.from_buffer(root, offset)
+
+    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        self.validate(value, where)
+        ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
+
+    def validate(self, value: Any, where: str) -> None:
+        if type(value) is not self.ctype:
+            raise _kind_error(where, self.name, value)
+
+
+def array_info(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> ArrayInfo:
+    key = (id(elem), bounds)
+    info = _array_infos.get(key)
+    if info is None:
+        info = _array_infos[key] = ArrayInfo(elem, bounds)
+    return info
+
+
+def normalise_bounds(bounds: object, where: str) -> tuple[tuple[int, int], ...]:
+    """``(1, 20)`` or ``((1, 3), (1, 4))`` as a tuple of (lo, hi) pairs, checked."""
+    if not isinstance(bounds, tuple) or not bounds:
+        raise DefinitionError(f"{where}: ARRAY needs bounds=(lo, hi), got {bounds!r}")
+    pairs: list[tuple[int, int]]
+    if all(isinstance(b, int) and not isinstance(b, bool) for b in bounds):
+        if len(bounds) % 2:
+            raise DefinitionError(f"{where}: ARRAY bounds come in (lo, hi) pairs, got {bounds!r}")
+        pairs = [(int(bounds[i]), int(bounds[i + 1])) for i in range(0, len(bounds), 2)]
+    elif all(isinstance(b, tuple) and len(b) == 2 for b in bounds):
+        pairs = [(b[0], b[1]) for b in typing.cast(tuple[tuple[int, int], ...], bounds)]
+    else:
+        raise DefinitionError(f"{where}: ARRAY bounds must be (lo, hi) integer pairs, got {bounds!r}")
+    for lo, hi in pairs:
+        if not (isinstance(lo, int) and isinstance(hi, int)) or isinstance(lo, bool) or isinstance(hi, bool):
+            raise DefinitionError(f"{where}: ARRAY bounds must be integers, got {lo!r}..{hi!r}")
+        if hi < lo:
+            raise DefinitionError(f"{where}: ARRAY[{lo}..{hi}] is empty: the upper bound is below the lower one")
+        if not -(2**31) <= lo <= hi < 2**31:
+            raise DefinitionError(f"{where}: ARRAY bounds {lo}..{hi} are outside the DINT range")
+    return tuple(pairs)
+
+
+# ---------------------------------------------------------------------------
+# Resolving annotations into TypeInfo
+# ---------------------------------------------------------------------------
+
+_elementary_infos: dict[int, ElementaryInfo] = {}
+_string_infos: dict[tuple[str, int], StringInfo] = {}
+_aggregate_infos: dict[type, TypeInfo] = {}
+
+MAX_STRING_LENGTH = 65535
+
+
+def elementary_info(record: ElementaryType) -> ElementaryInfo:
+    info = _elementary_infos.get(id(record))
+    if info is None:
+        info = _elementary_infos[id(record)] = ElementaryInfo(record)
+    return info
+
+
+def string_info(record: StringType, length: int) -> StringInfo:
+    key = (record.name, length)
+    info = _string_infos.get(key)
+    if info is None:
+        info = _string_infos[key] = StringInfo(record, length)
+    return info
+
+
+def class_info(cls: type) -> TypeInfo | None:
+    """The TypeInfo of a Struct / Union / FB / interface / enum class, or None."""
+    info = _aggregate_infos.get(cls)
+    if info is not None:
+        return info
+    kind = getattr(cls, "_iec_kind_", None)
+    if kind in ("struct", "union", "fb"):
+        if getattr(cls, "_iec_layout_", None) is None:
+            return None
+        info = AggregateInfo(cls)
+    elif kind == "interface":
+        info = InterfaceInfo(cls)
+    elif kind == "enum":
+        base = typing.cast(ElementaryType, getattr(cls, "_iec_base_"))
+        info = EnumInfo(typing.cast(type[enum.IntEnum], cls), base)
+    else:
+        return None
+    _aggregate_infos[cls] = info
+    return info
+
+
+def resolve_type(
+    annotation: Any,
+    where: str,
+    *,
+    length: int | None = None,
+    bounds: object = None,
+    resolver: Callable[[Any], Any] | None = None,
+) -> TypeInfo:
+    """The TypeInfo of an IEC type annotation, or DefinitionError naming ``where``."""
+    if isinstance(annotation, str) or isinstance(annotation, typing.ForwardRef):
+        if resolver is None:
+            raise DefinitionError(f"{where}: cannot resolve the type name {annotation!r}")
+        annotation = resolver(annotation)
+    origin = typing.get_origin(annotation)
+    if origin is Annotated:
+        metadata = annotation.__metadata__
+        if any(m is REFERENCE for m in metadata):
+            rest = tuple(m for m in metadata if m is not REFERENCE)
+            inner = annotation.__origin__
+            target_annotation = Annotated[(inner, *rest)] if rest else inner  # type: ignore[valid-type]
+            if length is not None:
+                target = resolve_type(target_annotation, where, length=length, resolver=resolver)
+            else:
+                target = resolve_type(target_annotation, where, resolver=resolver)
+            if isinstance(target, (InterfaceInfo, ReferenceInfo)):
+                raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
+            return ReferenceInfo(target)
+        record = elementary_type(annotation)
+        if isinstance(record, StringType):
+            n = record.default_length if length is None else length
+            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STRING_LENGTH:
+                raise DefinitionError(
+                    f"{where}: {record.name} length must be an integer 1..{MAX_STRING_LENGTH}, got {n!r}"
+                )
+            _check_no_bounds(bounds, where, record.name)
+            return string_info(record, n)
+        if isinstance(record, ElementaryType):
+            _check_plain(length, bounds, where, record.name)
+            alias = next((m for m in metadata if isinstance(m, Alias)), None)
+            if alias is not None:
+                return ElementaryInfo(record, alias.name)
+            return elementary_info(record)
+        return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
+    if origin is ARRAY:
+        (elem_annotation,) = typing.get_args(annotation)
+        if bounds is None:
+            raise DefinitionError(f"{where}: ARRAY needs bounds, e.g. VAR(bounds=(1, 10))")
+        pairs = normalise_bounds(bounds, where)
+        elem = resolve_type(elem_annotation, where, length=length, resolver=resolver)
+        if isinstance(elem, ReferenceInfo):
+            raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
+        if isinstance(elem, ArrayInfo):
+            raise DefinitionError(f"{where}: write a multi-dimensional ARRAY with several bound pairs")
+        return array_info(elem, pairs)
+    if origin is Pointer:
+        (target_annotation,) = typing.get_args(annotation) or (None,)
+        _check_plain(None, bounds, where, "POINTER")
+
+        def thunk() -> TypeInfo | None:
+            if target_annotation is None or target_annotation is Any:
+                return None
+            if length is not None:
+                return resolve_type(target_annotation, where, length=length, resolver=resolver)
+            return resolve_type(target_annotation, where, resolver=resolver)
+
+        return PointerInfo(thunk, _annotation_name(target_annotation))
+    if annotation is Pointer:
+        return PointerInfo(lambda: None, "PVOID")
+    if isinstance(annotation, type):
+        info = class_info(annotation)
+        if info is not None:
+            _check_plain(length, bounds, where, info.name)
+            return info
+        if annotation in (int, float, bool, str):
+            raise DefinitionError(
+                f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
+            )
+    raise DefinitionError(f"{where}: {_annotation_name(annotation)} is not an IEC type")
+
+
+def _annotation_name(annotation: Any) -> str:
+    if annotation is None:
+        return "PVOID"
+    record = elementary_type(annotation)
+    if record is not None:
+        return record.name
+    if isinstance(annotation, type):
+        return annotation.__name__
+    if isinstance(annotation, str):
+        return annotation
+    if isinstance(annotation, typing.ForwardRef):
+        return annotation.__forward_arg__
+    return repr(annotation)
+
+
+def _check_plain(length: object, bounds: object, where: str, name: str) -> None:
+    if length is not None:
+        raise DefinitionError(f"{where}: length= applies to STRING / WSTRING, not {name}")
+    _check_no_bounds(bounds, where, name)
+
+
+def _check_no_bounds(bounds: object, where: str, name: str) -> None:
+    if bounds is not None:
+        raise DefinitionError(f"{where}: bounds= applies to ARRAY, not {name}")
+
+
+class TaggedBlock:
+    """Marker for classes whose instances start with an 8-byte type tag (FBs)."""
+
+    _iec_tagged_: ClassVar[bool] = True

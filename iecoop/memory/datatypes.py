@@ -1,0 +1,186 @@
+"""User data types: ``Struct`` (STRUCT), ``Union`` (UNION), ``IecEnum`` and aliases.
+
+A Struct is a real C-compatible block laid out like a TwinCAT 3 x64 target
+(natural alignment, pack mode 8). A subclass is ``STRUCT ... EXTENDS``: the
+base members come first and a member name may not repeat.
+
+ST::
+
+    TYPE ST_Recipe :
+    STRUCT
+        speed : REAL := 1.5;
+        name  : STRING(20);
+    END_STRUCT
+    END_TYPE
+
+Python:
+
+>>> from iecoop import REAL, STRING, VAR, Struct, sizeof
+>>> class Recipe(Struct):
+...     speed: REAL = 1.5
+...     name: STRING = VAR("", length=20)
+>>> r = Recipe(name="bread")
+>>> r
+Recipe(speed=1.5, name='bread')
+>>> sizeof(Recipe)
+28
+"""
+
+from __future__ import annotations
+
+import ctypes
+import enum
+import typing
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from iecoop import _config
+from iecoop.exceptions import DefinitionError
+from iecoop.memory._core import Alias
+from iecoop.memory.layout import ClassLayout, build_layout, checked_setattr
+from iecoop.types import INT_T, ElementaryType, elementary_type
+
+__all__ = ["Alias", "IecEnum", "Struct", "Union"]
+
+_STRUCT_SECTIONS = {"VAR": "member"}
+
+if TYPE_CHECKING:
+    _StructBase = object
+    _UnionBase = object
+    _StructMetaBase = type
+    _UnionMetaBase = type
+else:
+    _StructBase = ctypes.Structure
+    _UnionBase = ctypes.Union
+    _StructMetaBase = type(ctypes.Structure)
+    _UnionMetaBase = type(ctypes.Union)
+
+
+def _member_values(obj: Any) -> tuple[Any, ...]:
+    layout: ClassLayout = type(obj)._iec_layout_
+    return tuple(getattr(obj, f.name) for f in layout.fields)
+
+
+def _finish_data_type(cls: Any, kind: str) -> None:
+    layout: ClassLayout = cls._iec_layout_
+    if not layout.fields:
+        raise DefinitionError(f"{kind} {cls.__name__} has no members; declare at least one")
+    cls._iec_implicit_init_ = layout.implicit_init
+    if _config.CHECKS:
+        cls.__setattr__ = checked_setattr(cls.__name__, layout)
+
+
+class _StructMeta(_StructMetaBase):
+    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+        if namespace.get("_iec_base_class_"):
+            namespace["_fields_"] = []
+            return super().__new__(mcls, name, bases, namespace, **kwargs)
+
+        def create(ns: dict[str, Any]) -> type:
+            return typing.cast(type, super(_StructMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
+
+        cls = build_layout(create, name, bases, namespace, kind="STRUCT", allowed_sections=_STRUCT_SECTIONS)
+        _finish_data_type(cls, "STRUCT")
+        return cls
+
+
+class _UnionMeta(_UnionMetaBase):
+    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+        if namespace.get("_iec_base_class_"):
+            namespace["_fields_"] = []
+            return super().__new__(mcls, name, bases, namespace, **kwargs)
+        if any(getattr(b, "_iec_layout_", None) is not None for b in bases):
+            raise DefinitionError(f"UNION {name}: a union cannot extend another union")
+
+        def create(ns: dict[str, Any]) -> type:
+            return typing.cast(type, super(_UnionMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
+
+        cls = build_layout(create, name, bases, namespace, kind="UNION", allowed_sections=_STRUCT_SECTIONS)
+        _finish_data_type(cls, "UNION")
+        return cls
+
+
+class _DataTypeMixin:
+    """Construction, equality and repr shared by Struct and Union."""
+
+    _iec_layout_: ClassVar[ClassLayout | None] = None
+
+    def __init__(self, **members: Any) -> None:
+        layout = type(self)._iec_layout_
+        if layout is None:
+            raise DefinitionError(f"{type(self).__name__} is the base class; declare a subclass with members")
+        layout.implicit_init(self)
+        for name, value in members.items():
+            if name not in layout.by_name:
+                raise TypeError(f"{type(self).__name__} has no member {name!r}")
+            setattr(self, name, value)
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return _member_values(self) == _member_values(other)
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        layout = type(self)._iec_layout_
+        fields = layout.fields if layout is not None else ()
+        inner = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields)
+        return f"{type(self).__name__}({inner})"
+
+
+class Struct(_DataTypeMixin, _StructBase, metaclass=_StructMeta):
+    """``STRUCT ... END_STRUCT``; subclass it and declare members with their types."""
+
+    _iec_base_class_: ClassVar[bool] = True
+    _iec_kind_: ClassVar[str] = "struct"
+
+
+class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
+    """``UNION ... END_UNION``: every member starts at offset 0 and shares the memory.
+
+    >>> from iecoop import BYTE, WORD, ARRAY, VAR, Union
+    >>> class Split(Union):
+    ...     whole: WORD = 0
+    ...     parts: ARRAY[BYTE] = VAR(bounds=(0, 1))
+    >>> u = Split(whole=0x1234)
+    >>> hex(u.parts[0]), hex(u.parts[1])
+    ('0x34', '0x12')
+    """
+
+    _iec_base_class_: ClassVar[bool] = True
+    _iec_kind_: ClassVar[str] = "union"
+
+
+class _IecEnumMeta(enum.EnumMeta):
+    def __new__(
+        metacls, cls: str, bases: tuple[type, ...], classdict: Any, *, base: Any = None, **kwds: Any
+    ) -> Any:
+        enum_cls = super().__new__(metacls, cls, bases, classdict, **kwds)
+        inherited = getattr(enum_cls, "_iec_base_", INT_T)
+        record = elementary_type(base) if base is not None else inherited
+        if not isinstance(record, ElementaryType) or record.kind not in ("signed", "unsigned"):
+            raise DefinitionError(f"enumeration {cls}: base type must be an integer type, got {base!r}")
+        for member in enum_cls:  # type: ignore[var-annotated]
+            value = int(member)
+            assert record.low is not None and record.high is not None
+            if not record.low <= value <= record.high:
+                raise DefinitionError(
+                    f"enumeration {cls}: {member.name} := {value} does not fit the base type {record.name}"
+                )
+        type.__setattr__(enum_cls, "_iec_base_", record)
+        type.__setattr__(enum_cls, "_iec_kind_", "enum")
+        return enum_cls
+
+
+class IecEnum(enum.IntEnum, metaclass=_IecEnumMeta):
+    """An enumeration with an IEC base type (INT unless ``base=`` says otherwise).
+
+    ST: ``TYPE E_Mode : (AUTO := 0, MANUAL := 1) UDINT; END_TYPE``
+
+    >>> from iecoop import UDINT
+    >>> class Mode(IecEnum, base=UDINT):
+    ...     AUTO = 0
+    ...     MANUAL = 1
+    >>> Mode.MANUAL, int(Mode.MANUAL)
+    (<Mode.MANUAL: 1>, 1)
+    """

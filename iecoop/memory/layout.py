@@ -1,0 +1,442 @@
+"""How a class's declared fields become a memory layout (built once per class).
+
+The builder reads each annotated field and its specifier, resolves the IEC
+type, lets ctypes lay the block out (base-class fields first, as EXTENDS
+does), installs a descriptor only for the types that need one, and records an
+immutable ``FieldRecord`` per field. Initial values are checked here, at class
+definition, and applied by a precomputed list of operations at instantiation.
+Nothing of this runs on a variable read.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+import os
+import sys
+import typing
+from collections.abc import Callable, Mapping
+from typing import Any, Final
+
+from iecoop import _config
+from iecoop.exceptions import DefinitionError
+from iecoop.memory._core import (
+    AggregateInfo,
+    ArrayInfo,
+    ElementaryInfo,
+    EnumInfo,
+    InterfaceInfo,
+    PointerInfo,
+    ReferenceInfo,
+    StringInfo,
+    TypeInfo,
+    resolve_type,
+)
+
+__all__ = ["MISSING", "ClassLayout", "FieldRecord", "FieldSpec", "SECTIONS", "build_layout"]
+
+
+class _Missing:
+    def __repr__(self) -> str:
+        return "MISSING"
+
+    def __bool__(self) -> bool:
+        return False
+
+
+MISSING: Final[Any] = _Missing()
+
+#: The VAR sections, in the order ST declares them.
+SECTIONS: Final = (
+    "VAR_INPUT",
+    "VAR_OUTPUT",
+    "VAR_IN_OUT",
+    "VAR",
+    "VAR_STAT",
+    "VAR_TEMP",
+    "VAR_INST",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+)
+
+
+class FieldSpec:
+    """A field's declaration: section, initial value and qualifiers (what ``VAR(...)`` returns)."""
+
+    __slots__ = ("section", "initial", "length", "bounds", "retain", "persistent", "constant", "method")
+
+    def __init__(
+        self,
+        section: str,
+        initial: Any = MISSING,
+        *,
+        length: int | None = None,
+        bounds: object = None,
+        retain: bool = False,
+        persistent: bool = False,
+        constant: bool = False,
+        method: str | None = None,
+    ) -> None:
+        self.section = section
+        self.initial = initial
+        self.length = length
+        self.bounds = bounds
+        self.retain = retain
+        self.persistent = persistent
+        self.constant = constant
+        self.method = method
+
+    @property
+    def qualifiers(self) -> str:
+        words = [w for w, on in (("CONSTANT", self.constant), ("RETAIN", self.retain), ("PERSISTENT", self.persistent)) if on]
+        return " ".join(words)
+
+    def __repr__(self) -> str:
+        init = "" if self.initial is MISSING else repr(self.initial)
+        qual = f" {self.qualifiers}" if self.qualifiers else ""
+        return f"{self.section}{qual}({init})"
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class FieldRecord:
+    """One declared field, fixed at class creation."""
+
+    name: str
+    info: TypeInfo
+    spec: FieldSpec
+    owner: str
+    offset: int
+    raw: Any
+
+    @property
+    def section(self) -> str:
+        return self.spec.section
+
+    @property
+    def size(self) -> int:
+        return self.info.size
+
+    @property
+    def where(self) -> str:
+        return f"{self.owner}.{self.name}"
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ClassLayout:
+    """Every field of a class (base fields first) and how to initialise them."""
+
+    fields: tuple[FieldRecord, ...]
+    own: tuple[FieldRecord, ...]
+    by_name: Mapping[str, FieldRecord]
+    init_ops: tuple[Callable[[Any], None], ...]
+
+    def implicit_init(self, obj: Any) -> None:
+        """Write the declared initial values into ``obj`` (its memory is zero)."""
+        for op in self.init_ops:
+            op(obj)
+
+
+_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+class DefinitionScope:
+    """The names visible where a ``class`` statement runs: its frame's live globals and locals.
+
+    Annotation strings (``from __future__ import annotations``) refer to those
+    names, also for classes defined inside a function or a doctest. Pointer
+    targets are resolved later, when first used, so ``POINTER_TO["Node"]``
+    inside ``Node`` works.
+    """
+
+    def __init__(self, class_namespace: Mapping[str, Any]) -> None:
+        frame: Any = sys._getframe(1)
+        while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
+            frame = frame.f_back
+        if frame is not None:
+            self.globals: dict[str, Any] = frame.f_globals
+            self.locals: dict[str, Any] = dict(frame.f_locals) if frame.f_locals is not frame.f_globals else {}
+        else:
+            module = str(class_namespace.get("__module__", ""))
+            self.globals = vars(sys.modules[module]) if module in sys.modules else {}
+            self.locals = {}
+        self.own_name = ""
+        self.own: type | None = None
+
+    def eval(self, text: str, extra: Mapping[str, Any] | None = None) -> Any:
+        local = dict(self.locals)
+        if extra:
+            local.update(extra)
+        if self.own is not None:
+            local[self.own_name] = self.own
+        return eval(text, self.globals, local)  # noqa: S307 - annotation text of the user's own class
+
+    def resolver(self) -> Callable[[Any], Any]:
+        def resolve(ref: Any) -> Any:
+            text = ref.__forward_arg__ if isinstance(ref, typing.ForwardRef) else ref
+            try:
+                return self.eval(text)
+            except NameError as exc:
+                if text == self.own_name:
+                    raise DefinitionError(
+                        f"{self.own_name}: a type cannot contain itself inline; use POINTER_TO[{self.own_name}]"
+                    ) from None
+                raise DefinitionError(f"{self.own_name}: type name {text!r} is not defined ({exc})") from None
+
+        return resolve
+
+
+def read_annotations(name: str, namespace: Mapping[str, Any], scope: DefinitionScope) -> dict[str, Any]:
+    """The class's own annotations, with string annotations evaluated once."""
+    raw: dict[str, Any] = dict(namespace.get("__annotations__", {}))
+    localns = {k: v for k, v in namespace.items() if not k.startswith("__")}
+    localns[name] = typing.ForwardRef(name)
+    result: dict[str, Any] = {}
+    for field, annotation in raw.items():
+        if isinstance(annotation, str):
+            try:
+                annotation = scope.eval(annotation, localns)
+            except NameError as exc:
+                raise DefinitionError(f"{name}.{field}: cannot resolve the annotation {annotation!r} ({exc})") from None
+            except Exception as exc:
+                raise DefinitionError(f"{name}.{field}: invalid annotation {annotation!r} ({exc})") from None
+        result[field] = annotation
+    return result
+
+
+def _is_classvar(annotation: Any) -> bool:
+    return annotation is typing.ClassVar or typing.get_origin(annotation) is typing.ClassVar
+
+
+def build_layout(
+    create: Callable[[dict[str, Any]], type],
+    name: str,
+    bases: tuple[type, ...],
+    namespace: dict[str, Any],
+    *,
+    kind: str,
+    allowed_sections: Mapping[str, str],
+    default_section: str = "VAR",
+    leading: list[tuple[str, Any]] | None = None,
+) -> type:
+    """Create the ctypes class and its ``ClassLayout``; raise DefinitionError on bad fields.
+
+    ``create`` is the ctypes metaclass's own ``__new__`` bound to the class
+    being built; ``allowed_sections`` maps each allowed section to a reason-free label; a
+    field in another section is rejected naming the kind (``STRUCT``).
+    """
+    scope = DefinitionScope(namespace)
+    scope.own_name = name
+    annotations = read_annotations(name, namespace, scope)
+    resolver = scope.resolver()
+    inherited: list[FieldRecord] = []
+    for base in bases:
+        layout = getattr(base, "_iec_layout_", None)
+        if layout is not None:
+            inherited.extend(layout.fields)
+    taken = {f.name: f.owner for f in inherited}
+
+    pending: list[tuple[str, TypeInfo, FieldSpec]] = []
+    for field, annotation in annotations.items():
+        if _is_classvar(annotation):
+            continue
+        where = f"{name}.{field}"
+        if field.startswith("_iec") or field.startswith("__"):
+            raise DefinitionError(f"{where}: names starting with '_iec' or '__' are reserved")
+        if field in taken:
+            raise DefinitionError(
+                f"{where}: {field} is already declared in {taken[field]}; a derived type cannot declare it again"
+            )
+        value = namespace.pop(field, MISSING)
+        spec = value if isinstance(value, FieldSpec) else FieldSpec(default_section, value)
+        if spec.section not in allowed_sections:
+            allowed = ", ".join(allowed_sections)
+            raise DefinitionError(f"{where}: {spec.section} is not allowed in a {kind} (allowed: {allowed})")
+        info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
+        check_initial(info, spec.initial, where)
+        pending.append((field, info, spec))
+        taken[field] = name
+
+    fields_ = list(leading or [])
+    fields_.extend((field, info.ctype) for field, info, _spec in pending)
+    namespace["_fields_"] = fields_
+    cls = create(namespace)
+    scope.own = cls
+
+    own: list[FieldRecord] = []
+    for field, info, spec in pending:
+        raw = cls.__dict__[field]
+        descriptor = info.descriptor(raw, field, name)
+        if descriptor is not None:
+            setattr(cls, field, descriptor)
+        own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
+    all_fields = tuple(inherited) + tuple(own)
+    init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)
+    layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, init_ops)
+    setattr(cls, "_iec_layout_", layout)
+    return cls
+
+
+# ---------------------------------------------------------------------------
+# Initial values
+# ---------------------------------------------------------------------------
+
+
+def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
+    """Reject, at definition, an initial value that does not fit the field's type."""
+    if initial is MISSING:
+        return
+    try:
+        if isinstance(info, ArrayInfo):
+            if not isinstance(initial, (list, tuple)):
+                raise TypeError(f"an ARRAY initial value is a list, got {type(initial).__name__}")
+            if len(initial) > info.count:
+                raise TypeError(f"{len(initial)} initial values for {info.count} elements")
+            for item in initial:
+                check_initial(info.elem, item, where)
+        elif isinstance(info, AggregateInfo):
+            if isinstance(initial, info.cls):
+                return
+            if not isinstance(initial, Mapping):
+                raise TypeError(f"a {info.name} initial value is a dict of member values, got {type(initial).__name__}")
+            layout = getattr(info.cls, "_iec_layout_")
+            for member, value in initial.items():
+                record = layout.by_name.get(member)
+                if record is None:
+                    raise TypeError(f"{info.name} has no member {member!r}")
+                if getattr(info.cls, "_iec_kind_", "") == "fb" and record.section not in ("VAR_INPUT",):
+                    raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
+                check_initial(record.info, value, f"{where}.{member}")
+        elif isinstance(info, (PointerInfo, InterfaceInfo, ReferenceInfo)):
+            if initial not in (None, 0):
+                raise TypeError(f"{info.name} starts as 0; bind it at run time")
+        else:
+            info.validate(initial, where)
+    except DefinitionError:
+        raise
+    except (TypeError, ValueError) as exc:
+        message = str(exc)
+        if message.startswith(where):
+            message = message[len(where) :].lstrip(": ")
+        raise DefinitionError(f"{where}: initial value of the wrong type: {message}") from None
+
+
+def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
+    """The operation that writes ``record``'s initial value into a zeroed instance, or None."""
+    info, initial, raw = record.info, record.spec.initial, record.raw
+    if isinstance(info, (ElementaryInfo, EnumInfo)):
+        if initial is MISSING or not initial:
+            return None
+        value = int(initial) if isinstance(info, EnumInfo) else initial
+        setter = raw.__set__
+        return lambda obj: setter(obj, value)
+    if isinstance(info, StringInfo):
+        if initial is MISSING or initial == "":
+            return None
+        data = info._encode(initial, record.where)
+        offset, size = record.offset, info.size
+        return lambda obj: ctypes.memmove(ctypes.addressof(obj) + offset, data, size) and None
+    if isinstance(info, AggregateInfo):
+        return _aggregate_op(info, raw.__get__, initial)
+    if isinstance(info, ArrayInfo):
+        return _array_op(info, raw.__get__, initial)
+    return None
+
+
+def _aggregate_op(info: AggregateInfo, get: Callable[[Any], Any], initial: Any) -> Callable[[Any], None] | None:
+    cls = info.cls
+    implicit = getattr(cls, "_iec_implicit_init_")
+    if initial is MISSING:
+        return lambda obj: implicit(get(obj))
+    if isinstance(initial, cls):
+        source = bytes(memoryview(typing.cast(Any, initial)).cast("B"))
+        size = len(source)
+        return lambda obj: ctypes.memmove(ctypes.addressof(get(obj)), source, size) and None
+    values = dict(initial)
+    if getattr(cls, "_iec_kind_", "") == "fb":
+        # Declaration-site inputs (fb : FB := (in := x)) are applied after FB_init by the POU layer.
+        return lambda obj: implicit(get(obj))
+
+    def op(obj: Any) -> None:
+        view = get(obj)
+        implicit(view)
+        for member, value in values.items():
+            setattr(view, member, value)
+
+    return op
+
+
+def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Callable[[Any], None] | None:
+    elem = info.elem
+    ctype = info.ctype
+    count = info.count
+    raw_get = ctype.__mro__[1].__getitem__
+    raw_set = ctype.__mro__[1].__setitem__
+    if isinstance(elem, AggregateInfo):
+        implicit = getattr(elem.cls, "_iec_implicit_init_")
+        items = list(initial) if initial is not MISSING else []
+
+        def op(obj: Any) -> None:
+            array = get(obj)
+            for i in range(count):
+                view = raw_get(array, i)
+                implicit(view)
+                if i < len(items):
+                    item = items[i]
+                    if isinstance(item, elem.cls):
+                        ctypes.memmove(ctypes.addressof(view), ctypes.addressof(item), elem.size)
+                    else:
+                        for member, value in item.items():
+                            setattr(view, member, value)
+
+        return op
+    if initial is MISSING or not initial:
+        return None
+    values = list(initial)
+    if isinstance(elem, StringInfo):
+        size = elem.size
+        encoded = [elem._encode(v, "ARRAY element") for v in values]
+
+        def op_str(obj: Any) -> None:
+            base = ctypes.addressof(get(obj))
+            for i, data in enumerate(encoded):
+                ctypes.memmove(base + i * size, data, size)
+
+        return op_str
+    if isinstance(elem, EnumInfo):
+        values = [int(v) for v in values]
+
+    def op_values(obj: Any) -> None:
+        array = get(obj)
+        for i, value in enumerate(values):
+            raw_set(array, i, value)
+
+    return op_values
+
+
+# ---------------------------------------------------------------------------
+# Checked-mode writes
+# ---------------------------------------------------------------------------
+
+
+def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
+    """A ``__setattr__`` that validates the value's kind and rejects unknown members."""
+    validators: dict[str, Callable[[Any, str], None]] = {}
+    wheres: dict[str, str] = {}
+    for record in layout.fields:
+        if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)):
+            validators[record.name] = record.info.validate
+            wheres[record.name] = record.where
+    setter = object.__setattr__
+
+    def __setattr__(self: Any, name: str, value: Any) -> None:
+        validate = validators.get(name)
+        if validate is not None:
+            validate(value, wheres[name])
+        elif not hasattr(type(self), name):
+            raise AttributeError(f"{type(self).__name__} has no member {name!r}; declare it as a field")
+        setter(self, name, value)
+
+    return __setattr__
+
+
+CHECKS = _config.CHECKS

@@ -1,0 +1,335 @@
+"""Memory operators: ADR, SIZEOF, MEMCPY / MEMSET / MEMCMP, REF=, __ISVALIDREF, __VARINFO.
+
+Every address is checked: a null pointer, an address outside its block or
+into deleted memory raises PlcException RTSEXCPT_ACCESS_VIOLATION.
+
+>>> from iecoop import INT, REAL, Struct, adr, sizeof, memcpy
+>>> class Point(Struct):
+...     x: REAL = 0.0
+...     y: REAL = 0.0
+>>> a, b = Point(x=1.0, y=2.0), Point()
+>>> memcpy(adr(b), adr(a), sizeof(Point))
+8
+>>> b
+Point(x=1.0, y=2.0)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+import enum
+import typing
+from typing import Any, TypeVar, overload
+
+from iecoop.memory._core import (
+    AggregateInfo,
+    ArrayInfo,
+    ElementaryInfo,
+    EnumInfo,
+    InterfaceInfo,
+    Pointer,
+    PointerInfo,
+    ReferenceInfo,
+    StringInfo,
+    TypeInfo,
+    access_violation,
+    allocation_for_handle,
+    handle_of,
+    resolve,
+    resolve_type,
+)
+from iecoop.memory.layout import ClassLayout, FieldRecord
+
+__all__ = [
+    "TYPE_CLASS",
+    "VarInfo",
+    "adr",
+    "is_valid_ref",
+    "memcmp",
+    "memcpy",
+    "memset",
+    "ref_assign",
+    "sizeof",
+    "type_info_of",
+    "var_info",
+]
+
+_T = TypeVar("_T")
+
+
+def _layout(obj: Any, op: str) -> ClassLayout:
+    layout = getattr(type(obj), "_iec_layout_", None)
+    if layout is None:
+        raise TypeError(f"{op} needs a struct, union, array or POU instance, got {type(obj).__name__}")
+    return typing.cast(ClassLayout, layout)
+
+
+def _record(obj: Any, field: str, op: str) -> FieldRecord:
+    record = _layout(obj, op).by_name.get(field)
+    if record is None:
+        raise AttributeError(f"{op}: {type(obj).__name__} has no variable {field!r}")
+    return record
+
+
+def type_info_of(obj: Any) -> TypeInfo:
+    """The TypeInfo of an instance (struct, union, POU or array)."""
+    info = getattr(type(obj), "_iec_info_", None)
+    if isinstance(info, TypeInfo):
+        return info
+    from iecoop.memory._core import class_info
+
+    found = class_info(type(obj))
+    if found is None:
+        raise TypeError(f"{type(obj).__name__} is not an IEC data instance")
+    return found
+
+
+@overload
+def adr(obj: Any) -> Pointer[Any]: ...
+
+
+@overload
+def adr(obj: Any, member: str | int, index: int | tuple[int, ...] | None = None) -> Pointer[Any]: ...
+
+
+def adr(obj: Any, member: str | int | None = None, index: int | tuple[int, ...] | None = None) -> Pointer[Any]:
+    """``ADR(x)``: a typed pointer to an instance, one of its variables, or an array element.
+
+    ``adr(motor)`` is ``ADR(motor)``, ``adr(motor, "speed")`` is
+    ``ADR(motor.speed)``, ``adr(values, 3)`` is ``ADR(values[3])`` and
+    ``adr(self, "data", 3)`` is ``ADR(data[3])``. For a REFERENCE TO or
+    VAR_IN_OUT variable it is the address of what the reference designates.
+    """
+    if member is None:
+        return Pointer(handle_of(obj), type_info_of(obj))
+    if isinstance(member, str):
+        record = _record(obj, member, "ADR")
+        if isinstance(record.info, ReferenceInfo):
+            handle = record.raw.__get__(obj)
+            target: TypeInfo = record.info.target
+            if index is not None:
+                array = target.load_handle(handle, record.where)
+                return adr(array, index)
+            return Pointer(handle, target)
+        if index is not None:
+            return adr(record.raw.__get__(obj), index)
+        return Pointer(handle_of(obj, record.offset), record.info)
+    info = getattr(type(obj), "_iec_info_", None)
+    if not isinstance(info, ArrayInfo):
+        raise TypeError(f"ADR with an index needs an ARRAY, got {type(obj).__name__}")
+    position = obj._flat(member)
+    return Pointer(handle_of(obj, position * info.elem.size), info.elem)
+
+
+def sizeof(x: Any, member: str | None = None) -> int:
+    """``SIZEOF(x)``: bytes of a type (``sizeof(INT)``, ``sizeof(Recipe)``) or of a variable.
+
+    ``sizeof(STRING)`` is 81 (STRING(80) plus its terminator). For a declared
+    variable of non-default length use ``sizeof(obj, "name")``.
+    """
+    if member is not None:
+        return _record(x, member, "SIZEOF").info.size
+    if isinstance(x, Pointer):
+        return 8
+    if isinstance(x, ctypes._SimpleCData) or isinstance(x, (ctypes.Structure, ctypes.Union, ctypes.Array)):
+        return ctypes.sizeof(x)
+    if isinstance(x, type) and issubclass(x, (ctypes.Structure, ctypes.Union, ctypes.Array)):
+        if getattr(x, "_iec_layout_", "absent") is None:
+            raise TypeError(f"{x.__name__} is a base class without a layout")
+        return ctypes.sizeof(x)
+    return resolve_type(x, "SIZEOF").size
+
+
+def _span(pointer: Pointer[Any], size: int, what: str) -> int:
+    if not isinstance(pointer, Pointer):
+        raise TypeError(f"{what} needs a pointer from adr(...), got {type(pointer).__name__}")
+    root, offset = resolve(pointer.handle, size, what)
+    return ctypes.addressof(root) + offset
+
+
+def _count(n: int, what: str) -> int:
+    if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+        raise TypeError(f"{what}: the byte count must be a non-negative integer, got {n!r}")
+    return n
+
+
+def memcpy(dest: Pointer[Any], src: Pointer[Any], n: int) -> int:
+    """``MEMCPY(destAddr, srcAddr, n)``: copy n bytes, both ranges checked; returns n."""
+    _count(n, "MEMCPY")
+    if n == 0:
+        return 0
+    target = _span(dest, n, "MEMCPY destination")
+    source = _span(src, n, "MEMCPY source")
+    ctypes.memmove(target, source, n)
+    return n
+
+
+def memset(dest: Pointer[Any], value: int, n: int) -> int:
+    """``MEMSET(destAddr, fillByte, n)``: fill n bytes with ``value``; returns n."""
+    _count(n, "MEMSET")
+    if n:
+        ctypes.memset(_span(dest, n, "MEMSET destination"), value & 0xFF, n)
+    return n
+
+
+def memcmp(a: Pointer[Any], b: Pointer[Any], n: int) -> int:
+    """``MEMCMP(pBuf1, pBuf2, n)``: 0 when equal, 1 when the first differing byte of a is greater, else -1."""
+    _count(n, "MEMCMP")
+    if n == 0:
+        return 0
+    left = ctypes.string_at(_span(a, n, "MEMCMP first buffer"), n)
+    right = ctypes.string_at(_span(b, n, "MEMCMP second buffer"), n)
+    return (left > right) - (left < right)
+
+
+def ref_assign(holder: Any, field: str, target: Any) -> None:
+    """``holder.field REF= target``: bind a REFERENCE TO (or VAR_IN_OUT) to ``target``.
+
+    ``target`` is a pointer from ``adr(...)``, a struct / FB instance, or None
+    (``REF= 0``) to unbind.
+
+    >>> from iecoop import INT, REFERENCE_TO, Struct, VAR, adr, ref_assign
+    >>> class Counter(Struct):
+    ...     value: INT = 5
+    >>> class Holder(Struct):
+    ...     r: REFERENCE_TO[INT] = VAR()
+    >>> c, h = Counter(), Holder()
+    >>> ref_assign(h, "r", adr(c, "value"))
+    >>> h.r += 1
+    >>> c.value
+    6
+    """
+    record = _record(holder, field, "REF=")
+    if not isinstance(record.info, ReferenceInfo):
+        raise TypeError(f"REF=: {record.where} is {record.info.name}, not a REFERENCE TO")
+    record.raw.__set__(holder, record.info.bind_handle(target, record.where))
+
+
+def is_valid_ref(holder: Any, field: str) -> bool:
+    """``__ISVALIDREF(holder.field)``: TRUE when the reference is bound to live memory.
+
+    A PLC only compares with 0; here a reference into deleted memory is
+    reported as invalid too, since using it would be an access violation.
+    """
+    record = _record(holder, field, "__ISVALIDREF")
+    if not isinstance(record.info, ReferenceInfo):
+        raise TypeError(f"__ISVALIDREF works on REFERENCE TO only; {record.where} is {record.info.name}")
+    handle = record.raw.__get__(holder)
+    if handle == 0:
+        return False
+    alloc = allocation_for_handle(handle)
+    return alloc is not None and alloc.ref() is not None and (handle & 0xFFFFFFFF) + record.info.target.size <= alloc.size
+
+
+class TYPE_CLASS(enum.IntEnum):
+    """``__SYSTEM.TYPE_CLASS`` (the CODESYS numbering)."""
+
+    TYPE_BOOL = 0
+    TYPE_BIT = 1
+    TYPE_BYTE = 2
+    TYPE_WORD = 3
+    TYPE_DWORD = 4
+    TYPE_LWORD = 5
+    TYPE_SINT = 6
+    TYPE_INT = 7
+    TYPE_DINT = 8
+    TYPE_LINT = 9
+    TYPE_USINT = 10
+    TYPE_UINT = 11
+    TYPE_UDINT = 12
+    TYPE_ULINT = 13
+    TYPE_REAL = 14
+    TYPE_LREAL = 15
+    TYPE_STRING = 16
+    TYPE_WSTRING = 17
+    TYPE_TIME = 18
+    TYPE_DATE = 19
+    TYPE_DATEANDTIME = 20
+    TYPE_TIMEOFDAY = 21
+    TYPE_POINTER = 22
+    TYPE_REFERENCE = 23
+    TYPE_SUBRANGE = 24
+    TYPE_ENUM = 25
+    TYPE_ARRAY = 26
+    TYPE_PARAMS = 27
+    TYPE_USERDEF = 28
+    TYPE_NONE = 29
+    TYPE_ANY = 30
+    TYPE_LTIME = 37
+    TYPE_INTERFACE = 39
+
+
+_CLASS_BY_NAME = {
+    "DT": TYPE_CLASS.TYPE_DATEANDTIME,
+    "TOD": TYPE_CLASS.TYPE_TIMEOFDAY,
+}
+
+
+def _type_class(info: TypeInfo) -> TYPE_CLASS:
+    if isinstance(info, ElementaryInfo):
+        name = info.record.name
+        return _CLASS_BY_NAME.get(name) or TYPE_CLASS[f"TYPE_{name}"]
+    if isinstance(info, StringInfo):
+        return TYPE_CLASS[f"TYPE_{info.record.name}"]
+    if isinstance(info, PointerInfo):
+        return TYPE_CLASS.TYPE_POINTER
+    if isinstance(info, ReferenceInfo):
+        return TYPE_CLASS.TYPE_REFERENCE
+    if isinstance(info, EnumInfo):
+        return TYPE_CLASS.TYPE_ENUM
+    if isinstance(info, ArrayInfo):
+        return TYPE_CLASS.TYPE_ARRAY
+    if isinstance(info, InterfaceInfo):
+        return TYPE_CLASS.TYPE_INTERFACE
+    return TYPE_CLASS.TYPE_USERDEF
+
+
+@dataclasses.dataclass(frozen=True)
+class VarInfo:
+    """``__SYSTEM.VAR_INFO``: what ``__VARINFO(x)`` reports about a variable."""
+
+    Symbol: str
+    ByteAddress: int
+    ByteOffset: int
+    Area: int
+    BitNr: int
+    BitSize: int
+    TypeClass: TYPE_CLASS
+    TypeName: str
+    NumElements: int
+    ElemBitSize: int
+    BaseTypeClass: TYPE_CLASS
+
+
+def var_info(obj: Any, field: str) -> VarInfo:
+    """``__VARINFO(obj.field)``: address, offset in the instance, size and type of a variable.
+
+    >>> from iecoop import INT, LREAL, Struct, var_info
+    >>> class Axis(Struct):
+    ...     mode: INT = 0
+    ...     position: LREAL = 0.0
+    >>> info = var_info(Axis(), "position")
+    >>> info.ByteOffset, info.BitSize, info.TypeName, info.TypeClass.name
+    (8, 64, 'LREAL', 'TYPE_LREAL')
+    """
+    record = _record(obj, field, "__VARINFO")
+    info = record.info
+    elements, elem_bits, base_class = 1, info.size * 8, _type_class(info)
+    if isinstance(info, ArrayInfo):
+        elements, elem_bits, base_class = info.count, info.elem.size * 8, _type_class(info.elem)
+    return VarInfo(
+        Symbol=record.where,
+        ByteAddress=handle_of(obj, record.offset),
+        ByteOffset=record.offset,
+        Area=-1,
+        BitNr=-1,
+        BitSize=info.size * 8,
+        TypeClass=_type_class(info),
+        TypeName=info.name,
+        NumElements=elements,
+        ElemBitSize=elem_bits,
+        BaseTypeClass=base_class,
+    )
+
+
