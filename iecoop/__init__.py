@@ -1,6 +1,11 @@
 """iecoop: IEC 61131-3 object-oriented PLC code as type-checked Python."""
 
 from iecoop.declarations import VAR, VAR_EXTERNAL, VAR_IN_OUT, VAR_INPUT, VAR_INST, VAR_OUTPUT, VAR_STAT, VAR_TEMP
+from iecoop.gvl import GlobalVariables, gvl
+from iecoop.interfaces import Interface, IQueryInterface, query_interface, query_pointer
+from iecoop.lifecycle import delete, new
+from iecoop.members import ABSTRACT, FINAL, INTERNAL, PRIVATE, PROTECTED, PUBLIC, Access, call_after_init, method, prop
+from iecoop.pou import FunctionBlock, Program
 from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException, try_catch
 from iecoop.literals import D, T
 from iecoop.memory import (
@@ -14,6 +19,9 @@ from iecoop.types import (
 )
 
 __all__ = [
+    "ABSTRACT", "Access", "FINAL", "FunctionBlock", "GlobalVariables", "INTERNAL", "IQueryInterface", "Interface",
+    "PRIVATE", "PROTECTED", "PUBLIC", "Program", "call_after_init", "delete", "gvl", "method", "new", "prop",
+    "query_interface", "query_pointer",
     "ARRAY", "Alias", "D", "IecEnum", "NullInterface", "POINTER_TO", "Pointer", "REFERENCE_TO", "Struct", "T",
     "TYPE_CLASS", "Union", "VAR", "VAR_EXTERNAL", "VAR_INPUT", "VAR_INST", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_STAT",
     "VAR_TEMP", "VarInfo", "adr", "is_valid_ref", "memcmp", "memcpy", "memset", "ref_assign", "sizeof", "var_info",

@@ -51,19 +51,27 @@ def _spec(section: str, initial: Any, **options: Any) -> Any:
 @overload
 def VAR(
     *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
 ) -> Any: ...
 @overload
 def VAR(
     initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
 ) -> _T: ...
 def VAR(
     initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
 ) -> Any:
-    """``VAR``: a local variable of the POU (or a member of a STRUCT)."""
-    return _spec("VAR", initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant)
+    """``VAR``: a local variable of the POU (or a member of a STRUCT).
+
+    For a function block member, ``fb_init={...}`` passes FB_init arguments
+    (ST: ``motor : FB_Motor(axis_id := 3);``) and a dict initial value sets
+    inputs at the declaration (ST: ``motor : FB_Motor := (speed := 1.5);``).
+    """
+    return _spec(
+        "VAR", initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant,
+        fb_init=fb_init,
+    )
 
 
 @overload

@@ -68,9 +68,8 @@ _next_id = [1]
 
 
 def _forget(alloc: Allocation) -> None:
-    if _allocations.get(alloc.id) is not alloc:
-        return
-    del _allocations[alloc.id]
+    if _allocations.get(alloc.id) is alloc:
+        del _allocations[alloc.id]
     if _by_base.get(alloc.base) is alloc:
         del _by_base[alloc.base]
         index = bisect.bisect_left(_bases, alloc.base)
@@ -95,7 +94,11 @@ def register(root: Any) -> Allocation:
 def free(alloc: Allocation) -> None:
     """Release an allocation (``__DELETE``): every handle into it stops resolving."""
     alloc.freed = True
-    _forget(alloc)
+    # Only the id stops resolving. The block stays known by its address until it is
+    # collected, so ADR of the deleted instance (or of a view into it) yields a handle
+    # that faults, instead of registering the same memory again as a fresh, valid block.
+    if _allocations.get(alloc.id) is alloc:
+        del _allocations[alloc.id]
 
 
 def _root_of(obj: Any) -> Any:
@@ -422,14 +425,23 @@ class Pointer(Generic[_T]):
     2
     """
 
-    __slots__ = ("_handle", "_target")
+    __slots__ = ("_handle", "_target", "_origin")
 
     _handle: int
     _target: TypeInfo | None
+    _origin: tuple[Any, Any] | None
 
-    def __init__(self, handle: int = 0, target: TypeInfo | None = None) -> None:
+    def __init__(self, handle: int = 0, target: TypeInfo | None = None, origin: tuple[Any, Any] | None = None) -> None:
         self._handle = handle & 0xFFFFFFFFFFFFFFFF
         self._target = target
+        self._origin = origin
+
+    def _clear(self) -> None:
+        """Set the pointer to 0, and the variable it was read from (``__DELETE(p)`` does)."""
+        self._handle = 0
+        if self._origin is not None:
+            holder, raw = self._origin
+            raw.__set__(holder, 0)
 
     @property
     def handle(self) -> int:
@@ -565,7 +577,7 @@ class _PointerField:
     def __get__(self, obj: Any, owner: Any = None) -> Any:
         if obj is None:
             return self
-        return Pointer(self.raw.__get__(obj), self.info.target)
+        return Pointer(self.raw.__get__(obj), self.info.target, (obj, self.raw))
 
     def __set__(self, obj: Any, value: Any) -> None:
         self.raw.__set__(obj, self.info.coerce(value, self.where))

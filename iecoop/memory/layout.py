@@ -63,7 +63,7 @@ SECTIONS: Final = (
 class FieldSpec:
     """A field's declaration: section, initial value and qualifiers (what ``VAR(...)`` returns)."""
 
-    __slots__ = ("section", "initial", "length", "bounds", "retain", "persistent", "constant", "method")
+    __slots__ = ("section", "initial", "length", "bounds", "retain", "persistent", "constant", "method", "fb_init")
 
     def __init__(
         self,
@@ -76,6 +76,7 @@ class FieldSpec:
         persistent: bool = False,
         constant: bool = False,
         method: str | None = None,
+        fb_init: Mapping[str, Any] | None = None,
     ) -> None:
         self.section = section
         self.initial = initial
@@ -85,6 +86,7 @@ class FieldSpec:
         self.persistent = persistent
         self.constant = constant
         self.method = method
+        self.fb_init = dict(fb_init) if fb_init else None
 
     @property
     def qualifiers(self) -> str:
@@ -217,6 +219,8 @@ def build_layout(
     allowed_sections: Mapping[str, str],
     default_section: str = "VAR",
     leading: list[tuple[str, Any]] | None = None,
+    adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
+    annotations: dict[str, Any] | None = None,
 ) -> type:
     """Create the ctypes class and its ``ClassLayout``; raise DefinitionError on bad fields.
 
@@ -226,7 +230,8 @@ def build_layout(
     """
     scope = DefinitionScope(namespace)
     scope.own_name = name
-    annotations = read_annotations(name, namespace, scope)
+    if annotations is None:
+        annotations = read_annotations(name, namespace, scope)
     resolver = scope.resolver()
     inherited: list[FieldRecord] = []
     for base in bases:
@@ -252,6 +257,8 @@ def build_layout(
             allowed = ", ".join(allowed_sections)
             raise DefinitionError(f"{where}: {spec.section} is not allowed in a {kind} (allowed: {allowed})")
         info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
+        if adjust is not None:
+            info = adjust(info, spec, where)
         check_initial(info, spec.initial, where)
         pending.append((field, info, spec))
         taken[field] = name

@@ -1,0 +1,109 @@
+"""Global variable lists (GVL) and VAR_EXTERNAL.
+
+``@gvl`` turns a class of declared variables into its one instance, the
+global variable list: ``GVL_Plant.alarm_count`` reads and writes the global,
+and a POU field ``alarm_count: INT = VAR_EXTERNAL()`` refers to it by name.
+
+ST::
+
+    VAR_GLOBAL
+        alarm_count : INT;
+        line_speed  : REAL := 0.5;
+    END_VAR
+
+Python:
+
+>>> from iecoop import INT, REAL, GlobalVariables, gvl
+>>> @gvl
+... class GVL_Doc(GlobalVariables):
+...     doc_alarms: INT = 0
+...     doc_speed: REAL = 0.5
+>>> GVL_Doc.doc_alarms += 1
+>>> GVL_Doc.doc_alarms, GVL_Doc.doc_speed
+(1, 0.5)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import typing
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
+
+from iecoop import _config
+from iecoop.exceptions import DefinitionError
+from iecoop.memory.layout import ClassLayout, FieldRecord, build_layout, checked_setattr
+
+__all__ = ["GlobalVariables", "find_global", "gvl", "global_lists"]
+
+_G = TypeVar("_G")
+
+if TYPE_CHECKING:
+    _Base = object
+    _MetaBase = type
+else:
+    _Base = ctypes.Structure
+    _MetaBase = type(ctypes.Structure)
+
+_SECTIONS = {"VAR": "VAR_GLOBAL", "VAR_GLOBAL": "VAR_GLOBAL"}
+#: Every GVL instance by name, in definition order.
+_lists: dict[str, Any] = {}
+
+
+class _GvlMeta(_MetaBase):
+    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+        if namespace.get("_iec_base_class_"):
+            namespace["_fields_"] = []
+            return super().__new__(mcls, name, bases, namespace, **kwargs)
+
+        def create(ns: dict[str, Any]) -> type:
+            return typing.cast(type, super(_GvlMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
+
+        cls: Any = build_layout(create, name, bases, namespace, kind="GVL", allowed_sections=_SECTIONS)
+        cls._iec_implicit_init_ = cls._iec_layout_.implicit_init
+        if _config.CHECKS:
+            cls.__setattr__ = checked_setattr(name, cls._iec_layout_)
+        return cls
+
+
+class GlobalVariables(_Base, metaclass=_GvlMeta):
+    """Base of a global variable list; decorate the subclass with ``@gvl``."""
+
+    _iec_base_class_: ClassVar[bool] = True
+    _iec_kind_: ClassVar[str] = "gvl"
+    _iec_layout_: ClassVar[ClassLayout | None] = None
+
+    def __repr__(self) -> str:
+        layout = type(self)._iec_layout_
+        fields = layout.fields if layout is not None else ()
+        return f"{type(self).__name__}({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in fields)})"
+
+
+def gvl(cls: type[_G]) -> _G:
+    """Create the one instance of a global variable list and register its variables."""
+    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    if layout is None:
+        raise DefinitionError(f"@gvl needs a GlobalVariables subclass with variables, got {cls.__name__}")
+    for record in layout.fields:
+        for other_name, other in _lists.items():
+            if other_name != cls.__name__ and record.name in type(other)._iec_layout_.by_name:
+                raise DefinitionError(
+                    f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
+                )
+    instance: Any = typing.cast(Any, cls).__new__(cls)
+    layout.implicit_init(instance)
+    _lists[cls.__name__] = instance
+    return typing.cast(_G, instance)
+
+
+def global_lists() -> dict[str, Any]:
+    """Every global variable list by name."""
+    return dict(_lists)
+
+
+def find_global(name: str, where: str) -> tuple[Any, FieldRecord]:
+    """The GVL instance and variable a VAR_EXTERNAL named ``name`` refers to."""
+    for instance in _lists.values():
+        record = type(instance)._iec_layout_.by_name.get(name)
+        if record is not None:
+            return instance, record
+    raise DefinitionError(f"{where}: VAR_EXTERNAL {name!r} has no global variable of that name in any @gvl list")

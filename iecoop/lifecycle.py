@@ -1,0 +1,215 @@
+"""FB_init, FB_reinit, FB_exit and dynamic instances (``__NEW`` / ``__DELETE``).
+
+Call order (see the semantics reference, section 1):
+
+- FB_init: nested members first, in declaration order, each completely
+  (its FB_init, then the inputs set at its declaration, then its
+  call_after_init methods); then the block's own FB_init, base first, then
+  derived. Extra FB_init inputs are the constructor's keywords.
+- FB_exit: the block's own FB_exit, derived first, then base; then its
+  members in reverse declaration order.
+- FB_reinit: only the most derived one runs (call ``super().fb_reinit()`` to
+  chain), after an online change has copied the data.
+
+>>> from iecoop import BOOL, INT, FunctionBlock, VAR, new, delete
+>>> class Motor(FunctionBlock):
+...     axis: INT = VAR(0)
+...     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, axis_id: INT = 1) -> BOOL:
+...         self.axis = axis_id
+...         return True
+...     def fb_exit(self, in_copy_code: BOOL) -> BOOL:
+...         print(f"FB_exit of axis {self.axis}")
+...         return True
+>>> p = new(Motor, axis_id=3)
+>>> p.deref.axis
+3
+>>> delete(p)
+FB_exit of axis 3
+>>> bool(p)
+False
+"""
+
+from __future__ import annotations
+
+import ctypes
+import inspect
+import sys
+import typing
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+from iecoop.exceptions import AccessError, ExceptionCode, PlcException
+from iecoop.memory._core import Pointer, allocation_for_handle, class_info, free, register, resolve
+from iecoop.members import caller_description
+
+__all__ = ["delete", "finalise", "initialise", "new", "reinitialise"]
+
+_T = TypeVar("_T")
+
+_EMPTY: dict[str, Any] = {}
+#: Instances created by new(): kept alive until delete(), as a PLC heap block is.
+_heap: dict[int, Any] = {}
+
+
+class _InitPlan:
+    """A class's FB_init chain (base first) and the inputs each link takes."""
+
+    __slots__ = ("chain", "exit_chain", "names", "required")
+
+    def __init__(self, cls: type) -> None:
+        self.chain: list[tuple[Callable[..., Any], list[str]]] = []
+        self.names: set[str] = set()
+        self.required: set[str] = set()
+        for klass in reversed(cls.__mro__):
+            init = klass.__dict__.get("fb_init")
+            if init is None:
+                continue
+            params = list(inspect.signature(init).parameters.values())[3:]
+            self.chain.append((init, [p.name for p in params]))
+            for p in params:
+                self.names.add(p.name)
+                if p.default is inspect.Parameter.empty:
+                    self.required.add(p.name)
+        self.exit_chain: list[Callable[..., Any]] = [
+            klass.__dict__["fb_exit"] for klass in cls.__mro__ if "fb_exit" in klass.__dict__
+        ]
+
+
+_plans: dict[type, _InitPlan] = {}
+
+
+def _plan(cls: type) -> _InitPlan:
+    plan = _plans.get(cls)
+    if plan is None:
+        plan = _plans[cls] = _InitPlan(cls)
+    return plan
+
+
+def _run_fb_init(obj: Any, init_retains: bool, in_copy_code: bool, args: dict[str, Any]) -> None:
+    cls = type(obj)
+    plan = _plan(cls)
+    unknown = set(args) - plan.names
+    if unknown:
+        known = ", ".join(sorted(plan.names)) or "none"
+        raise TypeError(f"{cls.__name__}: FB_init has no input {sorted(unknown)[0]!r} (its extra inputs: {known})")
+    missing = plan.required - set(args)
+    if missing:
+        raise TypeError(
+            f"{cls.__name__}: FB_init input {sorted(missing)[0]!r} has no value; pass it as {cls.__name__}({sorted(missing)[0]}=...)"
+        )
+    for init, names in plan.chain:
+        init(obj, init_retains, in_copy_code, **{n: args[n] for n in names if n in args})
+
+
+def _init_tree(
+    obj: Any, init_retains: bool, in_copy_code: bool, args: dict[str, Any], declared: dict[str, Any] | None
+) -> None:
+    cls = type(obj)
+    for record, members in cls._iec_children_:
+        spec = record.spec
+        member_inputs = spec.initial if isinstance(spec.initial, dict) else None
+        for child in members(obj):
+            _init_tree(child, init_retains, in_copy_code, spec.fb_init or _EMPTY, member_inputs)
+    _run_fb_init(obj, init_retains, in_copy_code, args)
+    if declared:
+        for name, value in declared.items():
+            setattr(obj, name, value)
+    for name in cls._iec_call_after_init_:
+        getattr(obj, name)()
+
+
+def initialise(
+    obj: Any, *, init_retains: bool, in_copy_code: bool, args: dict[str, Any] | None = None, zero: bool = False
+) -> None:
+    """Implicit initialisation (initial values) then the FB_init tree of a block instance.
+
+    ``zero=True`` first clears the memory, as a reset does before re-initialising.
+    """
+    if zero:
+        ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
+    type(obj)._iec_implicit_init_(obj)
+    _init_tree(obj, init_retains, in_copy_code, args or _EMPTY, None)
+
+
+def finalise(obj: Any, *, in_copy_code: bool, static_type: type | None = None) -> None:
+    """The FB_exit tree: the block's FB_exit (derived first, then base), then its members in reverse.
+
+    ``static_type`` is the type the block is deleted through: ``__DELETE``
+    through a base pointer runs only the base's FB_exit, as on the PLC.
+    """
+    cls = static_type or type(obj)
+    for fb_exit in _plan(cls).exit_chain:
+        fb_exit(obj, in_copy_code)
+    for _record, members in reversed(type(obj)._iec_children_):
+        for child in reversed(members(obj)):
+            finalise(child, in_copy_code=in_copy_code)
+
+
+def reinitialise(obj: Any) -> None:
+    """FB_reinit after an online-change copy: members first, then the most derived FB_reinit."""
+    for _record, members in type(obj)._iec_children_:
+        for child in members(obj):
+            reinitialise(child)
+    reinit = getattr(type(obj), "fb_reinit", None)
+    if reinit is not None:
+        reinit(obj)
+
+
+def new(cls: type[_T], **fb_init_args: Any) -> Pointer[_T]:
+    """``__NEW(T)``: create an instance on the heap; FB_init runs with the keyword inputs.
+
+    The instance lives until ``delete(p)``; ownership is the caller's.
+    """
+    info = class_info(cls)
+    if info is None or getattr(cls, "_iec_kind_", "") not in ("fb", "struct", "union"):
+        raise TypeError(f"__NEW needs a function block or struct type, got {getattr(cls, '__name__', cls)!r}")
+    if getattr(cls, "_iec_abstract_", False):
+        raise TypeError(f"__NEW: ABSTRACT {cls.__name__} cannot be instantiated")
+    if getattr(cls, "_iec_internal_", False):
+        frame = sys._getframe(1)
+        here = str(frame.f_globals.get("__name__", "")).split(".", 1)[0]
+        if here != cls.__module__.split(".", 1)[0]:
+            raise AccessError(f"INTERNAL {cls.__name__} cannot be created from {caller_description(frame)}")
+    if getattr(cls, "_iec_kind_", "") == "fb":
+        obj: Any = typing.cast(Any, cls).__new__(cls)
+        alloc = register(obj)
+        _heap[alloc.id] = obj
+        try:
+            initialise(obj, init_retains=True, in_copy_code=False, args=fb_init_args)
+        except BaseException:
+            _heap.pop(alloc.id, None)
+            free(alloc)
+            raise
+    else:
+        obj = cls(**fb_init_args)
+        alloc = register(obj)
+        _heap[alloc.id] = obj
+    return Pointer(alloc.id << 32, info)
+
+
+def delete(pointer: Pointer[Any]) -> None:
+    """``__DELETE(p)``: FB_exit, free the memory, set ``p`` to 0.
+
+    Every other pointer, reference or interface variable still aimed at the
+    instance raises RTSEXCPT_ACCESS_VIOLATION when used.
+    """
+    if not isinstance(pointer, Pointer):
+        raise TypeError(f"__DELETE needs a pointer from new(), got {type(pointer).__name__}")
+    handle = pointer.handle
+    if handle == 0:
+        return
+    alloc = allocation_for_handle(handle)
+    if alloc is None or alloc.id not in _heap:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE of memory that new() did not create (or already deleted)")
+    if handle & 0xFFFFFFFF:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE needs the pointer new() returned, not one inside the block")
+    resolve(handle, 0, "__DELETE")
+    obj = _heap[alloc.id]
+    target = pointer._target
+    static_type = getattr(target, "cls", None)
+    if getattr(type(obj), "_iec_kind_", "") == "fb":
+        finalise(obj, in_copy_code=False, static_type=static_type)
+    ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
+    del _heap[alloc.id]
+    free(alloc)
+    pointer._clear()

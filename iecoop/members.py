@@ -1,0 +1,367 @@
+"""Methods and properties of POUs and interfaces, with their access specifiers.
+
+``@method`` marks a METHOD and takes the specifiers as flags
+(``@method(PROTECTED | FINAL)``); ``@prop`` is a PROPERTY whose getter and
+setter may each carry their own specifier, given with ``@method(...)`` under
+it. PUBLIC members run with no wrapper at all; PRIVATE, PROTECTED and
+INTERNAL members check their caller, in every mode, and raise
+``AccessError`` naming the member and the caller.
+
+ST::
+
+    METHOD PROTECTED Ramp : BOOL
+    PROPERTY Gear : INT   (Get PUBLIC, Set PRIVATE)
+
+Python::
+
+    @method(PROTECTED)
+    def ramp(self) -> BOOL: ...
+
+    @prop
+    def gear(self) -> INT: ...
+
+    @gear.setter
+    @method(PRIVATE)
+    def gear(self, value: INT) -> None: ...
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import dis
+import enum
+import functools
+import inspect
+import sys
+import types
+import typing
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, TypeVar, overload
+
+from iecoop.exceptions import AccessError, DefinitionError
+
+__all__ = [
+    "ABSTRACT",
+    "FINAL",
+    "INTERNAL",
+    "PRIVATE",
+    "PROTECTED",
+    "PUBLIC",
+    "Access",
+    "call_after_init",
+    "method",
+    "prop",
+]
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+class Access(enum.IntFlag):
+    """Access specifiers and modifiers of METHODs and PROPERTY accessors."""
+
+    PUBLIC = 1
+    PRIVATE = 2
+    PROTECTED = 4
+    INTERNAL = 8
+    FINAL = 16
+    ABSTRACT = 32
+
+
+PUBLIC = Access.PUBLIC
+PRIVATE = Access.PRIVATE
+PROTECTED = Access.PROTECTED
+INTERNAL = Access.INTERNAL
+FINAL = Access.FINAL
+ABSTRACT = Access.ABSTRACT
+
+_VISIBILITY = Access.PUBLIC | Access.PRIVATE | Access.PROTECTED | Access.INTERNAL
+#: How wide each visibility is, for "an override may not narrow access".
+_WIDTH = {Access.PRIVATE: 0, Access.PROTECTED: 1, Access.INTERNAL: 1, Access.PUBLIC: 2}
+
+
+def visibility(flags: Access) -> Access:
+    return Access(flags & _VISIBILITY) or Access.PUBLIC
+
+
+def _mark(func: _F, flags: Access) -> _F:
+    vis = Access(flags & _VISIBILITY)
+    if bin(int(vis)).count("1") > 1:
+        raise DefinitionError(f"{func.__qualname__}: choose one of PUBLIC, PRIVATE, PROTECTED, INTERNAL")
+    setattr(func, "_iec_flags_", Access(flags))
+    setattr(func, "_iec_method_", True)
+    return func
+
+
+@overload
+def method(func: _F, /) -> _F: ...
+
+
+@overload
+def method(flags: Access, /) -> Callable[[_F], _F]: ...
+
+
+def method(arg: Any, /) -> Any:
+    """``METHOD``: ``@method`` (PUBLIC) or ``@method(PRIVATE | FINAL)``."""
+    if isinstance(arg, Access):
+        return lambda func: _mark(func, arg)
+    if callable(arg):
+        return _mark(arg, Access.PUBLIC)
+    raise TypeError(f"@method takes access flags (PUBLIC, PRIVATE, ...), got {arg!r}")
+
+
+def call_after_init(func: _F) -> _F:
+    """``{attribute 'call_after_init'}``: run after FB_init and declaration-site inputs."""
+    if len(inspect.signature(func).parameters) != 1:
+        raise DefinitionError(f"{func.__qualname__}: a call_after_init method takes no inputs")
+    setattr(func, "_iec_call_after_init_", True)
+    return func
+
+
+if TYPE_CHECKING:
+    prop = property
+else:
+
+    class prop(property):
+        """``PROPERTY``: ``@prop`` on the getter (Get), ``@name.setter`` on the setter (Set).
+
+        Give an accessor its own specifier by stacking ``@method(PRIVATE)``
+        under the decorator. A property without a setter is read-only.
+        """
+
+
+def flags_of(func: Any) -> Access:
+    return typing.cast(Access, getattr(func, "_iec_flags_", Access.PUBLIC))
+
+
+# ---------------------------------------------------------------------------
+# Which class a piece of code belongs to (for PRIVATE / PROTECTED / outside-write checks)
+# ---------------------------------------------------------------------------
+
+#: code object -> class whose body defined it (nested functions and comprehensions included).
+CODE_OWNER: dict[types.CodeType, type] = {}
+
+
+def _codes(code: types.CodeType) -> list[types.CodeType]:
+    found = [code]
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            found.extend(_codes(const))
+    return found
+
+
+def _functions_of(value: Any) -> list[Any]:
+    if isinstance(value, property):
+        return [f for f in (value.fget, value.fset, value.fdel) if f is not None]
+    if isinstance(value, (staticmethod, classmethod)):
+        return [value.__func__]
+    if isinstance(value, types.FunctionType):
+        return [value]
+    wrapped = getattr(value, "__wrapped__", None)
+    if isinstance(wrapped, types.FunctionType):
+        return [wrapped]
+    return []
+
+
+def register_code(cls: type, namespace: dict[str, Any]) -> None:
+    """Record every function the class body defined as belonging to ``cls``."""
+    for value in namespace.values():
+        for func in _functions_of(value):
+            inner = inspect.unwrap(func)
+            for code in _codes(inner.__code__):
+                CODE_OWNER.setdefault(code, cls)
+
+
+def caller_description(frame: Any) -> str:
+    code = frame.f_code
+    owner = CODE_OWNER.get(code)
+    if owner is not None:
+        return f"{owner.__name__}.{code.co_name}"
+    module = frame.f_globals.get("__name__", "?")
+    return f"{code.co_name} in module {module}" if code.co_name != "<module>" else f"module {module}"
+
+
+def _top_package(module: str) -> str:
+    return module.split(".", 1)[0]
+
+
+# ---------------------------------------------------------------------------
+# Member records and signatures
+# ---------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Member:
+    """A METHOD or PROPERTY as declared in one class."""
+
+    name: str
+    kind: str  # "method" or "property"
+    owner: type
+    flags: Access
+    signature: tuple[Any, ...]
+    has_get: bool = False
+    has_set: bool = False
+    get_flags: Access = Access.PUBLIC
+    set_flags: Access = Access.PUBLIC
+
+    @property
+    def abstract(self) -> bool:
+        return bool(self.flags & Access.ABSTRACT)
+
+    @property
+    def final(self) -> bool:
+        return bool(self.flags & Access.FINAL)
+
+    @property
+    def visibility(self) -> Access:
+        return visibility(self.flags)
+
+    def describe(self) -> str:
+        vis = typing.cast(str, self.visibility.name)
+        return f"{vis} {'METHOD' if self.kind == 'method' else 'PROPERTY'} {self.owner.__name__}.{self.name}"
+
+
+def signature_of(func: Callable[..., Any], resolve: Callable[[str], Any]) -> tuple[Any, ...]:
+    """(name, kind, annotation) of each parameter after self, then the return annotation."""
+    sig = inspect.signature(func)
+    items: list[Any] = []
+    for i, param in enumerate(sig.parameters.values()):
+        if i == 0:
+            continue
+        items.append((param.name, param.kind, _resolved(param.annotation, resolve)))
+    items.append(("return", None, _resolved(sig.return_annotation, resolve)))
+    return tuple(items)
+
+
+def _resolved(annotation: Any, resolve: Callable[[str], Any]) -> Any:
+    if annotation is inspect.Parameter.empty or annotation is inspect.Signature.empty:
+        return "?"
+    if isinstance(annotation, str):
+        try:
+            return resolve(annotation)
+        except Exception:
+            return annotation
+    return annotation
+
+
+def format_signature(signature: tuple[Any, ...]) -> str:
+    def name(annotation: Any) -> str:
+        if annotation is None:
+            return "None"
+        if isinstance(annotation, str):
+            return annotation
+        if isinstance(annotation, type):
+            return annotation.__name__
+        from iecoop.types import elementary_type
+
+        record = elementary_type(annotation)
+        return record.name if record is not None else str(annotation)
+
+    params = ", ".join(f"{n}: {name(a)}" for n, _k, a in signature[:-1])
+    return f"({params}) -> {name(signature[-1][2])}"
+
+
+def has_body(func: Callable[..., Any]) -> bool:
+    """Whether a function does anything beyond ``...`` / ``pass`` / a docstring."""
+    allowed = {"RESUME", "NOP", "RETURN_VALUE", "RETURN_CONST", "CACHE"}
+    for instruction in dis.get_instructions(inspect.unwrap(func)):
+        if instruction.opname in allowed:
+            continue
+        if instruction.opname == "LOAD_CONST" and instruction.argval is None:
+            continue
+        return True
+    return False
+
+
+def members_of_namespace(
+    owner: type, namespace: dict[str, Any], resolve: Callable[[str], Any], skip: frozenset[str]
+) -> dict[str, Member]:
+    """The METHODs and PROPERTYs a class body declares."""
+    found: dict[str, Member] = {}
+    for name, value in namespace.items():
+        if name in skip or (name.startswith("__") and name.endswith("__")):
+            continue
+        if isinstance(value, property):
+            getter, setter = value.fget, value.fset
+            if getter is None:
+                raise DefinitionError(f"{owner.__name__}.{name}: a PROPERTY needs a Get accessor (@prop on the getter)")
+            get_flags = flags_of(getter)
+            set_flags = flags_of(setter) if setter is not None else Access.PUBLIC
+            flags = Access(get_flags & (Access.FINAL | Access.ABSTRACT)) | visibility(get_flags)
+            found[name] = Member(
+                name, "property", owner, flags, signature_of(getter, resolve), True, setter is not None,
+                get_flags, set_flags,
+            )
+        elif isinstance(value, types.FunctionType):
+            found[name] = Member(name, "method", owner, flags_of(value), signature_of(value, resolve))
+    return found
+
+
+# ---------------------------------------------------------------------------
+# Guards: the callers a non-public member admits
+# ---------------------------------------------------------------------------
+
+
+def _deny(member: str, rule: str, frame: Any) -> AccessError:
+    return AccessError(f"{member} cannot be called from {caller_description(frame)}: {rule}")
+
+
+def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[type]) -> Callable[..., Any]:
+    """Wrap ``func`` so that only callers the specifier admits may run it."""
+    vis = visibility(flags)
+    getframe = sys._getframe
+    owners = CODE_OWNER
+    if vis == Access.PUBLIC:
+        return func
+    if vis == Access.PRIVATE:
+
+        @functools.wraps(func)
+        def private(*args: Any, **kwargs: Any) -> Any:
+            frame = getframe(1)
+            if owners.get(frame.f_code) is not owner_ref[0]:
+                raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
+            return func(*args, **kwargs)
+
+        return private
+    if vis == Access.PROTECTED:
+
+        @functools.wraps(func)
+        def protected(*args: Any, **kwargs: Any) -> Any:
+            frame = getframe(1)
+            caller = owners.get(frame.f_code)
+            if caller is None or not issubclass(caller, owner_ref[0]):
+                raise _deny(
+                    label, f"PROTECTED members are callable only inside {owner_ref[0].__name__} and its derived blocks", frame
+                )
+            return func(*args, **kwargs)
+
+        return protected
+
+    @functools.wraps(func)
+    def internal(*args: Any, **kwargs: Any) -> Any:
+        frame = getframe(1)
+        package = _top_package(str(frame.f_globals.get("__name__", "")))
+        home = _top_package(owner_ref[0].__module__)
+        if package != home:
+            raise _deny(label, f"INTERNAL members are callable only inside the package {home!r}", frame)
+        return func(*args, **kwargs)
+
+    return internal
+
+
+def guard_namespace(owner_ref: list[type], name: str, namespace: dict[str, Any]) -> None:
+    """Replace each non-public method / accessor in the class body with its guarded form."""
+    for member_name, value in list(namespace.items()):
+        if isinstance(value, property):
+            getter, setter = value.fget, value.fset
+            g = guard(getter, f"{visibility(flags_of(getter)).name} PROPERTY {name}.{member_name} (Get)", flags_of(getter), owner_ref) if getter else None
+            s = guard(setter, f"{visibility(flags_of(setter)).name} PROPERTY {name}.{member_name} (Set)", flags_of(setter), owner_ref) if setter else None
+            if g is not getter or s is not setter:
+                namespace[member_name] = type(value)(g, s, value.fdel, value.__doc__)
+        elif isinstance(value, types.FunctionType) and not (member_name.startswith("__") and member_name.endswith("__")):
+            flags = flags_of(value)
+            if visibility(flags) != Access.PUBLIC:
+                namespace[member_name] = guard(value, f"{visibility(flags).name} METHOD {name}.{member_name}", flags, owner_ref)
+
+
+def narrower(child: Access, parent: Access) -> bool:
+    return _WIDTH[visibility(child)] < _WIDTH[visibility(parent)]

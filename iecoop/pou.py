@@ -1,0 +1,649 @@
+"""FUNCTION_BLOCK and PROGRAM: declared once, checked at definition, fast when run.
+
+A function block is a class with annotated VAR sections, a ``body()`` (its
+implementation part), METHODs and PROPERTYs. Class creation lays the instance
+out in memory (base fields first, as EXTENDS does), checks the OOP rules of
+IEC 61131-3 and raises ``DefinitionError`` naming the class, the member and
+the rule, then generates the call (``fb(IN=..., PT=...)``) in one piece of
+code. Reading a variable runs no Python code.
+
+ST::
+
+    FUNCTION_BLOCK FB_Counter
+    VAR_INPUT  enable : BOOL; END_VAR
+    VAR_OUTPUT count  : INT;  END_VAR
+    IF enable THEN count := count + 1; END_IF
+
+Python:
+
+>>> from iecoop import BOOL, INT, FunctionBlock, VAR_INPUT, VAR_OUTPUT
+>>> class Counter(FunctionBlock):
+...     enable: BOOL = VAR_INPUT(False)
+...     count: INT = VAR_OUTPUT(0)
+...     def body(self) -> None:
+...         if self.enable:
+...             self.count += 1
+>>> counter = Counter()
+>>> for _ in range(3):
+...     counter(enable=True)
+>>> counter.count
+3
+"""
+
+from __future__ import annotations
+
+import ctypes
+import inspect
+import linecache
+import sys
+import types
+import typing
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from iecoop import _config
+from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.interfaces import Interface, interface_members
+from iecoop.memory._core import (
+    AggregateInfo,
+    ArrayInfo,
+    InterfaceInfo,
+    PointerInfo,
+    ReferenceInfo,
+    TypeInfo,
+    new_class_tag,
+)
+from iecoop.memory.layout import (
+    MISSING,
+    ClassLayout,
+    DefinitionScope,
+    FieldRecord,
+    FieldSpec,
+    build_layout,
+    read_annotations,
+)
+from iecoop.members import (
+    CODE_OWNER,
+    Access,
+    Member,
+    caller_description,
+    format_signature,
+    guard_namespace,
+    members_of_namespace,
+    narrower,
+    register_code,
+    visibility,
+)
+
+__all__ = ["FunctionBlock", "Program", "pou_members"]
+
+#: Sections a FUNCTION_BLOCK or PROGRAM may declare.
+_POU_SECTIONS = {s: s for s in ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_TEMP", "VAR_INST", "VAR_EXTERNAL")}
+#: Sections written only from inside the POU (checked mode rejects outside writes).
+_INSIDE_ONLY = frozenset({"VAR_OUTPUT", "VAR", "VAR_TEMP", "VAR_INST", "VAR_IN_OUT", "VAR_STAT"})
+_LIFECYCLE = frozenset({"body", "fb_init", "fb_reinit", "fb_exit"})
+
+if TYPE_CHECKING:
+    _PouBase = object
+    _PouMetaBase = type
+else:
+    _PouBase = ctypes.Structure
+    _PouMetaBase = type(ctypes.Structure)
+
+
+class _Static:
+    """A VAR_STAT or VAR_EXTERNAL variable: one storage outside the instance block."""
+
+    __slots__ = ("raw", "block", "where", "validate")
+
+    def __init__(self, raw: Any, block: Any, where: str, validate: Callable[[Any, str], None] | None) -> None:
+        self.raw, self.block, self.where, self.validate = raw, block, where, validate
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        return self.raw.__get__(self.block)
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        if self.validate is not None:
+            self.validate(value, self.where)
+        self.raw.__set__(self.block, value)
+
+
+class _PouMeta(_PouMetaBase):
+    """Builds FUNCTION_BLOCK / PROGRAM classes (derived from ctypes' own metaclass)."""
+
+    def __new__(
+        mcls,
+        name: str,
+        bases: tuple[type, ...],
+        namespace: dict[str, Any],
+        *,
+        abstract: bool = False,
+        final: bool = False,
+        internal: bool = False,
+        **kwargs: Any,
+    ) -> Any:
+        if namespace.get("_iec_base_class_"):
+            return super().__new__(mcls, name, bases, namespace, **kwargs)
+        return _build_pou(mcls, name, bases, namespace, abstract, final, internal, kwargs)
+
+
+def _kind_word(cls_or_kind: Any) -> str:
+    kind = cls_or_kind if isinstance(cls_or_kind, str) else getattr(cls_or_kind, "_iec_kind_", "fb")
+    return "PROGRAM" if kind == "program" else "FUNCTION_BLOCK"
+
+
+def _build_pou(
+    mcls: Any,
+    name: str,
+    bases: tuple[type, ...],
+    namespace: dict[str, Any],
+    abstract: bool,
+    final: bool,
+    internal: bool,
+    kwargs: dict[str, Any],
+) -> type:
+    kind = "program" if any(getattr(b, "_iec_kind_", "") == "program" for b in bases) else "fb"
+    word = _kind_word(kind)
+    title = f"{word} {name}"
+    if abstract and final:
+        raise DefinitionError(f"{title}: a block cannot be both ABSTRACT and FINAL")
+
+    pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
+    iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
+    others = [b for b in bases if b not in pou_bases and b not in iface_bases]
+    if others:
+        raise DefinitionError(
+            f"{title}: {others[0].__name__} is neither a function block nor an interface; "
+            "EXTENDS takes one function block and IMPLEMENTS takes interfaces"
+        )
+    user_bases = [b for b in pou_bases if getattr(b, "_iec_layout_", None) is not None]
+    if len(user_bases) > 1:
+        names = ", ".join(b.__name__ for b in user_bases)
+        raise DefinitionError(f"{title}: EXTENDS allows one function block, got {names}")
+    parent = user_bases[0] if user_bases else None
+    if parent is not None:
+        if getattr(parent, "_iec_final_", False):
+            raise DefinitionError(f"{title} cannot EXTEND {parent.__name__}: {parent.__name__} is FINAL")
+        if getattr(parent, "_iec_internal_", False) and _package(namespace.get("__module__", "")) != _package(parent.__module__):
+            raise DefinitionError(
+                f"{title} cannot EXTEND INTERNAL {parent.__name__} outside the package {_package(parent.__module__)!r}"
+            )
+
+    scope = DefinitionScope(namespace)
+    scope.own_name = name
+    annotations = read_annotations(name, namespace, scope)
+    for field in annotations:
+        value = namespace.get(field, MISSING)
+        if isinstance(value, (types.FunctionType, property)):
+            raise DefinitionError(f"{title}: {field} is declared both as a variable and as a METHOD / PROPERTY")
+
+    # Members: what this block declares and what it inherits.
+    placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
+    own = members_of_namespace(placeholder, namespace, scope.eval, _LIFECYCLE)
+    inherited: dict[str, Member] = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
+    _check_members(title, name, own, inherited, abstract)
+    _check_lifecycle(title, namespace, parent, scope)
+
+    # VAR_STAT and VAR_EXTERNAL live outside the instance block.
+    outside = {f: a for f, a in annotations.items() if isinstance(namespace.get(f), FieldSpec) and namespace[f].section in ("VAR_STAT", "VAR_EXTERNAL")}
+    outside_specs = {f: namespace.pop(f) for f in outside}
+    inside_annotations = {f: a for f, a in annotations.items() if f not in outside}
+
+    owner_ref: list[type] = []
+    original_namespace = dict(namespace)
+    guard_namespace(owner_ref, name, namespace)
+
+    def adjust(info: TypeInfo, spec: FieldSpec, where: str) -> TypeInfo:
+        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_abstract_", False):
+            raise DefinitionError(
+                f"{where}: ABSTRACT {info.name} cannot be instantiated; use REFERENCE_TO, POINTER_TO or an interface"
+            )
+        if spec.section == "VAR_IN_OUT":
+            if isinstance(info, (ReferenceInfo, InterfaceInfo)):
+                raise DefinitionError(f"{where}: VAR_IN_OUT of {info.name} is not allowed")
+            return ReferenceInfo(info)
+        if spec.section == "VAR_INST" and not spec.method:
+            raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
+        if spec.section == "VAR_INST" and spec.method not in own:
+            raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {name} does not declare")
+        if spec.fb_init and not (isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb"):
+            raise DefinitionError(f"{where}: fb_init= applies to function block members only")
+        if (spec.retain or spec.persistent) and isinstance(info, (PointerInfo, ReferenceInfo, InterfaceInfo)):
+            raise DefinitionError(f"{where}: {info.name} cannot be RETAIN or PERSISTENT (an address is not kept)")
+        return info
+
+    namespace["_iec_kind_"] = kind
+
+    def create(ns: dict[str, Any]) -> type:
+        return typing.cast(type, super(_PouMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
+
+    cls: Any = build_layout(
+        create, name, bases, namespace, kind=word, allowed_sections=_POU_SECTIONS, adjust=adjust,
+        annotations=inside_annotations,
+    )
+    owner_ref.append(cls)
+    register_code(cls, original_namespace)
+    own_members = {m.name: _rebind(m, cls) for m in own.values()}
+    members = {**inherited, **own_members}
+    cls._iec_members_ = members
+    cls._iec_abstract_ = abstract
+    cls._iec_final_ = final
+    cls._iec_internal_ = internal
+    _check_interfaces(title, cls, members, abstract)
+
+    layout: ClassLayout = cls._iec_layout_
+    _install_outside(cls, name, outside, outside_specs, scope)
+    tag = new_class_tag(cls)
+    cls._iec_tag_value_ = tag
+    set_tag = FunctionBlock.__dict__["_iec_tag_"].__set__
+    fields_init = layout.implicit_init
+
+    def implicit_init(obj: Any) -> None:
+        set_tag(obj, tag)
+        fields_init(obj)
+
+    cls._iec_implicit_init_ = implicit_init
+    cls._iec_children_ = tuple(_children(layout))
+    cls._iec_call_after_init_ = tuple(
+        n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
+    )
+    temps = [r for r in layout.fields if r.section == "VAR_TEMP"]
+    cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
+    cls.__call__ = _make_call(cls, layout)
+    if _config.CHECKS:
+        cls.__setattr__ = _checked_setattr(cls, layout)
+    return typing.cast(type, cls)
+
+
+def _package(module: str) -> str:
+    return module.split(".", 1)[0]
+
+
+def _rebind(member: Member, cls: type) -> Member:
+    return Member(
+        member.name, member.kind, cls, member.flags, member.signature, member.has_get, member.has_set,
+        member.get_flags, member.set_flags,
+    )
+
+
+def _check_members(title: str, name: str, own: dict[str, Member], inherited: dict[str, Member], abstract: bool) -> None:
+    for member in own.values():
+        label = f"{title}: {member.kind.upper() if member.kind == 'method' else 'PROPERTY'} {member.name}"
+        flags = member.flags
+        if flags & Access.ABSTRACT:
+            if visibility(flags) == Access.PRIVATE:
+                raise DefinitionError(f"{label}: ABSTRACT cannot be combined with PRIVATE")
+            if flags & Access.FINAL:
+                raise DefinitionError(f"{label}: ABSTRACT cannot be combined with FINAL")
+            if not abstract:
+                raise DefinitionError(
+                    f"{label} is ABSTRACT, so {name} must be declared abstract: class {name}(..., abstract=True)"
+                )
+        if member.kind == "property" and member.has_set and member.set_flags & Access.ABSTRACT and not abstract:
+            raise DefinitionError(f"{label} has an ABSTRACT Set accessor, so {name} must be declared abstract")
+        base = inherited.get(member.name)
+        if base is None:
+            continue
+        if base.visibility == Access.PRIVATE:
+            raise DefinitionError(f"{title}: {base.describe()} is PRIVATE and cannot be overridden")
+        if base.final:
+            raise DefinitionError(f"{title}: FINAL {base.describe()} cannot be overridden")
+        if base.kind != member.kind:
+            raise DefinitionError(f"{title}: {member.name} overrides a {base.kind.upper()} with a {member.kind.upper()}")
+        if base.signature != member.signature:
+            raise DefinitionError(
+                f"{title}: interface of overridden {base.kind} '{member.name}' of base '{base.owner.__name__}' "
+                f"doesn't match declaration (C0094): base {format_signature(base.signature)}, "
+                f"here {format_signature(member.signature)}"
+            )
+        if narrower(member.flags, base.flags):
+            raise DefinitionError(
+                f"{title}: {member.name} narrows the access of {base.describe()} to {visibility(member.flags).name}"
+            )
+        if base.kind == "property" and base.has_set and not member.has_set:
+            raise DefinitionError(f"{title}: PROPERTY {member.name} drops the Set accessor its base declares")
+    if not abstract:
+        merged = {**inherited, **own}
+        for member in merged.values():
+            if member.abstract:
+                raise DefinitionError(
+                    f"{title} must be ABSTRACT or implement {member.describe()}: an ABSTRACT member is left unimplemented"
+                )
+
+
+def _params(func: Any) -> list[str]:
+    return list(inspect.signature(func).parameters)[1:]
+
+
+def _check_lifecycle(title: str, namespace: dict[str, Any], parent: type | None, scope: DefinitionScope) -> None:
+    init = namespace.get("fb_init")
+    if init is not None:
+        params = _params(init)
+        if params[:2] != ["init_retains", "in_copy_code"]:
+            raise DefinitionError(
+                f"{title}: fb_init must start with the inputs (init_retains, in_copy_code) (C0119), got {params[:2]}"
+            )
+        base_params = _base_fb_init_params(parent)
+        if params[: len(base_params)] != base_params:
+            raise DefinitionError(
+                f"{title}: fb_init must declare the base's FB_init inputs {base_params} first and in the same order"
+            )
+    exit_ = namespace.get("fb_exit")
+    if exit_ is not None and _params(exit_) != ["in_copy_code"]:
+        raise DefinitionError(f"{title}: fb_exit takes exactly one input, in_copy_code, got {_params(exit_)}")
+    reinit = namespace.get("fb_reinit")
+    if reinit is not None and _params(reinit):
+        raise DefinitionError(f"{title}: fb_reinit takes no inputs, got {_params(reinit)}")
+
+
+def _base_fb_init_params(parent: type | None) -> list[str]:
+    if parent is None:
+        return ["init_retains", "in_copy_code"]
+    for klass in parent.__mro__:
+        init = klass.__dict__.get("fb_init")
+        if init is not None:
+            return _params(init)
+    return ["init_retains", "in_copy_code"]
+
+
+def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstract: bool) -> None:
+    for iface in cls.__mro__:
+        if getattr(iface, "_iec_kind_", "") != "interface" or iface is Interface:
+            continue
+        for proto in interface_members(iface).values():
+            impl = members.get(proto.name)
+            if impl is None or (impl.abstract and not abstract):
+                if abstract and impl is not None:
+                    continue
+                if abstract and impl is None:
+                    continue
+                what = "method" if proto.kind == "method" else "property"
+                raise DefinitionError(
+                    f"{title}: there is no implementation for {what} '{proto.name}' defined in interface "
+                    f"'{iface.__name__}' (C0087)"
+                )
+            if impl.kind != proto.kind:
+                raise DefinitionError(f"{title}: {proto.name} of interface {iface.__name__} is a {proto.kind.upper()}")
+            if impl.signature != proto.signature:
+                raise DefinitionError(
+                    f"{title}: {proto.name} does not match interface {iface.__name__}: "
+                    f"interface {format_signature(proto.signature)}, here {format_signature(impl.signature)}"
+                )
+            if impl.visibility != Access.PUBLIC:
+                raise DefinitionError(f"{title}: {proto.name} implements interface {iface.__name__} and must be PUBLIC")
+            if proto.kind == "property" and proto.has_set and not impl.has_set:
+                raise DefinitionError(f"{title}: PROPERTY {proto.name} of interface {iface.__name__} needs a Set accessor")
+
+
+def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope) -> None:
+    """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name."""
+    statics = {f: a for f, a in outside.items() if specs[f].section == "VAR_STAT"}
+    if statics:
+        ns: dict[str, Any] = {"__module__": cls.__module__, "__annotations__": statics}
+        for field in statics:
+            spec = specs[field]
+            ns[field] = FieldSpec("VAR", spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
+
+        def create(n: dict[str, Any]) -> type:
+            return typing.cast(type, type(ctypes.Structure)(f"{name}.VAR_STAT", (ctypes.Structure,), n))
+
+        block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections={"VAR": "VAR"}, annotations=statics)
+        block = block_cls()
+        block_cls._iec_layout_.implicit_init(block)
+        cls._iec_static_block_ = block
+        for record in block_cls._iec_layout_.fields:
+            descriptor = getattr(block_cls, record.name)
+            raw = descriptor if record.info.direct else _BlockField(descriptor)
+            validate = record.info.validate if _config.CHECKS else None
+            setattr(cls, record.name, _Static(raw, block, record.where, validate))
+        cls._iec_static_fields_ = block_cls._iec_layout_.fields
+    externals = [f for f in outside if specs[f].section == "VAR_EXTERNAL"]
+    for field in externals:
+        from iecoop.gvl import find_global
+
+        block, record = find_global(field, f"{name}.{field}")
+        raw = getattr(type(block), field)
+        raw = raw if record.info.direct else _BlockField(raw)
+        validate = record.info.validate if _config.CHECKS else None
+        setattr(cls, field, _Static(raw, block, f"{name}.{field}", validate))
+
+
+class _BlockField:
+    """Adapts a Python descriptor to the raw-field interface used by _Static."""
+
+    __slots__ = ("descriptor",)
+
+    def __init__(self, descriptor: Any) -> None:
+        self.descriptor = descriptor
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        return self.descriptor.__get__(obj, type(obj))
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        self.descriptor.__set__(obj, value)
+
+
+def _children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
+    """Nested function block members (and arrays of them), in declaration order."""
+    for record in layout.fields:
+        info = record.info
+        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb":
+            get = record.raw.__get__
+            yield record, (lambda obj, get=get: [get(obj)])
+        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and getattr(info.elem.cls, "_iec_kind_", "") == "fb":
+            get = record.raw.__get__
+            raw_get = info.ctype.__mro__[1].__getitem__
+            count = info.count
+            yield record, (lambda obj, get=get, raw_get=raw_get, count=count: [raw_get(get(obj), i) for i in range(count)])
+
+
+def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
+    from iecoop.memory.layout import init_op
+
+    spans = [(r.offset, r.size) for r in temps]
+    ops = [op for r in temps if (op := init_op(r)) is not None]
+    memset = ctypes.memset
+    addressof = ctypes.addressof
+
+    def reset(obj: Any) -> None:
+        base = addressof(obj)
+        for offset, size in spans:
+            memset(base + offset, 0, size)
+        for op in ops:
+            op(obj)
+
+    return reset
+
+
+# ---------------------------------------------------------------------------
+# The generated call: fb(IN=..., PT=...)
+# ---------------------------------------------------------------------------
+
+_NOT_GIVEN: Any = type("_NotGiven", (), {"__repr__": lambda self: "<not given>", "__slots__": ()})()
+_script_counter = [0]
+
+
+def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
+    """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``."""
+    inputs = [r for r in layout.fields if r.section == "VAR_INPUT"]
+    in_outs = [r for r in layout.fields if r.section == "VAR_IN_OUT"]
+    name = cls.__name__
+    globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
+    params: list[str] = []
+    lines: list[str] = []
+    for i, record in enumerate(inputs):
+        params.append(f"{record.name}=_M")
+        info = record.info
+        if isinstance(info, ReferenceInfo):
+            globs[f"_bind{i}"] = info.bind_handle
+            globs[f"_raw{i}"] = record.raw.__set__
+            lines.append(f"    if {record.name} is not _M: _raw{i}(self, _bind{i}({record.name}, {record.where!r}))")
+        elif info.direct and _config.CHECKS:
+            globs[f"_check{i}"] = info.validate
+            globs[f"_set{i}"] = record.raw.__set__
+            lines.append(f"    if {record.name} is not _M:")
+            lines.append(f"        _check{i}({record.name}, {record.where!r})")
+            lines.append(f"        _set{i}(self, {record.name})")
+        elif info.direct:
+            globs[f"_set{i}"] = record.raw.__set__
+            lines.append(f"    if {record.name} is not _M: _set{i}(self, {record.name})")
+        else:
+            globs[f"_desc{i}"] = getattr(cls, record.name).__set__
+            lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")
+    for j, record in enumerate(in_outs):
+        params.append(f"{record.name}=_M")
+        globs[f"_bindio{j}"] = typing.cast(ReferenceInfo, record.info).bind_handle
+        globs[f"_rawio{j}"] = record.raw.__set__
+        lines.append(f"    if {record.name} is _M: _call_error({name!r}, {record.name!r})")
+        lines.append(f"    _rawio{j}(self, _bindio{j}({record.name}, {record.where!r}))")
+    if cls._iec_temp_reset_ is not None:
+        globs["_temp_reset"] = cls._iec_temp_reset_
+        lines.append("    _temp_reset(self)")
+    lines.append("    self.body()")
+    signature = ", ".join(["self", "*", *params]) if params else "self"
+    source = f"def __call__({signature}) -> None:\n" + "\n".join(lines) + "\n"
+    _script_counter[0] += 1
+    filename = f"<iecoop generated {name}.__call__ #{_script_counter[0]}>"
+    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+    exec(compile(source, filename, "exec"), globs)  # noqa: S102 - code generated from the class's own fields
+    call = typing.cast(Callable[..., None], globs["__call__"])
+    call.__qualname__ = f"{name}.__call__"
+    call.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
+    CODE_OWNER[call.__code__] = cls
+    return call
+
+
+def _call_error(name: str, field: str) -> None:
+    raise TypeError(f"{name}: VAR_IN_OUT {field!r} must be assigned at every call ({name}({field}=...))")
+
+
+# ---------------------------------------------------------------------------
+# Checked mode: who may write which variable
+# ---------------------------------------------------------------------------
+
+
+def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
+    validators: dict[str, tuple[Callable[[Any, str], None] | None, str, str, str | None, bool]] = {}
+    for record in layout.fields:
+        validate = record.info.validate if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)) else None
+        validators[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
+    for record in getattr(cls, "_iec_static_fields_", ()):
+        validators.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
+    getframe = sys._getframe
+    owners = CODE_OWNER
+    setter = object.__setattr__
+    name = cls.__name__
+
+    def __setattr__(self: Any, field: str, value: Any) -> None:
+        entry = validators.get(field)
+        if entry is None:
+            if field.startswith("_iec") or not hasattr(type(self), field):
+                raise AttributeError(f"{type(self).__name__} has no variable {field!r}; declare it in a VAR section")
+            setter(self, field, value)
+            return
+        validate, where, section, method_name, constant = entry
+        if constant:
+            raise AccessError(f"{where} is CONSTANT and cannot be written")
+        if section in _INSIDE_ONLY:
+            frame = getframe(1)
+            owner = owners.get(frame.f_code)
+            if owner is None or not isinstance(self, owner):
+                raise AccessError(
+                    f"{section} {where} cannot be written from {caller_description(frame)}: "
+                    f"only {type(self).__name__}'s own code writes its {section} variables"
+                )
+            if method_name is not None and frame.f_code.co_name != method_name:
+                raise AccessError(f"VAR_INST {where} belongs to METHOD {method_name} (C0576)")
+        if validate is not None:
+            validate(value, where)
+        setter(self, field, value)
+
+    __setattr__.__qualname__ = f"{name}.__setattr__"
+    return __setattr__
+
+
+# ---------------------------------------------------------------------------
+# The base classes
+# ---------------------------------------------------------------------------
+
+
+class _PouMixin:
+    """What FunctionBlock and Program share: construction, body, comparison."""
+
+    _iec_layout_: ClassVar[ClassLayout | None] = None
+    _iec_abstract_: ClassVar[bool] = False
+    _iec_final_: ClassVar[bool] = False
+    _iec_internal_: ClassVar[bool] = False
+    _iec_members_: ClassVar[dict[str, Member]] = {}
+
+    def __init__(self, **fb_init_args: Any) -> None:
+        cls = type(self)
+        if cls._iec_layout_ is None:
+            raise DefinitionError(f"{cls.__name__} is a base class; declare a subclass")
+        if cls._iec_abstract_:
+            raise DefinitionError(
+                f"ABSTRACT {_kind_word(cls)} {cls.__name__} cannot be instantiated; instantiate a derived block"
+            )
+        if cls._iec_internal_:
+            frame = sys._getframe(1)
+            here = _package(str(frame.f_globals.get("__name__", "")))
+            if here != _package(cls.__module__):
+                raise AccessError(
+                    f"INTERNAL {_kind_word(cls)} {cls.__name__} cannot be instantiated from {caller_description(frame)} "
+                    f"(outside the package {_package(cls.__module__)!r})"
+                )
+        from iecoop.lifecycle import initialise
+
+        initialise(self, init_retains=True, in_copy_code=False, args=fb_init_args)
+
+    def body(self) -> None:
+        """The implementation part, run by every call (ST: the FB's code body)."""
+
+    if TYPE_CHECKING:
+
+        def __call__(self, **inputs: Any) -> None: ...
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, _PouMixin):
+            return NotImplemented
+        return typing.cast(bool, ctypes.addressof(typing.cast(Any, self)) == ctypes.addressof(typing.cast(Any, other)))
+
+    def __hash__(self) -> int:
+        return hash(ctypes.addressof(typing.cast(Any, self)))
+
+    def __repr__(self) -> str:
+        layout = type(self)._iec_layout_
+        shown = []
+        if layout is not None:
+            for record in layout.fields:
+                if record.section in ("VAR_INPUT", "VAR_OUTPUT"):
+                    try:
+                        shown.append(f"{record.name}={getattr(self, record.name)!r}")
+                    except Exception as exc:  # a dangling reference must not break repr
+                        shown.append(f"{record.name}=<{type(exc).__name__}>")
+        return f"<{type(self).__name__} {' '.join(shown)}>".replace(" >", ">")
+
+
+class FunctionBlock(_PouMixin, _PouBase, metaclass=_PouMeta):
+    """``FUNCTION_BLOCK``: subclass it; class keywords ``abstract``, ``final``, ``internal``."""
+
+    _iec_base_class_: ClassVar[bool] = True
+    _iec_kind_: ClassVar[str] = "fb"
+    if not TYPE_CHECKING:
+        _fields_ = [("_iec_tag_", ctypes.c_uint64)]
+
+
+class Program(_PouMixin, _PouBase, metaclass=_PouMeta):
+    """``PROGRAM``: like a function block, one instance per task entry."""
+
+    _iec_base_class_: ClassVar[bool] = True
+    _iec_kind_: ClassVar[str] = "program"
+    if not TYPE_CHECKING:
+        _fields_ = [("_iec_tag_", ctypes.c_uint64)]
+
+
+def pou_members(cls: type) -> dict[str, Member]:
+    """Every METHOD and PROPERTY of a block, inherited ones included."""
+    return dict(getattr(cls, "_iec_members_", {}))
