@@ -5,21 +5,22 @@ is an ``int`` to mypy, as ``Field()`` is in pydantic), while at class creation
 the builder reads the section from it. A field with a plain default and no
 specifier is a ``VAR``.
 
-========================  ==========================================  ======================
-ST                        Python                                      notes
-========================  ==========================================  ======================
-``VAR x : INT := 5;``     ``x: INT = VAR(5)`` or ``x: INT = 5``       local, kept between calls
-``VAR_INPUT``             ``speed: REAL = VAR_INPUT(1.0)``            set by the caller
-``VAR_OUTPUT``            ``done: BOOL = VAR_OUTPUT()``               read by the caller
-``VAR_IN_OUT``            ``buf: ARRAY[INT] = VAR_IN_OUT(bounds=..)`` bound at every call
-``VAR_IN_OUT CONSTANT``   ``VAR_IN_OUT(constant=True)``               read-only inside
-``VAR_STAT``              ``VAR_STAT(0)``                             one per class
-``VAR_TEMP``              ``VAR_TEMP(0)``                             re-initialised each call
-``VAR_INST``              ``VAR_INST(0, method="start")``             kept, seen by one method
-``VAR RETAIN``            ``VAR(0, retain=True)``                     survives a warm restart
-``VAR PERSISTENT``        ``VAR(0, persistent=True)``                 survives a download
-``VAR CONSTANT``          ``VAR(10, constant=True)``                  cannot be written
-========================  ==========================================  ======================
+=======================  ===============================================  =========================
+ST                       Python                                           notes
+=======================  ===============================================  =========================
+``VAR x : INT := 5;``    ``x: INT = VAR(5)`` or ``x: INT = 5``            local, kept between calls
+``VAR_INPUT``            ``speed: REAL = VAR_INPUT(1.0)``                 set by the caller
+``VAR_OUTPUT``           ``done: BOOL = VAR_OUTPUT()``                    read by the caller
+``VAR_IN_OUT``           ``buf: ARRAY[INT] = VAR_IN_OUT(bounds=(1, 8))``  bound at every call
+``VAR_IN_OUT CONSTANT``  ``VAR_IN_OUT(constant=True)``                    read-only inside
+``VAR_STAT``             ``VAR_STAT(0)``                                  one per class
+``VAR_TEMP``             ``VAR_TEMP(0)``                                  re-initialised each call
+``VAR_INST``             ``VAR_INST(0, method="start")``                  kept, seen by one method
+``VAR_EXTERNAL``         ``VAR_EXTERNAL()``                               the global of that name
+``VAR RETAIN``           ``VAR(0, retain=True)``                          survives a warm restart
+``VAR PERSISTENT``       ``VAR(0, persistent=True)``                      survives a download
+``VAR CONSTANT``         ``VAR(10, constant=True)``                       cannot be written
+=======================  ===============================================  =========================
 """
 
 from __future__ import annotations

@@ -31,7 +31,9 @@ from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop import _config
 from iecoop.exceptions import DefinitionError
-from iecoop.memory.layout import ClassLayout, FieldRecord, build_layout, checked_setattr
+from iecoop.memory.layout import register_builder, ClassLayout, FieldRecord, build_layout, checked_setattr
+
+register_builder(__file__)
 
 __all__ = ["GlobalVariables", "find_global", "gvl", "global_lists"]
 

@@ -31,8 +31,10 @@ from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import NullInterface, Pointer, class_info, handle_of
-from iecoop.memory.layout import DefinitionScope
+from iecoop.memory.layout import register_builder, DefinitionScope
 from iecoop.members import Member, has_body, members_of_namespace
+
+register_builder(__file__)
 
 __all__ = ["IQueryInterface", "Interface", "interface_members", "query_interface", "query_pointer"]
 

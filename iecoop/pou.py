@@ -54,6 +54,7 @@ from iecoop.memory._core import (
     new_class_tag,
 )
 from iecoop.memory.layout import (
+    register_builder,
     MISSING,
     ClassLayout,
     DefinitionScope,
@@ -74,6 +75,8 @@ from iecoop.members import (
     register_code,
     visibility,
 )
+
+register_builder(__file__)
 
 __all__ = ["FunctionBlock", "Program", "pou_members"]
 
@@ -387,7 +390,8 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
             ns[field] = FieldSpec("VAR", spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
 
         def create(n: dict[str, Any]) -> type:
-            return typing.cast(type, type(ctypes.Structure)(f"{name}.VAR_STAT", (ctypes.Structure,), n))
+            meta: Any = type(ctypes.Structure)
+            return typing.cast(type, meta(f"{name}.VAR_STAT", (ctypes.Structure,), n))
 
         block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections={"VAR": "VAR"}, annotations=statics)
         block = block_cls()
@@ -430,13 +434,17 @@ def _children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any]
     for record in layout.fields:
         info = record.info
         if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb":
-            get = record.raw.__get__
-            yield record, (lambda obj, get=get: [get(obj)])
+            yield record, _single(record.raw.__get__)
         elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and getattr(info.elem.cls, "_iec_kind_", "") == "fb":
-            get = record.raw.__get__
-            raw_get = info.ctype.__mro__[1].__getitem__
-            count = info.count
-            yield record, (lambda obj, get=get, raw_get=raw_get, count=count: [raw_get(get(obj), i) for i in range(count)])
+            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
+
+
+def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
+    return lambda obj: [get(obj)]
+
+
+def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
+    return lambda obj: [raw_get(get(obj), i) for i in range(count)]
 
 
 def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
@@ -608,7 +616,7 @@ class _PouMixin:
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, _PouMixin):
             return NotImplemented
-        return typing.cast(bool, ctypes.addressof(typing.cast(Any, self)) == ctypes.addressof(typing.cast(Any, other)))
+        return ctypes.addressof(typing.cast(Any, self)) == ctypes.addressof(typing.cast(Any, other))
 
     def __hash__(self) -> int:
         return hash(ctypes.addressof(typing.cast(Any, self)))

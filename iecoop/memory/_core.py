@@ -388,7 +388,7 @@ class AggregateInfo(TypeInfo):
             cls = dynamic
         if offset == 0 and type(root) is cls:
             return root
-        return cls.from_buffer(root, offset)
+        return typing.cast(Any, cls).from_buffer(root, offset)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         self.validate(value, where)
@@ -736,7 +736,7 @@ class InterfaceInfo(TypeInfo):
             raise access_violation(f"{where}: interface reference to memory that holds no function block")
         if offset == 0 and type(root) is cls:
             return root
-        return cls.from_buffer(root, offset)
+        return typing.cast(Any, cls).from_buffer(root, offset)
 
     def load(self, root: Any, offset: int) -> Any:
         return self.value_for(ctypes.c_uint64.from_buffer(root, offset).value, self.name)
@@ -890,10 +890,10 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
             for i in range(count):
                 yield elem.load(self, i * size)
 
-    def eq(self: Any, other: object) -> bool:
+    def eq(self: Any, other: Any) -> Any:
         if type(other) is not type(self):
             return NotImplemented
-        return bytes(memoryview(self).cast("B")) == bytes(memoryview(typing.cast(Any, other)).cast("B"))
+        return bytes(memoryview(self).cast("B")) == bytes(memoryview(other).cast("B"))
 
     dims = ", ".join(f"{lo}..{hi}" for lo, hi in bounds)
 
@@ -1041,7 +1041,7 @@ def resolve_type(
         if any(m is REFERENCE for m in metadata):
             rest = tuple(m for m in metadata if m is not REFERENCE)
             inner = annotation.__origin__
-            target_annotation = Annotated[(inner, *rest)] if rest else inner  # type: ignore[valid-type]
+            target_annotation = Annotated[(inner, *rest)] if rest else inner
             if length is not None:
                 target = resolve_type(target_annotation, where, length=length, resolver=resolver)
             else:

@@ -36,8 +36,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from iecoop import _config
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
-from iecoop.memory.layout import ClassLayout, build_layout, checked_setattr
+from iecoop.memory.layout import register_builder, ClassLayout, build_layout, checked_setattr
 from iecoop.types import INT_T, ElementaryType, elementary_type
+
+register_builder(__file__)
 
 __all__ = ["Alias", "IecEnum", "Struct", "Union"]
 

@@ -138,7 +138,13 @@ class ClassLayout:
             op(obj)
 
 
-_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+#: Source files of the class builders: their frames are skipped when looking for the class statement.
+BUILDER_FILES: set[str] = {os.path.abspath(__file__)}
+
+
+def register_builder(path: str) -> None:
+    """Declare a module whose functions build classes (its frames are not the user's)."""
+    BUILDER_FILES.add(os.path.abspath(path))
 
 
 class DefinitionScope:
@@ -152,7 +158,7 @@ class DefinitionScope:
 
     def __init__(self, class_namespace: Mapping[str, Any]) -> None:
         frame: Any = sys._getframe(1)
-        while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
+        while frame is not None and os.path.abspath(frame.f_code.co_filename) in BUILDER_FILES:
             frame = frame.f_back
         if frame is not None:
             self.globals: dict[str, Any] = frame.f_globals
@@ -341,7 +347,11 @@ def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
             return None
         data = info._encode(initial, record.where)
         offset, size = record.offset, info.size
-        return lambda obj: ctypes.memmove(ctypes.addressof(obj) + offset, data, size) and None
+
+        def op_string(obj: Any) -> None:
+            ctypes.memmove(ctypes.addressof(obj) + offset, data, size)
+
+        return op_string
     if isinstance(info, AggregateInfo):
         return _aggregate_op(info, raw.__get__, initial)
     if isinstance(info, ArrayInfo):
@@ -357,7 +367,11 @@ def _aggregate_op(info: AggregateInfo, get: Callable[[Any], Any], initial: Any) 
     if isinstance(initial, cls):
         source = bytes(memoryview(typing.cast(Any, initial)).cast("B"))
         size = len(source)
-        return lambda obj: ctypes.memmove(ctypes.addressof(get(obj)), source, size) and None
+
+        def op_copy(obj: Any) -> None:
+            ctypes.memmove(ctypes.addressof(get(obj)), source, size)
+
+        return op_copy
     values = dict(initial)
     if getattr(cls, "_iec_kind_", "") == "fb":
         # Declaration-site inputs (fb : FB := (in := x)) are applied after FB_init by the POU layer.
@@ -388,9 +402,9 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
                 view = raw_get(array, i)
                 implicit(view)
                 if i < len(items):
-                    item = items[i]
+                    item: Any = items[i]
                     if isinstance(item, elem.cls):
-                        ctypes.memmove(ctypes.addressof(view), ctypes.addressof(item), elem.size)
+                        ctypes.memmove(ctypes.addressof(view), ctypes.addressof(typing.cast(Any, item)), elem.size)
                     else:
                         for member, value in item.items():
                             setattr(view, member, value)

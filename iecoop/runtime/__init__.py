@@ -1,0 +1,19 @@
+"""The cyclic runtime: tasks, virtual time, the task clock and remanent data."""
+
+from iecoop.runtime.clock import Clock, VirtualClock, WallClock, current_clock, default_clock, now_ms, use_clock
+from iecoop.runtime.runtime import Fault, Runtime, Task, TaskInfo, current_task
+
+__all__ = [
+    "Clock",
+    "Fault",
+    "Runtime",
+    "Task",
+    "TaskInfo",
+    "VirtualClock",
+    "WallClock",
+    "current_clock",
+    "current_task",
+    "default_clock",
+    "now_ms",
+    "use_clock",
+]

@@ -1,0 +1,487 @@
+"""The cyclic runtime: tasks, virtual time, faults, resets and remanent data.
+
+A ``Runtime`` holds tasks; each task calls its programs in order every cycle.
+Virtual time is the default: the clock jumps from one task tick to the next,
+so timing logic is exact, deterministic and runs as fast as the CPU allows.
+``realtime=True`` paces the cycles by the wall clock and counts jitter and
+overruns.
+
+At each tick the due tasks run in priority order (0 is the highest). At the
+end of every tick the RETAIN image is captured into the store; PERSISTENT
+data is written by ``stop()`` and ``save_persistent()``. A fault in a cycle
+puts the runtime into an exception state that ``run()`` raises until a reset.
+
+>>> from iecoop import BOOL, INT, Program, T, VAR
+>>> from iecoop.runtime import Runtime, Task
+>>> class Main(Program):
+...     count: INT = VAR(0)
+...     def body(self) -> None:
+...         self.count += 1
+>>> main = Main()
+>>> rt = Runtime(store=":memory:")
+>>> rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), main)
+>>> rt.run(cycles=5)
+>>> main.count, rt.time_ms
+(5, 50)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+import math
+import os
+import time
+import traceback
+import typing
+import warnings
+from pathlib import Path
+from typing import Any, Literal
+
+from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.lifecycle import finalise, initialise, reinitialise
+from iecoop.profiles import Profile, get_profile, use_profile
+from iecoop.runtime.clock import Clock, VirtualClock, WallClock, use_clock
+from iecoop.runtime.store import ImageLayout, RemanentStore
+from iecoop.runtime.variables import PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, leaves, parse_directory
+
+__all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
+
+
+@dataclasses.dataclass
+class TaskInfo:
+    """What the PLC reports about a task (TwinCAT ``_TaskInfo`` / ``PlcTaskSystemInfo``).
+
+    Times are in 100 ns units, as TwinCAT reports them.
+    """
+
+    TaskName: str
+    CycleTime: int
+    Priority: int
+    CycleCount: int = 0
+    FirstCycle: bool = True
+    CycleTimeExceeded: bool = False
+    ExceedCounter: int = 0
+    LastExecTime: int = 0
+    MaxExecTime: int = 0
+    JitterMax: int = 0
+    WatchdogHits: int = 0
+
+
+class Task:
+    """A cyclic task: ``Task("PlcTask", interval=T("10ms"), priority=20)``.
+
+    ``watchdog`` (a TIME) with ``sensitivity`` raises RTSEXCPT_WATCHDOG when
+    that many consecutive cycles run longer than the watchdog time.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        interval: int = 10,
+        priority: int = 20,
+        *,
+        watchdog: int | None = None,
+        sensitivity: int = 1,
+    ) -> None:
+        if not isinstance(interval, int) or isinstance(interval, bool) or interval <= 0:
+            raise ValueError(f"task {name}: the interval is a positive TIME in ms, got {interval!r}")
+        if not isinstance(priority, int) or not 0 <= priority <= 31:
+            raise ValueError(f"task {name}: priority must be 0..31 (0 is the highest), got {priority!r}")
+        if watchdog is not None and watchdog <= 0:
+            raise ValueError(f"task {name}: the watchdog time must be positive")
+        self.name = name
+        self.interval = interval
+        self.priority = priority
+        self.watchdog = watchdog
+        self.sensitivity = max(1, sensitivity)
+        self.programs: list[tuple[str, Any]] = []
+        self.info = TaskInfo(name, interval * 10_000, priority)
+        self._overruns = 0
+
+    def __repr__(self) -> str:
+        return f"<Task {self.name} {self.interval} ms prio {self.priority}>"
+
+
+@dataclasses.dataclass(frozen=True)
+class Fault:
+    """The exception state: which task and cycle failed, with what code and traceback."""
+
+    task: str
+    cycle: int
+    code: ExceptionCode
+    message: str
+    traceback: str
+    exception: PlcException
+
+
+_current: list[Task] = []
+
+
+def current_task() -> TaskInfo:
+    """The running task's info (ST: ``_TaskInfo[GETCURTASKINDEXEX()]``)."""
+    if not _current:
+        raise RuntimeError("no task is running: current_task() is for code called by a Runtime cycle")
+    return _current[-1].info
+
+
+def _fault_code(exc: BaseException) -> ExceptionCode:
+    if isinstance(exc, PlcException):
+        return exc.code
+    if isinstance(exc, ZeroDivisionError):
+        return ExceptionCode.RTSEXCPT_DIVIDEBYZERO
+    if isinstance(exc, RecursionError):
+        return ExceptionCode.RTSEXCPT_STACK_OVERFLOW
+    if isinstance(exc, MemoryError):
+        return ExceptionCode.RTSEXCPT_OUT_OF_MEMORY
+    return ExceptionCode.RTSEXCPT_UNKNOWN
+
+
+class _Entry:
+    """One program instance in a task, with its instance path and variable directory."""
+
+    __slots__ = ("path", "program", "leaves", "remanent")
+
+    def __init__(self, path: str, program: Any) -> None:
+        self.path = path
+        self.program = program
+        self.leaves: list[Leaf] = leaves(type(program))
+        self.remanent = any(leaf.remanence != PLAIN for leaf in self.leaves)
+
+
+class Runtime:
+    """A PLC runtime: tasks, virtual (or real) time, remanent store, resets.
+
+    ``store`` is a folder for RETAIN / PERSISTENT data (default ``./.iecoop``);
+    ``":memory:"`` keeps nothing on disk. ``profile`` is ``"twincat"``
+    (default) or ``"codesys"``.
+    """
+
+    def __init__(
+        self,
+        store: str | os.PathLike[str] | None = None,
+        profile: str | Profile = "twincat",
+        *,
+        durability: Literal["process", "power"] = "process",
+    ) -> None:
+        self.profile = get_profile(profile)
+        self.tasks: list[Task] = []
+        self._entries: list[_Entry] = []
+        self.time_ns = 0
+        self.fault: Fault | None = None
+        self._clock = VirtualClock()
+        self._store_path = None if store == ":memory:" else Path(store if store is not None else ".iecoop")
+        self._durability = durability
+        self._store: RemanentStore | None = None
+        self._started = False
+        self._stopped = False
+        self._retain_layout: ImageLayout | None = None
+        self._tick = 0
+        self.boot_report: list[str] = []
+
+    # -- configuration -----------------------------------------------------
+
+    def add_task(self, task: Task, *programs: Any) -> None:
+        """Add a task and the program instances it calls each cycle, in order."""
+        if any(t.name == task.name for t in self.tasks):
+            raise ValueError(f"a task named {task.name!r} already exists")
+        if not programs:
+            raise ValueError(f"task {task.name}: give at least one program instance")
+        for program in programs:
+            if getattr(type(program), "_iec_kind_", "") not in ("program", "fb"):
+                raise TypeError(f"task {task.name}: {program!r} is not a Program instance")
+            base = f"{task.name}.{type(program).__name__}"
+            path = base
+            n = 2
+            while any(e.path == path for e in self._entries):
+                path = f"{base}_{n}"
+                n += 1
+            entry = _Entry(path, program)
+            self._entries.append(entry)
+            task.programs.append((path, program))
+        self.tasks.append(task)
+        self.tasks.sort(key=lambda t: t.priority)
+        self._retain_layout = None
+
+    def programs(self) -> dict[str, Any]:
+        """Every program instance by instance path (``"PlcTask.Main"``)."""
+        return {e.path: e.program for e in self._entries}
+
+    @property
+    def time_ms(self) -> int:
+        return self.time_ns // 1_000_000
+
+    @property
+    def base_tick_ms(self) -> int:
+        if not self.tasks:
+            raise RuntimeError("the runtime has no task; add one with add_task()")
+        return math.gcd(*(t.interval for t in self.tasks))
+
+    # -- running -------------------------------------------------------------
+
+    def run(self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = False) -> None:
+        """Run ``cycles`` base ticks, or for ``duration`` (a TIME in ms) of PLC time.
+
+        The base tick is the greatest common divisor of the task intervals, so
+        with one task a tick is one cycle.
+        """
+        self._raise_if_faulted()
+        if self._stopped:
+            raise RuntimeError("the runtime was stopped; create a new Runtime on the same store to start again")
+        if (cycles is None) == (duration is None):
+            raise ValueError("run() takes either cycles= or duration=")
+        tick_ms = self.base_tick_ms
+        if cycles is None:
+            assert duration is not None
+            if duration < 0:
+                raise ValueError("duration must not be negative")
+            cycles = duration // tick_ms
+        if cycles < 0:
+            raise ValueError("cycles must not be negative")
+        if not self._started:
+            self._start()
+        clock: Clock = WallClock() if realtime else self._clock
+        wall_start = time.monotonic_ns()
+        first_tick = self._tick
+        with use_profile(self.profile), use_clock(clock):
+            for n in range(cycles):
+                tick_time = self._tick * tick_ms * 1_000_000
+                if realtime:
+                    planned = wall_start + (self._tick - first_tick) * tick_ms * 1_000_000
+                    delay = planned - time.monotonic_ns()
+                    if delay > 0:
+                        time.sleep(delay / 1e9)
+                    jitter = max(0, time.monotonic_ns() - planned)
+                else:
+                    self._clock.set(tick_time)
+                    jitter = 0
+                self.time_ns = tick_time
+                self._run_tick(tick_ms, jitter)
+                self._tick += 1
+                self.time_ns = self._tick * tick_ms * 1_000_000
+            if not realtime:
+                self._clock.set(self.time_ns)
+
+    def _run_tick(self, tick_ms: int, jitter: int) -> None:
+        now_ms = self._tick * tick_ms
+        for task in self.tasks:
+            if now_ms % task.interval:
+                continue
+            info = task.info
+            info.JitterMax = max(info.JitterMax, jitter // 100)
+            info.FirstCycle = info.CycleCount == 0
+            started = time.perf_counter_ns()
+            _current.append(task)
+            try:
+                for path, program in task.programs:
+                    program.body()
+            except BaseException as exc:
+                if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+                    raise
+                self._enter_fault(task, exc)
+            finally:
+                _current.pop()
+            elapsed = time.perf_counter_ns() - started
+            info.LastExecTime = elapsed // 100
+            info.MaxExecTime = max(info.MaxExecTime, info.LastExecTime)
+            info.CycleCount += 1
+            exceeded = elapsed > task.interval * 1_000_000
+            info.CycleTimeExceeded = exceeded
+            if exceeded:
+                info.ExceedCounter += 1
+            if task.watchdog is not None:
+                if elapsed > task.watchdog * 1_000_000:
+                    task._overruns += 1
+                    if task._overruns >= task.sensitivity:
+                        info.WatchdogHits += 1
+                        self._enter_fault(
+                            task,
+                            PlcException(
+                                ExceptionCode.RTSEXCPT_WATCHDOG,
+                                f"task {task.name}: cycle took {elapsed / 1e6:.3f} ms, watchdog {task.watchdog} ms",
+                            ),
+                        )
+                else:
+                    task._overruns = 0
+        self._capture_retain()
+
+    def _enter_fault(self, task: Task, exc: BaseException) -> typing.NoReturn:
+        code = _fault_code(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        text = "".join(traceback.format_exception(exc))
+        self.fault = Fault(task.name, task.info.CycleCount, code, str(plc), text, plc)
+        raise self._fault_error() from exc
+
+    def _fault_error(self) -> PlcException:
+        assert self.fault is not None
+        f = self.fault
+        return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}: {f.message}")
+
+    def _raise_if_faulted(self) -> None:
+        if self.fault is not None:
+            raise self._fault_error()
+
+    # -- remanent data ---------------------------------------------------------
+
+    def _store_or_none(self) -> RemanentStore | None:
+        if self._store_path is None:
+            return None
+        if self._store is None:
+            self._store = RemanentStore(self._store_path, durability=self._durability)
+        return self._store
+
+    def _start(self) -> None:
+        """Controller start: restore RETAIN and PERSISTENT data that still match."""
+        self._started = True
+        if not any(e.remanent for e in self._entries):
+            return
+        store = self._store_or_none()
+        if store is None:
+            return
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            retain = store.load_retain()
+            persistent = store.load_persistent()
+        self.boot_report = [str(w.message) for w in caught]
+        for message in self.boot_report:
+            warnings.warn(message, RuntimeWarning, stacklevel=3)
+        if retain is not None:
+            self._apply_image(retain.values(), {RETAIN})
+        if persistent is not None:
+            self._apply_image(persistent.values(), {PERSISTENT})
+
+    def _apply_image(self, values: dict[str, tuple[str, bytes]], classes: set[int]) -> None:
+        for entry in self._entries:
+            stored = values.get(entry.path)
+            if stored is None:
+                continue
+            directory, data = stored
+            try:
+                old_leaves = parse_directory(directory)
+            except ValueError as exc:
+                self.boot_report.append(f"{entry.path}: stored directory rejected ({exc})")
+                continue
+            copy_matching(data, old_leaves, entry.program, entry.leaves, classes)
+
+    def _image(self, classes: set[int]) -> tuple[ImageLayout, bytes]:
+        entries = []
+        blocks = []
+        for entry in self._entries:
+            kept = [leaf for leaf in entry.leaves if leaf.remanence in classes]
+            if not kept:
+                continue
+            size = ctypes.sizeof(entry.program)
+            entries.append((entry.path, format_directory(kept), size))
+            blocks.append(entry.program)
+        layout = ImageLayout(tuple(entries))
+        data = b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in blocks)
+        return layout, data
+
+    def _capture_retain(self) -> None:
+        store = self._store_or_none()
+        if store is None:
+            return
+        if self._retain_layout is None:
+            layout, data = self._image({RETAIN})
+            self._retain_layout = layout
+            self._retain_blocks = [e.program for e in self._entries if any(l.remanence == RETAIN for l in e.leaves)]
+        if not self._retain_layout.entries:
+            return
+        data = b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in self._retain_blocks)
+        store.write_retain(self._retain_layout, data)
+
+    def save_persistent(self) -> None:
+        """Write the PERSISTENT image now (TwinCAT ``FB_WritePersistentData``)."""
+        store = self._store_or_none()
+        if store is None:
+            return
+        layout, data = self._image({PERSISTENT})
+        if layout.entries:
+            store.write_persistent(layout, data)
+
+    def stop(self) -> None:
+        """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store."""
+        if self._stopped:
+            return
+        self.save_persistent()
+        with use_profile(self.profile):
+            for entry in self._entries:
+                finalise(entry.program, in_copy_code=False)
+        self._stopped = True
+        if self._store is not None:
+            self._store.close()
+
+    # -- resets, download, online change -----------------------------------------
+
+    def _snapshot(self, entry: _Entry) -> bytes:
+        return ctypes.string_at(ctypes.addressof(entry.program), ctypes.sizeof(entry.program))
+
+    def _reinit(self, kept: set[int], init_retains: bool) -> None:
+        with use_profile(self.profile), use_clock(self._clock):
+            for entry in self._entries:
+                saved = self._snapshot(entry)
+                finalise(entry.program, in_copy_code=False)
+                initialise(entry.program, init_retains=init_retains, in_copy_code=False, zero=True)
+                if kept:
+                    copy_matching(saved, entry.leaves, entry.program, entry.leaves, kept)
+        self.fault = None
+        for task in self.tasks:
+            task.info.FirstCycle = True
+            task.info.CycleCount = 0
+            task._overruns = 0
+
+    def reset_cold(self) -> None:
+        """Reset cold: plain variables re-initialised; RETAIN per profile; PERSISTENT kept."""
+        kept = {PERSISTENT}
+        if self.profile.retain_on_reset_cold:
+            kept.add(RETAIN)
+        self._reinit(kept, init_retains=RETAIN not in kept)
+
+    def reset_warm(self) -> None:
+        """Reset warm (CODESYS only): plain variables re-initialised, RETAIN and PERSISTENT kept."""
+        if not self.profile.has_reset_warm:
+            raise RuntimeError(f"the {self.profile.name} profile has no reset warm (TwinCAT 3 offers reset cold and reset origin)")
+        self._reinit({RETAIN, PERSISTENT}, init_retains=False)
+
+    def reset_origin(self) -> None:
+        """Reset origin: everything re-initialised, the store cleared."""
+        self._reinit(set(), init_retains=True)
+        store = self._store_or_none()
+        if store is not None:
+            store.clear_retain()
+            store.clear_persistent()
+
+    def download(self) -> None:
+        """A (re-)download of the project: plain re-initialised; RETAIN per profile; PERSISTENT kept."""
+        kept = {PERSISTENT}
+        if self.profile.retain_on_download:
+            kept.add(RETAIN)
+        self._reinit(kept, init_retains=RETAIN not in kept)
+
+    def online_change(self, replace: dict[str, Any] | None = None) -> None:
+        """An online change: every variable kept.
+
+        Without ``replace`` it is a code-only change (no FB_exit / FB_init /
+        FB_reinit). ``replace`` maps instance paths (``"PlcTask.Main"``) to new
+        program instances of a changed declaration: the old instance gets
+        FB_exit(TRUE), the new one FB_init(FALSE, TRUE), the data is copied by
+        path and type, then FB_reinit runs.
+        """
+        if not replace:
+            return
+        with use_profile(self.profile), use_clock(self._clock):
+            for path, new_program in replace.items():
+                entry = next((e for e in self._entries if e.path == path), None)
+                if entry is None:
+                    raise KeyError(f"online change: no program at {path!r} (known: {', '.join(self.programs())})")
+                saved = self._snapshot(entry)
+                finalise(entry.program, in_copy_code=True)
+                initialise(new_program, init_retains=False, in_copy_code=True, zero=True)
+                new_entry = _Entry(path, new_program)
+                copy_matching(saved, entry.leaves, new_program, new_entry.leaves, {PLAIN, RETAIN, PERSISTENT})
+                reinitialise(new_program)
+                index = self._entries.index(entry)
+                self._entries[index] = new_entry
+                for task in self.tasks:
+                    task.programs = [(p, new_program if p == path else prog) for p, prog in task.programs]
+        self._retain_layout = None

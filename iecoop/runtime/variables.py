@@ -1,0 +1,106 @@
+"""Instance paths: every variable of a program tree, with its class (plain, RETAIN, PERSISTENT).
+
+Remanent data is restored, and online changes copy data, *by path*: a
+variable is kept when the new program still has a variable of that path and
+type signature, so a changed program keeps what still matches.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+from typing import Any
+
+from iecoop.memory._core import AggregateInfo, ArrayInfo, TypeInfo
+from iecoop.memory.layout import ClassLayout
+
+__all__ = ["Leaf", "copy_matching", "leaves", "parse_directory", "format_directory"]
+
+PLAIN, RETAIN, PERSISTENT = 0, 1, 2
+
+
+@dataclasses.dataclass(frozen=True)
+class Leaf:
+    """One variable at the bottom of the tree: path, type signature, place and class."""
+
+    path: str
+    signature: str
+    offset: int
+    size: int
+    remanence: int  # PLAIN, RETAIN or PERSISTENT
+
+
+def leaves(cls: type, prefix: str = "", base: int = 0, remanence: int = PLAIN) -> list[Leaf]:
+    """Every leaf variable of an instance of ``cls`` (offsets relative to the instance)."""
+    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    found: list[Leaf] = []
+    if layout is None:
+        return found
+    for record in layout.fields:
+        spec = record.spec
+        mark = PERSISTENT if spec.persistent else RETAIN if spec.retain else remanence
+        path = f"{prefix}{record.name}"
+        found.extend(_leaves_of(record.info, path, base + record.offset, mark))
+    return found
+
+
+def _leaves_of(info: TypeInfo, path: str, offset: int, remanence: int) -> list[Leaf]:
+    if isinstance(info, AggregateInfo):
+        return leaves(info.cls, f"{path}.", offset, remanence)
+    if isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo):
+        found: list[Leaf] = []
+        size = info.elem.size
+        index = 0
+        for position in _indices(info.bounds):
+            label = ",".join(str(i) for i in position)
+            found.extend(leaves(info.elem.cls, f"{path}[{label}].", offset + index * size, remanence))
+            index += 1
+        return found
+    return [Leaf(path, info.signature, offset, info.size, remanence)]
+
+
+def _indices(bounds: tuple[tuple[int, int], ...]) -> list[tuple[int, ...]]:
+    result: list[tuple[int, ...]] = [()]
+    for lo, hi in bounds:
+        result = [prefix + (i,) for prefix in result for i in range(lo, hi + 1)]
+    return result
+
+
+def copy_matching(source: bytes, source_leaves: list[Leaf], target: Any, target_leaves: list[Leaf], classes: set[int]) -> int:
+    """Copy into ``target`` every leaf of the given classes whose path and signature match; count them."""
+    by_path = {leaf.path: leaf for leaf in source_leaves}
+    base = ctypes.addressof(target)
+    copied = 0
+    for leaf in target_leaves:
+        if leaf.remanence not in classes:
+            continue
+        old = by_path.get(leaf.path)
+        if old is None or old.signature != leaf.signature or old.size != leaf.size:
+            continue
+        if old.offset < 0 or old.offset + old.size > len(source):
+            continue
+        ctypes.memmove(base + leaf.offset, source[old.offset : old.offset + old.size], leaf.size)
+        copied += 1
+    return copied
+
+
+def format_directory(found: list[Leaf]) -> str:
+    """A text directory of leaves, stored with a block image (one leaf per line)."""
+    return "\n".join(f"{leaf.path}\t{leaf.signature}\t{leaf.offset}\t{leaf.size}\t{leaf.remanence}" for leaf in found)
+
+
+def parse_directory(text: str) -> list[Leaf]:
+    """Parse a stored directory; a malformed line raises ValueError (the image is then not loaded)."""
+    found: list[Leaf] = []
+    if not text:
+        return found
+    for number, line in enumerate(text.split("\n"), 1):
+        parts = line.split("\t")
+        if len(parts) != 5:
+            raise ValueError(f"directory line {number} has {len(parts)} fields, expected 5")
+        path, signature, offset, size, remanence = parts
+        values = (int(offset), int(size), int(remanence))
+        if values[0] < 0 or values[1] < 0 or values[2] not in (PLAIN, RETAIN, PERSISTENT):
+            raise ValueError(f"directory line {number} is out of range")
+        found.append(Leaf(path, signature, *values))
+    return found

@@ -1,0 +1,51 @@
+"""The whole test suite in one command: ``python -m tests``.
+
+Runs, and fails if any of them fails:
+
+1. pytest over the tests, the package docstrings and the docs pages (every
+   ``>>>`` example runs); a run that collects no test is a failure;
+2. ``mypy --strict`` on iecoop, patterns, examples and tests;
+3. the Sphinx docs build with warnings as errors.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _run(title: str, command: list[str]) -> bool:
+    print(f"\n=== {title}: {' '.join(command)}", flush=True)
+    started = time.monotonic()
+    result = subprocess.run(command, cwd=ROOT)
+    seconds = time.monotonic() - started
+    ok = result.returncode == 0
+    verdict = "ok" if ok else f"FAILED (exit {result.returncode})"
+    print(f"=== {title}: {verdict} in {seconds:.1f} s", flush=True)
+    return ok
+
+
+def main() -> int:
+    python = sys.executable
+    gates = [
+        ("pytest", [python, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--doctest-glob=*.md", "docs", "README.md"]),
+        ("mypy", [python, "-m", "mypy", "--strict"]),
+        ("docs", [python, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"]),
+    ]
+    # pytest collects its default testpaths too; docs is added for the pages' examples.
+    gates[0][1].extend(["tests", "iecoop", "patterns", "examples"])
+    os.environ.setdefault("PYTHONHASHSEED", "0")
+    results = [_run(title, command) for title, command in gates]
+    passed = sum(results)
+    failed = len(results) - passed
+    print(f"\ngates: {passed} passed, {failed} failed")
+    return 0 if failed == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
