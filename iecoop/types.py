@@ -157,7 +157,8 @@ class StringType:
                     f"{where}: character {bad!r} has no Latin-1 code; STRING holds Latin-1, use WSTRING"
                 ) from None
             return data[:length]
-        if any(ord(ch) > 0xFFFF for ch in value):
+        # A lone surrogate is no UCS-2 character either, and utf-16 cannot encode it.
+        if any(ord(ch) > 0xFFFF or 0xD800 <= ord(ch) <= 0xDFFF for ch in value):
             raise ValueError(f"{where}: WSTRING holds UCS-2; {value!r} has a character outside it")
         return value[:length].encode("utf-16-le")
 

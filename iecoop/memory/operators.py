@@ -90,10 +90,10 @@ def adr(obj: Any) -> Pointer[Any]: ...
 
 
 @overload
-def adr(obj: Any, member: str | int, index: int | tuple[int, ...] | None = None) -> Pointer[Any]: ...
+def adr(obj: Any, member: str | int | tuple[int, ...], index: int | tuple[int, ...] | None = None) -> Pointer[Any]: ...
 
 
-def adr(obj: Any, member: str | int | None = None, index: int | tuple[int, ...] | None = None) -> Pointer[Any]:
+def adr(obj: Any, member: str | int | tuple[int, ...] | None = None, index: int | tuple[int, ...] | None = None) -> Pointer[Any]:
     """``ADR(x)``: a typed pointer to an instance, one of its variables, or an array element.
 
     ``adr(motor)`` is ``ADR(motor)``, ``adr(motor, "speed")`` is
