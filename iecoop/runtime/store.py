@@ -55,6 +55,13 @@ followed by padding. A slot whose 80 header bytes are all zero is empty (never
 written). The header checksum makes the sequence of a damaged record
 trustworthy, which tells an interrupted newer write from an older damaged one.
 
+Loading takes the valid RETAIN slot with the higher sequence, and
+``persistent.dat`` before ``persistent.dat.bak``. ``from_backup`` is set when
+a newer generation may have been lost: the other slot is damaged and its
+sequence is higher or unreadable, or ``persistent.dat`` is damaged or missing.
+A write torn by a kill looks exactly like that, and what loads is then the
+last write that completed. POSIX only (``os.pwrite``).
+
 >>> import tempfile
 >>> layout = ImageLayout((("PlcTask.Main.count", "INT", 2), ("PlcTask.Main.name", "STRING(5)", 6)))
 >>> with tempfile.TemporaryDirectory() as folder, RemanentStore(folder) as store:
@@ -93,7 +100,6 @@ _PAGE = 4096
 # The record CRC cannot cover its own field, so the header is packed in two
 # steps: the first 72 bytes, then the two checksums.
 _HEAD = struct.Struct("<8sHBBIQQ32sII")
-_CRCS = struct.Struct("<II")
 _HEADER = struct.Struct("<8sHBBIQQ32sIIII")
 _HEADER_SIZE = _HEADER.size
 _CRC_SPAN = _HEAD.size
@@ -445,7 +451,9 @@ class RemanentStore:
     ``durability="process"`` survives the death of the process (the data is in
     the page cache once a write returns); ``"power"`` also fsyncs every write
     and the directory after every rename, so it survives a power loss, at the
-    price of a disk flush per cycle. One writer per directory.
+    price of a disk flush per cycle. Calls are serialised by a lock, so tasks
+    on several threads may share a store; one store (one process) writes a
+    directory at a time.
     """
 
     RETAIN_FILE = "retain.dat"
@@ -530,6 +538,9 @@ class RemanentStore:
                 outcome = f"using slot {_SLOT_NAMES[scan.best.slot]} (sequence {scan.best.sequence})"
                 image = LoadedImage(scan.best.layout, scan.best.data, scan.best.sequence, scan.from_backup)
             self._retain_problems = problems
+            # The file may have changed behind the writer's back (a damaged
+            # slot it believes current): it starts again from what is on disk.
+            self._reset_writer()
         if problems:
             warnings.warn(f"{self._retain_path}: {'; '.join(problems)}; {outcome}", StoreWarning, stacklevel=2)
         return image
@@ -538,28 +549,32 @@ class RemanentStore:
         """Delete the RETAIN image (reset cold / origin, download)."""
         with self._lock:
             self._check_open("clear_retain")
-            self._close_fd()
+            self._reset_writer()
             _unlink(self._retain_path)
             _unlink(self._retain_path.with_name(self.RETAIN_FILE + self.TEMP_SUFFIX))
             if self._sync:
                 self._sync_directory()
-            self._writer_ready = True
-            self._live = -1
-            self._live_record = None
-            self._slot_size = 0
             self._retain_problems = []
 
+    def _reset_writer(self) -> None:
+        self._close_fd()
+        self._writer_ready = False
+        self._live = -1
+        self._live_record = None
+        self._slot_size = 0
+
     def _open_retain(self) -> None:
-        self._writer_ready = True
         try:
             fd = os.open(self._retain_path, os.O_RDWR)
         except FileNotFoundError:
+            self._writer_ready = True
             return
         try:
             buf = _read_fd(fd)
         except BaseException:
             os.close(fd)
             raise
+        self._writer_ready = True
         scan = _scan_retain(buf, self.RETAIN_FILE)
         self._retain_sequence = max(self._retain_sequence, scan.top_sequence)
         best = scan.best
@@ -584,14 +599,19 @@ class RemanentStore:
         if previous is None and self._fd >= 0 and self._live >= 0:
             found = _scan_retain(_read_fd(self._fd), self.RETAIN_FILE).slots[self._live]
             previous = found if isinstance(found, _Record) else None
-        slot_size = _slot_size_for(len(buf), self._slot_size)
+        old = None
+        if previous is not None and previous.slot != slot:
+            old = _new_record(previous.layout, previous.data)
+        # Both records must fit: the previous one may be the larger.
+        slot_size = _slot_size_for(max(len(buf), 0 if old is None else len(old)), self._slot_size)
         image = bytearray(2 * slot_size)
         _seal(buf, _RETAIN, slot, sequence, slot_size, layout)
         image[slot * slot_size:slot * slot_size + len(buf)] = buf
-        if previous is not None and previous.slot != slot:
-            old = _new_record(previous.layout, previous.data)
+        if old is not None and previous is not None:
             _seal(old, _RETAIN, previous.slot, previous.sequence, slot_size, previous.layout)
             image[previous.slot * slot_size:previous.slot * slot_size + len(old)] = old
+        if len(image) != 2 * slot_size:
+            raise AssertionError("RemanentStore: a record overflowed its slot")
         temporary = self._retain_path.with_name(self.RETAIN_FILE + self.TEMP_SUFFIX)
         fd = os.open(temporary, os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o644)
         try:
