@@ -12,6 +12,10 @@ a module-level ``VirtualClock``, so a unit test drives timers by advancing it.
 ``WallClock``        ``time.monotonic_ns()`` relative to its creation
 ===================  ==========================================================
 
+A ``WallClock`` is read at every call, so two timers of one cycle can see
+different instants; a runtime that wants the PLC's one instant per cycle
+installs a ``VirtualClock`` and sets it from the wall clock at the cycle start.
+
 The installed clocks form one module-level stack, shared by all threads, so
 installing one costs a list append. A runtime that runs tasks on several
 threads at once needs a clock per thread; that runtime will have to replace
@@ -21,7 +25,6 @@ the stack by a thread-local one.
 >>> clock = default_clock()
 >>> clock.set(0)
 >>> clock.advance(LTIME("1s500ms"))
-1500000000
 >>> now_ms()
 1500
 >>> with use_clock(VirtualClock(start_ns=LTIME("2s"))):
@@ -59,7 +62,6 @@ class VirtualClock(Clock):
 
     >>> clock = VirtualClock()
     >>> clock.advance(250_000_000)
-    250000000
     >>> clock.now_ms()
     250
     """
@@ -73,12 +75,11 @@ class VirtualClock(Clock):
     def now_ns(self) -> int:
         return self._ns
 
-    def advance(self, ns: int) -> int:
-        """Move the clock ``ns`` nanoseconds forward; returns the new time."""
+    def advance(self, ns: int) -> None:
+        """Move the clock ``ns`` nanoseconds forward."""
         if ns < 0:
             raise ValueError(f"VirtualClock.advance: time cannot go backwards ({ns} ns)")
         self._ns += ns
-        return self._ns
 
     def set(self, ns: int) -> None:
         """Put the clock at ``ns`` nanoseconds.

@@ -1,0 +1,1 @@
+"""Tests of the standard function blocks (iecoop.stdlib)."""
