@@ -107,8 +107,14 @@ def _init_tree(
     cls = type(obj)
     for record, members in cls._iec_children_:
         spec = record.spec
-        member_inputs = spec.initial if isinstance(spec.initial, dict) else None
-        for child in members(obj):
+        initial = spec.initial
+        for index, child in enumerate(members(obj)):
+            # ARRAY OF FB: one initialiser per element, (in := x) applied after its FB_init like a single member's.
+            if isinstance(initial, (list, tuple)):
+                item = initial[index] if index < len(initial) else None
+                member_inputs = item if isinstance(item, dict) else None
+            else:
+                member_inputs = initial if isinstance(initial, dict) else None
             _init_tree(child, init_retains, in_copy_code, spec.fb_init or _EMPTY, member_inputs)
     _run_fb_init(obj, init_retains, in_copy_code, args)
     if declared:

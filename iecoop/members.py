@@ -140,6 +140,15 @@ def flags_of(func: Any) -> Access:
 #: code object -> class whose body defined it (nested functions and comprehensions included).
 CODE_OWNER: dict[types.CodeType, type] = {}
 
+#: code object -> every class whose body defined it. A class statement run twice (in a factory
+#: function, a parametrised test, a re-executed module) gives several classes the same (or an
+#: equal) code object; each of them owns it. Consulted only when CODE_OWNER's answer refuses.
+CODE_OWNERS: dict[types.CodeType, tuple[type, ...]] = {}
+
+#: Code that only passes an attribute write on (checked mode's ``__setattr__``). A property
+#: setter reached through it must judge the frame that wrote ``obj.prop = v``, not the forwarder.
+FORWARDING_CODES: set[types.CodeType] = set()
+
 
 def _codes(code: types.CodeType) -> list[types.CodeType]:
     found = [code]
@@ -169,6 +178,7 @@ def register_code(cls: type, namespace: dict[str, Any]) -> None:
             inner = inspect.unwrap(func)
             for code in _codes(inner.__code__):
                 CODE_OWNER.setdefault(code, cls)
+                CODE_OWNERS[code] = (*CODE_OWNERS.get(code, ()), cls)
 
 
 def caller_description(frame: Any) -> str:
@@ -310,14 +320,18 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
     vis = visibility(flags)
     getframe = sys._getframe
     owners = CODE_OWNER
+    all_owners = CODE_OWNERS
+    forwarders = FORWARDING_CODES
     if vis == Access.PUBLIC:
         return func
     if vis == Access.PRIVATE:
 
         @functools.wraps(func)
         def private(*args: Any, **kwargs: Any) -> Any:
-            frame = getframe(1)
-            if owners.get(frame.f_code) is not owner_ref[0]:
+            frame: Any = getframe(1)
+            if frame.f_code in forwarders:
+                frame = frame.f_back
+            if owners.get(frame.f_code) is not owner_ref[0] and owner_ref[0] not in all_owners.get(frame.f_code, ()):
                 raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
             return func(*args, **kwargs)
 
@@ -326,9 +340,13 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
 
         @functools.wraps(func)
         def protected(*args: Any, **kwargs: Any) -> Any:
-            frame = getframe(1)
+            frame: Any = getframe(1)
+            if frame.f_code in forwarders:
+                frame = frame.f_back
             caller = owners.get(frame.f_code)
-            if caller is None or not issubclass(caller, owner_ref[0]):
+            if (caller is None or not issubclass(caller, owner_ref[0])) and not any(
+                issubclass(other, owner_ref[0]) for other in all_owners.get(frame.f_code, ())
+            ):
                 raise _deny(
                     label, f"PROTECTED members are callable only inside {owner_ref[0].__name__} and its derived blocks", frame
                 )
@@ -338,7 +356,9 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
 
     @functools.wraps(func)
     def internal(*args: Any, **kwargs: Any) -> Any:
-        frame = getframe(1)
+        frame: Any = getframe(1)
+        if frame.f_code in forwarders:
+            frame = frame.f_back
         package = _top_package(str(frame.f_globals.get("__name__", "")))
         home = _top_package(owner_ref[0].__module__)
         if package != home:

@@ -65,6 +65,8 @@ from iecoop.memory.layout import (
 )
 from iecoop.members import (
     CODE_OWNER,
+    CODE_OWNERS,
+    FORWARDING_CODES,
     Access,
     Member,
     caller_description,
@@ -155,6 +157,11 @@ def _build_pou(
 
     pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
     iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
+    if Interface in bases and pou_bases:
+        # `class IFoo(Interface, SomeFB)` declares an interface, not a block implementing the root Interface.
+        raise DefinitionError(
+            f"INTERFACE {name}: an interface can only EXTEND interfaces, not {_kind_word(pou_bases[0])} {pou_bases[0].__name__}"
+        )
     others = [b for b in bases if b not in pou_bases and b not in iface_bases]
     if others:
         raise DefinitionError(
@@ -186,6 +193,7 @@ def _build_pou(
     placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
     own = members_of_namespace(placeholder, namespace, scope.eval, _LIFECYCLE)
     inherited: dict[str, Member] = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
+    _check_name_clashes(title, parent, annotations, own, inherited)
     _check_members(title, name, own, inherited, abstract)
     _check_lifecycle(title, namespace, parent, scope)
 
@@ -314,6 +322,25 @@ def _check_members(title: str, name: str, own: dict[str, Member], inherited: dic
                 raise DefinitionError(
                     f"{title} must be ABSTRACT or implement {member.describe()}: an ABSTRACT member is left unimplemented"
                 )
+
+
+def _check_name_clashes(
+    title: str, parent: type | None, annotations: dict[str, Any], own: dict[str, Member], inherited: dict[str, Member]
+) -> None:
+    """A name is one identifier in the whole EXTENDS chain: a variable and a METHOD / PROPERTY cannot share it."""
+    layout: ClassLayout | None = getattr(parent, "_iec_layout_", None)
+    inherited_fields = {r.name: r.owner for r in layout.fields} if layout is not None else {}
+    for member in own.values():
+        owner = inherited_fields.get(member.name)
+        if owner is not None:
+            what = "METHOD" if member.kind == "method" else "PROPERTY"
+            raise DefinitionError(
+                f"{title}: {what} {member.name} reuses the name of the variable {owner}.{member.name}"
+            )
+    for field in annotations:
+        base = inherited.get(field)
+        if base is not None:
+            raise DefinitionError(f"{title}: variable {field} reuses the name of {base.describe()}")
 
 
 def _params(func: Any) -> list[str]:
@@ -541,6 +568,7 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
         validators.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
     getframe = sys._getframe
     owners = CODE_OWNER
+    all_owners = CODE_OWNERS
     setter = object.__setattr__
     name = cls.__name__
 
@@ -557,7 +585,9 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
         if section in _INSIDE_ONLY:
             frame = getframe(1)
             owner = owners.get(frame.f_code)
-            if owner is None or not isinstance(self, owner):
+            if (owner is None or not isinstance(self, owner)) and not any(
+                isinstance(self, other) for other in all_owners.get(frame.f_code, ())
+            ):
                 raise AccessError(
                     f"{section} {where} cannot be written from {caller_description(frame)}: "
                     f"only {type(self).__name__}'s own code writes its {section} variables"
@@ -569,6 +599,7 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
         setter(self, field, value)
 
     __setattr__.__qualname__ = f"{name}.__setattr__"
+    FORWARDING_CODES.add(__setattr__.__code__)
     return __setattr__
 
 

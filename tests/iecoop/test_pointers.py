@@ -384,6 +384,21 @@ def test_a_new_block_at_a_reused_address_is_not_the_old_one() -> None:
         stale.deref
 
 
+def test_memory_of_a_deleted_instance_is_usable_again_once_collected() -> None:
+    def delete_and_drop() -> None:
+        cell = Cell()
+        deleted(cell)
+
+    for _ in range(20):
+        delete_and_drop()
+    gc.collect()
+    # New instances often land where the deleted ones were; they must be fresh, valid blocks.
+    fresh = [Cell(a=i) for i in range(40)]
+    for i, cell in enumerate(fresh):
+        assert adr(cell, "a").deref == i
+        assert adr(cell).deref is cell
+
+
 # ---------------------------------------------------------------------------
 # Faults: array bounds
 # ---------------------------------------------------------------------------
@@ -709,11 +724,20 @@ PLACES = st.sampled_from(_VALID) | st.sampled_from(_VALID) | st.sampled_from(_IN
 DELTAS = st.sampled_from([0, 1, 2, 4, 8, 16, 28, -2, -4, -8]) | st.integers(-40, 40)
 COUNTS = st.integers(0, 12) | st.integers(0, 40)
 
+
+def _arr(i: int) -> Callable[[Rec], int]:
+    return lambda r: r.arr[i]
+
+
+def _grid(i: int, j: int) -> Callable[[Rec], int]:
+    return lambda r: r.grid[i, j]
+
+
 # The member each INT-sized offset belongs to, read through the member itself.
 INT_MEMBERS: dict[int, Callable[[Rec], int]] = {
     0: lambda r: r.a,
-    **{8 + 2 * (i - 1): (lambda r, i=i: r.arr[i]) for i in range(1, 5)},  # type: ignore[misc]
-    **{16 + 2 * (3 * i + j): (lambda r, i=i, j=j: r.grid[i, j]) for i in range(2) for j in range(3)},  # type: ignore[misc]
+    **{8 + 2 * (i - 1): _arr(i) for i in range(1, 5)},
+    **{16 + 2 * (3 * i + j): _grid(i, j) for i in range(2) for j in range(3)},
 }
 
 
@@ -766,7 +790,12 @@ def text_at(memory: bytes | bytearray, offset: int) -> str:
 
 @settings(max_examples=200, stateful_step_count=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 class MemoryMachine(RuleBasedStateMachine):
-    """Random ADR / arithmetic / deref / write / MEMCPY / MEMSET / MEMCMP / delete / collect."""
+    """Random ADR / arithmetic / deref / write / MEMCPY / MEMSET / MEMCMP / delete / collect.
+
+    Each step's outcome is predicted from a byte model of every block: success
+    (and then the exact bytes), ACCESS_VIOLATION or ARRAYBOUNDS; any other
+    exception fails the test, and a crash would take the test process down.
+    """
 
     pointers: Bundle[Ref] = Bundle("pointers")
 

@@ -1,0 +1,176 @@
+"""Cost of an FB call and of a typed-variable write, as ratios to plain Python measured in the same run.
+
+Case 1: ``fb(enable=True)`` on FB_Counter (one BOOL input, an INT count
+incremented when enabled) against a plain callable object doing the same work:
+set the input if given, increment with INT wrap-around.
+
+Case 2: ``self.x = self.x + 1`` on an INT variable, in a loop inside an FB
+METHOD (so the call overhead does not dominate), against a plain object doing
+the same with INT wrap-around.
+
+Both are timed interleaved (one iecoop repeat, one plain repeat, ...) so a
+change of CPU clock affects both sides; the figure is the median per
+operation. The targets hold in fast mode (``IECOOP_CHECKS=0``): there the
+script exits with status 1 if a ratio is above its target. Run without the
+variable it prints the checked-mode figures, which carry no target.
+
+    python benchmarks/bench_call.py
+    IECOOP_CHECKS=0 python benchmarks/bench_call.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import timeit
+from dataclasses import dataclass
+from typing import Any
+
+from iecoop import BOOL, DINT, INT, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, _config, method
+
+FAST_MODE_TARGETS = {"call": 2.5, "variable": 3.0}
+
+
+class Counter(FunctionBlock):
+    """FB_Counter: ``IF enable THEN count := count + 1; END_IF``."""
+
+    enable: BOOL = VAR_INPUT(False)
+    count: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        if self.enable:
+            self.count += 1
+
+
+class PlainCounter:
+    """The same work in plain Python: the input kept between calls, INT wrap on store."""
+
+    __slots__ = ("count", "enable")
+
+    def __init__(self) -> None:
+        self.enable = False
+        self.count = 0
+
+    def __call__(self, enable: bool | None = None) -> None:
+        if enable is not None:
+            self.enable = enable
+        if self.enable:
+            self.count = ((self.count + 1 + 0x8000) & 0xFFFF) - 0x8000
+
+
+class Accumulator(FunctionBlock):
+    x: INT = VAR(0)
+
+    @method
+    def run(self, n: DINT) -> None:
+        for _ in range(n):
+            self.x = self.x + 1
+
+
+class PlainAccumulator:
+    __slots__ = ("x",)
+
+    def __init__(self) -> None:
+        self.x = 0
+
+    def run(self, n: int) -> None:
+        for _ in range(n):
+            self.x = ((self.x + 1 + 0x8000) & 0xFFFF) - 0x8000
+
+
+@dataclass(frozen=True)
+class Result:
+    name: str
+    iecoop_ns: float
+    plain_ns: float
+
+    @property
+    def ratio(self) -> float:
+        return self.iecoop_ns / self.plain_ns
+
+
+def interleaved(
+    iecoop_stmt: str, plain_stmt: str, namespace: dict[str, Any], number: int, repeat: int, per_call: int
+) -> tuple[float, float]:
+    """Median ns per operation of each statement, the two timed turn about."""
+    iecoop_timer = timeit.Timer(iecoop_stmt, globals=namespace)
+    plain_timer = timeit.Timer(plain_stmt, globals=namespace)
+    iecoop_times: list[float] = []
+    plain_times: list[float] = []
+    for _ in range(repeat):
+        iecoop_times.extend(iecoop_timer.repeat(repeat=1, number=number))
+        plain_times.extend(plain_timer.repeat(repeat=1, number=number))
+    scale = 1e9 / (number * per_call)
+    return statistics.median(iecoop_times) * scale, statistics.median(plain_times) * scale
+
+
+def check_same_work() -> None:
+    """Both sides of each case compute the same values, wrap-around included."""
+    fb, plain = Counter(), PlainCounter()
+    for i in range(70_000):
+        enable = i % 3 != 0
+        fb(enable=enable)
+        plain(enable=enable)
+    assert fb.count == plain.count, (fb.count, plain.count)
+    acc, plain_acc = Accumulator(), PlainAccumulator()
+    acc.run(40_000)
+    plain_acc.run(40_000)
+    assert acc.x == plain_acc.x == 40_000 - 65_536, (acc.x, plain_acc.x)
+
+
+def run(number: int, repeat: int, loop: int) -> list[Result]:
+    namespace: dict[str, Any] = {
+        "fb": Counter(),
+        "plain": PlainCounter(),
+        "acc": Accumulator(),
+        "plain_acc": PlainAccumulator(),
+        "loop": loop,
+    }
+    call = interleaved("fb(enable=True)", "plain(enable=True)", namespace, number, repeat, 1)
+    variable = interleaved("acc.run(loop)", "plain_acc.run(loop)", namespace, max(1, number // loop), repeat, loop)
+    return [
+        Result("call", *call),
+        Result("variable", *variable),
+    ]
+
+
+LABELS = {"call": "fb(enable=True) vs plain callable", "variable": "self.x = self.x + 1 in a METHOD loop"}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    parser.add_argument("--number", type=int, default=100_000, help="operations per timing (default 100000)")
+    parser.add_argument("--repeat", type=int, default=7, help="timings per side; the median is reported (default 7)")
+    parser.add_argument("--loop", type=int, default=1_000, help="writes per METHOD call in case 2 (default 1000)")
+    args = parser.parse_args(argv)
+
+    check_same_work()
+    results = run(args.number, args.repeat, args.loop)
+    fast = not _config.CHECKS
+    mode = "fast mode (IECOOP_CHECKS=0)" if fast else "checked mode (the default)"
+    print(f"iecoop call benchmark, {mode}, Python {sys.version.split()[0]}")
+    print(f"median of {args.repeat} interleaved timings, ns per operation")
+    print(f"{'case':40} {'iecoop':>9} {'plain':>9} {'ratio':>7}  target (fast mode)")
+    failed = []
+    for result in results:
+        target = FAST_MODE_TARGETS[result.name]
+        verdict = ""
+        if fast:
+            verdict = "ok" if result.ratio <= target else "ABOVE TARGET"
+            if result.ratio > target:
+                failed.append(result.name)
+        print(
+            f"{LABELS[result.name]:40} {result.iecoop_ns:9.1f} {result.plain_ns:9.1f} {result.ratio:7.2f}  "
+            f"<= {target:.1f} {verdict}".rstrip()
+        )
+    if not fast:
+        print("targets apply to fast mode; run with IECOOP_CHECKS=0 to check them")
+    if failed:
+        print(f"FAILED: ratio above target for {', '.join(failed)}")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
