@@ -137,17 +137,26 @@ def flags_of(func: Any) -> Access:
 # Which class a piece of code belongs to (for PRIVATE / PROTECTED / outside-write checks)
 # ---------------------------------------------------------------------------
 
-#: code object -> class whose body defined it (nested functions and comprehensions included).
-CODE_OWNER: dict[types.CodeType, type] = {}
-
-#: code object -> every class whose body defined it. A class statement run twice (in a factory
-#: function, a parametrised test, a re-executed module) gives several classes the same (or an
-#: equal) code object; each of them owns it. Consulted only when CODE_OWNER's answer refuses.
+#: code object -> every class whose body defined it (nested functions and comprehensions
+#: included). A class statement run twice (a factory function, a parametrised test, a
+#: re-executed module) gives several classes the same code object; each of them owns it.
 CODE_OWNERS: dict[types.CodeType, tuple[type, ...]] = {}
 
 #: Code that only passes an attribute write on (checked mode's ``__setattr__``). A property
 #: setter reached through it must judge the frame that wrote ``obj.prop = v``, not the forwarder.
 FORWARDING_CODES: set[types.CodeType] = set()
+
+
+def own_code(code: types.CodeType, cls: type) -> None:
+    """Record ``cls`` as an owner of ``code``."""
+    owners = CODE_OWNERS.get(code, ())
+    if cls not in owners:
+        CODE_OWNERS[code] = (*owners, cls)
+
+
+def code_within(code: types.CodeType, cls: type) -> bool:
+    """Whether ``code`` belongs to ``cls`` or a class derived from it (the PROTECTED rule)."""
+    return any(issubclass(owner, cls) for owner in CODE_OWNERS.get(code, ()))
 
 
 def _codes(code: types.CodeType) -> list[types.CodeType]:
@@ -177,15 +186,14 @@ def register_code(cls: type, namespace: dict[str, Any]) -> None:
         for func in _functions_of(value):
             inner = inspect.unwrap(func)
             for code in _codes(inner.__code__):
-                CODE_OWNER.setdefault(code, cls)
-                CODE_OWNERS[code] = (*CODE_OWNERS.get(code, ()), cls)
+                own_code(code, cls)
 
 
 def caller_description(frame: Any) -> str:
     code = frame.f_code
-    owner = CODE_OWNER.get(code)
-    if owner is not None:
-        return f"{owner.__name__}.{code.co_name}"
+    owners = CODE_OWNERS.get(code)
+    if owners:
+        return f"{owners[-1].__name__}.{code.co_name}"
     module = frame.f_globals.get("__name__", "?")
     return f"{code.co_name} in module {module}" if code.co_name != "<module>" else f"module {module}"
 
@@ -318,20 +326,22 @@ def _deny(member: str, rule: str, frame: Any) -> AccessError:
 def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[type]) -> Callable[..., Any]:
     """Wrap ``func`` so that only callers the specifier admits may run it."""
     vis = visibility(flags)
-    getframe = sys._getframe
-    owners = CODE_OWNER
-    all_owners = CODE_OWNERS
-    forwarders = FORWARDING_CODES
     if vis == Access.PUBLIC:
         return func
+    getframe = sys._getframe
+    owners = CODE_OWNERS
+    forwarders = FORWARDING_CODES
+
+    def caller() -> Any:
+        frame = getframe(2)
+        return frame.f_back if frame.f_code in forwarders else frame
+
     if vis == Access.PRIVATE:
 
         @functools.wraps(func)
         def private(*args: Any, **kwargs: Any) -> Any:
-            frame: Any = getframe(1)
-            if frame.f_code in forwarders:
-                frame = frame.f_back
-            if owners.get(frame.f_code) is not owner_ref[0] and owner_ref[0] not in all_owners.get(frame.f_code, ()):
+            frame = caller()
+            if owner_ref[0] not in owners.get(frame.f_code, ()):
                 raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
             return func(*args, **kwargs)
 
@@ -340,13 +350,8 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
 
         @functools.wraps(func)
         def protected(*args: Any, **kwargs: Any) -> Any:
-            frame: Any = getframe(1)
-            if frame.f_code in forwarders:
-                frame = frame.f_back
-            caller = owners.get(frame.f_code)
-            if (caller is None or not issubclass(caller, owner_ref[0])) and not any(
-                issubclass(other, owner_ref[0]) for other in all_owners.get(frame.f_code, ())
-            ):
+            frame = caller()
+            if not code_within(frame.f_code, owner_ref[0]):
                 raise _deny(
                     label, f"PROTECTED members are callable only inside {owner_ref[0].__name__} and its derived blocks", frame
                 )
@@ -356,9 +361,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
 
     @functools.wraps(func)
     def internal(*args: Any, **kwargs: Any) -> Any:
-        frame: Any = getframe(1)
-        if frame.f_code in forwarders:
-            frame = frame.f_back
+        frame = caller()
         package = _top_package(str(frame.f_globals.get("__name__", "")))
         home = _top_package(owner_ref[0].__module__)
         if package != home:

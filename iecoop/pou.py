@@ -64,13 +64,13 @@ from iecoop.memory.layout import (
     read_annotations,
 )
 from iecoop.members import (
-    CODE_OWNER,
     CODE_OWNERS,
     FORWARDING_CODES,
     Access,
     Member,
     caller_description,
     format_signature,
+    own_code,
     guard_namespace,
     members_of_namespace,
     narrower,
@@ -80,7 +80,7 @@ from iecoop.members import (
 
 register_builder(__file__)
 
-__all__ = ["FunctionBlock", "Program", "pou_members"]
+__all__ = ["FunctionBlock", "Program", "check_write", "pou_members"]
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
 _POU_SECTIONS = {s: s for s in ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_TEMP", "VAR_INST", "VAR_EXTERNAL")}
@@ -546,7 +546,7 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
     call = typing.cast(Callable[..., None], globs["__call__"])
     call.__qualname__ = f"{name}.__call__"
     call.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
-    CODE_OWNER[call.__code__] = cls
+    own_code(call.__code__, cls)
     return call
 
 
@@ -559,46 +559,75 @@ def _call_error(name: str, field: str) -> None:
 # ---------------------------------------------------------------------------
 
 
-def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    validators: dict[str, tuple[Callable[[Any, str], None] | None, str, str, str | None, bool]] = {}
+#: Per field: (validator or None, "Class.field", section, VAR_INST method or None, CONSTANT).
+_WriteRule = tuple[Callable[[Any, str], None] | None, str, str, str | None, bool]
+
+
+def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, _WriteRule]:
+    rules: dict[str, _WriteRule] = {}
     for record in layout.fields:
         validate = record.info.validate if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)) else None
-        validators[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
+        rules[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
     for record in getattr(cls, "_iec_static_fields_", ()):
-        validators.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
+        rules.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
+    return rules
+
+
+def _check_rule(holder: Any, rule: _WriteRule, frame: Any) -> None:
+    _validate, where, section, method_name, constant = rule
+    if constant:
+        raise AccessError(f"{where} is CONSTANT and cannot be written")
+    if section in _INSIDE_ONLY:
+        owners = CODE_OWNERS.get(frame.f_code)
+        if owners is None or not isinstance(holder, owners):
+            raise AccessError(
+                f"{section} {where} cannot be written from {caller_description(frame)}: "
+                f"only {type(holder).__name__}'s own code writes its {section} variables"
+            )
+        if method_name is not None and frame.f_code.co_name != method_name:
+            raise AccessError(f"VAR_INST {where} belongs to METHOD {method_name} (C0576)")
+
+
+def check_write(holder: Any, field: str, frame: Any) -> None:
+    """Checked mode's write rule: raise AccessError if the code running in ``frame`` may not write it.
+
+    CONSTANT variables are never written; outputs, locals, in-outs, temps,
+    statics and VAR_INST only by the block's own code (VAR_INST only by its
+    method). Helpers that write on a caller's behalf (ExST ``S=`` / ``R=``)
+    call this with the caller's frame.
+    """
+    rule = getattr(type(holder), "_iec_write_rules_", {}).get(field)
+    if rule is not None:
+        _check_rule(holder, rule, frame)
+
+
+def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
+    rules = cls._iec_write_rules_ = _write_rules(cls, layout)
     getframe = sys._getframe
-    owners = CODE_OWNER
-    all_owners = CODE_OWNERS
     setter = object.__setattr__
-    name = cls.__name__
+    inside_only = _INSIDE_ONLY
+    owners_of = CODE_OWNERS
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
-        entry = validators.get(field)
-        if entry is None:
+        rule = rules.get(field)
+        if rule is None:
             if field.startswith("_iec") or not hasattr(type(self), field):
                 raise AttributeError(f"{type(self).__name__} has no variable {field!r}; declare it in a VAR section")
             setter(self, field, value)
             return
-        validate, where, section, method_name, constant = entry
-        if constant:
-            raise AccessError(f"{where} is CONSTANT and cannot be written")
-        if section in _INSIDE_ONLY:
+        if rule[4] or rule[2] in inside_only:
             frame = getframe(1)
-            owner = owners.get(frame.f_code)
-            if (owner is None or not isinstance(self, owner)) and not any(
-                isinstance(self, other) for other in all_owners.get(frame.f_code, ())
-            ):
-                raise AccessError(
-                    f"{section} {where} cannot be written from {caller_description(frame)}: "
-                    f"only {type(self).__name__}'s own code writes its {section} variables"
-                )
-            if method_name is not None and frame.f_code.co_name != method_name:
-                raise AccessError(f"VAR_INST {where} belongs to METHOD {method_name} (C0576)")
+            owners = owners_of.get(frame.f_code)
+            # The usual case, the block's own code writing a plain inside variable, passes here;
+            # _check_rule decides everything else (and words the refusal).
+            if rule[4] or rule[3] is not None or owners is None or not isinstance(self, owners):
+                _check_rule(self, rule, frame)
+        validate = rule[0]
         if validate is not None:
-            validate(value, where)
+            validate(value, rule[1])
         setter(self, field, value)
 
-    __setattr__.__qualname__ = f"{name}.__setattr__"
+    __setattr__.__qualname__ = f"{cls.__name__}.__setattr__"
     FORWARDING_CODES.add(__setattr__.__code__)
     return __setattr__
 

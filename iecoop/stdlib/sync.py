@@ -17,10 +17,9 @@ import types
 from typing import Any
 
 from iecoop import _config
-from iecoop.exceptions import AccessError
-from iecoop.members import CODE_OWNER, caller_description, method
+from iecoop.members import method
 from iecoop.memory import Pointer, adr
-from iecoop.pou import FunctionBlock, Program
+from iecoop.pou import FunctionBlock, Program, check_write
 from iecoop.profiles import active_profile
 from iecoop.types import BOOL
 
@@ -177,10 +176,6 @@ class CriticalSection(FunctionBlock):
 # ExST S= and R=
 # ---------------------------------------------------------------------------
 
-# The sections checked mode lets only the POU's own code write (as pou.py's rule).
-_INSIDE_ONLY = frozenset({"VAR_OUTPUT", "VAR", "VAR_TEMP", "VAR_INST", "VAR_IN_OUT", "VAR_STAT"})
-
-
 def _store(holder: Any, field: str, value: bool, caller: types.FrameType, op: str) -> None:
     current = getattr(holder, field)
     if type(current) is not bool:
@@ -188,35 +183,11 @@ def _store(holder: Any, field: str, value: bool, caller: types.FrameType, op: st
     if _config.CHECKS and isinstance(holder, (FunctionBlock, Program)):
         # A POU's checked __setattr__ judges its caller's frame, which here would
         # be this helper; judge the frame that wrote ``x S= cond`` instead.
-        _check_pou_write(holder, field, caller)
+        check_write(holder, field, caller)
         if current != value:
             object.__setattr__(holder, field, value)
     elif current != value:
         setattr(holder, field, value)
-
-
-def _check_pou_write(holder: Any, field: str, caller: types.FrameType) -> None:
-    cls = type(holder)
-    record = cls._iec_layout_.by_name.get(field)
-    if record is None:
-        record = next((r for r in getattr(cls, "_iec_static_fields_", ()) if r.name == field), None)
-        section = "VAR_STAT"
-    else:
-        section = record.section
-    if record is None:
-        return
-    where = f"{cls.__name__}.{field}"
-    if record.spec.constant:
-        raise AccessError(f"{where} is CONSTANT and cannot be written")
-    if section in _INSIDE_ONLY:
-        owner = CODE_OWNER.get(caller.f_code)
-        if owner is None or not isinstance(holder, owner):
-            raise AccessError(
-                f"{section} {where} cannot be written from {caller_description(caller)}: "
-                f"only {cls.__name__}'s own code writes its {section} variables"
-            )
-        if section == "VAR_INST" and caller.f_code.co_name != record.spec.method:
-            raise AccessError(f"VAR_INST {where} belongs to METHOD {record.spec.method} (C0576)")
 
 
 def S(holder: Any, field: str, condition: bool) -> bool:  # noqa: N802 - ST operator name
