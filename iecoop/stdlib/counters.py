@@ -37,6 +37,9 @@ Rules (IEC_SEMANTICS.md 7.5):
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.pou import FunctionBlock
 from iecoop.profiles import active_profile
@@ -93,7 +96,42 @@ class CTU(FunctionBlock):
             self.Q = q
 
 
-class CTU_INT(FunctionBlock):  # noqa: N801 - IEC name
+class _IecUpCounter(FunctionBlock, abstract=True):
+    """The pins of the IEC up counters (CTU_INT, CTU_DINT, CTU_UDINT), for the shared body."""
+
+    if TYPE_CHECKING:
+        CU: bool
+        R: bool
+        PV: int
+        Q: bool
+        CV: int
+        CU_M: bool
+
+
+def _iec_up_counter(cv_max: int) -> Callable[[_IecUpCounter], None]:
+    """The IEC CTU state machine for a CV type whose largest value is ``cv_max``."""
+
+    def body(self: _IecUpCounter) -> None:
+        cu = self.CU
+        m = self.CU_M
+        if cu != m:
+            self.CU_M = cu
+        cv = self.CV
+        if self.R:
+            if cv:
+                self.CV = cv = 0
+        elif cu and not m:
+            limit = self.PV if active_profile().ctu_limit == "pv" else cv_max
+            if cv < limit:
+                self.CV = cv = cv + 1
+        q = cv >= self.PV
+        if q != self.Q:
+            self.Q = q
+
+    return body
+
+
+class CTU_INT(_IecUpCounter):  # noqa: N801 - IEC name
     """CTU in the IEC form: pins R and PV / CV of type INT.
 
     ST::
@@ -116,25 +154,11 @@ class CTU_INT(FunctionBlock):  # noqa: N801 - IEC name
     CV: INT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        m = self.CU_M
-        if cu != m:
-            self.CU_M = cu
-        cv = self.CV
-        if self.R:
-            if cv:
-                self.CV = cv = 0
-        elif cu and not m:
-            limit = self.PV if active_profile().ctu_limit == "pv" else _INT_MAX
-            if cv < limit:
-                self.CV = cv = cv + 1
-        q = cv >= self.PV
-        if q != self.Q:
-            self.Q = q
+    body = _iec_up_counter(_INT_MAX)
 
 
-class CTU_DINT(FunctionBlock):  # noqa: N801 - IEC name
+
+class CTU_DINT(_IecUpCounter):  # noqa: N801 - IEC name
     """CTU_DINT: the IEC up counter with PV / CV of type DINT.
 
     ST::
@@ -155,25 +179,11 @@ class CTU_DINT(FunctionBlock):  # noqa: N801 - IEC name
     CV: DINT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        m = self.CU_M
-        if cu != m:
-            self.CU_M = cu
-        cv = self.CV
-        if self.R:
-            if cv:
-                self.CV = cv = 0
-        elif cu and not m:
-            limit = self.PV if active_profile().ctu_limit == "pv" else _DINT_MAX
-            if cv < limit:
-                self.CV = cv = cv + 1
-        q = cv >= self.PV
-        if q != self.Q:
-            self.Q = q
+    body = _iec_up_counter(_DINT_MAX)
 
 
-class CTU_UDINT(FunctionBlock):  # noqa: N801 - IEC name
+
+class CTU_UDINT(_IecUpCounter):  # noqa: N801 - IEC name
     """CTU_UDINT: the IEC up counter with PV / CV of type UDINT.
 
     ST::
@@ -194,22 +204,8 @@ class CTU_UDINT(FunctionBlock):  # noqa: N801 - IEC name
     CV: UDINT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        m = self.CU_M
-        if cu != m:
-            self.CU_M = cu
-        cv = self.CV
-        if self.R:
-            if cv:
-                self.CV = cv = 0
-        elif cu and not m:
-            limit = self.PV if active_profile().ctu_limit == "pv" else _UDINT_MAX
-            if cv < limit:
-                self.CV = cv = cv + 1
-        q = cv >= self.PV
-        if q != self.Q:
-            self.Q = q
+    body = _iec_up_counter(_UDINT_MAX)
+
 
 
 class CTD(FunctionBlock):

@@ -28,6 +28,9 @@ C-level reads.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.pou import FunctionBlock
 from iecoop.profiles import active_profile
@@ -43,7 +46,133 @@ _TIME_MASK = 0xFFFF_FFFF
 _LTIME_MASK = 0xFFFF_FFFF_FFFF_FFFF
 
 
-class TON(FunctionBlock):
+class _Timer(FunctionBlock, abstract=True):
+    """What TON, TOF and TP share with their LTIME forms: the pins, read in one unit.
+
+    TIME pins count ms (elapsed time modulo 2^32), LTIME pins ns (modulo 2^64).
+    Each state machine is written once, by a function that takes the unit
+    (clock nanoseconds per tick) and the wrap mask; the two hold them as
+    closure variables, so a call reads them as fast as locals.
+    """
+
+    if TYPE_CHECKING:
+        IN: bool
+        PT: int
+        Q: bool
+        ET: int
+        STATE: int
+        PREV_IN: bool
+        START_TIME: int
+
+
+def _on_delay(tick: int, mask: int) -> Callable[[_Timer], None]:
+    """The TON / LTON state machine for pins counted in ``tick`` ns, wrapping at ``mask``."""
+
+    def body(self: _Timer) -> None:
+        if self.IN:
+            prev = self.PREV_IN
+            state = self.STATE
+            if state == 0:
+                if not prev:
+                    self.STATE = 1
+                    if self.Q:
+                        self.Q = False
+                    self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+            elif state == 1:
+                elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+                pt = self.PT
+                if elapsed >= pt:
+                    self.STATE = 2
+                    self.Q = True
+                    self.ET = pt
+                else:
+                    self.ET = elapsed
+            if not prev:
+                self.PREV_IN = True
+        else:
+            if self.STATE:
+                self.STATE = 0
+            if self.Q:
+                self.Q = False
+            if self.ET:
+                self.ET = 0
+            if self.PREV_IN:
+                self.PREV_IN = False
+
+    return body
+
+
+def _off_delay(tick: int, mask: int) -> Callable[[_Timer], None]:
+    """The TOF / LTOF state machine for pins counted in ``tick`` ns, wrapping at ``mask``."""
+
+    def body(self: _Timer) -> None:
+        prev = self.PREV_IN
+        state = self.STATE
+        if self.IN:
+            if self.ET:
+                self.ET = 0
+            if state:
+                self.STATE = 0
+            if not prev:
+                self.PREV_IN = True
+            q = True
+        else:
+            if state == 0:
+                if prev:
+                    self.STATE = state = 1
+                    self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+            elif state == 1:
+                elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+                pt = self.PT
+                if elapsed >= pt:
+                    self.STATE = state = 2
+                    self.ET = pt
+                else:
+                    self.ET = elapsed
+            if prev:
+                self.PREV_IN = False
+            q = state == 1
+        if q != self.Q:
+            self.Q = q
+
+    return body
+
+
+def _pulse(tick: int, mask: int) -> Callable[[_Timer], None]:
+    """The TP / LTP state machine for pins counted in ``tick`` ns, wrapping at ``mask``."""
+
+    def body(self: _Timer) -> None:
+        in_ = self.IN
+        prev = self.PREV_IN
+        state = self.STATE
+        if state == 0:
+            if in_ and not prev:
+                self.STATE = state = 1
+                self.Q = True
+                # Zero already unless the profile held ET after the last pulse.
+                if self.ET:
+                    self.ET = 0
+                self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+        elif state == 1:
+            elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+            pt = self.PT
+            if elapsed >= pt:
+                self.STATE = state = 2
+                self.Q = False
+                self.ET = pt
+            else:
+                self.ET = elapsed
+        if state == 2 and not in_:
+            if active_profile().tp_et_after_pulse == "reset_when_in_false":
+                self.ET = 0
+            self.STATE = 0
+        if in_ != prev:
+            self.PREV_IN = in_
+
+    return body
+
+
+class TON(_Timer):
     """TON, on-delay timer: Q is TRUE once IN has been TRUE for PT.
 
     ST::
@@ -76,39 +205,10 @@ class TON(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: TIME = VAR(0)
 
-    def body(self) -> None:
-        if self.IN:
-            prev = self.PREV_IN
-            state = self.STATE
-            if state == 0:
-                if not prev:
-                    self.STATE = 1
-                    if self.Q:
-                        self.Q = False
-                    self.START_TIME = (_clocks[-1].now_ns() // _MS) & _TIME_MASK
-            elif state == 1:
-                elapsed = (_clocks[-1].now_ns() // _MS - self.START_TIME) & _TIME_MASK
-                pt = self.PT
-                if elapsed >= pt:
-                    self.STATE = 2
-                    self.Q = True
-                    self.ET = pt
-                else:
-                    self.ET = elapsed
-            if not prev:
-                self.PREV_IN = True
-        else:
-            if self.STATE:
-                self.STATE = 0
-            if self.Q:
-                self.Q = False
-            if self.ET:
-                self.ET = 0
-            if self.PREV_IN:
-                self.PREV_IN = False
+    body = _on_delay(_MS, _TIME_MASK)
 
 
-class LTON(FunctionBlock):
+class LTON(_Timer):
     """LTON: TON with LTIME (ns) PT and ET.
 
     ST: ``VAR_INPUT IN : BOOL; PT : LTIME; END_VAR  VAR_OUTPUT Q : BOOL; ET : LTIME; END_VAR``
@@ -134,39 +234,10 @@ class LTON(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: LTIME = VAR(0)
 
-    def body(self) -> None:
-        if self.IN:
-            prev = self.PREV_IN
-            state = self.STATE
-            if state == 0:
-                if not prev:
-                    self.STATE = 1
-                    if self.Q:
-                        self.Q = False
-                    self.START_TIME = _clocks[-1].now_ns() & _LTIME_MASK
-            elif state == 1:
-                elapsed = (_clocks[-1].now_ns() - self.START_TIME) & _LTIME_MASK
-                pt = self.PT
-                if elapsed >= pt:
-                    self.STATE = 2
-                    self.Q = True
-                    self.ET = pt
-                else:
-                    self.ET = elapsed
-            if not prev:
-                self.PREV_IN = True
-        else:
-            if self.STATE:
-                self.STATE = 0
-            if self.Q:
-                self.Q = False
-            if self.ET:
-                self.ET = 0
-            if self.PREV_IN:
-                self.PREV_IN = False
+    body = _on_delay(1, _LTIME_MASK)
 
 
-class TOF(FunctionBlock):
+class TOF(_Timer):
     """TOF, off-delay timer: Q follows IN up and stays TRUE for PT after IN falls.
 
     ST::
@@ -199,38 +270,10 @@ class TOF(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: TIME = VAR(0)
 
-    def body(self) -> None:
-        prev = self.PREV_IN
-        state = self.STATE
-        if self.IN:
-            if self.ET:
-                self.ET = 0
-            if state:
-                self.STATE = 0
-            if not prev:
-                self.PREV_IN = True
-            q = True
-        else:
-            if state == 0:
-                if prev:
-                    self.STATE = state = 1
-                    self.START_TIME = (_clocks[-1].now_ns() // _MS) & _TIME_MASK
-            elif state == 1:
-                elapsed = (_clocks[-1].now_ns() // _MS - self.START_TIME) & _TIME_MASK
-                pt = self.PT
-                if elapsed >= pt:
-                    self.STATE = state = 2
-                    self.ET = pt
-                else:
-                    self.ET = elapsed
-            if prev:
-                self.PREV_IN = False
-            q = state == 1
-        if q != self.Q:
-            self.Q = q
+    body = _off_delay(_MS, _TIME_MASK)
 
 
-class LTOF(FunctionBlock):
+class LTOF(_Timer):
     """LTOF: TOF with LTIME (ns) PT and ET.
 
     ST: ``VAR_INPUT IN : BOOL; PT : LTIME; END_VAR  VAR_OUTPUT Q : BOOL; ET : LTIME; END_VAR``
@@ -254,38 +297,10 @@ class LTOF(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: LTIME = VAR(0)
 
-    def body(self) -> None:
-        prev = self.PREV_IN
-        state = self.STATE
-        if self.IN:
-            if self.ET:
-                self.ET = 0
-            if state:
-                self.STATE = 0
-            if not prev:
-                self.PREV_IN = True
-            q = True
-        else:
-            if state == 0:
-                if prev:
-                    self.STATE = state = 1
-                    self.START_TIME = _clocks[-1].now_ns() & _LTIME_MASK
-            elif state == 1:
-                elapsed = (_clocks[-1].now_ns() - self.START_TIME) & _LTIME_MASK
-                pt = self.PT
-                if elapsed >= pt:
-                    self.STATE = state = 2
-                    self.ET = pt
-                else:
-                    self.ET = elapsed
-            if prev:
-                self.PREV_IN = False
-            q = state == 1
-        if q != self.Q:
-            self.Q = q
+    body = _off_delay(1, _LTIME_MASK)
 
 
-class TP(FunctionBlock):
+class TP(_Timer):
     """TP, pulse timer: a rising edge of IN gives a pulse of exactly PT on Q.
 
     ST::
@@ -315,36 +330,10 @@ class TP(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: TIME = VAR(0)
 
-    def body(self) -> None:
-        in_ = self.IN
-        prev = self.PREV_IN
-        state = self.STATE
-        if state == 0:
-            if in_ and not prev:
-                self.STATE = state = 1
-                self.Q = True
-                # Zero already unless the profile held ET after the last pulse.
-                if self.ET:
-                    self.ET = 0
-                self.START_TIME = (_clocks[-1].now_ns() // _MS) & _TIME_MASK
-        elif state == 1:
-            elapsed = (_clocks[-1].now_ns() // _MS - self.START_TIME) & _TIME_MASK
-            pt = self.PT
-            if elapsed >= pt:
-                self.STATE = state = 2
-                self.Q = False
-                self.ET = pt
-            else:
-                self.ET = elapsed
-        if state == 2 and not in_:
-            if active_profile().tp_et_after_pulse == "reset_when_in_false":
-                self.ET = 0
-            self.STATE = 0
-        if in_ != prev:
-            self.PREV_IN = in_
+    body = _pulse(_MS, _TIME_MASK)
 
 
-class LTP(FunctionBlock):
+class LTP(_Timer):
     """LTP: TP with LTIME (ns) PT and ET.
 
     ST: ``VAR_INPUT IN : BOOL; PT : LTIME; END_VAR  VAR_OUTPUT Q : BOOL; ET : LTIME; END_VAR``
@@ -367,29 +356,4 @@ class LTP(FunctionBlock):
     PREV_IN: BOOL = VAR(False)
     START_TIME: LTIME = VAR(0)
 
-    def body(self) -> None:
-        in_ = self.IN
-        prev = self.PREV_IN
-        state = self.STATE
-        if state == 0:
-            if in_ and not prev:
-                self.STATE = state = 1
-                self.Q = True
-                if self.ET:
-                    self.ET = 0
-                self.START_TIME = _clocks[-1].now_ns() & _LTIME_MASK
-        elif state == 1:
-            elapsed = (_clocks[-1].now_ns() - self.START_TIME) & _LTIME_MASK
-            pt = self.PT
-            if elapsed >= pt:
-                self.STATE = state = 2
-                self.Q = False
-                self.ET = pt
-            else:
-                self.ET = elapsed
-        if state == 2 and not in_:
-            if active_profile().tp_et_after_pulse == "reset_when_in_false":
-                self.ET = 0
-            self.STATE = 0
-        if in_ != prev:
-            self.PREV_IN = in_
+    body = _pulse(1, _LTIME_MASK)
