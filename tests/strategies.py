@@ -55,6 +55,8 @@ __all__ = [
     "WORD_VALUES",
     "WSTRING_VALUES",
     "iec_values",
+    "wrap",
+    "wrap_int",
     "integer_range",
     "string_values",
     "wstring_values",
@@ -84,6 +86,23 @@ INTEGER_LAYOUT: Final[dict[str, tuple[int, bool]]] = {
 
 #: The largest finite IEEE 754 single (REAL).
 FLT_MAX: Final[float] = struct.unpack("<f", b"\xff\xff\x7f\x7f")[0]
+
+
+def wrap(value: int, bits: int, signed: bool) -> int:
+    """Two's complement: keep the low ``bits`` bits, then read the top one as the sign if signed.
+
+    The expected value of a store, written out independently of iecoop.
+    """
+    modulus = 1 << bits
+    low = value % modulus  # non-negative for a positive modulus, also for negative values
+    if signed and low >= modulus // 2:
+        return low - modulus
+    return low
+
+
+def wrap_int(value: int) -> int:
+    """An INT (16-bit) store."""
+    return wrap(value, 16, True)
 
 
 def integer_range(name: str) -> tuple[int, int]:

@@ -16,40 +16,17 @@ from hypothesis import strategies as st
 from iecoop import conversions as cv
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.profiles import CODESYS, TWINCAT, Profile, use_profile
+from tests.strategies import INTEGER_LAYOUT, wrap
 
 EVEN = dataclasses.replace(TWINCAT, round_tie="even")
 AWAY = dataclasses.replace(TWINCAT, round_tie="away")
 CODESYS_AWAY = dataclasses.replace(CODESYS, round_tie="away")
 
-# name -> (bits, signed); the target's storage, written out rather than read from iecoop.types.
-INTEGER_TARGETS: dict[str, tuple[int, bool]] = {
-    "SINT": (8, True),
-    "USINT": (8, False),
-    "INT": (16, True),
-    "UINT": (16, False),
-    "DINT": (32, True),
-    "UDINT": (32, False),
-    "LINT": (64, True),
-    "ULINT": (64, False),
-    "BYTE": (8, False),
-    "WORD": (16, False),
-    "DWORD": (32, False),
-    "LWORD": (64, False),
-    "TIME": (32, False),
-    "LTIME": (64, False),
-}
+# The conversion targets: every integer-like type but the dates.
+INTEGER_TARGETS = {name: layout for name, layout in INTEGER_LAYOUT.items() if name not in ("DATE", "TOD", "DT")}
 
 IntConversion = Callable[[int | float | bool], int]
 RealConversion = Callable[[float], int]
-
-
-def wrap(value: int, bits: int, signed: bool) -> int:
-    """Two's complement: keep the low ``bits`` bits, then read the sign bit if signed."""
-    modulus = 1 << bits
-    low = value % modulus  # Python's % is non-negative for a positive modulus
-    if signed and low >= modulus // 2:
-        return low - modulus
-    return low
 
 
 def nearest(x: float, tie: Literal["even", "away"]) -> int:

@@ -31,10 +31,7 @@ from iecoop import (
     method,
     prop,
 )
-
-
-def wrap_int(value: int) -> int:
-    return (value + 0x8000) % 0x10000 - 0x8000
+from tests.strategies import wrap_int
 
 
 # ---------------------------------------------------------------------------

@@ -39,12 +39,7 @@ from iecoop import (
     method,
     prop,
 )
-from tests.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values
-
-
-def wrap_int(value: int) -> int:
-    """INT (16-bit two's complement) store, written out independently of iecoop."""
-    return (value + 0x8000) % 0x10000 - 0x8000
+from tests.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values, wrap_int
 
 
 class Counter(FunctionBlock):

@@ -22,7 +22,7 @@ from iecoop import (
 )
 from iecoop import _config
 from iecoop.types import ElementaryType, elementary_type
-from tests.strategies import ANY_INTS, FLT_MAX, INTEGER_LAYOUT, LATIN_1, UCS_2, iec_values
+from tests.strategies import ANY_INTS, FLT_MAX, INTEGER_LAYOUT, LATIN_1, UCS_2, iec_values, wrap
 
 checked_only = pytest.mark.skipif(not _config.CHECKS, reason="kind checks on writes exist in checked mode only")
 
@@ -88,15 +88,6 @@ ALL_FIELDS: list[tuple[str, object, type[Struct], str]] = [
     ("STRING", STRING, Texts, "name"),
     ("WSTRING", WSTRING, Texts, "wide"),
 ]
-
-
-def wrap(value: int, bits: int, signed: bool) -> int:
-    """Two's complement: keep the low ``bits`` bits, then read the top one as the sign if signed."""
-    modulus = 1 << bits
-    low = value % modulus  # non-negative for a positive modulus, also for negative values
-    if signed and low >= modulus // 2:
-        return low - modulus
-    return low
 
 
 def f32(value: float) -> float:
