@@ -29,9 +29,8 @@ import ctypes
 import typing
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
-from iecoop import _config
 from iecoop.exceptions import DefinitionError
-from iecoop.memory.layout import register_builder, ClassLayout, FieldRecord, build_layout, checked_setattr
+from iecoop.memory.layout import ClassLayout, FieldRecord, build_data_class, register_builder
 
 register_builder(__file__)
 
@@ -53,18 +52,7 @@ _lists: dict[str, Any] = {}
 
 class _GvlMeta(_MetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        if namespace.get("_iec_base_class_"):
-            namespace["_fields_"] = []
-            return super().__new__(mcls, name, bases, namespace, **kwargs)
-
-        def create(ns: dict[str, Any]) -> type:
-            return typing.cast(type, super(_GvlMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
-
-        cls: Any = build_layout(create, name, bases, namespace, kind="GVL", allowed_sections=_SECTIONS)
-        cls._iec_implicit_init_ = cls._iec_layout_.implicit_init
-        if _config.CHECKS:
-            cls.__setattr__ = checked_setattr(name, cls._iec_layout_)
-        return cls
+        return build_data_class(super().__new__, mcls, name, bases, namespace, kwargs, kind="GVL", allowed_sections=_SECTIONS)
 
 
 class GlobalVariables(_Base, metaclass=_GvlMeta):

@@ -61,6 +61,7 @@ from iecoop.memory.layout import (
     FieldRecord,
     FieldSpec,
     build_layout,
+    class_creator,
     read_annotations,
 )
 from iecoop.members import (
@@ -227,9 +228,7 @@ def _build_pou(
 
     namespace["_iec_kind_"] = kind
 
-    def create(ns: dict[str, Any]) -> type:
-        return typing.cast(type, super(_PouMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
-
+    create = class_creator(super(_PouMeta, mcls).__new__, mcls, name, bases, kwargs)
     cls: Any = build_layout(
         create, name, bases, namespace, kind=word, allowed_sections=_POU_SECTIONS, adjust=adjust,
         annotations=inside_annotations,

@@ -30,13 +30,11 @@ from __future__ import annotations
 
 import ctypes
 import enum
-import typing
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from iecoop import _config
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
-from iecoop.memory.layout import register_builder, ClassLayout, build_layout, checked_setattr
+from iecoop.memory.layout import ClassLayout, build_data_class, register_builder
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
@@ -62,43 +60,23 @@ def _member_values(obj: Any) -> tuple[Any, ...]:
     return tuple(getattr(obj, f.name) for f in layout.fields)
 
 
-def _finish_data_type(cls: Any, kind: str) -> None:
-    layout: ClassLayout = cls._iec_layout_
-    if not layout.fields:
-        raise DefinitionError(f"{kind} {cls.__name__} has no members; declare at least one")
-    cls._iec_implicit_init_ = layout.implicit_init
-    if _config.CHECKS:
-        cls.__setattr__ = checked_setattr(cls.__name__, layout)
+def _data_type(new: Any, mcls: Any, name: str, bases: tuple[type, ...], namespace: dict[str, Any], kwargs: dict[str, Any], kind: str) -> Any:
+    cls = build_data_class(new, mcls, name, bases, namespace, kwargs, kind=kind, allowed_sections=_STRUCT_SECTIONS)
+    if cls._iec_layout_ is not None and not cls._iec_layout_.fields:
+        raise DefinitionError(f"{kind} {name} has no members; declare at least one")
+    return cls
 
 
 class _StructMeta(_StructMetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        if namespace.get("_iec_base_class_"):
-            namespace["_fields_"] = []
-            return super().__new__(mcls, name, bases, namespace, **kwargs)
-
-        def create(ns: dict[str, Any]) -> type:
-            return typing.cast(type, super(_StructMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
-
-        cls = build_layout(create, name, bases, namespace, kind="STRUCT", allowed_sections=_STRUCT_SECTIONS)
-        _finish_data_type(cls, "STRUCT")
-        return cls
+        return _data_type(super().__new__, mcls, name, bases, namespace, kwargs, "STRUCT")
 
 
 class _UnionMeta(_UnionMetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        if namespace.get("_iec_base_class_"):
-            namespace["_fields_"] = []
-            return super().__new__(mcls, name, bases, namespace, **kwargs)
-        if any(getattr(b, "_iec_layout_", None) is not None for b in bases):
+        if not namespace.get("_iec_base_class_") and any(getattr(b, "_iec_layout_", None) is not None for b in bases):
             raise DefinitionError(f"UNION {name}: a union cannot extend another union")
-
-        def create(ns: dict[str, Any]) -> type:
-            return typing.cast(type, super(_UnionMeta, mcls).__new__(mcls, name, bases, ns, **kwargs))
-
-        cls = build_layout(create, name, bases, namespace, kind="UNION", allowed_sections=_STRUCT_SECTIONS)
-        _finish_data_type(cls, "UNION")
-        return cls
+        return _data_type(super().__new__, mcls, name, bases, namespace, kwargs, "UNION")
 
 
 class _DataTypeMixin:

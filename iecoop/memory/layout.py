@@ -289,6 +289,43 @@ def build_layout(
     return cls
 
 
+def class_creator(
+    new: Callable[..., Any], mcls: Any, name: str, bases: tuple[type, ...], kwargs: Mapping[str, Any]
+) -> Callable[[dict[str, Any]], type]:
+    """The ``create`` that build_layout takes: a ctypes metaclass's own ``__new__`` bound to this class."""
+    return lambda ns: typing.cast(type, new(mcls, name, bases, ns, **kwargs))
+
+
+def build_data_class(
+    new: Callable[..., Any],
+    mcls: Any,
+    name: str,
+    bases: tuple[type, ...],
+    namespace: dict[str, Any],
+    kwargs: Mapping[str, Any],
+    *,
+    kind: str,
+    allowed_sections: Mapping[str, str],
+) -> Any:
+    """A metaclass's ``__new__`` for a data type (STRUCT, UNION, GVL) built from its fields.
+
+    The library's own root class (``_iec_base_class_`` in its body) is created
+    empty; every user class gets its layout, implicit init and, in checked
+    mode, the validating ``__setattr__``.
+    """
+    if namespace.get("_iec_base_class_"):
+        namespace.setdefault("_fields_", [])
+        return new(mcls, name, bases, namespace, **kwargs)
+    cls: Any = build_layout(
+        class_creator(new, mcls, name, bases, kwargs), name, bases, namespace, kind=kind, allowed_sections=allowed_sections
+    )
+    layout: ClassLayout = cls._iec_layout_
+    cls._iec_implicit_init_ = layout.implicit_init
+    if CHECKS:
+        cls.__setattr__ = checked_setattr(name, layout)
+    return cls
+
+
 # ---------------------------------------------------------------------------
 # Initial values
 # ---------------------------------------------------------------------------
