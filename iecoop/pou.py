@@ -644,6 +644,9 @@ class _PouMixin:
     _iec_final_: ClassVar[bool] = False
     _iec_internal_: ClassVar[bool] = False
     _iec_members_: ClassVar[dict[str, Member]] = {}
+    #: Instances start with a type tag, so a pointer, reference or interface to a
+    #: base block dereferences to the derived block it designates (virtual calls).
+    _iec_tagged_: ClassVar[bool] = True
 
     def __init__(self, **fb_init_args: Any) -> None:
         cls = type(self)

@@ -94,13 +94,6 @@ class ElementaryType:
     def bits(self) -> int:
         return self.size * 8
 
-    def accepts(self, value: object) -> bool:
-        """Whether ``value`` is of a kind this type may store (no range check: ints wrap)."""
-        if self.kind == "bool":
-            return isinstance(value, (bool, int))
-        if self.kind == "real":
-            return isinstance(value, (int, float))
-        return isinstance(value, int) and not isinstance(value, float)
 
     def store(self, value: Any) -> Any:
         """The value a variable of this type holds after ``x := value``."""

@@ -198,9 +198,6 @@ class TypeInfo:
     def validate(self, value: Any, where: str) -> None:
         """Checked mode: raise TypeError naming ``where`` if ``value`` is of the wrong kind."""
 
-    def default(self) -> Any:
-        """The implicit initial value (what zeroed memory means)."""
-        return None
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         """A Python descriptor for a field of this type, or None to keep the raw ctypes field."""
@@ -248,8 +245,6 @@ class ElementaryInfo(TypeInfo):
         elif isinstance(value, bool) or not isinstance(value, int):
             raise _kind_error(where, self.name, value)
 
-    def default(self) -> Any:
-        return self.record.py_type()
 
 
 class StringInfo(TypeInfo):
@@ -282,8 +277,6 @@ class StringInfo(TypeInfo):
     def validate(self, value: Any, where: str) -> None:
         self.record.encode(value, self.length, where)
 
-    def default(self) -> str:
-        return ""
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         return _StringField(self, raw.offset, f"{owner}.{name}")
@@ -339,8 +332,6 @@ class EnumInfo(TypeInfo):
         if not isinstance(value, self.enum_cls) and isinstance(value, enum.Enum):
             raise _kind_error(where, self.name, value)
 
-    def default(self) -> Any:
-        return self._member(0)
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         return _EnumField(self, raw, f"{owner}.{name}")
@@ -561,8 +552,6 @@ class PointerInfo(TypeInfo):
     def validate(self, value: Any, where: str) -> None:
         self.coerce(value, where)
 
-    def default(self) -> Pointer[Any]:
-        return Pointer(0, self.target)
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         return _PointerField(self, raw, f"{owner}.{name}")
@@ -750,8 +739,6 @@ class InterfaceInfo(TypeInfo):
         if not isinstance(value, self.iface):
             raise TypeError(f"{where}: {type(value).__name__} does not implement {self.name}")
 
-    def default(self) -> Any:
-        return NullInterface(self.name, self.name)
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         return _InterfaceField(self, raw, f"{owner}.{name}")
@@ -1126,9 +1113,3 @@ def _check_plain(length: object, bounds: object, where: str, name: str) -> None:
 def _check_no_bounds(bounds: object, where: str, name: str) -> None:
     if bounds is not None:
         raise DefinitionError(f"{where}: bounds= applies to ARRAY, not {name}")
-
-
-class TaggedBlock:
-    """Marker for classes whose instances start with an 8-byte type tag (FBs)."""
-
-    _iec_tagged_: ClassVar[bool] = True

@@ -175,7 +175,7 @@ class Runtime:
         self._store: RemanentStore | None = None
         self._started = False
         self._stopped = False
-        self._retain_layout: ImageLayout | None = None
+        self._retain_plan: tuple[ImageLayout, list[Any]] | None = None
         self._tick = 0
         self.boot_report: list[str] = []
 
@@ -201,7 +201,7 @@ class Runtime:
             task.programs.append((path, program))
         self.tasks.append(task)
         self.tasks.sort(key=lambda t: t.priority)
-        self._retain_layout = None
+        self._retain_plan = None
 
     def programs(self) -> dict[str, Any]:
         """Every program instance by instance path (``"PlcTask.Main"``)."""
@@ -363,41 +363,38 @@ class Runtime:
                 continue
             copy_matching(data, old_leaves, entry.program, entry.leaves, classes)
 
-    def _image(self, classes: set[int]) -> tuple[ImageLayout, bytes]:
+    def _plan(self, classes: set[int]) -> tuple[ImageLayout, list[Any]]:
+        """The layout of an image of the given classes and the program blocks it copies."""
         entries = []
         blocks = []
         for entry in self._entries:
             kept = [leaf for leaf in entry.leaves if leaf.remanence in classes]
-            if not kept:
-                continue
-            size = ctypes.sizeof(entry.program)
-            entries.append((entry.path, format_directory(kept), size))
-            blocks.append(entry.program)
-        layout = ImageLayout(tuple(entries))
-        data = b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in blocks)
-        return layout, data
+            if kept:
+                entries.append((entry.path, format_directory(kept), ctypes.sizeof(entry.program)))
+                blocks.append(entry.program)
+        return ImageLayout(tuple(entries)), blocks
+
+    @staticmethod
+    def _gather(blocks: list[Any]) -> bytes:
+        """One C-level copy per program block: the image data."""
+        return b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in blocks)
 
     def _capture_retain(self) -> None:
+        if self._retain_plan is None:
+            self._retain_plan = self._plan({RETAIN})
+        layout, blocks = self._retain_plan
+        if not blocks:
+            return
         store = self._store_or_none()
-        if store is None:
-            return
-        if self._retain_layout is None:
-            layout, data = self._image({RETAIN})
-            self._retain_layout = layout
-            self._retain_blocks = [e.program for e in self._entries if any(l.remanence == RETAIN for l in e.leaves)]
-        if not self._retain_layout.entries:
-            return
-        data = b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in self._retain_blocks)
-        store.write_retain(self._retain_layout, data)
+        if store is not None:
+            store.write_retain(layout, self._gather(blocks))
 
     def save_persistent(self) -> None:
         """Write the PERSISTENT image now (TwinCAT ``FB_WritePersistentData``)."""
-        store = self._store_or_none()
-        if store is None:
-            return
-        layout, data = self._image({PERSISTENT})
-        if layout.entries:
-            store.write_persistent(layout, data)
+        layout, blocks = self._plan({PERSISTENT})
+        store = self._store_or_none() if blocks else None
+        if store is not None:
+            store.write_persistent(layout, self._gather(blocks))
 
     def stop(self) -> None:
         """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store."""
@@ -446,7 +443,9 @@ class Runtime:
     def reset_origin(self) -> None:
         """Reset origin: everything re-initialised, the store cleared."""
         self._reinit(set(), init_retains=True)
-        store = self._store_or_none()
+        # Only a store that exists holds anything to clear; do not create one for it.
+        exists = self._store is not None or (self._store_path is not None and self._store_path.exists())
+        store = self._store_or_none() if exists else None
         if store is not None:
             store.clear_retain()
             store.clear_persistent()
@@ -484,4 +483,4 @@ class Runtime:
                 self._entries[index] = new_entry
                 for task in self.tasks:
                     task.programs = [(p, new_program if p == path else prog) for p, prog in task.programs]
-        self._retain_layout = None
+        self._retain_plan = None

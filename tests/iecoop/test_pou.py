@@ -19,6 +19,7 @@ from iecoop import (
     DINT,
     INT,
     LREAL,
+    POINTER_TO,
     REAL,
     REFERENCE_TO,
     STRING,
@@ -38,6 +39,7 @@ from iecoop import (
     adr,
     method,
     prop,
+    ref_assign,
 )
 from tests.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values, wrap_int
 
@@ -607,6 +609,39 @@ def test_method_called_with_too_many_or_unknown_arguments() -> None:
 # ---------------------------------------------------------------------------
 # PROGRAM
 # ---------------------------------------------------------------------------
+
+
+class Shape(FunctionBlock):
+    @method
+    def kind(self) -> STRING:
+        return "shape"
+
+
+class Circle(Shape):
+    @method
+    def kind(self) -> STRING:
+        return "circle"
+
+
+class Drawing(FunctionBlock):
+    p: POINTER_TO[Shape] = VAR_INPUT()
+    r: REFERENCE_TO[Shape] = VAR_INPUT()
+    circle: Circle = VAR()
+    shape: Shape = VAR()
+
+
+def test_pointer_and_reference_to_a_base_block_call_the_derived_method() -> None:
+    """POINTER TO / REFERENCE TO FB_Shape aimed at an FB_Circle: p^.Kind() is the circle's (virtual call)."""
+    drawing = Drawing()
+    drawing.p = adr(drawing, "circle")
+    ref_assign(drawing, "r", drawing.circle)
+    assert type(drawing.p.deref) is Circle
+    assert drawing.p.deref.kind() == "circle"
+    assert drawing.r.kind() == "circle"
+    drawing.p = adr(drawing, "shape")
+    ref_assign(drawing, "r", drawing.shape)
+    assert drawing.p.deref.kind() == "shape"
+    assert drawing.r.kind() == "shape"
 
 
 class Main(Program):
