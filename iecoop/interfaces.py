@@ -88,7 +88,7 @@ def _build_interface(cls: type) -> None:
             funcs = [f for f in (prop.fget, prop.fset) if f is not None]
         if any(has_body(f) for f in funcs):
             raise DefinitionError(
-                f"INTERFACE {name}: {member.name} has a body; an interface declares prototypes only (write '...')"
+                f"INTERFACE {name}: {member.name} has a body; an interface declares prototypes only (write '...' or 'raise NotImplementedError')"
             )
     members: dict[str, Member] = {}
     for base in reversed(cls.__mro__[1:]):

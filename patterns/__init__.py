@@ -1,0 +1,1 @@
+"""The Gang-of-Four patterns and the SOLID principles as industrial automation scenarios on iecoop."""

@@ -514,6 +514,37 @@ def test_an_interface_method_has_no_body() -> None:
                 return True
 
 
+def test_an_interface_prototype_may_raise_not_implemented() -> None:
+    # `raise NotImplementedError` is the prototype body that type-checks for a non-None return
+    class IValue(Interface):
+        @method
+        def value(self) -> INT:
+            """The current value."""
+            raise NotImplementedError
+
+        @prop
+        def level(self) -> INT:
+            raise NotImplementedError()
+
+    class Value(FunctionBlock, IValue):
+        @method
+        def value(self) -> INT:
+            return 7
+
+        @prop
+        def level(self) -> INT:
+            return 3
+
+    assert Value().value() == 7 and Value().level == 3
+    with pytest.raises(DefinitionError, match=r"INTERFACE IMore: value has a body.*raise NotImplementedError"):
+
+        class IMore(Interface):
+            @method
+            def value(self) -> INT:
+                print("side effect")
+                raise NotImplementedError
+
+
 def test_an_interface_property_has_no_body() -> None:
     with pytest.raises(DefinitionError, match=r"INTERFACE IBody: level has a body"):
 

@@ -184,8 +184,8 @@ class Accumulate(FunctionBlock):
 
 class Cell(FunctionBlock):
     # VAR()'s overloads type a list / dict initial value as itself, not as the ARRAY / struct it fills.
-    data: ARRAY[INT] = VAR([0, 10, 20, 30], bounds=(1, 4))  # type: ignore[arg-type]
-    recipe: Recipe = VAR({"temperature": 180.0})  # type: ignore[assignment]
+    data: ARRAY[INT] = VAR([0, 10, 20, 30], bounds=(1, 4))
+    recipe: Recipe = VAR({"temperature": 180.0})
     worker: Accumulate = VAR()
 
     def body(self) -> None:
@@ -206,7 +206,7 @@ def test_var_in_out_bound_with_adr_and_a_struct_reads_and_writes_the_callers_dat
 
 def test_var_in_out_from_outside_with_a_standalone_struct_and_array_holder() -> None:
     class Buffer(Struct):
-        items: ARRAY[INT] = VAR([1, 2, 3, 4], bounds=(1, 4))  # type: ignore[arg-type]
+        items: ARRAY[INT] = VAR([1, 2, 3, 4], bounds=(1, 4))
 
     buffer, recipe = Buffer(), Recipe(temperature=55.5)
     acc = Accumulate()
@@ -441,7 +441,7 @@ def test_var_in_out_constant_is_read_only_inside() -> None:
 class Line(FunctionBlock):
     feeder: Counter = VAR()
     stations: ARRAY[Counter] = VAR(bounds=(1, 3))
-    preset: Counter = VAR({"enable": True, "step": 2})  # type: ignore[assignment]
+    preset: Counter = VAR({"enable": True, "step": 2})
 
     def body(self) -> None:
         self.feeder(enable=True)
@@ -536,7 +536,7 @@ def test_a_derived_block_without_a_body_runs_the_base_body() -> None:
 class Gearbox(FunctionBlock):
     gear_internal: INT = VAR(1)
     changes: INT = VAR_OUTPUT(0)
-    ratio_table: ARRAY[REAL] = VAR([3.5, 2.0, 1.25, 1.0], bounds=(1, 4))  # type: ignore[arg-type]
+    ratio_table: ARRAY[REAL] = VAR([3.5, 2.0, 1.25, 1.0], bounds=(1, 4))
 
     @prop
     def gear(self) -> INT:

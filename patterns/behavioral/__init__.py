@@ -1,0 +1,1 @@
+"""Behavioral patterns: how function blocks share work and react across scan cycles."""

@@ -1,0 +1,1 @@
+"""Creational patterns: how function block instances come to exist on a PLC."""

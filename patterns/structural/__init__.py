@@ -1,0 +1,1 @@
+"""Structural patterns: how function blocks are composed into larger units."""
