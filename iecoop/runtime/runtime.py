@@ -187,6 +187,18 @@ class Runtime:
             raise ValueError(f"a task named {task.name!r} already exists")
         if not programs:
             raise ValueError(f"task {task.name}: give at least one program instance")
+        self._attach(task, programs)
+        self.tasks.append(task)
+        self.tasks.sort(key=lambda t: t.priority)
+
+    def add_program(self, task: str, *programs: Any) -> None:
+        """Append program instances to the task named ``task``; they run after its current ones."""
+        found = next((t for t in self.tasks if t.name == task), None)
+        if found is None:
+            raise ValueError(f"no task named {task!r}; add it with add_task()")
+        self._attach(found, programs)
+
+    def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
         for program in programs:
             if getattr(type(program), "_iec_kind_", "") not in ("program", "fb"):
                 raise TypeError(f"task {task.name}: {program!r} is not a Program instance")
@@ -199,8 +211,6 @@ class Runtime:
             entry = _Entry(path, program)
             self._entries.append(entry)
             task.programs.append((path, program))
-        self.tasks.append(task)
-        self.tasks.sort(key=lambda t: t.priority)
         self._retain_plan = None
 
     def programs(self) -> dict[str, Any]:

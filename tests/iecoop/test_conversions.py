@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from iecoop import conversions as cv
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.profiles import CODESYS, TWINCAT, Profile, use_profile
-from tests.strategies import INTEGER_LAYOUT, wrap
+from iecoop.testing.strategies import INTEGER_LAYOUT, wrap
 
 EVEN = dataclasses.replace(TWINCAT, round_tie="even")
 AWAY = dataclasses.replace(TWINCAT, round_tie="away")

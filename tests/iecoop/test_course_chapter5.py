@@ -31,7 +31,7 @@ from iecoop import (
     method,
     prop,
 )
-from tests.strategies import wrap_int
+from iecoop.testing.strategies import wrap_int
 
 
 # ---------------------------------------------------------------------------

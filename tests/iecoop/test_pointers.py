@@ -27,7 +27,7 @@ from iecoop import (
     Pointer, Struct, adr, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
 )
 from iecoop.memory._core import allocation_of, free
-from tests.strategies import ANY_INTS, LATIN_1
+from iecoop.testing.strategies import ANY_INTS, LATIN_1
 
 AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 BOUNDS = ExceptionCode.RTSEXCPT_ARRAYBOUNDS

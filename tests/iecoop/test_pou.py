@@ -41,7 +41,7 @@ from iecoop import (
     prop,
     ref_assign,
 )
-from tests.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values, wrap_int
+from iecoop.testing.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values, wrap_int
 
 
 class Counter(FunctionBlock):
