@@ -521,8 +521,8 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
             lines.append(f"        _check{i}({record.name}, {record.where!r})")
             lines.append(f"        _set{i}(self, {record.name})")
         elif info.direct:
-            globs[f"_set{i}"] = record.raw.__set__
-            lines.append(f"    if {record.name} is not _M: _set{i}(self, {record.name})")
+            # fast mode: a plain attribute store reaches the ctypes field in C
+            lines.append(f"    if {record.name} is not _M: self.{record.name} = {record.name}")
         else:
             globs[f"_desc{i}"] = getattr(cls, record.name).__set__
             lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")

@@ -376,7 +376,7 @@ def initial_non_latin_1_for_string() -> None:
 
 def initial_too_many_array_values() -> None:
     class Wrong(Struct):
-        items: ARRAY[INT] = VAR([1, 2, 3], bounds=(1, 2))  # type: ignore[arg-type]
+        items: ARRAY[INT] = VAR([1, 2, 3], bounds=(1, 2))
 
 
 def initial_pointer_not_null() -> None:

@@ -71,7 +71,7 @@ class Part(FunctionBlock):
 
 
 class Base(FunctionBlock):
-    first: Part = VAR({"tag": 1}, fb_init={"ident": 11})  # type: ignore[assignment]
+    first: Part = VAR({"tag": 1}, fb_init={"ident": 11})
     speed: INT = VAR(0)
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, speed: INT = 5) -> BOOL:
@@ -89,7 +89,7 @@ class Base(FunctionBlock):
 
 
 class Derived(Base):
-    second: Part = VAR({"tag": 2}, fb_init={"ident": 22})  # type: ignore[assignment]
+    second: Part = VAR({"tag": 2}, fb_init={"ident": 22})
     mode: INT = VAR(0)
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, speed: INT = 5, mode: INT = 0) -> BOOL:
@@ -146,7 +146,7 @@ def test_a_declaration_site_input_overrides_what_fb_init_wrote() -> None:
             return True
 
     class Manifold(FunctionBlock):
-        declared: Valve = VAR({"opening": 80})  # type: ignore[assignment]
+        declared: Valve = VAR({"opening": 80})
         plain: Valve = VAR()
 
     manifold = Manifold()
@@ -166,7 +166,7 @@ def test_array_of_blocks_declaration_inputs_hold_after_each_fb_init() -> None:
             log.append(("Valve.after_init", self.opening))
 
     class Manifold(FunctionBlock):
-        valves: ARRAY[Valve] = VAR([{"opening": 10}, {"opening": 20}], bounds=(1, 3))  # type: ignore[arg-type]
+        valves: ARRAY[Valve] = VAR([{"opening": 10}, {"opening": 20}], bounds=(1, 3))
 
     manifold = Manifold()
     assert [v.opening for v in manifold.valves] == [10, 20, 50]
@@ -183,7 +183,7 @@ def test_an_array_of_blocks_is_initialised_element_by_element_in_order() -> None
 
 def test_an_array_of_blocks_is_finalised_last_element_first() -> None:
     class Rack(FunctionBlock):
-        slots: ARRAY[Part] = VAR([{"tag": 1}, {"tag": 2}, {"tag": 3}], bounds=(1, 3))  # type: ignore[arg-type]
+        slots: ARRAY[Part] = VAR([{"tag": 1}, {"tag": 2}, {"tag": 3}], bounds=(1, 3))
 
     rack = Rack()
     log.clear()

@@ -52,6 +52,7 @@ from iecoop import (
     query_interface,
     query_pointer,
 )
+from tests import checked_only
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -814,6 +815,7 @@ def test_internal_method_from_the_same_package_is_allowed() -> None:
     assert Motor().service() == 7
 
 
+@checked_only
 def test_writing_an_output_or_a_local_from_outside_raises_access_error() -> None:
     motor = Motor()
     with pytest.raises(AccessError, match=r"VAR_OUTPUT Motor\.running cannot be written from .*only Motor's own code"):
@@ -824,6 +826,7 @@ def test_writing_an_output_or_a_local_from_outside_raises_access_error() -> None
     assert (motor.running, motor.speed, motor.setpoint) == (False, 0, 12)
 
 
+@checked_only
 def test_another_blocks_code_cannot_write_a_members_output() -> None:
     class Line(FunctionBlock):
         motor: Motor = VAR()
@@ -849,6 +852,7 @@ def _make_counter_class() -> Any:
     return Counter
 
 
+@checked_only
 def test_a_class_statement_run_twice_gives_two_blocks_that_each_own_their_code() -> None:
     # Both classes share the code objects of the factory's class body.
     first, second = _make_counter_class(), _make_counter_class()
@@ -864,6 +868,7 @@ def test_a_class_statement_run_twice_gives_two_blocks_that_each_own_their_code()
         second().count = 1
 
 
+@checked_only
 def test_writing_an_undeclared_variable_is_rejected() -> None:
     with pytest.raises(AttributeError, match=r"Motor has no variable 'sped'"):
         Motor().sped = 3  # type: ignore[attr-defined]

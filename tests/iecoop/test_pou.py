@@ -42,6 +42,7 @@ from iecoop import (
     ref_assign,
 )
 from iecoop.testing.strategies import BOOL_VALUES, DINT_VALUES, INT_VALUES, REAL_VALUES, string_values, wrap_int
+from tests import checked_only
 
 
 class Counter(FunctionBlock):
@@ -125,6 +126,7 @@ def test_unknown_input_name_is_a_type_error_naming_block_and_input() -> None:
         ({"step": "2"}, r"Counter\.step: cannot store str '2' in INT"),
     ],
 )
+@checked_only
 def test_wrong_typed_input_is_a_type_error_and_the_body_does_not_run(inputs: dict[str, Any], pattern: str) -> None:
     counter = Counter()
     counter(enable=True)
@@ -340,6 +342,7 @@ def test_var_stat_is_shared_by_every_instance_of_the_class_and_separate_per_clas
     assert a.created == 4
 
 
+@checked_only
 def test_var_stat_is_not_writable_from_outside() -> None:
     class Station(FunctionBlock):
         created: INT = VAR_STAT(0)
@@ -375,6 +378,7 @@ def test_var_inst_is_kept_between_calls_of_its_method_per_instance() -> None:
     assert (a.doses, a.volume, b.doses) == (3, 3.5, 1)
 
 
+@checked_only
 def test_var_inst_is_written_only_by_its_method() -> None:
     doser = Doser()
     doser.dose(1.0)
@@ -387,6 +391,7 @@ def test_var_inst_is_written_only_by_its_method() -> None:
     assert doser.doses == 1
 
 
+@checked_only
 def test_constant_is_readable_and_never_writable() -> None:
     class Limiter(FunctionBlock):
         LIMIT: INT = VAR(10, constant=True)
@@ -413,6 +418,7 @@ def test_constant_is_readable_and_never_writable() -> None:
     assert limiter.out == 10 and limiter.LIMIT == 10
 
 
+@checked_only
 def test_var_in_out_constant_is_read_only_inside() -> None:
     class Reader(FunctionBlock):
         limit: INT = VAR_IN_OUT(constant=True)
@@ -484,6 +490,7 @@ def test_two_separate_parents_do_not_share_their_members() -> None:
     assert a.feeder != b.feeder
 
 
+@checked_only
 def test_a_nested_block_cannot_be_replaced_from_outside() -> None:
     line = Line()
     with pytest.raises(AccessError, match=r"VAR Line\.feeder cannot be written from"):
@@ -578,6 +585,7 @@ def test_read_only_property_cannot_be_set() -> None:
     assert box.ratio == 3.5
 
 
+@checked_only
 def test_property_setter_writes_the_typed_variable_with_its_checks() -> None:
     box = Gearbox()
     with pytest.raises(TypeError, match=r"Gearbox\.gear_internal: cannot store float"):
@@ -667,6 +675,7 @@ def test_a_program_runs_its_body_and_its_members_every_cycle() -> None:
     assert main.line.stations[3].count == 15
 
 
+@checked_only
 def test_a_program_variable_is_not_writable_from_outside() -> None:
     main = Main()
     with pytest.raises(AccessError, match=r"VAR Main\.cycle cannot be written from"):

@@ -24,7 +24,7 @@ from iecoop import _config
 from iecoop.types import ElementaryType, elementary_type
 from iecoop.testing.strategies import ANY_INTS, FLT_MAX, INTEGER_LAYOUT, LATIN_1, UCS_2, iec_values, wrap
 
-checked_only = pytest.mark.skipif(not _config.CHECKS, reason="kind checks on writes exist in checked mode only")
+from tests import checked_only
 
 
 class Numbers(Struct):

@@ -38,7 +38,7 @@ from iecoop import _config
 from iecoop.profiles import CODESYS, TWINCAT
 from iecoop.stdlib import CriticalSection, R, S, test_and_set
 
-checked_only = pytest.mark.skipif(not _config.CHECKS, reason="access rules on writes hold in checked mode only")
+from tests import checked_only
 
 
 class Shared(Struct):
