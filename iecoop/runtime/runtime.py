@@ -41,7 +41,7 @@ from typing import Any, Literal
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.lifecycle import finalise, initialise, reinitialise
 from iecoop.profiles import Profile, get_profile, use_profile
-from iecoop.runtime.clock import Clock, VirtualClock, WallClock, use_clock
+from iecoop.runtime.clock import VirtualClock, use_clock
 from iecoop.runtime.store import ImageLayout, RemanentStore
 from iecoop.runtime.variables import PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, leaves, parse_directory
 
@@ -233,7 +233,16 @@ class Runtime:
         """Run ``cycles`` base ticks, or for ``duration`` (a TIME in ms) of PLC time.
 
         The base tick is the greatest common divisor of the task intervals, so
-        with one task a tick is one cycle.
+        with one task a tick is one cycle. At each tick the due tasks run in
+        priority order; the task clock (what TON / TOF / TP read) is the
+        cycle's start.
+
+        ``realtime=True`` paces the ticks by the wall clock: a cycle never
+        starts before its tick, the lateness is the task's jitter
+        (``TaskInfo.JitterMax``) and is part of the task clock, and a cycle
+        that overruns makes the PLC skip the ticks it missed rather than run
+        them back to back (``CycleTimeExceeded`` / ``ExceedCounter`` count the
+        overruns). Tasks run one after the other in the calling thread.
         """
         self._raise_if_faulted()
         if self._stopped:
@@ -250,27 +259,34 @@ class Runtime:
             raise ValueError("cycles must not be negative")
         if not self._started:
             self._start()
-        clock: Clock = WallClock() if realtime else self._clock
+        tick_ns = tick_ms * 1_000_000
+        end_tick = self._tick + cycles
         wall_start = time.monotonic_ns()
         first_tick = self._tick
-        with use_profile(self.profile), use_clock(clock):
-            for n in range(cycles):
-                tick_time = self._tick * tick_ms * 1_000_000
+        with use_profile(self.profile), use_clock(self._clock):
+            while self._tick < end_tick:
+                tick_time = self._tick * tick_ns
+                jitter = 0
                 if realtime:
-                    planned = wall_start + (self._tick - first_tick) * tick_ms * 1_000_000
+                    planned = wall_start + (self._tick - first_tick) * tick_ns
                     delay = planned - time.monotonic_ns()
                     if delay > 0:
                         time.sleep(delay / 1e9)
-                    jitter = max(0, time.monotonic_ns() - planned)
-                else:
-                    self._clock.set(tick_time)
-                    jitter = 0
+                    late = time.monotonic_ns() - planned
+                    if late >= tick_ns:
+                        # An overrun: like the PLC, start at the next tick boundary
+                        # instead of running the missed cycles back to back.
+                        self._tick = min(self._tick + late // tick_ns, end_tick)
+                        continue
+                    jitter = max(0, late)
+                # The task clock is the cycle's start, so every timer in the cycle
+                # reads the same time (in real time, the actual start, jitter included).
+                self._clock.set(tick_time + jitter)
                 self.time_ns = tick_time
                 self._run_tick(tick_ms, jitter)
                 self._tick += 1
-                self.time_ns = self._tick * tick_ms * 1_000_000
-            if not realtime:
-                self._clock.set(self.time_ns)
+            self.time_ns = self._tick * tick_ns
+            self._clock.set(self.time_ns)
 
     def _run_tick(self, tick_ms: int, jitter: int) -> None:
         now_ms = self._tick * tick_ms
@@ -292,6 +308,7 @@ class Runtime:
             finally:
                 _current.pop()
             elapsed = time.perf_counter_ns() - started
+            cycle = info.CycleCount
             info.LastExecTime = elapsed // 100
             info.MaxExecTime = max(info.MaxExecTime, info.LastExecTime)
             info.CycleCount += 1
@@ -308,18 +325,21 @@ class Runtime:
                             task,
                             PlcException(
                                 ExceptionCode.RTSEXCPT_WATCHDOG,
-                                f"task {task.name}: cycle took {elapsed / 1e6:.3f} ms, watchdog {task.watchdog} ms",
+                                f"task {task.name}: cycle {cycle} took {elapsed / 1e6:.3f} ms, "
+                                f"watchdog {task.watchdog} ms",
                             ),
+                            cycle,
                         )
                 else:
                     task._overruns = 0
         self._capture_retain()
 
-    def _enter_fault(self, task: Task, exc: BaseException) -> typing.NoReturn:
+    def _enter_fault(self, task: Task, exc: BaseException, cycle: int | None = None) -> typing.NoReturn:
         code = _fault_code(exc)
         plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
         text = "".join(traceback.format_exception(exc))
-        self.fault = Fault(task.name, task.info.CycleCount, code, str(plc), text, plc)
+        where = task.info.CycleCount if cycle is None else cycle
+        self.fault = Fault(task.name, where, code, str(plc), text, plc)
         raise self._fault_error() from exc
 
     def _fault_error(self) -> PlcException:
