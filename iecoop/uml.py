@@ -1,0 +1,768 @@
+"""UML diagrams generated from declared classes: class diagrams and state diagrams.
+
+A class diagram is read from the classes themselves (their VAR sections,
+METHODs, PROPERTYs, EXTENDS and IMPLEMENTS), so it cannot drift from the code.
+Each diagram renders as Mermaid text, PlantUML text, and a self-contained SVG
+(no script, no network) that a page can embed as an image.
+
+================================  =============================================
+UML                               IEC 61131-3
+================================  =============================================
+``+`` public                      PUBLIC members; VAR_INPUT / VAR_OUTPUT / VAR_IN_OUT
+``#`` protected                   PROTECTED members; VAR, VAR_INST, VAR_TEMP (seen by derived blocks)
+``-`` private                     PRIVATE members
+``~`` package                     INTERNAL members
+``{abstract}`` / italic           ABSTRACT
+``{leaf}``                        FINAL
+underlined / ``$``                VAR_STAT (one per class)
+generalisation ``<|--``           EXTENDS
+realisation ``<|..``              IMPLEMENTS
+composition ``*--``               a nested FB / STRUCT instance (inline in memory)
+aggregation ``o--``               an interface, POINTER TO or REFERENCE TO field
+================================  =============================================
+
+>>> from iecoop import FunctionBlock, Interface, BOOL, REAL, VAR, VAR_INPUT, VAR_OUTPUT, method
+>>> class IDrive(Interface):
+...     @method
+...     def start(self) -> BOOL:
+...         raise NotImplementedError
+>>> class Drive(FunctionBlock, IDrive):
+...     speed: REAL = VAR_INPUT(0.0)
+...     running: BOOL = VAR_OUTPUT()
+...     @method
+...     def start(self) -> BOOL:
+...         self.running = True
+...         return True
+>>> class Conveyor(FunctionBlock):
+...     drive: Drive = VAR()
+>>> print(class_diagram(IDrive, Drive, Conveyor).to_mermaid())
+classDiagram
+    class IDrive {
+        <<INTERFACE>>
+        +start() BOOL
+    }
+    class Drive {
+        <<FUNCTION_BLOCK>>
+        +speed : REAL «VAR_INPUT»
+        +running : BOOL «VAR_OUTPUT»
+        +start() BOOL
+    }
+    class Conveyor {
+        <<FUNCTION_BLOCK>>
+        #drive : Drive «VAR»
+    }
+    IDrive <|.. Drive : IMPLEMENTS
+    Conveyor *-- Drive : drive
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import html
+import math
+import types
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+from iecoop.members import Access, Member, format_signature
+
+__all__ = [
+    "ClassDiagram",
+    "Relation",
+    "StateDiagram",
+    "UmlClass",
+    "class_diagram",
+    "module_diagram",
+    "state_diagram",
+]
+
+_STEREOTYPES = {
+    "fb": "FUNCTION_BLOCK",
+    "program": "PROGRAM",
+    "interface": "INTERFACE",
+    "struct": "STRUCT",
+    "union": "UNION",
+    "enum": "ENUM",
+}
+
+# Section -> UML visibility: what code outside the block may touch.
+_SECTION_VISIBILITY = {
+    "VAR_INPUT": "+",
+    "VAR_OUTPUT": "+",
+    "VAR_IN_OUT": "+",
+    "VAR": "#",
+    "VAR_INST": "#",
+    "VAR_TEMP": "#",
+    "VAR_STAT": "#",
+    "VAR_EXTERNAL": "#",
+}
+
+_ACCESS_SYMBOL = {Access.PUBLIC: "+", Access.PRIVATE: "-", Access.PROTECTED: "#", Access.INTERNAL: "~"}
+
+# The library's own base classes are not drawn.
+_HIDDEN_NAMES = {
+    ("iecoop.pou", "FunctionBlock"),
+    ("iecoop.pou", "Program"),
+    ("iecoop.interfaces", "Interface"),
+    ("iecoop.memory.datatypes", "Struct"),
+    ("iecoop.memory.datatypes", "Union"),
+    ("iecoop.memory.datatypes", "IecEnum"),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class UmlField:
+    visibility: str
+    name: str
+    type_name: str
+    section: str
+    static: bool = False
+
+    def text(self) -> str:
+        return f"{self.visibility}{self.name} : {self.type_name} «{self.section}»"
+
+
+@dataclasses.dataclass(frozen=True)
+class UmlOperation:
+    visibility: str
+    name: str
+    params: str
+    returns: str
+    abstract: bool
+    final: bool
+    is_property: bool = False
+    accessors: str = ""
+
+    def text(self) -> str:
+        if self.is_property:
+            return f"{self.visibility}{self.name} : {self.returns} «PROPERTY {self.accessors}»"
+        result = f" {self.returns}" if self.returns != "None" else ""
+        return f"{self.visibility}{self.name}({self.params}){result}"
+
+
+@dataclasses.dataclass(frozen=True)
+class UmlClass:
+    """One box: a FUNCTION_BLOCK, PROGRAM, INTERFACE, STRUCT, UNION or ENUM."""
+
+    name: str
+    stereotype: str
+    abstract: bool = False
+    final: bool = False
+    fields: tuple[UmlField, ...] = ()
+    operations: tuple[UmlOperation, ...] = ()
+    detailed: bool = True
+
+    @property
+    def heading(self) -> str:
+        words = [w for w, on in (("ABSTRACT", self.abstract), ("FINAL", self.final)) if on]
+        return " ".join([*words, self.stereotype])
+
+
+@dataclasses.dataclass(frozen=True)
+class Relation:
+    """An arrow: ``kind`` is extends, implements, composition, aggregation or association."""
+
+    source: str
+    target: str
+    kind: str
+    label: str = ""
+    multiplicity: str = ""
+
+
+def _kind(cls: type) -> str | None:
+    kind = getattr(cls, "_iec_kind_", None)
+    return kind if kind in _STEREOTYPES else None
+
+
+def _visible(cls: type) -> bool:
+    return _kind(cls) is not None and (cls.__module__, cls.__name__) not in _HIDDEN_NAMES
+
+
+def _type_name(info: Any) -> str:
+    return str(getattr(info, "name", info))
+
+
+def _referenced(info: Any) -> tuple[type | None, str, str]:
+    """The class a field's type points at, the relation kind, and the multiplicity."""
+    kind = type(info).__name__
+    if kind == "ArrayInfo":
+        cls, relation, _ = _referenced(info.elem)
+        if len(info.bounds) == 1:
+            (lo, hi), = info.bounds
+            return cls, relation, f"{lo}..{hi}"
+        count = 1
+        for lo, hi in info.bounds:
+            count *= hi - lo + 1
+        return cls, relation, str(count)
+    if kind == "AggregateInfo":
+        return info.cls, "composition", ""
+    if kind == "InterfaceInfo":
+        return info.iface, "aggregation", ""
+    if kind in ("PointerInfo", "ReferenceInfo"):
+        target = info.target
+        cls = getattr(target, "cls", None) or getattr(target, "iface", None)
+        return cls, "aggregation", ""
+    if kind == "EnumInfo":
+        return info.enum_cls, "association", ""
+    return None, "", ""
+
+
+def _own_members(cls: type) -> list[Member]:
+    members: dict[str, Member] = getattr(cls, "_iec_members_", {})
+    return [m for m in members.values() if m.owner is cls]
+
+
+def _operation(member: Member) -> UmlOperation:
+    text = format_signature(member.signature)
+    params, _, returns = text.partition(" -> ")
+    if member.kind == "property":
+        get_symbol = _ACCESS_SYMBOL.get(Access(member.get_flags & ~(Access.FINAL | Access.ABSTRACT)) or Access.PUBLIC, "+")
+        parts = ["get"]
+        if member.has_set:
+            set_symbol = _ACCESS_SYMBOL.get(
+                Access(member.set_flags & ~(Access.FINAL | Access.ABSTRACT)) or Access.PUBLIC, "+"
+            )
+            parts.append("set" if set_symbol == get_symbol else f"{set_symbol}set")
+        return UmlOperation(
+            get_symbol, member.name, "", returns, member.abstract, member.final, True, "/".join(parts)
+        )
+    symbol = _ACCESS_SYMBOL.get(member.visibility, "+")
+    return UmlOperation(symbol, member.name, params[1:-1], returns, member.abstract, member.final)
+
+
+def _describe(cls: type, detailed: bool) -> UmlClass:
+    kind = _kind(cls)
+    assert kind is not None
+    stereotype = _STEREOTYPES[kind]
+    abstract = bool(getattr(cls, "_iec_abstract_", False))
+    final = bool(getattr(cls, "_iec_final_", False))
+    if not detailed:
+        return UmlClass(cls.__name__, stereotype, abstract, final, detailed=False)
+    fields: list[UmlField] = []
+    if kind == "enum":
+        assert issubclass(cls, enum.Enum)
+        for item in cls:
+            fields.append(UmlField("+", item.name, str(int(item.value)), "value"))
+    else:
+        layout = getattr(cls, "_iec_layout_", None)
+        own = layout.own if layout is not None else ()
+        for record in own:
+            if record.name.startswith("_iec"):
+                continue
+            section = record.section
+            visibility = "+" if kind in ("struct", "union") else _SECTION_VISIBILITY.get(section, "#")
+            fields.append(UmlField(visibility, record.name, _type_name(record.info), section))
+        # VAR_STAT lives in one block per declaring class, outside the instance layout.
+        for record in cls.__dict__.get("_iec_static_fields_", ()):
+            fields.append(UmlField("#", record.name, _type_name(record.info), "VAR_STAT", True))
+    operations = tuple(_operation(m) for m in _own_members(cls))
+    return UmlClass(cls.__name__, stereotype, abstract, final, tuple(fields), operations)
+
+
+def _relations(cls: type) -> list[tuple[type, Relation]]:
+    found: list[tuple[type, Relation]] = []
+    kind = _kind(cls)
+    for base in cls.__bases__:
+        if not _visible(base):
+            continue
+        base_kind = _kind(base)
+        if base_kind == "interface" and kind != "interface":
+            found.append((base, Relation(base.__name__, cls.__name__, "implements")))
+        else:
+            found.append((base, Relation(base.__name__, cls.__name__, "extends")))
+    layout = getattr(cls, "_iec_layout_", None)
+    if kind != "enum" and layout is not None:
+        for record in layout.own:
+            target, relation, multiplicity = _referenced(record.info)
+            if target is not None and _visible(target):
+                found.append((target, Relation(cls.__name__, target.__name__, relation, record.name, multiplicity)))
+    return found
+
+
+class ClassDiagram:
+    """Boxes and arrows, renderable as Mermaid, PlantUML or SVG."""
+
+    def __init__(self, classes: Sequence[UmlClass], relations: Sequence[Relation], title: str = "") -> None:
+        self.classes = list(classes)
+        self.relations = list(relations)
+        self.title = title
+
+    def names(self) -> list[str]:
+        return [c.name for c in self.classes]
+
+    # -- text forms ------------------------------------------------------------
+
+    def to_mermaid(self) -> str:
+        lines = ["classDiagram"]
+        for box in self.classes:
+            lines.append(f"    class {box.name} {{")
+            lines.append(f"        <<{box.heading}>>")
+            for f in box.fields:
+                lines.append(f"        {f.text()}{'$' if f.static else ''}")
+            for op in box.operations:
+                lines.append(f"        {op.text()}{'*' if op.abstract else ''}{' {leaf}' if op.final else ''}")
+            lines.append("    }")
+        arrows = {
+            "extends": "<|--",
+            "implements": "<|..",
+            "composition": "*--",
+            "aggregation": "o--",
+            "association": "-->",
+        }
+        for r in self.relations:
+            if r.kind in ("extends", "implements"):
+                lines.append(f"    {r.source} {arrows[r.kind]} {r.target} : {r.kind.upper()}")
+            else:
+                many = f' "{r.multiplicity}"' if r.multiplicity else ""
+                lines.append(f"    {r.source} {arrows[r.kind]}{many} {r.target} : {r.label}")
+        return "\n".join(lines)
+
+    def to_plantuml(self) -> str:
+        lines = ["@startuml"]
+        if self.title:
+            lines.append(f"title {self.title}")
+        lines.append("hide empty members")
+        for box in self.classes:
+            if box.stereotype == "INTERFACE":
+                head = f"interface {box.name}"
+            elif box.stereotype == "ENUM":
+                head = f"enum {box.name}"
+            elif box.abstract:
+                head = f'abstract class {box.name} <<{box.stereotype}>>'
+            else:
+                head = f"class {box.name} <<{box.heading}>>"
+            lines.append(head + " {")
+            for f in box.fields:
+                lines.append(f"  {'{static} ' if f.static else ''}{f.text()}")
+            for op in box.operations:
+                mods = ("{abstract} " if op.abstract else "") + ("{leaf} " if op.final else "")
+                lines.append(f"  {mods}{op.text()}")
+            lines.append("}")
+        arrows = {"extends": "<|--", "implements": "<|..", "composition": "*--", "aggregation": "o--", "association": "-->"}
+        for r in self.relations:
+            many = f' "{r.multiplicity}"' if r.multiplicity else ""
+            label = f" : {r.label}" if r.label else ""
+            lines.append(f"{r.source} {arrows[r.kind]}{many} {r.target}{label}")
+        lines.append("@enduml")
+        return "\n".join(lines)
+
+    # -- SVG ------------------------------------------------------------------------
+
+    def to_svg(self) -> str:
+        """A self-contained SVG: boxes in layers (bases and containers above), straight arrows."""
+        boxes = {c.name: _Box.measure(c) for c in self.classes}
+        layers = _layer([c.name for c in self.classes], [(r.source, r.target) for r in self.relations
+                                                         if r.source in boxes and r.target in boxes])
+        width, height = _place(layers, boxes)
+        rank = {name: i for i, layer in enumerate(layers) for name in layer}
+        drawn = [r for r in self.relations if r.source in boxes and r.target in boxes]
+        # An arrow that would cross a layer of boxes goes round them on the right, one lane each.
+        long = [r for r in drawn if abs(rank[r.source] - rank[r.target]) > 1]
+        lanes = {id(r): width + 14.0 * k for k, r in enumerate(long)}
+        out = _SvgWriter(width + 14.0 * len(long) + (20.0 if long else 0.0), height, self.title)
+        for r in drawn:
+            out.relation(boxes[r.source], boxes[r.target], r, lanes.get(id(r)))
+        for box in boxes.values():
+            out.box(box)
+        return out.finish()
+
+
+def class_diagram(*classes: type, related: bool = True, title: str = "") -> ClassDiagram:
+    """The class diagram of ``classes`` (shown with their members), in the order given.
+
+    With ``related`` (the default), the classes they extend, implement or hold
+    are added as plain boxes (name and stereotype only) when not listed.
+    """
+    listed = list(dict.fromkeys(classes))
+    for cls in listed:
+        if not _visible(cls):
+            raise TypeError(f"{cls!r} is not a FUNCTION_BLOCK, PROGRAM, INTERFACE, STRUCT, UNION or ENUM")
+    described = [_describe(cls, True) for cls in listed]
+    relations: list[Relation] = []
+    extra: list[type] = []
+    for cls in listed:
+        for target, relation in _relations(cls):
+            if target not in listed:
+                if not related:
+                    continue
+                if target not in extra:
+                    extra.append(target)
+            if relation not in relations:
+                relations.append(relation)
+    described.extend(_describe(cls, False) for cls in extra)
+    return ClassDiagram(described, relations, title)
+
+
+def module_diagram(module: types.ModuleType, *, related: bool = True, title: str = "") -> ClassDiagram:
+    """The class diagram of every FB, interface, struct and enum a module defines, in definition order."""
+    own = [
+        value for value in vars(module).values()
+        if isinstance(value, type) and _visible(value) and value.__module__ == module.__name__
+    ]
+    if not own:
+        raise ValueError(f"module {module.__name__} defines no FUNCTION_BLOCK, INTERFACE, STRUCT or ENUM")
+    return class_diagram(*own, related=related, title=title or module.__name__)
+
+
+# ---------------------------------------------------------------------------
+# State diagrams
+# ---------------------------------------------------------------------------
+
+
+class StateDiagram:
+    """States and labelled transitions, renderable as Mermaid, PlantUML or SVG."""
+
+    def __init__(
+        self,
+        states: Sequence[str],
+        transitions: Sequence[tuple[str, str, str]],
+        initial: str,
+        title: str = "",
+        positions: Mapping[str, tuple[float, float]] | None = None,
+    ) -> None:
+        self.states = list(states)
+        self.transitions = list(transitions)
+        self.initial = initial
+        self.title = title
+        self.positions = dict(positions or {})
+
+    def _merged(self) -> dict[tuple[str, str], list[str]]:
+        merged: dict[tuple[str, str], list[str]] = {}
+        for source, label, target in self.transitions:
+            merged.setdefault((source, target), []).append(label)
+        return merged
+
+    def to_mermaid(self) -> str:
+        lines = ["stateDiagram-v2", f"    [*] --> {self.initial}"]
+        for (source, target), labels in self._merged().items():
+            lines.append(f"    {source} --> {target} : {' / '.join(labels)}")
+        return "\n".join(lines)
+
+    def to_plantuml(self) -> str:
+        lines = ["@startuml"]
+        if self.title:
+            lines.append(f"title {self.title}")
+        lines.append(f"[*] --> {self.initial}")
+        for (source, target), labels in self._merged().items():
+            lines.append(f"{source} --> {target} : {' / '.join(labels)}")
+        lines.append("@enduml")
+        return "\n".join(lines)
+
+    def to_svg(self) -> str:
+        """A self-contained SVG: states on the given grid positions (or a circle), labelled arrows."""
+        box_w, box_h = max(110, 8 * max(len(s) for s in self.states) + 20), 34
+        centres: dict[str, tuple[float, float]] = {}
+        if self.positions:
+            missing = [s for s in self.states if s not in self.positions]
+            if missing:
+                raise ValueError(f"no position for the states {missing}")
+            step_x, step_y = box_w + 70, box_h + 70
+            for s in self.states:
+                col, row = self.positions[s]
+                centres[s] = (60 + box_w / 2 + col * step_x, 60 + box_h / 2 + row * step_y)
+        else:
+            radius = max(160.0, len(self.states) * (box_w + 30) / (2 * math.pi))
+            for i, s in enumerate(self.states):
+                angle = 2 * math.pi * i / len(self.states) - math.pi / 2
+                centres[s] = (radius + box_w + 40 + radius * math.cos(angle), radius + 80 + radius * math.sin(angle))
+        width = max(x for x, _ in centres.values()) + box_w / 2 + 60
+        height = max(y for _, y in centres.values()) + box_h / 2 + 60
+        out = _SvgWriter(width, height, self.title)
+        boxes = {s: _Box(s, [], centres[s][0] - box_w / 2, centres[s][1] - box_h / 2, box_w, box_h) for s in self.states}
+        ix, iy = boxes[self.initial].x - 30, boxes[self.initial].y + box_h / 2
+        out.parts.append(f'<circle cx="{ix:.1f}" cy="{iy:.1f}" r="7" fill="#222"/>')
+        out.arrow((ix + 7, iy), (boxes[self.initial].x, iy), "open", dashed=False)
+        merged = self._merged()
+        for (source, target), labels in merged.items():
+            label = " / ".join(labels)
+            if source == target:
+                b = boxes[source]
+                x, y = b.x + b.w, b.y + 6
+                out.parts.append(
+                    f'<path d="M{x:.1f},{y:.1f} c 30,-22 30,42 0,{b.h - 12:.1f}" fill="none" stroke="#333"/>'
+                )
+                out.text(x + 26, y + b.h / 2 - 4, label, size=10, anchor="start")
+                continue
+            shift = 6.0 if (target, source) in merged else 0.0
+            start, end = _clip_pair(boxes[source], boxes[target], shift)
+            out.arrow(start, end, "open", dashed=False)
+            mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
+            out.text(mx, my - 3, label, size=10, halo=True)
+        for box in boxes.values():
+            out.state(box)
+        return out.finish()
+
+
+def state_diagram(
+    transitions: Iterable[tuple[str, str, str]],
+    initial: str,
+    *,
+    title: str = "",
+    positions: Mapping[str, tuple[float, float]] | None = None,
+) -> StateDiagram:
+    """A state diagram from ``(source, event, target)`` rows, e.g. a PackML transition table.
+
+    ``positions`` (state -> (column, row)) places the states on a grid for
+    the SVG; without it they stand on a circle.
+
+    >>> print(state_diagram([("Idle", "Start", "Running"), ("Running", "Stop", "Idle")], "Idle").to_mermaid())
+    stateDiagram-v2
+        [*] --> Idle
+        Idle --> Running : Start
+        Running --> Idle : Stop
+    """
+    rows = [tuple(row) for row in transitions]
+    for row in rows:
+        if len(row) != 3 or not all(isinstance(part, str) and part for part in row):
+            raise ValueError(f"a transition is (source, event, target) as non-empty strings, got {row!r}")
+    states: list[str] = [initial]
+    for source, _, target in rows:
+        for s in (source, target):
+            if s not in states:
+                states.append(s)
+    if not any(initial in (s, t) for s, _, t in rows):
+        raise ValueError(f"the initial state {initial!r} takes part in no transition")
+    return StateDiagram(states, [(s, e, t) for s, e, t in rows], initial, title, positions)
+
+
+# ---------------------------------------------------------------------------
+# SVG drawing
+# ---------------------------------------------------------------------------
+
+_CHAR_W = 7.0
+_LINE_H = 15.0
+_PAD = 8.0
+
+
+@dataclasses.dataclass
+class _Box:
+    name: str
+    lines: list[tuple[str, str]]  # (text, style): style is "", "abstract", "static"
+    x: float
+    y: float
+    w: float
+    h: float
+    heading: str = ""
+    italic: bool = False
+    split: int = 0  # number of field lines (a rule separates fields and operations)
+
+    @classmethod
+    def measure(cls, uml: UmlClass) -> _Box:
+        lines: list[tuple[str, str]] = [(f.text(), "static" if f.static else "") for f in uml.fields]
+        lines += [
+            (op.text() + (" {leaf}" if op.final else ""), "abstract" if op.abstract else "") for op in uml.operations
+        ]
+        heading = f"«{uml.heading}»"
+        widest = max([len(heading), len(uml.name) + 2, *(len(t) for t, _ in lines)])
+        w = widest * _CHAR_W + 2 * _PAD
+        h = 2 * _LINE_H + _PAD + (len(lines) * _LINE_H + _PAD if uml.detailed else 0)
+        return cls(uml.name, lines, 0, 0, w, h, heading, uml.abstract, len(uml.fields))
+
+    @property
+    def centre(self) -> tuple[float, float]:
+        return self.x + self.w / 2, self.y + self.h / 2
+
+
+def _layer(names: list[str], edges: list[tuple[str, str]]) -> list[list[str]]:
+    """Longest-path layers: an edge's source (base, container) sits above its target."""
+    children: dict[str, list[str]] = {n: [] for n in names}
+    for source, target in edges:
+        if source != target and target not in children[source]:
+            children[source].append(target)
+    # Drop the edges that close a cycle (a back-reference), found by depth-first search.
+    state: dict[str, int] = {}
+    kept: dict[str, list[str]] = {n: [] for n in names}
+
+    def visit(n: str) -> None:
+        state[n] = 1
+        for c in children[n]:
+            if state.get(c) == 1:
+                continue
+            kept[n].append(c)
+            if c not in state:
+                visit(c)
+        state[n] = 2
+
+    for n in names:
+        if n not in state:
+            visit(n)
+    depth: dict[str, int] = {n: 0 for n in names}
+    for _ in names:
+        changed = False
+        for n in names:
+            for c in kept[n]:
+                if depth[c] < depth[n] + 1:
+                    depth[c] = depth[n] + 1
+                    changed = True
+        if not changed:
+            break
+    layers: list[list[str]] = [[] for _ in range(max(depth.values()) + 1)]
+    for n in names:
+        layers[depth[n]].append(n)
+    # One barycentre pass: order each layer by the mean position of its parents.
+    parents: dict[str, list[str]] = {n: [] for n in names}
+    for n in names:
+        for c in kept[n]:
+            parents[c].append(n)
+    for i in range(1, len(layers)):
+        above = {n: k for k, n in enumerate(layers[i - 1])}
+
+        def key(n: str, above: dict[str, int] = above) -> float:
+            ps = [above[p] for p in parents[n] if p in above]
+            return sum(ps) / len(ps) if ps else float(len(above))
+
+        layers[i].sort(key=key)
+    return layers
+
+
+def _place(layers: list[list[str]], boxes: dict[str, _Box]) -> tuple[float, float]:
+    gap_x, gap_y, margin = 40.0, 70.0, 20.0
+    widths = [sum(boxes[n].w for n in layer) + gap_x * (len(layer) - 1) for layer in layers]
+    total_w = max(widths) + 2 * margin
+    y = margin + 24
+    for layer, layer_w in zip(layers, widths):
+        x = (total_w - layer_w) / 2
+        tallest = max(boxes[n].h for n in layer)
+        for n in layer:
+            boxes[n].x, boxes[n].y = x, y
+            x += boxes[n].w + gap_x
+        y += tallest + gap_y
+    return total_w, y - gap_y + margin
+
+
+def _clip(box: _Box, toward: tuple[float, float]) -> tuple[float, float]:
+    """Where the line from the box's centre toward a point leaves the box."""
+    cx, cy = box.centre
+    dx, dy = toward[0] - cx, toward[1] - cy
+    if dx == 0 and dy == 0:
+        return cx, cy
+    scale = min(box.w / 2 / abs(dx) if dx else math.inf, box.h / 2 / abs(dy) if dy else math.inf)
+    return cx + dx * scale, cy + dy * scale
+
+
+def _clip_pair(a: _Box, b: _Box, shift: float = 0.0) -> tuple[tuple[float, float], tuple[float, float]]:
+    (ax, ay), (bx, by) = a.centre, b.centre
+    length = math.hypot(bx - ax, by - ay) or 1.0
+    nx, ny = -(by - ay) / length * shift, (bx - ax) / length * shift
+    start = _clip(a, (bx + nx, by + ny))
+    end = _clip(b, (ax + nx, ay + ny))
+    return (start[0] + nx, start[1] + ny), (end[0] + nx, end[1] + ny)
+
+
+class _SvgWriter:
+    def __init__(self, width: float, height: float, title: str) -> None:
+        self.width, self.height = width, height
+        self.parts: list[str] = []
+        self.title = title
+
+    def text(
+        self, x: float, y: float, text: str, *, size: int = 12, anchor: str = "middle", style: str = "",
+        halo: bool = False,
+    ) -> None:
+        attrs = f' font-style="italic"' if style == "abstract" else ""
+        attrs += ' text-decoration="underline"' if style == "static" else ""
+        attrs += ' font-weight="bold"' if style == "bold" else ""
+        attrs += ' paint-order="stroke" stroke="#fff" stroke-width="3"' if halo else ""
+        self.parts.append(
+            f'<text x="{x:.1f}" y="{y:.1f}" font-size="{size}" text-anchor="{anchor}"{attrs}>{html.escape(text)}</text>'
+        )
+
+    def box(self, box: _Box) -> None:
+        fill = "#eef4fb" if "INTERFACE" in box.heading else "#fdf7e3"
+        self.parts.append(
+            f'<rect x="{box.x:.1f}" y="{box.y:.1f}" width="{box.w:.1f}" height="{box.h:.1f}" '
+            f'fill="{fill}" stroke="#333"/>'
+        )
+        cx = box.x + box.w / 2
+        self.text(cx, box.y + _LINE_H, box.heading, size=10)
+        self.text(cx, box.y + 2 * _LINE_H, box.name, style="abstract" if box.italic else "bold")
+        if box.h <= 2 * _LINE_H + _PAD:
+            return
+        y = box.y + 2 * _LINE_H + _PAD
+        self.parts.append(f'<line x1="{box.x:.1f}" y1="{y:.1f}" x2="{box.x + box.w:.1f}" y2="{y:.1f}" stroke="#333"/>')
+        for i, (line, style) in enumerate(box.lines):
+            if i == box.split and 0 < i:
+                ry = y + i * _LINE_H + 3
+                self.parts.append(
+                    f'<line x1="{box.x:.1f}" y1="{ry:.1f}" x2="{box.x + box.w:.1f}" y2="{ry:.1f}" stroke="#999"/>'
+                )
+            self.text(box.x + _PAD, y + (i + 1) * _LINE_H, line, anchor="start", style=style, size=11)
+
+    def state(self, box: _Box) -> None:
+        self.parts.append(
+            f'<rect x="{box.x:.1f}" y="{box.y:.1f}" width="{box.w:.1f}" height="{box.h:.1f}" rx="12" '
+            f'fill="#eef4fb" stroke="#333"/>'
+        )
+        self.text(box.x + box.w / 2, box.y + box.h / 2 + 4, box.name, style="bold")
+
+    def arrow(self, start: tuple[float, float], end: tuple[float, float], head: str, *, dashed: bool) -> None:
+        dash = ' stroke-dasharray="6,4"' if dashed else ""
+        self.parts.append(
+            f'<line x1="{start[0]:.1f}" y1="{start[1]:.1f}" x2="{end[0]:.1f}" y2="{end[1]:.1f}" stroke="#333"{dash}/>'
+        )
+        self.head(end, start, head)
+
+    def head(self, tip: tuple[float, float], tail: tuple[float, float], head: str) -> None:
+        dx, dy = tip[0] - tail[0], tip[1] - tail[1]
+        length = math.hypot(dx, dy) or 1.0
+        ux, uy = dx / length, dy / length
+        px, py = -uy, ux
+        if head in ("triangle", "open"):
+            size = 12.0 if head == "triangle" else 9.0
+            bx, by = tip[0] - ux * size, tip[1] - uy * size
+            left = (bx + px * size / 2, by + py * size / 2)
+            right = (bx - px * size / 2, by - py * size / 2)
+            if head == "triangle":
+                points = f"{tip[0]:.1f},{tip[1]:.1f} {left[0]:.1f},{left[1]:.1f} {right[0]:.1f},{right[1]:.1f}"
+                self.parts.append(f'<polygon points="{points}" fill="#fff" stroke="#333"/>')
+            else:
+                self.parts.append(
+                    f'<polyline points="{left[0]:.1f},{left[1]:.1f} {tip[0]:.1f},{tip[1]:.1f} '
+                    f'{right[0]:.1f},{right[1]:.1f}" fill="none" stroke="#333"/>'
+                )
+        else:  # a diamond at the tip
+            size = 9.0
+            mid = (tip[0] - ux * size, tip[1] - uy * size)
+            back = (tip[0] - 2 * ux * size, tip[1] - 2 * uy * size)
+            left = (mid[0] + px * size / 2, mid[1] + py * size / 2)
+            right = (mid[0] - px * size / 2, mid[1] - py * size / 2)
+            fill = "#333" if head == "filled-diamond" else "#fff"
+            points = " ".join(f"{x:.1f},{y:.1f}" for x, y in (tip, left, back, right))
+            self.parts.append(f'<polygon points="{points}" fill="{fill}" stroke="#333"/>')
+
+    def relation(self, source: _Box, target: _Box, r: Relation, lane: float | None = None) -> None:
+        if lane is None:
+            start, end = _clip_pair(source, target)
+            points = [start, end]
+        else:
+            sy, ty = source.y + min(source.h / 2, 22.0), target.y + min(target.h / 2, 22.0)
+            start, end = (source.x + source.w, sy), (target.x + target.w, ty)
+            points = [start, (lane, sy), (lane, ty), end]
+        dash = ' stroke-dasharray="6,4"' if r.kind == "implements" else ""
+        path = " ".join(f"{x:.1f},{y:.1f}" for x, y in points)
+        self.parts.append(f'<polyline points="{path}" fill="none" stroke="#333"{dash}/>')
+        if r.kind in ("extends", "implements"):
+            # The arrow points at the base / the interface: the source box.
+            self.head(points[0], points[1], "triangle")
+            return
+        if r.kind == "composition":
+            self.head(points[0], points[1], "filled-diamond")
+        elif r.kind == "aggregation":
+            self.head(points[0], points[1], "diamond")
+        self.head(points[-1], points[-2], "open")
+        label = r.label + (f" {r.multiplicity}" if r.multiplicity else "")
+        if label:
+            (ax, ay), (bx, by) = points[len(points) // 2 - 1], points[len(points) // 2]
+            # On a lane at the right edge the label stands to the lane's left.
+            anchor, dx = ("end", -4) if lane is not None else ("start", 4)
+            self.text((ax + bx) / 2 + dx, (ay + by) / 2, label, size=10, anchor=anchor, halo=True)
+
+    def finish(self) -> str:
+        title = f"<title>{html.escape(self.title)}</title>" if self.title else ""
+        head = (
+            f'<svg xmlns="http://www.w3.org/2000/svg" width="{self.width:.0f}" height="{self.height:.0f}" '
+            f'viewBox="0 0 {self.width:.0f} {self.height:.0f}" font-family="DejaVu Sans Mono, Menlo, Consolas, monospace">'
+        )
+        background = f'<rect width="{self.width:.0f}" height="{self.height:.0f}" fill="#fff"/>'
+        return "\n".join([head, title, background, *self.parts, "</svg>"]) + "\n"

@@ -1,0 +1,795 @@
+"""Command: HMI buttons on a dosing skid, with a bounded undo history, macros and an audit trail.
+
+Intent
+------
+
+Turn each operator request ("open the inlet valve", "pump to 60 %", "start
+the mixer") into an object with ``execute`` and ``undo``, so the HMI panel can
+trigger, queue, group, log and take back requests without knowing which
+device each one drives.
+
+The PLC problem
+---------------
+
+A dosing skid has an inlet valve ``XV101``, a dosing pump ``P201`` and a
+mixer ``M301``. The operator panel has one button per request and an UNDO
+button. Each button is a BOOL the HMI holds TRUE for as long as the finger is
+on the screen, so every request must fire on the rising edge only (one
+``R_TRIG`` per button). The operator may undo the last requests in reverse
+order, a "prime skid" button runs several requests as one step and is undone
+as one step, and every executed or undone request is written to an audit trail
+with the task-clock time.
+
+The undo history is a ring buffer of ``HISTORY_DEPTH`` entries: when it is full
+the **oldest entry is dropped** (and the drop is written to the audit trail),
+so the newest requests can always be undone. Each history entry stores the
+command and an ``UndoRecord``: the states the command replaced, pushed by
+``execute`` and popped by ``undo`` like a small stack. Because the undo data
+lives in the history and not in the command, one command may be pressed many
+times, or used by a button and a macro, and every press is undone correctly.
+
+Roles
+-----
+
+- Command → ``ICommand`` (``I_Command``): ``execute`` / ``undo`` with the
+  entry's ``UndoRecord`` (``ST_UndoRecord``), ``name`` and ``undo_steps``.
+- Concrete commands → ``OpenValveCommand`` (``FB_OpenValveCommand``),
+  ``SetPumpSpeedCommand`` (``FB_SetPumpSpeedCommand``),
+  ``StartMixerCommand`` (``FB_StartMixerCommand``), on the abstract base
+  ``ReceiverCommand`` (``FB_ReceiverCommand``).
+- Macro command → ``MacroCommand`` (``FB_MacroCommand``): a bounded list of
+  commands, executed in order and undone in reverse order.
+- Receivers → ``DosingValve`` (``FB_DosingValve``), ``DosingPump``
+  (``FB_DosingPump``), ``Mixer`` (``FB_Mixer``), held by the commands as
+  ``REFERENCE TO`` and injected at FB_init.
+- Invoker → ``CommandPanel`` (``FB_CommandPanel``) with its
+  ``CommandHistory`` (``FB_CommandHistory``) and ``AuditTrail``
+  (``FB_AuditTrail``).
+- Client → ``DosingSkid`` (``PRG_DosingSkid``): creates the receivers and the
+  commands and assigns the commands to the buttons.
+
+IEC 61131-3 mapping
+-------------------
+
+::
+
+    INTERFACE I_Command
+        PROPERTY Name : STRING(24)
+        PROPERTY UndoSteps : INT
+        METHOD Execute  VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+        METHOD Undo     VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+
+    FUNCTION_BLOCK ABSTRACT FB_ReceiverCommand IMPLEMENTS I_Command
+        METHOD PROTECTED PushStep : REFERENCE TO ST_UndoStep
+        METHOD PROTECTED PopStep  : REFERENCE TO ST_UndoStep
+
+    FUNCTION_BLOCK FB_OpenValveCommand EXTENDS FB_ReceiverCommand
+        VAR rValve : REFERENCE TO FB_DosingValve; END_VAR
+        METHOD FB_init : BOOL
+        VAR_INPUT bInitRetains, bInCopyCode : BOOL;
+                  rValve : REFERENCE TO FB_DosingValve; END_VAR
+
+    FUNCTION_BLOCK FB_MacroCommand IMPLEMENTS I_Command
+        VAR aCommands : ARRAY[1..MACRO_CAPACITY] OF I_Command;
+            nCount : INT; END_VAR
+        METHOD Add  VAR_INPUT iCommand : I_Command; END_VAR
+
+    FUNCTION_BLOCK FB_CommandHistory
+        VAR aEntries : ARRAY[1..HISTORY_DEPTH] OF I_Command;
+            aRecords : ARRAY[1..HISTORY_DEPTH] OF ST_UndoRecord;
+            nTop, nCount : INT; END_VAR
+        METHOD Execute  : BOOL  VAR_INPUT iCommand : I_Command; END_VAR
+        METHOD UndoLast : BOOL
+
+    FUNCTION_BLOCK FB_CommandPanel
+        VAR_INPUT aButtons : ARRAY[1..BUTTONS] OF BOOL; bUndo : BOOL; END_VAR
+        VAR aEdges : ARRAY[1..BUTTONS] OF R_TRIG;
+            aCommands : ARRAY[1..BUTTONS] OF I_Command;
+            fbHistory : FB_CommandHistory; fbAudit : FB_AuditTrail; END_VAR
+        METHOD Assign  VAR_INPUT nButton : INT; iCommand : I_Command; END_VAR
+
+When not to use it on a PLC
+---------------------------
+
+When a button only ever does one thing and nothing is undone or logged, a
+plain ``IF R_TRIG.Q THEN valve.Open(); END_IF`` is clearer. Undo is an
+operator convenience, never a safety function: interlocks and emergency stops
+act on the devices directly and are never routed through a command history
+that the operator can roll back. Undo also cannot give back what the process
+did meanwhile (the litres already dosed stay dosed).
+
+References
+----------
+
+- Gamma, Helm, Johnson, Vlissides: *Design Patterns*, Addison-Wesley 1994,
+  "Command" (and "Composite" for the macro).
+- IEC 61131-3:2013 (3rd edition), object-oriented extensions: interfaces,
+  methods, properties, ``REFERENCE TO``; standard function block ``R_TRIG``.
+- Beckhoff InfoSys, TwinCAT 3 PLC: "Interface", "REFERENCE", "FB_init,
+  FB_reinit, FB_exit", "R_TRIG".
+- CODESYS Online Help: "Object: Interface", "Reference", "Method FB_Init,
+  FB_Reinit, FB_Exit".
+"""
+
+from __future__ import annotations
+
+from iecoop import (
+    ABSTRACT,
+    ARRAY,
+    BOOL,
+    INT,
+    PROTECTED,
+    REAL,
+    REFERENCE_TO,
+    STRING,
+    TIME,
+    UDINT,
+    VAR,
+    VAR_INPUT,
+    VAR_OUTPUT,
+    ExceptionCode,
+    FunctionBlock,
+    IecEnum,
+    Interface,
+    PlcException,
+    Program,
+    Struct,
+    T,
+    is_valid_ref,
+    method,
+    prop,
+    ref_assign,
+)
+from iecoop.runtime import Runtime, Task, now_ms
+from iecoop.stdlib import R_TRIG
+
+__all__ = [
+    "AUDIT_DEPTH",
+    "BUTTONS",
+    "HISTORY_DEPTH",
+    "MACRO_CAPACITY",
+    "UNDO_STEPS",
+    "AuditAction",
+    "AuditEntry",
+    "AuditTrail",
+    "CommandHistory",
+    "CommandPanel",
+    "DosingPump",
+    "DosingSkid",
+    "DosingValve",
+    "ICommand",
+    "MacroCommand",
+    "Mixer",
+    "OpenValveCommand",
+    "ReceiverCommand",
+    "SetPumpSpeedCommand",
+    "StartMixerCommand",
+    "UndoRecord",
+    "UndoStep",
+    "main",
+    "skid_state",
+]
+
+#: Entries the undo history keeps; the oldest is dropped when a new one arrives.
+HISTORY_DEPTH = 8
+#: Undo steps one history entry can hold (a leaf command uses one).
+UNDO_STEPS = 6
+#: Commands one macro can hold.
+MACRO_CAPACITY = 4
+#: Entries the audit trail keeps (a ring: the oldest is overwritten).
+AUDIT_DEPTH = 16
+#: Command buttons on the panel (the UNDO button comes on top).
+BUTTONS = 4
+
+
+# ---------------------------------------------------------------------------
+# Receivers: the skid's devices
+# ---------------------------------------------------------------------------
+
+
+class DosingValve(FunctionBlock):
+    """An on/off inlet valve. ST: ``FUNCTION_BLOCK FB_DosingValve``."""
+
+    tag: STRING = VAR("XV", length=12)
+    open_cmd: BOOL = VAR_OUTPUT(False)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, tag: STRING = "XV") -> None:
+        self.tag = tag
+
+    @prop
+    def is_open(self) -> BOOL:
+        return self.open_cmd
+
+    @method
+    def open(self) -> None:
+        self.open_cmd = True
+
+    @method
+    def close(self) -> None:
+        self.open_cmd = False
+
+
+class DosingPump(FunctionBlock):
+    """A speed-controlled dosing pump, setpoint 0..100 %. ST: ``FUNCTION_BLOCK FB_DosingPump``."""
+
+    tag: STRING = VAR("P", length=12)
+    speed_setpoint: REAL = VAR_OUTPUT(0.0)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, tag: STRING = "P") -> None:
+        self.tag = tag
+
+    @prop
+    def speed(self) -> REAL:
+        return self.speed_setpoint
+
+    @method
+    def set_speed(self, percent: REAL) -> None:
+        self.speed_setpoint = max(0.0, min(100.0, percent))
+
+
+class Mixer(FunctionBlock):
+    """The tank mixer. ST: ``FUNCTION_BLOCK FB_Mixer``."""
+
+    tag: STRING = VAR("M", length=12)
+    run_cmd: BOOL = VAR_OUTPUT(False)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, tag: STRING = "M") -> None:
+        self.tag = tag
+
+    @prop
+    def running(self) -> BOOL:
+        return self.run_cmd
+
+    @method
+    def start(self) -> None:
+        self.run_cmd = True
+
+    @method
+    def stop(self) -> None:
+        self.run_cmd = False
+
+
+# ---------------------------------------------------------------------------
+# Command: the interface and the undo data
+# ---------------------------------------------------------------------------
+
+
+class UndoStep(Struct):
+    """One state a command replaced. ST: ``TYPE ST_UndoStep : STRUCT``."""
+
+    flag: BOOL = False
+    value: REAL = 0.0
+
+
+class UndoRecord(Struct):
+    """The undo data of one history entry, used as a stack. ST: ``TYPE ST_UndoRecord : STRUCT``."""
+
+    used: INT = 0
+    steps: ARRAY[UndoStep] = VAR(bounds=(1, UNDO_STEPS))
+
+
+class ICommand(Interface):
+    """An operator request that can be executed and undone. ST: ``INTERFACE I_Command``."""
+
+    @prop
+    def name(self) -> STRING:
+        raise NotImplementedError
+
+    @prop
+    def undo_steps(self) -> INT:
+        raise NotImplementedError
+
+    @method
+    def execute(self, undo: UndoRecord) -> None: ...
+
+    @method
+    def undo(self, undo: UndoRecord) -> None: ...
+
+
+class ReceiverCommand(FunctionBlock, ICommand, abstract=True):
+    """A command acting on one receiver; it pushes one undo step.
+
+    ST: ``FUNCTION_BLOCK ABSTRACT FB_ReceiverCommand IMPLEMENTS I_Command``.
+    """
+
+    @prop
+    def undo_steps(self) -> INT:
+        return 1
+
+    @method(PROTECTED)
+    def push_step(self, undo: UndoRecord) -> UndoStep:
+        if undo.used >= UNDO_STEPS:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"{self.name}: the undo record is full ({UNDO_STEPS} steps)"
+            )
+        undo.used += 1
+        step: UndoStep = undo.steps[undo.used]
+        step.flag, step.value = False, 0.0
+        return step
+
+    @method(PROTECTED)
+    def pop_step(self, undo: UndoRecord) -> UndoStep:
+        if undo.used <= 0:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"{self.name}: undo() without a matching execute()"
+            )
+        step: UndoStep = undo.steps[undo.used]
+        undo.used -= 1
+        return step
+
+    @method(PROTECTED | ABSTRACT)
+    def require_receiver(self) -> None:
+        """Fault (RTSEXCPT_ACCESS_VIOLATION) before touching anything when no receiver was injected."""
+
+    @method(PROTECTED)
+    def missing(self, what: str) -> PlcException:
+        return PlcException(
+            ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
+            f"{type(self).__name__}: no live {what} (not injected, or deleted); "
+            f"pass it to FB_init ({what}=...) or bind()",
+        )
+
+
+class OpenValveCommand(ReceiverCommand):
+    """Open the valve; undo closes it again if it was closed. ST: ``FB_OpenValveCommand``."""
+
+    valve: REFERENCE_TO[DosingValve] = VAR()
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, valve: DosingValve | None = None) -> None:
+        if valve is not None:
+            self.bind(valve)
+
+    @method
+    def bind(self, valve: DosingValve) -> None:
+        ref_assign(self, "valve", valve)
+
+    @method(PROTECTED)
+    def require_receiver(self) -> None:
+        if not is_valid_ref(self, "valve"):
+            raise self.missing("valve")
+
+    @prop
+    def name(self) -> STRING:
+        return f"open {self.valve.tag}" if is_valid_ref(self, "valve") else "open valve"
+
+    @method
+    def execute(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        self.push_step(undo).flag = self.valve.is_open
+        self.valve.open()
+
+    @method
+    def undo(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        if not self.pop_step(undo).flag:
+            self.valve.close()
+
+
+class SetPumpSpeedCommand(ReceiverCommand):
+    """Set the pump to a fixed speed; undo restores the previous speed. ST: ``FB_SetPumpSpeedCommand``."""
+
+    pump: REFERENCE_TO[DosingPump] = VAR()
+    speed: REAL = VAR(0.0)
+
+    def fb_init(
+        self, init_retains: bool, in_copy_code: bool, pump: DosingPump | None = None, speed: REAL = 0.0
+    ) -> None:
+        self.speed = speed
+        if pump is not None:
+            self.bind(pump)
+
+    @method
+    def bind(self, pump: DosingPump) -> None:
+        ref_assign(self, "pump", pump)
+
+    @method(PROTECTED)
+    def require_receiver(self) -> None:
+        if not is_valid_ref(self, "pump"):
+            raise self.missing("pump")
+
+    @prop
+    def name(self) -> STRING:
+        tag = self.pump.tag if is_valid_ref(self, "pump") else "pump"
+        return f"{tag} to {self.speed:g} %"
+
+    @method
+    def execute(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        self.push_step(undo).value = self.pump.speed
+        self.pump.set_speed(self.speed)
+
+    @method
+    def undo(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        self.pump.set_speed(self.pop_step(undo).value)
+
+
+class StartMixerCommand(ReceiverCommand):
+    """Start the mixer; undo stops it again if it was stopped. ST: ``FB_StartMixerCommand``."""
+
+    mixer: REFERENCE_TO[Mixer] = VAR()
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, mixer: Mixer | None = None) -> None:
+        if mixer is not None:
+            self.bind(mixer)
+
+    @method
+    def bind(self, mixer: Mixer) -> None:
+        ref_assign(self, "mixer", mixer)
+
+    @method(PROTECTED)
+    def require_receiver(self) -> None:
+        if not is_valid_ref(self, "mixer"):
+            raise self.missing("mixer")
+
+    @prop
+    def name(self) -> STRING:
+        return f"start {self.mixer.tag}" if is_valid_ref(self, "mixer") else "start mixer"
+
+    @method
+    def execute(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        self.push_step(undo).flag = self.mixer.running
+        self.mixer.start()
+
+    @method
+    def undo(self, undo: UndoRecord) -> None:
+        self.require_receiver()
+        if not self.pop_step(undo).flag:
+            self.mixer.stop()
+
+
+class MacroCommand(FunctionBlock, ICommand):
+    """Several commands as one: executed in order, undone in reverse order.
+
+    ST: ``FUNCTION_BLOCK FB_MacroCommand IMPLEMENTS I_Command``. A macro may
+    hold other macros; ``busy`` guards against a macro that (through others)
+    contains itself, which would otherwise recurse until the stack overflows.
+    """
+
+    label: STRING = VAR("macro", length=24)
+    children: ARRAY[ICommand] = VAR(bounds=(1, MACRO_CAPACITY))
+    count: INT = VAR_OUTPUT(0)
+    busy: BOOL = VAR(False)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, label: STRING = "macro") -> None:
+        self.label = label
+
+    @prop
+    def name(self) -> STRING:
+        return self.label
+
+    @prop
+    def undo_steps(self) -> INT:
+        self.enter("undo_steps")
+        try:
+            return sum(self.children[i].undo_steps for i in range(1, self.count + 1))
+        finally:
+            self.busy = False
+
+    @method
+    def add(self, command: ICommand) -> None:
+        """Append ``command``; refuse a null one, one that contains this macro, a full macro, too many undo steps."""
+        if not command:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"macro {self.label!r}: cannot add a null command"
+            )
+        if command == self:
+            raise PlcException(ExceptionCode.RTSEXCPT_STACK_OVERFLOW, f"macro {self.label!r} cannot contain itself")
+        if self.count >= MACRO_CAPACITY:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"macro {self.label!r} is full ({MACRO_CAPACITY} commands)"
+            )
+        needed = self.undo_steps
+        self.enter("add")  # a macro that contains this one re-enters here: refused before it is added
+        try:
+            needed += command.undo_steps
+        finally:
+            self.busy = False
+        if needed > UNDO_STEPS:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                f"macro {self.label!r} would need {needed} undo steps; a history entry holds {UNDO_STEPS}",
+            )
+        self.count += 1
+        self.children[self.count] = command
+
+    @method
+    def execute(self, undo: UndoRecord) -> None:
+        needed = self.undo_steps
+        if undo.used + needed > UNDO_STEPS:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                f"macro {self.label!r} needs {needed} undo steps, the record has {UNDO_STEPS - undo.used} free",
+            )
+        self.enter("execute")
+        try:
+            for i in range(1, self.count + 1):
+                self.children[i].execute(undo)
+        finally:
+            self.busy = False
+
+    @method
+    def undo(self, undo: UndoRecord) -> None:
+        self.enter("undo")
+        try:
+            for i in range(self.count, 0, -1):
+                self.children[i].undo(undo)
+        finally:
+            self.busy = False
+
+    @method(PROTECTED)
+    def enter(self, what: str) -> None:
+        if self.busy:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_STACK_OVERFLOW, f"macro {self.label!r} contains itself ({what} re-entered)"
+            )
+        self.busy = True
+
+
+# ---------------------------------------------------------------------------
+# Invoker: undo history, audit trail, HMI panel
+# ---------------------------------------------------------------------------
+
+
+class CommandHistory(FunctionBlock):
+    """The bounded undo history: a ring of (command, undo record) entries.
+
+    ST: ``FUNCTION_BLOCK FB_CommandHistory``. When all ``HISTORY_DEPTH``
+    entries are used, ``execute`` overwrites the oldest one (its undo is
+    lost) and returns TRUE; ``dropped`` counts those losses.
+    """
+
+    entries: ARRAY[ICommand] = VAR(bounds=(1, HISTORY_DEPTH))
+    records: ARRAY[UndoRecord] = VAR(bounds=(1, HISTORY_DEPTH))
+    scratch: UndoRecord = VAR()
+    top: INT = VAR(0)
+    count: INT = VAR_OUTPUT(0)
+    dropped: UDINT = VAR_OUTPUT(0)
+
+    @prop
+    def full(self) -> BOOL:
+        return self.count == HISTORY_DEPTH
+
+    @prop
+    def newest(self) -> ICommand:
+        self.require_entries("newest")
+        return self.entries[self.top]
+
+    @prop
+    def oldest(self) -> ICommand:
+        self.require_entries("oldest")
+        return self.entries[(self.top - self.count) % HISTORY_DEPTH + 1]
+
+    @method
+    def execute(self, command: ICommand) -> BOOL:
+        """Execute ``command`` and record it; TRUE when the oldest entry had to be dropped.
+
+        The command runs on a scratch record first, so a command that faults
+        leaves the history as it was.
+        """
+        self.scratch.used = 0
+        command.execute(self.scratch)
+        slot = self.top % HISTORY_DEPTH + 1
+        self.records[slot] = self.scratch
+        self.entries[slot] = command
+        self.top = slot
+        if self.count == HISTORY_DEPTH:
+            self.dropped += 1
+            return True
+        self.count += 1
+        return False
+
+    @method
+    def undo_last(self) -> BOOL:
+        """Undo the newest entry; FALSE when there is nothing to undo."""
+        if self.count == 0:
+            return False
+        self.entries[self.top].undo(self.records[self.top])
+        self.top = (self.top - 2) % HISTORY_DEPTH + 1
+        self.count -= 1
+        return True
+
+    @method(PROTECTED)
+    def require_entries(self, what: str) -> None:
+        if self.count == 0:
+            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"CommandHistory.{what}: the history is empty")
+
+
+class AuditAction(IecEnum):
+    """What happened to a request. ST: ``TYPE E_AuditAction : (...) INT``."""
+
+    EXECUTED = 1
+    UNDONE = 2
+    DROPPED = 3
+    REFUSED = 4
+
+
+class AuditEntry(Struct):
+    """One audit line. ST: ``TYPE ST_AuditEntry : STRUCT``."""
+
+    at: TIME = 0
+    action: AuditAction = AuditAction.EXECUTED
+    command: STRING = VAR("", length=24)
+
+
+class AuditTrail(FunctionBlock):
+    """A bounded log of requests with the task-clock time; the oldest line is overwritten.
+
+    ST: ``FUNCTION_BLOCK FB_AuditTrail``.
+    """
+
+    lines: ARRAY[AuditEntry] = VAR(bounds=(1, AUDIT_DEPTH))
+    newest: INT = VAR(0)
+    count: INT = VAR_OUTPUT(0)
+    total: UDINT = VAR_OUTPUT(0)
+
+    @method
+    def log(self, action: AuditAction, command: STRING) -> None:
+        self.newest = self.newest % AUDIT_DEPTH + 1
+        line: AuditEntry = self.lines[self.newest]
+        line.at, line.action, line.command = now_ms(), action, command
+        self.count = min(self.count + 1, AUDIT_DEPTH)
+        self.total += 1
+
+    @method
+    def entry(self, index: INT) -> AuditEntry:
+        """A copy of line ``index``: 1 is the oldest line kept, ``count`` the newest."""
+        if not 1 <= index <= self.count:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"AuditTrail.entry({index}): the trail holds lines 1..{self.count}"
+            )
+        line: AuditEntry = self.lines[(self.newest - self.count + index - 1) % AUDIT_DEPTH + 1]
+        return AuditEntry(at=line.at, action=line.action, command=line.command)
+
+
+class CommandPanel(FunctionBlock):
+    """The HMI panel: one R_TRIG per button, so a held button executes once.
+
+    ST: ``FUNCTION_BLOCK FB_CommandPanel``. A button without a command and an
+    UNDO with an empty history are refused and logged, never a fault.
+    """
+
+    buttons: ARRAY[BOOL] = VAR_INPUT(bounds=(1, BUTTONS))
+    undo_button: BOOL = VAR_INPUT(False)
+    edges: ARRAY[R_TRIG] = VAR(bounds=(1, BUTTONS))
+    undo_edge: R_TRIG = VAR()
+    commands: ARRAY[ICommand] = VAR(bounds=(1, BUTTONS))
+    history: CommandHistory = VAR()
+    audit: AuditTrail = VAR()
+
+    @method
+    def assign(self, button: INT, command: ICommand) -> None:
+        if not 1 <= button <= BUTTONS:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"CommandPanel.assign: no button {button} (1..{BUTTONS})"
+            )
+        if not command:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"CommandPanel.assign: button {button} got a null command"
+            )
+        self.commands[button] = command
+
+    def body(self) -> None:
+        for i in range(1, BUTTONS + 1):
+            edge: R_TRIG = self.edges[i]
+            edge(CLK=self.buttons[i])
+            if edge.Q:
+                self.press(i)
+        self.undo_edge(CLK=self.undo_button)
+        if self.undo_edge.Q:
+            self.undo_newest()
+
+    @method(PROTECTED)
+    def press(self, button: INT) -> None:
+        command = self.commands[button]
+        if not command:
+            self.audit.log(AuditAction.REFUSED, f"button {button} unassigned")
+            return
+        if self.history.full:
+            self.audit.log(AuditAction.DROPPED, self.history.oldest.name)
+        self.history.execute(command)
+        self.audit.log(AuditAction.EXECUTED, command.name)
+
+    @method(PROTECTED)
+    def undo_newest(self) -> None:
+        if self.history.count == 0:
+            self.audit.log(AuditAction.REFUSED, "undo: history empty")
+            return
+        name = self.history.newest.name
+        self.history.undo_last()
+        self.audit.log(AuditAction.UNDONE, name)
+
+
+# ---------------------------------------------------------------------------
+# Client: the skid program
+# ---------------------------------------------------------------------------
+
+
+class DosingSkid(Program):
+    """Devices, commands and panel of the skid. ST: ``PROGRAM PRG_DosingSkid``.
+
+    Buttons: 1 open XV101, 2 P201 to 60 %, 3 start M301, 4 prime skid
+    (P201 to 25 %, open XV101, start M301). FB_init of the program binds
+    the commands to their sibling devices (in ST:
+    ``fbOpenInlet : FB_OpenValveCommand(rValve := fbInlet);``).
+    """
+
+    inlet: DosingValve = VAR(fb_init={"tag": "XV101"})
+    pump: DosingPump = VAR(fb_init={"tag": "P201"})
+    mixer: Mixer = VAR(fb_init={"tag": "M301"})
+    open_inlet: OpenValveCommand = VAR()
+    pump_60: SetPumpSpeedCommand = VAR(fb_init={"speed": 60.0})
+    pump_25: SetPumpSpeedCommand = VAR(fb_init={"speed": 25.0})
+    start_mixer: StartMixerCommand = VAR()
+    prime: MacroCommand = VAR(fb_init={"label": "prime skid"})
+    panel: CommandPanel = VAR()
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool) -> None:
+        self.open_inlet.bind(self.inlet)
+        self.pump_60.bind(self.pump)
+        self.pump_25.bind(self.pump)
+        self.start_mixer.bind(self.mixer)
+        self.prime.add(self.pump_25)
+        self.prime.add(self.open_inlet)
+        self.prime.add(self.start_mixer)
+        self.panel.assign(1, self.open_inlet)
+        self.panel.assign(2, self.pump_60)
+        self.panel.assign(3, self.start_mixer)
+        self.panel.assign(4, self.prime)
+
+    def body(self) -> None:
+        self.panel()
+
+
+def main() -> None:
+    """Press the skid's buttons (each held several cycles), undo four times, print the audit trail.
+
+    >>> main()
+    t=  10 ms  EXECUTED  P201 to 60 %
+    t=  50 ms  EXECUTED  prime skid
+    t=  90 ms  EXECUTED  open XV101
+    t= 120 ms  UNDONE    open XV101
+    t= 150 ms  UNDONE    prime skid
+    t= 180 ms  UNDONE    P201 to 60 %
+    t= 210 ms  REFUSED   undo: history empty
+    after the buttons: XV101 open=True, P201 25 %, M301 running=True
+    after the undos:   XV101 open=False, P201 0 %, M301 running=False
+    """
+    skid = DosingSkid()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), skid)
+    panel = skid.panel
+    rt.run(cycles=1)
+
+    def hold(button: int, cycles: int) -> None:
+        panel.buttons[button] = True
+        rt.run(cycles=cycles)
+        panel.buttons[button] = False
+        rt.run(cycles=1)
+
+    def undo() -> None:
+        panel.undo_button = True
+        rt.run(cycles=2)
+        panel.undo_button = False
+        rt.run(cycles=1)
+
+    hold(2, 3)
+    hold(4, 3)
+    hold(1, 2)
+    pressed = skid_state(skid)
+    for _ in range(4):
+        undo()
+    for i in range(1, panel.audit.count + 1):
+        line = panel.audit.entry(i)
+        print(f"t={line.at:4d} ms  {AuditAction(line.action).name:<9} {line.command}")
+    print(f"after the buttons: {pressed}")
+    print(f"after the undos:   {skid_state(skid)}")
+
+
+def skid_state(skid: DosingSkid) -> str:
+    """The receivers' state in one line, for the HMI status bar."""
+    return (
+        f"{skid.inlet.tag} open={skid.inlet.is_open}, {skid.pump.tag} {skid.pump.speed:g} %, "
+        f"{skid.mixer.tag} running={skid.mixer.running}"
+    )

@@ -1,0 +1,840 @@
+"""Adapter: one drive interface over a Modbus VFD, a PLCopen axis and a DOL motor.
+
+Intent
+------
+
+Convert the interface of a class into another interface clients expect.
+Adapter lets classes work together that could not otherwise because of
+incompatible interfaces.
+
+The PLC problem
+---------------
+
+A line has three kinds of motors, each with its own way of being driven:
+
+- a frequency converter on Modbus, commanded by a control WORD and a speed
+  reference register and answering with a status WORD, where every flag is
+  one bit;
+- a servo axis behind PLCopen motion blocks, where each command is an
+  Execute edge followed by Busy, then Done (or InVelocity) or Error, several
+  cycles later;
+- a direct-on-line motor: one contactor coil out, one auxiliary contact and
+  one overload relay contact in.
+
+The line sequence only wants "start, stop, set the speed, is it running, is
+it faulted". One adapter per device kind turns that into the device's own
+protocol, and advances its handshake in a ``Cyclic`` method called every
+scan; the sequence talks to an ``ARRAY[1..3] OF I_Drive`` and never learns
+which is which. Each device's side is simulated as well (drive ramps, power
+stage delays, contactor pull-in), so the handshakes really take cycles.
+
+iecoop reads a WORD as an integer and has no ``wStatus.3`` bit syntax, so the
+adapters test and set bits with masks: ``(status_word & SW_FAULT) != 0`` is
+ST's ``wStatus.3``, and ``control_word | CW_RUN`` sets ``wControl.0``.
+
+Roles
+-----
+
+- Target → ``IDrive`` (``I_Drive``).
+- Adaptees → the devices: ``VfdSim`` (``FB_VfdSim``, the Modbus drive's
+  registers), ``AxisSim`` with ``MC_Power``, ``MC_MoveVelocity``,
+  ``MC_Stop``, ``MC_Reset`` over ``AxisRef`` (``AXIS_REF``), and
+  ``ContactorSim`` (``FB_ContactorSim``, the wired contactor).
+- Adapters → ``VfdDrive`` (``FB_VfdDrive``), ``AxisDrive``
+  (``FB_AxisDrive``), ``ContactorDrive`` (``FB_ContactorDrive``).
+- Client → ``DriveLine`` (``PROGRAM DriveLine``).
+
+IEC 61131-3 mapping
+-------------------
+
+::
+
+    INTERFACE I_Drive
+        METHOD Start    METHOD Stop    METHOD Reset    METHOD Cyclic
+        METHOD SetSpeed : BOOL  VAR_INPUT fRpm : REAL; END_VAR
+        PROPERTY Running : BOOL    PROPERTY Fault : BOOL
+        PROPERTY ActualSpeed : REAL
+
+    FUNCTION_BLOCK FB_VfdDrive IMPLEMENTS I_Drive
+        VAR_INPUT  wStatus, wSpeedAct : WORD; END_VAR    // Modbus input registers
+        VAR_OUTPUT wControl, wSpeedRef : WORD; END_VAR   // Modbus holding registers
+        // Running := wStatus.1;  Fault := wStatus.3;
+
+    FUNCTION_BLOCK FB_AxisDrive IMPLEMENTS I_Drive
+        VAR stAxis : AXIS_REF; fbPower : MC_Power; fbMove : MC_MoveVelocity;
+            fbStop : MC_Stop; fbReset : MC_Reset; eStep : E_AxisStep; END_VAR
+
+    FUNCTION_BLOCK FB_ContactorDrive IMPLEMENTS I_Drive
+        VAR_INPUT  bAuxK1, bOverloadOk : BOOL; END_VAR   // %I*
+        VAR_OUTPUT bCoilK1 : BOOL; END_VAR                // %Q*
+        VAR tonFeedback : TON; END_VAR
+
+When not to use it on a PLC
+---------------------------
+
+When there is one device kind, or when the common interface would have to
+hide what matters: a servo's position, a VFD's torque limit. An adapter that
+throws away the device's strengths to fit a lowest common denominator makes
+the line worse; give such devices a richer interface (``I_Axis EXTENDS
+I_Drive``) instead. And no adapter should hide a safety function: safe
+torque off stays wired, not behind ``Stop()``.
+
+References
+----------
+
+- Gamma, Helm, Johnson, Vlissides: *Design Patterns*, Addison-Wesley 1994,
+  "Adapter".
+- IEC 61131-3:2013 (3rd ed.), interfaces, methods and properties; bit
+  access on ANY_BIT (``wStatus.3``).
+- PLCopen: *Function blocks for motion control*, Part 1, version 2.0
+  (MC_Power, MC_MoveVelocity, MC_Stop, MC_Reset; the Execute / Busy /
+  Done / Error behaviour).
+- Beckhoff InfoSys: "Tc2_MC2: MC_Power", "MC_MoveVelocity", "MC_Stop";
+  "Bit access to variables".
+- CODESYS Online Help: "Bit access in variables", "Object: Interface".
+- Modbus Organization: *MODBUS Application Protocol Specification* V1.1b3
+  (holding and input registers).
+"""
+
+from __future__ import annotations
+
+from iecoop import (
+    ARRAY,
+    BOOL,
+    LREAL,
+    PROTECTED,
+    REAL,
+    STRING,
+    UDINT,
+    VAR,
+    VAR_IN_OUT,
+    VAR_INPUT,
+    VAR_OUTPUT,
+    WORD,
+    FunctionBlock,
+    IecEnum,
+    Interface,
+    Program,
+    Struct,
+    T,
+    method,
+    prop,
+)
+from iecoop.runtime import Runtime, Task, now_ms
+from iecoop.stdlib import R_TRIG, TON
+
+__all__ = [
+    "AxisDrive",
+    "AxisRef",
+    "AxisSim",
+    "AxisStep",
+    "ContactorDrive",
+    "ContactorSim",
+    "DriveLine",
+    "ERR_AXIS_NOT_READY",
+    "ERR_DRIVE_TRIP",
+    "ERR_VELOCITY_RANGE",
+    "IDrive",
+    "MC_MoveVelocity",
+    "MC_Power",
+    "MC_Reset",
+    "MC_Stop",
+    "VfdDrive",
+    "VfdSim",
+    "main",
+]
+
+# ---------------------------------------------------------------------------
+# Register layout of the Modbus VFD: one bit per flag (ST: wControl.0, wStatus.3, ...)
+# ---------------------------------------------------------------------------
+
+CW_RUN = 1 << 0  #: wControl.0: run
+CW_FAULT_RESET = 1 << 7  #: wControl.7: fault reset, acted on at the rising edge
+SW_READY = 1 << 0  #: wStatus.0: ready (no fault)
+SW_RUNNING = 1 << 1  #: wStatus.1: output stage running
+SW_AT_SPEED = 1 << 2  #: wStatus.2: output frequency at the reference
+SW_FAULT = 1 << 3  #: wStatus.3: drive tripped
+RPM_PER_HZ = 30.0  #: a 4-pole motor: 1500 rpm at 50 Hz
+VFD_MAX_RPM = 1800.0  #: 60 Hz
+
+# Simulated error IDs of the motion blocks (ErrorID : UDINT).
+ERR_AXIS_NOT_READY = 0x4221
+ERR_VELOCITY_RANGE = 0x4358
+ERR_DRIVE_TRIP = 0x4550
+
+
+def _bit(word: WORD, mask: WORD) -> BOOL:
+    """``word.n`` in ST: is the bit under ``mask`` set."""
+    return (word & mask) != 0
+
+
+class IDrive(Interface):
+    """``INTERFACE I_Drive``: what the line sequence needs from any motor."""
+
+    @method
+    def start(self) -> None: ...
+
+    @method
+    def stop(self) -> None: ...
+
+    @method
+    def set_speed(self, rpm: REAL) -> BOOL:
+        """Accept a speed setpoint; FALSE if this drive cannot run at it."""
+        raise NotImplementedError
+
+    @method
+    def reset(self) -> None:
+        """Acknowledge a fault."""
+        ...
+
+    @method
+    def cyclic(self) -> None:
+        """Advance the device handshake; call once per scan."""
+        ...
+
+    @prop
+    def running(self) -> BOOL:
+        raise NotImplementedError
+
+    @prop
+    def fault(self) -> BOOL:
+        raise NotImplementedError
+
+    @prop
+    def actual_speed(self) -> REAL:
+        raise NotImplementedError
+
+
+# ---------------------------------------------------------------------------
+# (a) Modbus VFD: control / status words
+# ---------------------------------------------------------------------------
+
+
+class VfdSim(FunctionBlock):
+    """The drive's side of the Modbus link: ``FUNCTION_BLOCK FB_VfdSim``.
+
+    A RUN bit magnetises the motor for 50 ms, then the frequency ramps
+    toward the reference at ``ramp_hz_per_s``. ``trip`` simulates an
+    overcurrent trip; a rising FAULT_RESET bit clears it once ``trip`` is
+    gone. Frequencies are in 0.1 Hz, as in the registers.
+    """
+
+    control_word: WORD = VAR_INPUT(0)
+    speed_ref: WORD = VAR_INPUT(0)
+    trip: BOOL = VAR_INPUT(False)
+    ramp_hz_per_s: REAL = VAR_INPUT(100.0)
+    status_word: WORD = VAR_OUTPUT(SW_READY)
+    speed_act: WORD = VAR_OUTPUT(0)
+    frequency: LREAL = VAR(0.0)
+    faulted: BOOL = VAR(False)
+    last_ms: UDINT = VAR(0)
+    magnetise: TON = VAR()
+    reset_edge: R_TRIG = VAR()
+
+    def body(self) -> None:
+        now = now_ms()
+        step = self.ramp_hz_per_s * 10.0 * (now - self.last_ms) / 1000.0
+        self.last_ms = now
+        self.reset_edge(CLK=_bit(self.control_word, CW_FAULT_RESET))
+        if self.trip:
+            self.faulted = True
+        elif self.reset_edge.Q:
+            self.faulted = False
+        run = _bit(self.control_word, CW_RUN) and not self.faulted
+        self.magnetise(IN=run, PT=T("50ms"))
+        if self.faulted:
+            self.frequency = 0.0  # the output stage is off: the motor coasts
+        else:
+            target = float(self.speed_ref) if self.magnetise.Q else 0.0
+            if self.frequency < target:
+                self.frequency = min(target, self.frequency + step)
+            else:
+                self.frequency = max(target, self.frequency - step)
+        status = 0 if self.faulted else SW_READY
+        if self.magnetise.Q or self.frequency > 0.0:
+            status |= SW_RUNNING
+        if run and self.magnetise.Q and abs(self.frequency - self.speed_ref) < 5.0:
+            status |= SW_AT_SPEED
+        if self.faulted:
+            status |= SW_FAULT
+        self.status_word = status
+        self.speed_act = round(self.frequency)
+
+
+class VfdDrive(FunctionBlock, IDrive):
+    """Adapter for the Modbus VFD: ``FUNCTION_BLOCK FB_VfdDrive IMPLEMENTS I_Drive``.
+
+    The program maps the registers every scan: ``status_word`` and
+    ``speed_act`` in (input registers 30001-30002), ``control_word`` and
+    ``speed_ref`` out (holding registers 40001-40002). A fault drops the run
+    command, so a reset never restarts the motor by itself.
+    """
+
+    status_word: WORD = VAR_INPUT(0)
+    speed_act: WORD = VAR_INPUT(0)
+    control_word: WORD = VAR_OUTPUT(0)
+    speed_ref: WORD = VAR_OUTPUT(0)
+    run_request: BOOL = VAR(False)
+    reset_request: BOOL = VAR(False)
+
+    @method
+    def start(self) -> None:
+        self.run_request = True
+
+    @method
+    def stop(self) -> None:
+        self.run_request = False
+
+    @method
+    def set_speed(self, rpm: REAL) -> BOOL:
+        if not 0.0 <= rpm <= VFD_MAX_RPM:
+            return False
+        self.speed_ref = round(rpm / RPM_PER_HZ * 10.0)  # 0.1 Hz units
+        return True
+
+    @method
+    def reset(self) -> None:
+        self.reset_request = True
+
+    @method
+    def cyclic(self) -> None:
+        if self.fault:
+            self.run_request = False
+        word = 0
+        if self.run_request:
+            word |= CW_RUN  # wControl.0 := TRUE
+        if self.reset_request:
+            word |= CW_FAULT_RESET  # one scan high: the drive acts on the edge
+            self.reset_request = False
+        self.control_word = word
+
+    @prop
+    def running(self) -> BOOL:
+        return _bit(self.status_word, SW_RUNNING)  # wStatus.1
+
+    @prop
+    def fault(self) -> BOOL:
+        return _bit(self.status_word, SW_FAULT)  # wStatus.3
+
+    @prop
+    def actual_speed(self) -> REAL:
+        return self.speed_act / 10.0 * RPM_PER_HZ
+
+
+# ---------------------------------------------------------------------------
+# (b) PLCopen-style axis: Execute / Busy / Done / Error over several cycles
+# ---------------------------------------------------------------------------
+
+
+class AxisRef(Struct):
+    """Stands in for ``AXIS_REF``: the commands the motion blocks post and the state the axis reports."""
+
+    cmd_power: BOOL = False
+    cmd_move: BOOL = False
+    cmd_stop: BOOL = False
+    cmd_reset: BOOL = False
+    cmd_velocity: LREAL = 0.0
+    command: UDINT = 0
+    powered: BOOL = False
+    act_velocity: LREAL = 0.0
+    error: BOOL = False
+    error_id: UDINT = 0
+    max_velocity: LREAL = 3000.0
+    accel: LREAL = 6000.0
+
+
+class AxisSim(FunctionBlock):
+    """The motion kernel's side: ``FUNCTION_BLOCK FB_AxisSim`` (``VAR_IN_OUT Axis : AXIS_REF``).
+
+    The power stage is ready 30 ms after enable; the velocity ramps at
+    ``Axis.accel`` rpm/s. ``trip`` raises a drive error that MC_Reset clears
+    once ``trip`` is gone.
+    """
+
+    Axis: AxisRef = VAR_IN_OUT()
+    trip: BOOL = VAR_INPUT(False)
+    power_on: TON = VAR()
+    last_ms: UDINT = VAR(0)
+
+    def body(self) -> None:
+        axis = self.Axis
+        now = now_ms()
+        step = axis.accel * (now - self.last_ms) / 1000.0
+        self.last_ms = now
+        if self.trip and not axis.error:
+            axis.error = True
+            axis.error_id = ERR_DRIVE_TRIP
+        if axis.cmd_reset and axis.error and not self.trip:
+            axis.error = False
+            axis.error_id = 0
+        self.power_on(IN=axis.cmd_power and not axis.error, PT=T("30ms"))
+        axis.powered = self.power_on.Q
+        if axis.error or not axis.powered:
+            axis.cmd_move = False
+            axis.act_velocity = 0.0
+            return
+        target = axis.cmd_velocity if axis.cmd_move and not axis.cmd_stop else 0.0
+        if axis.act_velocity < target:
+            axis.act_velocity = min(target, axis.act_velocity + step)
+        else:
+            axis.act_velocity = max(target, axis.act_velocity - step)
+
+
+class MC_Power(FunctionBlock):
+    """PLCopen ``MC_Power`` (level-triggered): ``Status`` follows the power stage."""
+
+    Axis: AxisRef = VAR_IN_OUT()
+    Enable: BOOL = VAR_INPUT(False)
+    Status: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    ErrorID: UDINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        self.Axis.cmd_power = self.Enable
+        self.Status = self.Enable and self.Axis.powered
+        self.Error = self.Enable and self.Axis.error
+        self.ErrorID = self.Axis.error_id if self.Error else 0
+
+
+class MC_MoveVelocity(FunctionBlock):
+    """PLCopen ``MC_MoveVelocity``: an Execute edge starts the move; Busy until aborted or failed.
+
+    ``InVelocity`` is the Done of a continuous move. A later command on the
+    same axis (another move, MC_Stop) sets ``CommandAborted``. Error and
+    CommandAborted are held while Execute is TRUE.
+    """
+
+    Axis: AxisRef = VAR_IN_OUT()
+    Execute: BOOL = VAR_INPUT(False)
+    Velocity: LREAL = VAR_INPUT(0.0)
+    InVelocity: BOOL = VAR_OUTPUT(False)
+    Busy: BOOL = VAR_OUTPUT(False)
+    CommandAborted: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    ErrorID: UDINT = VAR_OUTPUT(0)
+    edge: R_TRIG = VAR()
+    my_command: UDINT = VAR(0)
+
+    def body(self) -> None:
+        axis = self.Axis
+        self.edge(CLK=self.Execute)
+        if self.edge.Q:
+            self.InVelocity = self.CommandAborted = self.Error = False
+            self.ErrorID = 0
+            if not axis.powered or axis.error or axis.cmd_stop:
+                self.fail(ERR_AXIS_NOT_READY)
+            elif abs(self.Velocity) > axis.max_velocity:
+                self.fail(ERR_VELOCITY_RANGE)
+            else:
+                axis.command += 1
+                self.my_command = axis.command
+                axis.cmd_velocity = self.Velocity
+                axis.cmd_move = True
+                self.Busy = True
+        if self.Busy:
+            if axis.error:
+                self.fail(axis.error_id)
+            elif axis.command != self.my_command:
+                self.Busy = False
+                self.InVelocity = False
+                self.CommandAborted = True
+            else:
+                self.InVelocity = abs(axis.act_velocity - axis.cmd_velocity) < 1.0
+        if not self.Execute and not self.Busy:
+            self.InVelocity = self.CommandAborted = self.Error = False
+            self.ErrorID = 0
+
+    @method(PROTECTED)
+    def fail(self, error_id: UDINT) -> None:
+        self.Busy = False
+        self.InVelocity = False
+        self.Error = True
+        self.ErrorID = error_id
+
+
+class MC_Stop(FunctionBlock):
+    """PLCopen ``MC_Stop``: decelerate to standstill; Done at zero velocity.
+
+    While Execute stays TRUE the axis is held in Stopping and refuses moves.
+    """
+
+    Axis: AxisRef = VAR_IN_OUT()
+    Execute: BOOL = VAR_INPUT(False)
+    Done: BOOL = VAR_OUTPUT(False)
+    Busy: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    ErrorID: UDINT = VAR_OUTPUT(0)
+    edge: R_TRIG = VAR()
+    holding: BOOL = VAR(False)
+
+    def body(self) -> None:
+        axis = self.Axis
+        self.edge(CLK=self.Execute)
+        if self.edge.Q:
+            self.Done = self.Error = False
+            self.ErrorID = 0
+            axis.command += 1
+            axis.cmd_stop = True
+            axis.cmd_move = False
+            self.holding = True
+            self.Busy = True
+        if self.Busy:
+            if axis.error:
+                self.Busy = False
+                self.Error = True
+                self.ErrorID = axis.error_id
+            elif axis.act_velocity == 0.0:
+                self.Busy = False
+                self.Done = True
+        if not self.Execute:
+            if self.holding and not self.Busy:
+                axis.cmd_stop = False
+                self.holding = False
+            if not self.Busy:
+                self.Done = self.Error = False
+                self.ErrorID = 0
+
+
+class MC_Reset(FunctionBlock):
+    """PLCopen ``MC_Reset``: clear an axis error; Done once the axis reports none."""
+
+    Axis: AxisRef = VAR_IN_OUT()
+    Execute: BOOL = VAR_INPUT(False)
+    Done: BOOL = VAR_OUTPUT(False)
+    Busy: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    edge: R_TRIG = VAR()
+
+    def body(self) -> None:
+        self.edge(CLK=self.Execute)
+        if self.edge.Q:
+            self.Done = self.Error = False
+            self.Axis.cmd_reset = True
+            self.Busy = True
+        elif self.Busy and not self.Axis.error:
+            self.Axis.cmd_reset = False
+            self.Busy = False
+            self.Done = True
+        if not self.Execute and not self.Busy:
+            self.Done = False
+
+
+class AxisStep(IecEnum):
+    """``TYPE E_AxisStep : (IDLE, POWERING, MOVING, STOPPING, FAULTED, RESETTING) INT; END_TYPE``"""
+
+    IDLE = 0
+    POWERING = 1
+    MOVING = 2
+    STOPPING = 3
+    FAULTED = 4
+    RESETTING = 5
+
+
+class AxisDrive(FunctionBlock, IDrive):
+    """Adapter for a PLCopen axis: ``FUNCTION_BLOCK FB_AxisDrive IMPLEMENTS I_Drive``.
+
+    ``Cyclic`` is a step chain over the motion blocks: power on, move at
+    velocity (re-triggered by an Execute edge when the setpoint changes),
+    stop, reset. ``axis`` is its ``AXIS_REF``, linked to the axis by the
+    program. A handshake that hangs for 1 s is a fault.
+    """
+
+    axis: AxisRef = VAR()
+    power: MC_Power = VAR()
+    move: MC_MoveVelocity = VAR()
+    halt: MC_Stop = VAR()
+    ack: MC_Reset = VAR()
+    step: AxisStep = VAR(AxisStep.IDLE)
+    run_request: BOOL = VAR(False)
+    reset_request: BOOL = VAR(False)
+    setpoint: LREAL = VAR(0.0)
+    retrigger: BOOL = VAR(False)
+    error_id: UDINT = VAR_OUTPUT(0)
+    watchdog: TON = VAR()
+
+    @method
+    def start(self) -> None:
+        self.run_request = True
+
+    @method
+    def stop(self) -> None:
+        self.run_request = False
+
+    @method
+    def set_speed(self, rpm: REAL) -> BOOL:
+        if not 0.0 <= rpm <= self.axis.max_velocity:
+            return False
+        if rpm != self.setpoint:
+            self.setpoint = rpm
+            self.retrigger = self.step == AxisStep.MOVING
+        return True
+
+    @method
+    def reset(self) -> None:
+        self.reset_request = True
+
+    @method
+    def cyclic(self) -> None:
+        if self.step == AxisStep.IDLE and self.run_request:
+            self.step = AxisStep.POWERING
+        enable = self.step in (AxisStep.POWERING, AxisStep.MOVING, AxisStep.STOPPING)
+        self.power(Axis=self.axis, Enable=enable)
+        move_execute = halt_execute = ack_execute = False
+        if self.step == AxisStep.POWERING:
+            if not self.run_request:
+                self.step = AxisStep.IDLE
+            elif self.power.Status:
+                self.step = AxisStep.MOVING
+        if self.step == AxisStep.MOVING:
+            if not self.run_request:
+                self.step = AxisStep.STOPPING
+            elif self.retrigger:
+                self.retrigger = False  # Execute low for one scan: the next scan is a new edge
+            else:
+                move_execute = True
+        if self.step == AxisStep.STOPPING:
+            halt_execute = not self.halt.Done
+            if self.halt.Done:
+                self.step = AxisStep.IDLE
+        if self.step == AxisStep.RESETTING:
+            ack_execute = not self.ack.Done
+            if self.ack.Done:
+                self.step = AxisStep.IDLE
+        elif self.step == AxisStep.FAULTED and self.reset_request:
+            self.step = AxisStep.RESETTING
+            ack_execute = True
+        self.reset_request = False
+        self.move(Axis=self.axis, Execute=move_execute, Velocity=self.setpoint)
+        self.halt(Axis=self.axis, Execute=halt_execute)
+        self.ack(Axis=self.axis, Execute=ack_execute)
+        self.watchdog(IN=self.step in (AxisStep.POWERING, AxisStep.STOPPING, AxisStep.RESETTING), PT=T("1s"))
+        failed = self.move.Error or self.halt.Error or self.power.Error
+        if self.watchdog.Q or (failed and self.step != AxisStep.RESETTING):
+            self.error_id = self.move.ErrorID or self.halt.ErrorID or self.power.ErrorID or ERR_AXIS_NOT_READY
+            self.step = AxisStep.FAULTED
+            self.run_request = False
+        elif self.step == AxisStep.IDLE:
+            self.error_id = 0
+
+    @prop
+    def running(self) -> BOOL:
+        return self.move.Busy or self.halt.Busy
+
+    @prop
+    def fault(self) -> BOOL:
+        return self.step == AxisStep.FAULTED
+
+    @prop
+    def actual_speed(self) -> REAL:
+        return self.axis.act_velocity
+
+
+# ---------------------------------------------------------------------------
+# (c) Direct-on-line motor: a contactor with feedback
+# ---------------------------------------------------------------------------
+
+
+class ContactorSim(FunctionBlock):
+    """The wiring's side: ``FUNCTION_BLOCK FB_ContactorSim``.
+
+    The auxiliary contact closes 20 ms after the coil is energised (pull-in).
+    ``overload`` opens the overload relay's contact, which is in series with
+    the coil; ``aux_wire_broken`` simulates a broken feedback wire.
+    """
+
+    coil: BOOL = VAR_INPUT(False)
+    overload: BOOL = VAR_INPUT(False)
+    aux_wire_broken: BOOL = VAR_INPUT(False)
+    aux: BOOL = VAR_OUTPUT(False)
+    overload_ok: BOOL = VAR_OUTPUT(True)
+    pull_in: TON = VAR()
+
+    def body(self) -> None:
+        self.overload_ok = not self.overload
+        self.pull_in(IN=self.coil and self.overload_ok, PT=T("20ms"))
+        self.aux = self.pull_in.Q and not self.aux_wire_broken
+
+
+class ContactorDrive(FunctionBlock, IDrive):
+    """Adapter for a DOL motor: ``FUNCTION_BLOCK FB_ContactorDrive IMPLEMENTS I_Drive``.
+
+    Fixed speed: ``SetSpeed`` always answers FALSE. The fault latches on an
+    overload trip or when the auxiliary contact disagrees with the coil for
+    longer than 200 ms.
+    """
+
+    aux_k1: BOOL = VAR_INPUT(False)
+    overload_ok: BOOL = VAR_INPUT(True)  # NC contact: TRUE = healthy
+    coil_k1: BOOL = VAR_OUTPUT(False)
+    rated_rpm: REAL = VAR(1450.0, constant=True)
+    run_request: BOOL = VAR(False)
+    faulted: BOOL = VAR(False)
+    reason: STRING = VAR_OUTPUT("", length=30)
+    discrepancy: TON = VAR()
+
+    @method
+    def start(self) -> None:
+        self.run_request = not self.faulted
+
+    @method
+    def stop(self) -> None:
+        self.run_request = False
+
+    @method
+    def set_speed(self, rpm: REAL) -> BOOL:
+        return False
+
+    @method
+    def reset(self) -> None:
+        if self.overload_ok and self.aux_k1 == self.coil_k1:
+            self.faulted = False
+            self.reason = ""
+
+    @method
+    def cyclic(self) -> None:
+        self.discrepancy(IN=self.coil_k1 != self.aux_k1, PT=T("200ms"))
+        if not self.overload_ok:
+            self.trip("overload relay tripped")
+        elif self.discrepancy.Q:
+            self.trip("contactor feedback missing" if self.coil_k1 else "contactor welded")
+        self.coil_k1 = self.run_request and not self.faulted
+
+    @method(PROTECTED)
+    def trip(self, reason: STRING) -> None:
+        if not self.faulted:
+            self.reason = reason
+        self.faulted = True
+        self.run_request = False
+
+    @prop
+    def running(self) -> BOOL:
+        return self.aux_k1
+
+    @prop
+    def fault(self) -> BOOL:
+        return self.faulted
+
+    @prop
+    def actual_speed(self) -> REAL:
+        return self.rated_rpm if self.aux_k1 else 0.0
+
+
+# ---------------------------------------------------------------------------
+# The client: a line sequence that only knows I_Drive
+# ---------------------------------------------------------------------------
+
+
+class DriveLine(Program):
+    """``PROGRAM DriveLine``: three drives behind ``ARRAY[1..3] OF I_Drive``, plus the I/O mapping.
+
+    ST::
+
+        VAR_INPUT bStart, bStop, bReset : BOOL; fSpeed : REAL := 1200; END_VAR
+        VAR aDrives : ARRAY[1..3] OF I_Drive; aAccepted : ARRAY[1..3] OF BOOL; END_VAR
+        IF rtStart.Q THEN
+            FOR i := 1 TO 3 DO aAccepted[i] := aDrives[i].SetSpeed(fSpeed); aDrives[i].Start(); END_FOR
+        END_IF
+        FOR i := 1 TO 3 DO aDrives[i].Cyclic(); END_FOR
+    """
+
+    cmd_start: BOOL = VAR_INPUT(False)
+    cmd_stop: BOOL = VAR_INPUT(False)
+    cmd_reset: BOOL = VAR_INPUT(False)
+    speed: REAL = VAR_INPUT(1200.0)
+    vfd: VfdDrive = VAR()
+    axis: AxisDrive = VAR()
+    dol: ContactorDrive = VAR()
+    vfd_sim: VfdSim = VAR()
+    axis_sim: AxisSim = VAR()
+    dol_sim: ContactorSim = VAR()
+    drives: ARRAY[IDrive] = VAR(bounds=(1, 3))
+    accepted: ARRAY[BOOL] = VAR(bounds=(1, 3))
+    start_edge: R_TRIG = VAR()
+    stop_edge: R_TRIG = VAR()
+    reset_edge: R_TRIG = VAR()
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> None:
+        self.drives[1] = self.vfd
+        self.drives[2] = self.axis
+        self.drives[3] = self.dol
+
+    def body(self) -> None:
+        # Inputs: the devices' answers from the previous scan (Modbus read, %I).
+        self.vfd.status_word = self.vfd_sim.status_word
+        self.vfd.speed_act = self.vfd_sim.speed_act
+        self.dol.aux_k1 = self.dol_sim.aux
+        self.dol.overload_ok = self.dol_sim.overload_ok
+        self.start_edge(CLK=self.cmd_start)
+        self.stop_edge(CLK=self.cmd_stop)
+        self.reset_edge(CLK=self.cmd_reset)
+        for i in range(1, 4):
+            drive = self.drives[i]
+            if self.start_edge.Q:
+                self.accepted[i] = drive.set_speed(self.speed)
+                drive.start()
+            if self.stop_edge.Q:
+                drive.stop()
+            if self.reset_edge.Q:
+                drive.reset()
+            drive.cyclic()
+        # Outputs and the devices (Modbus write, %Q, the motion kernel).
+        self.vfd_sim(control_word=self.vfd.control_word, speed_ref=self.vfd.speed_ref)
+        self.axis_sim(Axis=self.axis.axis)
+        self.dol_sim(coil=self.dol.coil_k1)
+
+    @prop
+    def all_running(self) -> BOOL:
+        return all(self.drives[i].running for i in range(1, 4))
+
+    @prop
+    def any_fault(self) -> BOOL:
+        return any(self.drives[i].fault for i in range(1, 4))
+
+
+NAMES = ("VFD", "AXIS", "DOL")
+
+
+def main() -> None:
+    """Drive three different motors through one interface for 1 s of PLC time; print what each reports.
+
+    >>> main()
+    t=   0 ms  start at 1200 rpm: VFD accepted, AXIS accepted, DOL refused
+    t=  30 ms  DOL   running    1450 rpm
+    t=  40 ms  AXIS  running      60 rpm
+    t=  60 ms  VFD   running      30 rpm
+    t= 500 ms  speeds: VFD 1200, AXIS 1200, DOL 1450
+    t= 500 ms  the VFD trips (overcurrent)
+    t= 510 ms  VFD   fault         0 rpm
+    t= 600 ms  stop all
+    t= 610 ms  DOL   stopped       0 rpm
+    t= 700 ms  reset all
+    t= 710 ms  VFD   stopped       0 rpm
+    t= 800 ms  AXIS  stopped       0 rpm
+    """
+    line = DriveLine()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), line)
+    seen = [(False, False)] * 3
+    for _ in range(100):
+        t = rt.time_ms
+        line.cmd_start = t == 0
+        line.cmd_stop = t == 600
+        line.cmd_reset = t == 700
+        line.vfd_sim.trip = t == 500
+        rt.run(cycles=1)
+        if t == 0:
+            verdict = ", ".join(f"{n} {'accepted' if ok else 'refused'}" for n, ok in zip(NAMES, line.accepted))
+            print(f"t=   0 ms  start at {line.speed:.0f} rpm: {verdict}")
+        if t == 500:
+            speeds = ", ".join(f"{n} {line.drives[i].actual_speed:.0f}" for i, n in enumerate(NAMES, 1))
+            print(f"t= 500 ms  speeds: {speeds}")
+            print("t= 500 ms  the VFD trips (overcurrent)")
+        if t in (600, 700):
+            print(f"t={t:4d} ms  {'stop' if t == 600 else 'reset'} all")
+        for i, name in enumerate(NAMES, 1):
+            drive = line.drives[i]
+            now = (drive.running, drive.fault)
+            if now != seen[i - 1]:
+                state = "fault" if drive.fault else "running" if drive.running else "stopped"
+                print(f"t={t:4d} ms  {name:<5} {state:<8} {drive.actual_speed:6.0f} rpm")
+                seen[i - 1] = now
