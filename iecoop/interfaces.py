@@ -36,7 +36,12 @@ from iecoop.members import Member, has_body, members_of_namespace
 
 register_builder(__file__)
 
-__all__ = ["IQueryInterface", "Interface", "interface_members", "query_interface", "query_pointer"]
+__all__ = ["NULL", "IQueryInterface", "Interface", "interface_members", "query_interface", "query_pointer"]
+
+#: The null reference, for clearing an interface or pointer variable and comparing with it
+#: (ST ``itfSensor := 0;``, ``IF itfSensor = 0 THEN``). Typed ``Any`` so that
+#: ``self.sensor = NULL`` and ``self.sensor == NULL`` type-check for a field of any interface type.
+NULL: Any = None
 
 _I = TypeVar("_I")
 

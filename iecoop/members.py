@@ -32,6 +32,7 @@ import dis
 import enum
 import functools
 import inspect
+import re
 import sys
 import types
 import typing
@@ -261,6 +262,42 @@ def _resolved(annotation: Any, resolve: Callable[[str], Any]) -> Any:
     return annotation
 
 
+_QUALIFIED = re.compile(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)")
+
+
+def _annotation_key(annotation: Any) -> str:
+    """A comparable text for an annotation, resolved or not (a forward reference stays a string)."""
+    if isinstance(annotation, str):
+        return _QUALIFIED.sub(r"\1", annotation).replace(" ", "").replace("'", "").replace('"', "")
+    if annotation is None or annotation is type(None):
+        return "None"
+    if isinstance(annotation, type) and not typing.get_args(annotation):
+        return annotation.__name__
+    from iecoop.types import elementary_type
+
+    record = elementary_type(annotation)
+    if record is not None:
+        return record.name
+    args = typing.get_args(annotation)
+    if isinstance(annotation, types.UnionType) or typing.get_origin(annotation) is typing.Union:
+        return "|".join(_annotation_key(a) for a in args)
+    return _QUALIFIED.sub(r"\1", repr(annotation)).replace(" ", "")
+
+
+def same_signature(a: tuple[Any, ...], b: tuple[Any, ...]) -> bool:
+    """Whether two METHOD / PROPERTY signatures match: names, kinds and types of every parameter and the result.
+
+    Types compare by name, so a forward reference (a class declared later, or
+    the interface itself) matches the class it names.
+    """
+    if len(a) != len(b):
+        return False
+    return all(
+        n1 == n2 and k1 == k2 and (t1 == t2 or _annotation_key(t1) == _annotation_key(t2))
+        for (n1, k1, t1), (n2, k2, t2) in zip(a, b)
+    )
+
+
 def format_signature(signature: tuple[Any, ...]) -> str:
     def name(annotation: Any) -> str:
         if annotation is None:
@@ -357,13 +394,27 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
 
         return private
     if vis == Access.PROTECTED:
+        declared: list[type] = []
+
+        def declaring_class() -> type:
+            # The member belongs to the hierarchy of the class that first declared it:
+            # base code calling an override (the Template Method shape) is inside it.
+            if not declared:
+                owner = owner_ref[0]
+                top = owner
+                for base in owner.__mro__[1:]:
+                    if func.__name__ in base.__dict__ and getattr(base, "_iec_kind_", None) in ("fb", "program"):
+                        top = base
+                declared.append(top)
+            return declared[0]
 
         @functools.wraps(func)
         def protected(*args: Any, **kwargs: Any) -> Any:
             frame = caller()
-            if not code_within(frame.f_code, owner_ref[0]):
+            if not code_within(frame.f_code, declaring_class()):
                 raise _deny(
-                    label, f"PROTECTED members are callable only inside {owner_ref[0].__name__} and its derived blocks", frame
+                    label, f"PROTECTED members are callable only inside {declaring_class().__name__} and its derived blocks",
+                    frame,
                 )
             return func(*args, **kwargs)
 

@@ -76,6 +76,7 @@ from iecoop.members import (
     members_of_namespace,
     narrower,
     register_code,
+    same_signature,
     visibility,
 )
 
@@ -302,7 +303,7 @@ def _check_members(title: str, name: str, own: dict[str, Member], inherited: dic
             raise DefinitionError(f"{title}: FINAL {base.describe()} cannot be overridden")
         if base.kind != member.kind:
             raise DefinitionError(f"{title}: {member.name} overrides a {base.kind.upper()} with a {member.kind.upper()}")
-        if base.signature != member.signature:
+        if not same_signature(base.signature, member.signature):
             raise DefinitionError(
                 f"{title}: interface of overridden {base.kind} '{member.name}' of base '{base.owner.__name__}' "
                 f"doesn't match declaration (C0094): base {format_signature(base.signature)}, "
@@ -395,7 +396,7 @@ def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstrac
                 )
             if impl.kind != proto.kind:
                 raise DefinitionError(f"{title}: {proto.name} of interface {iface.__name__} is a {proto.kind.upper()}")
-            if impl.signature != proto.signature:
+            if not same_signature(impl.signature, proto.signature):
                 raise DefinitionError(
                     f"{title}: {proto.name} does not match interface {iface.__name__}: "
                     f"interface {format_signature(proto.signature)}, here {format_signature(impl.signature)}"

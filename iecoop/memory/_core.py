@@ -503,6 +503,8 @@ class Pointer(Generic[_T]):
             return self._handle == other._handle
         if isinstance(other, int) and not isinstance(other, bool):
             return self._handle == other
+        if other is None:  # NULL
+            return self._handle == 0
         return NotImplemented
 
     def __hash__(self) -> int:
@@ -827,16 +829,17 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
 
     def flat(self: Any, index: Any) -> int:
         if one_dim:
-            if type(index) is int and lo0 <= index <= hi0:
-                return index - lo0
+            # An enumeration value indexes like its number (ST: aCounts[E_Station.FILLER]).
+            if isinstance(index, int) and not isinstance(index, bool) and lo0 <= index <= hi0:
+                return int(index) - lo0
             raise _bounds_error(type(self), index)
         if not isinstance(index, tuple) or len(index) != len(bounds):
             raise _bounds_error(type(self), index)
         position = 0
         for i, (lo, hi), stride in zip(index, bounds, strides):
-            if type(i) is not int or not lo <= i <= hi:
+            if not isinstance(i, int) or isinstance(i, bool) or not lo <= i <= hi:
                 raise _bounds_error(type(self), index)
-            position += (i - lo) * stride
+            position += (int(i) - lo) * stride
         return position
 
     namespace: dict[str, Any] = {

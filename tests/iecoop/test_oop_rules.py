@@ -1151,3 +1151,118 @@ def test_fast_mode_keeps_method_access_rules_and_drops_outside_write_checks() ->
     ]
     assert "Servo.use_limit" in lines[2]
     assert lines[4] == "outside writes: True 4"
+
+
+# ---------------------------------------------------------------------------
+# PROTECTED overrides called from base code; forward references in signatures
+# ---------------------------------------------------------------------------
+
+
+class StepChain(FunctionBlock, abstract=True):
+    """The Template Method shape: a FINAL base method calling PROTECTED steps that derived blocks override."""
+
+    trace: INT = VAR(0)
+
+    @method(FINAL)
+    def run(self) -> INT:
+        return self.first() * 10 + self.second()
+
+    @method(PROTECTED | ABSTRACT)
+    def first(self) -> INT:
+        raise NotImplementedError
+
+    @method(PROTECTED)
+    def second(self) -> INT:
+        return 1
+
+    def body(self) -> None:
+        self.trace = self.run()
+
+
+class TwoStep(StepChain):
+    @method(PROTECTED)
+    def first(self) -> INT:
+        return 4
+
+    @method(PROTECTED)
+    def second(self) -> INT:
+        return super().second() + 1
+
+
+def test_base_code_calls_a_protected_override() -> None:
+    chain = TwoStep()
+    assert chain.run() == 42
+    chain()
+    assert chain.trace == 42
+
+
+def test_a_protected_override_is_still_closed_to_outside_callers() -> None:
+    with pytest.raises(AccessError, match=r"PROTECTED METHOD TwoStep\.first cannot be called from .*only inside StepChain and its derived blocks"):
+        TwoStep().first()
+
+
+class ILink(Interface):
+    @method
+    def set_next(self, link: ILink) -> BOOL:
+        raise NotImplementedError
+
+    @method
+    def clone(self) -> ILink | None:
+        raise NotImplementedError
+
+    @method
+    def visit(self, device: LaterDevice) -> None: ...
+
+
+class LaterDevice(FunctionBlock):
+    pass
+
+
+class Link(FunctionBlock, ILink):
+    follower: ILink = VAR()
+
+    @method
+    def set_next(self, link: ILink) -> BOOL:
+        self.follower = link
+        return True
+
+    @method
+    def clone(self) -> ILink | None:
+        return self
+
+    @method
+    def visit(self, device: LaterDevice) -> None: ...
+
+
+class SelfReturning(FunctionBlock):
+    @method
+    def me(self) -> SelfReturning:
+        return self
+
+
+class SelfReturningChild(SelfReturning):
+    @method
+    def me(self) -> SelfReturning:
+        return self
+
+
+def test_signatures_naming_the_interface_itself_or_a_later_class_match() -> None:
+    a, b = Link(), Link()
+    assert a.set_next(b) and a.clone() is a
+    assert SelfReturningChild().me() is not None
+
+
+def test_a_really_different_forward_reference_is_still_refused() -> None:
+    with pytest.raises(DefinitionError, match=r"set_next does not match interface ILink: interface \(link: ILink\) -> BOOL, here \(link: LaterDevice\) -> BOOL"):
+
+        class WrongLink(FunctionBlock, ILink):
+            @method
+            def set_next(self, link: LaterDevice) -> BOOL:  # type: ignore[override]  # the rule under test
+                return True
+
+            @method
+            def clone(self) -> ILink | None:
+                return None
+
+            @method
+            def visit(self, device: LaterDevice) -> None: ...

@@ -975,3 +975,66 @@ class MemoryMachine(RuleBasedStateMachine):
 
 
 test_random_memory_operations = MemoryMachine.TestCase
+
+
+# ---------------------------------------------------------------------------
+# Enumerations as ARRAY indexes; NULL
+# ---------------------------------------------------------------------------
+
+
+def test_an_enumeration_value_indexes_an_array_like_its_number() -> None:
+    from iecoop import IecEnum
+
+    class Station(IecEnum):
+        INFEED = 1
+        FILLER = 2
+
+    class Counts(Struct):
+        per_station: ARRAY[INT] = VAR(bounds=(Station.INFEED, Station.FILLER))
+        grid: ARRAY[INT] = VAR(bounds=((1, 2), (1, 2)))
+
+    counts = Counts()
+    counts.per_station[Station.FILLER] = 7
+    counts.grid[Station.FILLER, Station.INFEED] = 3
+    assert counts.per_station[2] == 7 and counts.grid[2, 1] == 3
+    with pytest.raises(PlcException, match=r"index True outside ARRAY\[1\.\.2\] OF INT") as exc:
+        counts.per_station[True] = 1  # a BOOL is not an index
+    assert exc.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+
+
+def test_null_clears_and_compares_with_interfaces_and_pointers() -> None:
+    from iecoop import NULL, REAL, FunctionBlock, Interface, method
+
+    class ISensor(Interface):
+        @method
+        def read(self) -> REAL:
+            raise NotImplementedError
+
+    class Sensor(FunctionBlock, ISensor):
+        @method
+        def read(self) -> REAL:
+            return 2.5
+
+    class Holder(FunctionBlock):
+        sensor: ISensor = VAR()
+        target: POINTER_TO[Sensor] = VAR()
+
+        @method
+        def wire(self, sensor: Sensor) -> None:
+            self.sensor = sensor
+            self.target = adr(sensor)
+
+        @method
+        def unwire(self) -> None:
+            self.sensor = NULL  # ST: itfSensor := 0;
+            self.target = NULL
+
+    sensor, holder = Sensor(), Holder()
+    assert holder.sensor == NULL and holder.target == NULL
+    holder.wire(sensor)
+    assert holder.sensor != NULL and holder.target != NULL and holder.sensor.read() == 2.5
+    holder.unwire()
+    assert holder.sensor == NULL and holder.target == NULL and holder.target.is_null
+    with pytest.raises(PlcException, match="null interface reference") as exc:
+        holder.sensor.read()
+    assert exc.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
