@@ -80,7 +80,14 @@ def gvl(cls: type[_G]) -> _G:
                     f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
                 )
     instance: Any = typing.cast(Any, cls).__new__(cls)
-    layout.implicit_init(instance)
+    from iecoop.lifecycle import initialise
+    from iecoop.pou import fb_children
+
+    # Function block instances in a GVL get their FB_init, as global instances do on the PLC.
+    cls_any: Any = cls
+    cls_any._iec_children_ = tuple(fb_children(layout))
+    cls_any._iec_call_after_init_ = ()
+    initialise(instance, init_retains=True, in_copy_code=False)
     _lists[cls.__name__] = instance
     return typing.cast(_G, instance)
 

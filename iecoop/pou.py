@@ -35,6 +35,7 @@ from __future__ import annotations
 import ctypes
 import inspect
 import linecache
+import weakref
 import sys
 import types
 import typing
@@ -82,7 +83,15 @@ from iecoop.members import (
 
 register_builder(__file__)
 
-__all__ = ["FunctionBlock", "Program", "check_write", "pou_members"]
+__all__ = ["FunctionBlock", "Program", "check_write", "fb_children", "pou_members", "static_blocks"]
+
+#: The VAR_STAT block of every class that declares one (one per class, like the PLC's static data).
+_static_blocks: weakref.WeakKeyDictionary[type, Any] = weakref.WeakKeyDictionary()
+
+
+def static_blocks() -> list[tuple[type, Any]]:
+    """Every live class with VAR_STAT variables, with its static block."""
+    return list(_static_blocks.items())
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
 _POU_SECTIONS = {s: s for s in ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_TEMP", "VAR_INST", "VAR_EXTERNAL")}
@@ -256,7 +265,7 @@ def _build_pou(
         fields_init(obj)
 
     cls._iec_implicit_init_ = implicit_init
-    cls._iec_children_ = tuple(_children(layout))
+    cls._iec_children_ = tuple(fb_children(layout))
     cls._iec_call_after_init_ = tuple(
         n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
     )
@@ -421,9 +430,15 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
             return typing.cast(type, meta(f"{name}.VAR_STAT", (ctypes.Structure,), n))
 
         block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections={"VAR": "VAR"}, annotations=statics)
+        block_cls._iec_children_ = tuple(fb_children(block_cls._iec_layout_))
+        block_cls._iec_call_after_init_ = ()
+        block_cls._iec_implicit_init_ = block_cls._iec_layout_.implicit_init
         block = block_cls()
-        block_cls._iec_layout_.implicit_init(block)
+        from iecoop.lifecycle import initialise
+
+        initialise(block, init_retains=True, in_copy_code=False)
         cls._iec_static_block_ = block
+        _static_blocks[cls] = block
         for record in block_cls._iec_layout_.fields:
             descriptor = getattr(block_cls, record.name)
             raw = descriptor if record.info.direct else _BlockField(descriptor)
@@ -456,7 +471,7 @@ class _BlockField:
         self.descriptor.__set__(obj, value)
 
 
-def _children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
+def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
     """Nested function block members (and arrays of them), in declaration order."""
     for record in layout.fields:
         info = record.info

@@ -39,7 +39,9 @@ from pathlib import Path
 from typing import Any, Literal
 
 from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, initialise, reinitialise
+from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import VirtualClock, use_clock
 from iecoop.runtime.store import ImageLayout, RemanentStore
@@ -155,6 +157,11 @@ class Runtime:
     ``store`` is a folder for RETAIN / PERSISTENT data (default ``./.iecoop``);
     ``":memory:"`` keeps nothing on disk. ``profile`` is ``"twincat"``
     (default) or ``"codesys"``.
+
+    The application is the programs on its tasks plus the process's global
+    data: every GVL (``@gvl``) and every VAR_STAT block. Resets re-initialise
+    all of it per the vendor table, and RETAIN / PERSISTENT variables of a GVL
+    are stored and restored by path (``GVL_Plant.counter``) like a program's.
     """
 
     def __init__(
@@ -167,6 +174,8 @@ class Runtime:
         self.profile = get_profile(profile)
         self.tasks: list[Task] = []
         self._entries: list[_Entry] = []
+        self._globals: list[_Entry] = []
+        self._globals_key: tuple[int, ...] = ()
         self.time_ns = 0
         self.fault: Fault | None = None
         self._clock = VirtualClock()
@@ -212,6 +221,20 @@ class Runtime:
             self._entries.append(entry)
             task.programs.append((path, program))
         self._retain_plan = None
+
+    def _global_entries(self) -> list[_Entry]:
+        """The application's global data: every GVL (path: its name) and VAR_STAT block (``Class.VAR_STAT``)."""
+        current = [(name, block) for name, block in global_lists().items()]
+        current += [(f"{cls.__qualname__}.VAR_STAT", block) for cls, block in static_blocks()]
+        key = tuple(id(block) for _, block in current)
+        if key != self._globals_key:
+            self._globals_key = key
+            self._globals = [_Entry(path, block) for path, block in current]
+            self._retain_plan = None
+        return self._globals
+
+    def _all_entries(self) -> list[_Entry]:
+        return self._entries + self._global_entries()
 
     def programs(self) -> dict[str, Any]:
         """Every program instance by instance path (``"PlcTask.Main"``)."""
@@ -363,7 +386,7 @@ class Runtime:
     def _start(self) -> None:
         """Controller start: restore RETAIN and PERSISTENT data that still match."""
         self._started = True
-        if not any(e.remanent for e in self._entries):
+        if not any(e.remanent for e in self._all_entries()):
             return
         store = self._store_or_none()
         if store is None:
@@ -381,7 +404,7 @@ class Runtime:
             self._apply_image(persistent.values(), {PERSISTENT})
 
     def _apply_image(self, values: dict[str, tuple[str, bytes]], classes: set[int]) -> None:
-        for entry in self._entries:
+        for entry in self._all_entries():
             stored = values.get(entry.path)
             if stored is None:
                 continue
@@ -397,7 +420,7 @@ class Runtime:
         """The layout of an image of the given classes and the program blocks it copies."""
         entries = []
         blocks = []
-        for entry in self._entries:
+        for entry in self._all_entries():
             kept = [leaf for leaf in entry.leaves if leaf.remanence in classes]
             if kept:
                 entries.append((entry.path, format_directory(kept), ctypes.sizeof(entry.program)))
@@ -444,8 +467,9 @@ class Runtime:
         return ctypes.string_at(ctypes.addressof(entry.program), ctypes.sizeof(entry.program))
 
     def _reinit(self, kept: set[int], init_retains: bool) -> None:
+        # The whole application is re-initialised: programs, GVLs and VAR_STAT blocks.
         with use_profile(self.profile), use_clock(self._clock):
-            for entry in self._entries:
+            for entry in self._all_entries():
                 saved = self._snapshot(entry)
                 finalise(entry.program, in_copy_code=False)
                 initialise(entry.program, init_retains=init_retains, in_copy_code=False, zero=True)

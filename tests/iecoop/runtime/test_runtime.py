@@ -43,7 +43,10 @@ def test_virtual_time_advances_one_interval_per_cycle() -> None:
     assert (main.n, rt.time_ms) == (10, 100)
 
 
-def test_a_runtime_without_remanent_variables_writes_no_store(tmp_path: Path) -> None:
+def test_a_runtime_without_remanent_variables_writes_no_store(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The application here is one program: no GVL or VAR_STAT of other tests in this process.
+    monkeypatch.setattr("iecoop.runtime.runtime.global_lists", dict)
+    monkeypatch.setattr("iecoop.runtime.runtime.static_blocks", list)
     store = tmp_path / "store"
     rt = _runtime(store, Plain())
     rt.run(cycles=5)
@@ -134,3 +137,103 @@ def test_due_tasks_run_in_priority_order_at_each_tick() -> None:
     rt.run(cycles=3)
     assert order == ["fast0", "slow0", "fast1", "fast2", "slow1"]
     assert (rt.base_tick_ms, rt.time_ms) == (2, 6)
+
+
+# ---------------------------------------------------------------------------
+# The application's global data: GVLs and VAR_STAT blocks
+# ---------------------------------------------------------------------------
+
+from iecoop import VAR_EXTERNAL, VAR_STAT, FunctionBlock, GlobalVariables, gvl  # noqa: E402
+
+init_calls: list[tuple[str, bool]] = []
+
+
+class GlobalLogger(FunctionBlock):
+    lines: INT = VAR(0)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool) -> None:
+        init_calls.append(("GlobalLogger", init_retains))
+
+
+@gvl
+class GVL_RuntimeTest(GlobalVariables):
+    g_plain: INT = 0
+    g_kept: INT = VAR(0, retain=True)
+    g_saved: DINT = VAR(0, persistent=True)
+    g_logger: GlobalLogger = VAR()
+
+
+class SharedCounter(FunctionBlock):
+    total: INT = VAR_STAT(0)
+
+    def body(self) -> None:
+        self.total += 1
+
+
+class UsesGlobals(Program):
+    g_plain: INT = VAR_EXTERNAL()
+    g_kept: INT = VAR_EXTERNAL()
+    g_saved: DINT = VAR_EXTERNAL()
+    counter: SharedCounter = VAR()
+
+    def body(self) -> None:
+        self.g_plain += 1
+        self.g_kept += 1
+        self.g_saved += 10
+        self.counter()
+
+
+def _globals() -> tuple[int, int, int, int]:
+    return GVL_RuntimeTest.g_plain, GVL_RuntimeTest.g_kept, GVL_RuntimeTest.g_saved, SharedCounter().total
+
+
+@pytest.fixture
+def fresh_globals() -> None:
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask"), Plain())
+    rt.reset_origin()  # the whole application's data back to its initial values
+    assert _globals() == (0, 0, 0, 0)
+
+
+@pytest.mark.usefixtures("fresh_globals")
+@pytest.mark.parametrize(
+    ("profile", "after_cold"),
+    [("twincat", (0, 3, 30, 0)), ("codesys", (0, 0, 30, 0))],
+)
+def test_resets_reinitialise_gvls_and_var_stat_per_the_table(
+    tmp_path: Path, profile: str, after_cold: tuple[int, int, int, int]
+) -> None:
+    main = UsesGlobals()
+    rt = _runtime(tmp_path, main, profile)
+    rt.run(cycles=3)
+    assert _globals() == (3, 3, 30, 3)
+    init_calls.clear()
+    rt.reset_cold()
+    assert _globals() == after_cold
+    assert init_calls == [("GlobalLogger", after_cold[1] == 0)]  # FB_init of the global FB instance, init_retains
+    rt.run(cycles=1)
+    rt.reset_origin()
+    assert _globals() == (0, 0, 0, 0)
+
+
+@pytest.mark.usefixtures("fresh_globals")
+def test_global_retain_and_persistent_survive_a_restart(tmp_path: Path) -> None:
+    rt = _runtime(tmp_path, UsesGlobals())
+    rt.run(cycles=4)
+    rt.stop()
+    GVL_RuntimeTest.g_plain = GVL_RuntimeTest.g_kept = 0  # a new process starts from the initial values
+    GVL_RuntimeTest.g_saved = 0
+    rt2 = _runtime(tmp_path, UsesGlobals())
+    rt2.run(cycles=0)
+    assert (GVL_RuntimeTest.g_plain, GVL_RuntimeTest.g_kept, GVL_RuntimeTest.g_saved) == (0, 4, 40)
+
+
+def test_a_global_fb_instance_gets_its_fb_init_at_definition() -> None:
+    init_calls.clear()
+
+    @gvl
+    class GVL_WithLogger(GlobalVariables):
+        logger_b: GlobalLogger = VAR()
+
+    assert init_calls == [("GlobalLogger", True)]
+    assert GVL_WithLogger.logger_b.lines == 0
