@@ -515,18 +515,26 @@ class Runtime:
         """An online change: every variable kept.
 
         Without ``replace`` it is a code-only change (no FB_exit / FB_init /
-        FB_reinit). ``replace`` maps instance paths (``"PlcTask.Main"``) to new
-        program instances of a changed declaration: the old instance gets
-        FB_exit(TRUE), the new one FB_init(FALSE, TRUE), the data is copied by
-        path and type, then FB_reinit runs.
+        FB_reinit). ``replace`` maps instance paths (``"PlcTask.Main"``) to the
+        changed declaration: a program class (the runtime creates the new
+        instance, whose only FB_init is the online change's), or an instance
+        already built (its constructor ran FB_init(TRUE, FALSE) first). The old
+        instance gets FB_exit(TRUE), the new one FB_init(FALSE, TRUE), the data
+        is copied by path and type, then FB_reinit runs.
         """
         if not replace:
             return
         with use_profile(self.profile), use_clock(self._clock):
-            for path, new_program in replace.items():
+            for path, replacement in replace.items():
                 entry = next((e for e in self._entries if e.path == path), None)
                 if entry is None:
                     raise KeyError(f"online change: no program at {path!r} (known: {', '.join(self.programs())})")
+                if isinstance(replacement, type):
+                    if getattr(replacement, "_iec_kind_", "") not in ("program", "fb"):
+                        raise TypeError(f"online change: {replacement.__name__} is not a Program class")
+                    new_program: Any = typing.cast(Any, replacement).__new__(replacement)
+                else:
+                    new_program = replacement
                 saved = self._snapshot(entry)
                 finalise(entry.program, in_copy_code=True)
                 initialise(new_program, init_retains=False, in_copy_code=True, zero=True)

@@ -237,3 +237,47 @@ def test_a_global_fb_instance_gets_its_fb_init_at_definition() -> None:
 
     assert init_calls == [("GlobalLogger", True)]
     assert GVL_WithLogger.logger_b.lines == 0
+
+
+lifecycle: list[str] = []
+
+
+class Tracked(Program):
+    n: INT = VAR(0)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool) -> None:
+        lifecycle.append(f"{type(self).__name__}.FB_init({init_retains}, {in_copy_code})")
+
+    def fb_exit(self, in_copy_code: bool) -> None:
+        lifecycle.append(f"{type(self).__name__}.FB_exit({in_copy_code})")
+
+    def body(self) -> None:
+        self.n += 1
+
+
+class TrackedV2(Tracked):
+    extra: INT = VAR(7)
+
+    def fb_reinit(self) -> None:
+        lifecycle.append(f"TrackedV2.FB_reinit (n={self.n})")
+
+
+def test_online_change_to_a_class_runs_only_the_online_change_fb_init() -> None:
+    lifecycle.clear()
+    rt = Runtime(store=":memory:")
+    old = Tracked()
+    rt.add_task(Task("PlcTask"), old)
+    rt.run(cycles=3)
+    rt.online_change(replace={"PlcTask.Tracked": TrackedV2})
+    new = rt.programs()["PlcTask.Tracked"]
+    assert isinstance(new, TrackedV2) and (new.n, new.extra) == (3, 7)
+    assert lifecycle == [
+        "Tracked.FB_init(True, False)",
+        "Tracked.FB_exit(True)",
+        "TrackedV2.FB_init(False, True)",
+        "TrackedV2.FB_reinit (n=3)",
+    ]
+    rt.run(cycles=1)
+    assert new.n == 4
+    with pytest.raises(TypeError, match="online change: int is not a Program class"):
+        rt.online_change(replace={"PlcTask.Tracked": int})
