@@ -61,6 +61,7 @@ import dataclasses
 import enum
 import html
 import math
+import re
 import types
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
@@ -213,8 +214,13 @@ def _own_members(cls: type) -> list[Member]:
     return [m for m in members.values() if m.owner is cls]
 
 
+# ``pkg.module.Name`` -> ``Name``; ``Pointer[X]`` -> ``POINTER TO X``, as the fields are written.
+_QUALIFIER = re.compile(r"\b(?:[a-z_][a-z0-9_]*\.)+(?=[A-Za-z_])")
+_POINTER = re.compile(r"\bPointer\[([^\[\]]+)\]")
+
+
 def _operation(member: Member) -> UmlOperation:
-    text = format_signature(member.signature)
+    text = _POINTER.sub(r"POINTER TO \1", _QUALIFIER.sub("", format_signature(member.signature)))
     params, _, returns = text.partition(" -> ")
     if member.kind == "property":
         get_symbol = _ACCESS_SYMBOL.get(Access(member.get_flags & ~(Access.FINAL | Access.ABSTRACT)) or Access.PUBLIC, "+")
@@ -350,22 +356,109 @@ class ClassDiagram:
     # -- SVG ------------------------------------------------------------------------
 
     def to_svg(self) -> str:
-        """A self-contained SVG: boxes in layers (bases and containers above), straight arrows."""
+        """A self-contained SVG: boxes in layers (bases and containers above), straight arrows.
+
+        Parallel relations of one kind between the same two boxes are drawn as
+        one arrow carrying every label. An arrow that would cross a layer of
+        boxes, or run along its own layer, is routed through the free rows
+        between the layers and, to change rows, down a lane on the right.
+        """
         boxes = {c.name: _Box.measure(c) for c in self.classes}
-        layers = _layer([c.name for c in self.classes], [(r.source, r.target) for r in self.relations
-                                                         if r.source in boxes and r.target in boxes])
-        width, height = _place(layers, boxes)
+        drawn = _merge_relations([r for r in self.relations if r.source in boxes and r.target in boxes])
+        layers = _layer([c.name for c in self.classes], [(r.source, r.target) for r in drawn])
         rank = {name: i for i, layer in enumerate(layers) for name in layer}
-        drawn = [r for r in self.relations if r.source in boxes and r.target in boxes]
-        # An arrow that would cross a layer of boxes goes round them on the right, one lane each.
-        long = [r for r in drawn if abs(rank[r.source] - rank[r.target]) > 1]
-        lanes = {id(r): width + 14.0 * k for k, r in enumerate(long)}
-        out = _SvgWriter(width + 14.0 * len(long) + (20.0 if long else 0.0), height, self.title)
+        column = {name: i for layer in layers for i, name in enumerate(layer)}
+        routed = [r for r in drawn if _needs_route(rank[r.source], rank[r.target], column[r.source], column[r.target])]
+        slots = _gap_slots(routed, rank, len(layers))
+        width, height = _place(layers, boxes, [max(70.0, 30.0 + 12.0 * len(s)) for s in slots])
+        lanes = [r for r in routed if rank[r.source] != rank[r.target]]
+        lane_x = {id(r): width + 14.0 * k for k, r in enumerate(lanes)}
+        paths = _routes(routed, boxes, layers, rank, slots, lane_x)
+        bottom = max([height, *(y + 20.0 for path in paths.values() for _, y in path)])
+        out = _SvgWriter(width + 14.0 * len(lanes) + (20.0 if lanes else 0.0), bottom, self.title)
         for r in drawn:
-            out.relation(boxes[r.source], boxes[r.target], r, lanes.get(id(r)))
+            out.relation(boxes[r.source], boxes[r.target], r, paths.get(id(r)))
         for box in boxes.values():
             out.box(box)
         return out.finish()
+
+
+def _merge_relations(relations: Sequence[Relation]) -> list[Relation]:
+    """One relation per (source, target, kind); the labels of parallel ones joined."""
+    merged: dict[tuple[str, str, str], list[Relation]] = {}
+    for r in relations:
+        merged.setdefault((r.source, r.target, r.kind), []).append(r)
+    result: list[Relation] = []
+    for (source, target, kind), group in merged.items():
+        if len(group) == 1:
+            result.append(group[0])
+            continue
+        labels = [r.label + (f" {r.multiplicity}" if r.multiplicity else "") for r in group if r.label]
+        result.append(Relation(source, target, kind, ", ".join(labels)))
+    return result
+
+
+def _needs_route(source_rank: int, target_rank: int, source_col: int, target_col: int) -> bool:
+    """A straight line would cross other boxes: it skips a layer, or runs along one past a box."""
+    if source_rank == target_rank:
+        return abs(source_col - target_col) > 1
+    return abs(source_rank - target_rank) > 1
+
+
+def _ends(source_rank: int, target_rank: int, layers: int) -> tuple[int, int]:
+    """The gap rows an arrow runs in near its source and near its target (gap g lies below layer g)."""
+    if source_rank == target_rank:
+        gap = source_rank if source_rank < layers - 1 or layers == 1 else source_rank - 1
+        return gap, gap
+    if target_rank > source_rank:
+        return source_rank, target_rank - 1
+    return source_rank - 1, target_rank
+
+
+def _gap_slots(routed: Sequence[Relation], rank: Mapping[str, int], layers: int) -> list[list[int]]:
+    """Per gap row, the routed arrows that run in it (each gets its own height)."""
+    slots: list[list[int]] = [[] for _ in range(max(1, layers))]
+    for r in routed:
+        for gap in dict.fromkeys(_ends(rank[r.source], rank[r.target], layers)):
+            slots[gap].append(id(r))
+    return slots
+
+
+def _routes(
+    routed: Sequence[Relation],
+    boxes: Mapping[str, _Box],
+    layers: Sequence[Sequence[str]],
+    rank: Mapping[str, int],
+    slots: Sequence[Sequence[int]],
+    lane_x: Mapping[int, float],
+) -> dict[int, list[tuple[float, float]]]:
+    bottoms = [max(boxes[n].y + boxes[n].h for n in layer) for layer in layers]
+    used: dict[str, int] = {}
+
+    def gap_y(gap: int, r: Relation) -> float:
+        return bottoms[gap] + 18.0 + 12.0 * slots[gap].index(id(r))
+
+    def port(name: str, below: bool) -> tuple[float, float]:
+        # Several arrows at one box leave from different points of its edge.
+        box = boxes[name]
+        k = used.get(name, 0)
+        used[name] = k + 1
+        x = max(box.x + 6.0, box.x + box.w - 14.0 - 10.0 * k)
+        return x, box.y + box.h if below else box.y
+
+    paths: dict[int, list[tuple[float, float]]] = {}
+    for r in routed:
+        rs, rt = rank[r.source], rank[r.target]
+        near_source, near_target = _ends(rs, rt, len(layers))
+        ys, yt = gap_y(near_source, r), gap_y(near_target, r)
+        start = port(r.source, near_source >= rs)
+        end = port(r.target, near_target >= rt)
+        if rs == rt:
+            paths[id(r)] = [start, (start[0], ys), (end[0], ys), end]
+        else:
+            lane = lane_x[id(r)]
+            paths[id(r)] = [start, (start[0], ys), (lane, ys), (lane, yt), (end[0], yt), end]
+    return paths
 
 
 def class_diagram(*classes: type, related: bool = True, title: str = "") -> ClassDiagram:
@@ -616,12 +709,15 @@ def _layer(names: list[str], edges: list[tuple[str, str]]) -> list[list[str]]:
     return layers
 
 
-def _place(layers: list[list[str]], boxes: dict[str, _Box]) -> tuple[float, float]:
-    gap_x, gap_y, margin = 40.0, 70.0, 20.0
+def _place(layers: list[list[str]], boxes: dict[str, _Box], gaps: Sequence[float] = ()) -> tuple[float, float]:
+    """Centre each layer; ``gaps[i]`` is the height of the free row below layer ``i`` (70 by default)."""
+    gap_x, margin = 40.0, 20.0
     widths = [sum(boxes[n].w for n in layer) + gap_x * (len(layer) - 1) for layer in layers]
     total_w = max(widths) + 2 * margin
     y = margin + 24
-    for layer, layer_w in zip(layers, widths):
+    gap_y = 70.0
+    for i, (layer, layer_w) in enumerate(zip(layers, widths)):
+        gap_y = gaps[i] if i < len(gaps) else 70.0
         x = (total_w - layer_w) / 2
         tallest = max(boxes[n].h for n in layer)
         for n in layer:
@@ -731,14 +827,14 @@ class _SvgWriter:
             points = " ".join(f"{x:.1f},{y:.1f}" for x, y in (tip, left, back, right))
             self.parts.append(f'<polygon points="{points}" fill="{fill}" stroke="#333"/>')
 
-    def relation(self, source: _Box, target: _Box, r: Relation, lane: float | None = None) -> None:
-        if lane is None:
+    def relation(
+        self, source: _Box, target: _Box, r: Relation, route: Sequence[tuple[float, float]] | None = None
+    ) -> None:
+        if route is None:
             start, end = _clip_pair(source, target)
             points = [start, end]
         else:
-            sy, ty = source.y + min(source.h / 2, 22.0), target.y + min(target.h / 2, 22.0)
-            start, end = (source.x + source.w, sy), (target.x + target.w, ty)
-            points = [start, (lane, sy), (lane, ty), end]
+            points = list(route)
         dash = ' stroke-dasharray="6,4"' if r.kind == "implements" else ""
         path = " ".join(f"{x:.1f},{y:.1f}" for x, y in points)
         self.parts.append(f'<polyline points="{path}" fill="none" stroke="#333"{dash}/>')
@@ -752,11 +848,16 @@ class _SvgWriter:
             self.head(points[0], points[1], "diamond")
         self.head(points[-1], points[-2], "open")
         label = r.label + (f" {r.multiplicity}" if r.multiplicity else "")
-        if label:
-            (ax, ay), (bx, by) = points[len(points) // 2 - 1], points[len(points) // 2]
-            # On a lane at the right edge the label stands to the lane's left.
-            anchor, dx = ("end", -4) if lane is not None else ("start", 4)
-            self.text((ax + bx) / 2 + dx, (ay + by) / 2, label, size=10, anchor=anchor, halo=True)
+        if not label:
+            return
+        if route is None:
+            (ax, ay), (bx, by) = points
+            self.text((ax + bx) / 2 + 4, (ay + by) / 2, label, size=10, anchor="start", halo=True)
+        else:
+            # On a routed arrow the label stands on its first run along a free row.
+            (ax, ay), (bx, _) = points[1], points[2]
+            anchor, dx = ("start", 6) if bx >= ax else ("end", -6)
+            self.text(ax + dx, ay - 3, label, size=10, anchor=anchor, halo=True)
 
     def finish(self) -> str:
         title = f"<title>{html.escape(self.title)}</title>" if self.title else ""

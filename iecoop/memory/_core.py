@@ -382,6 +382,17 @@ class AggregateInfo(TypeInfo):
         return typing.cast(Any, cls).from_buffer(root, offset)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        if isinstance(value, dict):
+            # A STRUCT from its members' values (ST: stPoint := (x := 1.5, y := 2.0)).
+            if getattr(self.cls, "_iec_kind_", "") in ("fb", "program"):
+                raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
+            layout = getattr(self.cls, "_iec_layout_")
+            for name, item in value.items():
+                record = layout.by_name.get(name)
+                if record is None:
+                    raise TypeError(f"{where}: {self.name} has no member {name!r}")
+                record.info.store(root, offset + record.offset, item, f"{where}.{name}")
+            return
         self.validate(value, where)
         ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
 
@@ -926,12 +937,31 @@ class ArrayInfo(TypeInfo):
         return self.ctype.from_buffer(root, offset)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
+        if isinstance(value, (list, tuple)):
+            # Element by element, in row-major order (ST: aValues := [1, 2, 3]); the rest is left as it is.
+            items = list(_flatten(value))
+            if len(items) > self.count:
+                raise TypeError(f"{where}: {len(items)} values for {self.name}, which has {self.count} elements")
+            size = self.elem.size
+            lo = self.bounds[0][0]
+            for i, item in enumerate(items):
+                label = lo + i if len(self.bounds) == 1 else i
+                self.elem.store(root, offset + i * size, item, f"{where}[{label}]")
+            return
         self.validate(value, where)
         ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
 
     def validate(self, value: Any, where: str) -> None:
         if type(value) is not self.ctype:
             raise _kind_error(where, self.name, value)
+
+
+def _flatten(values: Any) -> Iterator[Any]:
+    for item in values:
+        if isinstance(item, (list, tuple)):
+            yield from _flatten(item)
+        else:
+            yield item
 
 
 def array_info(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> ArrayInfo:
@@ -1032,10 +1062,8 @@ def resolve_type(
             rest = tuple(m for m in metadata if m is not REFERENCE)
             inner = annotation.__origin__
             target_annotation = Annotated[(inner, *rest)] if rest else inner
-            if length is not None:
-                target = resolve_type(target_annotation, where, length=length, resolver=resolver)
-            else:
-                target = resolve_type(target_annotation, where, resolver=resolver)
+            # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
+            target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
             if isinstance(target, (InterfaceInfo, ReferenceInfo)):
                 raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
             return ReferenceInfo(target)
@@ -1068,14 +1096,17 @@ def resolve_type(
         return array_info(elem, pairs)
     if origin is Pointer:
         (target_annotation,) = typing.get_args(annotation) or (None,)
-        _check_plain(None, bounds, where, "POINTER")
+        to_array = typing.get_origin(target_annotation) is ARRAY
+        if not to_array:
+            _check_plain(None, bounds, where, "POINTER")
 
         def thunk() -> TypeInfo | None:
             if target_annotation is None or target_annotation is Any:
                 return None
-            if length is not None:
-                return resolve_type(target_annotation, where, length=length, resolver=resolver)
-            return resolve_type(target_annotation, where, resolver=resolver)
+            # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
+            return resolve_type(
+                target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver
+            )
 
         return PointerInfo(thunk, _annotation_name(target_annotation))
     if annotation is Pointer:

@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
-from iecoop.memory.layout import ClassLayout, build_data_class, register_builder
+from iecoop.memory.layout import ClassLayout, assign, build_data_class, register_builder
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
@@ -90,9 +90,10 @@ class _DataTypeMixin:
             raise DefinitionError(f"{type(self).__name__} is the base class; declare a subclass with members")
         layout.implicit_init(self)
         for name, value in members.items():
-            if name not in layout.by_name:
+            record = layout.by_name.get(name)
+            if record is None:
                 raise TypeError(f"{type(self).__name__} has no member {name!r}")
-            setattr(self, name, value)
+            assign(self, record, value)
 
     def __eq__(self, other: object) -> bool:
         if type(other) is not type(self):

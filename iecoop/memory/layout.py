@@ -370,6 +370,23 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
         raise DefinitionError(f"{where}: initial value of the wrong type: {message}") from None
 
 
+def assign(obj: Any, record: FieldRecord, value: Any) -> None:
+    """Set a member from a Python value: a list fills an ARRAY, a dict a STRUCT, anything else is a plain set."""
+    if isinstance(value, (list, tuple, dict)) and isinstance(record.info, (ArrayInfo, AggregateInfo)):
+        record.info.store(obj, record.offset, value, record.where)
+    else:
+        setattr(obj, record.name, value)
+
+
+def _assign_members(view: Any, values: dict[str, Any]) -> None:
+    layout: ClassLayout = type(view)._iec_layout_
+    for member, value in values.items():
+        record = layout.by_name.get(member)
+        if record is None:
+            raise TypeError(f"{type(view).__name__} has no member {member!r}")
+        assign(view, record, value)
+
+
 def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
     """The operation that writes ``record``'s initial value into a zeroed instance, or None."""
     info, initial, raw = record.info, record.spec.initial, record.raw
@@ -417,8 +434,7 @@ def _aggregate_op(info: AggregateInfo, get: Callable[[Any], Any], initial: Any) 
     def op(obj: Any) -> None:
         view = get(obj)
         implicit(view)
-        for member, value in values.items():
-            setattr(view, member, value)
+        _assign_members(view, values)
 
     return op
 
@@ -443,8 +459,7 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
                     if isinstance(item, elem.cls):
                         ctypes.memmove(ctypes.addressof(view), ctypes.addressof(typing.cast(Any, item)), elem.size)
                     else:
-                        for member, value in item.items():
-                            setattr(view, member, value)
+                        _assign_members(view, item)
 
         return op
     if initial is MISSING or not initial:

@@ -17,7 +17,7 @@ import pytest
 
 from iecoop import (
     ARRAY, BOOL, BYTE, DATE, DINT, DT, DWORD, INT, LINT, LREAL, LTIME, LWORD, POINTER_TO, REAL, REFERENCE_TO, SINT,
-    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, DefinitionError, IecEnum, Struct,
+    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, DefinitionError, FunctionBlock, IecEnum, Struct,
     Union, sizeof, var_info,
 )
 
@@ -500,3 +500,75 @@ def test_a_struct_may_point_to_its_own_type() -> None:
 
     assert sizeof(Link) == 16
     assert var_info(Link(), "following").ByteOffset == 8
+
+
+# ---------------------------------------------------------------------------
+# Lists fill ARRAYs and dicts fill STRUCTs, also nested
+# ---------------------------------------------------------------------------
+
+
+class CalPoint(Struct):
+    uv: REAL = 0.0
+    celsius: REAL = 0.0
+
+
+class CalTable(Struct):
+    count: INT = 0
+    points: ARRAY[CalPoint] = VAR(bounds=(1, 4))
+    gains: ARRAY[REAL] = VAR(bounds=(1, 3))
+
+
+def test_a_struct_is_built_from_lists_and_dicts_for_its_array_and_struct_members() -> None:
+    table = CalTable(count=2, gains=[1.0, 2.0], points=[{"uv": 0.0, "celsius": 0.0}, {"uv": 4096.0, "celsius": 100.0}])
+    assert table.count == 2
+    assert list(table.gains) == [1.0, 2.0, 0.0]  # the rest keeps its initial value
+    assert (table.points[2].uv, table.points[2].celsius, table.points[3].uv) == (4096.0, 100.0, 0.0)
+
+
+def test_declaration_initialisers_nest_lists_and_dicts() -> None:
+    class Sensor(FunctionBlock):
+        table: CalTable = VAR({"count": 1, "points": [{"celsius": 25.0}], "gains": [0.5]})
+        tables: ARRAY[CalTable] = VAR([{"count": 3, "gains": [9.0, 8.0]}, {"count": 4}], bounds=(1, 3))
+
+    sensor = Sensor()
+    assert (sensor.table.count, sensor.table.points[1].celsius, sensor.table.gains[1]) == (1, 25.0, 0.5)
+    assert [t.count for t in sensor.tables] == [3, 4, 0]
+    assert list(sensor.tables[1].gains) == [9.0, 8.0, 0.0]
+
+
+def test_wrong_lists_and_dicts_name_the_member() -> None:
+    with pytest.raises(TypeError, match=r"CalTable\.gains: 4 values for ARRAY\[1\.\.3\] OF REAL, which has 3 elements"):
+        CalTable(gains=[1.0, 2.0, 3.0, 4.0])
+    with pytest.raises(TypeError, match=r"CalTable\.points\[1\]: CalPoint has no member 'kelvin'"):
+        CalTable(points=[{"kelvin": 1.0}])
+    with pytest.raises(TypeError, match=r"CalTable\.gains\[2\]: cannot store str 'x' in REAL"):
+        CalTable(gains=[1.0, "x"])
+
+
+def test_references_and_pointers_to_arrays_take_the_arrays_bounds() -> None:
+    from iecoop import adr, method, ref_assign
+
+    class Owner(FunctionBlock):
+        points: ARRAY[CalPoint] = VAR([{"uv": 1.0}, {"uv": 2.0}], bounds=(1, 4))
+        counts: ARRAY[INT] = VAR([5, 6, 7], bounds=(1, 3))
+
+    class User(FunctionBlock):
+        table: REFERENCE_TO[ARRAY[CalPoint]] = VAR(bounds=(1, 4))
+        counts: POINTER_TO[ARRAY[INT]] = VAR(bounds=(1, 3))
+
+        @method
+        def second(self) -> REAL:
+            return self.table[2].uv
+
+        @method
+        def use(self, counts: POINTER_TO[ARRAY[INT]]) -> None:
+            self.counts = counts
+
+        @method
+        def last_count(self) -> INT:
+            return self.counts.deref[3]
+
+    owner, user = Owner(), User()
+    ref_assign(user, "table", adr(owner, "points"))
+    user.use(adr(owner, "counts"))
+    assert (user.second(), user.last_count()) == (2.0, 7)
