@@ -19,7 +19,7 @@ from collections.abc import Callable, Mapping
 from typing import Any, Final
 
 from iecoop import _config
-from iecoop.exceptions import DefinitionError
+from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -499,9 +499,12 @@ def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, A
         if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)):
             validators[record.name] = record.info.validate
             wheres[record.name] = record.where
+    constants = {record.name: record.where for record in layout.fields if record.spec.constant}
     setter = object.__setattr__
 
     def __setattr__(self: Any, name: str, value: Any) -> None:
+        if name in constants:
+            raise AccessError(f"{constants[name]} is CONSTANT and cannot be written")
         validate = validators.get(name)
         if validate is not None:
             validate(value, wheres[name])
