@@ -52,21 +52,21 @@ def _spec(section: str, initial: Any, **options: Any) -> Any:
 @overload
 def VAR(
     *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
 ) -> Any: ...
 @overload
 def VAR(
     initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
 ) -> Any: ...
 @overload
 def VAR(
     initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
 ) -> _T: ...
 def VAR(
     initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False,
-    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | None = None,
+    persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
 ) -> Any:
     """``VAR``: a local variable of the POU (or a member of a STRUCT).
 

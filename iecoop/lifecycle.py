@@ -115,7 +115,10 @@ def _init_tree(
                 member_inputs = item if isinstance(item, dict) else None
             else:
                 member_inputs = initial if isinstance(initial, dict) else None
-            _init_tree(child, init_retains, in_copy_code, spec.fb_init or _EMPTY, member_inputs)
+            fb_init = spec.fb_init
+            if isinstance(fb_init, list):  # one entry per ARRAY element (ST: aAxes : ARRAY[1..2] OF FB_Axis[(n := 1), (n := 2)])
+                fb_init = fb_init[index] if index < len(fb_init) else None
+            _init_tree(child, init_retains, in_copy_code, fb_init or _EMPTY, member_inputs)
     _run_fb_init(obj, init_retains, in_copy_code, args)
     if declared:
         for name, value in declared.items():

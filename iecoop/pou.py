@@ -230,8 +230,17 @@ def _build_pou(
             raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
         if spec.section == "VAR_INST" and spec.method not in own:
             raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {name} does not declare")
-        if spec.fb_init and not (isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb"):
-            raise DefinitionError(f"{where}: fb_init= applies to function block members only")
+        if spec.fb_init:
+            element = info.elem if isinstance(info, ArrayInfo) else info
+            if not (isinstance(element, AggregateInfo) and getattr(element.cls, "_iec_kind_", "") == "fb"):
+                raise DefinitionError(f"{where}: fb_init= applies to function block members (or ARRAYs of them) only")
+            if isinstance(spec.fb_init, list):
+                if not isinstance(info, ArrayInfo):
+                    raise DefinitionError(f"{where}: a list of fb_init= inputs is for an ARRAY OF function blocks")
+                if len(spec.fb_init) > info.count:
+                    raise DefinitionError(
+                        f"{where}: {len(spec.fb_init)} fb_init= entries for {info.count} elements"
+                    )
         if (spec.retain or spec.persistent) and isinstance(info, (PointerInfo, ReferenceInfo, InterfaceInfo)):
             raise DefinitionError(f"{where}: {info.name} cannot be RETAIN or PERSISTENT (an address is not kept)")
         return info

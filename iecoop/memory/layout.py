@@ -15,7 +15,7 @@ import dataclasses
 import os
 import sys
 import typing
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, Final
 
 from iecoop import _config
@@ -76,7 +76,7 @@ class FieldSpec:
         persistent: bool = False,
         constant: bool = False,
         method: str | None = None,
-        fb_init: Mapping[str, Any] | None = None,
+        fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
     ) -> None:
         self.section = section
         self.initial = initial
@@ -86,7 +86,14 @@ class FieldSpec:
         self.persistent = persistent
         self.constant = constant
         self.method = method
-        self.fb_init = dict(fb_init) if fb_init else None
+        # One dict of FB_init inputs, or one per element of an ARRAY OF FB.
+        self.fb_init: dict[str, Any] | list[dict[str, Any]] | None
+        if not fb_init:
+            self.fb_init = None
+        elif isinstance(fb_init, Mapping):
+            self.fb_init = dict(fb_init)
+        else:
+            self.fb_init = [dict(item) for item in fb_init]
 
     @property
     def qualifiers(self) -> str:
@@ -448,6 +455,9 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
     if isinstance(elem, AggregateInfo):
         implicit = getattr(elem.cls, "_iec_implicit_init_")
         items = list(initial) if initial is not MISSING else []
+        if getattr(elem.cls, "_iec_kind_", "") == "fb":
+            # Declaration-site inputs of ARRAY OF FB elements are applied after their FB_init by the POU layer.
+            items = [item for item in items if not isinstance(item, dict)]
 
         def op(obj: Any) -> None:
             array = get(obj)

@@ -260,10 +260,48 @@ def test_fb_init_arguments_for_members_errors_name_the_member_type() -> None:
 
 
 def test_fb_init_for_a_member_that_is_not_a_block_is_rejected() -> None:
-    with pytest.raises(DefinitionError, match=r"Gantry\.count: fb_init= applies to function block members only"):
+    with pytest.raises(DefinitionError, match=r"Gantry\.count: fb_init= applies to function block members \(or ARRAYs of them\) only"):
 
         class Gantry(FunctionBlock):
             count: INT = VAR(0, fb_init={"x": 1})
+
+
+array_init_log: list[tuple[int, int]] = []
+
+
+class NumberedAxis(FunctionBlock):
+    speed: INT = VAR_INPUT(0)
+    ident: INT = VAR(0)
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool, ident: INT = 0) -> None:
+        array_init_log.append((ident, self.speed))
+        self.ident = ident
+
+
+def test_an_array_of_blocks_takes_fb_init_inputs_per_element_then_declared_inputs() -> None:
+    class Gantry(FunctionBlock):
+        # ST: aAxes : ARRAY[1..3] OF FB_Axis[(ident := 1), (ident := 2), (ident := 3)] := [(speed := 5), (speed := 6)];
+        axes: ARRAY[NumberedAxis] = VAR([{"speed": 5}, {"speed": 6}], bounds=(1, 3), fb_init=[{"ident": 1}, {"ident": 2}, {"ident": 3}])
+        spares: ARRAY[NumberedAxis] = VAR(bounds=(1, 2), fb_init={"ident": 9})
+
+    array_init_log.clear()
+    gantry = Gantry()
+    # FB_init runs first (the declared inputs are not set yet), in element order
+    assert array_init_log == [(1, 0), (2, 0), (3, 0), (9, 0), (9, 0)]
+    assert [(a.ident, a.speed) for a in gantry.axes] == [(1, 5), (2, 6), (3, 0)]
+    assert [a.ident for a in gantry.spares] == [9, 9]
+
+
+def test_fb_init_lists_must_fit_their_array() -> None:
+    with pytest.raises(DefinitionError, match=r"Gantry\.axes: 3 fb_init= entries for 2 elements"):
+
+        class Gantry(FunctionBlock):
+            axes: ARRAY[NumberedAxis] = VAR(bounds=(1, 2), fb_init=[{"ident": 1}, {"ident": 2}, {"ident": 3}])
+
+    with pytest.raises(DefinitionError, match=r"Single\.axis: a list of fb_init= inputs is for an ARRAY OF function blocks"):
+
+        class Single(FunctionBlock):
+            axis: NumberedAxis = VAR(fb_init=[{"ident": 1}])
 
 
 def test_an_instance_is_usable_with_the_values_fb_init_set() -> None:
