@@ -23,6 +23,7 @@ import weakref
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Generic, TypeVar
 
+from iecoop import _config
 from iecoop.exceptions import DefinitionError, ExceptionCode, PlcException
 from iecoop.types import ElementaryType, StringType, elementary_type
 
@@ -242,9 +243,11 @@ class ElementaryInfo(TypeInfo):
         elif kind == "real":
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise _kind_error(where, self.name, value)
+            if isinstance(value, int) and not -(2**1023) < value < 2**1023:
+                # No IEC integer is this large; a Python int this size has no floating-point value.
+                raise OverflowError(f"{where}: an integer of {value.bit_length()} bits is outside the range of {self.name}")
         elif isinstance(value, bool) or not isinstance(value, int):
             raise _kind_error(where, self.name, value)
-
 
 
 class StringInfo(TypeInfo):
@@ -869,11 +872,21 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
                 return raw_get(self, index - lo0)
             return raw_get(self, flat(self, index))
 
-        def setitem(self: Any, index: Any, value: Any) -> None:
-            if type(index) is int and lo0 <= index <= hi0 and one_dim:
-                raw_set(self, index - lo0, value)
-            else:
-                raw_set(self, flat(self, index), value)
+        if _config.CHECKS:
+            validate = elem.validate
+
+            def setitem(self: Any, index: Any, value: Any) -> None:
+                position = index - lo0 if type(index) is int and lo0 <= index <= hi0 and one_dim else flat(self, index)
+                validate(value, f"{type(self).__name__} element [{index!r}]")
+                raw_set(self, position, value)
+
+        else:
+
+            def setitem(self: Any, index: Any, value: Any) -> None:
+                if type(index) is int and lo0 <= index <= hi0 and one_dim:
+                    raw_set(self, index - lo0, value)
+                else:
+                    raw_set(self, flat(self, index), value)
 
     else:
 

@@ -429,3 +429,30 @@ def test_wstring_rejects_lone_surrogates_naming_the_field(surrogate: str) -> Non
     texts = Texts()
     with pytest.raises(ValueError, match=r"Texts\.wshort: WSTRING holds UCS-2"):
         texts.wshort = surrogate
+
+
+@checked_only
+def test_an_integer_beyond_any_float_names_the_real_variable() -> None:
+    numbers = Numbers()
+    with pytest.raises(OverflowError, match=r"Numbers\.f_real: an integer of 1329 bits is outside the range of REAL"):
+        numbers.f_real = 10**400
+    numbers.f_real = 2**100  # large, but a float: REAL rounds it
+    assert numbers.f_real == float(2**100)
+
+
+@checked_only
+def test_checked_mode_validates_array_elements() -> None:
+    from iecoop import ARRAY, VAR, Struct
+
+    class Flags(Struct):
+        bits: ARRAY[BOOL] = VAR(bounds=(1, 3))
+        levels: ARRAY[INT] = VAR(bounds=((1, 2), (1, 2)))
+
+    flags = Flags()
+    with pytest.raises(TypeError, match=r"ARRAY\[1\.\.3\] OF BOOL element \[1\]: cannot store int 5 in BOOL"):
+        flags.bits[1] = 5  # type: ignore[assignment]
+    with pytest.raises(TypeError, match=r"element \[\(2, 1\)\]: cannot store float 1\.5 in INT"):
+        flags.levels[2, 1] = 1.5  # type: ignore[assignment]
+    flags.bits[2] = True
+    flags.levels[2, 1] = 7
+    assert list(flags.bits) == [False, True, False] and flags.levels[2, 1] == 7
