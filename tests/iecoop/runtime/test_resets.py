@@ -882,6 +882,7 @@ class RecipeV1(Program):
     width: INT = VAR(0, retain=True)
     stock: ARRAY[Part] = VAR(bounds=(1, 2))
     axis: Drive = VAR()
+    motor: Drive = VAR()
 
     def body(self) -> None:
         self.speed += 1
@@ -890,6 +891,11 @@ class RecipeV1(Program):
         for part in self.stock:
             part()
         self.axis()
+        self.motor()
+
+
+class DriveV2(Drive):
+    torque: INT = VAR(11)
 
 
 class RecipeV2(Program):
@@ -898,6 +904,7 @@ class RecipeV2(Program):
     width: DINT = VAR(-1, retain=True)  # retyped
     stock: ARRAY[Part] = VAR(bounds=(0, 2))  # one element added in front
     drive: Drive = VAR()  # axis renamed
+    motor: DriveV2 = VAR()  # the member's type changed: a variable added
 
 
 def test_online_change_copies_data_by_path_and_type(tmp_path: Path) -> None:
@@ -911,6 +918,7 @@ def test_online_change_copies_data_by_path_and_type(tmp_path: Path) -> None:
     assert (new.added, new.speed, new.width) == (42, 3, -1)
     assert [p.n for p in new.stock] == [0, 3, 3]
     assert (new.drive.pos, new.drive.homed) == (0, False)
+    assert (new.motor.pos, new.motor.homed, new.motor.torque) == (300, True, 11)
     # The store follows the new declaration from the next cycle on.
     rt.run(cycles=1)
     rt.stop()
@@ -964,6 +972,25 @@ def test_online_change_adjusts_interface_variables_to_the_new_instance() -> None
     rt.run(cycles=1)
     # 1.2: "interface variables are adjusted by the compiler automatically" during the copy.
     assert (new.stepper.count, old.stepper.count) == (3, 2)
+
+
+class Numbered(Program):
+    number: INT = VAR(0)
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, number: INT = 1) -> BOOL:
+        self.number = number
+        return False
+
+
+@pytest.mark.xfail(strict=True, reason="a reset re-runs a task instance's FB_init without its constructor (declaration) inputs")
+def test_a_reset_re_runs_fb_init_with_the_declaration_inputs() -> None:
+    numbered = Numbered(number=4)
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask"), numbered)
+    rt.run(cycles=1)
+    rt.reset_cold()
+    # 1.6: FB_init inputs are part of the declaration, so every re-initialisation passes them again.
+    assert numbered.number == 4
 
 
 class Plain(FunctionBlock):
