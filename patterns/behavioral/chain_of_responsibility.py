@@ -37,9 +37,9 @@ Roles
 
 - Link rule shared by both chains → ``IChainLink`` (``I_ChainLink``),
   ``ChainLink`` (``FB_ChainLink``, ABSTRACT)
-- Handler interface → ``ISignalStage`` (``I_SignalStage``),
-  ``IPermissive`` (``I_Permissive``)
-- Base handler with ``set_next`` and forwarding → ``SignalStage``
+- Handler interface (``set_next`` and the request) → ``ISignalStage``
+  (``I_SignalStage``), ``IPermissive`` (``I_Permissive``)
+- Base handler with the link and the forwarding → ``SignalStage``
   (``FB_SignalStage``, ABSTRACT), ``Permissive`` (``FB_Permissive``, ABSTRACT)
 - Concrete handlers → ``RangeCheck``, ``SpikeFilter``, ``Scaling``,
   ``AlarmLimits`` (``FB_RangeCheck`` ...); ``GuardDoorClosed``,
@@ -62,11 +62,12 @@ IEC 61131-3 mapping
     INTERFACE I_ChainLink
         METHOD CheckChain : E_ChainCheck   VAR_INPUT depth : INT; END_VAR
     INTERFACE I_SignalStage EXTENDS I_ChainLink
+        METHOD SetNext  VAR_INPUT stage : I_SignalStage; END_VAR
         METHOD Handle   VAR_IN_OUT signal : ST_AnalogSignal; END_VAR
 
     FUNCTION_BLOCK ABSTRACT FB_ChainLink IMPLEMENTS I_ChainLink
     VAR marked : BOOL; END_VAR
-        METHOD ABSTRACT NextLink : I_ChainLink
+        METHOD PROTECTED ABSTRACT NextLink : I_ChainLink
         METHOD PROTECTED FINAL CheckLink   VAR_INPUT candidate : I_ChainLink; END_VAR
 
     FUNCTION_BLOCK ABSTRACT FB_SignalStage EXTENDS FB_ChainLink
@@ -219,11 +220,17 @@ class ISignalStage(IChainLink):
     """``INTERFACE I_SignalStage EXTENDS I_ChainLink``: one conditioning step."""
 
     @method
+    def set_next(self, stage: ISignalStage) -> None: ...
+
+    @method
     def handle(self, signal: AnalogSignal) -> None: ...
 
 
 class IPermissive(IChainLink):
     """``INTERFACE I_Permissive EXTENDS I_ChainLink``: one start condition."""
+
+    @method
+    def set_next(self, check: IPermissive) -> None: ...
 
     @method
     def first_failing(self) -> STRING:
@@ -235,7 +242,7 @@ class ChainLink(FunctionBlock, IChainLink, abstract=True):
 
     marked: BOOL = VAR(False)
 
-    @method(ABSTRACT)
+    @method(PROTECTED | ABSTRACT)
     def next_link(self) -> IChainLink:
         """The next link as seen by the check (each chain keeps its own typed reference)."""
         raise NotImplementedError
@@ -291,7 +298,7 @@ class SignalStage(ChainLink, ISignalStage, abstract=True):
         self.check_link(stage)
         self.next_stage = stage
 
-    @method
+    @method(PROTECTED)
     def next_link(self) -> IChainLink:
         return self.next_stage
 
@@ -470,7 +477,7 @@ class Permissive(ChainLink, IPermissive, abstract=True):
         self.check_link(check)
         self.next_check = check
 
-    @method
+    @method(PROTECTED)
     def next_link(self) -> IChainLink:
         return self.next_check
 

@@ -82,6 +82,7 @@ IEC 61131-3 mapping
     FUNCTION_BLOCK FB_Interlock
         VAR_OUTPUT permissive : BOOL; valid : BOOL; END_VAR
         VAR pool : FB_NodePool; root : I_Expression; END_VAR
+        METHOD Disable                     // valid := FALSE; root := 0;
         permissive := valid AND_THEN root.EvaluateBool();
 
 When not to use it on a PLC
@@ -123,6 +124,7 @@ from iecoop import (
     BOOL,
     INT,
     INTERNAL,
+    NULL,
     PRIVATE,
     REAL,
     STRING,
@@ -783,7 +785,8 @@ class Interlock(FunctionBlock):
     ``compile(text, symbols)`` runs at configuration: it parses, checks the
     pool has room, and only then rebuilds the tree, so a rejected text
     leaves the running interlock as it was. Without an accepted expression
-    the interlock is not ``valid`` and never permissive (fail-safe).
+    the interlock is not ``valid`` and never permissive (fail-safe);
+    ``disable`` takes an accepted one out of service again.
     """
 
     permissive: BOOL = VAR_OUTPUT(False)
@@ -808,6 +811,15 @@ class Interlock(FunctionBlock):
         self.node_count = self.pool.node_count
         self.source = text
         self.valid = True
+
+    @method
+    def disable(self) -> None:
+        """Drop the expression: not ``valid``, never permissive, the tree released (``root := 0``)."""
+        self.valid = False
+        self.root = NULL
+        self.pool.clear()
+        self.node_count = 0
+        self.source = ""
 
     @method(INTERNAL)
     def build(self, node: Node, symbols: ISymbolTable) -> IExpression:

@@ -412,8 +412,7 @@ class FillingCell(FunctionBlock, ICellMediator):
                 ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
                 "FillingCell.register: the colleague is a null interface reference",
             )
-        # TO_USINT(station): the enum's value is the array index.
-        station = int(colleague.station)
+        station = colleague.station
         if self.stations[station]:
             return False
         self.stations[station] = colleague
@@ -424,7 +423,7 @@ class FillingCell(FunctionBlock, ICellMediator):
     def body(self) -> None:
         if self.registered < len(CellStation):
             for station in CellStation:
-                if not self.stations[int(station)]:
+                if not self.stations[station]:
                     raise PlcException(
                         ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
                         f"FillingCell: no colleague registered for station {station.name}",
@@ -459,8 +458,8 @@ class FillingCell(FunctionBlock, ICellMediator):
 
     @method(PROTECTED)
     def move_bottles(self) -> None:
-        infeed, filler = self.stations[int(CellStation.INFEED)], self.stations[int(CellStation.FILLER)]
-        capper, gate = self.stations[int(CellStation.CAPPER)], self.stations[int(CellStation.REJECT_GATE)]
+        infeed, filler = self.stations[CellStation.INFEED], self.stations[CellStation.FILLER]
+        capper, gate = self.stations[CellStation.CAPPER], self.stations[CellStation.REJECT_GATE]
         if capper.state == StationState.DONE and gate.state == StationState.EMPTY:
             bottle = capper.bottle
             capper.receive(CellCommand.RELEASE, bottle)

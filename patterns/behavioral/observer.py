@@ -102,6 +102,7 @@ from iecoop import (
     BOOL,
     DINT,
     INT,
+    NULL,
     PRIVATE,
     REAL,
     TIME,
@@ -259,7 +260,7 @@ class TemperatureTransmitter(FunctionBlock, ISubject):
         # Shift the tail down so observers 1..count stay contiguous and in attach order.
         for i in range(index, self.count):
             self.observers[i] = self.observers[i + 1]
-        self.observers[self.count] = None  # type: ignore[assignment]  # ST: observers[count] := 0;
+        self.observers[self.count] = NULL
         self.count -= 1
         return True
 

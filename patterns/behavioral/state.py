@@ -83,7 +83,7 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_PackMLMachine IMPLEMENTS I_PackMLUnit, I_PackMLContext
         VAR stopped : FB_Stopped; resetting : FB_Resetting; (* ... *)
-            states : ARRAY[1..17] OF I_PackMLState;
+            states : ARRAY[E_PackMLState.CLEARING..E_PackMLState.COMPLETE] OF I_PackMLState;
             current : E_PackMLState := E_PackMLState.STOPPED; END_VAR
         VAR_OUTPUT refused : UDINT; lastRefused : E_PackMLCommand; END_VAR
         PROPERTY State : E_PackMLState          // Get only
@@ -337,7 +337,6 @@ class PackMLStateBase(FunctionBlock, IPackMLState, abstract=True):
     def attach(self, context: IPackMLContext) -> None:
         """The wiring step: give the state its machine."""
         self.context = context
-
 
     @prop
     @method(ABSTRACT)
@@ -685,7 +684,7 @@ class PackMLMachine(FunctionBlock, IPackMLUnit, IPackMLContext):
     aborted: Aborted = VAR()
     clearing: Clearing = VAR({"duration": T("200ms")})
 
-    states: ARRAY[IPackMLState] = VAR(bounds=(1, 17))
+    states: ARRAY[IPackMLState] = VAR(bounds=(PackMLState.CLEARING, PackMLState.COMPLETE))
     current: PackMLState = VAR(PackMLState.STOPPED)
     previous_state: PackMLState = VAR_OUTPUT(PackMLState.STOPPED)
     transitions: UDINT = VAR_OUTPUT(0)
@@ -700,9 +699,8 @@ class PackMLMachine(FunctionBlock, IPackMLUnit, IPackMLContext):
         )
         for block in blocks:
             block.attach(self)
-            # ST indexes with the enum directly; here the index is the INT value.
-            self.states[int(block.state)] = block
-        self.states[int(self.current)].enter(self.current)
+            self.states[block.state] = block
+        self.states[self.current].enter(self.current)
         return True
 
     @prop
@@ -711,7 +709,7 @@ class PackMLMachine(FunctionBlock, IPackMLUnit, IPackMLContext):
 
     @method
     def command(self, cmd: PackMLCommand) -> BOOL:
-        if self.states[int(self.current)].command(cmd):
+        if self.states[self.current].command(cmd):
             return True
         self.refused += 1
         self.last_refused = cmd
@@ -722,10 +720,10 @@ class PackMLMachine(FunctionBlock, IPackMLUnit, IPackMLContext):
         self.previous_state = self.current
         self.current = target
         self.transitions += 1
-        self.states[int(target)].enter(self.previous_state)
+        self.states[target].enter(self.previous_state)
 
     def body(self) -> None:
-        self.states[int(self.current)].cycle()
+        self.states[self.current].cycle()
 
 
 # ---------------------------------------------------------------------------

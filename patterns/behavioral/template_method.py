@@ -65,6 +65,7 @@ IEC 61131-3 mapping
         PROPERTY Axis : I_Axis                // Set: the wiring step
         METHOD FINAL Run : BOOL               // the template method
         METHOD PRIVATE EnterStep              // VAR_INPUT step : E_HomingStep;
+        METHOD PROTECTED FINAL MoveUntil : BOOL     // VAR_INPUT reached : BOOL; velocity : LREAL;
         METHOD PROTECTED CheckPreconditions : BOOL  // hook: powered AND standstill
         METHOD PROTECTED ABSTRACT Approach : BOOL   // VAR_INPUT first : BOOL;
         METHOD PROTECTED ABSTRACT FindEdge : BOOL
@@ -75,10 +76,6 @@ IEC 61131-3 mapping
         VAR release : F_TRIG; edgePosition : LREAL; END_VAR
     FUNCTION_BLOCK FB_HomeOnIndexPulse EXTENDS FB_AxisHoming
     FUNCTION_BLOCK FB_HomeAbsolute EXTENDS FB_AxisHoming
-
-In ST the step methods are PROTECTED: only the chain and the variants call
-them. The Python methods are PUBLIC, because iecoop does not yet let a base
-block's code call a PROTECTED method that a derived block overrides.
 
 When not to use it on a PLC
 ---------------------------
@@ -118,6 +115,7 @@ from iecoop import (
     FINAL,
     LREAL,
     PRIVATE,
+    PROTECTED,
     STRING,
     TIME,
     VAR,
@@ -417,28 +415,36 @@ class AxisHoming(FunctionBlock, IHoming, abstract=True):
         self.step_timer(IN=False)
         self.step_timer(IN=True, PT=self.timeout)
 
-    # The steps: PROTECTED in ST; PUBLIC here because iecoop's PROTECTED check
-    # refuses run() (code of AxisHoming) calling an override declared in a variant.
+    @method(PROTECTED | FINAL)
+    def move_until(self, reached: BOOL, velocity: LREAL) -> BOOL:
+        """For a moving step: halt and return TRUE once ``reached``, until then move at ``velocity``."""
+        if reached:
+            self.drive.halt()
+            return True
+        self.drive.move_velocity(velocity)
+        return False
 
-    @method
+    # The steps: called only by run() and by the variants' overrides.
+
+    @method(PROTECTED)
     def check_preconditions(self, first: BOOL) -> BOOL:
         """Hook: the drive is powered and at standstill."""
         return self.drive.powered and self.drive.standstill
 
-    @method(ABSTRACT)
+    @method(PROTECTED | ABSTRACT)
     def approach(self, first: BOOL) -> BOOL:
         raise NotImplementedError
 
-    @method(ABSTRACT)
+    @method(PROTECTED | ABSTRACT)
     def find_edge(self, first: BOOL) -> BOOL:
         raise NotImplementedError
 
-    @method
+    @method(PROTECTED)
     def back_off(self, first: BOOL) -> BOOL:
         """Hook: no back-off move."""
         return True
 
-    @method(ABSTRACT)
+    @method(PROTECTED | ABSTRACT)
     def set_reference(self, first: BOOL) -> BOOL:
         raise NotImplementedError
 
@@ -457,33 +463,23 @@ class HomeOnLimitSwitch(AxisHoming):
     edge_position: LREAL = VAR_OUTPUT(0.0)
     release: F_TRIG = VAR()
 
-    @method
+    @method(PROTECTED)
     def approach(self, first: BOOL) -> BOOL:
-        if self.drive.home_switch:
-            self.drive.halt()
-            return True
-        self.drive.move_velocity(-self.approach_velocity)
-        return False
+        return self.move_until(self.drive.home_switch, -self.approach_velocity)
 
-    @method
+    @method(PROTECTED)
     def find_edge(self, first: BOOL) -> BOOL:
         self.release(CLK=self.drive.home_switch)
-        if self.release.Q and not first:
-            self.drive.halt()
+        found = self.move_until(self.release.Q and not first, self.creep_velocity)
+        if found:
             self.edge_position = self.drive.position
-            return True
-        self.drive.move_velocity(self.creep_velocity)
-        return False
+        return found
 
-    @method
+    @method(PROTECTED)
     def back_off(self, first: BOOL) -> BOOL:
-        if self.drive.position >= self.edge_position + self.back_off_distance:
-            self.drive.halt()
-            return True
-        self.drive.move_velocity(self.creep_velocity)
-        return False
+        return self.move_until(self.drive.position >= self.edge_position + self.back_off_distance, self.creep_velocity)
 
-    @method
+    @method(PROTECTED)
     def set_reference(self, first: BOOL) -> BOOL:
         self.drive.set_position(self.home_position + self.drive.position - self.edge_position)
         return True
@@ -503,28 +499,22 @@ class HomeOnIndexPulse(AxisHoming):
     start_position: LREAL = VAR(0.0)
     mark_position: LREAL = VAR_OUTPUT(0.0)
 
-    @method
+    @method(PROTECTED)
     def approach(self, first: BOOL) -> BOOL:
         if first:
             self.start_position = self.drive.position
-        if self.drive.position >= self.start_position + self.clear_distance:
-            self.drive.halt()
-            return True
-        self.drive.move_velocity(self.approach_velocity)
-        return False
+        return self.move_until(self.drive.position >= self.start_position + self.clear_distance, self.approach_velocity)
 
-    @method
+    @method(PROTECTED)
     def find_edge(self, first: BOOL) -> BOOL:
         if first:
             self.drive.arm_index_latch()
-        if self.drive.index_latched:
-            self.drive.halt()
+        found = self.move_until(self.drive.index_latched, self.creep_velocity)
+        if found:
             self.mark_position = self.drive.index_position
-            return True
-        self.drive.move_velocity(self.creep_velocity)
-        return False
+        return found
 
-    @method
+    @method(PROTECTED)
     def set_reference(self, first: BOOL) -> BOOL:
         self.drive.set_position(self.home_position + self.drive.position - self.mark_position)
         return True
@@ -540,19 +530,19 @@ class HomeAbsolute(AxisHoming):
 
     encoder_at_home: LREAL = VAR_INPUT(0.0)
 
-    @method
+    @method(PROTECTED)
     def check_preconditions(self, first: BOOL) -> BOOL:
         return super().check_preconditions(first) and self.drive.encoder_valid
 
-    @method
+    @method(PROTECTED)
     def approach(self, first: BOOL) -> BOOL:
         return True
 
-    @method
+    @method(PROTECTED)
     def find_edge(self, first: BOOL) -> BOOL:
         return True
 
-    @method
+    @method(PROTECTED)
     def set_reference(self, first: BOOL) -> BOOL:
         self.drive.set_position(self.home_position + self.drive.absolute_position - self.encoder_at_home)
         return True

@@ -42,7 +42,8 @@ Roles
 - Concrete products (INTERNAL): ``EcDigitalInput``, ``EcDigitalOutput``,
   ``EcAnalogInput``, ``PnDigitalInput``, ``PnDigitalOutput``,
   ``PnAnalogInput`` (``FB_EcDigitalInput`` ...), on the INTERNAL ABSTRACT
-  ``IoModule`` (``FB_IoModule``)
+  ``IoModule`` (``FB_IoModule``); the analog ones share its extension
+  ``AnalogModule`` (``FB_AnalogModule``)
 - Client: ``TankCell`` (``FB_TankCell``), wired by ``TankFarmMain``
   (``PROGRAM TankFarmMain``)
 
@@ -70,8 +71,11 @@ IEC 61131-3 mapping
             VAR_INPUT fLow, fHigh : REAL; END_VAR
         PROPERTY ABSTRACT Family : STRING
 
-    FUNCTION_BLOCK INTERNAL FB_EcAnalogInput EXTENDS FB_IoModule IMPLEMENTS I_AnalogInput
+    FUNCTION_BLOCK ABSTRACT INTERNAL FB_IoModule
         METHOD INTERNAL Bind  VAR_INPUT pImage : POINTER TO ST_BusImage; nWord : INT; END_VAR
+    FUNCTION_BLOCK ABSTRACT INTERNAL FB_AnalogModule EXTENDS FB_IoModule IMPLEMENTS I_AnalogInput
+        METHOD INTERNAL SetRange  VAR_INPUT fLow, fHigh : REAL; END_VAR
+    FUNCTION_BLOCK INTERNAL FINAL FB_EcAnalogInput EXTENDS FB_AnalogModule
 
     FUNCTION_BLOCK FINAL FB_EtherCatFactory EXTENDS FB_IoFactory
         VAR aAi : ARRAY[1..2] OF FB_EcAnalogInput; nAi : INT; END_VAR
@@ -260,8 +264,8 @@ class EcDigitalOutput(IoModule, IDigitalOutput, internal=True, final=True):
         self.set_output(self.mask(channel, False), value)
 
 
-class EcAnalogInput(IoModule, IAnalogInput, internal=True, final=True):
-    """``FUNCTION_BLOCK INTERNAL FB_EcAnalogInput``: status word + value 0..32767 (two words)."""
+class AnalogModule(IoModule, IAnalogInput, abstract=True, internal=True):
+    """``FUNCTION_BLOCK ABSTRACT INTERNAL FB_AnalogModule``: the engineering range both families scale to."""
 
     low: REAL = VAR(0.0)
     high: REAL = VAR(100.0)
@@ -271,10 +275,18 @@ class EcAnalogInput(IoModule, IAnalogInput, internal=True, final=True):
         self.low = low
         self.high = high
 
+    @method(PROTECTED)
+    def scaled(self, raw: WORD, full_scale: WORD) -> REAL:
+        """``raw`` of ``full_scale`` nominal counts, in ``low``..``high``."""
+        return self.low + (self.high - self.low) * raw / full_scale
+
+
+class EcAnalogInput(AnalogModule, internal=True, final=True):
+    """``FUNCTION_BLOCK INTERNAL FB_EcAnalogInput``: status word + value 0..32767 (two words)."""
+
     @prop
     def value(self) -> REAL:
-        raw = self.image.deref.inputs[self.word + 1]
-        return self.low + (self.high - self.low) * raw / 32767
+        return self.scaled(self.image.deref.inputs[self.word + 1], 32767)
 
     @prop
     def wire_break(self) -> BOOL:
@@ -297,21 +309,12 @@ class PnDigitalOutput(IoModule, IDigitalOutput, internal=True, final=True):
         self.set_output(self.mask(channel, True), value)
 
 
-class PnAnalogInput(IoModule, IAnalogInput, internal=True, final=True):
+class PnAnalogInput(AnalogModule, internal=True, final=True):
     """``FUNCTION_BLOCK INTERNAL FB_PnAnalogInput``: one word, 0..27648 nominal, 16#7FFF on wire break."""
-
-    low: REAL = VAR(0.0)
-    high: REAL = VAR(100.0)
-
-    @method(INTERNAL)
-    def set_range(self, low: REAL, high: REAL) -> None:
-        self.low = low
-        self.high = high
 
     @prop
     def value(self) -> REAL:
-        raw = self.image.deref.inputs[self.word]
-        return self.low + (self.high - self.low) * raw / 27648
+        return self.scaled(self.image.deref.inputs[self.word], 27648)
 
     @prop
     def wire_break(self) -> BOOL:

@@ -35,8 +35,9 @@ validate, and runs a valid one with one TON per segment.
 Roles
 -----
 
-- Builder: ``ProfileBuilder`` (``FB_ProfileBuilder``, FINAL), whose
-  product side is the interface ``IProfileBuilder`` (``I_ProfileBuilder``)
+- Builder: ``IProfileBuilder`` (``I_ProfileBuilder``), whose step methods
+  return the builder itself
+- Concrete builder: ``ProfileBuilder`` (``FB_ProfileBuilder``, FINAL)
 - Product: ``MotionProfile`` (``ST_MotionProfile``) holding
   ``ARRAY[1..8] OF MotionSegment`` (``ST_MotionSegment``)
 - Director: ``FeedAxisMain`` (``PROGRAM FeedAxisMain``), which knows the
@@ -56,13 +57,19 @@ IEC 61131-3 mapping
         fTarget : LREAL; bValid : BOOL;
     END_STRUCT END_TYPE
 
+    INTERFACE I_ProfileBuilder
+        METHOD Begin : I_ProfileBuilder    VAR_INPUT sName : STRING; END_VAR
+        METHOD Ramp : I_ProfileBuilder     VAR_INPUT fVelocity : LREAL; tDuration : TIME; END_VAR
+        METHOD Cruise : I_ProfileBuilder   VAR_INPUT tDuration : TIME; END_VAR
+        METHOD Dwell : I_ProfileBuilder    VAR_INPUT tDuration : TIME; END_VAR
+        METHOD Target : I_ProfileBuilder   VAR_INPUT fPosition : LREAL; END_VAR
+        METHOD Build : E_ProfileError      VAR_IN_OUT stProfile : ST_MotionProfile; END_VAR
+        PROPERTY PlannedDistance : LREAL
+
     FUNCTION_BLOCK FINAL FB_ProfileBuilder IMPLEMENTS I_ProfileBuilder
         VAR_INPUT  fMaxVelocity : LREAL := 500; fMaxAccel : LREAL := 5000; END_VAR
         VAR_OUTPUT eError : E_ProfileError; nErrorStep : INT; END_VAR
-        METHOD Ramp : REFERENCE TO FB_ProfileBuilder  // Ramp REF= THIS^;
-            VAR_INPUT fVelocity : LREAL; tDuration : TIME; END_VAR
-        METHOD Build : E_ProfileError
-            VAR_IN_OUT stProfile : ST_MotionProfile; END_VAR
+        METHOD Ramp : I_ProfileBuilder     // ...; Ramp := THIS^;
 
     FUNCTION_BLOCK FB_ProfileRunner IMPLEMENTS I_ProfileRunner
         VAR_INPUT  bExecute : BOOL; END_VAR
@@ -72,8 +79,10 @@ IEC 61131-3 mapping
             VAR_IN_OUT CONSTANT stProfile : ST_MotionProfile; END_VAR
         PROPERTY Done : BOOL
 
-The fluent methods are typed with the builder's class, FINAL, so the chain
-type-checks: ``THIS^`` of a FINAL block is always that block.
+The step methods return ``I_ProfileBuilder``, so the director's chain
+needs nothing but the interface; a builder with other rules (another axis
+type's limits) implements the same interface instead of extending the FINAL
+block.
 
 When not to use it on a PLC
 ---------------------------
@@ -191,7 +200,27 @@ class MotionProfile(Struct):
 
 
 class IProfileBuilder(Interface):
-    """``INTERFACE I_ProfileBuilder``: what a consumer of a builder needs, the finished product."""
+    """``INTERFACE I_ProfileBuilder``: the steps, each returning the builder, and the finished product."""
+
+    @method
+    def begin(self, name: STRING) -> IProfileBuilder:
+        raise NotImplementedError
+
+    @method
+    def ramp(self, velocity: LREAL, duration: TIME) -> IProfileBuilder:
+        raise NotImplementedError
+
+    @method
+    def cruise(self, duration: TIME) -> IProfileBuilder:
+        raise NotImplementedError
+
+    @method
+    def dwell(self, duration: TIME) -> IProfileBuilder:
+        raise NotImplementedError
+
+    @method
+    def target(self, position: LREAL) -> IProfileBuilder:
+        raise NotImplementedError
 
     @method
     def build(self, profile: MotionProfile) -> ProfileError:
@@ -216,7 +245,7 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
     has_target: BOOL = VAR(False)
 
     @method
-    def begin(self, name: STRING) -> ProfileBuilder:
+    def begin(self, name: STRING) -> IProfileBuilder:
         """Start a new profile at standstill; clears a latched error."""
         self.draft = MotionProfile(name=name)
         self.error = ProfileError.NONE
@@ -228,7 +257,7 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         return self
 
     @method
-    def ramp(self, velocity: LREAL, duration: TIME) -> ProfileBuilder:
+    def ramp(self, velocity: LREAL, duration: TIME) -> IProfileBuilder:
         """Change the velocity linearly to ``velocity`` (mm/s) in ``duration``."""
         if not self.accept():
             return self
@@ -243,7 +272,7 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         return self.append(SegmentKind.RAMP, velocity, duration)
 
     @method
-    def cruise(self, duration: TIME) -> ProfileBuilder:
+    def cruise(self, duration: TIME) -> IProfileBuilder:
         """Keep the present velocity for ``duration``."""
         if not self.accept():
             return self
@@ -252,7 +281,7 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         return self.append(SegmentKind.CRUISE, self.velocity, duration)
 
     @method
-    def dwell(self, duration: TIME) -> ProfileBuilder:
+    def dwell(self, duration: TIME) -> IProfileBuilder:
         """Stand still for ``duration``; only allowed at standstill."""
         if not self.accept():
             return self
@@ -263,7 +292,7 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         return self.append(SegmentKind.DWELL, 0.0, duration)
 
     @method
-    def target(self, position: LREAL) -> ProfileBuilder:
+    def target(self, position: LREAL) -> IProfileBuilder:
         """Where the move must end (mm from its start); ``build`` checks the segments reach it."""
         if self.accept():
             self.draft.target = position
@@ -299,13 +328,13 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         return self.error == ProfileError.NONE
 
     @method(PRIVATE)
-    def reject(self, error: ProfileError) -> ProfileBuilder:
+    def reject(self, error: ProfileError) -> IProfileBuilder:
         self.error = error
         self.error_step = self.steps
         return self
 
     @method(PRIVATE)
-    def append(self, kind: SegmentKind, velocity: LREAL, duration: TIME) -> ProfileBuilder:
+    def append(self, kind: SegmentKind, velocity: LREAL, duration: TIME) -> IProfileBuilder:
         if self.draft.count >= MAX_SEGMENTS:
             return self.reject(ProfileError.TOO_MANY_SEGMENTS)
         self.draft.count += 1

@@ -73,11 +73,11 @@ IEC 61131-3 mapping
             aValve : ARRAY[1..8] OF I_Valve; END_VAR
         METHOD Configure : INT
             VAR_IN_OUT CONSTANT aTable : ARRAY[1..8] OF ST_ValveConfig; END_VAR
-        METHOD CreateValve : I_Valve
+        METHOD PROTECTED CreateValve : I_Valve
             VAR_INPUT stConfig : ST_ValveConfig; END_VAR
 
     FUNCTION_BLOCK FB_PinchValveFactory EXTENDS FB_ValveFactory
-        METHOD CreateValve : I_Valve  // PINCH here, the rest: SUPER^.CreateValve(stConfig)
+        METHOD PROTECTED CreateValve : I_Valve  // PINCH here, the rest: SUPER^.CreateValve(stConfig)
 
 When not to use it on a PLC
 ---------------------------
@@ -386,7 +386,7 @@ class ValveFactory(FunctionBlock, IValveFactory):
             self.error_row = self.row
         return self.NO_VALVE
 
-    @method
+    @method(PROTECTED)
     def create_valve(self, config: ValveConfig) -> IValve:
         """The factory method: a configured valve of ``config.type_code``, or 0."""
         code = config.type_code
@@ -417,7 +417,7 @@ class PinchValveFactory(ValveFactory):
     pinches: ARRAY[PinchValve] = VAR(bounds=(1, 2))
     n_pinch: INT = VAR(0)
 
-    @method
+    @method(PROTECTED)
     def create_valve(self, config: ValveConfig) -> IValve:
         if config.type_code != ValveType.PINCH:
             return super().create_valve(config)

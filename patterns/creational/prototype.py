@@ -23,13 +23,15 @@ copy of the table, to be corrected independently.
 ``MEMCPY``. The STRUCT holds a ``POINTER TO ST_CompTable``: a SHALLOW clone
 copies the pointer, so it shares the table; a DEEP clone also copies the
 table into its own storage (a STRUCT assignment) and re-points its copy of
-the pointer there. A clone comes back as ``I_AxisParameters``, what a
-station needs; ``__QUERYINTERFACE`` gives its ``I_AxisPrototype`` to clone it
-again (a clone's slot clones from the same pool). A full pool is reported on the pool's ``error`` output and
-``clone`` returns 0; a parameter set without a pool (the FB_init injection
-missing) faults with RTSEXCPT_ACCESS_VIOLATION on ``clone``. Everything is
-static: no ``__NEW``, so no pointer can outlive its target; the tables live
-in the program and in the pool's blocks, as long as the clones do.
+the pointer there. A clone comes back as ``I_AxisPrototype``, so it can be
+cloned again (a clone's slot clones from the same pool); a station is given
+it as ``I_AxisParameters``, all it reads, and code holding only that gets
+the prototype back with ``__QUERYINTERFACE``. A full pool is reported on the
+pool's ``error`` output and ``clone`` returns 0; a parameter set without a
+pool (the FB_init injection missing) faults with RTSEXCPT_ACCESS_VIOLATION
+on ``clone``. Everything is static: no ``__NEW``, so no pointer can outlive
+its target; the tables live in the program and in the pool's blocks, as long
+as the clones do.
 
 Roles
 -----
@@ -57,7 +59,7 @@ IEC 61131-3 mapping
     END_STRUCT END_TYPE
 
     INTERFACE I_AxisPrototype EXTENDS I_AxisParameters
-        METHOD Clone : I_AxisParameters
+        METHOD Clone : I_AxisPrototype
             VAR_INPUT eMode : E_CopyMode; END_VAR
 
     FUNCTION_BLOCK FB_ParameterSet IMPLEMENTS I_AxisPrototype
@@ -200,7 +202,7 @@ class IAxisPrototype(IAxisParameters):
     """``INTERFACE I_AxisPrototype EXTENDS I_AxisParameters``: a parameter set that can be cloned."""
 
     @method
-    def clone(self, mode: CopyMode) -> IAxisParameters:
+    def clone(self, mode: CopyMode) -> IAxisPrototype:
         raise NotImplementedError
 
 
@@ -231,7 +233,7 @@ class ParameterSet(FunctionBlock, IAxisPrototype):
         self.tuned.comp = table
 
     @method
-    def clone(self, mode: CopyMode) -> IAxisParameters:
+    def clone(self, mode: CopyMode) -> IAxisPrototype:
         return self.pool.clone_of(self.tuned, mode)
 
     @method(INTERNAL)

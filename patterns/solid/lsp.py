@@ -116,6 +116,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns._plant import ramp
 
 #: Card counts per percent: the cards are configured for 0..32000 = 0..100 %.
 COUNTS_PER_PERCENT = 320
@@ -131,13 +132,6 @@ def clamp(value: REAL) -> REAL:
 def to_raw(value: REAL) -> INT:
     """``FUNCTION F_ToRaw : INT``: percent to card counts, clamped."""
     return round(clamp(value) * COUNTS_PER_PERCENT)
-
-
-def ramp(actual: REAL, target: REAL, step: REAL) -> REAL:
-    """``FUNCTION F_Ramp : REAL``: one step of at most ``step`` from ``actual`` towards ``target``."""
-    if actual < target:
-        return min(actual + step, target)
-    return max(actual - step, target)
 
 
 # ---------------------------------------------------------------------------

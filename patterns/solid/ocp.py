@@ -121,6 +121,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns._plant import ramp
 
 #: ``ERR_UNKNOWN_KIND : UDINT := 16#8001``: the CASE met a type code it has no branch for.
 ERR_UNKNOWN_KIND = 0x8001
@@ -302,10 +303,7 @@ class ProportionalValve(ValveBase):
     @method
     def update(self) -> None:
         self.ao_position = 100.0 if self.cmd_open else 0.0
-        if self.actual < self.ao_position:
-            self.actual = min(self.actual + self.slew, self.ao_position)
-        else:
-            self.actual = max(self.actual - self.slew, self.ao_position)
+        self.actual = ramp(self.actual, self.ao_position, self.slew)
 
 
 class ValveManifold(FunctionBlock):

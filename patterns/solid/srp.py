@@ -67,7 +67,7 @@ IEC 61131-3 mapping
                    sStatus : STRING(40); nFormatted : UDINT; END_VAR
         VAR        aEvents : ARRAY[1..8] OF STRING(40); END_VAR
         METHOD Start : BOOL
-        METHOD Compose : STRING(40)
+        METHOD PROTECTED Compose : STRING(40)
 
     FUNCTION_BLOCK FB_Drive IMPLEMENTS I_Drive      // compliant
         VAR_INPUT  overload : BOOL; END_VAR
@@ -79,7 +79,7 @@ IEC 61131-3 mapping
     FUNCTION_BLOCK FB_DriveHmiFormatter
         VAR_INPUT  itfSource : I_DriveStatus; END_VAR
         VAR_OUTPUT sStatus : STRING(40); END_VAR
-        METHOD Compose : STRING(40)
+        METHOD PROTECTED Compose : STRING(40)
 
 References
 ----------
@@ -99,6 +99,7 @@ from iecoop import (
     ARRAY,
     BOOL,
     INT,
+    PROTECTED,
     REAL,
     STRING,
     UDINT,
@@ -118,6 +119,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
+from patterns._plant import ramp
 
 #: Entries kept by an event log: ``ARRAY[1..EVENTS] OF STRING(40)``.
 EVENTS = 8
@@ -129,13 +131,6 @@ class DriveState(IecEnum):
     STOPPED = 0
     RUNNING = 1
     TRIPPED = 2
-
-
-def ramp(actual: REAL, target: REAL, step: REAL) -> REAL:
-    """``FUNCTION F_Ramp : REAL``: one step of at most ``step`` from ``actual`` towards ``target``."""
-    if actual < target:
-        return min(actual + step, target)
-    return max(actual - step, target)
 
 
 # ---------------------------------------------------------------------------
@@ -187,7 +182,7 @@ class DriveWithHmi(FunctionBlock):
     def state(self) -> DriveState:
         return self.current
 
-    @method
+    @method(PROTECTED)
     def compose(self) -> STRING:
         """The HMI wording, owned by the drive: a new wording is a new drive block."""
         return f"{self.name} {_WORDS[self.current]} {self.speed_ref:5.1f} %"
@@ -358,7 +353,7 @@ class DriveHmiFormatter(FunctionBlock):
     status_text: STRING = VAR_OUTPUT("", length=40)
     format_count: UDINT = VAR_OUTPUT(0)
 
-    @method
+    @method(PROTECTED)
     def compose(self) -> STRING:
         return f"{self.name} {_WORDS[self.source.state]} {self.source.speed:5.1f} %"
 

@@ -122,6 +122,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG, TON
+from patterns._plant import ramp
 
 __all__ = [
     "AxisDrive",
@@ -246,10 +247,7 @@ class VfdSim(FunctionBlock):
             self.frequency = 0.0  # the output stage is off: the motor coasts
         else:
             target = float(self.speed_ref) if self.magnetise.Q else 0.0
-            if self.frequency < target:
-                self.frequency = min(target, self.frequency + step)
-            else:
-                self.frequency = max(target, self.frequency - step)
+            self.frequency = ramp(self.frequency, target, step)
         status = 0 if self.faulted else SW_READY
         if self.magnetise.Q or self.frequency > 0.0:
             status |= SW_RUNNING
@@ -374,10 +372,7 @@ class AxisSim(FunctionBlock):
             axis.act_velocity = 0.0
             return
         target = axis.cmd_velocity if axis.cmd_move and not axis.cmd_stop else 0.0
-        if axis.act_velocity < target:
-            axis.act_velocity = min(target, axis.act_velocity + step)
-        else:
-            axis.act_velocity = max(target, axis.act_velocity - step)
+        axis.act_velocity = ramp(axis.act_velocity, target, step)
 
 
 class MC_Power(FunctionBlock):

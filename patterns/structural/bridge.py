@@ -56,7 +56,7 @@ IEC 61131-3 mapping
             VAR_INPUT bInitRetains, bInCopyCode : BOOL;
                       sTag : STRING; iChannel : I_Channel; nPoint : USINT; END_VAR
         METHOD FINAL Cyclic                       // checks the injection, then Update()
-        METHOD ABSTRACT Update
+        METHOD PROTECTED ABSTRACT Update
 
     FUNCTION_BLOCK FB_Pump EXTENDS FB_Device      // Start(fSpeed), Stop, Running, Speed
     FUNCTION_BLOCK FB_Valve EXTENDS FB_Device     // Open, Close, IsOpen, IsClosed, tonTravel
@@ -65,8 +65,8 @@ IEC 61131-3 mapping
         VAR stImage : ST_FieldImage; END_VAR       // the process image
     FUNCTION_BLOCK FB_ModbusTcp IMPLEMENTS I_Channel
         VAR aRequest, aResponse : ARRAY[1..4] OF INT; nLatency : UINT; tonTimeout : TON; END_VAR
-    FUNCTION_BLOCK FB_SimChannel IMPLEMENTS I_Channel
-        VAR stImage : ST_FieldImage; fbModel : FB_FieldSim; END_VAR
+    FUNCTION_BLOCK FB_SimChannel EXTENDS FB_LocalIo  // the same image, answered by a model
+        VAR fbModel : FB_FieldSim; END_VAR
 
 When not to use it on a PLC
 ---------------------------
@@ -100,6 +100,7 @@ from iecoop import (
     BOOL,
     FINAL,
     INT,
+    PROTECTED,
     REAL,
     STRING,
     UINT,
@@ -120,6 +121,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns._plant import ramp
 
 __all__ = [
     "POINTS",
@@ -160,11 +162,7 @@ class FieldSim(FunctionBlock):
 
     def body(self) -> None:
         for k in range(1, POINTS + 1):
-            command, feedback = self.image.q[k], self.image.i[k]
-            if feedback < command:
-                self.image.i[k] = min(command, feedback + self.rate)
-            else:
-                self.image.i[k] = max(command, feedback - self.rate)
+            self.image.i[k] = ramp(self.image.i[k], self.image.q[k], self.rate)
 
 
 # ---------------------------------------------------------------------------
@@ -274,31 +272,19 @@ class ModbusTcp(FunctionBlock, IChannel):
         return "Modbus TCP"
 
 
-class SimChannel(FunctionBlock, IChannel):
-    """``FUNCTION_BLOCK FB_SimChannel IMPLEMENTS I_Channel``: no hardware; a plant model answers.
+class SimChannel(LocalIo):
+    """``FUNCTION_BLOCK FB_SimChannel EXTENDS FB_LocalIo``: no hardware; a plant model answers.
 
-    For virtual commissioning: the same devices, the same code, the field
-    replaced by ``FieldSim`` running inside the channel.
+    For virtual commissioning: the same devices, the same code, the same
+    process image, with the field replaced by ``FieldSim`` running inside
+    the channel.
     """
 
-    image: FieldImage = VAR()
     model: FieldSim = VAR()
-
-    @method
-    def write(self, point: USINT, value: REAL) -> None:
-        self.image.q[point] = value
-
-    @method
-    def read(self, point: USINT) -> REAL:
-        return self.image.i[point]
 
     @method
     def cyclic(self) -> None:
         self.model(image=self.image)
-
-    @prop
-    def healthy(self) -> BOOL:
-        return True
 
     @prop
     def kind(self) -> STRING:
@@ -375,13 +361,9 @@ class Device(FunctionBlock, IDevice, abstract=True):
         self.comm_ok = self.channel_ref.healthy
         self.update()
 
-    @method(ABSTRACT)
+    @method(PROTECTED | ABSTRACT)
     def update(self) -> None:
-        """Write the commands and read the feedback through ``channel_ref``.
-
-        PUBLIC, although PROTECTED is the intent: iecoop rejects a call from
-        ``Device.cyclic`` to a PROTECTED override declared in a derived block.
-        """
+        """Write the commands and read the feedback through ``channel_ref``."""
         ...
 
     @prop
@@ -403,7 +385,7 @@ class Pump(Device):
     def stop(self) -> None:
         self.setpoint = 0.0
 
-    @method
+    @method(PROTECTED)
     def update(self) -> None:
         self.channel_ref.write(self.point, self.setpoint)
         self.feedback = self.channel_ref.read(self.point)
@@ -437,7 +419,7 @@ class Valve(Device):
     def close(self) -> None:
         self.open_cmd = False
 
-    @method
+    @method(PROTECTED)
     def update(self) -> None:
         self.channel_ref.write(self.point, 100.0 if self.open_cmd else 0.0)
         self.position = self.channel_ref.read(self.point)

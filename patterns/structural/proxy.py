@@ -54,7 +54,8 @@ IEC 61131-3 mapping
         PROPERTY Setpoint : LREAL
 
     FUNCTION_BLOCK FB_SetpointAccessProxy IMPLEMENTS I_Setpoint
-        VAR CONSTANT aLimits : ARRAY[1..3] OF ST_SetpointLimits := [...]; END_VAR
+        VAR CONSTANT aLimits : ARRAY[E_AccessLevel.OPERATOR..E_AccessLevel.ENGINEER]
+            OF ST_SetpointLimits := [...]; END_VAR
         VAR iSubject : I_Setpoint; eLevel : E_AccessLevel; fbIdle : TON; END_VAR
         VAR_OUTPUT nRefused : UDINT; eLastRefusal : E_Refusal; sMessage : STRING(80); END_VAR
         METHOD Login  VAR_INPUT eLevel : E_AccessLevel; END_VAR
@@ -212,7 +213,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
             {"low": 100.0, "high": 300.0, "max_step": 50.0},
             {"low": 0.0, "high": 400.0, "max_step": 400.0},
         ],
-        bounds=(1, 3),
+        bounds=(AccessLevel.OPERATOR, AccessLevel.ENGINEER),
         constant=True,
     )
     logout_after: TIME = VAR_INPUT(T("5m"))
@@ -258,7 +259,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     @prop
     def limits(self) -> SetpointLimits:
         """The row of ``LIMITS`` for the current level."""
-        return self.LIMITS[int(self.user_level)]
+        return self.LIMITS[self.user_level]
 
     @method
     def write(self, value: LREAL) -> BOOL:

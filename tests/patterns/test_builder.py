@@ -13,6 +13,7 @@ from iecoop.runtime import Runtime, Task
 from patterns.creational.builder import (
     MAX_SEGMENTS,
     FeedAxisMain,
+    IProfileBuilder,
     MotionProfile,
     ProfileBuilder,
     ProfileError,
@@ -37,7 +38,7 @@ def runtime_for(program: Program) -> Runtime:
     return rt
 
 
-def index_move(builder: ProfileBuilder) -> ProfileBuilder:
+def index_move(builder: IProfileBuilder) -> IProfileBuilder:
     return builder.begin("index").ramp(200.0, T("100ms")).cruise(T("400ms")).ramp(0.0, T("100ms")).target(100.0)
 
 
@@ -54,7 +55,7 @@ def test_the_fluent_chain_builds_the_product() -> None:
     assert builder.planned_distance == pytest.approx(100.0)
 
 
-Steps = Callable[[ProfileBuilder], ProfileBuilder]
+Steps = Callable[[IProfileBuilder], IProfileBuilder]
 
 STEP_ERRORS: list[tuple[Steps, ProfileError, int]] = [
     (lambda b: b.begin("x").ramp(-5.0, T("100ms")), ProfileError.NEGATIVE_VELOCITY, 1),
@@ -76,7 +77,8 @@ def test_a_bad_step_is_reported_with_its_number_and_build_refuses(steps: Steps, 
 
 
 def test_the_ninth_segment_does_not_fit_the_array() -> None:
-    builder = ProfileBuilder().begin("long")
+    builder = ProfileBuilder()
+    builder.begin("long")
     for _ in range(MAX_SEGMENTS + 1):
         builder.dwell(T("10ms"))
     assert (builder.error, builder.error_step) == (ProfileError.TOO_MANY_SEGMENTS, MAX_SEGMENTS + 1)

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import REAL, USINT, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, PlcException, Program, T, method
+from iecoop import REAL, USINT, VAR, AccessError, VAR_INPUT, VAR_OUTPUT, ExceptionCode, PlcException, Program, T, method
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.chain_of_responsibility import (
     MAX_CHAIN_LENGTH,
@@ -15,6 +15,7 @@ from patterns.behavioral.chain_of_responsibility import (
     AnalogSignal,
     EStopReleased,
     GuardDoorClosed,
+    ISignalStage,
     PressureMain,
     Quality,
     RangeCheck,
@@ -101,6 +102,18 @@ def test_each_stage_sees_the_signal_once_in_link_order() -> None:
     ai(raw_ma=10.0)
     assert [(p.seen_hops, p.calls) for p in (first, second, third)] == [(1, 2), (2, 2), (3, 2)]
     assert (third.seen_ma, ai.signal.hops) == (10.0, 3)
+
+
+def test_a_client_links_the_stages_through_i_signal_stage_alone() -> None:
+    range_check, scaling, limits = RangeCheck(), Scaling(), AlarmLimits()
+    stages: list[ISignalStage] = [range_check, scaling, limits]
+    for before, after in zip(stages, stages[1:]):
+        before.set_next(after)
+    ai = AnalogInput(chain=stages[0])
+    ai(raw_ma=20.0)
+    assert (ai.signal.value, ai.signal.high_alarm, ai.signal.hops) == (16.0, True, 3)
+    with pytest.raises(AccessError, match=r"PROTECTED METHOD SignalStage\.next_link cannot be called from"):
+        range_check.next_link()
 
 
 @pytest.mark.parametrize(
@@ -217,7 +230,7 @@ def test_a_link_that_closes_a_loop_is_refused_and_leaves_the_chain_as_it_was() -
     assert exc.value.code == ExceptionCode.RTSEXCPT_STACK_OVERFLOW
     with pytest.raises(PlcException, match="close a loop"):
         a.set_next(a)
-    assert not c.next_link() and a.next_link() == b
+    assert not c.next_stage and a.next_stage == b
     ai = AnalogInput(chain=a)
     ai(raw_ma=12.0)
     assert ai.signal.hops == 3
@@ -231,7 +244,7 @@ def test_a_chain_longer_than_max_chain_length_is_refused() -> None:
     with pytest.raises(PlcException, match=r"longer than MAX_CHAIN_LENGTH = 6") as exc:
         stages[0].set_next(stages[1])
     assert exc.value.code == ExceptionCode.RTSEXCPT_STACK_OVERFLOW
-    assert not stages[0].next_link()
+    assert not stages[0].next_stage
 
 
 def test_a_chain_grown_at_its_tail_after_the_head_was_checked_stops_at_run_time() -> None:

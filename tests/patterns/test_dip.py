@@ -39,6 +39,7 @@ from patterns.solid.dip import (
     TowerLamp,
     VfdDrive,
 )
+from tests import checked_only
 
 
 class FakeLamp(FunctionBlock, ILamp):
@@ -103,6 +104,10 @@ def _cell() -> tuple[Runtime, DipCell]:
 def test_the_fixed_controller_cannot_be_given_a_fake() -> None:
     with pytest.raises(TypeError, match=r"ConveyorControllerFixed: FB_init has no input 'lamp'"):
         ConveyorControllerFixed(lamp=FakeLamp())
+
+
+@checked_only
+def test_the_fixed_controller_members_refuse_a_fake() -> None:
     controller = ConveyorControllerFixed()
     # Its members are typed with the concrete blocks: mypy rejects a fake as well (warn_unused_ignores checks it).
     with pytest.raises(AccessError, match=r"VAR ConveyorControllerFixed\.lamp cannot be written"):

@@ -77,6 +77,13 @@ def test_the_base_factory_refuses_the_kind_only_the_subclass_knows() -> None:
     assert isinstance(extended.valve(2), PinchValve)
 
 
+def test_the_factory_method_is_protected_and_the_client_goes_through_configure() -> None:
+    factory = PinchValveFactory()
+    with pytest.raises(AccessError, match=r"PROTECTED METHOD PinchValveFactory\.create_valve cannot be called from"):
+        factory.create_valve(ValveConfig(tag="V101", type_code=ValveType.SOLENOID))
+    assert factory.created == 0
+
+
 def test_an_exhausted_pool_leaves_the_row_null_and_a_call_through_it_faults() -> None:
     factory = PinchValveFactory()
     table = table_of(*[ValveType.SOLENOID] * 5, ValveType.MOTORISED)

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import AccessError, Program, T
+from iecoop import NULL, AccessError, Program, T
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.interpreter import (
     MAX_DEPTH,
@@ -118,18 +118,36 @@ def test_an_interlock_without_an_expression_blocks_without_faulting() -> None:
     assert (interlock.valid, interlock.permissive, interlock.scans) == (False, False, 3)
 
 
-def test_a_rejected_text_leaves_the_running_expression_in_place() -> None:
+def pumping() -> tuple[TransferMain, Runtime]:
+    """The transfer program one scan after its permissive released the pump."""
     program = TransferMain()
     rt = start(program)
     program.tt101 = 90.0
     rt.run(cycles=1)
     assert program.pump_on is True
+    return program, rt
+
+
+def test_a_rejected_text_leaves_the_running_expression_in_place() -> None:
+    program, rt = pumping()
     with pytest.raises(ExpressionError, match="unknown tag 'TT999'"):
         program.transfer.compile("TT999 > 1 AND NOT LS3 AND LS3 AND LS3", program.tags)
     rt.run(cycles=1)
     assert program.pump_on is True
     assert program.transfer.source == "TT101 > 80 AND NOT LS3 AND (PT102 < 2.5 OR BYPASS)"
     assert program.transfer.node_count == 12
+
+
+def test_disable_takes_the_expression_out_of_service_until_the_next_compile() -> None:
+    program, rt = pumping()
+    program.transfer.disable()
+    rt.run(cycles=1)
+    transfer = program.transfer
+    assert (program.pump_on, transfer.valid, transfer.root == NULL) == (False, False, True)
+    assert (transfer.node_count, transfer.pool.node_count, transfer.source) == (0, 0, "")
+    transfer.compile("NOT LS3", program.tags)
+    rt.run(cycles=1)
+    assert program.pump_on is True and program.pump_starts == 2
 
 
 def test_recompiling_reuses_the_pool_for_the_new_tree() -> None:

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import BOOL, DINT, REAL, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, FunctionBlock, PlcException, Program, T, method
+from iecoop import BOOL, DINT, NULL, REAL, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, FunctionBlock, PlcException, Program, T, method
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.observer import (
     LOG_SIZE,
@@ -297,7 +297,7 @@ def test_detach_at_run_time_compacts_the_array_and_keeps_the_order() -> None:
     assert (subs.last_result, subs.tt.observer_count) == (True, 2)
     assert (subs.a.updates, subs.b.updates, subs.c.updates) == (7, 3, 7)
     assert subs.tt.observers[1] == subs.a and subs.tt.observers[2] == subs.c
-    assert not subs.tt.observers[3]
+    assert subs.tt.observers[3] == NULL
     subs.detach_b = True
     rt.run(cycles=1)
     assert (subs.last_result, subs.tt.observer_count) == (False, 2)

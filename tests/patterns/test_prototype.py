@@ -92,13 +92,22 @@ def test_retuning_the_master_leaves_its_clones_alone() -> None:
 def test_a_clone_clones_from_the_pool_too_and_shares_what_it_points_at() -> None:
     table = table_of(0.0, 4.0, 12.0, 9.0, 15.0)
     pool, master = tuned(table)
-    deep = query_interface(master.clone(CopyMode.DEEP), IAxisPrototype)
-    assert deep is not None
+    deep = master.clone(CopyMode.DEEP)
     grandchild = deep.clone(CopyMode.SHALLOW)
     assert grandchild.params.comp == deep.params.comp != adr(table)
     deep.set_compensation(2, 7.0)
     assert grandchild.compensation(100.0) == pytest.approx(0.007)
     assert pool.used == 2
+
+
+def test_a_station_s_parameters_give_their_prototype_back_through_query_interface() -> None:
+    cell, _rt = running_cell()
+    parameters = cell.stations[3].parameters
+    prototype = query_interface(parameters, IAxisPrototype)
+    assert prototype is not None
+    copy = prototype.clone(CopyMode.SHALLOW)
+    assert copy.params.comp == parameters.params.comp != adr(cell, "screw_table")
+    assert cell.pool.used == 3
 
 
 def test_a_full_pool_returns_0_and_says_why() -> None:

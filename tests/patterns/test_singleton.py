@@ -20,6 +20,7 @@ from patterns.creational.singleton import (
     RingLogger,
     Severity,
 )
+from tests import checked_only
 
 
 @pytest.fixture(autouse=True)
@@ -100,6 +101,7 @@ def test_the_shared_buffer_is_a_ring_that_overwrites_the_oldest() -> None:
     assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
 
 
+@checked_only
 def test_the_buffer_is_var_stat_and_not_writable_from_outside() -> None:
     log = PlantLog()
     log.log(Severity.INFO, "T", "kept")

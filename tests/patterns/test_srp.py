@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import BOOL, STRING, VAR, VAR_INPUT, ExceptionCode, PlcException, Program, T, adr, method, sizeof
+from iecoop import BOOL, PROTECTED, STRING, VAR, VAR_INPUT, ExceptionCode, PlcException, Program, T, adr, method, sizeof
 from iecoop.runtime import Runtime, Task
 from patterns.solid.srp import (
     EVENTS,
@@ -65,7 +65,7 @@ def test_the_violating_drive_rebuilds_its_text_in_every_motion_cycle() -> None:
 class DriveWithHmiDe(DriveWithHmi):
     """The HMI team's new wording: in the violating design it can only be a new drive block."""
 
-    @method
+    @method(PROTECTED)
     def compose(self) -> STRING:
         return f"{self.name} LAEUFT {self.speed_ref:.0f}%" if self.current == DriveState.RUNNING else f"{self.name} AUS"
 
@@ -81,7 +81,7 @@ class ViolatingCellDe(Program):
 class FormatterDe(DriveHmiFormatter):
     """The same new wording in the compliant design: a new formatter, the drive untouched."""
 
-    @method
+    @method(PROTECTED)
     def compose(self) -> STRING:
         if self.source.state == DriveState.RUNNING:
             return f"{self.name} LAEUFT {self.source.speed:.0f}%"

@@ -22,6 +22,7 @@ from patterns.behavioral.state import (
     Stopped,
     state_name,
 )
+from tests import checked_only
 
 STATES = {state_name(s): s for s in PackMLState}
 COMMANDS = {c.name.capitalize(): c for c in PackMLCommand if c != PackMLCommand.NONE}
@@ -219,6 +220,12 @@ def test_the_state_is_a_read_only_property() -> None:
     unit = Plc().unit
     with pytest.raises(AttributeError, match="state"):
         unit.state = PackMLState.EXECUTE  # type: ignore[misc]
+    assert unit.state == PackMLState.STOPPED
+
+
+@checked_only
+def test_the_current_state_is_not_writable_from_outside() -> None:
+    unit = Plc().unit
     with pytest.raises(AccessError, match=r"VAR PackMLMachine\.current cannot be written"):
         unit.current = PackMLState.EXECUTE
     assert unit.state == PackMLState.STOPPED

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import BOOL, VAR, DefinitionError, ExceptionCode, PlcException, Program, T, method
+from iecoop import BOOL, PROTECTED, VAR, AccessError, DefinitionError, ExceptionCode, PlcException, Program, T, method
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.template_method import (
     AxisHoming,
@@ -240,28 +240,32 @@ def test_a_variant_that_leaves_a_step_abstract_is_a_definition_error() -> None:
     with pytest.raises(DefinitionError, match=r"must be ABSTRACT or implement .*AxisHoming\.set_reference"):
 
         class Incomplete(AxisHoming):
-            @method
+            @method(PROTECTED)
             def approach(self, first: BOOL) -> BOOL:
                 return True
 
-            @method
+            @method(PROTECTED)
             def find_edge(self, first: BOOL) -> BOOL:
                 return True
+
+
+def test_the_steps_are_callable_only_by_the_chain_and_the_variants() -> None:
+    homing = HomeAbsolute(axis=SimAxis())
+    with pytest.raises(AccessError, match=r"PROTECTED METHOD HomeAbsolute\.approach cannot be called from"):
+        homing.approach(True)
+    with pytest.raises(AccessError, match=r"only inside AxisHoming and its derived blocks"):
+        homing.check_preconditions(True)
 
 
 def test_a_new_variant_overrides_steps_and_keeps_the_chain() -> None:
     class HomeOnHardStop(HomeOnLimitSwitch):
         """Drive into the hard stop (no switch): the approach ends after a fixed travel."""
 
-        @method
+        @method(PROTECTED)
         def approach(self, first: BOOL) -> BOOL:
-            if self.drive.position <= -5.0:
-                self.drive.halt()
-                return True
-            self.drive.move_velocity(-self.approach_velocity)
-            return False
+            return self.move_until(self.drive.position <= -5.0, -self.approach_velocity)
 
-        @method
+        @method(PROTECTED)
         def find_edge(self, first: BOOL) -> BOOL:
             self.edge_position = self.drive.position
             return True
