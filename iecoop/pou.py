@@ -691,6 +691,9 @@ class _PouMixin:
                 )
         from iecoop.lifecycle import initialise
 
+        if fb_init_args:
+            # Kept for the runtime: a reset re-runs FB_init with the declaration's inputs.
+            self.__dict__["_iec_init_args_"] = dict(fb_init_args)
         initialise(self, init_retains=True, in_copy_code=False, args=fb_init_args)
 
     def body(self) -> None:

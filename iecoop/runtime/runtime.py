@@ -196,6 +196,7 @@ class Runtime:
             raise ValueError(f"a task named {task.name!r} already exists")
         if not programs:
             raise ValueError(f"task {task.name}: give at least one program instance")
+        self._check_programs(task, programs)
         self._attach(task, programs)
         self.tasks.append(task)
         self.tasks.sort(key=lambda t: t.priority)
@@ -205,12 +206,18 @@ class Runtime:
         found = next((t for t in self.tasks if t.name == task), None)
         if found is None:
             raise ValueError(f"no task named {task!r}; add it with add_task()")
+        self._check_programs(found, programs)
         self._attach(found, programs)
 
-    def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
+    @staticmethod
+    def _check_programs(task: Task, programs: tuple[Any, ...]) -> None:
+        # All or nothing: a rejected call registers none of its programs.
         for program in programs:
             if getattr(type(program), "_iec_kind_", "") not in ("program", "fb"):
                 raise TypeError(f"task {task.name}: {program!r} is not a Program instance")
+
+    def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
+        for program in programs:
             base = f"{task.name}.{type(program).__name__}"
             path = base
             n = 2
@@ -455,7 +462,7 @@ class Runtime:
             return
         self.save_persistent()
         with use_profile(self.profile):
-            for entry in self._entries:
+            for entry in self._all_entries():
                 finalise(entry.program, in_copy_code=False)
         self._stopped = True
         if self._store is not None:
@@ -472,7 +479,9 @@ class Runtime:
             for entry in self._all_entries():
                 saved = self._snapshot(entry)
                 finalise(entry.program, in_copy_code=False)
-                initialise(entry.program, init_retains=init_retains, in_copy_code=False, zero=True)
+                # The instance's declaration (constructor) FB_init inputs hold on every re-initialisation.
+                args = entry.program.__dict__.get("_iec_init_args_")
+                initialise(entry.program, init_retains=init_retains, in_copy_code=False, args=args, zero=True)
                 if kept:
                     copy_matching(saved, entry.leaves, entry.program, entry.leaves, kept)
         self.fault = None
@@ -480,6 +489,9 @@ class Runtime:
             task.info.FirstCycle = True
             task.info.CycleCount = 0
             task._overruns = 0
+        if RETAIN not in kept and self._started:
+            # The store must not bring back RETAIN values this reset has re-initialised.
+            self._capture_retain()
 
     def reset_cold(self) -> None:
         """Reset cold: plain variables re-initialised; RETAIN per profile; PERSISTENT kept."""

@@ -491,10 +491,6 @@ def test_reset_origin_clears_the_store(tmp_path: Path, profile: str) -> None:
     rt2.stop()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="reset cold / download re-initialise RETAIN in memory but leave the old RETAIN image in the store",
-)
 @pytest.mark.parametrize("operation", ["reset_cold", "download"])
 def test_a_codesys_retain_reinit_survives_a_restart(tmp_path: Path, operation: str) -> None:
     rt, program = _cabinet_runtime(tmp_path, "codesys")
@@ -799,7 +795,6 @@ def test_stop_runs_fb_exit_false_once() -> None:
         rt.run(cycles=1)
 
 
-@pytest.mark.xfail(strict=True, reason="stop() runs FB_exit for program instances only, not for GVL / VAR_STAT FB instances")
 def test_stop_runs_fb_exit_of_the_global_fb_instances_too() -> None:
     rt, _ = _line_runtime()
     rt.run(cycles=1)
@@ -982,7 +977,6 @@ class Numbered(Program):
         return False
 
 
-@pytest.mark.xfail(strict=True, reason="a reset re-runs a task instance's FB_init without its constructor (declaration) inputs")
 def test_a_reset_re_runs_fb_init_with_the_declaration_inputs() -> None:
     numbered = Numbered(number=4)
     rt = Runtime(store=":memory:")
