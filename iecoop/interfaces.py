@@ -27,6 +27,7 @@ True
 
 from __future__ import annotations
 
+import typing
 from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
@@ -36,7 +37,7 @@ from iecoop.members import Member, has_body, members_of_namespace
 
 register_builder(__file__)
 
-__all__ = ["NULL", "IQueryInterface", "Interface", "interface_members", "query_interface", "query_pointer"]
+__all__ = ["NULL", "IQueryInterface", "null", "Interface", "interface_members", "query_interface", "query_pointer"]
 
 #: The null reference, for clearing an interface or pointer variable and comparing with it
 #: (ST ``itfSensor := 0;``, ``IF itfSensor = 0 THEN``). Typed ``Any`` so that
@@ -44,6 +45,31 @@ __all__ = ["NULL", "IQueryInterface", "Interface", "interface_members", "query_i
 NULL: Any = None
 
 _I = TypeVar("_I")
+
+
+def null(iface: type[_I]) -> _I:
+    """The null reference of one interface type, typed as that interface (ST: ``RETURN 0`` for ``: I_Valve``).
+
+    ``return null(IValve)`` type-checks in a method declared ``-> IValve``;
+    calling through it raises RTSEXCPT_ACCESS_VIOLATION, as on the PLC.
+
+    >>> from iecoop import INT, method
+    >>> class IValve(Interface):
+    ...     @method
+    ...     def open(self) -> INT:
+    ...         raise NotImplementedError
+    >>> valve = null(IValve)
+    >>> bool(valve), valve == NULL
+    (False, True)
+    >>> valve.open()
+    Traceback (most recent call last):
+    ...
+    iecoop.exceptions.PlcException: RTSEXCPT_ACCESS_VIOLATION (16#...): null(IValve): IValve.open called through a null interface reference
+    """
+    if not (isinstance(iface, type) and getattr(iface, "_iec_kind_", "") == "interface"):
+        raise TypeError(f"null() takes an interface type, got {iface!r}")
+    return typing.cast(_I, NullInterface(iface.__name__, f"null({iface.__name__})"))
+
 
 _ALLOWED_CLASS_ATTRS = frozenset({"__dict__", "__weakref__", "__module__", "__qualname__", "__doc__", "__annotations__", "__firstlineno__", "__static_attributes__", "__orig_bases__", "__parameters__"})
 
