@@ -694,6 +694,9 @@ class NullInterface:
         object.__setattr__(self, "_where", where)
 
     def __getattr__(self, name: str) -> Any:
+        if name.startswith("__") and name.endswith("__"):
+            # Python's own protocol lookups (copy, pickle, inspect) are not PLC calls.
+            raise AttributeError(name)
         raise access_violation(f"{self._where}: {self._iface}.{name} called through a null interface reference")
 
     def __setattr__(self, name: str, value: Any) -> None:
