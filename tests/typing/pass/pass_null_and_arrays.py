@@ -51,7 +51,11 @@ class Manifold(FunctionBlock):
         return was_set
 
 
-manifold = Manifold()
-flag: bool = manifold.release(1)
-count: int = manifold.counts[Station.FILLER]
-nxt: IValve = Valve().successor()
+def main() -> None:
+    manifold = Manifold()
+    assert manifold.release(1) is False
+    count: int = manifold.counts[Station.FILLER]
+    assert count == 1
+    successor: IValve = Valve().successor()
+    assert not successor
+    assert (manifold.origin.x, manifold.path[2].y) == (1.0, 2.0)
