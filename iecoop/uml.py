@@ -114,6 +114,8 @@ _HIDDEN_NAMES = {
 
 @dataclasses.dataclass(frozen=True)
 class UmlField:
+    """One variable line of a box: visibility, name, IEC type and VAR section."""
+
     visibility: str
     name: str
     type_name: str
@@ -126,6 +128,8 @@ class UmlField:
 
 @dataclasses.dataclass(frozen=True)
 class UmlOperation:
+    """One METHOD or PROPERTY line of a box, with its ABSTRACT / FINAL modifiers."""
+
     visibility: str
     name: str
     params: str

@@ -18,6 +18,7 @@ from __future__ import annotations
 import bisect
 import ctypes
 import enum
+import operator
 import typing
 import weakref
 from collections.abc import Callable, Iterator
@@ -356,6 +357,15 @@ class _EnumField:
         self.raw.__set__(obj, int(value))
 
 
+class _MemberProperty(property):
+    """A property whose getter is ``operator.attrgetter`` of the ctypes field's alias (no Python frame on a read)."""
+
+    def __init__(self, raw: Any, alias: str, fset: Callable[[Any, Any], None], doc: str) -> None:
+        super().__init__(operator.attrgetter(alias), fset, None, doc)
+        self.raw = raw
+        self.alias = alias
+
+
 class AggregateInfo(TypeInfo):
     """A Struct, Union or FB type placed inline: reading gives a view of the memory."""
 
@@ -373,6 +383,27 @@ class AggregateInfo(TypeInfo):
         return f"{self.name}{{{inner}}}"
 
     def load(self, root: Any, offset: int) -> Any:
+        # Inline (a member or an ARRAY element): the memory holds exactly the declared type.
+        cls = self.cls
+        if offset == 0 and type(root) is cls:
+            return root
+        return typing.cast(Any, cls).from_buffer(root, offset)
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        if not getattr(self.cls, "_iec_tagged_", False):
+            return None
+        # A block member: reads stay C-level (the ctypes field's own getter); a write
+        # (fbSpare := fbOther) goes through store(), which keeps the member's type tag.
+        offset, where, store = raw.offset, f"{owner}.{name}", self.store
+
+        def set_member(obj: Any, value: Any) -> None:
+            store(obj, offset, value, where)
+
+        # The ctypes field stays reachable under a private alias, read through a C-level getter.
+        return _MemberProperty(raw, f"_iec_m_{name}", set_member, f"{self.name} member {where}")
+
+    def load_dynamic(self, root: Any, offset: int) -> Any:
+        """Through an address: the type tag says which derived block is there (a virtual call's target)."""
         cls = self.cls
         if getattr(cls, "_iec_tagged_", False):
             tag = ctypes.c_uint64.from_buffer(root, offset).value
@@ -397,7 +428,12 @@ class AggregateInfo(TypeInfo):
                 record.info.store(root, offset + record.offset, item, f"{where}.{name}")
             return
         self.validate(value, where)
+        tagged = getattr(self.cls, "_iec_tagged_", False)
+        tag = ctypes.c_uint64.from_buffer(root, offset).value if tagged else 0
         ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
+        if tagged:
+            # A derived block copied into a base-typed variable: the variable stays the base type.
+            ctypes.c_uint64.from_buffer(root, offset).value = tag
 
     def validate(self, value: Any, where: str) -> None:
         if not isinstance(value, self.cls):
@@ -405,7 +441,7 @@ class AggregateInfo(TypeInfo):
 
     def load_handle(self, handle: int, what: str) -> Any:
         root, offset = resolve(handle, self.size, what)
-        return self.load(root, offset)
+        return self.load_dynamic(root, offset)
 
 
 # ---------------------------------------------------------------------------
@@ -890,6 +926,18 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
                     raw_set(self, index - lo0, value)
                 else:
                     raw_set(self, flat(self, index), value)
+
+    elif isinstance(elem, AggregateInfo) and one_dim:
+        # An element of an ARRAY OF STRUCT / FB is a view of the declared type at its offset.
+        view_of = typing.cast(Any, elem.cls).from_buffer
+
+        def getitem(self: Any, index: Any) -> Any:
+            if type(index) is int and lo0 <= index <= hi0:
+                return view_of(self, (index - lo0) * size)
+            return elem.load(self, flat(self, index) * size)
+
+        def setitem(self: Any, index: Any, value: Any) -> None:
+            elem.store(self, flat(self, index) * size, value, f"element {index!r}")
 
     else:
 

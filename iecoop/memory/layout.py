@@ -288,6 +288,9 @@ def build_layout(
         descriptor = info.descriptor(raw, field, name)
         if descriptor is not None:
             setattr(cls, field, descriptor)
+            alias = getattr(descriptor, "alias", None)
+            if alias is not None:
+                setattr(cls, alias, raw)
         own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
     all_fields = tuple(inherited) + tuple(own)
     init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)

@@ -1038,3 +1038,40 @@ def test_null_clears_and_compares_with_interfaces_and_pointers() -> None:
     with pytest.raises(PlcException, match="null interface reference") as exc:
         holder.sensor.read()
     assert exc.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_derived_block_copied_into_a_base_variable_stays_the_base_type() -> None:
+    from iecoop import FunctionBlock, method
+
+    class Motor(FunctionBlock):
+        speed: INT = VAR(0)
+
+        @method
+        def kind(self) -> STRING:
+            return "motor"
+
+        @method
+        def set_speed(self, speed: INT) -> None:
+            self.speed = speed
+
+    class Servo(Motor):
+        axis: DINT = VAR(0)
+
+        @method
+        def kind(self) -> STRING:
+            return "servo"
+
+    class Cell(FunctionBlock):
+        spare: Motor = VAR()
+
+        @method
+        def load(self, other: Motor) -> None:
+            self.spare = other  # fbSpare := fbOther; copies the base part
+
+    servo = Servo()
+    servo.set_speed(5)
+    cell = Cell()
+    cell.load(servo)
+    assert type(cell.spare) is Motor and cell.spare.speed == 5 and cell.spare.kind() == "motor"
+    pointer = adr(cell, "spare")
+    assert type(pointer.deref) is Motor  # the type tag still says Motor
