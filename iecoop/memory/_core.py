@@ -110,6 +110,12 @@ def _root_of(obj: Any) -> Any:
     return root
 
 
+def registered_allocation(obj: Any) -> Allocation | None:
+    """The allocation starting at ``obj`` if its address was ever taken (no registration otherwise)."""
+    alloc = _by_base.get(ctypes.addressof(obj))
+    return alloc if alloc is not None and not alloc.freed and alloc.ref() is obj else None
+
+
 def allocation_of(obj: Any) -> tuple[Allocation, int]:
     """The allocation holding ctypes object ``obj`` and the byte offset of ``obj`` in it."""
     address = ctypes.addressof(obj)

@@ -41,11 +41,15 @@ from typing import Any, Literal
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, initialise, reinitialise
+from iecoop.memory._core import allocation_of, registered_allocation
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import VirtualClock, use_clock
 from iecoop.runtime.store import ImageLayout, RemanentStore
-from iecoop.runtime.variables import PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, leaves, parse_directory
+from iecoop.runtime.variables import (
+    PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
+    translate_offset,
+)
 
 __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
 
@@ -523,6 +527,27 @@ class Runtime:
             kept.add(RETAIN)
         self._reinit(kept, init_retains=RETAIN not in kept)
 
+    def _retarget(self, old: Any, new: Any) -> None:
+        """Online change: pointers, references and interfaces into the old instance now designate the new one.
+
+        Every address held by the application's programs, GVLs and VAR_STAT
+        blocks is adjusted by instance path; one whose target is gone becomes 0.
+        """
+        old_alloc = registered_allocation(old)
+        if old_alloc is None:
+            return  # nobody took an address of the old instance
+        new_alloc, _ = allocation_of(new)
+        old_nodes, new_nodes = nodes(type(old)), nodes(type(new))
+        for entry in self._all_entries():
+            block = entry.program
+            for offset in handle_offsets(type(block)):
+                cell = ctypes.c_uint64.from_buffer(block, offset)
+                handle = cell.value
+                if handle >> 32 != old_alloc.id:
+                    continue
+                moved = translate_offset(old_nodes, new_nodes, handle & 0xFFFF_FFFF)
+                cell.value = 0 if moved is None else (new_alloc.id << 32) | moved
+
     def online_change(self, replace: dict[str, Any] | None = None) -> None:
         """An online change: every variable kept.
 
@@ -552,9 +577,10 @@ class Runtime:
                 initialise(new_program, init_retains=False, in_copy_code=True, zero=True)
                 new_entry = _Entry(path, new_program)
                 copy_matching(saved, entry.leaves, new_program, new_entry.leaves, {PLAIN, RETAIN, PERSISTENT})
-                reinitialise(new_program)
                 index = self._entries.index(entry)
                 self._entries[index] = new_entry
+                self._retarget(entry.program, new_program)
+                reinitialise(new_program)
                 for task in self.tasks:
                     task.programs = [(p, new_program if p == path else prog) for p, prog in task.programs]
         self._retain_plan = None

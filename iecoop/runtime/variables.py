@@ -11,10 +11,10 @@ import ctypes
 import dataclasses
 from typing import Any
 
-from iecoop.memory._core import AggregateInfo, ArrayInfo, TypeInfo
+from iecoop.memory._core import AggregateInfo, ArrayInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import ClassLayout
 
-__all__ = ["Leaf", "copy_matching", "leaves", "parse_directory", "format_directory"]
+__all__ = ["Leaf", "copy_matching", "handle_offsets", "leaves", "nodes", "translate_offset", "parse_directory", "format_directory"]
 
 PLAIN, RETAIN, PERSISTENT = 0, 1, 2
 
@@ -104,3 +104,61 @@ def parse_directory(text: str) -> list[Leaf]:
             raise ValueError(f"directory line {number} is out of range")
         found.append(Leaf(path, signature, *values))
     return found
+
+
+def nodes(cls: type, prefix: str = "", base: int = 0) -> dict[str, tuple[int, int]]:
+    """Every variable of an instance of ``cls``, leaves and the blocks / structs above them: path -> (offset, size)."""
+    found: dict[str, tuple[int, int]] = {}
+    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    if layout is None:
+        return found
+    for record in layout.fields:
+        path, offset, info = f"{prefix}{record.name}", base + record.offset, record.info
+        found[path] = (offset, info.size)
+        if isinstance(info, AggregateInfo):
+            found.update(nodes(info.cls, f"{path}.", offset))
+        elif isinstance(info, ArrayInfo):
+            size = info.elem.size
+            for index, position in enumerate(_indices(info.bounds)):
+                label = f"{path}[{','.join(str(i) for i in position)}]"
+                found[label] = (offset + index * size, size)
+                if isinstance(info.elem, AggregateInfo):
+                    found.update(nodes(info.elem.cls, f"{label}.", offset + index * size))
+    return found
+
+
+def handle_offsets(cls: type, base: int = 0) -> list[int]:
+    """Where an instance of ``cls`` holds addresses: POINTER TO, REFERENCE TO and interface variables."""
+    found: list[int] = []
+    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    if layout is None:
+        return found
+    for record in layout.fields:
+        found.extend(_handles_of(record.info, base + record.offset))
+    return found
+
+
+def _handles_of(info: TypeInfo, offset: int) -> list[int]:
+    if isinstance(info, (PointerInfo, ReferenceInfo, InterfaceInfo)):
+        return [offset]
+    if isinstance(info, AggregateInfo):
+        return handle_offsets(info.cls, offset)
+    if isinstance(info, ArrayInfo):
+        inner = _handles_of(info.elem, 0)
+        return [offset + i * info.elem.size + o for i in range(info.count) for o in inner]
+    return []
+
+
+def translate_offset(old: dict[str, tuple[int, int]], new: dict[str, tuple[int, int]], offset: int) -> int | None:
+    """The offset in the new layout of what sat at ``offset`` in the old one (by path), or None if it is gone."""
+    best: tuple[str, int, int] | None = None
+    for path, (start, size) in old.items():
+        if start <= offset < start + size and (best is None or size < best[2] or (size == best[2] and len(path) > len(best[0]))):
+            best = (path, start, size)
+    if best is None:
+        return None
+    path, start, size = best
+    moved = new.get(path)
+    if moved is None or offset - start >= moved[1]:
+        return None
+    return moved[0] + (offset - start)

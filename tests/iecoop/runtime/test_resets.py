@@ -953,10 +953,6 @@ class SequencerV2(Sequencer):
     extra: INT = VAR(0)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="online change copies an interface variable as is: it keeps designating the old instance's member",
-)
 def test_online_change_adjusts_interface_variables_to_the_new_instance() -> None:
     old = Sequencer()
     rt = Runtime(store=":memory:")

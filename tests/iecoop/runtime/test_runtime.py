@@ -281,3 +281,50 @@ def test_online_change_to_a_class_runs_only_the_online_change_fb_init() -> None:
     assert new.n == 4
     with pytest.raises(TypeError, match="online change: int is not a Program class"):
         rt.online_change(replace={"PlcTask.Tracked": int})
+
+
+from iecoop import LREAL, POINTER_TO, adr, method  # noqa: E402
+
+
+class PointsAtTarget(Program):
+    target: INT = VAR(0)
+    p: POINTER_TO[INT] = VAR()
+
+    def fb_init(self, init_retains: bool, in_copy_code: bool) -> None:
+        if not in_copy_code:
+            self.p = adr(self, "target")
+
+    def body(self) -> None:
+        self.p.deref += 1
+
+
+class TargetMoved(Program):
+    extra: LREAL = VAR(0.0)  # a new variable before: target's offset changes
+    target: INT = VAR(0)
+    p: POINTER_TO[INT] = VAR()
+
+    def body(self) -> None:
+        self.p.deref += 1
+
+
+class TargetGone(Program):
+    p: POINTER_TO[INT] = VAR()
+
+    @method
+    def is_null(self) -> bool:
+        return bool(self.p.is_null)
+
+
+def test_online_change_moves_pointers_to_the_same_variable_or_nulls_them() -> None:
+    old = PointsAtTarget()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask"), old)
+    rt.run(cycles=3)
+    rt.online_change(replace={"PlcTask.PointsAtTarget": TargetMoved})
+    moved = rt.programs()["PlcTask.PointsAtTarget"]
+    assert moved.p == adr(moved, "target") and moved.p != adr(old, "target")
+    rt.run(cycles=2)
+    assert (moved.target, old.target) == (5, 3)
+    rt.online_change(replace={"PlcTask.PointsAtTarget": TargetGone})
+    gone = rt.programs()["PlcTask.PointsAtTarget"]
+    assert gone.is_null()  # its target no longer exists
