@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from examples.ch05_inheritance import Engine, IEngine, Main, NewEngine, main
-from iecoop import FINAL, INT, LREAL, PROTECTED, AccessError, DefinitionError, T, method
+from iecoop import BOOL, FINAL, INT, LREAL, PROTECTED, VAR, VAR_INPUT, AccessError, DefinitionError, Program, T, method
 from iecoop.runtime import Runtime, Task
 
 
@@ -36,12 +36,26 @@ def test_the_interface_call_reaches_the_most_derived_start() -> None:
 
 def test_new_engine_extends_start_with_the_gear_property() -> None:
     engine = NewEngine()
+    assert engine.gear == 0
     engine.start()
     assert (engine.gear, engine.velocity_internal, engine.running, engine.ramp_steps) == (2, 8.0, True, 2)
     engine.start(gear=4, velocity=9.5)
     assert (engine.gear, engine.velocity_internal, engine.ramp_steps) == (4, 9.5, 4)
+    engine.start(5)  # the velocity keeps its default
+    assert (engine.gear, engine.velocity_internal, engine.ramp_steps) == (5, 8.0, 6)
     engine.gear = 1
-    assert engine.gear_internal == 1
+    assert (engine.gear, engine.gear_internal) == (1, 1)
+
+
+def test_the_base_start_defaults_to_velocity_8_and_stop_halts_the_odometer() -> None:
+    engine = Engine()
+    engine.start()
+    for _ in range(5):
+        engine()
+    assert (engine.running, engine.velocity_internal, engine.odometer) == (True, 8.0, 40.0)
+    engine.stop()
+    engine()
+    assert (engine.running, engine.velocity_internal, engine.odometer) == (False, 0.0, 40.0)
 
 
 def test_the_base_alone_has_no_gear_and_ramps_once() -> None:
@@ -116,6 +130,30 @@ def test_engines_are_interchangeable_through_the_interface() -> None:
     for engine in engines:
         engine.start(velocity=6.0)
     assert [e.velocity_internal for e in engines if isinstance(e, Engine)] == [6.0, 6.0]
+
+
+class Driver(Program):
+    """``PROGRAM Driver``: gets an engine through ``VAR_INPUT engine : I_Engine`` and starts it once."""
+
+    engine: IEngine = VAR_INPUT()
+    cmd_start: BOOL = VAR_INPUT(False)
+    started: BOOL = VAR(False)
+
+    def body(self) -> None:
+        if self.cmd_start and not self.started:
+            self.engine.start()
+            self.started = True
+
+
+def test_a_program_starts_the_new_engine_through_an_interface_input() -> None:
+    engine = NewEngine()
+    driver = Driver()
+    driver(engine=engine)
+    assert engine.running is False
+    for _ in range(3):
+        driver(cmd_start=True)
+        engine()
+    assert (engine.gear, engine.running, engine.odometer, engine.ramp_steps) == (2, True, 24.0, 2)
 
 
 def test_main_prints_both_engines_and_the_three_errors(capsys: pytest.CaptureFixture[str]) -> None:
