@@ -539,6 +539,10 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
             globs[f"_bind{i}"] = info.bind_handle
             globs[f"_raw{i}"] = record.raw.__set__
             lines.append(f"    if {record.name} is not _M: _raw{i}(self, _bind{i}({record.name}, {record.where!r}))")
+        elif isinstance(info, (ArrayInfo, AggregateInfo)):
+            # an ARRAY / STRUCT input also takes a list / dict (fb(points := [1, 2, 3]))
+            globs[f"_store{i}"] = info.store
+            lines.append(f"    if {record.name} is not _M: _store{i}(self, {record.offset}, {record.name}, {record.where!r})")
         elif info.direct and _config.CHECKS:
             globs[f"_check{i}"] = info.validate
             globs[f"_set{i}"] = record.raw.__set__
@@ -553,10 +557,15 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
             lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")
     for j, record in enumerate(in_outs):
         params.append(f"{record.name}=_M")
-        globs[f"_bindio{j}"] = typing.cast(ReferenceInfo, record.info).bind_handle
+        reference = typing.cast(ReferenceInfo, record.info)
         globs[f"_rawio{j}"] = record.raw.__set__
         lines.append(f"    if {record.name} is _M: _call_error({name!r}, {record.name!r})")
-        lines.append(f"    _rawio{j}(self, _bindio{j}({record.name}, {record.where!r}))")
+        if record.spec.constant:
+            globs[f"_bindio{j}"] = reference.bind_constant
+            lines.append(f"    _rawio{j}(self, _bindio{j}(self, {record.name}, {record.where!r}))")
+        else:
+            globs[f"_bindio{j}"] = reference.bind_handle
+            lines.append(f"    _rawio{j}(self, _bindio{j}({record.name}, {record.where!r}))")
     if cls._iec_temp_reset_ is not None:
         globs["_temp_reset"] = cls._iec_temp_reset_
         lines.append("    _temp_reset(self)")

@@ -693,9 +693,23 @@ class ReferenceInfo(TypeInfo):
         if isinstance(self.target, AggregateInfo):
             self.target.validate(target, where)
             return handle_of(target)
+        if isinstance(self.target, ArrayInfo) and type(target) is self.target.ctype:
+            return handle_of(target)
         raise TypeError(
-            f"{where}: REF= needs adr(...) or a struct / FB instance, got {type(target).__name__}"
+            f"{where}: REF= needs adr(...), a struct / FB instance or an ARRAY, got {type(target).__name__}"
         )
+
+    def bind_constant(self, owner: Any, value: Any, where: str) -> int:
+        """VAR_IN_OUT CONSTANT: a literal or expression is passed through a temporary the call owns."""
+        if isinstance(value, Pointer) or value is None or isinstance(self.target, AggregateInfo):
+            return self.bind_handle(value, where)
+        if isinstance(self.target, ArrayInfo) and type(value) is self.target.ctype:
+            return handle_of(value)
+        holder = self.target.ctype()
+        self.target.store(holder, 0, value, where)
+        # Kept by the instance until the next call binds another value, so the handle stays valid.
+        owner.__dict__[f"_iec_const_{where}"] = holder
+        return handle_of(holder)
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         return _ReferenceField(self, raw, f"{owner}.{name}")

@@ -604,7 +604,7 @@ def test_ref_assign_rejects_what_does_not_fit() -> None:
     cell, holder = Cell(), Holder()
     with pytest.raises(TypeError, match=r"Holder\.rs: REF= to STRING\(3\) does not fit REFERENCE TO STRING\(7\)"):
         ref_assign(holder, "rs", adr(cell, "labels", 0))
-    with pytest.raises(TypeError, match=r"Holder\.r: REF= needs adr\(\.\.\.\) or a struct / FB instance, got Part"):
+    with pytest.raises(TypeError, match=r"Holder\.r: REF= needs adr\(\.\.\.\), a struct / FB instance or an ARRAY, got Part"):
         ref_assign(holder, "r", cell.part)
     with pytest.raises(TypeError, match=r"Holder\.rp: cannot store Cell .* in Part"):
         ref_assign(holder, "rp", cell)

@@ -768,3 +768,50 @@ def test_each_call_sets_exactly_the_inputs_given_and_leaves_the_others(calls: li
         for name, expected in model.items():
             assert getattr(panel, name) == expected, name
             assert getattr(panel, f"seen_{name}") == expected, name
+
+
+# ---------------------------------------------------------------------------
+# Aggregate inputs from lists / dicts; VAR_IN_OUT CONSTANT with a literal; an ARRAY bound to VAR_IN_OUT
+# ---------------------------------------------------------------------------
+
+
+class Point2(Struct):
+    x: REAL = 0.0
+    y: REAL = 0.0
+
+
+class Summer(FunctionBlock):
+    values: ARRAY[INT] = VAR_INPUT(bounds=(1, 3))
+    origin: Point2 = VAR_INPUT()
+    offset: INT = VAR_IN_OUT(constant=True)
+    log: ARRAY[INT] = VAR_IN_OUT(bounds=(1, 3))
+    total: DINT = VAR_OUTPUT()
+
+    def body(self) -> None:
+        self.total = self.values[1] + self.values[2] + self.values[3] + self.offset
+        self.log[1] += 1
+
+
+class LogOwner(FunctionBlock):
+    entries: ARRAY[INT] = VAR([0, 0, 0], bounds=(1, 3))
+
+
+def test_array_and_struct_inputs_take_lists_and_dicts() -> None:
+    owner, summer = LogOwner(), Summer()
+    summer(values=[1, 2, 3], origin={"x": 1.5}, offset=10, log=owner.entries)
+    assert (summer.total, summer.origin.x, summer.origin.y, owner.entries[1]) == (16, 1.5, 0.0, 1)
+    summer(values=[4], offset=20, log=adr(owner, "entries"))  # the rest of the array input keeps its value
+    assert (summer.total, owner.entries[1]) == (29, 2)
+    with pytest.raises(TypeError, match=r"Summer\.values: 4 values for ARRAY\[1\.\.3\] OF INT"):
+        summer(values=[1, 2, 3, 4], offset=0, log=owner.entries)
+    with pytest.raises(TypeError, match=r"Summer\.origin: Point2 has no member 'z'"):
+        summer(origin={"z": 1.0}, offset=0, log=owner.entries)
+
+
+def test_var_in_out_constant_takes_a_literal_or_an_expression() -> None:
+    owner, summer = LogOwner(), Summer()
+    for offset in (5, 7 * 6):  # ST: fbSummer(offset := 5, ...); a literal passed through a temporary
+        summer(values=[0, 0, 0], offset=offset, log=owner.entries)
+        assert summer.total == offset
+    with pytest.raises(TypeError, match=r"Summer\.offset: cannot store str 'x' in INT"):
+        summer(offset="x", log=owner.entries)
