@@ -132,7 +132,7 @@ def main() -> None:
     t=100 ms  Setpoint=100.0 %  Level=20.0 %  Volume=400.0 l of 2000.0 l
     t=290 ms  Setpoint=100.0 %  Level=58.0 %  Volume=1160.0 l of 2000.0 l
     t=500 ms  Setpoint=40.0 %  Level=40.0 %  Volume=800.0 l of 2000.0 l
-    fbTank.Level := 10: AttributeError: property 'level' of 'Tank' object has no setter
+    fbTank.Level := 10: AttributeError: PROPERTY Tank.level has no Set accessor: it is read-only
     fbTank.Capacity := 5000: AccessError: PRIVATE PROPERTY Tank.capacity (Set) cannot be called from main in module ...
     """
     program = Main()

@@ -432,6 +432,13 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
     return internal
 
 
+def _no_set_accessor(where: str) -> Callable[[Any, Any], None]:
+    def read_only(self: Any, value: Any) -> None:
+        raise AttributeError(f"PROPERTY {where} has no Set accessor: it is read-only")
+
+    return read_only
+
+
 def guard_namespace(owner_ref: list[type], name: str, namespace: dict[str, Any]) -> None:
     """Replace each non-public method / accessor in the class body with its guarded form."""
     for member_name, value in list(namespace.items()):
@@ -439,6 +446,8 @@ def guard_namespace(owner_ref: list[type], name: str, namespace: dict[str, Any])
             getter, setter = value.fget, value.fset
             g = guard(getter, f"{visibility(flags_of(getter)).name} PROPERTY {name}.{member_name} (Get)", flags_of(getter), owner_ref) if getter else None
             s = guard(setter, f"{visibility(flags_of(setter)).name} PROPERTY {name}.{member_name} (Set)", flags_of(setter), owner_ref) if setter else None
+            if s is None:
+                s = _no_set_accessor(f"{name}.{member_name}")
             if g is not getter or s is not setter:
                 namespace[member_name] = type(value)(g, s, value.fdel, value.__doc__)
         elif isinstance(value, types.FunctionType) and not (member_name.startswith("__") and member_name.endswith("__")):

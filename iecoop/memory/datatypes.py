@@ -69,6 +69,11 @@ def _data_type(new: Any, mcls: Any, name: str, bases: tuple[type, ...], namespac
 
 class _StructMeta(_StructMetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+        parents = [b.__name__ for b in bases if getattr(b, "_iec_layout_", None) is not None]
+        if len(parents) > 1:
+            raise DefinitionError(
+                f"STRUCT {name} cannot EXTEND both {' and '.join(parents)}: a STRUCT extends one STRUCT at most"
+            )
         return _data_type(super().__new__, mcls, name, bases, namespace, kwargs, "STRUCT")
 
 

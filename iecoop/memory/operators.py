@@ -80,6 +80,11 @@ def type_info_of(obj: Any) -> TypeInfo:
     from iecoop.memory._core import class_info
 
     found = class_info(type(obj))
+    if found is None and getattr(type(obj), "_iec_kind_", None) == "program" and getattr(type(obj), "_iec_layout_", None):
+        from iecoop.memory._core import AggregateInfo
+
+        # ADR(PRG_Main): a program instance is a memory block too (it is never a member's type).
+        found = AggregateInfo(type(obj))
     if found is None:
         raise TypeError(f"{type(obj).__name__} is not an IEC data instance")
     return found

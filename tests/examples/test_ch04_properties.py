@@ -54,7 +54,7 @@ def test_the_get_accessor_runs_at_every_read() -> None:
 def test_a_property_without_set_is_read_only() -> None:
     tank = Tank()
     for name in ("level", "volume"):
-        with pytest.raises(AttributeError, match=f"property '{name}' of 'Tank' object has no setter"):
+        with pytest.raises(AttributeError, match=f"PROPERTY Tank\\.{name} has no Set accessor: it is read-only"):
             setattr(tank, name, 10.0)
 
 
@@ -76,5 +76,5 @@ def test_main_prints_the_three_samples_and_both_refusals(capsys: pytest.CaptureF
     main()
     out = capsys.readouterr().out
     assert "t=500 ms  Setpoint=40.0 %  Level=40.0 %  Volume=800.0 l of 2000.0 l" in out
-    assert "has no setter" in out
+    assert "has no Set accessor" in out
     assert "AccessError: PRIVATE PROPERTY Tank.capacity (Set)" in out

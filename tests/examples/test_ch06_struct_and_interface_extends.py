@@ -67,12 +67,11 @@ def test_a_derived_struct_cannot_repeat_a_base_member_anywhere_up_the_chain() ->
             b_bool1: BOOL = False
 
 
-@pytest.mark.xfail(reason="iecoop accepts STRUCT EXTENDS with two bases and overlaps their members", strict=True)
 def test_a_struct_cannot_extend_two_structs() -> None:
     class OtherBase(Struct):
         flag: BOOL = False
 
-    with pytest.raises(DefinitionError):
+    with pytest.raises(DefinitionError, match=r"STRUCT Both cannot EXTEND both StructBase1 and OtherBase"):
 
         class Both(StructBase1, OtherBase):
             pass
