@@ -187,6 +187,11 @@ class Main(Program):
         self.st_copy = self.sample.get_struct()
         self.fb_copy = self.sample.get_counter()
 
+    @method
+    def change_copy(self) -> None:
+        """``stGet.nVar := -1;``: stGet holds a copy of the property's struct."""
+        self.st_get.n_var = -1
+
 
 def main() -> None:
     """Run MAIN for five cycles, giving bSet in the fourth.
@@ -211,7 +216,7 @@ def main() -> None:
             f"{cycle:5d}  {cycle == 4!s:<5} {program.single_get:11d} {program.st_get.n_var:11d} "
             f"{program.st_copy.n_var:12d} {program.fb_copy.count_value:14d}"
         )
-    program.st_get.n_var = -1
+    program.change_copy()
     print(f"stGet.nVar := -1 changes a copy: fbSample.MyProp.nVar is still {program.sample.my_prop.n_var}")
 
 

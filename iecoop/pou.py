@@ -48,6 +48,7 @@ from iecoop.interfaces import Interface, interface_members
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
+    CheckedMemberField,
     InterfaceInfo,
     PointerInfo,
     ReferenceInfo,
@@ -634,8 +635,35 @@ def check_write(holder: Any, field: str, frame: Any) -> None:
         _check_rule(holder, rule, frame)
 
 
+def _read_only_rule(section: str, where: str, constant: bool) -> Callable[[Any, Any], str | None] | None:
+    """Who may write through a view of a STRUCT / ARRAY variable: the same code that may write the variable."""
+    if constant:
+        text = f"{where} is CONSTANT and cannot be written"
+        return lambda holder, frame: text
+    if section not in _INSIDE_ONLY:
+        return None
+    owners_of = CODE_OWNERS
+
+    def rule(holder: Any, frame: Any) -> str | None:
+        if frame.f_code in FORWARDING_CODES:
+            frame = frame.f_back
+        owners = owners_of.get(frame.f_code)
+        if owners is not None and isinstance(holder, owners):
+            return None
+        return (
+            f"{section} {where} cannot be written from {caller_description(frame)}: "
+            f"only {type(holder).__name__}'s own code writes its {section} variables"
+        )
+
+    return rule
+
+
 def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
     rules = cls._iec_write_rules_ = _write_rules(cls, layout)
+    for record in layout.own:
+        field = cls.__dict__.get(record.name)
+        if isinstance(field, CheckedMemberField):
+            field.rule = _read_only_rule(record.section, record.where, record.spec.constant)
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY

@@ -19,13 +19,14 @@ import bisect
 import ctypes
 import enum
 import operator
+import sys
 import typing
 import weakref
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Generic, TypeVar
 
 from iecoop import _config
-from iecoop.exceptions import DefinitionError, ExceptionCode, PlcException
+from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException
 from iecoop.types import ElementaryType, StringType, elementary_type
 
 _T = TypeVar("_T")
@@ -363,6 +364,43 @@ class _EnumField:
         self.raw.__set__(obj, int(value))
 
 
+READ_ONLY = "_iec_ro_"
+
+
+class CheckedMemberField:
+    """Checked mode: a STRUCT / ARRAY member whose view remembers it may not be written through.
+
+    A block's local or output read from outside the block (or any CONSTANT)
+    gives a view marked read-only: writing a member or an element through it
+    raises AccessError, as writing the variable itself does. Members and
+    elements of a marked view are marked too.
+    """
+
+    __slots__ = ("info", "raw", "offset", "where", "rule")
+
+    def __init__(self, info: TypeInfo, raw: Any, where: str) -> None:
+        self.info, self.raw, self.offset, self.where = info, raw, int(raw.offset), where
+        #: Set by the POU layer: (holder, reading frame) -> the refusal text, or None when the reader may write.
+        self.rule: Callable[[Any, Any], str | None] | None = None
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        view = self.raw.__get__(obj)
+        refusal = obj.__dict__.get(READ_ONLY)
+        if refusal is None and self.rule is not None:
+            refusal = self.rule(obj, sys._getframe(1))
+        if refusal is not None:
+            view.__dict__[READ_ONLY] = refusal
+        return view
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        refusal = obj.__dict__.get(READ_ONLY)
+        if refusal is not None:
+            raise AccessError(refusal)
+        self.info.store(obj, self.offset, value, self.where)
+
+
 class _MemberProperty(property):
     """A property whose getter is ``operator.attrgetter`` of the ctypes field's alias (no Python frame on a read)."""
 
@@ -397,7 +435,7 @@ class AggregateInfo(TypeInfo):
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
         if not getattr(self.cls, "_iec_tagged_", False):
-            return None
+            return CheckedMemberField(self, raw, f"{owner}.{name}") if _config.CHECKS else None
         # A block member: reads stay C-level (the ctypes field's own getter); a write
         # (fbSpare := fbOther) goes through store(), which keeps the member's type tag.
         offset, where, store = raw.offset, f"{owner}.{name}", self.store
@@ -936,6 +974,9 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
 
             def setitem(self: Any, index: Any, value: Any) -> None:
                 position = index - lo0 if type(index) is int and lo0 <= index <= hi0 and one_dim else flat(self, index)
+                refusal = self.__dict__.get(READ_ONLY)
+                if refusal is not None:
+                    raise AccessError(refusal)
                 validate(value, f"{type(self).__name__} element [{index!r}]")
                 raw_set(self, position, value)
 
@@ -947,7 +988,7 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
                 else:
                     raw_set(self, flat(self, index), value)
 
-    elif isinstance(elem, AggregateInfo) and one_dim:
+    elif isinstance(elem, AggregateInfo) and one_dim and not _config.CHECKS:
         # An element of an ARRAY OF STRUCT / FB is a view of the declared type at its offset.
         view_of = typing.cast(Any, elem.cls).from_buffer
 
@@ -957,6 +998,21 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
             return elem.load(self, flat(self, index) * size)
 
         def setitem(self: Any, index: Any, value: Any) -> None:
+            elem.store(self, flat(self, index) * size, value, f"element {index!r}")
+
+    elif _config.CHECKS:
+
+        def getitem(self: Any, index: Any) -> Any:
+            view = elem.load(self, flat(self, index) * size)
+            refusal = self.__dict__.get(READ_ONLY)
+            if refusal is not None and hasattr(view, "__dict__"):
+                view.__dict__[READ_ONLY] = refusal
+            return view
+
+        def setitem(self: Any, index: Any, value: Any) -> None:
+            refusal = self.__dict__.get(READ_ONLY)
+            if refusal is not None:
+                raise AccessError(refusal)
             elem.store(self, flat(self, index) * size, value, f"element {index!r}")
 
     else:
@@ -1019,6 +1075,9 @@ class ArrayInfo(TypeInfo):
 
     def load(self, root: Any, offset: int) -> Any:
         return self.ctype.from_buffer(root, offset)
+
+    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
+        return CheckedMemberField(self, raw, f"{owner}.{name}") if _config.CHECKS else None
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         if isinstance(value, (list, tuple)):

@@ -516,6 +516,9 @@ def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, A
     setter = object.__setattr__
 
     def __setattr__(self: Any, name: str, value: Any) -> None:
+        refusal = self.__dict__.get("_iec_ro_")
+        if refusal is not None:  # a view of another block's local / output, or of a CONSTANT
+            raise AccessError(refusal)
         if name in constants:
             raise AccessError(f"{constants[name]} is CONSTANT and cannot be written")
         validate = validators.get(name)

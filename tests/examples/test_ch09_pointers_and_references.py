@@ -94,7 +94,7 @@ def test_the_array_through_pointers_cycle_by_cycle() -> None:
 def test_pointer_arithmetic_steps_sizeof_int_bytes() -> None:
     program = SrArrays()
     for i in range(1, 21):
-        program.fifo[i] = 10 * i
+        adr(program, "fifo", i).deref = 10 * i  # test set-up through explicit addresses
     first = adr(program, "fifo", 1)
     for i in range(1, 21):
         assert adr(program, "fifo", i) - first == (i - 1) * sizeof(INT)

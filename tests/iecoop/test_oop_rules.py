@@ -1266,3 +1266,55 @@ def test_a_really_different_forward_reference_is_still_refused() -> None:
 
             @method
             def visit(self, device: LaterDevice) -> None: ...
+
+
+# ---------------------------------------------------------------------------
+# Writing through a member or element of another block's local / output / CONSTANT
+# ---------------------------------------------------------------------------
+
+
+class RecipeData(Struct):
+    speed: REAL = 50.0
+    steps: ARRAY[INT] = VAR(bounds=(1, 3))
+
+
+class RecipeEditor(FunctionBlock):
+    working: RecipeData = VAR()
+    result: RecipeData = VAR_OUTPUT()
+    request: RecipeData = VAR_INPUT()
+    table: ARRAY[INT] = VAR(bounds=(1, 3))
+    LIMITS: ARRAY[INT] = VAR([1, 2, 3], bounds=(1, 3), constant=True)
+
+    @method
+    def edit(self) -> None:
+        self.working.speed = 60.0
+        self.working.steps[2] = 7
+        self.table[1] = 5
+        self.result.steps[3] = 9
+
+
+class DerivedEditor(RecipeEditor):
+    @method
+    def tune(self) -> None:
+        self.working.speed = 70.0  # a derived block's own code writes the base's locals
+
+
+@checked_only
+def test_members_and_elements_of_a_blocks_locals_are_written_only_by_its_code() -> None:
+    editor = DerivedEditor()
+    editor.edit()
+    editor.tune()
+    assert (editor.working.speed, editor.working.steps[2], editor.table[1], editor.result.steps[3]) == (70.0, 7, 5, 9)
+    with pytest.raises(AccessError, match=r"VAR RecipeEditor\.working cannot be written from .*only DerivedEditor's own code"):
+        editor.working.speed = 999.0
+    with pytest.raises(AccessError, match=r"VAR RecipeEditor\.working cannot be written"):
+        editor.working.steps[1] = 9  # an element of a member: the mark follows the view
+    with pytest.raises(AccessError, match=r"VAR RecipeEditor\.table cannot be written"):
+        editor.table[1] = 9
+    with pytest.raises(AccessError, match=r"VAR_OUTPUT RecipeEditor\.result cannot be written"):
+        editor.result.speed = 1.0
+    with pytest.raises(AccessError, match=r"RecipeEditor\.LIMITS is CONSTANT and cannot be written"):
+        editor.LIMITS[1] = 5
+    assert editor.working.speed == 70.0 and list(editor.LIMITS) == [1, 2, 3]
+    editor.request.speed = 3.0  # an input's members are the caller's to set
+    assert editor.request.speed == 3.0

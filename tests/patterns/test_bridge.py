@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import VAR, DefinitionError, ExceptionCode, PlcException, Program, T
+from iecoop import VAR, DefinitionError, ExceptionCode, PlcException, Program, T, adr
 from iecoop.runtime import Runtime, Task
 from patterns.structural.bridge import Device, LocalIo, ModbusTcp, Pump, SimChannel, SkidMain, Valve
 
@@ -160,7 +160,8 @@ def test_modbus_round_trip_is_the_value_rounded_to_a_register(value: float, late
     channel.write(2, value)
     for _ in range(latency):
         channel.cyclic()
-    channel.remote.i[2] = channel.remote.q[2]  # a loopback behind the coupler
+    remote = adr(channel, "remote").deref  # a loopback behind the coupler, wired through its address
+    remote.i[2] = remote.q[2]
     for _ in range(latency):
         channel.cyclic()
     assert channel.healthy
