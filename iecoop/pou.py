@@ -635,27 +635,21 @@ def check_write(holder: Any, field: str, frame: Any) -> None:
         _check_rule(holder, rule, frame)
 
 
-def _read_only_rule(section: str, where: str, constant: bool) -> Callable[[Any, Any], str | None] | None:
+def _read_only_rule(rule: _WriteRule) -> Callable[[Any, Any], str | None] | None:
     """Who may write through a view of a STRUCT / ARRAY variable: the same code that may write the variable."""
-    if constant:
-        text = f"{where} is CONSTANT and cannot be written"
-        return lambda holder, frame: text
-    if section not in _INSIDE_ONLY:
+    if not (rule[4] or rule[2] in _INSIDE_ONLY):
         return None
-    owners_of = CODE_OWNERS
 
-    def rule(holder: Any, frame: Any) -> str | None:
+    def refusal(holder: Any, frame: Any) -> str | None:
         if frame.f_code in FORWARDING_CODES:
             frame = frame.f_back
-        owners = owners_of.get(frame.f_code)
-        if owners is not None and isinstance(holder, owners):
-            return None
-        return (
-            f"{section} {where} cannot be written from {caller_description(frame)}: "
-            f"only {type(holder).__name__}'s own code writes its {section} variables"
-        )
+        try:
+            _check_rule(holder, rule, frame)
+        except AccessError as exc:
+            return str(exc)
+        return None
 
-    return rule
+    return refusal
 
 
 def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
@@ -663,7 +657,7 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
     for record in layout.own:
         field = cls.__dict__.get(record.name)
         if isinstance(field, CheckedMemberField):
-            field.rule = _read_only_rule(record.section, record.where, record.spec.constant)
+            field.rule = _read_only_rule(rules[record.name])
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY

@@ -99,6 +99,9 @@ _SECTION_VISIBILITY = {
     "VAR_EXTERNAL": "#",
 }
 
+# Relation kind -> arrow, the same in Mermaid and PlantUML.
+_ARROWS = {"extends": "<|--", "implements": "<|..", "composition": "*--", "aggregation": "o--", "association": "-->"}
+
 _ACCESS_SYMBOL = {Access.PUBLIC: "+", Access.PRIVATE: "-", Access.PROTECTED: "#", Access.INTERNAL: "~"}
 
 # The library's own base classes are not drawn.
@@ -313,13 +316,7 @@ class ClassDiagram:
             for op in box.operations:
                 lines.append(f"        {op.text()}{'*' if op.abstract else ''}{' {leaf}' if op.final else ''}")
             lines.append("    }")
-        arrows = {
-            "extends": "<|--",
-            "implements": "<|..",
-            "composition": "*--",
-            "aggregation": "o--",
-            "association": "-->",
-        }
+        arrows = _ARROWS
         for r in self.relations:
             if r.kind in ("extends", "implements"):
                 lines.append(f"    {r.source} {arrows[r.kind]} {r.target} : {r.kind.upper()}")
@@ -349,7 +346,7 @@ class ClassDiagram:
                 mods = ("{abstract} " if op.abstract else "") + ("{leaf} " if op.final else "")
                 lines.append(f"  {mods}{op.text()}")
             lines.append("}")
-        arrows = {"extends": "<|--", "implements": "<|..", "composition": "*--", "aggregation": "o--", "association": "-->"}
+        arrows = _ARROWS
         for r in self.relations:
             many = f' "{r.multiplicity}"' if r.multiplicity else ""
             label = f" : {r.label}" if r.label else ""

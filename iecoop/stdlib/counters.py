@@ -37,8 +37,9 @@ Rules (IEC_SEMANTICS.md 7.5):
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Any
 
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.pou import FunctionBlock
@@ -51,6 +52,97 @@ _WORD_MAX = 0xFFFF
 _INT_MAX = 0x7FFF
 _DINT_MAX = 0x7FFF_FFFF
 _UDINT_MAX = 0xFFFF_FFFF
+
+
+def _up_counter(cv_max: int, reset_pin: str) -> Callable[[Any], None]:
+    """The CTU state machine, given the reset pin's name and the CV type's largest value.
+
+    The TwinCAT / CODESYS form (``RESET``, WORD) and the IEC forms (``R``,
+    INT / DINT / UDINT) share it; the pin is read through a C-level getter.
+    """
+    reset = operator.attrgetter(reset_pin)
+
+    def body(self: Any) -> None:
+        cu = self.CU
+        m = self.CU_M
+        if cu != m:
+            self.CU_M = cu
+        cv = self.CV
+        if reset(self):
+            if cv:
+                self.CV = cv = 0
+        elif cu and not m:
+            limit = self.PV if active_profile().ctu_limit == "pv" else cv_max
+            if cv < limit:
+                self.CV = cv = cv + 1
+        q = cv >= self.PV
+        if q != self.Q:
+            self.Q = q
+
+    return body
+
+
+def _down_counter(load_pin: str) -> Callable[[Any], None]:
+    """The CTD state machine, given the load pin's name (``LOAD`` or ``LD``)."""
+    load = operator.attrgetter(load_pin)
+
+    def body(self: Any) -> None:
+        cd = self.CD
+        m = self.CD_M
+        if cd != m:
+            self.CD_M = cd
+        cv = self.CV
+        if load(self):
+            pv = self.PV
+            if cv != pv:
+                self.CV = cv = pv
+        elif cd and not m and cv > 0:
+            self.CV = cv = cv - 1
+        q = cv <= 0
+        if q != self.Q:
+            self.Q = q
+
+    return body
+
+
+def _up_down_counter(cv_max: int, reset_pin: str, load_pin: str) -> Callable[[Any], None]:
+    """The CTUD state machine, given the reset and load pins' names and the CV type's largest value."""
+    reset = operator.attrgetter(reset_pin)
+    load = operator.attrgetter(load_pin)
+
+    def body(self: Any) -> None:
+        cu = self.CU
+        cu_m = self.CU_M
+        if cu != cu_m:
+            self.CU_M = cu
+        cd = self.CD
+        cd_m = self.CD_M
+        if cd != cd_m:
+            self.CD_M = cd
+        up = cu and not cu_m
+        down = cd and not cd_m
+        cv = self.CV
+        pv = self.PV
+        if reset(self):
+            if cv:
+                self.CV = cv = 0
+        elif load(self):
+            if cv != pv:
+                self.CV = cv = pv
+        elif up != down:
+            if up:
+                if cv < (pv if active_profile().ctu_limit == "pv" else cv_max):
+                    self.CV = cv = cv + 1
+            elif cv > 0:
+                self.CV = cv = cv - 1
+        qu = cv >= pv
+        if qu != self.QU:
+            self.QU = qu
+        qd = cv <= 0
+        if qd != self.QD:
+            self.QD = qd
+
+    return body
 
 
 class CTU(FunctionBlock):
@@ -78,60 +170,11 @@ class CTU(FunctionBlock):
     CV: WORD = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        m = self.CU_M
-        if cu != m:
-            self.CU_M = cu
-        cv = self.CV
-        if self.RESET:
-            if cv:
-                self.CV = cv = 0
-        elif cu and not m:
-            limit = self.PV if active_profile().ctu_limit == "pv" else _WORD_MAX
-            if cv < limit:
-                self.CV = cv = cv + 1
-        q = cv >= self.PV
-        if q != self.Q:
-            self.Q = q
+    body = _up_counter(_WORD_MAX, "RESET")
 
 
-class _IecUpCounter(FunctionBlock, abstract=True):
-    """The pins of the IEC up counters (CTU_INT, CTU_DINT, CTU_UDINT), for the shared body."""
 
-    if TYPE_CHECKING:
-        CU: bool
-        R: bool
-        PV: int
-        Q: bool
-        CV: int
-        CU_M: bool
-
-
-def _iec_up_counter(cv_max: int) -> Callable[[_IecUpCounter], None]:
-    """The IEC CTU state machine for a CV type whose largest value is ``cv_max``."""
-
-    def body(self: _IecUpCounter) -> None:
-        cu = self.CU
-        m = self.CU_M
-        if cu != m:
-            self.CU_M = cu
-        cv = self.CV
-        if self.R:
-            if cv:
-                self.CV = cv = 0
-        elif cu and not m:
-            limit = self.PV if active_profile().ctu_limit == "pv" else cv_max
-            if cv < limit:
-                self.CV = cv = cv + 1
-        q = cv >= self.PV
-        if q != self.Q:
-            self.Q = q
-
-    return body
-
-
-class CTU_INT(_IecUpCounter):  # noqa: N801 - IEC name
+class CTU_INT(FunctionBlock):  # noqa: N801 - IEC name
     """CTU in the IEC form: pins R and PV / CV of type INT.
 
     ST::
@@ -154,11 +197,10 @@ class CTU_INT(_IecUpCounter):  # noqa: N801 - IEC name
     CV: INT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    body = _iec_up_counter(_INT_MAX)
+    body = _up_counter(_INT_MAX, "R")
 
 
-
-class CTU_DINT(_IecUpCounter):  # noqa: N801 - IEC name
+class CTU_DINT(FunctionBlock):  # noqa: N801 - IEC name
     """CTU_DINT: the IEC up counter with PV / CV of type DINT.
 
     ST::
@@ -179,11 +221,10 @@ class CTU_DINT(_IecUpCounter):  # noqa: N801 - IEC name
     CV: DINT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    body = _iec_up_counter(_DINT_MAX)
+    body = _up_counter(_DINT_MAX, "R")
 
 
-
-class CTU_UDINT(_IecUpCounter):  # noqa: N801 - IEC name
+class CTU_UDINT(FunctionBlock):  # noqa: N801 - IEC name
     """CTU_UDINT: the IEC up counter with PV / CV of type UDINT.
 
     ST::
@@ -204,8 +245,7 @@ class CTU_UDINT(_IecUpCounter):  # noqa: N801 - IEC name
     CV: UDINT = VAR_OUTPUT(0)
     CU_M: BOOL = VAR(False)
 
-    body = _iec_up_counter(_UDINT_MAX)
-
+    body = _up_counter(_UDINT_MAX, "R")
 
 
 class CTD(FunctionBlock):
@@ -235,21 +275,8 @@ class CTD(FunctionBlock):
     CV: WORD = VAR_OUTPUT(0)
     CD_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cd = self.CD
-        m = self.CD_M
-        if cd != m:
-            self.CD_M = cd
-        cv = self.CV
-        if self.LOAD:
-            pv = self.PV
-            if cv != pv:
-                self.CV = cv = pv
-        elif cd and not m and cv > 0:
-            self.CV = cv = cv - 1
-        q = cv <= 0
-        if q != self.Q:
-            self.Q = q
+    body = _down_counter("LOAD")
+
 
 
 class CTD_INT(FunctionBlock):  # noqa: N801 - IEC name
@@ -273,21 +300,8 @@ class CTD_INT(FunctionBlock):  # noqa: N801 - IEC name
     CV: INT = VAR_OUTPUT(0)
     CD_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cd = self.CD
-        m = self.CD_M
-        if cd != m:
-            self.CD_M = cd
-        cv = self.CV
-        if self.LD:
-            pv = self.PV
-            if cv != pv:
-                self.CV = cv = pv
-        elif cd and not m and cv > 0:
-            self.CV = cv = cv - 1
-        q = cv <= 0
-        if q != self.Q:
-            self.Q = q
+    body = _down_counter("LD")
+
 
 
 class CTUD(FunctionBlock):
@@ -320,37 +334,8 @@ class CTUD(FunctionBlock):
     CU_M: BOOL = VAR(False)
     CD_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        cu_m = self.CU_M
-        if cu != cu_m:
-            self.CU_M = cu
-        cd = self.CD
-        cd_m = self.CD_M
-        if cd != cd_m:
-            self.CD_M = cd
-        up = cu and not cu_m
-        down = cd and not cd_m
-        cv = self.CV
-        pv = self.PV
-        if self.RESET:
-            if cv:
-                self.CV = cv = 0
-        elif self.LOAD:
-            if cv != pv:
-                self.CV = cv = pv
-        elif up != down:
-            if up:
-                if cv < (pv if active_profile().ctu_limit == "pv" else _WORD_MAX):
-                    self.CV = cv = cv + 1
-            elif cv > 0:
-                self.CV = cv = cv - 1
-        qu = cv >= pv
-        if qu != self.QU:
-            self.QU = qu
-        qd = cv <= 0
-        if qd != self.QD:
-            self.QD = qd
+    body = _up_down_counter(_WORD_MAX, "RESET", "LOAD")
+
 
 
 class CTUD_INT(FunctionBlock):  # noqa: N801 - IEC name
@@ -380,34 +365,6 @@ class CTUD_INT(FunctionBlock):  # noqa: N801 - IEC name
     CU_M: BOOL = VAR(False)
     CD_M: BOOL = VAR(False)
 
-    def body(self) -> None:
-        cu = self.CU
-        cu_m = self.CU_M
-        if cu != cu_m:
-            self.CU_M = cu
-        cd = self.CD
-        cd_m = self.CD_M
-        if cd != cd_m:
-            self.CD_M = cd
-        up = cu and not cu_m
-        down = cd and not cd_m
-        cv = self.CV
-        pv = self.PV
-        if self.R:
-            if cv:
-                self.CV = cv = 0
-        elif self.LD:
-            if cv != pv:
-                self.CV = cv = pv
-        elif up != down:
-            if up:
-                if cv < (pv if active_profile().ctu_limit == "pv" else _INT_MAX):
-                    self.CV = cv = cv + 1
-            elif cv > 0:
-                self.CV = cv = cv - 1
-        qu = cv >= pv
-        if qu != self.QU:
-            self.QU = qu
-        qd = cv <= 0
-        if qd != self.QD:
-            self.QD = qd
+    body = _up_down_counter(_INT_MAX, "R", "LD")
+
+

@@ -9,59 +9,16 @@ older one, and never a torn mix of two cycles.
 from __future__ import annotations
 
 import random
-import signal
-import subprocess
 import sys
-import threading
 import time
 import warnings
 from pathlib import Path
 
+from ._child import TIMEOUT, ReportingChild
 from ._runtime_cycler import build, values
 
 CYCLER = Path(__file__).with_name("_runtime_cycler.py")
 ROOT = Path(__file__).resolve().parents[3]
-TIMEOUT = 30.0
-
-
-class Child:
-    """The cycling runtime, with a thread collecting the cycle numbers it reports."""
-
-    def __init__(self, store: Path, lines_wanted: int) -> None:
-        self.process = subprocess.Popen(
-            [sys.executable, str(CYCLER), str(store)], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE
-        )
-        self.restored: list[int] = []
-        self.reported: list[int] = []
-        self.ready = threading.Event()
-        self.enough = threading.Event()
-        self.lines_wanted = lines_wanted
-        self.reader = threading.Thread(target=self._read, daemon=True)
-        self.reader.start()
-
-    def _read(self) -> None:
-        assert self.process.stdout is not None
-        for raw in self.process.stdout:
-            words = raw.split()
-            if words[0] == b"ready":
-                self.restored = [int(w) for w in words[1:]]
-                self.ready.set()
-            else:
-                self.reported.append(int(words[0]))
-            if len(self.reported) >= self.lines_wanted:
-                self.enough.set()
-        self.ready.set()
-        self.enough.set()
-
-    def kill(self) -> str:
-        self.process.send_signal(signal.SIGKILL)
-        self.process.wait(TIMEOUT)
-        self.reader.join(TIMEOUT)  # numbers already in the pipe were printed before the kill
-        assert self.process.stderr is not None and self.process.stdout is not None
-        errors = self.process.stderr.read().decode(errors="replace")
-        self.process.stderr.close()
-        self.process.stdout.close()
-        return errors
 
 
 def restore(store: Path) -> set[int]:
@@ -79,15 +36,14 @@ def test_kill_a_cycling_runtime_at_random_instants(tmp_path: Path) -> None:
     restarts_in_flight = 0
     for iteration in range(20):
         rng = random.Random(f"runtime-kill-{iteration}")
-        child = Child(store, rng.randint(1, 60))
+        child = ReportingChild([sys.executable, str(CYCLER), str(store)], rng.randint(1, 60), cwd=ROOT)
         try:
             assert child.ready.wait(TIMEOUT), "the runtime did not start"
             assert child.enough.wait(TIMEOUT), "the runtime stalled"
             time.sleep(rng.uniform(0.0, 0.003))
         finally:
-            errors = child.kill()
+            child.kill(f"kill {iteration}: the runtime")
         where = f"kill {iteration} (reported {child.reported[-3:]})"
-        assert child.process.returncode == -signal.SIGKILL, f"{where}: the runtime ended on its own:\n{errors}"
         # The child restored what the previous kill left: the same image the parent saw.
         assert child.restored == [last_completed], f"{where}: the child restored {child.restored}"
         completed = child.reported[-1]

@@ -8,10 +8,7 @@ that was under way: never a torn mix, never anything older.
 from __future__ import annotations
 
 import random
-import signal
-import subprocess
 import sys
-import threading
 import time
 import warnings
 from pathlib import Path
@@ -19,52 +16,18 @@ from typing import Literal
 
 from iecoop.runtime.store import LoadedImage, RemanentStore, StoreWarning
 
+from ._child import TIMEOUT, ReportingChild
 from ._store_writer import counter_of, image_for
 
 WRITER = Path(__file__).with_name("_store_writer.py")
-TIMEOUT = 20.0
 
 Kind = Literal["retain", "persistent"]
 
 
-class Child:
+def writer(directory: Path, kind: Kind, durability: str, large: bool, lines_wanted: int) -> ReportingChild:
     """The writer process, with a thread collecting the numbers it reports."""
-
-    def __init__(self, directory: Path, kind: Kind, durability: str, large: bool, lines_wanted: int) -> None:
-        self.process = subprocess.Popen(
-            [sys.executable, str(WRITER), str(directory), kind, durability, "large" if large else "small"],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        )
-        self.reported: list[int] = []
-        self.ready = threading.Event()
-        self.enough = threading.Event()
-        self.lines_wanted = lines_wanted
-        self.reader = threading.Thread(target=self._read, daemon=True)
-        self.reader.start()
-
-    def _read(self) -> None:
-        assert self.process.stdout is not None
-        for raw in self.process.stdout:
-            line = raw.strip()
-            if line == b"ready":
-                self.ready.set()
-            else:
-                self.reported.append(int(line))
-            if len(self.reported) >= self.lines_wanted:
-                self.enough.set()
-        self.ready.set()
-        self.enough.set()
-
-    def kill(self) -> None:
-        self.process.send_signal(signal.SIGKILL)
-        self.process.wait(TIMEOUT)
-        # Numbers already in the pipe were printed before the kill: drain them.
-        self.reader.join(TIMEOUT)
-        assert self.process.stderr is not None and self.process.stdout is not None
-        errors = self.process.stderr.read().decode(errors="replace")
-        self.process.stderr.close()
-        self.process.stdout.close()
-        assert self.process.returncode == -signal.SIGKILL, f"the writer ended on its own:\n{errors}"
+    argv = [sys.executable, str(WRITER), str(directory), kind, durability, "large" if large else "small"]
+    return ReportingChild(argv, lines_wanted)
 
 
 def load(directory: Path, kind: Kind) -> LoadedImage | None:
@@ -94,7 +57,7 @@ def kill_repeatedly(tmp_path: Path, kind: Kind, iterations: int) -> None:
         # Fewer lines when every write waits for the disk.
         lines_wanted = (1 << 30 if by_time else rng.randint(1, 4) if large
                         else rng.randint(0, 40 if durability == "process" else 5))
-        child = Child(directory, kind, durability, large, lines_wanted)
+        child = writer(directory, kind, durability, large, lines_wanted)
         try:
             assert child.ready.wait(TIMEOUT), "the writer did not start"
             if by_time:
@@ -105,7 +68,7 @@ def kill_repeatedly(tmp_path: Path, kind: Kind, iterations: int) -> None:
                 # a little later it may be inside the pwrite.
                 time.sleep(rng.uniform(0.0, 0.008 if large else 0.004))
         finally:
-            child.kill()
+            child.kill("the writer")
 
         image = load(directory, kind)
         where = (f"iteration {iteration} ({kind}, {durability}, {'large' if large else 'small'}, {directory.name}, "
