@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 _DOCS = Path(__file__).resolve().parent
-# The repository root (for ``examples``, which is not installed) and the local extensions.
+# The repository root (the packages when the docs are built from a checkout) and the local extensions.
 sys.path[:0] = [str(_DOCS.parent), str(_DOCS / "_ext")]
 
 project = "iecoop"

@@ -6,7 +6,7 @@ Runs, and fails if any of them fails:
    ``>>>`` example runs); a run that collects no test is a failure;
 2. the tests again in fast mode (``IECOOP_CHECKS=0``, the simulation
    setting that drops the per-write checks), so both code paths are tested;
-3. ``mypy --strict`` on iecoop, patterns, examples and tests;
+3. ``mypy --strict`` on iecoop, patterns, iecoop_examples and tests;
 4. the Sphinx docs build with warnings as errors.
 """
 
@@ -36,7 +36,7 @@ def main() -> int:
     python = sys.executable
     pytest = [python, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
     gates: list[tuple[str, list[str], dict[str, str] | None]] = [
-        ("pytest", [*pytest, "--doctest-glob=*.md", "docs", "README.md", "tests", "iecoop", "patterns", "examples"], None),
+        ("pytest", [*pytest, "--doctest-glob=*.md", "docs", "README.md", "tests", "iecoop", "patterns", "iecoop_examples"], None),
         ("pytest, fast mode", [*pytest, "tests"], {"IECOOP_CHECKS": "0"}),
         ("mypy", [python, "-m", "mypy", "--strict"], None),
         ("docs", [python, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"], None),

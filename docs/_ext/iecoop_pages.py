@@ -4,7 +4,7 @@ On ``builder-inited`` every module of ``patterns.creational``,
 ``patterns.structural``, ``patterns.behavioral`` and ``patterns.solid`` gets a
 page ``docs/patterns/<category>/<module>.rst`` with its class diagram
 (``iecoop.uml.module_diagram``) written beside it as an SVG, and each category
-an index page; the modules of ``examples`` are gathered on
+an index page; the modules of ``iecoop_examples`` are gathered on
 ``docs/examples/index.rst``. A module added to one of those packages appears
 on the next build. The output depends only on the modules, and a file is
 rewritten only when its text changes, so incremental builds stay incremental.
@@ -331,7 +331,7 @@ def _category_index(category: Category, modules: Sequence[types.ModuleType]) -> 
 
 
 def _chapter_heading(module: types.ModuleType) -> str:
-    """``examples.ch04_properties`` with summary ``"Properties: ..."`` -> ``"Chapter 4: Properties"``."""
+    """``iecoop_examples.ch04_properties`` with summary ``"Properties: ..."`` -> ``"Chapter 4: Properties"``."""
     found = re.match(r"ch(\d+)_", module.__name__.rsplit(".", 1)[1])
     number = int(found.group(1)) if found else 0
     summary = _summary(module)
@@ -344,14 +344,14 @@ def _examples_page(modules: Sequence[types.ModuleType]) -> str:
         _GENERATED,
         "",
         *_heading("Course examples", "="),
-        "The examples of the course, chapter by chapter, as runnable modules of the ``examples`` "
+        "The examples of the course, chapter by chapter, as runnable modules of the ``iecoop_examples`` "
         "package (in the repository, not installed with the library). Each module's docstring "
         "shows the Structured Text it follows and the Python beside it; its doctests run with the "
-        "test suite, and ``python -m examples.<module>`` runs it.",
+        "test suite, and ``python -m iecoop_examples.<module>`` runs it.",
         "",
     ]
     if not modules:
-        lines += ["The ``examples`` package holds no chapter module in this build.", ""]
+        lines += ["The ``iecoop_examples`` package holds no chapter module in this build.", ""]
     for module in modules:
         lines += [*_heading(_chapter_heading(module), "-"), f".. automodule:: {module.__name__}", "   :members:", ""]
         if hasattr(module, "__path__"):
@@ -376,7 +376,7 @@ def generate(srcdir: Path) -> list[Path]:
             _write(folder / f"{stem}.rst", _pattern_page(module, category, folder, written), written)
         _write(folder / "index.rst", _category_index(category, modules), written)
         _prune(folder, written, (".md", ".rst", ".svg"))
-    examples = [m for m in _modules("examples", packages=True) if re.match(r"ch\d+_", m.__name__.rsplit(".", 1)[1])]
+    examples = [m for m in _modules("iecoop_examples", packages=True) if re.match(r"ch\d+_", m.__name__.rsplit(".", 1)[1])]
     folder = srcdir / "examples"
     _write(folder / "index.rst", _examples_page(examples), written)
     _prune(folder, written, (".md", ".rst"))

@@ -23,7 +23,6 @@ import dataclasses
 import enum
 import functools
 import importlib
-import importlib.util
 import inspect
 import pkgutil
 import re
@@ -67,7 +66,7 @@ _PACKAGES: dict[str, str] = {
     "structural": "patterns.structural",
     "behavioral": "patterns.behavioral",
     "solid": "patterns.solid",
-    "examples": "examples",
+    "examples": "iecoop_examples",
 }
 
 
@@ -369,31 +368,11 @@ def generic_columns(cls: type[Program], limit: int = 5) -> tuple[Column, ...]:
 
 
 def _import_package(package: str) -> ModuleType | None:
-    """Import ``package``; the course examples also from the source tree next to ``patterns``.
-
-    ``examples`` is not installed with the package, so the ``iecoop`` script
-    of an editable install cannot import it by name: it is loaded from the
-    checkout's ``examples/`` folder when there is one.
-    """
+    """Import ``package``, or None when it is not installed."""
     try:
         return importlib.import_module(package)
     except ImportError:
-        if package != "examples":
-            return None
-    init = Path(patterns.__file__).resolve().parent.parent / "examples" / "__init__.py"
-    if not init.is_file():
         return None
-    spec = importlib.util.spec_from_file_location("examples", init, submodule_search_locations=[str(init.parent)])
-    if spec is None or spec.loader is None:
-        return None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["examples"] = module
-    try:
-        spec.loader.exec_module(module)
-    except Exception:
-        del sys.modules["examples"]
-        return None
-    return module
 
 
 def _modules(package: str) -> Iterator[str]:
@@ -436,7 +415,7 @@ def _generic_entry(name: str, category: str, module_name: str) -> Entry | None:
 
 
 def _short_names(category: str, modules: Sequence[str]) -> dict[str, str]:
-    """Module -> short name: ``factory_method`` -> ``factory-method``; ``examples.ch09_x`` -> ``ch09``."""
+    """Module -> short name: ``factory_method`` -> ``factory-method``; ``iecoop_examples.ch09_x`` -> ``ch09``."""
     base = {m: m.rsplit(".", 1)[-1].replace("_", "-").lower() for m in modules}
     if category == "examples":
         prefixes = {m: re.match(r"(ch\d+)", name) for m, name in base.items()}
@@ -1094,64 +1073,64 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     # -- the course examples ---------------------------------------------------------------
     Entry(
-        "ch01", "examples", "examples.ch01_classes_and_objects",
+        "ch01", "examples", "iecoop_examples.ch01_classes_and_objects",
         columns=(Column("fbMercedes", "mercedes.action"), Column("fbBMW", "bmw.action"),
                  Column("fbAudi", "audi.action"), Column("sColor", "color")),
         script=steps(*press("accelerate", 2), *press("drive", 4), *press("brake", 6)), cycles=8,
     ),
     Entry(
-        "ch02", "examples", "examples.ch02_fb_declaration_and_access",
+        "ch02", "examples", "iecoop_examples.ch02_fb_declaration_and_access",
         columns=(Column("start", "start"), Column("stop", "stop"), Column("running", "pump.running"),
                  Column("MAIN's starts", "pump_starts")),
         script=steps(*press("start", 2), *press("stop", 5), *press("start", 8)), cycles=10,
     ),
-    Entry("ch03", "examples", "examples.ch03_method_return_types", demo=True),
+    Entry("ch03", "examples", "iecoop_examples.ch03_method_return_types", demo=True),
     Entry(
-        "ch04", "examples", "examples.ch04_properties",
+        "ch04", "examples", "iecoop_examples.ch04_properties",
         columns=(Column("Setpoint %", "tank.setpoint", ".1f"), Column("Level %", "tank.level", ".1f"),
                  Column("Volume l", "tank.volume", ".1f")),
         cycles=50,
     ),
     Entry(
-        "ch05", "examples", "examples.ch05_inheritance",
+        "ch05", "examples", "iecoop_examples.ch05_inheritance",
         columns=(Column("FB_Engine running", "engine.running"), Column("odometer", "engine.odometer", ".1f"),
                  Column("FB_NewEngine running", "new_engine.running"), Column("odometer ", "new_engine.odometer", ".1f"),
                  Column("gear", "new_engine.gear")),
         cycles=10,
     ),
-    Entry("ch06", "examples", "examples.ch06_struct_and_interface_extends", demo=True),
+    Entry("ch06", "examples", "iecoop_examples.ch06_struct_and_interface_extends", demo=True),
     Entry(
-        "ch07", "examples", "examples.ch07_this_and_super",
+        "ch07", "examples", "iecoop_examples.ch07_this_and_super",
         columns=(Column("iBaseCnt", "i_base_cnt"), Column("iFb1Cnt", "i_fb1_cnt"), Column("fb1.iThis", "fb1.i_this"),
                  Column("fb1.iBase", "fb1.i_base")),
         cycles=5,
     ),
     Entry(
-        "ch08", "examples", "examples.ch08_interfaces",
+        "ch08", "examples", "iecoop_examples.ch08_interfaces",
         columns=(Column("nRunning", "running"), Column("motor", "motor.running"), Column("valve", "valve.running"),
                  Column("lamp", "lamp.running"), Column("motor cycles", "motor.run_cycles", watch=False)),
         script=steps(*press("start_all", 1), *press("stop_all", 51)), cycles=60,
     ),
     Entry(
-        "ch09", "examples", "examples.ch09_pointers_and_references", program="SrAverage",
+        "ch09", "examples", "iecoop_examples.ch09_pointers_and_references", program="SrAverage",
         columns=(Column("avg by value", "avg_values", ".4f"), Column("by reference", "avg_reference", ".4f")),
         cycles=3,
     ),
     Entry(
-        "ch10", "examples", "examples.ch10_abstract",
+        "ch10", "examples", "iecoop_examples.ch10_abstract",
         columns=(Column("raw", "raw"), Column("degC", "temperature.value", ".2f"), Column("bar", "pressure.value", ".2f"),
                  Column("nAlarms", "alarms")),
         cycles=20,
     ),
-    Entry("ch11", "examples", "examples.ch11_abstract_fb_vs_interface", demo=True),
+    Entry("ch11", "examples", "iecoop_examples.ch11_abstract_fb_vs_interface", demo=True),
     Entry(
-        "ch12", "examples", "examples.ch12_fluent_interface",
+        "ch12", "examples", "iecoop_examples.ch12_fluent_interface",
         columns=(Column("MAIN.cycle", "cycle"), Column("fResult", "result", ".1f"), Column("fHalf", "half", ".1f"),
                  Column("bError", "error")),
         cycles=5,
     ),
     Entry(
-        "ch13", "examples", "examples.ch13_interface_vs_inheritance",
+        "ch13", "examples", "iecoop_examples.ch13_interface_vs_inheritance",
         columns=(Column("nOn", "count_on"), Column("brightness %", "dimmer.brightness"), Column("fan rpm", "fan.rpm"),
                  Column("valve open", "valve.open"), Column("nSwitchings", "switchings")),
         script=steps((1, "all_on", True), (2, "all_on", False), (2, "dim", 30), (3, "all_off", True),
@@ -1159,14 +1138,14 @@ ENTRIES: tuple[Entry, ...] = (
         cycles=6,
     ),
     Entry(
-        "ch14", "examples", "examples.ch14_operators", program="MainOperators",
+        "ch14", "examples", "iecoop_examples.ch14_operators", program="MainOperators",
         columns=(Column("instances before", "before"), Column("after __NEW", "after_new"),
                  Column("after __DELETE", "after_delete"), Column("p = 0", "deleted_is_null"),
                  Column("__ISVALIDREF", "valid_before")),
         cycles=3,
     ),
     Entry(
-        "ch15", "examples", "examples.ch15_exst",
+        "ch15", "examples", "iecoop_examples.ch15_exst",
         columns=(Column("running", "motor.running"), Column("follow", "motor.follow"), Column("alarm", "motor.alarm")),
         script=steps(*press("start", 2), *press("fault", 5), *press("ack", 8), *press("start", 10), *press("stop", 13)),
         cycles=16,

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from examples.ch01_classes_and_objects import Car, Main, main
+from iecoop_examples.ch01_classes_and_objects import Car, Main, main
 from iecoop import T, adr, sizeof
 from iecoop.runtime import Runtime, Task
 

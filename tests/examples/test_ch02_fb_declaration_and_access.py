@@ -10,7 +10,7 @@ from types import ModuleType
 
 import pytest
 
-from examples.ch02_fb_declaration_and_access import (
+from iecoop_examples.ch02_fb_declaration_and_access import (
     MEMBERS,
     Access,
     AccessChild,

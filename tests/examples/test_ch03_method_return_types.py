@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch03_method_return_types import Counter, ISample, Main, Sample, SampleData, main
+from iecoop_examples.ch03_method_return_types import Counter, ISample, Main, Sample, SampleData, main
 from iecoop import T, adr
 from iecoop.runtime import Runtime, Task
 

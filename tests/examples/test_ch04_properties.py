@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch04_properties import Main, Tank, main
+from iecoop_examples.ch04_properties import Main, Tank, main
 from iecoop import AccessError, T
 from iecoop.runtime import Runtime, Task
 

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch05_inheritance import Engine, IEngine, Main, NewEngine, main
+from iecoop_examples.ch05_inheritance import Engine, IEngine, Main, NewEngine, main
 from iecoop import BOOL, FINAL, INT, LREAL, PROTECTED, VAR, VAR_INPUT, AccessError, DefinitionError, Program, T, method
 from iecoop.runtime import Runtime, Task
 

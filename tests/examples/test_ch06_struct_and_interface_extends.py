@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch06_struct_and_interface_extends import (
+from iecoop_examples.ch06_struct_and_interface_extends import (
     IMotor,
     IStart,
     IStop,

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from examples.ch07_this_and_super import Base, Derived, Main, main
+from iecoop_examples.ch07_this_and_super import Base, Derived, Main, main
 from iecoop import T
 from iecoop.runtime import Runtime, Task
 from iecoop.testing.strategies import wrap_int

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from examples.ch08_interfaces import IActuator, Lamp, Main, Motor, Valve, main
+from iecoop_examples.ch08_interfaces import IActuator, Lamp, Main, Motor, Valve, main
 from iecoop import VAR_INPUT, DefinitionError, ExceptionCode, FunctionBlock, Interface, PlcException, Program, T, method
 from iecoop.runtime import Runtime, Task
 

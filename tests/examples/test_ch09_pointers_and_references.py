@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch09_pointers_and_references import (
+from iecoop_examples.ch09_pointers_and_references import (
     Rectangle,
     SrArrays,
     SrAverage,

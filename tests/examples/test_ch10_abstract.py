@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch10_abstract import FULL_SCALE, Main, PressureSensor, Sensor, TemperatureSensor, main
+from iecoop_examples.ch10_abstract import FULL_SCALE, Main, PressureSensor, Sensor, TemperatureSensor, main
 from iecoop import (
     ABSTRACT,
     BOOL,

@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch11_abstract_fb_vs_interface import main
-from examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb as s1
-from examples.ch11_abstract_fb_vs_interface import solution2_interface as s2
-from examples.ch11_abstract_fb_vs_interface import solution3_combination as s3
+from iecoop_examples.ch11_abstract_fb_vs_interface import main
+from iecoop_examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb as s1
+from iecoop_examples.ch11_abstract_fb_vs_interface import solution2_interface as s2
+from iecoop_examples.ch11_abstract_fb_vs_interface import solution3_combination as s3
 from iecoop import BOOL, LREAL, STRING, UINT, DefinitionError, FunctionBlock, T, adr, method, prop
 from iecoop.runtime import Runtime, Task
 

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch12_fluent_interface import Calculator, ICalculator, Main, main
+from iecoop_examples.ch12_fluent_interface import Calculator, ICalculator, Main, main
 from iecoop import T, adr
 from iecoop.runtime import Runtime, Task
 

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from examples.ch13_interface_vs_inheritance import (
+from iecoop_examples.ch13_interface_vs_inheritance import (
     Device,
     DimmableLamp,
     Fan,

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from examples.ch14_operators import IDiagnosis, IDrive, IPrinter, MainOperators, MainTry, Motor, main
+from iecoop_examples.ch14_operators import IDiagnosis, IDrive, IPrinter, MainOperators, MainTry, Motor, main
 from iecoop import (
     BOOL,
     DWORD,

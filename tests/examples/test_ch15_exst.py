@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from examples.ch15_exst import SEQUENCE, Main, MotorControl, main
+from iecoop_examples.ch15_exst import SEQUENCE, Main, MotorControl, main
 from iecoop import BOOL, INT, AccessError, Struct, T
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R, S

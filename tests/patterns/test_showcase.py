@@ -219,7 +219,7 @@ def _modules(package: str) -> list[str]:
 
 
 @pytest.mark.parametrize("package", ["patterns.creational", "patterns.structural", "patterns.behavioral",
-                                     "patterns.solid", "examples"])
+                                     "patterns.solid", "iecoop_examples"])
 def test_every_module_has_an_entry(package: str) -> None:
     covered = {entry.module for entry in entries()}
     assert set(_modules(package)) <= covered

@@ -49,7 +49,7 @@ from collections.abc import Sequence
 from iecoop import DefinitionError, Program, T, VAR
 from iecoop.runtime import Runtime, Task
 
-from examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb, solution2_interface, solution3_combination
+from iecoop_examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb, solution2_interface, solution3_combination
 
 __all__ = ["main"]
 

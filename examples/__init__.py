@@ -1,1 +1,0 @@
-"""The course's examples, one runnable module per chapter (``python -m examples.ch01_classes_and_objects``)."""
