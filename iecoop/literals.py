@@ -129,6 +129,23 @@ def _check_value(kind: str, value: object, high: int, unit: str) -> int:
     return value
 
 
+#: Parsed literals by text. A literal in a body (``T("30ms")`` inside a scan) is
+#: parsed once; later calls cost one dict lookup. Bounded, so literals built
+#: from changing text cannot grow it without limit.
+_SEEN_MAX: Final = 4096
+_SEEN_TIME: dict[str, int] = {}
+_SEEN_LTIME: dict[str, int] = {}
+_SEEN_DATE: dict[str, int] = {}
+_SEEN_TOD: dict[str, int] = {}
+_SEEN_DT: dict[str, int] = {}
+
+
+def _remember(seen: dict[str, int], text: str, value: int) -> int:
+    if type(text) is str and len(seen) < _SEEN_MAX:
+        seen[text] = value
+    return value
+
+
 # --- durations: TIME and LTIME ----------------------------------------------------------
 
 
@@ -212,7 +229,11 @@ def T(text: str) -> int:
     >>> T("1d2h3m4s5ms"), T("T#1.5s"), T("time#1_000MS")
     (93784005, 1500, 1000)
     """
-    return _parse_duration(_TIME, text)
+    try:
+        return _SEEN_TIME[text]
+    except (KeyError, TypeError):
+        return _remember(_SEEN_TIME, text, _parse_duration(_TIME, text))
+
 
 
 def parse_ltime(text: str) -> int:
@@ -223,7 +244,11 @@ def parse_ltime(text: str) -> int:
     >>> parse_ltime("LTIME#1ms500us"), parse_ltime("LT#2.5us")
     (1500000, 2500)
     """
-    return _parse_duration(_LTIME, text)
+    try:
+        return _SEEN_LTIME[text]
+    except (KeyError, TypeError):
+        return _remember(_SEEN_LTIME, text, _parse_duration(_LTIME, text))
+
 
 
 def format_time(ms: int) -> str:
@@ -280,6 +305,14 @@ def D(text: str) -> int:
     >>> D("D#2024-01-28"), D("1970-01-01")
     (1706400000, 0)
     """
+    try:
+        return _SEEN_DATE[text]
+    except (KeyError, TypeError):
+        return _remember(_SEEN_DATE, text, _d_text(text))
+
+
+
+def _d_text(text: str) -> int:
     kind = "DATE"
     body = _strip_prefix(kind, _check_text(kind, text), ("D", "DATE"))
     if not body:
@@ -302,6 +335,14 @@ def parse_tod(text: str) -> int:
     >>> parse_tod("TOD#12:30:00.5"), parse_tod("time_of_day#0:0:0")
     (45000500, 0)
     """
+    try:
+        return _SEEN_TOD[text]
+    except (KeyError, TypeError):
+        return _remember(_SEEN_TOD, text, _tod_text(text))
+
+
+
+def _tod_text(text: str) -> int:
     kind = "TOD"
     body = _strip_prefix(kind, _check_text(kind, text), ("TOD", "TIME_OF_DAY"))
     if not body:
@@ -326,6 +367,14 @@ def parse_dt(text: str) -> int:
     >>> parse_dt("DT#2024-01-28-11:05:43")
     1706439943
     """
+    try:
+        return _SEEN_DT[text]
+    except (KeyError, TypeError):
+        return _remember(_SEEN_DT, text, _dt_text(text))
+
+
+
+def _dt_text(text: str) -> int:
     kind = "DT"
     body = _strip_prefix(kind, _check_text(kind, text), ("DT", "DATE_AND_TIME"))
     if not body:

@@ -234,6 +234,34 @@ def test_wrong_argument_types_are_type_errors() -> None:
         format_tod(cast(int, True))
 
 
+# --- parsed once --------------------------------------------------------------------------------
+
+
+@given(st.integers(0, U32_MAX))
+def test_a_repeated_literal_gives_the_value_of_its_first_parse(ms: int) -> None:
+    text = format_time(ms)
+    assert T(text) == T(text) == ms
+    assert literals._SEEN_TIME[text] == ms
+
+
+@pytest.mark.parametrize("parse", [T, parse_ltime, D, parse_tod, parse_dt])
+def test_a_bad_literal_is_refused_every_time(parse: Parser) -> None:
+    for _ in range(2):
+        with pytest.raises(ValueError, match="bad"):
+            parse("T#5x-not-a-literal")
+    for _ in range(2):
+        with pytest.raises(TypeError, match="literal is text, got list"):
+            parse(cast(str, ["1s"]))
+
+
+def test_the_memo_is_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(literals, "_SEEN_TIME", {})
+    for ms in range(literals._SEEN_MAX + 50):
+        assert T(f"{ms}ms") == ms
+    assert len(literals._SEEN_TIME) == literals._SEEN_MAX
+    assert T(f"{literals._SEEN_MAX + 10}ms") == literals._SEEN_MAX + 10
+
+
 def test_public_names() -> None:
     assert sorted(literals.__all__) == sorted(
         [
