@@ -43,6 +43,8 @@ nitpick_ignore = [
     ("py:class", "_pytest.fixtures.FixtureRequest"),
     # Type variables of generic signatures (typing internals, not API).
     ("py:class", "iecoop.declarations._T"),
+    ("py:class", "iecoop.functions._N"),
+    ("py:class", "iecoop.functions._T"),
     ("py:class", "iecoop.gvl._G"),
     ("py:class", "iecoop.interfaces._I"),
     ("py:class", "iecoop.lifecycle._T"),
