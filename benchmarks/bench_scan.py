@@ -34,8 +34,10 @@ Cases, each run for the same number of cycles:
 
 Before timing, the script checks that (a) and (b) count the same parts and
 flag the same jams. It then times the cases turn about, reports the median
-time per cycle, cycles per second, and the ratio a/b; in fast mode
-(``IECOOP_CHECKS=0``) it exits with status 1 when a/b is above 3.0.
+time per cycle, cycles per second, and the ratio a/b; it exits with status 1
+when a/b is above the target of its mode: 2.0 in fast mode
+(``IECOOP_CHECKS=0``), 4.0 in checked mode. The station writes its TON's
+preset as a literal in the body (``PT=T("200ms")``), as the docs teach.
 
     IECOOP_CHECKS=0 python benchmarks/bench_scan.py
     python benchmarks/bench_scan.py
@@ -60,7 +62,8 @@ from iecoop import ARRAY, BOOL, DINT, VAR, VAR_INPUT, VAR_OUTPUT, WORD, Function
 from iecoop.runtime import Runtime, Task  # noqa: E402
 from iecoop.stdlib import CTU, R_TRIG, TON  # noqa: E402
 
-FAST_MODE_TARGET = 3.0
+FAST_MODE_TARGET = 2.0
+CHECKED_MODE_TARGET = 4.0
 STATIONS = 1_000
 PERIOD, ON, JAM_ON = 17, 3, 30
 JAM_PT = T("200ms")
@@ -87,7 +90,7 @@ class Station(FunctionBlock):
     def body(self) -> None:
         self.arrived(CLK=self.sensor)
         self.counter(CU=self.arrived.Q, PV=60000)
-        self.jam(IN=self.sensor, PT=JAM_PT)
+        self.jam(IN=self.sensor, PT=T("200ms"))  # the literal in the body, as the docs write it
         self.parts = self.counter.CV
         self.jammed = self.jam.Q
 
@@ -323,13 +326,12 @@ def main(argv: list[str] | None = None) -> int:
         ("c  iecoop Line with RETAIN, store on disk", mc),
     ):
         print(f"{label:44} {value * 1e3:9.3f} {1 / value:9.0f}")
-    print(f"a/b = {ratio:.2f} (target in fast mode: <= {FAST_MODE_TARGET:.1f})")
+    target = FAST_MODE_TARGET if fast else CHECKED_MODE_TARGET
+    print(f"a/b = {ratio:.2f} (target in this mode: <= {target:.1f})")
     print(f"RETAIN capture + write, per cycle: {(mc - ma) * 1e3:.3f} ms ({(mc / ma - 1) * 100:.0f}% of a cycle)")
-    if fast and ratio > FAST_MODE_TARGET:
+    if ratio > target:
         print("FAILED: a/b above target")
         return 1
-    if not fast:
-        print("the target applies to fast mode; run with IECOOP_CHECKS=0 to check it")
     return 0
 
 
