@@ -11,6 +11,7 @@ Positions in the string functions count from 1, as in ST; a length or a
 position outside the string is clipped to it, as the CODESYS Standard library
 documents for its STRING functions (FIND returns 0 when nothing is found).
 
+>>> from iecoop import BYTE
 >>> SHL(0x45, 2, BYTE), ROL(0x45, 2, BYTE), SHR(0x45, 2, BYTE)
 (20, 21, 17)
 >>> LIMIT(0, 150, 100), SEL(True, 10, 20), MUX(2, 10, 20, 30)
@@ -33,7 +34,7 @@ from __future__ import annotations
 import math
 from typing import TypeVar
 
-from iecoop.types import BYTE, WORD, ElementaryType, elementary_type  # BYTE, WORD: the examples' widths
+from iecoop.types import ElementaryType, elementary_type
 
 __all__ = [
     "ABS", "ACOS", "ASIN", "ATAN", "CONCAT", "COS", "DELETE", "EXP", "EXPT", "FIND", "INSERT", "LEFT", "LEN",
@@ -64,6 +65,7 @@ def _count(n: int, op: str) -> int:
 def SHL(value: int, n: int, type_: object) -> int:
     """``SHL(IN, N)``: IN shifted left by N bits inside the width of ``type_``; zeros come in on the right.
 
+    >>> from iecoop import BYTE, WORD
     >>> SHL(0x45, 2, BYTE), SHL(1, 16, WORD)
     (20, 0)
     """
@@ -74,6 +76,7 @@ def SHL(value: int, n: int, type_: object) -> int:
 def SHR(value: int, n: int, type_: object) -> int:
     """``SHR(IN, N)``: IN shifted right by N bits inside the width of ``type_``; zeros come in on the left.
 
+    >>> from iecoop import BYTE, WORD
     >>> SHR(0x45, 2, BYTE), SHR(-1, 12, WORD)
     (17, 15)
     """
@@ -84,6 +87,7 @@ def SHR(value: int, n: int, type_: object) -> int:
 def ROL(value: int, n: int, type_: object) -> int:
     """``ROL(IN, N)``: IN rotated left by N bits inside the width of ``type_``.
 
+    >>> from iecoop import BYTE, WORD
     >>> ROL(0x45, 2, BYTE), ROL(0x8001, 1, WORD)
     (21, 3)
     """
@@ -97,6 +101,7 @@ def ROL(value: int, n: int, type_: object) -> int:
 def ROR(value: int, n: int, type_: object) -> int:
     """``ROR(IN, N)``: IN rotated right by N bits inside the width of ``type_``.
 
+    >>> from iecoop import BYTE, WORD
     >>> ROR(0x45, 2, BYTE), ROR(3, 1, WORD)
     (81, 32769)
     """

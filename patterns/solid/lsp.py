@@ -116,7 +116,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
-from patterns._plant import ramp
+from patterns.plant import ramp
 
 #: Card counts per percent: the cards are configured for 0..32000 = 0..100 %.
 COUNTS_PER_PERCENT = 320

@@ -121,7 +121,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
-from patterns._plant import ramp
+from patterns.plant import ramp
 
 #: ``ERR_UNKNOWN_KIND : UDINT := 16#8001``: the CASE met a type code it has no branch for.
 ERR_UNKNOWN_KIND = 0x8001

@@ -119,7 +119,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
-from patterns._plant import ramp
+from patterns.plant import ramp
 
 #: Entries kept by an event log: ``ARRAY[1..EVENTS] OF STRING(40)``.
 EVENTS = 8

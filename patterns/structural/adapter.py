@@ -25,12 +25,14 @@ The line sequence only wants "start, stop, set the speed, is it running, is
 it faulted". One adapter per device kind turns that into the device's own
 protocol, and advances its handshake in a ``Cyclic`` method called every
 scan; the sequence talks to an ``ARRAY[1..3] OF I_Drive`` and never learns
-which is which. Each device's side is simulated as well (drive ramps, power
-stage delays, contactor pull-in), so the handshakes really take cycles.
+which is which. Each device's side is simulated in ``patterns.plant`` (drive
+ramps, power stage delays, contactor pull-in), so the handshakes really take
+cycles.
 
-iecoop reads a WORD as an integer and has no ``wStatus.3`` bit syntax, so the
-adapters test and set bits with masks: ``(status_word & SW_FAULT) != 0`` is
-ST's ``wStatus.3``, and ``control_word | CW_RUN`` sets ``wControl.0``.
+The VFD's register map names its flags by mask, so the adapter tests and sets
+bits with them: ``has_bit(status_word, SW_FAULT)`` is ST's ``wStatus.3``, and
+``control_word | CW_RUN`` sets ``wControl.0`` (``get_bit`` / ``set_bit`` of
+``iecoop.functions`` take the bit number instead).
 
 Roles
 -----
@@ -107,7 +109,6 @@ from iecoop import (
     STRING,
     UDINT,
     VAR,
-    VAR_IN_OUT,
     VAR_INPUT,
     VAR_OUTPUT,
     WORD,
@@ -115,14 +116,34 @@ from iecoop import (
     IecEnum,
     Interface,
     Program,
-    Struct,
     T,
     method,
     prop,
 )
-from iecoop.runtime import Runtime, Task, now_ms
+from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
-from patterns._plant import ramp
+from patterns.plant.contactor import ContactorSim
+from patterns.plant.motion import (
+    ERR_AXIS_NOT_READY,
+    ERR_DRIVE_TRIP,
+    ERR_VELOCITY_RANGE,
+    AxisRef,
+    AxisSim,
+    MC_MoveVelocity,
+    MC_Power,
+    MC_Reset,
+    MC_Stop,
+)
+from patterns.plant.vfd import (
+    CW_FAULT_RESET,
+    CW_RUN,
+    RPM_PER_HZ,
+    SW_FAULT,
+    SW_RUNNING,
+    VFD_MAX_RPM,
+    VfdSim,
+    has_bit,
+)
 
 __all__ = [
     "AxisDrive",
@@ -148,26 +169,6 @@ __all__ = [
 # ---------------------------------------------------------------------------
 # Register layout of the Modbus VFD: one bit per flag (ST: wControl.0, wStatus.3, ...)
 # ---------------------------------------------------------------------------
-
-CW_RUN = 1 << 0  #: wControl.0: run
-CW_FAULT_RESET = 1 << 7  #: wControl.7: fault reset, acted on at the rising edge
-SW_READY = 1 << 0  #: wStatus.0: ready (no fault)
-SW_RUNNING = 1 << 1  #: wStatus.1: output stage running
-SW_AT_SPEED = 1 << 2  #: wStatus.2: output frequency at the reference
-SW_FAULT = 1 << 3  #: wStatus.3: drive tripped
-RPM_PER_HZ = 30.0  #: a 4-pole motor: 1500 rpm at 50 Hz
-VFD_MAX_RPM = 1800.0  #: 60 Hz
-
-# Simulated error IDs of the motion blocks (ErrorID : UDINT).
-ERR_AXIS_NOT_READY = 0x4221
-ERR_VELOCITY_RANGE = 0x4358
-ERR_DRIVE_TRIP = 0x4550
-
-
-def _bit(word: WORD, mask: WORD) -> BOOL:
-    """``word.n`` in ST: is the bit under ``mask`` set."""
-    return (word & mask) != 0
-
 
 class IDrive(Interface):
     """``INTERFACE I_Drive``: what the line sequence needs from any motor."""
@@ -209,54 +210,6 @@ class IDrive(Interface):
 # ---------------------------------------------------------------------------
 # (a) Modbus VFD: control / status words
 # ---------------------------------------------------------------------------
-
-
-class VfdSim(FunctionBlock):
-    """The drive's side of the Modbus link: ``FUNCTION_BLOCK FB_VfdSim``.
-
-    A RUN bit magnetises the motor for 50 ms, then the frequency ramps
-    toward the reference at ``ramp_hz_per_s``. ``trip`` simulates an
-    overcurrent trip; a rising FAULT_RESET bit clears it once ``trip`` is
-    gone. Frequencies are in 0.1 Hz, as in the registers.
-    """
-
-    control_word: WORD = VAR_INPUT(0)
-    speed_ref: WORD = VAR_INPUT(0)
-    trip: BOOL = VAR_INPUT(False)
-    ramp_hz_per_s: REAL = VAR_INPUT(100.0)
-    status_word: WORD = VAR_OUTPUT(SW_READY)
-    speed_act: WORD = VAR_OUTPUT(0)
-    frequency: LREAL = VAR(0.0)
-    faulted: BOOL = VAR(False)
-    last_ms: UDINT = VAR(0)
-    magnetise: TON = VAR()
-    reset_edge: R_TRIG = VAR()
-
-    def body(self) -> None:
-        now = now_ms()
-        step = self.ramp_hz_per_s * 10.0 * (now - self.last_ms) / 1000.0
-        self.last_ms = now
-        self.reset_edge(CLK=_bit(self.control_word, CW_FAULT_RESET))
-        if self.trip:
-            self.faulted = True
-        elif self.reset_edge.Q:
-            self.faulted = False
-        run = _bit(self.control_word, CW_RUN) and not self.faulted
-        self.magnetise(IN=run, PT=T("50ms"))
-        if self.faulted:
-            self.frequency = 0.0  # the output stage is off: the motor coasts
-        else:
-            target = float(self.speed_ref) if self.magnetise.Q else 0.0
-            self.frequency = ramp(self.frequency, target, step)
-        status = 0 if self.faulted else SW_READY
-        if self.magnetise.Q or self.frequency > 0.0:
-            status |= SW_RUNNING
-        if run and self.magnetise.Q and abs(self.frequency - self.speed_ref) < 5.0:
-            status |= SW_AT_SPEED
-        if self.faulted:
-            status |= SW_FAULT
-        self.status_word = status
-        self.speed_act = round(self.frequency)
 
 
 class VfdDrive(FunctionBlock, IDrive):
@@ -308,11 +261,11 @@ class VfdDrive(FunctionBlock, IDrive):
 
     @prop
     def running(self) -> BOOL:
-        return _bit(self.status_word, SW_RUNNING)  # wStatus.1
+        return has_bit(self.status_word, SW_RUNNING)  # wStatus.1
 
     @prop
     def fault(self) -> BOOL:
-        return _bit(self.status_word, SW_FAULT)  # wStatus.3
+        return has_bit(self.status_word, SW_FAULT)  # wStatus.3
 
     @prop
     def actual_speed(self) -> REAL:
@@ -322,196 +275,6 @@ class VfdDrive(FunctionBlock, IDrive):
 # ---------------------------------------------------------------------------
 # (b) PLCopen-style axis: Execute / Busy / Done / Error over several cycles
 # ---------------------------------------------------------------------------
-
-
-class AxisRef(Struct):
-    """Stands in for ``AXIS_REF``: the commands the motion blocks post and the state the axis reports."""
-
-    cmd_power: BOOL = False
-    cmd_move: BOOL = False
-    cmd_stop: BOOL = False
-    cmd_reset: BOOL = False
-    cmd_velocity: LREAL = 0.0
-    command: UDINT = 0
-    powered: BOOL = False
-    act_velocity: LREAL = 0.0
-    error: BOOL = False
-    error_id: UDINT = 0
-    max_velocity: LREAL = 3000.0
-    accel: LREAL = 6000.0
-
-
-class AxisSim(FunctionBlock):
-    """The motion kernel's side: ``FUNCTION_BLOCK FB_AxisSim`` (``VAR_IN_OUT Axis : AXIS_REF``).
-
-    The power stage is ready 30 ms after enable; the velocity ramps at
-    ``Axis.accel`` rpm/s. ``trip`` raises a drive error that MC_Reset clears
-    once ``trip`` is gone.
-    """
-
-    Axis: AxisRef = VAR_IN_OUT()
-    trip: BOOL = VAR_INPUT(False)
-    power_on: TON = VAR()
-    last_ms: UDINT = VAR(0)
-
-    def body(self) -> None:
-        axis = self.Axis
-        now = now_ms()
-        step = axis.accel * (now - self.last_ms) / 1000.0
-        self.last_ms = now
-        if self.trip and not axis.error:
-            axis.error = True
-            axis.error_id = ERR_DRIVE_TRIP
-        if axis.cmd_reset and axis.error and not self.trip:
-            axis.error = False
-            axis.error_id = 0
-        self.power_on(IN=axis.cmd_power and not axis.error, PT=T("30ms"))
-        axis.powered = self.power_on.Q
-        if axis.error or not axis.powered:
-            axis.cmd_move = False
-            axis.act_velocity = 0.0
-            return
-        target = axis.cmd_velocity if axis.cmd_move and not axis.cmd_stop else 0.0
-        axis.act_velocity = ramp(axis.act_velocity, target, step)
-
-
-class MC_Power(FunctionBlock):
-    """PLCopen ``MC_Power`` (level-triggered): ``Status`` follows the power stage."""
-
-    Axis: AxisRef = VAR_IN_OUT()
-    Enable: BOOL = VAR_INPUT(False)
-    Status: BOOL = VAR_OUTPUT(False)
-    Error: BOOL = VAR_OUTPUT(False)
-    ErrorID: UDINT = VAR_OUTPUT(0)
-
-    def body(self) -> None:
-        self.Axis.cmd_power = self.Enable
-        self.Status = self.Enable and self.Axis.powered
-        self.Error = self.Enable and self.Axis.error
-        self.ErrorID = self.Axis.error_id if self.Error else 0
-
-
-class MC_MoveVelocity(FunctionBlock):
-    """PLCopen ``MC_MoveVelocity``: an Execute edge starts the move; Busy until aborted or failed.
-
-    ``InVelocity`` is the Done of a continuous move. A later command on the
-    same axis (another move, MC_Stop) sets ``CommandAborted``. Error and
-    CommandAborted are held while Execute is TRUE.
-    """
-
-    Axis: AxisRef = VAR_IN_OUT()
-    Execute: BOOL = VAR_INPUT(False)
-    Velocity: LREAL = VAR_INPUT(0.0)
-    InVelocity: BOOL = VAR_OUTPUT(False)
-    Busy: BOOL = VAR_OUTPUT(False)
-    CommandAborted: BOOL = VAR_OUTPUT(False)
-    Error: BOOL = VAR_OUTPUT(False)
-    ErrorID: UDINT = VAR_OUTPUT(0)
-    edge: R_TRIG = VAR()
-    my_command: UDINT = VAR(0)
-
-    def body(self) -> None:
-        axis = self.Axis
-        self.edge(CLK=self.Execute)
-        if self.edge.Q:
-            self.InVelocity = self.CommandAborted = self.Error = False
-            self.ErrorID = 0
-            if not axis.powered or axis.error or axis.cmd_stop:
-                self.fail(ERR_AXIS_NOT_READY)
-            elif abs(self.Velocity) > axis.max_velocity:
-                self.fail(ERR_VELOCITY_RANGE)
-            else:
-                axis.command += 1
-                self.my_command = axis.command
-                axis.cmd_velocity = self.Velocity
-                axis.cmd_move = True
-                self.Busy = True
-        if self.Busy:
-            if axis.error:
-                self.fail(axis.error_id)
-            elif axis.command != self.my_command:
-                self.Busy = False
-                self.InVelocity = False
-                self.CommandAborted = True
-            else:
-                self.InVelocity = abs(axis.act_velocity - axis.cmd_velocity) < 1.0
-        if not self.Execute and not self.Busy:
-            self.InVelocity = self.CommandAborted = self.Error = False
-            self.ErrorID = 0
-
-    @method(PROTECTED)
-    def fail(self, error_id: UDINT) -> None:
-        self.Busy = False
-        self.InVelocity = False
-        self.Error = True
-        self.ErrorID = error_id
-
-
-class MC_Stop(FunctionBlock):
-    """PLCopen ``MC_Stop``: decelerate to standstill; Done at zero velocity.
-
-    While Execute stays TRUE the axis is held in Stopping and refuses moves.
-    """
-
-    Axis: AxisRef = VAR_IN_OUT()
-    Execute: BOOL = VAR_INPUT(False)
-    Done: BOOL = VAR_OUTPUT(False)
-    Busy: BOOL = VAR_OUTPUT(False)
-    Error: BOOL = VAR_OUTPUT(False)
-    ErrorID: UDINT = VAR_OUTPUT(0)
-    edge: R_TRIG = VAR()
-    holding: BOOL = VAR(False)
-
-    def body(self) -> None:
-        axis = self.Axis
-        self.edge(CLK=self.Execute)
-        if self.edge.Q:
-            self.Done = self.Error = False
-            self.ErrorID = 0
-            axis.command += 1
-            axis.cmd_stop = True
-            axis.cmd_move = False
-            self.holding = True
-            self.Busy = True
-        if self.Busy:
-            if axis.error:
-                self.Busy = False
-                self.Error = True
-                self.ErrorID = axis.error_id
-            elif axis.act_velocity == 0.0:
-                self.Busy = False
-                self.Done = True
-        if not self.Execute:
-            if self.holding and not self.Busy:
-                axis.cmd_stop = False
-                self.holding = False
-            if not self.Busy:
-                self.Done = self.Error = False
-                self.ErrorID = 0
-
-
-class MC_Reset(FunctionBlock):
-    """PLCopen ``MC_Reset``: clear an axis error; Done once the axis reports none."""
-
-    Axis: AxisRef = VAR_IN_OUT()
-    Execute: BOOL = VAR_INPUT(False)
-    Done: BOOL = VAR_OUTPUT(False)
-    Busy: BOOL = VAR_OUTPUT(False)
-    Error: BOOL = VAR_OUTPUT(False)
-    edge: R_TRIG = VAR()
-
-    def body(self) -> None:
-        self.edge(CLK=self.Execute)
-        if self.edge.Q:
-            self.Done = self.Error = False
-            self.Axis.cmd_reset = True
-            self.Busy = True
-        elif self.Busy and not self.Axis.error:
-            self.Axis.cmd_reset = False
-            self.Busy = False
-            self.Done = True
-        if not self.Execute and not self.Busy:
-            self.Done = False
 
 
 class AxisStep(IecEnum):
@@ -627,27 +390,6 @@ class AxisDrive(FunctionBlock, IDrive):
 # ---------------------------------------------------------------------------
 # (c) Direct-on-line motor: a contactor with feedback
 # ---------------------------------------------------------------------------
-
-
-class ContactorSim(FunctionBlock):
-    """The wiring's side: ``FUNCTION_BLOCK FB_ContactorSim``.
-
-    The auxiliary contact closes 20 ms after the coil is energised (pull-in).
-    ``overload`` opens the overload relay's contact, which is in series with
-    the coil; ``aux_wire_broken`` simulates a broken feedback wire.
-    """
-
-    coil: BOOL = VAR_INPUT(False)
-    overload: BOOL = VAR_INPUT(False)
-    aux_wire_broken: BOOL = VAR_INPUT(False)
-    aux: BOOL = VAR_OUTPUT(False)
-    overload_ok: BOOL = VAR_OUTPUT(True)
-    pull_in: TON = VAR()
-
-    def body(self) -> None:
-        self.overload_ok = not self.overload
-        self.pull_in(IN=self.coil and self.overload_ok, PT=T("20ms"))
-        self.aux = self.pull_in.Q and not self.aux_wire_broken
 
 
 class ContactorDrive(FunctionBlock, IDrive):

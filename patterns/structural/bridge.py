@@ -121,7 +121,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
-from patterns._plant import ramp
+from patterns.plant import ramp
 
 __all__ = [
     "POINTS",

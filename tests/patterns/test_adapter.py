@@ -8,14 +8,11 @@ from hypothesis import strategies as st
 
 from iecoop import T
 from iecoop.runtime import Runtime, Task
+from patterns.plant.vfd import CW_FAULT_RESET, CW_RUN, SW_FAULT, SW_RUNNING
 from patterns.structural.adapter import (
-    CW_FAULT_RESET,
-    CW_RUN,
     ERR_AXIS_NOT_READY,
     ERR_DRIVE_TRIP,
     ERR_VELOCITY_RANGE,
-    SW_FAULT,
-    SW_RUNNING,
     AxisDrive,
     AxisRef,
     AxisStep,
