@@ -30,7 +30,7 @@ import typing
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory.layout import ClassLayout, FieldRecord, build_data_class, register_builder
+from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
 
 register_builder(__file__)
 
@@ -50,9 +50,16 @@ _SECTIONS = {"VAR": "VAR_GLOBAL", "VAR_GLOBAL": "VAR_GLOBAL"}
 _lists: dict[str, Any] = {}
 
 
+_BUILDER = DataClassBuilder("GVL", _SECTIONS)
+
+
 class _GvlMeta(_MetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        return build_data_class(super().__new__, mcls, name, bases, namespace, kwargs, kind="GVL", allowed_sections=_SECTIONS)
+        return super().__new__(mcls, name, bases, _BUILDER.new(name, bases, namespace), **kwargs)
+
+    def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
+        super().__init__(name, bases, namespace)
+        _BUILDER.init(cls)
 
 
 class GlobalVariables(_Base, metaclass=_GvlMeta):

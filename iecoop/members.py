@@ -27,13 +27,14 @@ Python::
 
 from __future__ import annotations
 
+import ast
 import dataclasses
-import dis
 import enum
 import functools
 import inspect
 import re
 import sys
+import textwrap
 import types
 import typing
 from collections.abc import Callable
@@ -315,26 +316,52 @@ def format_signature(signature: tuple[Any, ...]) -> str:
     return f"({params}) -> {name(signature[-1][2])}"
 
 
+def _is_prototype_statement(node: ast.stmt, first: bool) -> bool:
+    """``...``, ``pass``, a leading docstring or ``raise NotImplementedError[(...)]``."""
+    if isinstance(node, ast.Pass):
+        return True
+    if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
+        return node.value.value is Ellipsis or (first and isinstance(node.value.value, str))
+    if isinstance(node, ast.Raise) and node.cause is None and node.exc is not None:
+        exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+        return isinstance(exc, ast.Name) and exc.id == "NotImplementedError"
+    return False
+
+
+def _definition_node(func: Any) -> ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | None:
+    """The syntax tree of ``func`` from its source, or None when the source cannot be had."""
+    try:
+        source = inspect.getsource(func)
+    except (OSError, TypeError):
+        return None
+    try:
+        tree = ast.parse(textwrap.dedent(source))
+    except SyntaxError:  # a lambda inside a larger expression: its lines do not parse on their own
+        return None
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == func.__name__:
+            return node
+        if isinstance(node, ast.Lambda) and func.__name__ == "<lambda>":
+            return node
+    return None
+
+
 def has_body(func: Callable[..., Any]) -> bool:
     """Whether a function does anything beyond ``...`` / ``pass`` / a docstring / ``raise NotImplementedError``.
 
-    ``raise NotImplementedError`` is accepted as a prototype so that a method
-    returning a value type-checks under ``mypy --strict`` without an ignore.
+    Read from the function's source with ``ast``. ``raise NotImplementedError``
+    is accepted as a prototype so that a method returning a value type-checks
+    under ``mypy --strict`` without an ignore. When the source is not available
+    (code built with ``exec`` and not registered in ``linecache``) the body
+    cannot be seen, and the function is taken as a prototype.
     """
-    allowed = {"RESUME", "NOP", "RETURN_VALUE", "RETURN_CONST", "CACHE", "PUSH_NULL", "PRECALL", "CALL"}
-    raised = False
-    for instruction in dis.get_instructions(inspect.unwrap(func)):
-        if instruction.opname in allowed:
-            continue
-        if instruction.opname == "LOAD_CONST" and instruction.argval is None:
-            continue
-        if instruction.opname == "LOAD_GLOBAL" and instruction.argval == "NotImplementedError" and not raised:
-            raised = True
-            continue
-        if instruction.opname == "RAISE_VARARGS" and raised:
-            continue
-        return True
-    return False
+    node = _definition_node(inspect.unwrap(func))
+    if node is None:
+        return False
+    if isinstance(node, ast.Lambda):
+        body = node.body
+        return not (isinstance(body, ast.Constant) and body.value in (None, Ellipsis))
+    return not all(_is_prototype_statement(stmt, i == 0) for i, stmt in enumerate(node.body))
 
 
 def members_of_namespace(
