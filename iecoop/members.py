@@ -37,6 +37,7 @@ import sys
 import textwrap
 import types
 import typing
+import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
 
@@ -139,26 +140,55 @@ def flags_of(func: Any) -> Access:
 # Which class a piece of code belongs to (for PRIVATE / PROTECTED / outside-write checks)
 # ---------------------------------------------------------------------------
 
-#: code object -> every class whose body defined it (nested functions and comprehensions
-#: included). A class statement run twice (a factory function, a parametrised test, a
-#: re-executed module) gives several classes the same code object; each of them owns it.
-CODE_OWNERS: dict[types.CodeType, tuple[type, ...]] = {}
+#: code object -> weak references to every class whose body defined it (nested functions and
+#: comprehensions included). A class statement run twice (a factory function, a parametrised
+#: test, a re-executed module) gives several classes the same code object; each of them owns it.
+#: Weak, and an entry leaves with its last class, so a class defined in a function can be
+#: collected. The per-write check does not look here: each class keeps the code it owns in
+#: ``_iec_own_codes_`` and, with its bases' code, in ``_iec_codes_`` (two set lookups in C).
+_code_owners: dict[types.CodeType, tuple[weakref.ref[type], ...]] = {}
 
 #: Code that only passes an attribute write on (checked mode's ``__setattr__``). A property
 #: setter reached through it must judge the frame that wrote ``obj.prop = v``, not the forwarder.
 FORWARDING_CODES: set[types.CodeType] = set()
 
 
+def _forget(codes: set[types.CodeType], dead: weakref.ref[type]) -> None:
+    for code in codes:
+        rest = tuple(ref for ref in _code_owners.get(code, ()) if ref is not dead)
+        if rest:
+            _code_owners[code] = rest
+        else:
+            _code_owners.pop(code, None)
+
+
 def own_code(code: types.CodeType, cls: type) -> None:
     """Record ``cls`` as an owner of ``code``."""
-    owners = CODE_OWNERS.get(code, ())
-    if cls not in owners:
-        CODE_OWNERS[code] = (*owners, cls)
+    klass: Any = cls
+    own: set[types.CodeType] | None = klass.__dict__.get("_iec_own_codes_")
+    if own is None:
+        own = set()
+        klass._iec_own_codes_ = own
+        klass._iec_codes_ = set().union(*(base.__dict__.get("_iec_own_codes_", ()) for base in cls.__mro__[1:]))
+        klass._iec_owner_ref_ = weakref.ref(cls, functools.partial(_forget, own))
+    if code not in own:
+        own.add(code)
+        klass._iec_codes_.add(code)
+        _code_owners[code] = (*_code_owners.get(code, ()), klass._iec_owner_ref_)
+
+
+def code_of(code: types.CodeType, obj: Any) -> bool:
+    """Whether ``code`` belongs to the class of ``obj`` or one of its bases: the block's own code."""
+    return code in getattr(type(obj), "_iec_codes_", ())
+
+
+def _owners(code: types.CodeType) -> list[type]:
+    return [owner for ref in _code_owners.get(code, ()) if (owner := ref()) is not None]
 
 
 def code_within(code: types.CodeType, cls: type) -> bool:
     """Whether ``code`` belongs to ``cls`` or a class derived from it (the PROTECTED rule)."""
-    return any(issubclass(owner, cls) for owner in CODE_OWNERS.get(code, ()))
+    return any(issubclass(owner, cls) for owner in _owners(code))
 
 
 def _codes(code: types.CodeType) -> list[types.CodeType]:
@@ -193,7 +223,7 @@ def register_code(cls: type, namespace: dict[str, Any]) -> None:
 
 def caller_description(frame: Any) -> str:
     code = frame.f_code
-    owners = CODE_OWNERS.get(code)
+    owners = _owners(code)
     if owners:
         return f"{owners[-1].__name__}.{code.co_name}"
     module = frame.f_globals.get("__name__", "?")
@@ -403,7 +433,6 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
     if vis == Access.PUBLIC:
         return func
     getframe = sys._getframe
-    owners = CODE_OWNERS
     forwarders = FORWARDING_CODES
 
     def caller() -> Any:
@@ -415,7 +444,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
         @functools.wraps(func)
         def private(*args: Any, **kwargs: Any) -> Any:
             frame = caller()
-            if owner_ref[0] not in owners.get(frame.f_code, ()):
+            if frame.f_code not in owner_ref[0]._iec_own_codes_:  # type: ignore[attr-defined]
                 raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
             return func(*args, **kwargs)
 

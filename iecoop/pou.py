@@ -70,11 +70,11 @@ from iecoop.memory.layout import (
     take_over,
 )
 from iecoop.members import (
-    CODE_OWNERS,
     FORWARDING_CODES,
     Access,
     Member,
     caller_description,
+    code_of,
     format_signature,
     own_code,
     guard_namespace,
@@ -253,9 +253,9 @@ class _PouBuilder:
                 f"{title}: __call__ cannot be overridden; the call sets the inputs and runs body(), "
                 "so write the block's code in def body(self) -> None"
             )
-        for member in self.namespace:
+        for member, value in self.namespace.items():
             meant = _RESERVED_SPELLING.get(member.lower())
-            if meant is not None and member != meant:
+            if meant is not None and member != meant and (callable(value) or isinstance(value, property)):
                 raise DefinitionError(
                     f"{title}: {member} is not {meant} (IEC names ignore case, Python's do not): "
                     f"rename it to {meant}, or {member} never runs as the block's {meant}"
@@ -689,8 +689,7 @@ def _check_rule(holder: Any, rule: _WriteRule, frame: Any) -> None:
     if constant:
         raise AccessError(f"{where} is CONSTANT and cannot be written")
     if section in _INSIDE_ONLY:
-        owners = CODE_OWNERS.get(frame.f_code)
-        if owners is None or not isinstance(holder, owners):
+        if not code_of(frame.f_code, holder):
             raise AccessError(
                 f"{section} {where} cannot be written from {caller_description(frame)}: "
                 f"only {type(holder).__name__}'s own code writes its {section} variables"
@@ -738,7 +737,6 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY
-    owners_of = CODE_OWNERS
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
         rule = rules.get(field)
@@ -749,10 +747,9 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
             return
         if rule[4] or rule[2] in inside_only:
             frame = getframe(1)
-            owners = owners_of.get(frame.f_code)
             # The usual case, the block's own code writing a plain inside variable, passes here;
             # _check_rule decides everything else (and words the refusal).
-            if rule[4] or rule[3] is not None or owners is None or not isinstance(self, owners):
+            if rule[4] or rule[3] is not None or frame.f_code not in type(self)._iec_codes_:
                 _check_rule(self, rule, frame)
         validate = rule[0]
         if validate is not None:
@@ -777,6 +774,9 @@ class _PouMixin:
     _iec_final_: ClassVar[bool] = False
     _iec_internal_: ClassVar[bool] = False
     _iec_members_: ClassVar[dict[str, Member]] = {}
+    #: The code this class's body defined, and with its bases' (see members.own_code).
+    _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
+    _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     #: Instances start with a type tag, so a pointer, reference or interface to a
     #: base block dereferences to the derived block it designates (virtual calls).
     _iec_tagged_: ClassVar[bool] = True
