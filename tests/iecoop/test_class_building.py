@@ -195,14 +195,24 @@ _BODY_SOURCE = textwrap.dedent(
 )
 
 
-def test_an_interface_body_is_found_in_source_registered_with_linecache() -> None:
-    filename = "<iecoop test: interface with a body>"
-    linecache.cache[filename] = (len(_BODY_SOURCE), None, _BODY_SOURCE.splitlines(True), filename)
+def _run_registered(source: str, filename: str) -> dict[str, Any]:
+    """Run ``source`` as code generated at run time that registers its lines with linecache, as attrs does."""
+    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+    namespace: dict[str, Any] = {"Interface": Interface, "method": method, "BOOL": BOOL, "INT": INT}
     try:
-        with pytest.raises(DefinitionError, match=r"INTERFACE IExec: ping has a body"):
-            exec(compile(_BODY_SOURCE, filename, "exec"), {"Interface": Interface, "method": method, "BOOL": BOOL})
+        exec(compile(source, filename, "exec"), namespace)
     finally:
         del linecache.cache[filename]
+    return namespace
+
+
+def _level_prototype(body: str) -> str:
+    return "class IForm(Interface):\n    @method\n    def level(self) -> INT:\n" + textwrap.indent(body, " " * 8) + "\n"
+
+
+def test_an_interface_body_is_found_in_source_registered_with_linecache() -> None:
+    with pytest.raises(DefinitionError, match=r"INTERFACE IExec: ping has a body"):
+        _run_registered(_BODY_SOURCE, "<iecoop test: interface with a body>")
 
 
 def test_an_interface_without_source_is_accepted_unchecked() -> None:
@@ -224,14 +234,7 @@ def test_an_interface_without_source_is_accepted_unchecked() -> None:
     ],
 )
 def test_interface_prototype_forms(body: str) -> None:
-    source = "class IForm(Interface):\n    @method\n    def level(self) -> INT:\n" + textwrap.indent(body, " " * 8) + "\n"
-    filename = f"<iecoop test: prototype {body!r}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
-    try:
-        namespace: dict[str, Any] = {"Interface": Interface, "method": method, "INT": INT}
-        exec(compile(source, filename, "exec"), namespace)
-    finally:
-        del linecache.cache[filename]
+    namespace = _run_registered(_level_prototype(body), f"<iecoop test: prototype {body!r}>")
     assert "level" in interface_members(namespace["IForm"])
 
 
@@ -240,14 +243,8 @@ def test_interface_prototype_forms(body: str) -> None:
     ["return 0", "x = 1", '"""Docstring."""\nreturn 0', "raise ValueError", "print()\nraise NotImplementedError"],
 )
 def test_interface_bodies_that_do_something(body: str) -> None:
-    source = "class IForm(Interface):\n    @method\n    def level(self) -> INT:\n" + textwrap.indent(body, " " * 8) + "\n"
-    filename = f"<iecoop test: body {body!r}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
-    try:
-        with pytest.raises(DefinitionError, match=r"INTERFACE IForm: level has a body"):
-            exec(compile(source, filename, "exec"), {"Interface": Interface, "method": method, "INT": INT})
-    finally:
-        del linecache.cache[filename]
+    with pytest.raises(DefinitionError, match=r"INTERFACE IForm: level has a body"):
+        _run_registered(_level_prototype(body), f"<iecoop test: body {body!r}>")
 
 
 # ---------------------------------------------------------------------------
