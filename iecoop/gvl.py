@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import ctypes
 import typing
+import weakref
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory.layout import ClassLayout, FieldRecord, build_data_class, register_builder
+from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
 
 register_builder(__file__)
 
@@ -46,13 +47,21 @@ else:
     _MetaBase = type(ctypes.Structure)
 
 _SECTIONS = {"VAR": "VAR_GLOBAL", "VAR_GLOBAL": "VAR_GLOBAL"}
-#: Every GVL instance by name, in definition order.
-_lists: dict[str, Any] = {}
+#: Every live GVL instance by name, in definition order. Weak: a list defined in a function
+#: (a test, a notebook cell) goes when nothing holds it; a POU's VAR_EXTERNAL holds its list.
+_lists: weakref.WeakValueDictionary[str, Any] = weakref.WeakValueDictionary()
+
+
+_BUILDER = DataClassBuilder("GVL", _SECTIONS)
 
 
 class _GvlMeta(_MetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        return build_data_class(super().__new__, mcls, name, bases, namespace, kwargs, kind="GVL", allowed_sections=_SECTIONS)
+        return super().__new__(mcls, name, bases, _BUILDER.new(name, bases, namespace), **kwargs)
+
+    def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
+        super().__init__(name, bases, namespace)
+        _BUILDER.init(cls)
 
 
 class GlobalVariables(_Base, metaclass=_GvlMeta):
@@ -74,7 +83,7 @@ def gvl(cls: type[_G]) -> _G:
     if layout is None:
         raise DefinitionError(f"@gvl needs a GlobalVariables subclass with variables, got {cls.__name__}")
     for record in layout.fields:
-        for other_name, other in _lists.items():
+        for other_name, other in list(_lists.items()):
             if other_name != cls.__name__ and record.name in type(other)._iec_layout_.by_name:
                 raise DefinitionError(
                     f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
@@ -94,12 +103,12 @@ def gvl(cls: type[_G]) -> _G:
 
 def global_lists() -> dict[str, Any]:
     """Every global variable list by name."""
-    return dict(_lists)
+    return dict(_lists.items())
 
 
 def find_global(name: str, where: str) -> tuple[Any, FieldRecord]:
     """The GVL instance and variable a VAR_EXTERNAL named ``name`` refers to."""
-    for instance in _lists.values():
+    for instance in list(_lists.values()):
         record = type(instance)._iec_layout_.by_name.get(name)
         if record is not None:
             return instance, record

@@ -54,9 +54,10 @@ _heap: dict[int, Any] = {}
 class _InitPlan:
     """A class's FB_init chain (base first) and the inputs each link takes."""
 
-    __slots__ = ("chain", "exit_chain", "names", "required")
+    __slots__ = ("chain", "exit_chain", "names", "owner", "required")
 
     def __init__(self, cls: type) -> None:
+        self.owner = cls
         self.chain: list[tuple[Callable[..., Any], list[str]]] = []
         self.names: set[str] = set()
         self.required: set[str] = set()
@@ -75,13 +76,13 @@ class _InitPlan:
         ]
 
 
-_plans: dict[type, _InitPlan] = {}
-
-
 def _plan(cls: type) -> _InitPlan:
-    plan = _plans.get(cls)
-    if plan is None:
-        plan = _plans[cls] = _InitPlan(cls)
+    # Kept on the class, so it goes with the class; a derived class finds its base's plan
+    # by inheritance, and the owner check makes it build its own.
+    plan: _InitPlan | None = getattr(cls, "_iec_init_plan_", None)
+    if plan is None or plan.owner is not cls:
+        plan = _InitPlan(cls)
+        setattr(cls, "_iec_init_plan_", plan)
     return plan
 
 

@@ -27,15 +27,17 @@ Python::
 
 from __future__ import annotations
 
+import ast
 import dataclasses
-import dis
 import enum
 import functools
 import inspect
 import re
 import sys
+import textwrap
 import types
 import typing
+import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
 
@@ -138,26 +140,55 @@ def flags_of(func: Any) -> Access:
 # Which class a piece of code belongs to (for PRIVATE / PROTECTED / outside-write checks)
 # ---------------------------------------------------------------------------
 
-#: code object -> every class whose body defined it (nested functions and comprehensions
-#: included). A class statement run twice (a factory function, a parametrised test, a
-#: re-executed module) gives several classes the same code object; each of them owns it.
-CODE_OWNERS: dict[types.CodeType, tuple[type, ...]] = {}
+#: code object -> weak references to every class whose body defined it (nested functions and
+#: comprehensions included). A class statement run twice (a factory function, a parametrised
+#: test, a re-executed module) gives several classes the same code object; each of them owns it.
+#: Weak, and an entry leaves with its last class, so a class defined in a function can be
+#: collected. The per-write check does not look here: each class keeps the code it owns in
+#: ``_iec_own_codes_`` and, with its bases' code, in ``_iec_codes_`` (two set lookups in C).
+_code_owners: dict[types.CodeType, tuple[weakref.ref[type], ...]] = {}
 
 #: Code that only passes an attribute write on (checked mode's ``__setattr__``). A property
 #: setter reached through it must judge the frame that wrote ``obj.prop = v``, not the forwarder.
 FORWARDING_CODES: set[types.CodeType] = set()
 
 
+def _forget(codes: set[types.CodeType], dead: weakref.ref[type]) -> None:
+    for code in codes:
+        rest = tuple(ref for ref in _code_owners.get(code, ()) if ref is not dead)
+        if rest:
+            _code_owners[code] = rest
+        else:
+            _code_owners.pop(code, None)
+
+
 def own_code(code: types.CodeType, cls: type) -> None:
     """Record ``cls`` as an owner of ``code``."""
-    owners = CODE_OWNERS.get(code, ())
-    if cls not in owners:
-        CODE_OWNERS[code] = (*owners, cls)
+    klass: Any = cls
+    own: set[types.CodeType] | None = klass.__dict__.get("_iec_own_codes_")
+    if own is None:
+        own = set()
+        klass._iec_own_codes_ = own
+        klass._iec_codes_ = set().union(*(base.__dict__.get("_iec_own_codes_", ()) for base in cls.__mro__[1:]))
+        klass._iec_owner_ref_ = weakref.ref(cls, functools.partial(_forget, own))
+    if code not in own:
+        own.add(code)
+        klass._iec_codes_.add(code)
+        _code_owners[code] = (*_code_owners.get(code, ()), klass._iec_owner_ref_)
+
+
+def code_of(code: types.CodeType, obj: Any) -> bool:
+    """Whether ``code`` belongs to the class of ``obj`` or one of its bases: the block's own code."""
+    return code in getattr(type(obj), "_iec_codes_", ())
+
+
+def _owners(code: types.CodeType) -> list[type]:
+    return [owner for ref in _code_owners.get(code, ()) if (owner := ref()) is not None]
 
 
 def code_within(code: types.CodeType, cls: type) -> bool:
     """Whether ``code`` belongs to ``cls`` or a class derived from it (the PROTECTED rule)."""
-    return any(issubclass(owner, cls) for owner in CODE_OWNERS.get(code, ()))
+    return any(issubclass(owner, cls) for owner in _owners(code))
 
 
 def _codes(code: types.CodeType) -> list[types.CodeType]:
@@ -192,7 +223,7 @@ def register_code(cls: type, namespace: dict[str, Any]) -> None:
 
 def caller_description(frame: Any) -> str:
     code = frame.f_code
-    owners = CODE_OWNERS.get(code)
+    owners = _owners(code)
     if owners:
         return f"{owners[-1].__name__}.{code.co_name}"
     module = frame.f_globals.get("__name__", "?")
@@ -315,26 +346,52 @@ def format_signature(signature: tuple[Any, ...]) -> str:
     return f"({params}) -> {name(signature[-1][2])}"
 
 
+def _is_prototype_statement(node: ast.stmt, first: bool) -> bool:
+    """``...``, ``pass``, a leading docstring or ``raise NotImplementedError[(...)]``."""
+    if isinstance(node, ast.Pass):
+        return True
+    if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
+        return node.value.value is Ellipsis or (first and isinstance(node.value.value, str))
+    if isinstance(node, ast.Raise) and node.cause is None and node.exc is not None:
+        exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+        return isinstance(exc, ast.Name) and exc.id == "NotImplementedError"
+    return False
+
+
+def _definition_node(func: Any) -> ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | None:
+    """The syntax tree of ``func`` from its source, or None when the source cannot be had."""
+    try:
+        source = inspect.getsource(func)
+    except (OSError, TypeError):
+        return None
+    try:
+        tree = ast.parse(textwrap.dedent(source))
+    except SyntaxError:  # a lambda inside a larger expression: its lines do not parse on their own
+        return None
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == func.__name__:
+            return node
+        if isinstance(node, ast.Lambda) and func.__name__ == "<lambda>":
+            return node
+    return None
+
+
 def has_body(func: Callable[..., Any]) -> bool:
     """Whether a function does anything beyond ``...`` / ``pass`` / a docstring / ``raise NotImplementedError``.
 
-    ``raise NotImplementedError`` is accepted as a prototype so that a method
-    returning a value type-checks under ``mypy --strict`` without an ignore.
+    Read from the function's source with ``ast``. ``raise NotImplementedError``
+    is accepted as a prototype so that a method returning a value type-checks
+    under ``mypy --strict`` without an ignore. When the source is not available
+    (code built with ``exec`` and not registered in ``linecache``) the body
+    cannot be seen, and the function is taken as a prototype.
     """
-    allowed = {"RESUME", "NOP", "RETURN_VALUE", "RETURN_CONST", "CACHE", "PUSH_NULL", "PRECALL", "CALL"}
-    raised = False
-    for instruction in dis.get_instructions(inspect.unwrap(func)):
-        if instruction.opname in allowed:
-            continue
-        if instruction.opname == "LOAD_CONST" and instruction.argval is None:
-            continue
-        if instruction.opname == "LOAD_GLOBAL" and instruction.argval == "NotImplementedError" and not raised:
-            raised = True
-            continue
-        if instruction.opname == "RAISE_VARARGS" and raised:
-            continue
-        return True
-    return False
+    node = _definition_node(inspect.unwrap(func))
+    if node is None:
+        return False
+    if isinstance(node, ast.Lambda):
+        body = node.body
+        return not (isinstance(body, ast.Constant) and body.value in (None, Ellipsis))
+    return not all(_is_prototype_statement(stmt, i == 0) for i, stmt in enumerate(node.body))
 
 
 def members_of_namespace(
@@ -376,7 +433,6 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
     if vis == Access.PUBLIC:
         return func
     getframe = sys._getframe
-    owners = CODE_OWNERS
     forwarders = FORWARDING_CODES
 
     def caller() -> Any:
@@ -388,7 +444,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
         @functools.wraps(func)
         def private(*args: Any, **kwargs: Any) -> Any:
             frame = caller()
-            if owner_ref[0] not in owners.get(frame.f_code, ()):
+            if frame.f_code not in owner_ref[0]._iec_own_codes_:  # type: ignore[attr-defined]
                 raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
             return func(*args, **kwargs)
 

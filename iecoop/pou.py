@@ -56,22 +56,25 @@ from iecoop.memory._core import (
     new_class_tag,
 )
 from iecoop.memory.layout import (
-    register_builder,
     MISSING,
     ClassLayout,
     DefinitionScope,
     FieldRecord,
     FieldSpec,
+    LayoutBuilder,
     build_layout,
-    class_creator,
+    check_unannotated,
+    hand_over,
     read_annotations,
+    register_builder,
+    take_over,
 )
 from iecoop.members import (
-    CODE_OWNERS,
     FORWARDING_CODES,
     Access,
     Member,
     caller_description,
+    code_of,
     format_signature,
     own_code,
     guard_namespace,
@@ -128,7 +131,12 @@ class _Static:
 
 
 class _PouMeta(_PouMetaBase):
-    """Builds FUNCTION_BLOCK / PROGRAM classes (derived from ctypes' own metaclass)."""
+    """Builds FUNCTION_BLOCK / PROGRAM classes (derived from ctypes' own metaclass).
+
+    ``__new__`` runs the phases that need only the class body (the OOP checks
+    and the field declarations), ``__init__`` those that need the class
+    (its ctypes layout, descriptors, members, generated call); see _PouBuilder.
+    """
 
     def __new__(
         mcls,
@@ -141,9 +149,17 @@ class _PouMeta(_PouMetaBase):
         internal: bool = False,
         **kwargs: Any,
     ) -> Any:
-        if namespace.get("_iec_base_class_"):
-            return super().__new__(mcls, name, bases, namespace, **kwargs)
-        return _build_pou(mcls, name, bases, namespace, abstract, final, internal, kwargs)
+        if not namespace.get("_iec_base_class_"):
+            builder = _PouBuilder(name, bases, namespace, abstract, final, internal)
+            builder.declare()
+            hand_over(namespace, builder)
+        return super().__new__(mcls, name, bases, namespace, **kwargs)
+
+    def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
+        super().__init__(name, bases, namespace)
+        builder: _PouBuilder | None = take_over(cls)
+        if builder is not None:
+            builder.build(cls)
 
 
 def _kind_word(cls_or_kind: Any) -> str:
@@ -151,74 +167,134 @@ def _kind_word(cls_or_kind: Any) -> str:
     return "PROGRAM" if kind == "program" else "FUNCTION_BLOCK"
 
 
-def _build_pou(
-    mcls: Any,
-    name: str,
-    bases: tuple[type, ...],
-    namespace: dict[str, Any],
-    abstract: bool,
-    final: bool,
-    internal: bool,
-    kwargs: dict[str, Any],
-) -> type:
-    kind = "program" if any(getattr(b, "_iec_kind_", "") == "program" for b in bases) else "fb"
-    word = _kind_word(kind)
-    title = f"{word} {name}"
-    if abstract and final:
-        raise DefinitionError(f"{title}: a block cannot be both ABSTRACT and FINAL")
+#: Names the block itself defines: a method may not take them, whatever their case.
+_RESERVED_SPELLING = {n.lower(): n for n in (*_LIFECYCLE, "__call__")}
 
-    pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
-    iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
-    if Interface in bases and pou_bases:
-        # `class IFoo(Interface, SomeFB)` declares an interface, not a block implementing the root Interface.
-        raise DefinitionError(
-            f"INTERFACE {name}: an interface can only EXTEND interfaces, not {_kind_word(pou_bases[0])} {pou_bases[0].__name__}"
-        )
-    others = [b for b in bases if b not in pou_bases and b not in iface_bases]
-    if others:
-        raise DefinitionError(
-            f"{title}: {others[0].__name__} is neither a function block nor an interface; "
-            "EXTENDS takes one function block and IMPLEMENTS takes interfaces"
-        )
-    user_bases = [b for b in pou_bases if getattr(b, "_iec_layout_", None) is not None]
-    if len(user_bases) > 1:
-        names = ", ".join(b.__name__ for b in user_bases)
-        raise DefinitionError(f"{title}: EXTENDS allows one function block, got {names}")
-    parent = user_bases[0] if user_bases else None
-    if parent is not None:
-        if getattr(parent, "_iec_final_", False):
-            raise DefinitionError(f"{title} cannot EXTEND {parent.__name__}: {parent.__name__} is FINAL")
-        if getattr(parent, "_iec_internal_", False) and _package(namespace.get("__module__", "")) != _package(parent.__module__):
+
+class _PouBuilder:
+    """One FUNCTION_BLOCK or PROGRAM, built in named phases.
+
+    Before the class exists (metaclass ``__new__``), from the class body:
+    ``declare`` checks the bases (one EXTENDS, FINAL, INTERNAL), the slips
+    that would silently do nothing, the METHODs and PROPERTYs against the
+    inherited ones and FB_init / FB_exit, then collects the fields.
+    Once ctypes has initialised the class (metaclass ``__init__``): ``build``
+    lays it out, installs the members, checks the interfaces, creates the
+    VAR_STAT block and generates the call.
+    """
+
+    def __init__(
+        self, name: str, bases: tuple[type, ...], namespace: dict[str, Any], abstract: bool, final: bool, internal: bool
+    ) -> None:
+        self.name = name
+        self.bases = bases
+        self.namespace = namespace
+        self.abstract, self.final, self.internal = abstract, final, internal
+        self.kind = "program" if any(getattr(b, "_iec_kind_", "") == "program" for b in bases) else "fb"
+        self.word = _kind_word(self.kind)
+        self.title = f"{self.word} {name}"
+        self.parent: type | None = None
+        self.scope = DefinitionScope(namespace)
+        self.scope.own_name = name
+        self.own: dict[str, Member] = {}
+        self.inherited: dict[str, Member] = {}
+        self.outside: dict[str, Any] = {}
+        self.outside_specs: dict[str, FieldSpec] = {}
+        self.owner_ref: list[type] = []
+        self.original_namespace: dict[str, Any] = {}
+        self.layout_builder: LayoutBuilder | None = None
+
+    # -- phases before the class exists ------------------------------------------------
+
+    def declare(self) -> None:
+        self.check_bases()
+        self.check_slips()
+        annotations = read_annotations(self.name, self.namespace, self.scope)
+        check_unannotated(self.title, self.namespace, annotations)
+        self.check_declarations(annotations)
+        self.collect_fields(annotations)
+
+    def check_bases(self) -> None:
+        name, title, bases = self.name, self.title, self.bases
+        if self.abstract and self.final:
+            raise DefinitionError(f"{title}: a block cannot be both ABSTRACT and FINAL")
+        pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
+        iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
+        if Interface in bases and pou_bases:
+            # `class IFoo(Interface, SomeFB)` declares an interface, not a block implementing the root Interface.
             raise DefinitionError(
-                f"{title} cannot EXTEND INTERNAL {parent.__name__} outside the package {_package(parent.__module__)!r}"
+                f"INTERFACE {name}: an interface can only EXTEND interfaces, not {_kind_word(pou_bases[0])} {pou_bases[0].__name__}"
             )
+        others = [b for b in bases if b not in pou_bases and b not in iface_bases]
+        if others:
+            raise DefinitionError(
+                f"{title}: {others[0].__name__} is neither a function block nor an interface; "
+                "EXTENDS takes one function block and IMPLEMENTS takes interfaces"
+            )
+        user_bases = [b for b in pou_bases if getattr(b, "_iec_layout_", None) is not None]
+        if len(user_bases) > 1:
+            names = ", ".join(b.__name__ for b in user_bases)
+            raise DefinitionError(f"{title}: EXTENDS allows one function block, got {names}")
+        parent = self.parent = user_bases[0] if user_bases else None
+        if parent is not None:
+            if getattr(parent, "_iec_final_", False):
+                raise DefinitionError(f"{title} cannot EXTEND {parent.__name__}: {parent.__name__} is FINAL")
+            module = self.namespace.get("__module__", "")
+            if getattr(parent, "_iec_internal_", False) and _package(module) != _package(parent.__module__):
+                raise DefinitionError(
+                    f"{title} cannot EXTEND INTERNAL {parent.__name__} outside the package {_package(parent.__module__)!r}"
+                )
 
-    scope = DefinitionScope(namespace)
-    scope.own_name = name
-    annotations = read_annotations(name, namespace, scope)
-    for field in annotations:
-        value = namespace.get(field, MISSING)
-        if isinstance(value, (types.FunctionType, property)):
-            raise DefinitionError(f"{title}: {field} is declared both as a variable and as a METHOD / PROPERTY")
+    def check_slips(self) -> None:
+        """Definitions Python accepts but that would silently never run."""
+        title = self.title
+        if "__call__" in self.namespace:
+            raise DefinitionError(
+                f"{title}: __call__ cannot be overridden; the call sets the inputs and runs body(), "
+                "so write the block's code in def body(self) -> None"
+            )
+        for member, value in self.namespace.items():
+            meant = _RESERVED_SPELLING.get(member.lower())
+            if meant is not None and member != meant and (callable(value) or isinstance(value, property)):
+                raise DefinitionError(
+                    f"{title}: {member} is not {meant} (IEC names ignore case, Python's do not): "
+                    f"rename it to {meant}, or {member} never runs as the block's {meant}"
+                )
 
-    # Members: what this block declares and what it inherits.
-    placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
-    own = members_of_namespace(placeholder, namespace, scope.eval, _LIFECYCLE)
-    inherited: dict[str, Member] = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
-    _check_name_clashes(title, parent, annotations, own, inherited)
-    _check_members(title, name, own, inherited, abstract)
-    _check_lifecycle(title, namespace, parent, scope)
+    def check_declarations(self, annotations: dict[str, Any]) -> None:
+        name, title, namespace, parent = self.name, self.title, self.namespace, self.parent
+        for field in annotations:
+            value = namespace.get(field, MISSING)
+            if isinstance(value, (types.FunctionType, property)):
+                raise DefinitionError(f"{title}: {field} is declared both as a variable and as a METHOD / PROPERTY")
+        # Members: what this block declares and what it inherits.
+        placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
+        self.own = members_of_namespace(placeholder, namespace, self.scope.eval, _LIFECYCLE)
+        self.inherited = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
+        _check_name_clashes(title, parent, annotations, self.own, self.inherited)
+        _check_members(title, name, self.own, self.inherited, self.abstract)
+        _check_lifecycle(title, namespace, parent, self.scope)
 
-    # VAR_STAT and VAR_EXTERNAL live outside the instance block.
-    outside = {f: a for f, a in annotations.items() if isinstance(namespace.get(f), FieldSpec) and namespace[f].section in ("VAR_STAT", "VAR_EXTERNAL")}
-    outside_specs = {f: namespace.pop(f) for f in outside}
-    inside_annotations = {f: a for f, a in annotations.items() if f not in outside}
+    def collect_fields(self, annotations: dict[str, Any]) -> None:
+        namespace = self.namespace
+        # VAR_STAT and VAR_EXTERNAL live outside the instance block.
+        self.outside = {
+            f: a for f, a in annotations.items()
+            if isinstance(namespace.get(f), FieldSpec) and namespace[f].section in ("VAR_STAT", "VAR_EXTERNAL")
+        }
+        self.outside_specs = {f: namespace.pop(f) for f in self.outside}
+        inside = {f: a for f, a in annotations.items() if f not in self.outside}
+        self.original_namespace = dict(namespace)
+        guard_namespace(self.owner_ref, self.name, namespace)
+        namespace["_iec_kind_"] = self.kind
+        self.layout_builder = LayoutBuilder(
+            self.name, self.bases, namespace, kind=self.word, allowed_sections=_POU_SECTIONS, adjust=self.adjust,
+            annotations=inside, scope=self.scope,
+        )
+        self.layout_builder.collect()
 
-    owner_ref: list[type] = []
-    original_namespace = dict(namespace)
-    guard_namespace(owner_ref, name, namespace)
-
-    def adjust(info: TypeInfo, spec: FieldSpec, where: str) -> TypeInfo:
+    def adjust(self, info: TypeInfo, spec: FieldSpec, where: str) -> TypeInfo:
+        """The POU rules for one field's type and section."""
         if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_abstract_", False):
             raise DefinitionError(
                 f"{where}: ABSTRACT {info.name} cannot be instantiated; use REFERENCE_TO, POINTER_TO or an interface"
@@ -229,8 +305,8 @@ def _build_pou(
             return ReferenceInfo(info)
         if spec.section == "VAR_INST" and not spec.method:
             raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
-        if spec.section == "VAR_INST" and spec.method not in own:
-            raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {name} does not declare")
+        if spec.section == "VAR_INST" and spec.method not in self.own:
+            raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {self.name} does not declare")
         if spec.fb_init:
             element = info.elem if isinstance(info, ArrayInfo) else info
             if not (isinstance(element, AggregateInfo) and getattr(element.cls, "_iec_kind_", "") == "fb"):
@@ -239,52 +315,53 @@ def _build_pou(
                 if not isinstance(info, ArrayInfo):
                     raise DefinitionError(f"{where}: a list of fb_init= inputs is for an ARRAY OF function blocks")
                 if len(spec.fb_init) > info.count:
-                    raise DefinitionError(
-                        f"{where}: {len(spec.fb_init)} fb_init= entries for {info.count} elements"
-                    )
+                    raise DefinitionError(f"{where}: {len(spec.fb_init)} fb_init= entries for {info.count} elements")
         if (spec.retain or spec.persistent) and isinstance(info, (PointerInfo, ReferenceInfo, InterfaceInfo)):
             raise DefinitionError(f"{where}: {info.name} cannot be RETAIN or PERSISTENT (an address is not kept)")
         return info
 
-    namespace["_iec_kind_"] = kind
+    # -- phases once the class exists ---------------------------------------------------
 
-    create = class_creator(super(_PouMeta, mcls).__new__, mcls, name, bases, kwargs)
-    cls: Any = build_layout(
-        create, name, bases, namespace, kind=word, allowed_sections=_POU_SECTIONS, adjust=adjust,
-        annotations=inside_annotations,
-    )
-    owner_ref.append(cls)
-    register_code(cls, original_namespace)
-    own_members = {m.name: _rebind(m, cls) for m in own.values()}
-    members = {**inherited, **own_members}
-    cls._iec_members_ = members
-    cls._iec_abstract_ = abstract
-    cls._iec_final_ = final
-    cls._iec_internal_ = internal
-    _check_interfaces(title, cls, members, abstract)
+    def build(self, cls: Any) -> None:
+        assert self.layout_builder is not None
+        self.layout_builder.lay_out(cls)
+        layout = self.layout_builder.install()
+        self.install_members(cls)
+        _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        self.install_runtime(cls, layout)
 
-    layout: ClassLayout = cls._iec_layout_
-    _install_outside(cls, name, outside, outside_specs, scope)
-    tag = new_class_tag(cls)
-    cls._iec_tag_value_ = tag
-    set_tag = FunctionBlock.__dict__["_iec_tag_"].__set__
-    fields_init = layout.implicit_init
+    def install_members(self, cls: Any) -> None:
+        self.owner_ref.append(cls)
+        register_code(cls, self.original_namespace)
+        own_members = {m.name: _rebind(m, cls) for m in self.own.values()}
+        members = {**self.inherited, **own_members}
+        cls._iec_members_ = members
+        cls._iec_abstract_ = self.abstract
+        cls._iec_final_ = self.final
+        cls._iec_internal_ = self.internal
+        _check_interfaces(self.title, cls, members, self.abstract)
 
-    def implicit_init(obj: Any) -> None:
-        set_tag(obj, tag)
-        fields_init(obj)
+    def install_runtime(self, cls: Any, layout: ClassLayout) -> None:
+        """What an instance and a call need: type tag, implicit init, children, temps, the call."""
+        tag = new_class_tag(cls)
+        cls._iec_tag_value_ = tag
+        set_tag = FunctionBlock.__dict__["_iec_tag_"].__set__
+        fields_init = layout.implicit_init
 
-    cls._iec_implicit_init_ = implicit_init
-    cls._iec_children_ = tuple(fb_children(layout))
-    cls._iec_call_after_init_ = tuple(
-        n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
-    )
-    temps = [r for r in layout.fields if r.section == "VAR_TEMP"]
-    cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
-    cls.__call__ = _make_call(cls, layout)
-    if _config.CHECKS:
-        cls.__setattr__ = _checked_setattr(cls, layout)
-    return typing.cast(type, cls)
+        def implicit_init(obj: Any) -> None:
+            set_tag(obj, tag)
+            fields_init(obj)
+
+        cls._iec_implicit_init_ = implicit_init
+        cls._iec_children_ = tuple(fb_children(layout))
+        cls._iec_call_after_init_ = tuple(
+            n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
+        )
+        temps = [r for r in layout.fields if r.section == "VAR_TEMP"]
+        cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
+        cls.__call__ = _make_call(cls, layout)
+        if _config.CHECKS:
+            cls.__setattr__ = _checked_setattr(cls, layout)
 
 
 def _package(module: str) -> str:
@@ -612,8 +689,7 @@ def _check_rule(holder: Any, rule: _WriteRule, frame: Any) -> None:
     if constant:
         raise AccessError(f"{where} is CONSTANT and cannot be written")
     if section in _INSIDE_ONLY:
-        owners = CODE_OWNERS.get(frame.f_code)
-        if owners is None or not isinstance(holder, owners):
+        if not code_of(frame.f_code, holder):
             raise AccessError(
                 f"{section} {where} cannot be written from {caller_description(frame)}: "
                 f"only {type(holder).__name__}'s own code writes its {section} variables"
@@ -661,7 +737,6 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY
-    owners_of = CODE_OWNERS
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
         rule = rules.get(field)
@@ -672,10 +747,9 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
             return
         if rule[4] or rule[2] in inside_only:
             frame = getframe(1)
-            owners = owners_of.get(frame.f_code)
             # The usual case, the block's own code writing a plain inside variable, passes here;
             # _check_rule decides everything else (and words the refusal).
-            if rule[4] or rule[3] is not None or owners is None or not isinstance(self, owners):
+            if rule[4] or rule[3] is not None or frame.f_code not in type(self)._iec_codes_:
                 _check_rule(self, rule, frame)
         validate = rule[0]
         if validate is not None:
@@ -700,6 +774,9 @@ class _PouMixin:
     _iec_final_: ClassVar[bool] = False
     _iec_internal_: ClassVar[bool] = False
     _iec_members_: ClassVar[dict[str, Member]] = {}
+    #: The code this class's body defined, and with its bases' (see members.own_code).
+    _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
+    _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     #: Instances start with a type tag, so a pointer, reference or interface to a
     #: base block dereferences to the derived block it designates (virtual calls).
     _iec_tagged_: ClassVar[bool] = True

@@ -221,27 +221,29 @@ if TYPE_CHECKING:
     TOD: TypeAlias = Annotated[int, TOD_T]
     DT: TypeAlias = Annotated[int, DT_T]
 else:
+    # LTIME, TOD and DT name both a type and a literal prefix (LTIME#1ms), so they are
+    # callable. Calling an ``Annotated`` alias calls its underlying type (typing documents
+    # "instantiating is the same as instantiating the underlying type"), so the runtime
+    # alias wraps an int subclass whose constructor parses the literal; a type checker
+    # sees ``Annotated[int, ...]`` and ``LTIME("1ms")`` as ``int(...)``, which fits.
 
-    class _LiteralAlias(typing._AnnotatedAlias, _root=True):
-        """An ``Annotated`` type that is also its own literal: ``LTIME("1ms")``.
+    class _Literal(int):
+        """The underlying type of a literal-taking alias: ``LTIME("1ms")`` is ``LTIME#1ms`` as an int."""
 
-        LTIME, TOD and DT name both a type and a literal prefix (LTIME#1ms), so
-        the alias is callable; a type checker sees ``int(...)``, which fits.
-        """
+        _parser = ""
 
-        def __init__(self, origin: type, metadata: tuple[object, ...], parser: str) -> None:
-            super().__init__(origin, metadata)
-            self.__iec_parser__ = parser
-
-        def __call__(self, text: str) -> int:
+        def __new__(cls, text: str) -> int:  # a plain int: the value, not an instance
             from iecoop import literals
 
-            parse: Any = getattr(literals, self.__iec_parser__)
-            return int(parse(text))
+            return int(getattr(literals, cls._parser)(text))
 
-    LTIME = _LiteralAlias(int, (LTIME_T,), "parse_ltime")
-    TOD = _LiteralAlias(int, (TOD_T,), "parse_tod")
-    DT = _LiteralAlias(int, (DT_T,), "parse_dt")
+    def _literal_alias(record: ElementaryType, parser: str) -> Any:
+        underlying = type(record.name, (_Literal,), {"_parser": parser, "__module__": __name__})
+        return Annotated[underlying, record]
+
+    LTIME = _literal_alias(LTIME_T, "parse_ltime")
+    TOD = _literal_alias(TOD_T, "parse_tod")
+    DT = _literal_alias(DT_T, "parse_dt")
 STRING: TypeAlias = Annotated[str, STRING_T]
 WSTRING: TypeAlias = Annotated[str, WSTRING_T]
 

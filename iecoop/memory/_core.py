@@ -162,18 +162,24 @@ def allocation_for_handle(handle: int) -> Allocation | None:
 # Class tags: how a handle to an FB finds the FB's dynamic class
 # ---------------------------------------------------------------------------
 
-_class_by_tag: list[type] = [type(None)]
+#: tag -> weak reference to its class. Weak, so that a block class defined in a function can be
+#: collected; its entry leaves with it, and tags are never reused (a stale tag finds no class).
+_class_by_tag: dict[int, weakref.ref[type]] = {}
+_next_tag = [1]
 
 
 def new_class_tag(cls: type) -> int:
-    _class_by_tag.append(cls)
-    return len(_class_by_tag) - 1
+    tag = _next_tag[0]
+    _next_tag[0] = tag + 1
+    _class_by_tag[tag] = weakref.ref(cls, lambda _ref: _class_by_tag.pop(tag, None))
+    return tag
 
 
 def class_for_tag(tag: int) -> type | None:
-    if 0 < tag < len(_class_by_tag):
-        return _class_by_tag[tag]
-    return None
+    try:
+        return _class_by_tag[tag]()
+    except KeyError:
+        return None
 
 
 # ---------------------------------------------------------------------------
@@ -907,8 +913,6 @@ class ARRAY(Generic[_T]):
         def __iter__(self) -> Iterator[_T]: ...
 
 
-_array_cache: dict[tuple[int, tuple[tuple[int, int], ...]], type] = {}
-_array_infos: dict[tuple[int, tuple[tuple[int, int], ...]], ArrayInfo] = {}
 
 
 def _bounds_error(cls: Any, index: object) -> PlcException:
@@ -919,14 +923,12 @@ def _bounds_error(cls: Any, index: object) -> PlcException:
 
 
 def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> type:
-    key = (id(elem), bounds)
-    cached = _array_cache.get(key)
-    if cached is not None:
-        return cached
     count = 1
     for lo, hi in bounds:
         count *= hi - lo + 1
-    base = elem.ctype * count
+    # Subclassing ctypes.Array (as the ctypes docs allow) rather than ``elem.ctype * count``:
+    # ctypes keeps every product type in a cache for good, and with it a block class.
+    base: Any = type(f"{elem.ctype.__name__}_Array_{count}", (ctypes.Array,), {"_type_": elem.ctype, "_length_": count})
     one_dim = len(bounds) == 1
     lo0, hi0 = bounds[0]
     strides: list[int] = []
@@ -1050,9 +1052,7 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         __hash__=None,
         __repr__=rep,
     )
-    cls = type(f"ARRAY[{dims}] OF {elem.name}", (base,), namespace)
-    _array_cache[key] = cls
-    return cls
+    return type(f"ARRAY[{dims}] OF {elem.name}", (base,), namespace)
 
 
 class ArrayInfo(TypeInfo):
@@ -1107,6 +1107,14 @@ def _flatten(values: Any) -> Iterator[Any]:
             yield item
 
 
+#: One ArrayInfo (and so one ctypes array type) per element type and bounds, while in use.
+#: Weak values: the fields declaring an ARRAY hold its info, and an ARRAY OF a block class goes
+#: with the last class using it. (An id key cannot be reused while its info lives: the info holds
+#: the element.) Not kept on the element: CPython before 3.13 does not show the collector the
+#: array type's reference to its element type, so that cycle would never be collected.
+_array_infos: weakref.WeakValueDictionary[tuple[int, tuple[tuple[int, int], ...]], ArrayInfo] = weakref.WeakValueDictionary()
+
+
 def array_info(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> ArrayInfo:
     key = (id(elem), bounds)
     info = _array_infos.get(key)
@@ -1144,7 +1152,6 @@ def normalise_bounds(bounds: object, where: str) -> tuple[tuple[int, int], ...]:
 
 _elementary_infos: dict[int, ElementaryInfo] = {}
 _string_infos: dict[tuple[str, int], StringInfo] = {}
-_aggregate_infos: dict[type, TypeInfo] = {}
 
 MAX_STRING_LENGTH = 65535
 
@@ -1166,7 +1173,8 @@ def string_info(record: StringType, length: int) -> StringInfo:
 
 def class_info(cls: type) -> TypeInfo | None:
     """The TypeInfo of a Struct / Union / FB / interface / enum class, or None."""
-    info = _aggregate_infos.get(cls)
+    # Kept on the class itself (its own __dict__, never a base's), so it goes with the class.
+    info: TypeInfo | None = cls.__dict__.get("_iec_type_info_")
     if info is not None:
         return info
     kind = getattr(cls, "_iec_kind_", None)
@@ -1181,7 +1189,7 @@ def class_info(cls: type) -> TypeInfo | None:
         info = EnumInfo(typing.cast(type[enum.IntEnum], cls), base)
     else:
         return None
-    _aggregate_infos[cls] = info
+    setattr(cls, "_iec_type_info_", info)
     return info
 
 

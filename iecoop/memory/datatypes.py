@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
-from iecoop.memory.layout import ClassLayout, assign, build_data_class, register_builder
+from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, register_builder
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
@@ -60,11 +60,14 @@ def _member_values(obj: Any) -> tuple[Any, ...]:
     return tuple(getattr(obj, f.name) for f in layout.fields)
 
 
-def _data_type(new: Any, mcls: Any, name: str, bases: tuple[type, ...], namespace: dict[str, Any], kwargs: dict[str, Any], kind: str) -> Any:
-    cls = build_data_class(new, mcls, name, bases, namespace, kwargs, kind=kind, allowed_sections=_STRUCT_SECTIONS)
-    if cls._iec_layout_ is not None and not cls._iec_layout_.fields:
-        raise DefinitionError(f"{kind} {name} has no members; declare at least one")
-    return cls
+_STRUCT_BUILDER = DataClassBuilder("STRUCT", _STRUCT_SECTIONS)
+_UNION_BUILDER = DataClassBuilder("UNION", _STRUCT_SECTIONS)
+
+
+def _finish(cls: Any, builder: DataClassBuilder) -> None:
+    layout = builder.init(cls)
+    if layout is not None and not layout.fields:
+        raise DefinitionError(f"{builder.kind} {cls.__name__} has no members; declare at least one")
 
 
 class _StructMeta(_StructMetaBase):
@@ -74,14 +77,22 @@ class _StructMeta(_StructMetaBase):
             raise DefinitionError(
                 f"STRUCT {name} cannot EXTEND both {' and '.join(parents)}: a STRUCT extends one STRUCT at most"
             )
-        return _data_type(super().__new__, mcls, name, bases, namespace, kwargs, "STRUCT")
+        return super().__new__(mcls, name, bases, _STRUCT_BUILDER.new(name, bases, namespace), **kwargs)
+
+    def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
+        super().__init__(name, bases, namespace)
+        _finish(cls, _STRUCT_BUILDER)
 
 
 class _UnionMeta(_UnionMetaBase):
     def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
         if not namespace.get("_iec_base_class_") and any(getattr(b, "_iec_layout_", None) is not None for b in bases):
             raise DefinitionError(f"UNION {name}: a union cannot extend another union")
-        return _data_type(super().__new__, mcls, name, bases, namespace, kwargs, "UNION")
+        return super().__new__(mcls, name, bases, _UNION_BUILDER.new(name, bases, namespace), **kwargs)
+
+    def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
+        super().__init__(name, bases, namespace)
+        _finish(cls, _UNION_BUILDER)
 
 
 class _DataTypeMixin:

@@ -33,7 +33,16 @@ from iecoop.memory._core import (
     resolve_type,
 )
 
-__all__ = ["MISSING", "ClassLayout", "FieldRecord", "FieldSpec", "SECTIONS", "build_layout"]
+__all__ = [
+    "MISSING",
+    "SECTIONS",
+    "ClassLayout",
+    "DataClassBuilder",
+    "FieldRecord",
+    "FieldSpec",
+    "LayoutBuilder",
+    "build_layout",
+]
 
 
 class _Missing:
@@ -104,6 +113,15 @@ class FieldSpec:
         init = "" if self.initial is MISSING else repr(self.initial)
         qual = f" {self.qualifiers}" if self.qualifiers else ""
         return f"{self.section}{qual}({init})"
+
+    def as_python(self) -> str:
+        """The specifier call as the user writes it: ``VAR(10, constant=True)``."""
+        args = [] if self.initial is MISSING else [repr(self.initial)]
+        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init"):
+            value = getattr(self, option)
+            if value:
+                args.append(f"{option}={value!r}")
+        return f"{self.section}({', '.join(args)})"
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -222,118 +240,198 @@ def _is_classvar(annotation: Any) -> bool:
     return annotation is typing.ClassVar or typing.get_origin(annotation) is typing.ClassVar
 
 
+_TYPE_FOR_VALUE: Final = ((bool, "BOOL"), (int, "INT"), (float, "LREAL"), (str, "STRING"))
+
+
+def _suggested_type(initial: Any) -> str:
+    """An IEC type that fits an initial value, for the message about a missing annotation."""
+    for py_type, iec in _TYPE_FOR_VALUE:
+        if isinstance(initial, py_type):
+            return iec
+    return "INT"
+
+
+class LayoutBuilder:
+    """Builds one class's memory layout in the phases ctypes allows (attrs' ``_ClassBuilder`` habit).
+
+    1. ``collect`` -- before the class exists, from its namespace only: read
+       the annotations and specifiers, resolve the IEC types, check the
+       initial values, and take the field values out of the namespace.
+    2. ``lay_out`` -- once the ctypes metaclass has initialised the class:
+       assign ``_fields_``. The ctypes documentation allows assigning
+       ``_fields_`` after the class statement, before the type is first used;
+       it says nothing about when a metaclass may see it, and CPython 3.13
+       processes it later than 3.12 did.
+    3. ``install`` -- replace the fields that need one with a descriptor,
+       record a ``FieldRecord`` per field and set ``_iec_layout_``.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        bases: tuple[type, ...],
+        namespace: dict[str, Any],
+        *,
+        kind: str,
+        allowed_sections: Mapping[str, str],
+        default_section: str = "VAR",
+        adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
+        annotations: dict[str, Any] | None = None,
+        scope: DefinitionScope | None = None,
+    ) -> None:
+        self.name = name
+        self.bases = bases
+        self.namespace = namespace
+        self.kind = kind
+        self.allowed_sections = allowed_sections
+        self.default_section = default_section
+        self.adjust = adjust
+        if scope is None:
+            scope = DefinitionScope(namespace)
+            scope.own_name = name
+        self.scope = scope
+        self.annotations = read_annotations(name, namespace, scope) if annotations is None else annotations
+        self.pending: list[tuple[str, TypeInfo, FieldSpec]] = []
+        self.inherited: list[FieldRecord] = []
+        self.cls: Any = None
+
+    def collect(self) -> None:
+        """Phase 1: every field's section, type and initial value, checked; the namespace keeps no field value."""
+        name, namespace = self.name, self.namespace
+        check_unannotated(f"{self.kind} {name}", namespace, self.annotations)
+        for base in self.bases:
+            layout = getattr(base, "_iec_layout_", None)
+            if layout is not None:
+                self.inherited.extend(layout.fields)
+        taken = {f.name: f.owner for f in self.inherited}
+        resolver = self.scope.resolver()
+        for field, annotation in self.annotations.items():
+            if _is_classvar(annotation):
+                continue
+            where = f"{name}.{field}"
+            if field.startswith("_iec") or field.startswith("__"):
+                raise DefinitionError(f"{where}: names starting with '_iec' or '__' are reserved")
+            if field in taken:
+                raise DefinitionError(
+                    f"{where}: {field} is already declared in {taken[field]}; a derived type cannot declare it again"
+                )
+            value = namespace.pop(field, MISSING)
+            spec = value if isinstance(value, FieldSpec) else FieldSpec(self.default_section, value)
+            if spec.section not in self.allowed_sections:
+                allowed = ", ".join(self.allowed_sections)
+                raise DefinitionError(f"{where}: {spec.section} is not allowed in a {self.kind} (allowed: {allowed})")
+            info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
+            if self.adjust is not None:
+                info = self.adjust(info, spec, where)
+            check_initial(info, spec.initial, where)
+            self.pending.append((field, info, spec))
+            taken[field] = name
+
+    def lay_out(self, cls: Any) -> None:
+        """Phase 2: hand the fields to ctypes, which computes offsets and alignment (base fields first)."""
+        self.cls = cls
+        self.scope.own = cls
+        cls._fields_ = [(field, info.ctype) for field, info, _spec in self.pending]
+
+    def install(self) -> ClassLayout:
+        """Phase 3: descriptors where a type needs one, the field records and the layout."""
+        cls, name = self.cls, self.name
+        own: list[FieldRecord] = []
+        for field, info, spec in self.pending:
+            raw = cls.__dict__[field]
+            descriptor = info.descriptor(raw, field, name)
+            if descriptor is not None:
+                setattr(cls, field, descriptor)
+                alias = getattr(descriptor, "alias", None)
+                if alias is not None:
+                    setattr(cls, alias, raw)
+            own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
+        all_fields = tuple(self.inherited) + tuple(own)
+        init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)
+        layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, init_ops)
+        cls._iec_layout_ = layout
+        return layout
+
+
+def check_unannotated(title: str, namespace: Mapping[str, Any], annotations: Mapping[str, Any]) -> None:
+    """Reject ``x = VAR_INPUT(0)`` without a type: it would be a plain class attribute, not a variable."""
+    for field, value in namespace.items():
+        if isinstance(value, FieldSpec) and field not in annotations:
+            written = value.as_python()
+            raise DefinitionError(
+                f"{title}: {field} = {written} has no type, so it declares no variable; "
+                f"annotate it: {field}: {_suggested_type(value.initial)} = {written}"
+            )
+
+
 def build_layout(
     create: Callable[[dict[str, Any]], type],
     name: str,
     bases: tuple[type, ...],
     namespace: dict[str, Any],
-    *,
-    kind: str,
-    allowed_sections: Mapping[str, str],
-    default_section: str = "VAR",
-    leading: list[tuple[str, Any]] | None = None,
-    adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
-    annotations: dict[str, Any] | None = None,
+    **options: Any,
 ) -> type:
-    """Create the ctypes class and its ``ClassLayout``; raise DefinitionError on bad fields.
+    """Build a complete class in one go: ``create`` runs the whole metaclass (its ``__new__`` and ``__init__``).
 
-    ``create`` is the ctypes metaclass's own ``__new__`` bound to the class
-    being built; ``allowed_sections`` maps each allowed section to a reason-free label; a
-    field in another section is rejected naming the kind (``STRUCT``).
+    ``options`` are LayoutBuilder's; a field in a section not in
+    ``allowed_sections`` is rejected naming the kind (``STRUCT``).
     """
-    scope = DefinitionScope(namespace)
-    scope.own_name = name
-    if annotations is None:
-        annotations = read_annotations(name, namespace, scope)
-    resolver = scope.resolver()
-    inherited: list[FieldRecord] = []
-    for base in bases:
-        layout = getattr(base, "_iec_layout_", None)
-        if layout is not None:
-            inherited.extend(layout.fields)
-    taken = {f.name: f.owner for f in inherited}
-
-    pending: list[tuple[str, TypeInfo, FieldSpec]] = []
-    for field, annotation in annotations.items():
-        if _is_classvar(annotation):
-            continue
-        where = f"{name}.{field}"
-        if field.startswith("_iec") or field.startswith("__"):
-            raise DefinitionError(f"{where}: names starting with '_iec' or '__' are reserved")
-        if field in taken:
-            raise DefinitionError(
-                f"{where}: {field} is already declared in {taken[field]}; a derived type cannot declare it again"
-            )
-        value = namespace.pop(field, MISSING)
-        spec = value if isinstance(value, FieldSpec) else FieldSpec(default_section, value)
-        if spec.section not in allowed_sections:
-            allowed = ", ".join(allowed_sections)
-            raise DefinitionError(f"{where}: {spec.section} is not allowed in a {kind} (allowed: {allowed})")
-        info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
-        if adjust is not None:
-            info = adjust(info, spec, where)
-        check_initial(info, spec.initial, where)
-        pending.append((field, info, spec))
-        taken[field] = name
-
-    fields_ = list(leading or [])
-    fields_.extend((field, info.ctype) for field, info, _spec in pending)
-    namespace["_fields_"] = fields_
-    cls = create(namespace)
-    scope.own = cls
-
-    own: list[FieldRecord] = []
-    for field, info, spec in pending:
-        raw = cls.__dict__[field]
-        descriptor = info.descriptor(raw, field, name)
-        if descriptor is not None:
-            setattr(cls, field, descriptor)
-            alias = getattr(descriptor, "alias", None)
-            if alias is not None:
-                setattr(cls, alias, raw)
-        own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
-    all_fields = tuple(inherited) + tuple(own)
-    init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)
-    layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, init_ops)
-    setattr(cls, "_iec_layout_", layout)
-    return cls
+    builder = LayoutBuilder(name, bases, namespace, **options)
+    builder.collect()
+    builder.lay_out(create(namespace))
+    builder.install()
+    return typing.cast(type, builder.cls)
 
 
-def class_creator(
-    new: Callable[..., Any], mcls: Any, name: str, bases: tuple[type, ...], kwargs: Mapping[str, Any]
-) -> Callable[[dict[str, Any]], type]:
-    """The ``create`` that build_layout takes: a ctypes metaclass's own ``__new__`` bound to this class."""
-    return lambda ns: typing.cast(type, new(mcls, name, bases, ns, **kwargs))
+_BUILDER_KEY: Final = "_iec_builder_"
 
 
-def build_data_class(
-    new: Callable[..., Any],
-    mcls: Any,
-    name: str,
-    bases: tuple[type, ...],
-    namespace: dict[str, Any],
-    kwargs: Mapping[str, Any],
-    *,
-    kind: str,
-    allowed_sections: Mapping[str, str],
-) -> Any:
-    """A metaclass's ``__new__`` for a data type (STRUCT, UNION, GVL) built from its fields.
+def hand_over(namespace: dict[str, Any], builder: Any) -> None:
+    """Keep ``builder`` with the class from the metaclass ``__new__`` to its ``__init__``."""
+    namespace[_BUILDER_KEY] = builder
+
+
+def take_over(cls: Any) -> Any:
+    """The builder ``hand_over`` left on ``cls`` (removed from it), or None for a class built without one."""
+    builder = cls.__dict__.get(_BUILDER_KEY)
+    if builder is not None:
+        delattr(cls, _BUILDER_KEY)
+    return builder
+
+
+class DataClassBuilder:
+    """The two halves of a data type's metaclass (STRUCT, UNION, GVL): ``__new__`` and ``__init__``.
 
     The library's own root class (``_iec_base_class_`` in its body) is created
     empty; every user class gets its layout, implicit init and, in checked
     mode, the validating ``__setattr__``.
     """
-    if namespace.get("_iec_base_class_"):
-        namespace.setdefault("_fields_", [])
-        return new(mcls, name, bases, namespace, **kwargs)
-    cls: Any = build_layout(
-        class_creator(new, mcls, name, bases, kwargs), name, bases, namespace, kind=kind, allowed_sections=allowed_sections
-    )
-    layout: ClassLayout = cls._iec_layout_
-    cls._iec_implicit_init_ = layout.implicit_init
-    if CHECKS:
-        cls.__setattr__ = checked_setattr(name, layout)
-    return cls
+
+    def __init__(self, kind: str, allowed_sections: Mapping[str, str]) -> None:
+        self.kind = kind
+        self.allowed_sections = allowed_sections
+
+    def new(self, name: str, bases: tuple[type, ...], namespace: dict[str, Any]) -> dict[str, Any]:
+        """Before the class exists: collect and check the fields; return the namespace to create it from."""
+        if namespace.get("_iec_base_class_"):
+            namespace.setdefault("_fields_", [])
+            return namespace
+        builder = LayoutBuilder(name, bases, namespace, kind=self.kind, allowed_sections=self.allowed_sections)
+        builder.collect()
+        hand_over(namespace, builder)
+        return namespace
+
+    def init(self, cls: Any) -> ClassLayout | None:
+        """After the ctypes metaclass's ``__init__``: lay the class out and finish it."""
+        builder: LayoutBuilder | None = take_over(cls)
+        if builder is None:
+            return None
+        builder.lay_out(cls)
+        layout = builder.install()
+        cls._iec_implicit_init_ = layout.implicit_init
+        if CHECKS:
+            cls.__setattr__ = checked_setattr(cls.__name__, layout)
+        return layout
 
 
 # ---------------------------------------------------------------------------
