@@ -9,14 +9,16 @@ Without it a call ``fb(...)`` takes any keyword. With it, ``fb(enable="yes")``
 (wrong kind), ``fb(nonexistent=1)`` (no such input) and a call that leaves a
 VAR_IN_OUT unbound are mypy errors, as they are compile errors in ST::
 
-    fbCounter(bEnable := 'yes');   (* C0032: cannot convert STRING to BOOL *)
-    fbCounter(bNonexistent := 1);  (* C0049: 'bNonexistent' is no input of fbCounter *)
+    fbCounter(bEnable := 'yes');   (* cannot convert STRING to BOOL *)
+    fbCounter(bNonexistent := 1);  (* bNonexistent is no input of fbCounter *)
 
-Each input keyword takes what the call accepts at run time: the declared type;
-for an ARRAY also a list or tuple of values, for a STRUCT also a dict of member
-values; for a ``REFERENCE_TO`` input or a VAR_IN_OUT an ``adr(...)`` pointer
-(or the struct / block / ARRAY instance itself); a VAR_IN_OUT CONSTANT also
-takes a plain value. Inherited inputs count, for FUNCTION_BLOCKs and PROGRAMs.
+Each input keyword takes what the call accepts at run time: the declared
+type; for an ARRAY also a list or tuple of values, for a STRUCT also a dict of
+member values, for an interface also None (ST ``0``); for a ``REFERENCE_TO``
+input or a VAR_IN_OUT an ``adr(...)`` pointer (or the struct / block / ARRAY
+instance itself); a VAR_IN_OUT CONSTANT also takes a plain value. Inherited
+inputs count, for FUNCTION_BLOCKs and PROGRAMs. A call through a variable
+typed ``FunctionBlock`` or ``Program`` itself stays open (generic code).
 
 The plugin also accepts the prototype form ``def healthy(self) -> BOOL: ...``
 of an INTERFACE member and of an ``@method(ABSTRACT)`` under ``--strict``
@@ -111,6 +113,8 @@ def plugin(version: str) -> type[Plugin]:
 
 def _read_class(ctx: ClassDefContext) -> None:
     info = ctx.cls.info
+    if info.module_name == "iecoop.pou":
+        return  # FunctionBlock and Program themselves: a call through them stays open, for generic code
     if info.has_base(_POU):
         inputs: dict[str, _Input] = {}
         for stmt in ctx.cls.defs.body:
