@@ -69,3 +69,29 @@ def test_the_classifiers_name_exactly_the_pythons_ci_runs_the_suite_on() -> None
     tested = sorted(found.group(1).split(","), key=runner._patch)
     assert claimed == tested == ["3.11", "3.12", "3.13"]
     assert project["requires-python"] == f">={tested[0]}"
+
+
+def test_main_runs_the_gates_in_order_and_ci_fails_on_a_missing_python(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    ran: list[str] = []
+
+    def fake_run(gate: runner.Gate) -> runner.Outcome:
+        ran.append(gate.title)
+        return runner.Outcome(gate.title, "ok", 0.1, "3 passed" if "pytest" in gate.title else "")
+
+    monkeypatch.setattr(runner, "_run", fake_run)
+    monkeypatch.setattr(runner, "find_python", lambda version: "/opt/python" if version == "3.98" else None)
+    monkeypatch.setattr(runner, "prepare_venv", lambda python, version: ("/venv/bin/python", runner.Outcome("env", "ok")))
+    argv = ["--slow", "--pythons", f"{HERE},3.98,3.99"]
+    monkeypatch.setenv("CI", "true")
+    assert runner.main(argv) == 1
+    assert ran == [
+        "pytest", "pytest, fast mode", "slow tests", "mypy", "docs",
+        "pytest on CPython 3.98", "pytest, fast mode on CPython 3.98",
+    ]
+    out = capsys.readouterr().out
+    assert re.search(r"FAILED +0\.0 s  CPython 3\.99 not found", out) and "gates: 7 passed, 1 failed, 0 skipped" in out
+    monkeypatch.setenv("CI", "")
+    assert runner.main(argv) == 0
+    assert "gates: 7 passed, 0 failed, 1 skipped" in capsys.readouterr().out
