@@ -58,7 +58,7 @@ def test_the_in_outs_are_whichever_variables_the_call_binds() -> None:
 
 def test_a_var_in_out_must_be_bound_at_every_call() -> None:
     with pytest.raises(TypeError, match=r"VAR_IN_OUT 'starts' must be assigned at every call"):
-        Pump()(start=True)
+        Pump()(start=True)  # type: ignore[call-arg]
 
 
 def test_the_constant_caps_the_starts() -> None:

@@ -83,7 +83,7 @@ def test_only_an_implementing_block_fits_an_interface_variable() -> None:
     panel(slot=motor)
     assert isinstance(panel.slot, Motor)
     with pytest.raises(TypeError, match="Horn does not implement IActuator"):
-        panel(slot=Horn())
+        panel(slot=Horn())  # type: ignore[arg-type]
 
 
 def test_an_interface_has_no_instances_no_state_and_no_bodies() -> None:

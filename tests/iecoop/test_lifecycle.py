@@ -368,7 +368,7 @@ def test_fb_reinit_inherited_when_the_derived_block_declares_none() -> None:
 
 class IRunnable(Interface):
     @method
-    def run(self) -> INT: ...  # type: ignore[empty-body]  # a prototype's body is '...'
+    def run(self) -> INT: ...
 
 
 class Job(FunctionBlock, IRunnable):

@@ -303,11 +303,11 @@ def test_a_name_cannot_be_both_variable_and_method_in_one_block() -> None:
 # under a non-None result type as empty-body, hence the ignores on prototypes in this file.
 class AbstractAxis(FunctionBlock, abstract=True):
     @method(ABSTRACT)
-    def home(self) -> BOOL: ...  # type: ignore[empty-body]
+    def home(self) -> BOOL: ...
 
     @prop
     @method(ABSTRACT)
-    def position(self) -> LREAL: ...  # type: ignore[empty-body]
+    def position(self) -> LREAL: ...
 
     @method
     def jog(self) -> INT:
@@ -321,14 +321,14 @@ def test_an_abstract_member_needs_an_abstract_block() -> None:
 
         class Axis(FunctionBlock):
             @method(ABSTRACT)
-            def home(self) -> BOOL: ...  # type: ignore[empty-body]
+            def home(self) -> BOOL: ...
 
     with pytest.raises(DefinitionError, match=r"PROPERTY position is ABSTRACT, so Axis must be declared abstract"):
 
         class Axis(FunctionBlock):  # type: ignore[no-redef]
             @prop
             @method(ABSTRACT)
-            def position(self) -> LREAL: ...  # type: ignore[empty-body]
+            def position(self) -> LREAL: ...
 
 
 def test_a_concrete_block_must_implement_every_inherited_abstract_member() -> None:
@@ -395,20 +395,20 @@ def test_more_than_one_access_specifier_is_rejected() -> None:
 
 class ISensor(IQueryInterface):
     @method
-    def read(self, channel: INT) -> REAL: ...  # type: ignore[empty-body]
+    def read(self, channel: INT) -> REAL: ...
 
     @prop
-    def healthy(self) -> BOOL: ...  # type: ignore[empty-body]
+    def healthy(self) -> BOOL: ...
 
 
 class IDiagnosable(IQueryInterface):
     @method
-    def error_code(self) -> DINT: ...  # type: ignore[empty-body]
+    def error_code(self) -> DINT: ...
 
 
 class IPlain(Interface):
     @method
-    def ping(self) -> BOOL: ...  # type: ignore[empty-body]
+    def ping(self) -> BOOL: ...
 
 
 def test_a_missing_interface_method_is_c0087() -> None:
@@ -1026,7 +1026,7 @@ def test_an_interface_reference_dispatches_to_the_assigned_block_across_calls() 
 
 def test_an_interface_variable_rejects_a_block_that_does_not_implement_it() -> None:
     with pytest.raises(TypeError, match=r"Display\.sensor: Motor does not implement ISensor"):
-        Display()(sensor=Motor())
+        Display()(sensor=Motor())  # type: ignore[arg-type]
 
 
 def test_query_interface_success_failure_and_null() -> None:

@@ -112,7 +112,7 @@ def test_the_output_wraps_like_an_int_on_the_plc() -> None:
 def test_unknown_input_name_is_a_type_error_naming_block_and_input() -> None:
     counter = Counter()
     with pytest.raises(TypeError, match=r"Counter.*'enabel'"):
-        counter(enabel=True)
+        counter(enabel=True)  # type: ignore[call-arg]
     assert counter.calls == 0
 
 
@@ -156,7 +156,7 @@ def test_an_fb_without_inputs_is_still_callable_and_rejects_any_input() -> None:
         ticker()
     assert ticker.ticks == 4
     with pytest.raises(TypeError, match=r"Ticker.*'start'"):
-        ticker(start=True)
+        ticker(start=True)  # type: ignore[call-arg]
 
 
 # ---------------------------------------------------------------------------
@@ -236,9 +236,9 @@ def test_var_in_out_missing_at_a_call_is_an_error_even_after_an_earlier_binding(
     acc = Accumulate()
     acc(values=adr(cell, "data"), recipe=cell.recipe)
     with pytest.raises(TypeError, match=r"Accumulate: VAR_IN_OUT 'recipe' must be assigned at every call"):
-        acc(values=adr(cell, "data"))
+        acc(values=adr(cell, "data"))  # type: ignore[call-arg]
     with pytest.raises(TypeError, match=r"Accumulate: VAR_IN_OUT 'values' must be assigned at every call"):
-        acc(recipe=cell.recipe)
+        acc(recipe=cell.recipe)  # type: ignore[call-arg]
     assert cell.recipe.steps == 1
     assert list(cell.data) == [1, 10, 20, 30]
 
@@ -247,7 +247,7 @@ def test_var_in_out_bound_to_the_wrong_type_is_rejected() -> None:
     cell = Cell()
     acc = Accumulate()
     with pytest.raises(TypeError, match=r"Accumulate\.recipe: cannot store Cell"):
-        acc(values=adr(cell, "data"), recipe=cell)
+        acc(values=adr(cell, "data"), recipe=cell)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"Accumulate\.recipe: REF= to INT does not fit REFERENCE TO Recipe"):
         acc(values=adr(cell, "data"), recipe=adr(cell, "data", 1))
     assert cell.recipe.steps == 0
@@ -814,4 +814,4 @@ def test_var_in_out_constant_takes_a_literal_or_an_expression() -> None:
         summer(values=[0, 0, 0], offset=offset, log=owner.entries)
         assert summer.total == offset
     with pytest.raises(TypeError, match=r"Summer\.offset: cannot store str 'x' in INT"):
-        summer(offset="x", log=owner.entries)
+        summer(offset="x", log=owner.entries)  # type: ignore[arg-type]

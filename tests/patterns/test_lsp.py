@@ -89,7 +89,7 @@ def test_the_same_ramp_on_the_actuator_is_done_after_six_cycles() -> None:
 
 def test_the_base_caller_still_needs_its_in_out_output() -> None:
     with pytest.raises(TypeError, match=r"VAR_IN_OUT 'output' must be assigned at every call"):
-        RampOnActuator()(target=10.0)
+        RampOnActuator()(target=10.0)  # type: ignore[call-arg]
 
 
 # ---------------------------------------------------------------------------

@@ -927,7 +927,7 @@ def test_online_change_copies_data_by_path_and_type(tmp_path: Path) -> None:
 
 class IStep(Interface):
     @method
-    def step(self) -> INT: ...  # type: ignore[empty-body]  # a prototype's body is '...'
+    def step(self) -> INT: ...
 
 
 class Stepper(FunctionBlock, IStep):
@@ -1018,7 +1018,7 @@ def test_blocks_without_lifecycle_methods_are_reinitialised_silently() -> None:
 
 class IValve(Interface):
     @method
-    def open(self) -> BOOL: ...  # type: ignore[empty-body]  # a prototype's body is '...'
+    def open(self) -> BOOL: ...
 
 
 class Faulty(Program):

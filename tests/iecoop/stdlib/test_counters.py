@@ -95,9 +95,9 @@ def test_iec_forms_use_r_ld_and_signed_types() -> None:
 
 def test_wrong_pin_name_is_rejected() -> None:
     with pytest.raises(TypeError):
-        CTU()(R=True)
+        CTU()(R=True)  # type: ignore[call-arg]
     with pytest.raises(TypeError):
-        CTU_INT()(RESET=True)
+        CTU_INT()(RESET=True)  # type: ignore[call-arg]
 
 
 # ---------------------------------------------------------------------------

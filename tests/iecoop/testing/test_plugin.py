@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 from hypothesis import given, settings
 
@@ -126,7 +128,7 @@ class Dosing(FunctionBlock):
 
 @settings(max_examples=60, deadline=None)
 @given(input_sequences(Dosing, max_size=20))
-def test_input_sequences_draw_every_input_within_its_type(sequence: list[dict[str, object]]) -> None:
+def test_input_sequences_draw_every_input_within_its_type(sequence: list[dict[str, Any]]) -> None:
     assert 1 <= len(sequence) <= 20
     fb = Dosing()
     expected = 0

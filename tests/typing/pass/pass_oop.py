@@ -43,10 +43,10 @@ from iecoop import (
 class ISensor(IQueryInterface):
     # A prototype's body is '...'; mypy --strict reports it under a non-None result type.
     @method
-    def read(self, channel: INT) -> REAL: ...  # type: ignore[empty-body]
+    def read(self, channel: INT) -> REAL: ...
 
     @prop
-    def healthy(self) -> BOOL: ...  # type: ignore[empty-body]
+    def healthy(self) -> BOOL: ...
 
 
 class IResettable(IQueryInterface):
@@ -59,7 +59,7 @@ class SensorBase(FunctionBlock, ISensor, abstract=True):
     reads: INT = VAR_OUTPUT(0)
 
     @method(ABSTRACT)
-    def raw(self, channel: INT) -> REAL: ...  # type: ignore[empty-body]
+    def raw(self, channel: INT) -> REAL: ...
 
     @method
     def read(self, channel: INT) -> REAL:
