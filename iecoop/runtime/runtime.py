@@ -173,6 +173,10 @@ class Runtime:
     ``":memory:"`` keeps nothing on disk. ``profile`` is ``"twincat"``
     (default) or ``"codesys"``.
 
+    A Runtime runs in one thread at a time; its clock and profile are
+    installed in the thread running it, so runtimes in different threads are
+    independent. Its store is locked while open: one Runtime per store.
+
     The application is the programs on its tasks plus the process's global
     data: every GVL (``@gvl``) and every VAR_STAT block. Resets re-initialise
     all of it per the vendor table, and RETAIN / PERSISTENT variables of a GVL
@@ -634,8 +638,8 @@ class Runtime:
         into the orphan.
         """
         old_alloc = registered_allocation(old)
-        if old_alloc is None:
-            return  # nobody took an address of the old instance
+        if old_alloc is None or old is new:
+            return  # nobody took an address of the old instance, or it was not replaced
         old_nodes, new_nodes = nodes(type(old)), nodes(type(new))
         blocks = [entry.program for entry in self._all_entries()] + heap_blocks()
         for block in blocks:
