@@ -32,6 +32,7 @@ from iecoop import (
     PlcException,
     Program,
     Struct,
+    T,
     active_profile,
     adr,
     delete,
@@ -40,8 +41,9 @@ from iecoop import (
     new,
     ref_assign,
 )
-from iecoop.runtime import Runtime, Task, current_clock, current_task
-from iecoop.runtime.store import StoreLockedError, StoreWarning
+from iecoop.runtime import Runtime, Task, current_clock, current_task, default_clock
+from iecoop.runtime.store import StoreLockedError
+from iecoop.stdlib import TON
 
 TIMEOUT = 10.0
 AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
@@ -437,31 +439,34 @@ def test_run_from_inside_a_cycle_does_not_nest_cycles() -> None:
     assert "called from inside run()" in seen[0] and "cycles do not nest" in seen[0]
 
 
+meet = threading.Barrier(2, timeout=TIMEOUT)
+samples: dict[str, list[tuple[int, int, str]]] = {"Fast": [], "Slow": []}
+
+
+class Sampler(Program):
+    timer: TON = VAR()
+
+    def body(self) -> None:
+        # Both cycles are in progress at once: each must still see its own task's clock and vendor.
+        meet.wait()
+        self.timer(IN=True, PT=T("50ms"))
+        samples[current_task().TaskName].append((current_clock().now_ms(), self.timer.ET, active_profile().name))
+        meet.wait()
+
+
 def test_two_runtimes_in_two_threads_read_their_own_clock_and_profile() -> None:
     cycles = 6
-    meet = threading.Barrier(2, timeout=TIMEOUT)
-    records: dict[str, list[tuple[int, str, str]]] = {"fast": [], "slow": []}
-
-    def body_for(name: str) -> Any:
-        def body(self: Any) -> None:
-            # Both cycles are in progress at once: each must still see its own task's clock and vendor.
-            meet.wait()
-            records[name].append((current_clock().now_ms(), active_profile().name, current_task().TaskName))
-            meet.wait()
-        return body
-
-    fast_program = type("FastPlant", (Program,), {"body": body_for("fast")})()
-    slow_program = type("SlowPlant", (Program,), {"body": body_for("slow")})()
+    meet.reset()
     fast = Runtime(store=":memory:", profile="twincat")
-    fast.add_task(Task("Fast", interval=10), fast_program)
+    fast.add_task(Task("Fast", interval=10), Sampler())
     slow = Runtime(store=":memory:", profile="codesys")
-    slow.add_task(Task("Slow", interval=100), slow_program)
+    slow.add_task(Task("Slow", interval=100), Sampler())
     errors: list[BaseException] = []
 
     def drive(rt: Runtime) -> None:
         try:
             rt.run(cycles=cycles)
-        except BaseException as exc:  # reported below, with the barrier broken for the other thread
+        except BaseException as exc:  # reported below; the broken barrier frees the other thread
             errors.append(exc)
             meet.abort()
 
@@ -472,9 +477,11 @@ def test_two_runtimes_in_two_threads_read_their_own_clock_and_profile() -> None:
         thread.join(TIMEOUT)
     assert not any(thread.is_alive() for thread in threads)
     assert errors == []
-    assert records["fast"] == [(10 * i, "twincat", "Fast") for i in range(cycles)]
-    assert records["slow"] == [(100 * i, "codesys", "Slow") for i in range(cycles)]
-    assert current_clock().now_ms() != 500 and active_profile().name == "twincat"
+    # The timers read their own task's clock: 10 ms steps up to PT, or PT reached at the second call.
+    assert samples["Fast"] == [(10 * i, min(10 * i, 50), "twincat") for i in range(cycles)]
+    assert samples["Slow"] == [(100 * i, min(100 * i, 50), "codesys") for i in range(cycles)]
+    # Neither leaked into the thread that started them.
+    assert current_clock() is default_clock() and active_profile().name == "twincat"
 
 
 # ---------------------------------------------------------------------------
