@@ -274,6 +274,9 @@ def test_a_store_held_by_another_process_is_refused(tmp_path: Path) -> None:
         """)],
         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
     )
+    # Bounded: a child that never reports ready is killed, and readline() then returns b"".
+    watchdog = threading.Timer(TIMEOUT, child.kill)
+    watchdog.start()
     try:
         assert child.stdout is not None and child.stdout.readline().strip() == b"ready"
         rt = Runtime(store=tmp_path)
@@ -281,6 +284,7 @@ def test_a_store_held_by_another_process_is_refused(tmp_path: Path) -> None:
         with pytest.raises(StoreLockedError, match="in use"):
             rt.run(cycles=1)
     finally:
+        watchdog.cancel()
         child.kill()
         child.communicate(timeout=TIMEOUT)
     # The lock died with the process.
