@@ -648,8 +648,12 @@ class Runtime:
                 handle = cell.value
                 if not handle or allocation_for_handle(handle) is not old_alloc:
                     continue
-                _, position = resolve(handle, 0, "online change")
-                moved = translate_offset(old_nodes, new_nodes, position)
+                try:
+                    _, position = resolve(handle, 0, "online change")
+                except PlcException:
+                    moved = None  # moved outside its block by pointer arithmetic: designates no variable
+                else:
+                    moved = translate_offset(old_nodes, new_nodes, position)
                 cell.value = 0 if moved is None else handle_of(new, moved)
         free(old_alloc)
 

@@ -174,13 +174,17 @@ def test_online_change_nulls_heap_pointers_whose_variable_is_gone() -> None:
     class Gone(Program):
         feeder: POINTER_TO[Feeder] = VAR()
 
+    old = Plant()
     rt = Runtime(store=":memory:")
-    rt.add_task(Task("PlcTask"), Plant())
+    rt.add_task(Task("PlcTask"), old)
     rt.run(cycles=1)
+    stray = new(Feeder)
+    stray.deref.out = adr(old, "produced") + 4096  # moved past the block: designates no variable
     rt.online_change(replace={"PlcTask.Plant": Gone})
     gone = rt.programs()["PlcTask.Plant"]
-    assert gone.feeder.deref.out.is_null
+    assert gone.feeder.deref.out.is_null and stray.deref.out.is_null
     delete(gone.feeder)
+    delete(stray)
 
 
 # ---------------------------------------------------------------------------
