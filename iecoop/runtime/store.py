@@ -65,7 +65,8 @@ like any other damage rather than silently loading the older slot. The header
 checksum makes the sequence of a damaged record trustworthy, which tells an
 interrupted newer write from an older damaged one.
 
-Loading takes the valid RETAIN slot with the higher sequence, and
+Loading takes the valid RETAIN slot with the higher sequence (the empty
+record of sequence 0 is never an image), and
 ``persistent.dat`` before ``persistent.dat.bak``. ``from_backup`` is set when
 a newer generation may have been lost: the other slot is damaged and its
 sequence is higher or unreadable, or ``persistent.dat`` is damaged or missing.

@@ -274,6 +274,38 @@ def test_retain_writes_alternate_between_two_slots(tmp_path: Path) -> None:
             assert same(store.load_retain(), second)
 
 
+@pytest.mark.parametrize("writes", [1, 2, 3])
+def test_an_erased_retain_slot_is_damage_not_an_empty_slot(tmp_path: Path, writes: int) -> None:
+    images = [SMALL, OTHER, SMALL][:writes]
+    with RemanentStore(tmp_path) as store:
+        for written in images:
+            store.write_retain(*written)
+    raw = bytearray((tmp_path / "retain.dat").read_bytes())
+    newest = max((0, 1), key=lambda slot: header_at(bytes(raw), slot * PAGE)["sequence"])
+    raw[newest * PAGE:newest * PAGE + 80] = bytes(80)
+    (tmp_path / "retain.dat").write_bytes(bytes(raw))
+    with RemanentStore(tmp_path) as store:
+        letter = "AB"[newest]
+        outcome = "no valid RETAIN image" if writes == 1 else "using slot"
+        with pytest.warns(StoreWarning, match=rf"slot {letter}: header is all zero bytes \(a written slot was erased\)"
+                                              rf".*{outcome}"):
+            loaded = store.load_retain()
+        if writes == 1:
+            assert loaded is None  # the other slot holds only the empty filler record
+        else:
+            assert same(loaded, images[-2]) and loaded is not None and loaded.from_backup
+
+
+def test_one_store_per_directory(tmp_path: Path) -> None:
+    with RemanentStore(tmp_path) as store:
+        store.write_retain(*SMALL)
+        with pytest.raises(store_module.StoreLockedError, match=rf"{tmp_path} is in use.*{tmp_path / 'lock'}"):
+            RemanentStore(tmp_path)
+        assert same(store.load_retain(), SMALL), "the refused store disturbed the open one"
+    with RemanentStore(tmp_path) as again:
+        assert same(again.load_retain(), SMALL)
+
+
 def test_documented_record_layout(tmp_path: Path) -> None:
     layout, data = SMALL
     with RemanentStore(tmp_path) as store:
