@@ -42,7 +42,7 @@ from iecoop.exceptions import AccessError, ExceptionCode, PlcException
 from iecoop.memory._core import Pointer, allocation_for_handle, class_info, free, register, resolve
 from iecoop.members import caller_description
 
-__all__ = ["delete", "finalise", "initialise", "new", "reinitialise"]
+__all__ = ["delete", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
 _T = TypeVar("_T")
 
@@ -195,6 +195,11 @@ def new(cls: type[_T], **fb_init_args: Any) -> Pointer[_T]:
         alloc = register(obj)
         _heap[alloc.id] = obj
     return Pointer(alloc.id << 32, info)
+
+
+def heap_blocks() -> list[Any]:
+    """Every block ``new()`` created that is not yet deleted (an online change adjusts the addresses they hold)."""
+    return list(_heap.values())
 
 
 def delete(pointer: Pointer[Any]) -> None:

@@ -1,7 +1,9 @@
 """Vendor profiles: the switches where TwinCAT 3 and CODESYS behave differently.
 
 The TwinCAT 3 profile is the default. A ``Runtime`` activates its profile while
-it runs, and ``use_profile`` does the same for code outside a runtime.
+it runs, and ``use_profile`` does the same for code outside a runtime. The
+active profile is a context variable: each thread has its own, so two
+runtimes in two threads each run under their own vendor's rules.
 
 >>> active_profile().name
 'twincat'
@@ -12,6 +14,7 @@ it runs, and ``use_profile`` does the same for code outside a runtime.
 
 from __future__ import annotations
 
+import contextvars
 import dataclasses
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -67,7 +70,7 @@ CODESYS = Profile(
 )
 
 _PROFILES = {"twincat": TWINCAT, "codesys": CODESYS}
-_active: list[Profile] = [TWINCAT]
+_active: contextvars.ContextVar[Profile] = contextvars.ContextVar("iecoop_profile", default=TWINCAT)
 
 
 def get_profile(profile: str | Profile) -> Profile:
@@ -82,16 +85,16 @@ def get_profile(profile: str | Profile) -> Profile:
 
 
 def active_profile() -> Profile:
-    """The profile in force now."""
-    return _active[-1]
+    """The profile in force now, in the calling thread."""
+    return _active.get()
 
 
 @contextmanager
 def use_profile(profile: str | Profile) -> Iterator[Profile]:
-    """Make ``profile`` the active one inside the ``with`` block."""
+    """Make ``profile`` the active one inside the ``with`` block (in the calling thread only)."""
     chosen = get_profile(profile)
-    _active.append(chosen)
+    token = _active.set(chosen)
     try:
         yield chosen
     finally:
-        _active.pop()
+        _active.reset(token)

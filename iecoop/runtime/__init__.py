@@ -1,6 +1,9 @@
 """The cyclic runtime: tasks, virtual time, the task clock and remanent data."""
 
-from iecoop.runtime.clock import Clock, VirtualClock, WallClock, current_clock, default_clock, now_ms, use_clock
+from iecoop.runtime.clock import (
+    Clock, VirtualClock, WallClock, current_clock, default_clock, now_ms, task_clock,
+    use_clock,
+)
 from iecoop.runtime.runtime import Fault, Runtime, Task, TaskInfo, current_task
 
 __all__ = [
@@ -15,5 +18,6 @@ __all__ = [
     "current_task",
     "default_clock",
     "now_ms",
+    "task_clock",
     "use_clock",
 ]

@@ -27,10 +27,13 @@ puts the runtime into an exception state that ``run()`` raises until a reset.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import ctypes
 import dataclasses
 import math
 import os
+import threading
 import time
 import traceback
 import typing
@@ -40,8 +43,8 @@ from typing import Any, Literal
 
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.gvl import global_lists
-from iecoop.lifecycle import finalise, initialise, reinitialise
-from iecoop.memory._core import allocation_of, registered_allocation
+from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
+from iecoop.memory._core import allocation_for_handle, free, handle_of, registered_allocation, resolve
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import VirtualClock, use_clock
@@ -111,7 +114,12 @@ class Task:
 
 @dataclasses.dataclass(frozen=True)
 class Fault:
-    """The exception state: which task and cycle failed, with what code and traceback."""
+    """The exception state: which task and cycle failed, with what code and traceback.
+
+    ``operation`` is empty for a fault in a cycle; for a reset or download
+    whose FB_init / FB_exit raised, it names the operation (``"reset_cold"``)
+    and ``task`` is the instance path of the block that raised.
+    """
 
     task: str
     cycle: int
@@ -119,16 +127,19 @@ class Fault:
     message: str
     traceback: str
     exception: PlcException
+    operation: str = ""
 
 
-_current: list[Task] = []
+# The task running in the calling thread (each thread has its own context).
+_current: contextvars.ContextVar[Task | None] = contextvars.ContextVar("iecoop_current_task", default=None)
 
 
 def current_task() -> TaskInfo:
     """The running task's info (ST: ``_TaskInfo[GETCURTASKINDEXEX()]``)."""
-    if not _current:
+    task = _current.get()
+    if task is None:
         raise RuntimeError("no task is running: current_task() is for code called by a Runtime cycle")
-    return _current[-1].info
+    return task.info
 
 
 def _fault_code(exc: BaseException) -> ExceptionCode:
@@ -162,6 +173,10 @@ class Runtime:
     ``":memory:"`` keeps nothing on disk. ``profile`` is ``"twincat"``
     (default) or ``"codesys"``.
 
+    A Runtime runs in one thread at a time; its clock and profile are
+    installed in the thread running it, so runtimes in different threads are
+    independent. Its store is locked while open: one Runtime per store.
+
     The application is the programs on its tasks plus the process's global
     data: every GVL (``@gvl``) and every VAR_STAT block. Resets re-initialise
     all of it per the vendor table, and RETAIN / PERSISTENT variables of a GVL
@@ -191,6 +206,9 @@ class Runtime:
         self._retain_plan: tuple[ImageLayout, list[Any]] | None = None
         self._tick = 0
         self.boot_report: list[str] = []
+        # One thread at a time: the thread running run() / a reset, set under the lock.
+        self._busy_lock = threading.Lock()
+        self._busy: tuple[int, str, str] | None = None
 
     # -- configuration -----------------------------------------------------
 
@@ -277,10 +295,14 @@ class Runtime:
         that overruns makes the PLC skip the ticks it missed rather than run
         them back to back (``CycleTimeExceeded`` / ``ExceedCounter`` count the
         overruns). Tasks run one after the other in the calling thread.
+
+        A Runtime runs in one thread at a time: ``run()`` from a second thread
+        while it runs, or from inside a cycle (a body calling ``rt.run()``),
+        raises RuntimeError. Its clock and profile are installed in the
+        calling thread only, so runtimes in different threads are independent.
         """
         self._raise_if_faulted()
-        if self._stopped:
-            raise RuntimeError("the runtime was stopped; create a new Runtime on the same store to start again")
+        self._check_not_stopped("run")
         if (cycles is None) == (duration is None):
             raise ValueError("run() takes either cycles= or duration=")
         tick_ms = self.base_tick_ms
@@ -291,6 +313,10 @@ class Runtime:
             cycles = duration // tick_ms
         if cycles < 0:
             raise ValueError("cycles must not be negative")
+        with self._exclusive("run"):
+            self._run(cycles, tick_ms, realtime)
+
+    def _run(self, cycles: int, tick_ms: int, realtime: bool) -> None:
         if not self._started:
             self._start()
         tick_ns = tick_ms * 1_000_000
@@ -331,7 +357,7 @@ class Runtime:
             info.JitterMax = max(info.JitterMax, jitter // 100)
             info.FirstCycle = info.CycleCount == 0
             started = time.perf_counter_ns()
-            _current.append(task)
+            token = _current.set(task)
             try:
                 for path, program in task.programs:
                     program.body()
@@ -340,7 +366,7 @@ class Runtime:
                     raise
                 self._enter_fault(task, exc)
             finally:
-                _current.pop()
+                _current.reset(token)
             elapsed = time.perf_counter_ns() - started
             cycle = info.CycleCount
             info.LastExecTime = elapsed // 100
@@ -379,11 +405,47 @@ class Runtime:
     def _fault_error(self) -> PlcException:
         assert self.fault is not None
         f = self.fault
+        if f.operation:
+            return PlcException(f.code, f"{f.operation} failed at {f.task}: {f.message}; the runtime stays "
+                                        f"in the exception state until a reset succeeds")
         return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}: {f.message}")
 
     def _raise_if_faulted(self) -> None:
         if self.fault is not None:
             raise self._fault_error()
+
+    # -- one thread at a time, nothing after stop() --------------------------------
+
+    @contextlib.contextmanager
+    def _exclusive(self, operation: str) -> typing.Iterator[None]:
+        """Hold the runtime for ``operation``: another thread, or a cycle calling back in, gets RuntimeError."""
+        me = threading.current_thread()
+        with self._busy_lock:
+            busy = self._busy
+            if busy is None:
+                self._busy = (me.ident or 0, me.name, operation)
+        if busy is not None:
+            ident, name, running = busy
+            if ident == me.ident:
+                raise RuntimeError(
+                    f"Runtime.{operation}() called from inside {running}() (a program body calling the runtime): "
+                    f"cycles do not nest; a Runtime runs one operation at a time"
+                )
+            raise RuntimeError(
+                f"Runtime.{operation}() called from thread {me.name!r} while thread {name!r} is in {running}(): "
+                f"a Runtime runs in one thread at a time"
+            )
+        try:
+            yield
+        finally:
+            self._busy = None
+
+    def _check_not_stopped(self, operation: str) -> None:
+        if self._stopped:
+            raise RuntimeError(
+                f"Runtime.{operation}(): the runtime was stopped; create a new Runtime on the same store "
+                f"to start again (stop() ran FB_exit and closed the store)"
+            )
 
     # -- remanent data ---------------------------------------------------------
 
@@ -395,11 +457,17 @@ class Runtime:
         return self._store
 
     def _start(self) -> None:
-        """Controller start: restore RETAIN and PERSISTENT data that still match."""
-        self._started = True
+        """Controller start: restore RETAIN and PERSISTENT data that still match.
+
+        Addresses (POINTER, REFERENCE, interface variables) inside restored
+        data are not restored: they keep what initialisation gave them.
+        """
         if not any(e.remanent for e in self._all_entries()):
+            self._started = True
             return
+        # Opening the store takes its lock; if that fails the runtime has not started.
         store = self._store_or_none()
+        self._started = True
         if store is None:
             return
         with warnings.catch_warnings(record=True) as caught:
@@ -425,7 +493,7 @@ class Runtime:
             except ValueError as exc:
                 self.boot_report.append(f"{entry.path}: stored directory rejected ({exc})")
                 continue
-            copy_matching(data, old_leaves, entry.program, entry.leaves, classes)
+            copy_matching(data, old_leaves, entry.program, entry.leaves, classes, addresses=False)
 
     def _plan(self, classes: set[int]) -> tuple[ImageLayout, list[Any]]:
         """The layout of an image of the given classes and the program blocks it copies."""
@@ -455,39 +523,64 @@ class Runtime:
 
     def save_persistent(self) -> None:
         """Write the PERSISTENT image now (TwinCAT ``FB_WritePersistentData``)."""
+        self._check_not_stopped("save_persistent")
         layout, blocks = self._plan({PERSISTENT})
         store = self._store_or_none() if blocks else None
         if store is not None:
             store.write_persistent(layout, self._gather(blocks))
 
     def stop(self) -> None:
-        """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store."""
+        """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store.
+
+        A second ``stop()`` does nothing; every other operation after it
+        raises RuntimeError.
+        """
         if self._stopped:
             return
-        self.save_persistent()
-        with use_profile(self.profile):
-            for entry in self._all_entries():
-                finalise(entry.program, in_copy_code=False)
-        self._stopped = True
-        if self._store is not None:
-            self._store.close()
+        with self._exclusive("stop"):
+            self.save_persistent()
+            try:
+                with use_profile(self.profile), use_clock(self._clock):
+                    for entry in self._all_entries():
+                        finalise(entry.program, in_copy_code=False)
+            finally:
+                self._stopped = True
+                if self._store is not None:
+                    self._store.close()
 
     # -- resets, download, online change -----------------------------------------
 
     def _snapshot(self, entry: _Entry) -> bytes:
         return ctypes.string_at(ctypes.addressof(entry.program), ctypes.sizeof(entry.program))
 
-    def _reinit(self, kept: set[int], init_retains: bool) -> None:
-        # The whole application is re-initialised: programs, GVLs and VAR_STAT blocks.
-        with use_profile(self.profile), use_clock(self._clock):
-            for entry in self._all_entries():
-                saved = self._snapshot(entry)
-                finalise(entry.program, in_copy_code=False)
-                # The instance's declaration (constructor) FB_init inputs hold on every re-initialisation.
-                args = entry.program.__dict__.get("_iec_init_args_")
-                initialise(entry.program, init_retains=init_retains, in_copy_code=False, args=args, zero=True)
-                if kept:
-                    copy_matching(saved, entry.leaves, entry.program, entry.leaves, kept)
+    def _reinit(self, operation: str, kept: set[int], init_retains: bool) -> None:
+        """Re-initialise the whole application (programs, GVLs, VAR_STAT blocks), keeping ``kept`` classes.
+
+        If an FB_exit or FB_init raises, the reset stops there: every block it
+        reached gets its RETAIN and PERSISTENT data back (a failed reset loses
+        no remanent data, and the store is not touched), and the runtime
+        enters the exception state with that exception.
+        """
+        self._check_not_stopped(operation)
+        with self._exclusive(operation), use_profile(self.profile), use_clock(self._clock):
+            entries = self._all_entries()
+            saved: list[bytes] = []
+            try:
+                for entry in entries:
+                    saved.append(self._snapshot(entry))
+                    finalise(entry.program, in_copy_code=False)
+                    # The instance's declaration (constructor) FB_init inputs hold on every re-initialisation.
+                    args = entry.program.__dict__.get("_iec_init_args_")
+                    initialise(entry.program, init_retains=init_retains, in_copy_code=False, args=args, zero=True)
+                    if kept:
+                        copy_matching(saved[-1], entry.leaves, entry.program, entry.leaves, kept)
+            except BaseException as exc:
+                for entry, image in zip(entries, saved):
+                    copy_matching(image, entry.leaves, entry.program, entry.leaves, {RETAIN, PERSISTENT})
+                if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+                    raise
+                failed = entries[len(saved) - 1].path if saved else "(start)"
+                self._enter_operation_fault(operation, failed, exc)
         self.fault = None
         for task in self.tasks:
             task.info.FirstCycle = True
@@ -497,22 +590,29 @@ class Runtime:
             # The store must not bring back RETAIN values this reset has re-initialised.
             self._capture_retain()
 
+    def _enter_operation_fault(self, operation: str, path: str, exc: BaseException) -> typing.NoReturn:
+        code = _fault_code(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        text = "".join(traceback.format_exception(exc))
+        self.fault = Fault(path, 0, code, str(plc), text, plc, operation)
+        raise self._fault_error() from exc
+
     def reset_cold(self) -> None:
         """Reset cold: plain variables re-initialised; RETAIN per profile; PERSISTENT kept."""
         kept = {PERSISTENT}
         if self.profile.retain_on_reset_cold:
             kept.add(RETAIN)
-        self._reinit(kept, init_retains=RETAIN not in kept)
+        self._reinit("reset_cold", kept, init_retains=RETAIN not in kept)
 
     def reset_warm(self) -> None:
         """Reset warm (CODESYS only): plain variables re-initialised, RETAIN and PERSISTENT kept."""
         if not self.profile.has_reset_warm:
             raise RuntimeError(f"the {self.profile.name} profile has no reset warm (TwinCAT 3 offers reset cold and reset origin)")
-        self._reinit({RETAIN, PERSISTENT}, init_retains=False)
+        self._reinit("reset_warm", {RETAIN, PERSISTENT}, init_retains=False)
 
     def reset_origin(self) -> None:
         """Reset origin: everything re-initialised, the store cleared."""
-        self._reinit(set(), init_retains=True)
+        self._reinit("reset_origin", set(), init_retains=True)
         # Only a store that exists holds anything to clear; do not create one for it.
         exists = self._store is not None or (self._store_path is not None and self._store_path.exists())
         store = self._store_or_none() if exists else None
@@ -525,28 +625,37 @@ class Runtime:
         kept = {PERSISTENT}
         if self.profile.retain_on_download:
             kept.add(RETAIN)
-        self._reinit(kept, init_retains=RETAIN not in kept)
+        self._reinit("download", kept, init_retains=RETAIN not in kept)
 
     def _retarget(self, old: Any, new: Any) -> None:
         """Online change: pointers, references and interfaces into the old instance now designate the new one.
 
         Every address held by the application's programs, GVLs and VAR_STAT
-        blocks is adjusted by instance path; one whose target is gone becomes 0.
+        blocks, and by every block ``new()`` created, is adjusted by instance
+        path; one whose target is gone becomes 0. The old instance's memory is
+        then released, so an address nobody could adjust (a ``Pointer`` kept
+        by Python) faults with RTSEXCPT_ACCESS_VIOLATION instead of writing
+        into the orphan.
         """
         old_alloc = registered_allocation(old)
-        if old_alloc is None:
-            return  # nobody took an address of the old instance
-        new_alloc, _ = allocation_of(new)
+        if old_alloc is None or old is new:
+            return  # nobody took an address of the old instance, or it was not replaced
         old_nodes, new_nodes = nodes(type(old)), nodes(type(new))
-        for entry in self._all_entries():
-            block = entry.program
+        blocks = [entry.program for entry in self._all_entries()] + heap_blocks()
+        for block in blocks:
             for offset in handle_offsets(type(block)):
                 cell = ctypes.c_uint64.from_buffer(block, offset)
                 handle = cell.value
-                if handle >> 32 != old_alloc.id:
+                if not handle or allocation_for_handle(handle) is not old_alloc:
                     continue
-                moved = translate_offset(old_nodes, new_nodes, handle & 0xFFFF_FFFF)
-                cell.value = 0 if moved is None else (new_alloc.id << 32) | moved
+                try:
+                    _, position = resolve(handle, 0, "online change")
+                except PlcException:
+                    moved = None  # moved outside its block by pointer arithmetic: designates no variable
+                else:
+                    moved = translate_offset(old_nodes, new_nodes, position)
+                cell.value = 0 if moved is None else handle_of(new, moved)
+        free(old_alloc)
 
     def online_change(self, replace: dict[str, Any] | None = None) -> None:
         """An online change: every variable kept.
@@ -559,9 +668,10 @@ class Runtime:
         instance gets FB_exit(TRUE), the new one FB_init(FALSE, TRUE), the data
         is copied by path and type, then FB_reinit runs.
         """
+        self._check_not_stopped("online_change")
         if not replace:
             return
-        with use_profile(self.profile), use_clock(self._clock):
+        with self._exclusive("online_change"), use_profile(self.profile), use_clock(self._clock):
             for path, replacement in replace.items():
                 entry = next((e for e in self._entries if e.path == path), None)
                 if entry is None:

@@ -26,6 +26,9 @@ Files in the store directory
 ``persistent.dat``          the newest PERSISTENT record (like ``.bootdata``)
 ``persistent.dat.bak``      the generation before it (like ``.bootdata-old``)
 ``*.tmp``                   a file being written; never read
+``lock``                    empty; an open store holds an exclusive lock on it
+                            (``fcntl.flock``, ``msvcrt.locking`` on Windows),
+                            so a second store on the directory is refused
 ==========================  ==================================================
 
 Every slot or file starts with one record; all integers are little-endian.
@@ -37,7 +40,10 @@ offset  size  type         field
 8       2     u16          format version, 1
 10      1     u8           kind: 1 RETAIN slot, 2 PERSISTENT file
 11      1     u8           slot: 0 = A, 1 = B (always 0 for PERSISTENT)
-12      4     u32          reserved, 0
+12      4     u32          flags: bit 0 (RETAIN only) = the file was created
+                           with both slots written, so a slot whose header is
+                           all zero bytes was erased, not never written; every
+                           other bit 0
 16      8     u64          sequence, +1 on every write
 24      8     u64          slot size in bytes (0 for PERSISTENT)
 32      32    bytes        SHA-256 of the serialised layout
@@ -52,10 +58,15 @@ offset  size  type         field
 
 A PERSISTENT file is exactly one record long. A RETAIN slot holds one record
 followed by padding. A slot whose 80 header bytes are all zero is empty (never
-written). The header checksum makes the sequence of a damaged record
-trustworthy, which tells an interrupted newer write from an older damaged one.
+written), unless the record in the other slot has flag bit 0: this writer
+fills the other slot of a new file with an empty record (sequence 0), so an
+all-zero header there means a written slot was erased, and that is reported
+like any other damage rather than silently loading the older slot. The header
+checksum makes the sequence of a damaged record trustworthy, which tells an
+interrupted newer write from an older damaged one.
 
-Loading takes the valid RETAIN slot with the higher sequence, and
+Loading takes the valid RETAIN slot with the higher sequence (the empty
+record of sequence 0 is never an image), and
 ``persistent.dat`` before ``persistent.dat.bak``. ``from_backup`` is set when
 a newer generation may have been lost: the other slot is damaged and its
 sequence is higher or unreadable, or ``persistent.dat`` is damaged or missing.
@@ -76,11 +87,14 @@ last write that completed. POSIX only (``os.pwrite``).
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import os
 import struct
+import sys
 import threading
 import warnings
+import weakref
 import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -88,12 +102,26 @@ from types import TracebackType
 from collections.abc import Iterable
 from typing import Literal, NamedTuple
 
-__all__ = ["ImageLayout", "LoadedImage", "RemanentStore", "StoreWarning", "pack_image"]
+if sys.platform == "win32":  # pragma: no cover - Windows
+    import msvcrt
+
+    def _try_lock(fd: int) -> None:
+        msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+else:
+    import fcntl
+
+    def _try_lock(fd: int) -> None:
+        # flock, not lockf: a second open of the file conflicts even in the same process.
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+
+__all__ = ["ImageLayout", "LoadedImage", "RemanentStore", "StoreLockedError", "StoreWarning", "pack_image"]
 
 _MAGIC = b"IECOOPRM"
 _VERSION = 1
 _RETAIN = 1
 _PERSISTENT = 2
+# Header flag: the file was created with both slots written (an all-zero slot is damage).
+_BOTH_SLOTS = 1
 _KIND_NAMES = {_RETAIN: "RETAIN", _PERSISTENT: "PERSISTENT"}
 _PAGE = 4096
 
@@ -111,6 +139,7 @@ _U32_MAX = 0xFFFF_FFFF
 # count + empty path + empty signature + size: bounds a hostile entry count.
 _MIN_ENTRY = _U16.size * 2 + _U32.size
 _SLOT_NAMES = ("A", "B")
+_LOCK_FILE = "lock"
 
 _Durability = Literal["process", "power"]
 _Data = bytes | bytearray | memoryview
@@ -118,6 +147,10 @@ _Data = bytes | bytearray | memoryview
 
 class StoreWarning(UserWarning):
     """A remanent file was damaged or missing; what was loaded instead is in the message."""
+
+
+class StoreLockedError(RuntimeError):
+    """The store directory is open in another ``RemanentStore`` (another Runtime, or another process)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,6 +210,9 @@ class ImageLayout:
         object.__setattr__(self, "crc", zlib.crc32(serialised))
 
 
+_EMPTY_LAYOUT = ImageLayout(())
+
+
 def pack_image(entries: Iterable[tuple[str, str, bytes]]) -> tuple[ImageLayout, bytes]:
     """Split ``(path, signature, data)`` entries into a layout and the concatenated data.
 
@@ -222,6 +258,7 @@ class _Record(NamedTuple):
     slot_size: int
     layout: ImageLayout
     data: bytes
+    both_slots: bool = False
 
 
 class _Damage(NamedTuple):
@@ -309,7 +346,7 @@ def _parse_record_unchecked(buf: bytes, offset: int, kind: int, slot: int) -> _R
     if record_kind != kind:
         name = _KIND_NAMES.get(record_kind, f"kind {record_kind}")
         return damage(f"holds a {name} record where a {_KIND_NAMES[kind]} record belongs")
-    if reserved:
+    if reserved & ~(_BOTH_SLOTS if kind == _RETAIN else 0):
         return damage("reserved header field is not zero")
     if record_slot != slot:
         return damage(f"record belongs to slot {record_slot}, found in slot {slot}")
@@ -343,14 +380,16 @@ def _parse_record_unchecked(buf: bytes, offset: int, kind: int, slot: int) -> _R
         return damage(str(exc))
     if layout.size != data_length:
         return damage(f"entry sizes add up to {layout.size} bytes, the data has {data_length}")
-    return _Record(sequence, record_slot, slot_size if kind == _RETAIN else 0, layout, bytes(data_bytes))
+    return _Record(sequence, record_slot, slot_size if kind == _RETAIN else 0, layout, bytes(data_bytes),
+                   bool(reserved & _BOTH_SLOTS))
 
 
 def _seal(buf: bytearray, kind: int, slot: int, sequence: int, slot_size: int, layout: ImageLayout) -> None:
     """Fill in the header of the record in ``buf`` (layout and data already in place)."""
     layout_length = len(layout.serialised)
     data_length = len(buf) - _HEADER_SIZE - layout_length
-    _HEAD.pack_into(buf, 0, _MAGIC, _VERSION, kind, slot, 0, sequence, slot_size, layout.digest,
+    flags = _BOTH_SLOTS if kind == _RETAIN else 0
+    _HEAD.pack_into(buf, 0, _MAGIC, _VERSION, kind, slot, flags, sequence, slot_size, layout.digest,
                     layout_length, data_length)
     with memoryview(buf) as view:
         record_crc = zlib.crc32(view[:_CRC_SPAN],
@@ -430,9 +469,15 @@ def _scan_retain(buf: bytes, name: str) -> _RetainScan:
         second = _Damage(f"not found in a file of {len(buf)} bytes")
     else:
         second = _parse_record(buf, offset, _RETAIN, 1)
+    valid = [record for record in (first, second) if isinstance(record, _Record)]
+    # Sequence 0 is the empty record that fills the unused slot of a new file: never an image.
+    best = max((record for record in valid if record.sequence), key=lambda record: record.sequence, default=None)
+    if any(record.both_slots for record in valid):
+        # Both slots were written when the file was made: a blank one was erased.
+        erased = _Damage("header is all zero bytes (a written slot was erased)")
+        first = erased if first is None else first
+        second = erased if second is None else second
     slots = (first, second)
-    valid = [record for record in slots if isinstance(record, _Record)]
-    best = max(valid, key=lambda record: record.sequence, default=None)
     problems: list[str] = []
     from_backup = False
     sequences = [record.sequence for record in slots if record is not None and record.sequence is not None]
@@ -452,8 +497,10 @@ class RemanentStore:
     the page cache once a write returns); ``"power"`` also fsyncs every write
     and the directory after every rename, so it survives a power loss, at the
     price of a disk flush per cycle. Calls are serialised by a lock, so tasks
-    on several threads may share a store; one store (one process) writes a
-    directory at a time.
+    on several threads may share a store. One store writes a directory at a
+    time: opening a second one on the same directory, in this process or
+    another, raises ``StoreLockedError`` naming the lock file until the first
+    is closed (or its process ends).
     """
 
     RETAIN_FILE = "retain.dat"
@@ -466,6 +513,10 @@ class RemanentStore:
             raise ValueError(f"RemanentStore: durability must be 'process' or 'power', not {durability!r}")
         self.path = Path(path)
         self.path.mkdir(parents=True, exist_ok=True)
+        self._lock_path = self.path / _LOCK_FILE
+        self._lock_fd = _lock_store(self._lock_path, self.path)
+        # A store dropped without close() (a Runtime never stopped) still releases the directory.
+        self._release = weakref.finalize(self, os.close, self._lock_fd)
         self.durability: _Durability = durability
         self._sync = durability == "power"
         self._retain_path = self.path / self.RETAIN_FILE
@@ -599,17 +650,18 @@ class RemanentStore:
         if previous is None and self._fd >= 0 and self._live >= 0:
             found = _scan_retain(_read_fd(self._fd), self.RETAIN_FILE).slots[self._live]
             previous = found if isinstance(found, _Record) else None
-        old = None
-        if previous is not None and previous.slot != slot:
-            old = _new_record(previous.layout, previous.data)
+        if previous is None or previous.slot == slot:
+            # No generation to carry over: an empty record (sequence 0) fills
+            # the other slot, so that slot can never be blank in a sound file.
+            previous = _Record(0, 1 - slot, 0, _EMPTY_LAYOUT, b"")
+        old = _new_record(previous.layout, previous.data)
         # Both records must fit: the previous one may be the larger.
-        slot_size = _slot_size_for(max(len(buf), 0 if old is None else len(old)), self._slot_size)
+        slot_size = _slot_size_for(max(len(buf), len(old)), self._slot_size)
         image = bytearray(2 * slot_size)
         _seal(buf, _RETAIN, slot, sequence, slot_size, layout)
         image[slot * slot_size:slot * slot_size + len(buf)] = buf
-        if old is not None and previous is not None:
-            _seal(old, _RETAIN, previous.slot, previous.sequence, slot_size, previous.layout)
-            image[previous.slot * slot_size:previous.slot * slot_size + len(old)] = old
+        _seal(old, _RETAIN, previous.slot, previous.sequence, slot_size, previous.layout)
+        image[previous.slot * slot_size:previous.slot * slot_size + len(old)] = old
         if len(image) != 2 * slot_size:
             raise AssertionError("RemanentStore: a record overflowed its slot")
         temporary = self._retain_path.with_name(self.RETAIN_FILE + self.TEMP_SUFFIX)
@@ -749,10 +801,11 @@ class RemanentStore:
             raise ValueError(f"RemanentStore.{operation}: the store {self.path} is closed")
 
     def close(self) -> None:
-        """Release the RETAIN file; further calls raise ValueError."""
+        """Release the RETAIN file and the directory's lock; further calls raise ValueError."""
         with self._lock:
             self._close_fd()
             self._closed = True
+            self._release()
 
     def __enter__(self) -> RemanentStore:
         return self
@@ -763,6 +816,25 @@ class RemanentStore:
 
     def __repr__(self) -> str:
         return f"RemanentStore({str(self.path)!r}, durability={self.durability!r})"
+
+
+def _lock_store(lock_path: Path, folder: Path) -> int:
+    """Open ``lock_path`` and take an exclusive, non-blocking lock on it; the open descriptor holds it."""
+    fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        _try_lock(fd)
+    except OSError as exc:
+        os.close(fd)
+        if exc.errno not in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK, errno.EDEADLK):
+            raise
+        raise StoreLockedError(
+            f"the remanent store {folder} is in use: another Runtime (in this or another process) holds "
+            f"the lock on {lock_path}; stop it first, or give this Runtime another store"
+        ) from None
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
 
 
 def _read_fd(fd: int) -> bytes:

@@ -2,7 +2,9 @@
 
 Remanent data is restored, and online changes copy data, *by path*: a
 variable is kept when the new program still has a variable of that path and
-type signature, so a changed program keeps what still matches.
+type description, so a changed program keeps what still matches. The type
+description resolves aliases (``T_Speed`` of REAL is ``REAL``), so an alias
+whose base type changed is a changed declaration, and renaming an alias is not.
 """
 
 from __future__ import annotations
@@ -11,23 +13,57 @@ import ctypes
 import dataclasses
 from typing import Any
 
-from iecoop.memory._core import AggregateInfo, ArrayInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo
+from iecoop.memory._core import (
+    AggregateInfo, ArrayInfo, ElementaryInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo,
+)
 from iecoop.memory.layout import ClassLayout
 
-__all__ = ["Leaf", "copy_matching", "handle_offsets", "leaves", "nodes", "translate_offset", "parse_directory", "format_directory"]
+__all__ = [
+    "Leaf", "copy_matching", "describe", "format_directory", "handle_offsets", "leaves", "nodes", "parse_directory",
+    "translate_offset",
+]
 
 PLAIN, RETAIN, PERSISTENT = 0, 1, 2
 
 
 @dataclasses.dataclass(frozen=True)
 class Leaf:
-    """One variable at the bottom of the tree: path, type signature, place and class."""
+    """One variable at the bottom of the tree: path, type description, place and class.
+
+    ``address`` marks a POINTER, REFERENCE or interface variable (or an ARRAY
+    of them): its bytes are a handle into this process's memory.
+    """
 
     path: str
     signature: str
     offset: int
     size: int
     remanence: int  # PLAIN, RETAIN or PERSISTENT
+    address: bool = False
+
+
+def describe(info: TypeInfo) -> str:
+    """The full type description stored with remanent data: aliases resolved to their base type.
+
+    >>> from typing import Annotated
+    >>> from iecoop import REAL, Alias, Struct
+    >>> T_Speed = Annotated[REAL, Alias("T_Speed")]
+    >>> class Limits(Struct):
+    ...     speed: T_Speed = 0.0
+    >>> describe(Limits._iec_layout_.fields[0].info)
+    'REAL'
+    """
+    if isinstance(info, ElementaryInfo):
+        return info.record.name
+    if isinstance(info, ArrayInfo):
+        dims = ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
+        return f"ARRAY[{dims}] OF {describe(info.elem)}"
+    if isinstance(info, AggregateInfo):
+        layout: ClassLayout | None = getattr(info.cls, "_iec_layout_", None)
+        if layout is None:
+            return info.signature
+        return info.name + "{" + ",".join(f"{f.name}:{describe(f.info)}" for f in layout.fields) + "}"
+    return info.signature
 
 
 def leaves(cls: type, prefix: str = "", base: int = 0, remanence: int = PLAIN) -> list[Leaf]:
@@ -56,7 +92,7 @@ def _leaves_of(info: TypeInfo, path: str, offset: int, remanence: int) -> list[L
             found.extend(leaves(info.elem.cls, f"{path}[{label}].", offset + index * size, remanence))
             index += 1
         return found
-    return [Leaf(path, info.signature, offset, info.size, remanence)]
+    return [Leaf(path, describe(info), offset, info.size, remanence, bool(_handles_of(info, 0)))]
 
 
 def _indices(bounds: tuple[tuple[int, int], ...]) -> list[tuple[int, ...]]:
@@ -66,13 +102,20 @@ def _indices(bounds: tuple[tuple[int, int], ...]) -> list[tuple[int, ...]]:
     return result
 
 
-def copy_matching(source: bytes, source_leaves: list[Leaf], target: Any, target_leaves: list[Leaf], classes: set[int]) -> int:
-    """Copy into ``target`` every leaf of the given classes whose path and signature match; count them."""
+def copy_matching(
+    source: bytes, source_leaves: list[Leaf], target: Any, target_leaves: list[Leaf], classes: set[int],
+    *, addresses: bool = True,
+) -> int:
+    """Copy into ``target`` every leaf of the given classes whose path and type description match; count them.
+
+    ``addresses=False`` leaves POINTER, REFERENCE and interface variables
+    alone: an image from another process holds handles that mean nothing here.
+    """
     by_path = {leaf.path: leaf for leaf in source_leaves}
     base = ctypes.addressof(target)
     copied = 0
     for leaf in target_leaves:
-        if leaf.remanence not in classes:
+        if leaf.remanence not in classes or (leaf.address and not addresses):
             continue
         old = by_path.get(leaf.path)
         if old is None or old.signature != leaf.signature or old.size != leaf.size:

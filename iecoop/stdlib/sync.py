@@ -141,7 +141,11 @@ class CriticalSection(FunctionBlock):
     returns TRUE when the calling thread held the section, else FALSE.
 
     The lock belongs to the instance (its address), not to the Python view
-    of it; a copy made with ``memcpy`` is a different section.
+    of it; a copy made with ``memcpy`` is a different section. Like the rest
+    of the instance's state it does not outlive the instance's memory: its
+    FB_exit (a reset re-initialising the application, ``delete``, ``stop``)
+    releases a section still held, such as one whose holder was stopped by a
+    fault between ``enter()`` and ``leave()``.
 
     >>> section = CriticalSection()
     >>> section.enter(), section.enter()
@@ -170,6 +174,16 @@ class CriticalSection(FunctionBlock):
         section.owner = None
         section.lock.release()
         return True
+
+    def fb_exit(self, in_copy_code: BOOL) -> BOOL:
+        """FB_exit: the instance's memory is re-initialised or freed, so a held section is released."""
+        if _SECTIONS:
+            section = _SECTIONS.get(adr(self).handle)
+            with _SECTIONS_LOCK:
+                if section is not None and section.owner is not None:
+                    section.owner = None
+                    section.lock.release()
+        return False
 
 
 # ---------------------------------------------------------------------------

@@ -34,13 +34,13 @@ from typing import TYPE_CHECKING
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.pou import FunctionBlock
 from iecoop.profiles import active_profile
-# The installed clocks, the running task's on top: indexing it directly keeps
-# the clock read out of a function call on every timer call.
-from iecoop.runtime.clock import _stack as _clocks
+from iecoop.runtime.clock import task_clock
 from iecoop.types import BOOL, LTIME, SINT, TIME
 
 __all__ = ["LTOF", "LTON", "LTP", "TOF", "TON", "TP"]
 
+# The calling thread's task clock; the bound ``get`` is read as fast as a list index.
+_now = task_clock.get
 _MS = 1_000_000
 _TIME_MASK = 0xFFFF_FFFF
 _LTIME_MASK = 0xFFFF_FFFF_FFFF_FFFF
@@ -77,9 +77,9 @@ def _on_delay(tick: int, mask: int) -> Callable[[_Timer], None]:
                     self.STATE = 1
                     if self.Q:
                         self.Q = False
-                    self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+                    self.START_TIME = (_now().now_ns() // tick) & mask
             elif state == 1:
-                elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+                elapsed = (_now().now_ns() // tick - self.START_TIME) & mask
                 pt = self.PT
                 if elapsed >= pt:
                     self.STATE = 2
@@ -120,9 +120,9 @@ def _off_delay(tick: int, mask: int) -> Callable[[_Timer], None]:
             if state == 0:
                 if prev:
                     self.STATE = state = 1
-                    self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+                    self.START_TIME = (_now().now_ns() // tick) & mask
             elif state == 1:
-                elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+                elapsed = (_now().now_ns() // tick - self.START_TIME) & mask
                 pt = self.PT
                 if elapsed >= pt:
                     self.STATE = state = 2
@@ -152,9 +152,9 @@ def _pulse(tick: int, mask: int) -> Callable[[_Timer], None]:
                 # Zero already unless the profile held ET after the last pulse.
                 if self.ET:
                     self.ET = 0
-                self.START_TIME = (_clocks[-1].now_ns() // tick) & mask
+                self.START_TIME = (_now().now_ns() // tick) & mask
         elif state == 1:
-            elapsed = (_clocks[-1].now_ns() // tick - self.START_TIME) & mask
+            elapsed = (_now().now_ns() // tick - self.START_TIME) & mask
             pt = self.PT
             if elapsed >= pt:
                 self.STATE = state = 2

@@ -224,14 +224,18 @@ def test_a_restart_on_the_same_store_loads_the_saved_last_good_recipe(tmp_path: 
     station, rt = _station(store)
     _edit(station.editor, name="Night", dose=80.0)
     _press(rt, station, "commit_button")
+    del rt  # the process dies before any save; the store's lock goes with it
     unsaved, rt_unsaved = _station(store)
     # PERSISTENT data is written on stop or on request, not every cycle.
     assert (_fields(unsaved.editor.working), unsaved.editor.loaded_at_start) == (DEFAULT, False)
-    rt.save_persistent()
-    restarted, _rt = _station(store)
+    _edit(unsaved.editor, name="Night", dose=80.0)
+    _press(rt_unsaved, unsaved, "commit_button")
+    rt_unsaved.save_persistent()
+    del rt_unsaved  # dies again, after the save this time
+    restarted, rt_restarted = _station(store)
     assert _fields(restarted.editor.working) == ("Night", 80.0, 60.0, 45_000)
     assert restarted.editor.loaded_at_start is True
-    rt_unsaved.stop()
+    rt_restarted.stop()
 
 
 def test_after_a_reset_origin_a_restart_finds_no_last_good_recipe(tmp_path: Path) -> None:

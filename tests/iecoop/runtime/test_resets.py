@@ -484,6 +484,7 @@ def test_reset_origin_clears_the_store(tmp_path: Path, profile: str) -> None:
     rt.reset_origin()
     # An uncontrolled termination right after the reset: nothing old may come back.
     assert not (tmp_path / "retain.dat").exists() and not (tmp_path / "persistent.dat").exists()
+    del rt  # the store's lock goes with the process
     _fresh_process_globals()
     rt2, program = _cabinet_runtime(tmp_path, profile)
     rt2.run(cycles=0)
@@ -519,7 +520,9 @@ def test_uncontrolled_termination_keeps_retain_of_the_last_cycle_and_the_last_sa
     rt.run(cycles=CYCLES)
     rt.save_persistent()  # FB_WritePersistentData
     rt.run(cycles=2)
-    # The process dies here: no stop(), so PERSISTENT is the image of save_persistent().
+    # The process dies here: no stop(), so PERSISTENT is the image of save_persistent(),
+    # and the store's lock goes with the process.
+    del rt
     _fresh_process_globals()
     rt2, program = _cabinet_runtime(tmp_path, profile)
     rt2.run(cycles=0)

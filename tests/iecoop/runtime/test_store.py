@@ -75,6 +75,13 @@ def forge_retain(layout: bytes, data: bytes, slot_size: int = PAGE, **fields: An
     return record + bytes(max(2 * PAGE - len(record), 0))
 
 
+def written_retain(layout: bytes, data: bytes) -> bytes:
+    """The retain file a first write makes: the record in slot A, the empty record (sequence 0) in slot B."""
+    first = forge(layout, data, kind=RETAIN, slot_size=PAGE, reserved=1)
+    empty = forge(layout_bytes(), b"", kind=RETAIN, slot=1, slot_size=PAGE, reserved=1, sequence=0)
+    return first + bytes(PAGE - len(first)) + empty + bytes(PAGE - len(empty))
+
+
 def layout_bytes(*entries: tuple[bytes, bytes, int], count: int | None = None) -> bytes:
     """A serialised layout, possibly a wrong one."""
     parts = [struct.pack("<I", len(entries) if count is None else count)]
@@ -94,6 +101,11 @@ def quiet() -> Iterator[list[warnings.WarningMessage]]:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         yield caught
+
+
+def data_files(folder: Path) -> list[str]:
+    """The files of a store folder but its lock file."""
+    return sorted(name for name in os.listdir(folder) if name != "lock")
 
 
 def flip(path: Path, offset: int) -> None:
@@ -163,16 +175,16 @@ def test_retain_round_trip(tmp_path: Path, durability: str) -> None:
         assert same(loaded, SMALL)
         assert loaded is not None and loaded.sequence == 1 and not loaded.from_backup
         assert store.problems == []
-    assert sorted(os.listdir(tmp_path)) == ["retain.dat"]
+    assert data_files(tmp_path) == ["retain.dat"]
 
 
 @pytest.mark.parametrize("durability", ["process", "power"])
 def test_persistent_round_trip_keeps_the_previous_generation(tmp_path: Path, durability: str) -> None:
     with RemanentStore(tmp_path, durability=durability) as store:  # type: ignore[arg-type]
         store.write_persistent(*SMALL)
-        assert sorted(os.listdir(tmp_path)) == ["persistent.dat"]
+        assert data_files(tmp_path) == ["persistent.dat"]
         store.write_persistent(*OTHER)
-    assert sorted(os.listdir(tmp_path)) == ["persistent.dat", "persistent.dat.bak"]
+    assert data_files(tmp_path) == ["persistent.dat", "persistent.dat.bak"]
     with RemanentStore(tmp_path) as store:
         loaded = store.load_persistent()
         assert same(loaded, OTHER)
@@ -262,6 +274,38 @@ def test_retain_writes_alternate_between_two_slots(tmp_path: Path) -> None:
             assert same(store.load_retain(), second)
 
 
+@pytest.mark.parametrize("writes", [1, 2, 3])
+def test_an_erased_retain_slot_is_damage_not_an_empty_slot(tmp_path: Path, writes: int) -> None:
+    images = [SMALL, OTHER, SMALL][:writes]
+    with RemanentStore(tmp_path) as store:
+        for written in images:
+            store.write_retain(*written)
+    raw = bytearray((tmp_path / "retain.dat").read_bytes())
+    newest = max((0, 1), key=lambda slot: header_at(bytes(raw), slot * PAGE)["sequence"])
+    raw[newest * PAGE:newest * PAGE + 80] = bytes(80)
+    (tmp_path / "retain.dat").write_bytes(bytes(raw))
+    with RemanentStore(tmp_path) as store:
+        letter = "AB"[newest]
+        outcome = "no valid RETAIN image" if writes == 1 else "using slot"
+        with pytest.warns(StoreWarning, match=rf"slot {letter}: header is all zero bytes \(a written slot was erased\)"
+                                              rf".*{outcome}"):
+            loaded = store.load_retain()
+        if writes == 1:
+            assert loaded is None  # the other slot holds only the empty filler record
+        else:
+            assert same(loaded, images[-2]) and loaded is not None and loaded.from_backup
+
+
+def test_one_store_per_directory(tmp_path: Path) -> None:
+    with RemanentStore(tmp_path) as store:
+        store.write_retain(*SMALL)
+        with pytest.raises(store_module.StoreLockedError, match=rf"{tmp_path} is in use.*{tmp_path / 'lock'}"):
+            RemanentStore(tmp_path)
+        assert same(store.load_retain(), SMALL), "the refused store disturbed the open one"
+    with RemanentStore(tmp_path) as again:
+        assert same(again.load_retain(), SMALL)
+
+
 def test_documented_record_layout(tmp_path: Path) -> None:
     layout, data = SMALL
     with RemanentStore(tmp_path) as store:
@@ -277,7 +321,7 @@ def test_documented_record_layout(tmp_path: Path) -> None:
     assert raw[80:] == layout.serialised + data
     assert raw == forge(layout.serialised, data)
     retain = (tmp_path / "retain.dat").read_bytes()
-    assert retain == forge_retain(layout.serialised, data)
+    assert retain == written_retain(layout.serialised, data)
 
 
 def test_growing_record_rewrites_the_file_and_keeps_the_previous_image(tmp_path: Path) -> None:
@@ -348,7 +392,7 @@ def test_clear_persistent(tmp_path: Path) -> None:
         store.write_persistent(*OTHER)
         (tmp_path / "persistent.dat.tmp").write_bytes(b"left over by a kill")
         store.clear_persistent()
-        assert os.listdir(tmp_path) == []
+        assert data_files(tmp_path) == []
         assert store.load_persistent() is None and store.problems == []
         store.write_persistent(*SMALL)
         assert same(store.load_persistent(), SMALL)
@@ -707,7 +751,7 @@ def check_damaged_load(loaded: LoadedImage | None, store: RemanentStore, written
     assert warned == bool(store.problems)
     if loaded is None:
         # Without any file there is nothing to report: a store never written.
-        assert store.problems or not os.listdir(store.path), "nothing loaded and nothing reported"
+        assert store.problems or not data_files(store.path), "nothing loaded and nothing reported"
         return
     got = (loaded.layout, loaded.data)
     assert got in written[-2:], "an image that was never written, or not among the last two"
@@ -804,6 +848,7 @@ def test_crash_while_saving_persistent_keeps_the_last_completed_save(
         if calls[0] <= call:
             assert completed, "no such step"
             return
+        store.close()  # the process dies, and its lock on the store with it
         with quiet(), RemanentStore(tmp_path) as fresh:
             loaded = fresh.load_persistent()
         # An interrupted save may have reached its final rename (then only the
@@ -824,6 +869,7 @@ def test_crash_while_growing_retain_keeps_the_last_completed_write(
                 completed = True
             except Crash:
                 completed = False
+        store.close()  # the process dies, and its lock on the store with it
         with quiet(), RemanentStore(tmp_path) as fresh:
             loaded = fresh.load_retain()
         assert same(loaded, BIG) if completed else (same(loaded, OTHER) or same(loaded, BIG))
@@ -866,6 +912,7 @@ def test_backup_is_copied_where_hard_links_are_refused(tmp_path: Path, monkeypat
 def test_store_module_needs_nothing_outside_the_standard_library() -> None:
     source = Path(store_module.__file__).read_text(encoding="utf-8")
     imports = {line.split()[1].split(".")[0] for line in source.splitlines() if line.startswith(("import ", "from "))}
-    assert imports <= {"__future__", "collections", "dataclasses", "hashlib", "os", "pathlib", "struct",
-                       "threading", "types", "typing", "warnings", "zlib", "iecoop"}
+    assert imports <= {"__future__", "collections", "dataclasses", "errno", "fcntl", "hashlib", "msvcrt", "os",
+                       "pathlib", "struct", "sys", "threading", "types", "typing", "warnings", "weakref", "zlib",
+                       "iecoop"}
     assert "pickle" not in source and "eval(" not in source

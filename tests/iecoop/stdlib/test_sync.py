@@ -31,11 +31,13 @@ from iecoop import (
     Pointer,
     Struct,
     adr,
+    Program,
     method,
     use_profile,
 )
 from iecoop import _config
 from iecoop.profiles import CODESYS, TWINCAT
+from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import CriticalSection, R, S, test_and_set
 
 from tests import checked_only
@@ -357,6 +359,35 @@ def test_critical_section_used_from_a_body() -> None:
     for _ in range(3):
         writer()
     assert writer.writes == 3
+
+
+class Guarded(Program):
+    guard: CriticalSection = VAR()
+    fail: BOOL = VAR_INPUT(False)
+    entered: DINT = VAR(0)
+
+    def body(self) -> None:
+        if self.guard.enter():
+            self.entered += 1
+            if self.fail:
+                raise PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, "fault between Enter() and Leave()")
+            self.guard.leave()
+
+
+@pytest.mark.parametrize("operation", ["reset_cold", "reset_origin", "download"])
+def test_a_reset_releases_a_section_held_when_a_fault_stopped_the_task(operation: str) -> None:
+    program = Guarded()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask"), program)
+    rt.run(cycles=1)
+    program.fail = True
+    with pytest.raises(PlcException, match="fault between Enter"):
+        rt.run(cycles=1)
+    assert program.entered == 2
+    getattr(rt, operation)()
+    rt.run(cycles=3)
+    assert program.entered == 3, "the section stayed held after the reset: enter() is FALSE forever"
+    assert program.guard.enter() and program.guard.leave()
 
 
 # ---------------------------------------------------------------------------
