@@ -136,6 +136,8 @@ class Entry:
     generic: bool = False
     demo: bool = False
     problem: str = ""
+    #: The deliberate faults of the scenario, ``(what the trace shows, why)``: printed as expected.
+    expected: tuple[tuple[str, str], ...] = ()
 
     @property
     def runnable(self) -> bool:
@@ -788,6 +790,7 @@ ENTRIES: tuple[Entry, ...] = (
             *(Column(f"V10{row} open", _valve_open(row)) for row in range(1, 5)),
         ),
         cycles=110, tour_cycles=110,
+        expected=(("UNKNOWN_TYPE", "row 5 of the I/O table names a BUTTERFLY valve, a type no factory builds"),),
     ),
     Entry(
         "prototype", "creational", "patterns.creational.prototype",
@@ -822,6 +825,7 @@ ENTRIES: tuple[Entry, ...] = (
         ),
         script=steps(*press("cmd_start", 1), *press("vfd_sim.trip", 51), *press("cmd_stop", 61), *press("cmd_reset", 71)),
         cycles=100, tour_cycles=100,
+        expected=(("VFD fault", "the Modbus drive trips in cycle 51 and is reset in cycle 71"),),
     ),
     Entry(
         "bridge", "structural", "patterns.structural.bridge",
@@ -835,6 +839,7 @@ ENTRIES: tuple[Entry, ...] = (
         ),
         script=steps((1, "cmd_run", True), (41, "modbus.link_up", False)),
         cycles=60, tour_cycles=60,
+        expected=(("faulted P-MB V-MB", "the Modbus TCP link drops in cycle 41"),),
     ),
     Entry(
         "composite", "structural", "patterns.structural.composite",
@@ -849,6 +854,7 @@ ENTRIES: tuple[Entry, ...] = (
             (102, "s4.motor_trip", False), *press("cmd_reset", 103), *press("cmd_start", 122),
         ),
         cycles=190, tour_cycles=190,
+        expected=(("faulted", "the motor of section S4 trips in cycle 62"),),
     ),
     Entry(
         "decorator", "structural", "patterns.structural.decorator",
@@ -870,6 +876,7 @@ ENTRIES: tuple[Entry, ...] = (
             Column("cases", "cell.robot.placed", watch=False),
         ),
         script=_cell_buttons, cycles=380, tour_cycles=250,
+        expected=(("TRIPPED, reset refused", "the e-stop is pressed in cycle 211, a reset tried while it is still pressed"),),
     ),
     Entry(
         "flyweight", "structural", "patterns.structural.flyweight",
@@ -893,6 +900,10 @@ ENTRIES: tuple[Entry, ...] = (
             Column("direct", "direct.requests", watch=False),
         ),
         script=_oven, cycles=400, tour_cycles=400,
+        expected=(
+            ("refused", "an OPERATOR writes setpoints above the operator limit in cycles 3 and 7"),
+            ("STALE", "the remote I/O link is lost from cycle 101"),
+        ),
     ),
     # -- behavioral --------------------------------------------------------------------------
     Entry(
@@ -908,6 +919,10 @@ ENTRIES: tuple[Entry, ...] = (
         script=steps((76, "door_closed", False), (81, "estop_released", False), (86, "door_closed", True),
                      (91, "estop_released", True)),
         cycles=100, tour_cycles=100,
+        expected=(
+            ("SPIKE_HELD, WIRE_BREAK", "the simulated transmitter sends a spike and a broken-wire current"),
+            ("blocked by", "the guard door opens in cycle 76 and the e-stop is pressed in cycle 81"),
+        ),
     ),
     Entry(
         "command", "behavioral", "patterns.behavioral.command",
@@ -919,6 +934,7 @@ ENTRIES: tuple[Entry, ...] = (
             Column("audit", _audit),
         ),
         script=steps(*_COMMANDS), cycles=26, tour_cycles=26,
+        expected=(("REFUSED undo: history empty", "Undo is pressed once more than there are commands to undo"),),
     ),
     Entry(
         "interpreter", "behavioral", "patterns.behavioral.interpreter",
@@ -990,6 +1006,7 @@ ENTRIES: tuple[Entry, ...] = (
             Column("batches", "batches"),
         ),
         cycles=250, tour_cycles=250,
+        expected=(("refused", "Start is pressed again while the unit is already in EXECUTE"),),
     ),
     Entry(
         "strategy", "behavioral", "patterns.behavioral.strategy",
@@ -1030,6 +1047,7 @@ ENTRIES: tuple[Entry, ...] = (
             (251, "motor1.overload", True), *press("export", 300), *press("export", 400),
         ),
         cycles=400, tour_cycles=400,
+        expected=(("faults, warnings", "a valve sticks in cycle 101 and a motor overloads in cycle 251"),),
     ),
     # -- SOLID -------------------------------------------------------------------------------
     Entry(
