@@ -31,14 +31,19 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from docutils import nodes
+from docutils.statemachine import StringList
+from sphinx import addnodes
 from sphinx.application import Sphinx
 from sphinx.environment import BuildEnvironment
+from sphinx.util.docutils import SphinxDirective
 from sphinx.util import logging
 from sphinx.util.inspect import TypeAliasForwardRef, stringify_signature
 from sphinx.util.inspect import signature as sphinx_signature
 from sphinx.util.typing import stringify_annotation
 
 from iecoop.uml import module_diagram, state_diagram
+from patterns.showcase.catalogue import entries
 
 logger = logging.getLogger(__name__)
 
@@ -305,7 +310,6 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
             f"test run. Run it yourself with ``python -c \"import {name}; {name}.main()\"``.",
             "",
             f".. autofunction:: {name}.main",
-            "   :no-index:",
             "",
         ]
     members = [m for m in _documented_members(module) if m != "main"]
@@ -464,6 +468,195 @@ def _block_signature(
     return stringify_signature(shown, show_return_annotation=False), None
 
 
+# ---------------------------------------------------------------------------
+# The patterns index table
+# ---------------------------------------------------------------------------
+
+
+def patterns_table() -> list[str]:
+    """The rows of the patterns index, as a reStructuredText list-table, from the modules and the catalogue.
+
+    Name (linked to its page), category, the industrial scenario (the module
+    summary after its colon) and when to use it on a PLC (the catalogue's
+    ``use_when``): nothing is copied by hand, so a new pattern appears here.
+    """
+    use_when = {entry.module: entry.use_when for entry in entries()}
+    lines = [
+        ".. list-table::",
+        "   :header-rows: 1",
+        "   :widths: 18 12 35 35",
+        "   :class: iecoop-patterns",
+        "",
+        "   * - Pattern",
+        "     - Category",
+        "     - Industrial scenario",
+        "     - Use it on a PLC when",
+    ]
+    for category in CATEGORIES:
+        folder = category.package.rsplit(".", 1)[1]
+        for module in _modules(category.package):
+            stem = module.__name__.rsplit(".", 1)[1]
+            summary = _summary(module)
+            scenario = summary.split(":", 1)[1].strip() if ":" in summary else summary
+            when = use_when.get(module.__name__) or "see its page"
+            lines += [
+                f"   * - :doc:`{_title(module, category.package)} <{folder}/{stem}>`",
+                f"     - {category.title.split()[0]}",
+                f"     - {scenario}",
+                f"     - {when}",
+            ]
+    return lines
+
+
+class PatternsTable(SphinxDirective):
+    """``.. iecoop-patterns-table::``: the table of every pattern and principle, for the patterns index."""
+
+    def run(self) -> list[nodes.Node]:
+        container = nodes.container()
+        self.state.nested_parse(StringList(patterns_table(), source=self.env.docname), self.content_offset, container)
+        return list(container.children)
+
+
+# ---------------------------------------------------------------------------
+# One signature per overloaded function
+# ---------------------------------------------------------------------------
+
+
+def _one_signature(app: Sphinx, doctree: nodes.document) -> None:
+    """An overloaded function (``VAR``: no value, a list / dict, or a value) shows its last, most general overload.
+
+    autodoc writes every ``@overload`` as a signature of its own; three nearly
+    equal lines per VAR section only hide the one that matters.
+    """
+    for desc in doctree.findall(addnodes.desc):
+        if desc.get("domain") != "py" or desc.get("objtype") != "function":
+            continue
+        signatures = [child for child in desc.children if isinstance(child, addnodes.desc_signature)]
+        if len(signatures) < 2 or len({s.get("fullname") for s in signatures}) != 1:
+            continue
+        kept = signatures[-1]
+        kept["ids"] = signatures[0]["ids"]  # the anchor the cross-references point at
+        for signature in signatures[:-1]:
+            desc.remove(signature)
+
+
+# ---------------------------------------------------------------------------
+# Source pages: "[docs]" links that land on the entry
+# ---------------------------------------------------------------------------
+
+
+def _record_anchors(app: Sphinx, doctree: nodes.document) -> None:
+    """Remember, per document, the ids of the Python entries it defines (for the source pages' back links)."""
+    anchors: dict[str, str] = getattr(app.env, "iecoop_anchors", {})
+    for signature in doctree.findall(addnodes.desc_signature):
+        for anchor in signature.get("ids", ()):
+            anchors.setdefault(anchor, app.env.docname)
+    setattr(app.env, "iecoop_anchors", anchors)
+
+
+def _purge_anchors(app: Sphinx, env: BuildEnvironment, docname: str) -> None:
+    anchors: dict[str, str] = getattr(env, "iecoop_anchors", {})
+    for anchor in [a for a, doc in anchors.items() if doc == docname]:
+        del anchors[anchor]
+
+
+def _merge_anchors(app: Sphinx, env: BuildEnvironment, docnames: Any, other: BuildEnvironment) -> None:
+    anchors: dict[str, str] = getattr(env, "iecoop_anchors", {})
+    anchors.update(getattr(other, "iecoop_anchors", {}))
+    setattr(env, "iecoop_anchors", anchors)
+
+
+def _same_object(module_a: str, module_b: str, name: str) -> bool:
+    def find(module_name: str) -> object:
+        value: object = importlib.import_module(module_name)
+        for part in name.split("."):
+            value = getattr(value, part)
+        return value
+
+    try:
+        return find(module_a) is find(module_b)
+    except Exception:
+        return False
+
+
+def _fix_source_links(app: Sphinx) -> None:
+    """Point every "[docs]" link of a source page at an entry that exists, or drop it.
+
+    sphinx.ext.viewcode builds a back link as ``<page>#<module>.<name>`` with
+    one module per source file: the module under which the first of its
+    objects was documented. Here most names are documented under the package
+    that re-exports them (``iecoop.T``) and a few under their own module
+    (``iecoop.literals.parse_tod``), so many links missed. For each source
+    file the module is chosen under which most of its documented names have
+    an entry, each link goes to the page holding that entry, and a name documented
+    only under another module gets an alias id on its entry (``_add_aliases``). Modules without source (``builtins``)
+    are dropped from the module index, which would link to a page never written.
+    """
+    modules: dict[str, Any] = getattr(app.env, "_viewcode_modules", {})
+    anchors: dict[str, str] = getattr(app.env, "iecoop_anchors", {})
+    aliases: dict[str, str] = {}
+    for modname in list(modules):
+        entry = modules[modname]
+        if not entry:
+            del modules[modname]
+            continue
+        code, tags, used, refname = entry
+        candidates = {refname, modname} | {
+            anchor[: -len(name) - 1] for name in used for anchor in anchors if anchor.endswith(f".{name}")
+        }
+        candidates = {c for c in candidates if c == modname or all(_same_object(c, modname, n) for n in used
+                                                                  if f"{c}.{n}" in anchors)}
+        best = max(sorted(candidates), key=lambda c: sum(f"{c}.{name}" in anchors for name in used))
+        linked: dict[str, str] = {}
+        for name in used:
+            found = next((f"{c}.{name}" for c in [best, *sorted(candidates)] if f"{c}.{name}" in anchors), None)
+            if found is None:
+                continue
+            linked[name] = anchors[found]
+            if found != f"{best}.{name}":
+                aliases[found] = f"{best}.{name}"
+        modules[modname] = (code, tags, linked, best)
+    setattr(app.env, "iecoop_aliases", aliases)
+
+
+def _add_aliases(app: Sphinx, doctree: nodes.document, docname: str) -> None:
+    """Give an entry documented under another module the id its source page's back link uses."""
+    aliases: dict[str, str] = getattr(app.env, "iecoop_aliases", {})
+    for signature in doctree.findall(addnodes.desc_signature):
+        signature["ids"] += [aliases[a] for a in signature.get("ids", ()) if a in aliases]
+
+
+# ---------------------------------------------------------------------------
+# Every link of the site lands
+# ---------------------------------------------------------------------------
+
+_HREF = re.compile(r'href="([^"#?]*)(?:\?[^"#]*)?(?:#([^"]*))?"')
+_ID = re.compile(r'\bid="([^"]+)"')
+
+
+def dead_links(root: Path) -> list[tuple[str, str]]:
+    """``(page, href)`` of each link in the HTML under ``root`` to a file or an anchor that does not exist."""
+    pages = {path: set(_ID.findall(path.read_text(encoding="utf-8"))) for path in root.rglob("*.html")}
+    dead: list[tuple[str, str]] = []
+    for page, _ in pages.items():
+        for href, anchor in _HREF.findall(page.read_text(encoding="utf-8")):
+            if re.match(r"^[a-z][a-z0-9+.-]*:", href):
+                continue  # another site: not checked here
+            target = (page.parent / href).resolve() if href else page
+            if not target.exists():
+                dead.append((str(page.relative_to(root)), href))
+            elif anchor and target.suffix == ".html" and anchor not in pages.get(target, ()):
+                dead.append((str(page.relative_to(root)), f"{href}#{anchor}"))
+    return dead
+
+
+def _check_links(app: Sphinx, exception: BaseException | None) -> None:
+    if exception is not None or app.builder.format != "html":
+        return
+    for page, href in dead_links(Path(app.outdir)):
+        logger.warning("%s links to %s, which does not exist", page, href)
+
+
 def _on_builder_inited(app: Sphinx) -> None:
     files = generate(Path(app.srcdir))
     logger.info("iecoop_pages: %d generated files", len(files))
@@ -475,4 +668,12 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("env-check-consistency", _check_reference)
     app.connect("autodoc-skip-member", _skip_storage)
     app.connect("autodoc-process-signature", _block_signature)
+    app.add_directive("iecoop-patterns-table", PatternsTable)
+    app.connect("doctree-read", _one_signature, priority=400)  # before viewcode adds its anchors
+    app.connect("doctree-read", _record_anchors, priority=600)
+    app.connect("env-purge-doc", _purge_anchors)
+    app.connect("env-merge-info", _merge_anchors)
+    app.connect("env-updated", lambda app, env: _fix_source_links(app))
+    app.connect("doctree-resolved", _add_aliases)
+    app.connect("build-finished", _check_links)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
