@@ -42,6 +42,7 @@ from sphinx.util.inspect import TypeAliasForwardRef, stringify_signature
 from sphinx.util.inspect import signature as sphinx_signature
 from sphinx.util.typing import stringify_annotation
 
+from iecoop.st_lexer import IecStLexer, looks_like_st
 from iecoop.uml import module_diagram, state_diagram
 from patterns.showcase.catalogue import entries
 
@@ -518,6 +519,25 @@ class PatternsTable(SphinxDirective):
 
 
 # ---------------------------------------------------------------------------
+# Structured Text highlighted as Structured Text
+# ---------------------------------------------------------------------------
+
+#: The languages a literal block gets when its source names none (``::`` in a docstring).
+_UNNAMED = {"default", "python", "python3", "py", "py3"}
+
+
+def _st_blocks(app: Sphinx, doctree: nodes.document) -> None:
+    """A literal block that names no language and holds ST (a docstring's *IEC 61131-3 mapping*) is ST.
+
+    ``ST::`` in a docstring gives a plain literal block, which Sphinx would
+    highlight as Python: ``while`` and ``and`` coloured inside ``//`` comments.
+    """
+    for block in doctree.findall(nodes.literal_block):
+        if block.get("language", "default") in _UNNAMED and looks_like_st(block.astext()):
+            block["language"] = "iecst"
+
+
+# ---------------------------------------------------------------------------
 # One signature per overloaded function
 # ---------------------------------------------------------------------------
 
@@ -669,6 +689,9 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("autodoc-skip-member", _skip_storage)
     app.connect("autodoc-process-signature", _block_signature)
     app.add_directive("iecoop-patterns-table", PatternsTable)
+    for alias in ("iecst", "st"):  # "st" is Smalltalk in Pygments; on this site it is Structured Text
+        app.add_lexer(alias, IecStLexer)
+    app.connect("doctree-read", _st_blocks)
     app.connect("doctree-read", _one_signature, priority=400)  # before viewcode adds its anchors
     app.connect("doctree-read", _record_anchors, priority=600)
     app.connect("env-purge-doc", _purge_anchors)
@@ -676,4 +699,4 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("env-updated", lambda app, env: _fix_source_links(app))
     app.connect("doctree-resolved", _add_aliases)
     app.connect("build-finished", _check_links)
-    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
+    return {"version": "2", "env_version": 2, "parallel_read_safe": True, "parallel_write_safe": True}
