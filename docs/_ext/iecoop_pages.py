@@ -687,8 +687,28 @@ def _one_signature(app: Sphinx, doctree: nodes.document) -> None:
             continue
         kept = signatures[-1]
         kept["ids"] = signatures[0]["ids"]  # the anchor the cross-references point at
+        # A parameter some overload goes without is optional: show it with a default, "initial: _T = ...".
+        everywhere = set.intersection(*(set(_parameter_names(s)) for s in signatures))
+        for parameter in kept.findall(addnodes.desc_parameter):
+            name = _parameter_names(parameter)
+            if name and name[0] not in everywhere and not any(
+                isinstance(n, addnodes.desc_sig_operator) for n in parameter.children
+            ):
+                parameter += [addnodes.desc_sig_space(), addnodes.desc_sig_operator("", "="),
+                              addnodes.desc_sig_space(), nodes.inline("", "...", classes=["default_value"])]
         for signature in signatures[:-1]:
             desc.remove(signature)
+
+
+def _parameter_names(node: nodes.Element) -> list[str]:
+    """The parameter names in a signature (or of one parameter), ``*`` and ``/`` left out."""
+    params = [node] if isinstance(node, addnodes.desc_parameter) else list(node.findall(addnodes.desc_parameter))
+    names = []
+    for param in params:
+        first = next(iter(param.findall(addnodes.desc_sig_name)), None)
+        if first is not None:
+            names.append(first.astext())
+    return names
 
 
 # ---------------------------------------------------------------------------
@@ -830,4 +850,4 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("env-updated", lambda app, env: _fix_source_links(app))
     app.connect("doctree-resolved", _add_aliases)
     app.connect("build-finished", _check_links)
-    return {"version": "2", "env_version": 2, "parallel_read_safe": True, "parallel_write_safe": True}
+    return {"version": "3", "env_version": 3, "parallel_read_safe": True, "parallel_write_safe": True}
