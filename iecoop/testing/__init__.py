@@ -1,14 +1,9 @@
 """Testing support: a virtual PLC per test, cycle helpers, and hypothesis strategies.
 
 In the spirit of TcUnit, but every test gets fresh instances. Installed as a
-pytest plugin, so the ``plc`` fixture is there in any project that has iecoop:
-
-.. code-block:: python
-
-    def test_filler_stops_when_full(plc):
-        main = plc.add(FillerMain())           # a Task "PlcTask" of 10 ms
-        plc.run_until(lambda: main.filler.full, timeout=T("5s"))
-        assert plc.time_ms == 3200
+pytest plugin, so the ``plc`` fixture (a :class:`VirtualPlc`) is there in any
+project that has iecoop: ``def test_x(plc: VirtualPlc) -> None``. The
+documentation's page *Testing your function blocks* has a complete test file.
 
 Outside pytest, :class:`VirtualPlc` is a plain class:
 

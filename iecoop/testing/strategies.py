@@ -9,9 +9,10 @@ most 80 characters, ...); ``ANY_INTS`` draws Python integers of any size, for
 the tests of wrap-around on store. ``iec_values(INT)`` maps an annotation to
 its strategy.
 
-The ranges are written out here from the vendor tables (IEC_SEMANTICS.md 6.1,
-6.2, 6.4) rather than read from ``iecoop.types``, so a wrong range in the
-library cannot agree with itself in a test.
+The ranges are written out here from the vendor tables (Beckhoff InfoSys,
+TwinCAT 3 "Data types": integer, bit string and string types; CODESYS Online
+Help "Data Types") rather than read from ``iecoop.types``, so a wrong range in
+the library cannot agree with itself in a test.
 
 >>> from iecoop import INT
 >>> iec_values(INT) is INT_VALUES

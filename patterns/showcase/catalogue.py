@@ -135,6 +135,10 @@ class Entry:
     generic: bool = False
     demo: bool = False
     problem: str = ""
+    #: One line on when the pattern or principle pays off on a PLC (the patterns index of the docs shows it).
+    use_when: str = ""
+    #: The deliberate faults of the scenario, ``(what the trace shows, why)``: printed as expected.
+    expected: tuple[tuple[str, str], ...] = ()
 
     @property
     def runnable(self) -> bool:
@@ -737,6 +741,7 @@ ENTRIES: tuple[Entry, ...] = (
     # -- creational --------------------------------------------------------------------------
     Entry(
         "abstract-factory", "creational", "patterns.creational.abstract_factory",
+        use_when="a library sold with several I/O hardware options, or a simulated family swapped in for commissioning",
         columns=(
             Column("A level m", "tank_a.level", ".2f", watch=False),
             Column("A pump", "tank_a.pump_on", _flag),
@@ -749,6 +754,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "builder", "creational", "patterns.creational.builder",
+        use_when="motion profiles or recipes assembled at run time from HMI or product data, checked in one place",
         columns=(
             Column("jog build", "jog_result"),
             Column("step", "runner.step"),
@@ -761,15 +767,18 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "factory-method", "creational", "patterns.creational.factory_method",
+        use_when="the device mix varies per machine (options, retrofits) while the sequence code stays untouched",
         columns=(
             Column("created", "factory.created"),
             Column("error", "factory.error"),
             *(Column(f"V10{row} open", _valve_open(row)) for row in range(1, 5)),
         ),
         cycles=110, tour_cycles=110,
+        expected=(("UNKNOWN_TYPE", "row 5 of the I/O table names a BUTTERFLY valve, a type no factory builds"),),
     ),
     Entry(
         "prototype", "creational", "patterns.creational.prototype",
+        use_when="new stations start from a tuned parameter block and each needs its own copy, not a shared reference",
         columns=(
             Column("x1 mm", "stations[1].position", ".1f", watch=False),
             Column("in pos", lambda s: "".join("T" if st.in_position else "-" for st in s.program.stations)),
@@ -780,6 +789,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "singleton", "creational", "patterns.creational.singleton",
+        use_when="something that is one by physics (the controller's clock, its diagnostic buffer); otherwise inject it",
         columns=(
             Column("CV101", "cv101.motor_on", _flag),
             Column("CV102", "cv102.motor_on", _flag),
@@ -794,6 +804,7 @@ ENTRIES: tuple[Entry, ...] = (
     # -- structural --------------------------------------------------------------------------
     Entry(
         "adapter", "structural", "patterns.structural.adapter",
+        use_when="devices of different makes must look alike to the line without hiding what matters about them",
         columns=(
             Column("VFD", _drive_state(1)), Column("rpm", _drive_speed(1), ".0f", watch=False),
             Column("AXIS", _drive_state(2)), Column("rpm ", _drive_speed(2), ".0f", watch=False),
@@ -801,9 +812,11 @@ ENTRIES: tuple[Entry, ...] = (
         ),
         script=steps(*press("cmd_start", 1), *press("vfd_sim.trip", 51), *press("cmd_stop", 61), *press("cmd_reset", 71)),
         cycles=100, tour_cycles=100,
+        expected=(("VFD fault", "the Modbus drive trips in cycle 51 and is reset in cycle 71"),),
     ),
     Entry(
         "bridge", "structural", "patterns.structural.bridge",
+        use_when="devices and their channels (local I/O, fieldbus, simulation) really vary independently",
         columns=(
             Column("P-LOC", "p_loc.at_speed"),
             Column("P-MB", "p_mb.at_speed"),
@@ -814,9 +827,11 @@ ENTRIES: tuple[Entry, ...] = (
         ),
         script=steps((1, "cmd_run", True), (41, "modbus.link_up", False)),
         cycles=60, tour_cycles=60,
+        expected=(("faulted P-MB V-MB", "the Modbus TCP link drops in cycle 41"),),
     ),
     Entry(
         "composite", "structural", "patterns.structural.composite",
+        use_when="a line of zones of sections is commanded and queried through one interface, wired once at start-up",
         columns=(
             Column("running", "running"),
             Column("faulted", "faulted"),
@@ -828,9 +843,11 @@ ENTRIES: tuple[Entry, ...] = (
             (102, "s4.motor_trip", False), *press("cmd_reset", 103), *press("cmd_start", 122),
         ),
         cycles=190, tour_cycles=190,
+        expected=(("faulted", "the motor of section S4 trips in cycle 62"),),
     ),
     Entry(
         "decorator", "structural", "patterns.structural.decorator",
+        use_when="signal treatments (filtering, simulation, counting) are stacked per channel at configuration",
         columns=(
             Column("PT101 bar", _pt101),
             Column("logic bar", "pressure", ".2f", watch=False),
@@ -842,6 +859,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "facade", "structural", "patterns.structural.facade",
+        use_when="an HMI or a line controller needs a few buttons, not the detail of every subsystem of a cell",
         columns=(
             Column("state", "cell.state"),
             Column("message", "cell.message"),
@@ -849,9 +867,11 @@ ENTRIES: tuple[Entry, ...] = (
             Column("cases", "cell.robot.placed", watch=False),
         ),
         script=_cell_buttons, cycles=380, tour_cycles=250,
+        expected=(("TRIPPED, reset refused", "the e-stop is pressed in cycle 211, a reset tried while it is still pressed"),),
     ),
     Entry(
         "flyweight", "structural", "patterns.structural.flyweight",
+        use_when="hundreds of instances share large, immutable data such as a calibration table per sensor type",
         columns=(
             Column("TC2 degC", "thermocouples[2].temperature", ".1f"),
             Column("TC150 degC", "thermocouples[150].temperature", ".1f"),
@@ -863,6 +883,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "proxy", "structural", "patterns.structural.proxy",
+        use_when="access to a block is guarded by access level, or a slow remote value is cached with its quality",
         columns=(
             Column("access", "access.level"),
             Column("setpoint", "hmi_setpoint.setpoint", ".1f"),
@@ -872,10 +893,15 @@ ENTRIES: tuple[Entry, ...] = (
             Column("direct", "direct.requests", watch=False),
         ),
         script=_oven, cycles=400, tour_cycles=400,
+        expected=(
+            ("refused", "an OPERATOR writes setpoints above the operator limit in cycles 3 and 7"),
+            ("STALE", "the remote I/O link is lost from cycle 101"),
+        ),
     ),
     # -- behavioral --------------------------------------------------------------------------
     Entry(
         "chain-of-responsibility", "behavioral", "patterns.behavioral.chain_of_responsibility",
+        use_when="stages (signal conditioning, permissives) are chosen per channel or added without editing the base",
         columns=(
             Column("mA", "pt205.signal.raw_ma", ".2f", watch=False),
             Column("bar", "pt205.signal.value", ".2f", watch=False),
@@ -887,9 +913,14 @@ ENTRIES: tuple[Entry, ...] = (
         script=steps((76, "door_closed", False), (81, "estop_released", False), (86, "door_closed", True),
                      (91, "estop_released", True)),
         cycles=100, tour_cycles=100,
+        expected=(
+            ("SPIKE_HELD, WIRE_BREAK", "the simulated transmitter sends a spike and a broken-wire current"),
+            ("blocked by", "the guard door opens in cycle 76 and the e-stop is pressed in cycle 81"),
+        ),
     ),
     Entry(
         "command", "behavioral", "patterns.behavioral.command",
+        use_when="HMI actions must be logged, queued, combined into macros or undone",
         columns=(
             Column("XV101", "inlet.is_open"),
             Column("P201 %", "pump.speed", ".0f"),
@@ -898,9 +929,11 @@ ENTRIES: tuple[Entry, ...] = (
             Column("audit", _audit),
         ),
         script=steps(*_COMMANDS), cycles=26, tour_cycles=26,
+        expected=(("REFUSED undo: history empty", "Undo is pressed once more than there are commands to undo"),),
     ),
     Entry(
         "interpreter", "behavioral", "patterns.behavioral.interpreter",
+        use_when="conditions arrive with the recipe at download time rather than at design time",
         columns=(
             Column("TT101", "tt101", ".1f", watch=False),
             Column("LS3", "ls3"),
@@ -913,6 +946,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "iterator", "behavioral", "patterns.behavioral.iterator",
+        use_when="a client walks a storage (a ring buffer, a filtered view) without seeing how it is kept",
         columns=(
             Column("raised", "history.total", watch=False),
             Column("kept", "history.count", watch=False),
@@ -927,6 +961,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "mediator", "behavioral", "patterns.behavioral.mediator",
+        use_when="the stations of a cell must coordinate without knowing each other",
         columns=(
             Column("arrived", "infeed.arrived"),
             Column("filling", "filler.valve_open", watch=False),
@@ -938,6 +973,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "memento", "behavioral", "patterns.behavioral.memento",
+        use_when="an operator edits a data set and must be able to return to a snapshot or the last good one",
         columns=(
             Column("recipe", "editor.working.name", repr),
             Column("dose l", "editor.working.dose_litres", ".0f"),
@@ -949,6 +985,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "observer", "behavioral", "patterns.behavioral.observer",
+        use_when="consumers of a value come and go at run time and the producer must stay closed to edits",
         columns=(
             Column("TT101 C", "tt101.value", ".1f", watch=False),
             Column("quality", "tt101.quality"),
@@ -961,6 +998,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "state", "behavioral", "patterns.behavioral.state",
+        use_when="states have behaviour of their own (entry actions, timing, commands) reviewed against a diagram, as in PackML",
         columns=(
             Column("state", "unit.state"),
             Column("packs", "unit.execute.packs"),
@@ -969,9 +1007,11 @@ ENTRIES: tuple[Entry, ...] = (
             Column("batches", "batches"),
         ),
         cycles=250, tour_cycles=250,
+        expected=(("refused", "Start is pressed again while the unit is already in EXECUTE"),),
     ),
     Entry(
         "strategy", "behavioral", "patterns.behavioral.strategy",
+        use_when="an algorithm (PID, PWM, on/off) is swapped at run time behind one interface, without a bump",
         columns=(
             Column("mode", "mode"),
             Column("strategy", _strategy_name),
@@ -984,6 +1024,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "template-method", "behavioral", "patterns.behavioral.template_method",
+        use_when="axis variants share one fixed homing sequence and differ only in its steps",
         columns=(
             Column("X switch", "x_homing.step"),
             Column("Y index", "y_homing.step"),
@@ -995,6 +1036,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "visitor", "behavioral", "patterns.behavioral.visitor",
+        use_when="new reports or exports over a fixed set of device kinds are added often",
         columns=(
             Column("exports", "exports"),
             Column("report rows", "report.count"),
@@ -1009,10 +1051,12 @@ ENTRIES: tuple[Entry, ...] = (
             (251, "motor1.overload", True), *press("export", 300), *press("export", 400),
         ),
         cycles=400, tour_cycles=400,
+        expected=(("faults, warnings", "a valve sticks in cycle 101 and a motor overloads in cycle 251"),),
     ),
     # -- SOLID -------------------------------------------------------------------------------
     Entry(
         "srp", "solid", "patterns.solid.srp",
+        use_when="a block starts mixing control, HMI text and logging: split it so that each part changes for one reason",
         columns=(
             Column("drive", "drive.state"),
             Column("speed %", "drive.speed_ref", ".1f", watch=False),
@@ -1025,6 +1069,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "ocp", "solid", "patterns.solid.ocp",
+        use_when="new device types must join without editing a CASE in code that is already commissioned",
         columns=(
             *(Column(f"CASE {k}", f"by_case[{i}].position", ".0f") for i, k in ((1, "sol"), (2, "mot"), (3, "prop"))),
             Column("CASE errors", lambda s: " ".join(_hex(s.program.by_case[i].error_id) for i in range(1, 4)
@@ -1035,6 +1080,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "lsp", "solid", "patterns.solid.lsp",
+        use_when="a derived block must work wherever its base does: never extend a base whose promises it cannot keep",
         columns=(
             Column("actuator %", "actuator.value", ".1f", watch=False),
             Column("sensor-as-actuator %", "sensor_on_base.value", ".1f"),
@@ -1047,6 +1093,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "isp", "solid", "patterns.solid.isp",
+        use_when="clients need only part of a device's abilities: give them small interfaces, not one large one",
         columns=(
             Column("fat: running", _running("fat_pump", "fat_transmitter", "fat_fan")),
             Column("failed slot", "fat_sequencer.failed_slot"),
@@ -1060,6 +1107,7 @@ ENTRIES: tuple[Entry, ...] = (
     ),
     Entry(
         "dip", "solid", "patterns.solid.dip",
+        use_when="a controller is to be tested or reused with other devices: it depends on interfaces given at FB_init",
         columns=(
             Column("fixed: contactor", "fixed.drive.q_contactor", _flag),
             Column("lamp", "fixed.lamp.mode", _lamp),

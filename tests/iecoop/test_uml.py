@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
+import re
 import xml.etree.ElementTree as ET
 from types import ModuleType
 
@@ -214,3 +217,108 @@ def test_state_diagram_positions_and_errors() -> None:
         state_diagram([("Idle", "Start")], "Idle")  # type: ignore[list-item]
     with pytest.raises(ValueError, match="the initial state 'Held' takes part in no transition"):
         state_diagram(PACKML_PART, "Held")
+
+
+# -- the package, the participants, the D2 text ----------------------------------------------------
+
+
+def test_the_public_names_live_in_the_model_module() -> None:
+    import iecoop.uml as uml
+    from iecoop.uml import model, svg, text
+
+    for name in uml.__all__:
+        assert getattr(uml, name) is getattr(model, name)
+    diagram = class_diagram(IDrive, Vfd)
+    assert diagram.to_mermaid() == text.class_mermaid(diagram) and diagram.to_svg() == svg.class_svg(diagram)
+
+
+def test_participants_keep_the_named_classes_with_their_roles_and_relations() -> None:
+    full = class_diagram(IDrive, DriveBase, Vfd, Line)
+    focused = full.participants({"IDrive": "Target", "Vfd": "Adapter", "Line": "Client"})
+    assert [(box.name, box.role, box.detailed, box.fields, box.operations) for box in focused.classes] == [
+        ("IDrive", "Target", False, (), ()), ("Vfd", "Adapter", False, (), ()), ("Line", "Client", False, (), ()),
+    ]
+    # Only relations among the participants, without the field names (one arrow per pair and kind).
+    assert [(r.source, r.target, r.kind, r.label, r.multiplicity) for r in focused.relations] == [
+        ("Line", "Vfd", "composition", "", "1..4"), ("Line", "IDrive", "aggregation", "", ""),
+        ("Line", "Vfd", "aggregation", "", ""),
+    ]
+    with pytest.raises(ValueError, match="the diagram has no class 'Pump'"):
+        full.participants({"Pump": "Adaptee"})
+
+
+def test_d2_text_draws_bases_above_with_uml_arrowheads() -> None:
+    full = class_diagram(IDrive, DriveBase, Vfd, Line)
+    text = full.to_d2().splitlines()
+    assert text[0] == "direction: down"
+    assert '"DriveBase" <- "Vfd" {source-arrowhead.shape: triangle; source-arrowhead.style.filled: false}' in text
+    assert ('"IDrive" <- "DriveBase" {source-arrowhead.shape: triangle; source-arrowhead.style.filled: false; '
+            'style.stroke-dash: 4}') in text
+    assert ('"Line" <-> "Vfd": "drives 1..4" {source-arrowhead.shape: diamond; source-arrowhead.style.filled: true}'
+            in text)
+    vfd = text[text.index('"Vfd": {'):]
+    assert vfd[1:5] == ["  shape: class", '  label: "Vfd «FINAL FUNCTION_BLOCK»"', '  "+setpoint": "REAL «VAR_INPUT»"',
+                        '  "+fault": "BOOL «VAR_OUTPUT»"']
+    assert '  "+start(speed: REAL)": "BOOL {leaf}"' in vfd and '  "-ramp()": " "' in vfd
+    roles = full.participants({"DriveBase": "Abstract adapter with a very long role name", "Vfd": "Adapter"}).to_d2()
+    assert '"DriveBase": "«FUNCTION_BLOCK»\\nDriveBase\\n(Abstract adapter with a\\nvery long role name)" ' \
+           '{style.fill: "#fdf7e3"; style.italic: true}' in roles
+
+
+# -- labels never overlap --------------------------------------------------------------------------
+
+_SVG = "{http://www.w3.org/2000/svg}"
+
+
+def label_boxes(svg: str) -> list[tuple[str, float, float, float, float]]:
+    """``(text, left, top, right, bottom)`` of every line of text in ``svg``, its width estimated from its length."""
+    boxes = []
+    for text in ET.fromstring(svg).iter(f"{_SVG}text"):
+        style = text.get("style", "")
+        in_style = re.search(r"font-size:\s*([\d.]+)", style)
+        size = float(in_style.group(1) if in_style else text.get("font-size", "12"))
+        anchor = re.search(r"text-anchor:\s*(\w+)", style)
+        align = anchor.group(1) if anchor else text.get("text-anchor", "start")
+        x, y = float(text.get("x", "0")), float(text.get("y", "0"))
+        lines = [(x, y, text.text or "")]
+        for span in text.iter(f"{_SVG}tspan"):
+            y += float(span.get("dy", "0"))
+            lines.append((float(span.get("x", x)), y, span.text or ""))
+        for left, base, line in lines:
+            if not line.strip():
+                continue
+            width = 0.55 * size * len(line)
+            left -= width / 2 if align == "middle" else width if align == "end" else 0
+            boxes.append((line, left, base - 0.8 * size, left + width, base + 0.2 * size))
+    return boxes
+
+
+def overlapping(boxes: list[tuple[str, float, float, float, float]]) -> list[tuple[str, str]]:
+    found = []
+    for i, (a, al, at, ar, ab) in enumerate(boxes):
+        for b, bl, bt, br, bb in boxes[i + 1:]:
+            if al < br - 1 and bl < ar - 1 and at < bb - 1 and bt < ab - 1:
+                found.append((a, b))
+    return found
+
+
+def test_the_label_check_sees_an_overlap() -> None:
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg"><text x="10" y="20" font-size="10">current, previous_state</text>'
+           '<text x="60" y="22" font-size="10">last_refused</text><text x="10" y="60" font-size="10">apart</text></svg>')
+    assert overlapping(label_boxes(svg)) == [("current, previous_state", "last_refused")]
+
+
+def _pattern_modules() -> list[str]:
+    found = []
+    for package in ("patterns.creational", "patterns.structural", "patterns.behavioral", "patterns.solid"):
+        root = importlib.import_module(package)
+        found += [f"{package}.{m.name}" for m in pkgutil.iter_modules(root.__path__) if not m.name.startswith("_")]
+    return found
+
+
+@pytest.mark.parametrize("name", _pattern_modules())
+def test_no_label_of_a_pattern_diagram_covers_another(name: str) -> None:
+    diagram = module_diagram(importlib.import_module(name))
+    assert overlapping(label_boxes(diagram.to_svg())) == []
+    participants = diagram.participants({box.name: "role" for box in diagram.classes[:10]})
+    assert overlapping(label_boxes(participants.to_svg())) == []

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from iecoop import DINT, INT, VAR, VAR_OUTPUT, Program
+import patterns.showcase as showcase
 from patterns.showcase import TOUR_CATEGORIES, main, run_entry
 from patterns.showcase import catalogue
 from patterns.showcase.catalogue import Column, Entry, build, entries, find
@@ -32,7 +33,7 @@ class Faulty(Program):
         self.quotient = 100 // (3 - self.scan)
 
 
-FAULTY = Entry("faulty", "behavioral", __name__, columns=(Column("scan", "scan"), Column("quotient", "quotient")))
+FAULTY = Entry("faulty", "behavioral", __name__, program="Faulty", columns=(Column("scan", "scan"), Column("quotient", "quotient")))
 
 
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
@@ -66,15 +67,41 @@ def test_show_prints_the_module_documentation(capsys: pytest.CaptureFixture[str]
     assert "Template Method: axis homing" in out and "Intent" in out
 
 
+def test_show_renders_the_docs_for_a_terminal_and_names_the_file(capsys: pytest.CaptureFixture[str]) -> None:
+    import patterns.behavioral.state as state
+
+    status, out, _ = run(capsys, "show", "state")
+    assert status == 0
+    assert f"Python: {Path(state.__file__).resolve()}" in out.splitlines()
+    assert "``" not in out and ":class:" not in out and "ST::" not in out and "\n::\n" not in out
+    assert "implementing\nI_PackMLState. It knows" in out  # a literal over a line break loses its quotes too
+    # The ST of the IEC mapping is shown indented, as a block under its heading.
+    mapping = out[out.index("IEC 61131-3 mapping"):]
+    assert "\n\n    TYPE E_PackMLState : (CLEARING := 1" in mapping
+    assert "\n        METHOD ChangeState     // VAR_INPUT target : E_PackMLState;" in mapping
+
+
+def test_show_takes_its_sections_from_one_list(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import patterns.showcase as showcase
+
+    sections = [*showcase.SHOW_SECTIONS, lambda entry, module: f"ST of {module.__name__}"]
+    monkeypatch.setattr(showcase, "SHOW_SECTIONS", sections)
+    status, out, _ = run(capsys, "show", "state")
+    assert status == 0 and out.rstrip().endswith("ST of patterns.behavioral.state")
+
+
 # -- run -------------------------------------------------------------------------------------------
 
 
 def test_run_state_traces_the_packml_batch(capsys: pytest.CaptureFixture[str]) -> None:
     status, out, err = run(capsys, "run", "state", "--cycles", "250")
     assert status == 0 and err == ""
-    assert out.splitlines()[1] == (
-        "PackagingLine on PlcTask (10 ms), twincat profile, 250 cycles; rows where a traced value changed"
-    )
+    assert out.splitlines()[1:3] == [
+        "  expected: refused (part of the scenario: Start is pressed again while the unit is already in EXECUTE)",
+        "PackagingLine on PlcTask (10 ms), twincat profile, 250 cycles; rows where a traced value changed",
+    ]
     table = rows(out)
     assert table[0] == ["0", "1", "RESETTING", "0", "1", "0", "0"]
     assert ["510", "52", "EXECUTE", "0", "4", "0", "0"] in table
@@ -130,7 +157,45 @@ def test_a_long_run_draws_a_progress_bar_only_on_a_terminal(
     monkeypatch.setattr(sys, "stderr", terminal)
     assert main(["run", "strategy", "--cycles", "2000"]) == 0
     assert "\r[" in terminal.getvalue() and "100% 2000/2000 cycles" in terminal.getvalue()
-    assert terminal.getvalue().endswith("\r")  # the bar is wiped before the table
+    assert terminal.getvalue().endswith("\r")  # the bar is wiped at the end
+    assert "PWM" not in terminal.getvalue()  # stdout is not the terminal: the rows are not mixed in
+
+
+def test_on_a_terminal_the_rows_stream_above_a_progress_line(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stdout", terminal)
+    monkeypatch.setattr(showcase, "FLUSH_EVERY", 0.0)  # draw at every cycle
+    assert main(["run", "strategy", "--cycles", "2100"]) == 0
+    text = terminal.getvalue()
+    # Each row is written on a wiped line, after the progress of the cycles before it.
+    before_pwm = text[: text.index("  20000   2001  PWM")]
+    assert "2000/2100 cycles" in before_pwm and before_pwm.endswith("\r")
+    assert "2001/2100" not in before_pwm
+    assert [line.split()[:3] for line in text.replace("\r", "\n").splitlines() if re.match(r"^\s*\d+\s+\d+\s", line)] == [
+        ["0", "1", "PID"], ["20000", "2001", "PWM"], ["20990", "2100", "PWM"],
+    ]
+    assert text.endswith("\r") and "100% 2100/2100 cycles" in text
+
+
+def test_rows_are_handed_over_as_the_cycles_run() -> None:
+    seen: list[tuple[int, int]] = []
+    cycle_when_seen: list[int] = []
+
+    def on_row(row: tuple[int, int, list[str]]) -> None:
+        seen.append(row[:2])
+        cycle_when_seen.append(progress[-1] if progress else 0)
+
+    progress: list[int] = []
+    trace = run_entry(find("strategy"), 2100, on_row=on_row, progress=progress.append)
+    assert trace.rows == []  # streamed, not kept
+    assert seen == [(0, 1), (20000, 2001), (20990, 2100)]
+    assert cycle_when_seen == [0, 2000, 2099]  # each row arrives in its own cycle, not at the end
 
 
 # -- errors ----------------------------------------------------------------------------------------
@@ -177,7 +242,28 @@ def test_a_plc_fault_is_reported_with_its_code_and_exits_1(
     status, out, err = run(capsys, "run", "faulty", "--cycles", "10")
     assert status == 1
     assert rows(out) == [["0", "1", "1", "50"], ["10", "2", "2", "100"]]
-    assert err.startswith("iecoop: faulty: PLC fault in cycle 3: RTSEXCPT_DIVIDEBYZERO")
+    assert err.startswith("iecoop: faulty: PLC fault in cycle 3: RTSEXCPT_DIVIDEBYZERO (ZeroDivisionError")
+    assert "cycle 2" not in err  # the runtime's own count from 0 is not shown beside the CLI's count from 1
+
+
+class FirstScanFault(Program):
+    """Divides by zero in its first scan."""
+
+    quotient: DINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        self.quotient = 100 // self.quotient
+
+
+def test_a_fault_in_the_first_cycle_is_cycle_1(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    first = Entry("first", "behavioral", __name__, program="FirstScanFault", columns=(Column("q", "quotient"),))
+    monkeypatch.setattr(catalogue, "ENTRIES", (*catalogue.ENTRIES, first))
+    status, out, err = run(capsys, "run", "first")
+    assert status == 1 and rows(out) == []
+    assert err.startswith("iecoop: first: PLC fault in cycle 1: RTSEXCPT_DIVIDEBYZERO")
+    assert "cycle 0" not in err
 
 
 def test_the_tour_reports_a_fault_and_goes_on(
@@ -188,6 +274,21 @@ def test_the_tour_reports_a_fault_and_goes_on(
     assert status == 1
     assert "PLC fault in cycle 3: RTSEXCPT_DIVIDEBYZERO" in out
     assert out.index("RTSEXCPT_DIVIDEBYZERO") < out.index("\ndip -- Dependency inversion")
+
+
+def test_the_tour_marks_the_deliberate_faults_as_expected(capsys: pytest.CaptureFixture[str]) -> None:
+    status, out, _ = run(capsys, "tour")
+    assert status == 0
+    factory = out[out.index("\nfactory-method -- "):out.index("\nprototype -- ")]
+    assert factory.splitlines()[2] == (
+        "  expected: UNKNOWN_TYPE (part of the scenario: row 5 of the I/O table names a BUTTERFLY valve, "
+        "a type no factory builds)"
+    )
+    assert "UNKNOWN_TYPE  TRUE" in factory  # ... and the trace does show it
+    for entry in entries():
+        for what, why in entry.expected:
+            assert f"  expected: {what} (part of the scenario: {why})" in out
+    assert sum(len(entry.expected) for entry in entries()) >= 10
 
 
 # -- the tour --------------------------------------------------------------------------------------
@@ -327,3 +428,31 @@ def test_python_m_patterns_showcase() -> None:
     done = subprocess.run([sys.executable, "-m", "patterns.showcase", "run", "dip", "--cycles", "0"],
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 2 and "--cycles: must be at least 1, got 0" in done.stderr
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["list"], ["run", "strategy", "--cycles", "10000000", "--every", "1"], ["show", "state"], []],
+    ids=["list", "long run", "show", "tour"],
+)
+def test_a_reader_that_stops_early_ends_the_command_quietly(argv: list[str]) -> None:
+    started = time.perf_counter()
+    with subprocess.Popen([str(SCRIPT), *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE) as process:
+        assert process.stdout is not None and process.stderr is not None
+        first = process.stdout.readline()
+        process.stdout.close()  # what head -1 does
+        status = process.wait(timeout=60)
+        err = process.stderr.read().decode()
+    assert first and status == 0 and err == ""
+    assert time.perf_counter() - started < 30  # the 10 million cycles are not run for nobody
+
+
+def test_into_a_pipe_the_rows_come_before_the_run_ends() -> None:
+    with subprocess.Popen([str(SCRIPT), "run", "state", "--cycles", "100000000", "--every", "1"],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as process:
+        assert process.stdout is not None
+        lines = [process.stdout.readline() for _ in range(6)]
+        process.kill()
+    assert lines[3].split() == ["time", "ms", "cycle", "state", "packs", "transitions", "refused", "batches"]
+    assert lines[4].split()[:3] == ["0", "1", "RESETTING"] and lines[5].split()[:2] == ["10", "2"]
+    assert "\r" not in "".join(lines)  # no progress line in a pipe
