@@ -503,3 +503,45 @@ def test_iecoop_imports_without_asyncua_and_iecoop_opcua_names_the_extra(monkeyp
     monkeypatch.delitem(sys.modules, "iecoop.opcua")
     with pytest.raises(ImportError, match=r'pip install "iecoop\[opcua\]"'):
         importlib.import_module("iecoop.opcua")
+
+
+# -- iecoop serve ---------------------------------------------------------------
+
+
+def test_serve_runs_a_pattern_in_real_time_behind_opc_ua() -> None:
+    import io
+
+    from patterns.showcase.serve import serve
+
+    out, err = io.StringIO(), io.StringIO()
+    status: list[int] = []
+    runner = threading.Thread(
+        target=lambda: status.append(serve(["state", "--endpoint", "opc.tcp://127.0.0.1:0", "--duration", "2s"], out, err))
+    )
+    runner.start()
+    try:
+        wait_until(lambda: "OPC UA server at" in out.getvalue() or not runner.is_alive(), "the server to start")
+        endpoint = out.getvalue().split("OPC UA server at ", 1)[1].split(",", 1)[0]
+        client = Client(endpoint)
+        try:
+            transitions = "PlcTask.PackagingLine.unit.transitions"
+            wait_until(lambda: client.read(transitions) >= 2, "the line to go through its first states")
+            assert client.write("PlcTask.PackagingLine.infeed_gap", 300, ua.VariantType.Int64).is_good()
+            assert client.write("PlcTask.PackagingLine.batches", 1, ua.VariantType.UInt32).name == "BadNotWritable"
+            wait_until(lambda: client.read("PlcTask.PackagingLine.infeed_gap") == 300, "the write to be applied")
+        finally:
+            client.close()
+    finally:
+        runner.join(TIMEOUT)
+    assert status == [0], err.getvalue()
+    assert "writable: PlcTask.PackagingLine.infeed_gap" in out.getvalue()
+    assert "stopped after 2000 ms of PLC time" in out.getvalue()
+
+
+def test_serve_refuses_an_unknown_name_and_a_bad_duration(capsys: pytest.CaptureFixture[str]) -> None:
+    from patterns.showcase.serve import serve
+
+    assert serve(["no_such_pattern"]) == 2
+    assert "unknown name 'no_such_pattern'" in capsys.readouterr().err
+    assert serve(["state", "--duration", "soon"]) == 2
+    assert "bad TIME literal 'soon'" in capsys.readouterr().err
