@@ -17,6 +17,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 from collections.abc import Callable, Coroutine, Iterator
 from typing import Any
 
@@ -34,6 +35,7 @@ ua = asyncua.ua
 from iecoop.opcua import NAMESPACE, OpcUaServer  # noqa: E402  (after the skip when asyncua is missing)
 
 TIMEOUT = 10.0  # seconds: the bound of any one client call or wait
+CLIENT_URI = "urn:iecoop:test-client"
 
 
 class OpcState(IecEnum, base=INT):
@@ -121,7 +123,7 @@ SECOND = OpcSecond()
 class Client:
     """An asyncua client on its own event loop thread; ``call`` runs a coroutine there and waits for it."""
 
-    def __init__(self, endpoint: str, **login: str) -> None:
+    def __init__(self, endpoint: str, *, security: tuple[Path, Path] | None = None, **login: str) -> None:
         self.loop = asyncio.new_event_loop()
         self.thread = threading.Thread(target=self.loop.run_forever, name="test OPC UA client")
         self.thread.start()
@@ -130,6 +132,10 @@ class Client:
             self.client.set_user(login["user"])
             self.client.set_password(login["password"])
         try:
+            if security is not None:
+                self.client.application_uri = CLIENT_URI
+                policy = asyncua.crypto.security_policies.SecurityPolicyBasic256Sha256
+                self.call(self.client.set_security(policy, certificate=str(security[0]), private_key=str(security[1])))
             self.call(self.client.connect())
             self.ns = self.call(self.client.get_namespace_index(NAMESPACE))
         except BaseException:
@@ -427,29 +433,6 @@ def server_threads() -> list[threading.Thread]:
     return [t for t in threading.enumerate() if t.name.startswith("iecoop OPC UA")]
 
 
-def test_exit_stops_the_server_and_leaves_no_thread_port_or_hook_behind() -> None:
-    main = OpcMain()
-    rt = Runtime(store=":memory:")
-    rt.add_task(Task("Fast", interval=T("10ms")), main)
-    before = len(server_threads())
-    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0") as server:
-        port = server.endpoint.rsplit(":", 1)[1]
-        assert listening(int(port))
-        assert len(server_threads()) == before + 1
-        client = Client(server.endpoint)
-        rt.run(cycles=3)
-        server.wait_published(TIMEOUT)
-        assert client.read("Fast.OpcMain.count") == 3
-        client.call(client.client.disconnect())
-        client.close(connected=False)
-    assert len(server_threads()) == before
-    assert not listening(int(port))
-    assert rt.on_cycle_start == [] and rt.on_cycle_end == []
-    rt.run(cycles=2)  # the PLC goes on without the server
-    assert main.count == 5
-    assert "stopped" in repr(server)
-
-
 def test_a_port_in_use_raises_and_leaves_no_thread(served: Any) -> None:
     rt, server, client = served
     before = len(server_threads())
@@ -474,22 +457,56 @@ def test_bad_configuration_is_refused_with_the_reason(served: Any) -> None:
         OpcUaServer(rt, certificate="server.der")
 
 
-def test_users_and_passwords() -> None:
+def certificate(folder: Path, name: str, uri: str, usage: Any) -> tuple[Path, Path]:
+    """A self-signed certificate (DER) and its private key (PEM) for an OPC UA application."""
+    from asyncua.crypto import cert_gen
+    from cryptography import x509
+    from cryptography.hazmat.primitives.serialization import Encoding
+
+    key = cert_gen.generate_private_key()
+    alt_names = [x509.UniformResourceIdentifier(uri), x509.DNSName("localhost")]
+    cert = cert_gen.generate_self_signed_app_certificate(key, name, {}, alt_names, [usage])
+    cert_path, key_path = folder / f"{name}-cert.der", folder / f"{name}-key.pem"
+    cert_path.write_bytes(cert.public_bytes(Encoding.DER))
+    key_path.write_bytes(cert_gen.dump_private_key_as_pem(key))
+    return cert_path, key_path
+
+
+def test_users_passwords_an_encrypting_policy_and_a_stop_that_leaves_nothing_behind(tmp_path: Path) -> None:
+    from cryptography.x509.oid import ExtendedKeyUsageOID
+
+    server_cert, server_key = certificate(tmp_path, "server", "urn:iecoop:server", ExtendedKeyUsageOID.SERVER_AUTH)
+    secure = certificate(tmp_path, "client", CLIENT_URI, ExtendedKeyUsageOID.CLIENT_AUTH)
     main = OpcMain()
     rt = Runtime(store=":memory:")
     rt.add_task(Task("Secure", interval=T("10ms")), main)
-    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", users={"operator": "s3cret"}) as server:
+    before = len(server_threads())
+    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", users={"operator": "s3cret"},
+                     certificate=server_cert, private_key=server_key) as server:
+        port = int(server.endpoint.rsplit(":", 1)[1])
+        assert listening(port) and len(server_threads()) == before + 1
+        with pytest.raises(Exception, match="No matching endpoints.*SecurityPolicy#None"):
+            Client(server.endpoint, user="operator", password="s3cret")  # no encryption: not offered
         with pytest.raises(Exception, match="BadIdentityTokenRejected"):
-            Client(server.endpoint)  # anonymous
+            Client(server.endpoint, security=secure)  # anonymous
         with pytest.raises(Exception, match="BadUserAccessDenied"):
-            Client(server.endpoint, user="operator", password="guess")
-        client = Client(server.endpoint, user="operator", password="s3cret")
+            Client(server.endpoint, security=secure, user="operator", password="guess")
+        client = Client(server.endpoint, security=secure, user="operator", password="s3cret")
         try:
             assert client.write("Secure.OpcMain.step", 4, ua.VariantType.Int16).is_good()
             rt.run(cycles=1)
             assert main.count == 4
+            server.wait_published(TIMEOUT)
+            assert client.read("Secure.OpcMain.count") == 4
         finally:
             client.close()
+    # The thread has ended, the port is closed, the runtime's hooks are gone, and the PLC goes on.
+    assert len(server_threads()) == before
+    assert not listening(port)
+    assert rt.on_cycle_start == [] and rt.on_cycle_end == []
+    rt.run(cycles=2)
+    assert main.count == 12  # 4 + two cycles of the step the client wrote
+    assert "stopped" in repr(server)
 
 
 # -- the optional dependency ----------------------------------------------------
@@ -534,6 +551,8 @@ def test_serve_runs_a_pattern_in_real_time_behind_opc_ua() -> None:
     finally:
         runner.join(TIMEOUT)
     assert status == [0], err.getvalue()
+    assert not any(endpoint in t.name for t in server_threads())
+    assert not listening(int(endpoint.rsplit(":", 1)[1]))
     assert "writable: PlcTask.PackagingLine.infeed_gap" in out.getvalue()
     assert "stopped after 2000 ms of PLC time" in out.getvalue()
 
