@@ -27,6 +27,7 @@ import enum
 import fnmatch
 import hmac
 import logging
+import operator
 import os
 import socket
 import threading
@@ -56,6 +57,7 @@ __all__ = ["NAMESPACE", "OpcUaServer"]
 NAMESPACE = "urn:iecoop"
 
 _log = logging.getLogger(__name__)
+_RAW = operator.attrgetter("raw")
 
 _VT = ua.VariantType
 _INTEGERS = frozenset({_VT.SByte, _VT.Byte, _VT.Int16, _VT.UInt16, _VT.Int32, _VT.UInt32, _VT.Int64, _VT.UInt64})
@@ -203,7 +205,6 @@ class _Variable:
     codec: _Codec
     shape: tuple[int, ...] | None  # None: a scalar
     writable: bool
-    constant: bool
 
     def variant(self, block: bytearray) -> ua.Variant:
         """The value in ``block`` (a copy of the variable's root block) as an OPC UA Variant."""
@@ -268,6 +269,7 @@ class _AddressSpace:
         self.objects: list[_Object] = []
         self.variables: dict[str, _Variable] = {}
         self.blocks: list[Any] = []
+        self._paths: set[str] = set()
         patterns = list(writable)
         self._patterns = patterns
         matched: set[str] = set()
@@ -282,9 +284,13 @@ class _AddressSpace:
             if pattern not in matched:
                 raise ValueError(f"OpcUaServer: writable pattern {pattern!r} matches no variable of the runtime")
 
-    def _add_object(self, path: str, name: str, parent: str | None) -> None:
-        if path in self.variables or any(o.path == path for o in self.objects):
+    def _claim(self, path: str) -> None:
+        if path in self._paths:
             raise ValueError(f"OpcUaServer: two nodes would have the instance path {path!r}")
+        self._paths.add(path)
+
+    def _add_object(self, path: str, name: str, parent: str | None) -> None:
+        self._claim(path)
         self.objects.append(_Object(path, name, parent))
 
     def _add_block(self, path: str, name: str, parent: str | None, block: Any, *, inputs_writable: bool) -> None:
@@ -335,10 +341,9 @@ class _AddressSpace:
             if fnmatch.fnmatchcase(path, pattern):
                 self._matched.add(pattern)
                 named = True
-        if path in self.variables or any(o.path == path for o in self.objects):
-            raise ValueError(f"OpcUaServer: two nodes would have the instance path {path!r}")
+        self._claim(path)
         self.variables[path] = _Variable(
-            path, name, parent, root, offset, info, scalar, codec, shape, (writable or named) and not constant, constant
+            path, name, parent, root, offset, info, scalar, codec, shape, (writable or named) and not constant
         )
 
 
@@ -435,7 +440,8 @@ class OpcUaServer:
         self._name = name
         self._start_timeout = start_timeout
         self._space = _AddressSpace(runtime, writable)
-        self._spans = [(ctypes.addressof(b), ctypes.sizeof(b)) for b in self._space.blocks]
+        # A byte view of each exposed block: `.raw` copies it in one C call (the whole per-cycle cost).
+        self._views = [(ctypes.c_char * ctypes.sizeof(b)).from_buffer(b) for b in self._space.blocks]
         self._nodeids: dict[ua.NodeId, _Variable] = {}
         self._namespace = 0
         self._pending: collections.deque[tuple[_Variable, Any]] = collections.deque()
@@ -479,7 +485,7 @@ class OpcUaServer:
     # -- the PLC thread ----------------------------------------------------------
 
     def _capture(self) -> tuple[bytes, ...]:
-        return tuple(ctypes.string_at(address, size) for address, size in self._spans)
+        return tuple(map(_RAW, self._views))
 
     def _cycle_end(self) -> None:
         """After every cycle: one copy of the exposed blocks, handed to the server if anything changed."""

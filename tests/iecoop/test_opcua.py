@@ -455,6 +455,10 @@ def test_bad_configuration_is_refused_with_the_reason(served: Any) -> None:
         OpcUaServer(rt, security=["Basic256Sha256_SignAndEncrypt"])
     with pytest.raises(ValueError, match="certificate and private_key go together"):
         OpcUaServer(rt, certificate="server.der")
+    clash = Runtime(store=":memory:")
+    clash.add_task(Task("GVL_OpcPlant", interval=T("10ms")), OpcSecond())
+    with pytest.raises(ValueError, match="two nodes would have the instance path 'GVL_OpcPlant'"):
+        OpcUaServer(clash)
 
 
 def certificate(folder: Path, name: str, uri: str, usage: Any) -> tuple[Path, Path]:
