@@ -22,6 +22,8 @@ from collections.abc import Callable, Coroutine, Iterator
 from typing import Any
 
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from iecoop import (
     ARRAY, BOOL, DINT, DT, INT, LINT, LREAL, REAL, SINT, STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR,
@@ -118,6 +120,11 @@ class OpcSecond(Program):
 
 MAIN = OpcMain()
 SECOND = OpcSecond()
+#: Integer variables a client may write (``step`` an input, the others through ``writable=``) and their ranges.
+INTEGERS = {
+    "step": (-(2**15), 2**15 - 1), "small": (-128, 127), "big": (-(2**63), 2**63 - 1),
+    "ubyte": (0, 255), "uint": (0, 2**16 - 1), "udint": (0, 2**32 - 1), "ulint": (0, 2**64 - 1),
+}
 
 
 class Client:
@@ -182,7 +189,8 @@ def wait_until(condition: Callable[[], bool], what: str) -> None:
 def served() -> Iterator[tuple[Runtime, OpcUaServer, Client]]:
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms")), MAIN, SECOND)
-    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", writable=["PlcTask.OpcMain.where.*"]) as server:
+    named = ["PlcTask.OpcMain.where.*", *(f"PlcTask.OpcMain.{name}" for name in INTEGERS if name != "step")]
+    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", writable=named) as server:
         client = Client(server.endpoint)
         try:
             yield rt, server, client
@@ -365,6 +373,34 @@ def test_any_integer_type_within_range_a_gvl_variable_an_array_and_named_writabl
     assert client.read("PlcTask.OpcMain.gains") == [3, 2, 1]
     assert "PlcTask.OpcMain.where.x" in server.writable()
     assert "PlcTask.OpcMain.count" not in server.writable()
+
+
+@st.composite
+def integer_writes(draw: st.DrawFn) -> tuple[str, int]:
+    """An integer variable and a value for it: in its range, or just outside, or far outside."""
+    name = draw(st.sampled_from(sorted(INTEGERS)))
+    low, high = INTEGERS[name]
+    value = draw(st.one_of(st.integers(low, high), st.integers(high + 1, high + 2**20), st.integers(low - 2**20, low - 1)))
+    return name, value
+
+
+@settings(max_examples=40, deadline=None)
+@given(write=integer_writes())
+def test_an_integer_write_is_stored_exactly_when_in_range_and_refused_otherwise(
+    served: tuple[Runtime, OpcUaServer, Client], write: tuple[str, int]
+) -> None:
+    rt, server, client = served
+    name, value = write
+    low, high = INTEGERS[name]
+    assume(-(2**63) <= value < 2**64)  # beyond, no OPC UA integer holds it: a client cannot send it
+    vtype = ua.VariantType.Int64 if value < 2**63 else ua.VariantType.UInt64
+    before = getattr(MAIN, name)
+    status = client.write(f"PlcTask.OpcMain.{name}", value, vtype)
+    cycles(rt, server, 1)
+    if low <= value <= high:
+        assert status.is_good() and getattr(MAIN, name) == value == client.read(f"PlcTask.OpcMain.{name}")
+    else:
+        assert status.name == "BadOutOfRange" and getattr(MAIN, name) == before
 
 
 @pytest.mark.parametrize(
