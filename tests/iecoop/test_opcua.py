@@ -189,7 +189,8 @@ def wait_until(condition: Callable[[], bool], what: str) -> None:
 def served() -> Iterator[tuple[Runtime, OpcUaServer, Client]]:
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms")), MAIN, SECOND)
-    named = ["PlcTask.OpcMain.where.*", *(f"PlcTask.OpcMain.{name}" for name in INTEGERS if name != "step")]
+    named = ["PlcTask.OpcMain.where.*", "PlcTask.OpcMain.stamp"]
+    named += [f"PlcTask.OpcMain.{name}" for name in INTEGERS if name != "step"]
     with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", writable=named) as server:
         client = Client(server.endpoint)
         try:
@@ -364,12 +365,16 @@ def test_any_integer_type_within_range_a_gvl_variable_an_array_and_named_writabl
         ("PlcTask.OpcMain.gains", [3, 2, 1], ua.VariantType.Int16),
         ("GVL_OpcPlant.speed", 0.25, ua.VariantType.Double),
         ("PlcTask.OpcMain.where.y", 9.5, ua.VariantType.Double),  # writable through the writable= option
+        ("PlcTask.OpcMain.stamp", datetime.datetime(2024, 5, 6, 7, 8, 9, 500_000, tzinfo=datetime.timezone.utc),
+         ua.VariantType.DateTime),
     ]
     for path, value, vtype in writes:
         assert client.write(path, value, vtype).is_good(), path
     cycles(rt, server, 1)
     assert (MAIN.step, MAIN.mode, MAIN.recipe, list(MAIN.gains)) == (-7, OpcState.FAULT, "rye", [3, 2, 1])
     assert (GVL_OpcPlant.speed, MAIN.where.y) == (0.25, 9.5)
+    # DT holds whole seconds since 1970-01-01 (UTC): the half second is cut, as DT_TO_DATE cuts the day.
+    assert MAIN.stamp == int(datetime.datetime(2024, 5, 6, 7, 8, 9, tzinfo=datetime.timezone.utc).timestamp())
     assert client.read("PlcTask.OpcMain.gains") == [3, 2, 1]
     assert "PlcTask.OpcMain.where.x" in server.writable()
     assert "PlcTask.OpcMain.count" not in server.writable()
@@ -417,6 +422,9 @@ def test_an_integer_write_is_stored_exactly_when_in_range_and_refused_otherwise(
         ("PlcTask.OpcMain.step", [1, 2], "Int16", "BadTypeMismatch"),
         ("PlcTask.OpcMain.gains", [1, 2], "Int16", "BadTypeMismatch"),  # 2 values for 3 elements
         ("PlcTask.OpcMain.recipe", 5, "Int32", "BadTypeMismatch"),
+        ("PlcTask.OpcMain.stamp", 86_400, "UInt32", "BadTypeMismatch"),  # a DT is a DateTime
+        ("PlcTask.OpcMain.stamp", datetime.datetime(1969, 12, 31, tzinfo=datetime.timezone.utc), "DateTime",
+         "BadOutOfRange"),
         ("PlcTask.OpcMain.step", 40000, "Int32", "BadOutOfRange"),
         ("PlcTask.OpcMain.step", -40000, "Int64", "BadOutOfRange"),
         ("PlcTask.OpcMain.mode", 3, "Int16", "BadOutOfRange"),  # no value of OpcState
@@ -436,7 +444,7 @@ def test_refused_writes_store_nothing(opc: Any, path: str, value: Any, vtype: st
     if path not in ("PlcTask.OpcMain.count", "PlcTask.OpcSecond.seen", "PlcTask.OpcMain.timer.PT"):
         assert client.read(path) == before  # these do not change by themselves
     assert MAIN.step == 1 and MAIN.recipe == "bread" and list(MAIN.gains) == [0, 0, 0]
-    assert MAIN.mode == OpcState.IDLE and GVL_OpcPlant.speed == 0.5
+    assert MAIN.mode == OpcState.IDLE and GVL_OpcPlant.speed == 0.5 and MAIN.stamp == 86_400
 
 
 # -- real time, start and stop ------------------------------------------------
