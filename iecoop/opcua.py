@@ -550,7 +550,10 @@ class OpcUaServer:
             self._wake.clear()
             while self._images:
                 image, stamp = self._images.popleft()
-                await self._publish(server, previous, image, stamp)
+                try:
+                    await self._publish(server, previous, image, stamp)
+                except Exception:  # one bad image must not end publishing for good
+                    _log.exception("OPC UA: publishing a cycle's values failed")
                 previous = image
                 self._count_done()
 
