@@ -39,6 +39,7 @@ import traceback
 import typing
 import warnings
 from pathlib import Path
+from collections.abc import Callable
 from typing import Any, Literal
 
 from iecoop.exceptions import ExceptionCode, PlcException
@@ -209,6 +210,10 @@ class Runtime:
         # One thread at a time: the thread running run() / a reset, set under the lock.
         self._busy_lock = threading.Lock()
         self._busy: tuple[int, str, str] | None = None
+        #: Called in the PLC's thread before / after the tasks of each base tick (an OPC UA server's
+        #: writes go in before, its consistent image of the cycle is taken after).
+        self.on_cycle_start: list[Callable[[], None]] = []
+        self.on_cycle_end: list[Callable[[], None]] = []
 
     # -- configuration -----------------------------------------------------
 
@@ -343,8 +348,12 @@ class Runtime:
                 # reads the same time (in real time, the actual start, jitter included).
                 self._clock.set(tick_time + jitter)
                 self.time_ns = tick_time
+                for hook in self.on_cycle_start:
+                    hook()
                 self._run_tick(tick_ms, jitter)
                 self._tick += 1
+                for hook in self.on_cycle_end:
+                    hook()
             self.time_ns = self._tick * tick_ns
             self._clock.set(self.time_ns)
 

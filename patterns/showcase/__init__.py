@@ -52,6 +52,7 @@ from typing import TextIO
 from iecoop import PlcException
 from patterns.showcase.catalogue import CATEGORIES, Entry, build, entries, find, normalise, read, show
 from patterns.showcase.text import render_rst
+from patterns.showcase import serve
 
 __all__ = ["COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "Trace", "main", "run_entry", "table"]
 
@@ -471,6 +472,7 @@ COMMANDS: dict[str, Command] = {
     "list": Command("the names of the patterns, principles and examples, by category", _no_arguments, _cmd_list),
     "show": Command("the documentation of one pattern or example, and where its file is", _name_argument, _cmd_show),
     "run": Command("run one pattern or example, printing its trace rows as the cycles run", _run_arguments, _cmd_run),
+    "serve": Command(serve.HELP, serve.add_arguments, serve.run),
 }
 DEFAULT_COMMAND = "tour"
 
