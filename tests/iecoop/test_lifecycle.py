@@ -1,6 +1,6 @@
 """FB_init, FB_exit, FB_reinit and dynamic instances (``__NEW`` / ``__DELETE``).
 
-The call orders follow IEC_SEMANTICS.md section 1: nested members are
+The call orders follow docs/concepts/lifecycle.md: nested members are
 initialised first, in declaration order, each completely (FB_init, then the
 inputs set at its declaration, then call_after_init); then the block's own
 FB_init, base before derived. FB_exit runs derived before base, then the

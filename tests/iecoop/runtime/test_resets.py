@@ -1,10 +1,10 @@
 """Resets, download, online change, restart and faults against the vendor tables.
 
-IEC_SEMANTICS.md section 2 gives what each operation does to plain VAR, VAR
-RETAIN and VAR PERSISTENT (2.1 for CODESYS; for TwinCAT the decision at the
-top of the file: RETAIN is kept on reset cold and download). Section 1.2 gives
-which of FB_init / FB_reinit / FB_exit run with which flags, 1.3 the order
-along the inheritance chain, 1.4 the order of nested instances and 1.5 where
+docs/concepts/retain-persistent.md gives what each operation does to plain
+VAR, VAR RETAIN and VAR PERSISTENT in each vendor profile (CODESYS 3.5's table;
+for TwinCAT, RETAIN is kept on reset cold and download). docs/concepts/lifecycle.md
+gives which of FB_init / FB_reinit / FB_exit run with which flags, the order
+along the inheritance chain, the order of nested instances and where
 declaration-site inputs and ``call_after_init`` come in.
 
 Every table row is checked at every place a variable can live: the program
@@ -383,7 +383,7 @@ INIT, KEPT = "reinit", "kept"
 Row = tuple[str, str, str]  # plain VAR, VAR RETAIN, VAR PERSISTENT
 
 TABLE: dict[tuple[str, str], Row] = {
-    # TwinCAT 3: IEC_SEMANTICS 2.2 with the decision at the top (RETAIN kept on reset cold and download).
+    # TwinCAT 3: RETAIN kept on reset cold and download (docs/concepts/retain-persistent.md).
     ("twincat", "reset_cold"): (INIT, KEPT, KEPT),
     ("twincat", "reset_origin"): (INIT, INIT, INIT),
     ("twincat", "download"): (INIT, KEPT, KEPT),
@@ -391,7 +391,7 @@ TABLE: dict[tuple[str, str], Row] = {
     ("twincat", "online_change_class"): (KEPT, KEPT, KEPT),
     ("twincat", "online_change_instance"): (KEPT, KEPT, KEPT),
     ("twincat", "restart"): (INIT, KEPT, KEPT),
-    # CODESYS 3.5: IEC_SEMANTICS 2.1.
+    # CODESYS 3.5: the CODESYS table of docs/concepts/retain-persistent.md.
     ("codesys", "reset_warm"): (INIT, KEPT, KEPT),
     ("codesys", "reset_cold"): (INIT, INIT, KEPT),
     ("codesys", "reset_origin"): (INIT, INIT, INIT),
@@ -722,7 +722,7 @@ def test_the_stored_directory_locates_each_value_in_the_stored_block(tmp_path: P
 
 
 # ---------------------------------------------------------------------------
-# Call sequences (IEC_SEMANTICS 1.2 - 1.5)
+# Call sequences (docs/concepts/lifecycle.md)
 # ---------------------------------------------------------------------------
 
 

@@ -1,6 +1,6 @@
 """The scheduler: several tasks, priorities, the base tick, TaskInfo and run()'s arguments.
 
-IEC_SEMANTICS.md section 8: priority 0..31 with 0 the highest; at each tick the
+docs/concepts/runtime.md: priority 0..31 with 0 the highest; at each tick the
 due tasks run in priority order; TwinCAT's ``PlcTaskSystemInfo`` reports
 ``CycleTime`` and ``LastExecTime`` in 100 ns units, ``CycleCount`` and
 ``FirstCycle``.

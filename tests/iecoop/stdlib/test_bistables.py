@@ -1,4 +1,4 @@
-"""SR / RS against IEC_SEMANTICS.md 7.6: every input combination from both previous states."""
+"""SR / RS against their IEC definition (docs/reference/stdlib.md): every input combination from both previous states."""
 
 from __future__ import annotations
 

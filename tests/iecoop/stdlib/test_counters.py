@@ -1,4 +1,4 @@
-"""CTU / CTD / CTUD in vendor (RESET, LOAD, WORD) and IEC (R, LD, INT ...) form, IEC_SEMANTICS.md 7.5."""
+"""CTU / CTD / CTUD in vendor (RESET, LOAD, WORD) and IEC (R, LD, INT ...) form, as docs/reference/stdlib.md describes them."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""test_and_set, CriticalSection and the ExST S= / R= helpers (IEC_SEMANTICS.md 5)."""
+"""test_and_set, CriticalSection and the ExST S= / R= helpers (docs/reference/stdlib.md)."""
 
 from __future__ import annotations
 

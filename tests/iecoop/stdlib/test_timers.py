@@ -1,4 +1,4 @@
-"""TON / TOF / TP and their LTIME forms against IEC_SEMANTICS.md 7.1 - 7.3, and the task clock."""
+"""TON / TOF / TP and their LTIME forms against their IEC state machines (docs/reference/stdlib.md), and the task clock."""
 
 from __future__ import annotations
 

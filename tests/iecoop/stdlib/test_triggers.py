@@ -1,4 +1,4 @@
-"""R_TRIG / F_TRIG against IEC_SEMANTICS.md 7.4, including the first-call behaviour."""
+"""R_TRIG / F_TRIG against their IEC definition (docs/reference/stdlib.md), including the first-call behaviour."""
 
 from __future__ import annotations
 
