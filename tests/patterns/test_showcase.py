@@ -456,3 +456,11 @@ def test_into_a_pipe_the_rows_come_before_the_run_ends() -> None:
     assert lines[3].split() == ["time", "ms", "cycle", "state", "packs", "transitions", "refused", "batches"]
     assert lines[4].split()[:3] == ["0", "1", "RESETTING"] and lines[5].split()[:2] == ["10", "2"]
     assert "\r" not in "".join(lines)  # no progress line in a pipe
+
+
+def test_serve_is_one_of_the_commands(capsys: pytest.CaptureFixture[str]) -> None:
+    assert "serve" in showcase.COMMANDS
+    assert main(["serve", "no-such-pattern"]) == 2
+    assert "iecoop serve: unknown name 'no-such-pattern'" in capsys.readouterr().err
+    assert main(["serve", "state", "--duration", "0ms"]) == 2
+    assert "must be longer than 0 ms" in capsys.readouterr().err
