@@ -3,7 +3,9 @@
 Each specifier returns the initial value's type to a type checker (``VAR(0)``
 is an ``int`` to mypy, as ``Field()`` is in pydantic), while at class creation
 the builder reads the section from it. A field with a plain default and no
-specifier is a ``VAR``.
+specifier is a ``VAR``. A specifier needs the annotation: ``x = VAR_INPUT(0)``
+would declare no variable, so the class statement rejects it and names the
+line to write (``x: INT = VAR_INPUT(0)``).
 
 =======================  ===============================================  =========================
 ST                       Python                                           notes

@@ -245,10 +245,12 @@ _TYPE_FOR_VALUE: Final = ((bool, "BOOL"), (int, "INT"), (float, "LREAL"), (str, 
 
 def _suggested_type(initial: Any) -> str:
     """An IEC type that fits an initial value, for the message about a missing annotation."""
+    if isinstance(initial, (list, tuple)):
+        return f"ARRAY[{_suggested_type(initial[0]) if initial else '<type>'}]"
     for py_type, iec in _TYPE_FOR_VALUE:
         if isinstance(initial, py_type):
             return iec
-    return "INT"
+    return "<type>"
 
 
 class LayoutBuilder:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import linecache
+import re
 import textwrap
 import weakref
 from collections.abc import Callable
@@ -68,10 +69,12 @@ def test_an_unannotated_input_names_the_annotation_to_write() -> None:
         (lambda: VAR(1.5, retain=True), "done: LREAL = VAR(1.5, retain=True)"),
         (lambda: VAR("", length=20), "done: STRING = VAR('', length=20)"),
         (lambda: VAR_STAT(0), "done: INT = VAR_STAT(0)"),
+        (lambda: VAR([1, 2], bounds=(1, 2)), "done: ARRAY[INT] = VAR([1, 2], bounds=(1, 2))"),
+        (lambda: VAR_OUTPUT(), "done: <type> = VAR_OUTPUT()"),
     ],
 )
 def test_every_unannotated_section_is_rejected(declare: Callable[[], Any], advice: str) -> None:
-    with pytest.raises(DefinitionError, match="annotate it: " + advice.replace("(", r"\(").replace(")", r"\)")):
+    with pytest.raises(DefinitionError, match="annotate it: " + re.escape(advice)):
         type("Unit", (FunctionBlock,), {"__module__": __name__, "done": declare()})
 
 
