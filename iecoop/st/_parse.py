@@ -1,0 +1,181 @@
+"""The blark front end: ST text, ``.st`` files, TwinCAT files, folders and ``.plcproj`` to blark trees.
+
+Every source becomes *flat* Structured Text first: the form TwinCAT exports
+and blark parses, where a METHOD or PROPERTY follows the FUNCTION_BLOCK or
+INTERFACE it belongs to. A TwinCAT file is split by blark into its parts
+(declaration, implementation, each method, each property accessor); they are
+joined back here in that order, and a property accessor is renamed
+``Name.Get`` / ``Name.Set`` (the plain-text form of a property with both
+accessors). A map from each flat line to its file and line keeps error
+messages pointing at the real source.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import pathlib
+import re
+import xml.etree.ElementTree as ElementTree
+from collections.abc import Iterator
+from typing import Any
+
+from iecoop.exceptions import DefinitionError
+
+__all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "parse_sources"]
+
+#: The TwinCAT file kinds blark reads (POUs, data types, global and I/O lists).
+TWINCAT_SUFFIXES = (".tcpou", ".tcdut", ".tcgvl", ".tcio")
+ST_SUFFIXES = (".st",)
+
+_PROPERTY_NAME = re.compile(
+    r"^(\s*PROPERTY\s+(?:(?:PUBLIC|PRIVATE|PROTECTED|INTERNAL|ABSTRACT|FINAL)\s+)*)([A-Za-z_]\w*)", re.IGNORECASE | re.MULTILINE
+)
+
+
+class StSyntaxError(DefinitionError):
+    """The source is not valid Structured Text (blark could not parse it); names the file and line."""
+
+
+class StUnsupportedError(DefinitionError):
+    """A construct that iecoop cannot translate faithfully; names the file, line and construct."""
+
+
+@dataclasses.dataclass
+class Unit:
+    """One parsed flat source: the blark tree and where its lines came from."""
+
+    tree: Any  # blark.transform.SourceCode
+    filename: str
+    #: flat line number -> (file, line) for sources joined from TwinCAT parts
+    line_map: dict[int, tuple[str, int]] = dataclasses.field(default_factory=dict)
+
+    def where(self, line: int | None) -> str:
+        """``file:line`` of a flat line."""
+        if line is None:
+            return self.filename
+        file, real = self.line_map.get(line, (self.filename, line))
+        return f"{file}:{real}"
+
+
+def parse_sources(source: str | pathlib.Path) -> list[Unit]:
+    """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units."""
+    if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
+        return [_parse_text(source, "<st>", {})]
+    path = pathlib.Path(source)
+    if not path.exists():
+        raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
+    return [_parse_text(text, name, line_map) for text, name, line_map in _flat_sources(path)]
+
+
+def _looks_like_path(text: str) -> bool:
+    return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj") or pathlib.Path(text).is_dir()
+
+
+def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tuple[str, int]]]]:
+    if path.is_dir():
+        for child in sorted(path.rglob("*")):
+            if child.is_file() and child.suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES):
+                yield from _flat_sources(child)
+        return
+    suffix = path.suffix.lower()
+    if suffix in ST_SUFFIXES:
+        yield path.read_text(encoding="utf-8-sig"), str(path), {}
+    elif suffix in TWINCAT_SUFFIXES:
+        yield _flatten_twincat(path)
+    elif suffix == ".plcproj":
+        for included in _plcproj_files(path):
+            yield from _flat_sources(included)
+    else:
+        raise StUnsupportedError(f"{path}: unsupported file kind {path.suffix!r} (use .st, .TcPOU, .TcDUT, .TcGVL, .TcIO, .plcproj or a folder)")
+
+
+def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
+    root = ElementTree.parse(path).getroot()
+    files = []
+    for element in root.iter():
+        if element.tag.rsplit("}", 1)[-1] == "Compile":
+            include = element.get("Include", "")
+            candidate = path.parent / include.replace("\\", "/")
+            if candidate.suffix.lower() in TWINCAT_SUFFIXES and candidate.exists():
+                files.append(candidate)
+    return files
+
+
+def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str, int]]]:
+    from blark.input import BlarkCompositeSourceItem, load_file_by_name
+
+    lines: list[str] = []
+    line_map: dict[int, tuple[str, int]] = {}
+
+    def add(code: str, inner: dict[int, int]) -> None:
+        for offset, text in enumerate(code.split("\n"), start=1):
+            lines.append(text)
+            line_map[len(lines)] = (str(path), inner.get(offset, max(inner.values(), default=0)))
+
+    def walk(item: Any) -> None:
+        if isinstance(item, BlarkCompositeSourceItem):
+            parts = list(item.parts)
+            index = 0
+            while index < len(parts):
+                part = parts[index]
+                if isinstance(part, BlarkCompositeSourceItem):
+                    walk(part)
+                    index += 1
+                    continue
+                code, inner = part.get_code_and_line_map(include_end=False)
+                accessor = part.identifier.split("/")[0].rsplit(".", 1)[-1].lower()
+                if part.type.name in ("property_get", "property_set"):
+                    code = _PROPERTY_NAME.sub(lambda m: f"{m.group(1)}{m.group(2)}.{accessor.capitalize()}", code, count=1)
+                add(code, inner)
+                end = part.implicit_end
+                nxt = parts[index + 1] if index + 1 < len(parts) else None
+                if (
+                    nxt is not None
+                    and not isinstance(nxt, BlarkCompositeSourceItem)
+                    and nxt.identifier.endswith("/implementation")
+                    and nxt.identifier.split("/")[0] == part.identifier.split("/")[0]
+                ):
+                    impl, impl_map = nxt.get_code_and_line_map(include_end=False)
+                    if impl.strip():
+                        add(impl, impl_map)
+                    index += 1
+                if end:
+                    add(end, {1: max(inner.values(), default=0)})
+                index += 1
+        else:
+            code, inner = item.get_code_and_line_map(include_end=True)
+            add(code, inner)
+
+    for item in load_file_by_name(path):
+        walk(item)
+    return "\n".join(lines) + "\n", str(path), line_map
+
+
+def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
+    import blark
+    import lark
+
+    result = blark.parse_source_code(text, fn=filename)
+    if result.exception is not None:
+        exc = result.exception
+        line = getattr(exc, "line", None)
+        unit = Unit(None, filename, line_map)
+        where = unit.where(line if isinstance(line, int) and line > 0 else None)
+        detail = _syntax_detail(exc, text)
+        raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
+    try:
+        tree = result.transform()
+    except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
+        raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
+    return Unit(tree, filename, line_map)
+
+
+def _syntax_detail(exc: Exception, text: str) -> str:
+    token = getattr(exc, "token", None)
+    line = getattr(exc, "line", None)
+    source_line = ""
+    if isinstance(line, int) and 0 < line <= len(text.splitlines()):
+        source_line = text.splitlines()[line - 1].strip()
+    if token is not None:
+        return f"unexpected {str(token)!r} in {source_line!r}"
+    return f"cannot parse {source_line!r}" if source_line else type(exc).__name__
