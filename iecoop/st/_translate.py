@@ -12,6 +12,7 @@ the file, line and construct; nothing is dropped silently.
 from __future__ import annotations
 
 import dataclasses
+import json
 import re
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
@@ -238,7 +239,10 @@ class Translator:
                 decl.bases.extend(str(i) for i in item.extends.interfaces)
             return decl
         if isinstance(item, tf.GlobalVariableDeclarations):
-            name = item.name or (unit.filename.rsplit("/", 1)[-1].split(".")[0] if unit.filename != "<st>" else "GVL")
+            name = str(item.name or "")
+            if not name.isidentifier():
+                stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
+                name = stem if stem.isidentifier() else "GVL"
             existing = self.decls.get(str(name).lower())
             decl = existing if existing is not None else self._add(Decl("gvl", str(name), [], unit))
             decl.node.append(item)
@@ -392,6 +396,8 @@ class Translator:
         section = _SECTION_OF.get(type(block))
         if isinstance(block, tf.GlobalVariableDeclarations):
             section = "VAR_GLOBAL"
+        if isinstance(block, (tf.LocatedVariableDeclarations, tf.IncompleteLocatedVariableDeclarations)):
+            raise self.fail("located variables (AT %I / %Q / %M) are not supported", block)
         if section is None:
             raise self.fail(f"{type(block).__name__} is not supported", block)
         for item in block.items:
@@ -690,14 +696,20 @@ class Translator:
         return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)})"
 
     def fb_init_args(self, init: Any, scope: Scope) -> str:
+        call: Any = None
         if isinstance(init, tf.FunctionBlockInvocationDeclaration):
             call = init.init
-            decl = self.decls.get(str(call.name.name).lower())
+            type_name, parameters = str(call.name.name), call.parameters
+        elif isinstance(init, tf.TypeInitialization) and isinstance(init.spec, tf.IndirectSimpleSpecification) and init.spec.init_parameters:
+            call = init
+            type_name, parameters = str(init.spec.type.type), init.spec.init_parameters
+        if call is not None:
+            decl = self.decls.get(type_name.lower())
             fb_init = self.find_member(decl, "FB_init") if decl is not None else None
             params = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
             params = [p for p in params if p.name.lower() not in ("binitretains", "bincopycode")]
             pairs = []
-            for index, param in enumerate(call.parameters):
+            for index, param in enumerate(parameters):
                 if isinstance(param, tf.OutputParameterAssignment):
                     raise self.fail("an output (=>) in an FB_init call of a declaration", init)
                 if param.name is not None:
@@ -706,7 +718,7 @@ class Translator:
                 elif index < len(params):
                     match = params[index].name
                 else:
-                    raise self.fail(f"FB_init of {call.name.name} has no input number {index + 1}", init)
+                    raise self.fail(f"FB_init of {type_name} has no input number {index + 1}", init)
                 pairs.append(f'"{match}": {self.expr(param.value, scope).code}')
             return "{" + ", ".join(pairs) + "}"
         return ""
@@ -983,13 +995,16 @@ class Translator:
                 inputs = info.params
                 if len(inputs) < 2:
                     raise self.fail(f"METHOD FB_init of {decl.name} needs the inputs bInitRetains and bInCopyCode", node)
-                first = f", {inputs[0].name}: BOOL, {inputs[1].name}: BOOL"
+                # iecoop names the two implicit inputs in PEP 8; the ST names still resolve to them
+                first = ", init_retains: BOOL, in_copy_code: BOOL"
                 self.need("iecoop", "BOOL")
-                for p in inputs[:2]:
-                    scope.locals[p.name.lower()] = p
+                for p, py_name in zip(inputs[:2], ("init_retains", "in_copy_code")):
+                    scope.locals[p.name.lower()] = Member(py_name, p.type, "VAR_INPUT")
                 params = first + self._params(inputs[2:], node.declarations, scope)
             elif lifecycle == "fb_exit":
-                params = self._params(info.params, node.declarations, scope)
+                if info.params:
+                    scope.locals[info.params[0].name.lower()] = Member("in_copy_code", BOOL, "VAR_INPUT")
+                params = ", in_copy_code: BOOL" + self._params(info.params[1:], node.declarations, scope)
             else:
                 params = ""
             self.emit(f"def {lifecycle}(self{params}) -> BOOL:", 1)
@@ -1172,7 +1187,11 @@ class Translator:
         self.emit(self.expr(node.variable, scope).code, level)
 
     def _st_AssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
-        value = self.expr(node.expression, scope)
+        self._hoisting, self._hoist_level = True, level  # __QUERYINTERFACE writes its operand first
+        try:
+            value = self.expr(node.expression, scope)
+        finally:
+            self._hoisting = False
         targets = list(node.variables)
         if len(targets) > 1:
             temp = scope.temp("value")
@@ -1523,7 +1542,7 @@ class Translator:
         return base
 
     def deref(self, base: Ex, node: Any) -> Ex:
-        if base.code == "self":
+        if base.code in ("self", "super()"):
             return base
         target = base.type.of if base.type is not None and base.type.kind == "pointer" else None
         if base.type is not None and base.type.kind != "pointer":
@@ -1982,7 +2001,7 @@ def python_string(text: str) -> str:
         out.append(body[i])
         i += 1
     del quote
-    return repr("".join(out)).replace("'", '"') if '"' not in "".join(out) else repr("".join(out))
+    return json.dumps("".join(out), ensure_ascii=False)
 
 
 def translate(units: Sequence[Unit], externals: Sequence[str] = ()) -> tuple[str, list[tuple[str, str]]]:
