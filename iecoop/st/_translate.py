@@ -128,6 +128,7 @@ class Decl:
     prop_nodes: list[Any] = dataclasses.field(default_factory=list)
     values: list[str] = dataclasses.field(default_factory=list)
     alias_of: TypeRef | None = None
+    implements: list[str] = dataclasses.field(default_factory=list)
 
 
 @dataclasses.dataclass
@@ -228,6 +229,7 @@ class Translator:
             decl = self._add(Decl("fb", str(item.name), item, unit))
             if item.extends:
                 decl.bases.append(str(item.extends.interfaces[0]))
+            decl.implements = [str(i) for i in item.implements.interfaces] if item.implements else []
             return decl
         if isinstance(item, tf.Program):
             return self._add(Decl("program", str(item.name), item, unit))
@@ -519,6 +521,7 @@ class Translator:
 
         def needs(decl: Decl) -> Iterator[str]:
             yield from (b.lower() for b in decl.bases)
+            yield from (i.lower() for i in decl.implements)
             members = [m.type for m in decl.members.values()]
             members += [p.type for p in decl.props.values()] + [m.returns for m in decl.methods.values()]
             members += [p.type for m in decl.methods.values() for p in m.params]
