@@ -20,13 +20,21 @@ from patterns.showcase.catalogue import Column, Entry, find, plc_task
 
 COURSE = pathlib.Path(__file__).parent / "data" / "course"
 
-#: chapter -> (ST file, Python name -> ST name, for the traced paths and the script's inputs)
+#: chapter -> (ST file, Python name -> ST name: a whole traced path, or one part of a path or input name)
 CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
     "ch01": ("ch01_classes_and_objects.st", {
         "accelerate": "bAccelerate", "drive": "bDrive", "brake": "bBrake", "mercedes": "fbMercedes",
         "bmw": "fbBmw", "audi": "fbAudi", "action": "sAction", "color": "sColor"}),
     "ch02": ("ch02_fb_declaration_and_access.st", {
         "start": "bStart", "stop": "bStop", "pump": "fbPump", "running": "bRunning", "pump_starts": "nPumpStarts"}),
+    "ch04": ("ch04_properties.st", {"tank": "fbTank", "setpoint": "Setpoint", "level": "Level", "volume": "Volume"}),
+    "ch05": ("ch05_inheritance.st", {
+        "engine": "fbEngine", "new_engine": "fbNewEngine", "running": "bRunning", "odometer": "lrOdometer",
+        "gear": "Gear"}),
+    "ch08": ("ch08_interfaces.st", {
+        "start_all": "bStartAll", "stop_all": "bStopAll", "running": "nRunning", "motor.running": "fbMotor.Running",
+        "valve.running": "fbValve.Running", "lamp.running": "fbLamp.Running", "motor": "fbMotor",
+        "run_cycles": "nRunCycles"}),
     "ch07": ("ch07_this_and_super.st", {
         "i_base_cnt": "iBaseCnt", "i_fb1_cnt": "iFb1Cnt", "fb1": "fb1", "i_this": "iThis", "i_base": "iBase"}),
 }
@@ -47,6 +55,8 @@ class Renamed:
 
 
 def st_path(path: str, names: dict[str, str]) -> str:
+    if path in names:
+        return names[path]
     return ".".join(names.get(part, part) for part in path.split("."))
 
 
