@@ -1692,8 +1692,11 @@ class Translator:
                 current = self.call(invocation, scope, level=None)
             else:
                 method = self.member_ref(current, str(invocation.name.name), invocation)
-                args = self.arguments(invocation.parameters, None, scope, invocation)
-                current = Ex(f"{method.code}({', '.join(args)})", None)
+                owner = self.decl_of(current.type)
+                found = self.find_member(owner, str(invocation.name.name)) if owner is not None else None
+                info = found[1] if found is not None and isinstance(found[1], Callable_) else None
+                args = self.arguments(invocation.parameters, info.params if info else None, scope, invocation)
+                current = Ex(f"{method.code}({', '.join(args)})", info.returns if info else None)
         assert current is not None
         return current
 

@@ -35,6 +35,14 @@ CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
         "start_all": "bStartAll", "stop_all": "bStopAll", "running": "nRunning", "motor.running": "fbMotor.Running",
         "valve.running": "fbValve.Running", "lamp.running": "fbLamp.Running", "motor": "fbMotor",
         "run_cycles": "nRunCycles"}),
+    "ch10": ("ch10_abstract.st", {
+        "raw": "nRaw", "temperature": "fbTemperature", "pressure": "fbPressure", "value": "rValue",
+        "alarms": "nAlarms"}),
+    "ch12": ("ch12_fluent_interface.st", {"cycle": "nCycle", "result": "fResult", "half": "fHalf", "error": "bError"}),
+    "ch13": ("ch13_interface_vs_inheritance.st", {
+        "all_on": "bAllOn", "all_off": "bAllOff", "dim": "nDim", "count_on": "nOn", "dimmer": "fbDimmer",
+        "brightness": "Brightness", "fan": "fbFan", "rpm": "nRpm", "valve": "fbValve", "open": "bOpen",
+        "switchings": "nSwitchings"}),
     "ch07": ("ch07_this_and_super.st", {
         "i_base_cnt": "iBaseCnt", "i_fb1_cnt": "iFb1Cnt", "fb1": "fb1", "i_this": "iThis", "i_base": "iBase"}),
 }
