@@ -13,6 +13,7 @@ messages pointing at the real source.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import pathlib
 import re
 import xml.etree.ElementTree as ElementTree
@@ -152,9 +153,16 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
 
 
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
+    return Unit(_tree(text, filename, tuple(sorted(line_map.items()))), filename, line_map)
+
+
+@functools.lru_cache(maxsize=128)
+def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
+    """blark's tree for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
     import blark
     import lark
 
+    line_map = dict(line_map_items)
     result = blark.parse_source_code(text, fn=filename)
     if result.exception is not None:
         exc = result.exception
@@ -164,10 +172,9 @@ def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) 
         detail = _syntax_detail(exc, text)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     try:
-        tree = result.transform()
+        return result.transform()
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
-    return Unit(tree, filename, line_map)
 
 
 def _syntax_detail(exc: Exception, text: str) -> str:

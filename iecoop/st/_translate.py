@@ -1021,9 +1021,13 @@ class Translator:
                 self.emit(decorator, 1)
             self.emit(f"def {name}(self{params}) -> {ret_text}:", 1)
         if node.access is not None and node.access & tf.AccessSpecifier.abstract or decl.kind == "interface":
-            self.emit("...", 2)
+            self.prototype(returns, 2)
             return
         self._emit_callable_body(node, scope, returns, 2)
+
+    def prototype(self, returns: TypeRef | None, level: int) -> None:
+        """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
+        self.emit("..." if returns is None else "raise NotImplementedError", level)
 
     def _field_insert_point(self) -> int:
         """Just after the last field line of the class being written."""
@@ -1072,8 +1076,8 @@ class Translator:
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
-            if decl.kind == "interface":
-                self.emit("...", 2)
+            if decl.kind == "interface" or getter.access is not None and getter.access & tf.AccessSpecifier.abstract:
+                self.prototype(prop.type, 2)
             else:
                 scope = Scope(decl, "getter", return_name=prop.name)
                 self._emit_callable_body(getter, scope, prop.type, 2)
@@ -1085,7 +1089,7 @@ class Translator:
                 if flags != "@method":
                     self.emit(flags, 1)
                 self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
-                if decl.kind == "interface":
+                if decl.kind == "interface" or setter.access is not None and setter.access & tf.AccessSpecifier.abstract:
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
@@ -1228,6 +1232,8 @@ class Translator:
         if target is None:
             return value.code
         target = target.deref()
+        if target.is_bool and value.type is not None and value.type.is_int:
+            return f"bool({value.code})"
         if target.is_int and value.type is not None and value.type.is_real:
             self.need("iecoop.conversions", f"TO_{target.name}")
             return f"TO_{target.name}({value.code})"
@@ -1957,7 +1963,8 @@ class Translator:
             return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
         if upper in ("TEST_AND_SET", "TESTANDSET"):
             self.need("iecoop", "test_and_set")
-            return Ex(f"test_and_set({self.address_of(params[0], scope)})", BOOL)
+            # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
+            return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
         if upper in ("__QUERYINTERFACE", "__QUERYPOINTER"):
             if level is None and not self._hoisting:
                 raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
