@@ -42,7 +42,7 @@ from typing import Any, TextIO
 
 from iecoop import DefinitionError, Program
 from iecoop.runtime import Runtime
-from patterns.showcase import run_entry, table
+from patterns.showcase import _fault_text, run_entry, table
 from patterns.showcase.catalogue import Entry, generic_columns, plc_task
 
 __all__ = ["st2py", "st_run"]
@@ -116,11 +116,10 @@ def st_run(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = 
 
     entry = Entry(args.program, "st", __name__, columns=generic_columns(type(program)), builder=builder)
     trace = run_entry(entry, args.cycles, every=args.every, profile=args.profile)
-    shown = f"every {args.every}th cycle" if args.every else "rows where a traced value changed"
-    out.write(f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {shown}\n")
-    for line in table(trace):
-        out.write(line + "\n")
-    if trace.fault is not None:
-        out.write(f"PLC fault in cycle {trace.cycles_run + 1}: {trace.fault.code.name} ({trace.fault})\n")
-        return 1
-    return 0
+    rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
+    header = f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {rows}"
+    out.write("\n".join([header, *table(trace)]) + "\n")
+    if trace.fault is None:
+        return 0
+    err.write(f"iecoop st run: {_fault_text(trace)}\n")
+    return 1

@@ -31,8 +31,8 @@ def test_st_run_prints_the_trace_of_a_twincat_project() -> None:
 def test_st_run_fault_exits_1(tmp_path: pathlib.Path) -> None:
     source = tmp_path / "div.st"
     source.write_text("PROGRAM MAIN\nVAR a : INT := 1; b : INT; END_VAR\na := a / b;\nEND_PROGRAM\n")
-    status, out, _ = call(st_run, str(source), "--cycles", "2")
-    assert status == 1 and "RTSEXCPT_DIVIDEBYZERO" in out
+    status, out, err = call(st_run, str(source), "--cycles", "2")
+    assert status == 1 and "PLC fault in cycle 1: RTSEXCPT_DIVIDEBYZERO" in err
 
 
 def test_st_run_bad_source_and_unknown_program_exit_2(tmp_path: pathlib.Path) -> None:
