@@ -497,8 +497,11 @@ class Translator:
     def emit(self, text: str, level: int) -> None:
         self.out.append("    " * level + text if text else "")
 
-    def comments(self, node: Any, level: int) -> None:
+    def comments(self, node: Any, level: int) -> str:
+        """Emit the comments before ``node``; return the one on its own line, for the end of that line."""
         meta = getattr(node, "meta", None)
+        line = getattr(meta, "line", None)
+        trailing = ""
         for token in getattr(meta, "comments", None) or []:
             text = str(token).strip()
             if text.startswith("{"):
@@ -506,9 +509,18 @@ class Translator:
             if text.startswith("//"):
                 body = [text[2:].strip()]
             else:
-                body = [line.strip() for line in text[2:-2].strip().splitlines()]
-            for line in body:
-                self.emit(f"# {line}".rstrip(), level)
+                body = [part.strip() for part in text[2:-2].strip().splitlines()]
+            if line is not None and getattr(token, "line", None) == line and len(body) == 1:
+                trailing = body[0]
+                continue
+            for part in body:
+                self.emit(f"# {part}".rstrip(), level)
+        return trailing
+
+    def trail(self, index: int, comment: str) -> None:
+        """Put ``comment`` at the end of the line at ``index`` (an ST end-of-line comment)."""
+        if comment and index < len(self.out):
+            self.out[index] += f"  # {comment}"
 
     def pragmas(self, node: Any) -> list[str]:
         meta = getattr(node, "meta", None)
@@ -658,13 +670,15 @@ class Translator:
         scope = Scope(decl, "const")
         for element in node.declarations:
             self.line = element.meta.line if element.meta else self.line
-            self.comments(element, 1)
+            trailing = self.comments(element, 1)
+            index = len(self.out)
             members = list(self._element_members(element, decl.kind))
             init = getattr(element, "init", None)
             if isinstance(element, tf.UnionElementDeclaration):
                 init = None
             for member in members:
                 self.emit(self.field_line(member, init, scope, plain=True), 1)
+            self.trail(index, trailing)
         if not node.declarations:
             self.emit("pass", 1)
 
@@ -871,17 +885,20 @@ class Translator:
                 extra.append(f'method="{method}"')
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                self.comments(item, level)
+                trailing = self.comments(item, level)
+                index = len(self.out)
                 if section == "VAR_EXTERNAL":
                     for name, type_ in self._item_types(item):
                         self._need_type(type_)
                         self.need("iecoop", "VAR_EXTERNAL")
                         self.emit(f"{name}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
+                    self.trail(index, trailing)
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
                     member = Member(name, type_, section or "VAR")
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
+                self.trail(index, trailing)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
         inits: dict[str, Any] = {}
@@ -951,7 +968,8 @@ class Translator:
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                self.comments(item, level)
+                trailing = self.comments(item, level)
+                index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
                     if type_.kind == "array":
@@ -961,6 +979,7 @@ class Translator:
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
                     scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
                     self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
+                self.trail(index, trailing)
 
     def local_annotation(self, type_: TypeRef) -> str:
         return type_.annotation()
@@ -1141,11 +1160,13 @@ class Translator:
                     extra.append("persistent=True")
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                self.comments(item, 1)
+                trailing = self.comments(item, 1)
+                index = len(self.out)
                 init = item.init
                 for name, type_ in self._item_types(item):
                     member = Member(name, type_, "VAR")
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
+                self.trail(index, trailing)
 
     def _emit_function(self, decl: Decl) -> None:
         node = decl.node
@@ -1179,8 +1200,10 @@ class Translator:
         start = len(self.out)
         for statement in statements:
             self.line = statement.meta.line if statement.meta else self.line
-            self.comments(statement, level)
+            trailing = self.comments(statement, level)
+            index = len(self.out)
             self.statement(statement, scope, level)
+            self.trail(index, trailing)
         if all(line.strip().startswith("#") or not line.strip() for line in self.out[start:]):
             self.emit("pass", level)
 
@@ -1211,16 +1234,18 @@ class Translator:
         bit = self.bit_target(target, scope)
         if bit is not None:
             holder, index = bit
-            self.emit(f"{holder} = ({holder} & ~(1 << {index})) | ({self.truth(value)} << {index})", level)
+            if value.code == "True":
+                self.emit(f"{holder} = {holder} | (1 << {index})", level)
+            elif value.code == "False":
+                self.emit(f"{holder} = {holder} & ~(1 << {index})", level)
+            else:
+                self.emit(f"{holder} = ({holder} & ~(1 << {index})) | (int({value.code}) << {index})", level)
             return
         lhs = self.expr(target, scope, store=True)
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
         self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
-
-    def truth(self, value: Ex) -> str:
-        return f"int({value.code})" if not value.compound else f"int({value.code})"
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
         if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
