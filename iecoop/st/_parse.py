@@ -36,9 +36,13 @@ _PROPERTY_NAME = re.compile(
 class StSyntaxError(DefinitionError):
     """The source is not valid Structured Text (blark could not parse it); names the file and line."""
 
+    __module__ = "iecoop.st"
+
 
 class StUnsupportedError(DefinitionError):
     """A construct that iecoop cannot translate faithfully; names the file, line and construct."""
+
+    __module__ = "iecoop.st"
 
 
 @dataclasses.dataclass

@@ -497,8 +497,8 @@ class Translator:
     def emit(self, text: str, level: int) -> None:
         self.out.append("    " * level + text if text else "")
 
-    def comments(self, node: Any, level: int) -> str:
-        """Emit the comments before ``node``; return the one on its own line, for the end of that line."""
+    def comments(self, node: Any, level: int, inline: bool = False) -> str:
+        """Emit the comments before ``node``; with ``inline``, return the one on its line, for the end of that line."""
         meta = getattr(node, "meta", None)
         line = getattr(meta, "line", None)
         trailing = ""
@@ -510,7 +510,7 @@ class Translator:
                 body = [text[2:].strip()]
             else:
                 body = [part.strip() for part in text[2:-2].strip().splitlines()]
-            if line is not None and getattr(token, "line", None) == line and len(body) == 1:
+            if inline and line is not None and getattr(token, "line", None) == line and len(body) == 1:
                 trailing = body[0]
                 continue
             for part in body:
@@ -670,7 +670,7 @@ class Translator:
         scope = Scope(decl, "const")
         for element in node.declarations:
             self.line = element.meta.line if element.meta else self.line
-            trailing = self.comments(element, 1)
+            trailing = self.comments(element, 1, inline=True)
             index = len(self.out)
             members = list(self._element_members(element, decl.kind))
             init = getattr(element, "init", None)
@@ -885,7 +885,7 @@ class Translator:
                 extra.append(f'method="{method}"')
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                trailing = self.comments(item, level)
+                trailing = self.comments(item, level, inline=True)
                 index = len(self.out)
                 if section == "VAR_EXTERNAL":
                     for name, type_ in self._item_types(item):
@@ -968,7 +968,7 @@ class Translator:
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                trailing = self.comments(item, level)
+                trailing = self.comments(item, level, inline=True)
                 index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
@@ -1160,7 +1160,7 @@ class Translator:
                     extra.append("persistent=True")
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
-                trailing = self.comments(item, 1)
+                trailing = self.comments(item, 1, inline=True)
                 index = len(self.out)
                 init = item.init
                 for name, type_ in self._item_types(item):
@@ -1200,7 +1200,7 @@ class Translator:
         start = len(self.out)
         for statement in statements:
             self.line = statement.meta.line if statement.meta else self.line
-            trailing = self.comments(statement, level)
+            trailing = self.comments(statement, level, inline=True)
             index = len(self.out)
             self.statement(statement, scope, level)
             self.trail(index, trailing)
