@@ -156,6 +156,42 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
     return "\n".join(lines) + "\n", str(path), line_map
 
 
+#: What blark's grammar lacks and the vendors accept, added to it with Lark's ``%extend``
+#: (kept small and self-contained, so it could go upstream as is). Only a source that
+#: uses one of these words is parsed with the extended grammar.
+GRAMMAR_OVERLAY = r"""
+%extend _statement: try_statement
+%extend _case_element_statement: try_statement
+try_statement: _TRY [ statement_list ] [ catch_clause ] [ finally_clause ] _ENDTRY ";"*
+catch_clause: _CATCH "(" _variable ")" [ statement_list ]
+finally_clause: _FINALLY [ statement_list ]
+_TRY.2: /\b__TRY\b/i
+_CATCH.2: /\b__CATCH\b/i
+_FINALLY.2: /\b__FINALLY\b/i
+_ENDTRY.2: /\b__ENDTRY\b/i
+"""
+_OVERLAY_WORDS = re.compile(r"\b__(TRY|CATCH|FINALLY|ENDTRY)\b", re.IGNORECASE)
+
+
+@functools.lru_cache(maxsize=1)
+def _overlay_parser() -> Any:
+    """blark's own grammar (read from the installed package) with ``GRAMMAR_OVERLAY`` added."""
+    import importlib.resources
+
+    import blark
+    import lark
+    from blark.parse import BlarkStartingRule
+
+    grammar = importlib.resources.files(blark).joinpath(blark.GRAMMAR_FILENAME.name).read_text()
+    return lark.Lark(
+        grammar + GRAMMAR_OVERLAY,
+        parser="earley",
+        maybe_placeholders=True,
+        propagate_positions=True,
+        start=[rule.name for rule in BlarkStartingRule],
+    )
+
+
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
     return Unit(_tree(text, filename, tuple(sorted(line_map.items()))), filename, line_map)
 
@@ -167,7 +203,8 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
     import lark
 
     line_map = dict(line_map_items)
-    result = blark.parse_source_code(text, fn=filename)
+    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
+    result = blark.parse_source_code(text, fn=filename, parser=parser)
     if result.exception is not None:
         exc = result.exception
         line = getattr(exc, "line", None)

@@ -315,7 +315,7 @@ class Translator:
         if elem is not None:
             return elem
         if name.upper() == "__SYSTEM.EXCEPTIONCODE":
-            return TypeRef("user", "ExceptionCode")
+            return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
@@ -860,7 +860,7 @@ class Translator:
         for method in decl.method_nodes:
             self._emit_method(decl, method)
         self._emit_properties(decl)
-        statements = node.body.statements if node.body is not None else []
+        statements = statements_of(node.body)
         if statements or (kind == "FUNCTION_BLOCK" and decl.bases and node.body is not None):
             self.emit("", 0)
             self.emit("def body(self) -> None:", 1)
@@ -1063,7 +1063,7 @@ class Translator:
             scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
             self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
         self._local_blocks(node.declarations, scope, level)
-        statements = node.body.statements if node.body is not None else []
+        statements = statements_of(node.body)
         self._emit_statements(statements, scope, level)
         if returns is not None and scope.return_name is not None:
             self.emit(f"return {scope.return_name}", level)
@@ -1177,7 +1177,7 @@ class Translator:
         params = self._params(info.params, node.declarations, scope)[2:]
         self._need_type(info.returns)
         ret_text = info.returns.annotation() if info.returns is not None else "None"
-        statements = node.body.statements if node.body is not None else []
+        statements = statements_of(node.body)
         is_external = decl.name.lower() in self.externals or not statements or any(
             re.fullmatch(r"\{\s*external\s*\}", p, re.IGNORECASE) for p in self.pragmas(node))
         if is_external:
@@ -1384,6 +1384,30 @@ class Translator:
 
     def _st_ChainedFunctionCallStatement(self, node: Any, scope: Scope, level: int) -> None:
         self.emit(self.expr(tf.ChainedFunctionCall(node.invocations), scope).code, level)
+
+    def _st_Tree(self, node: Any, scope: Scope, level: int) -> None:
+        """A statement of the grammar overlay: ``__TRY ... __CATCH(exc) ... __FINALLY ... __ENDTRY``."""
+        if str(node.data) != "try_statement":
+            raise self.fail(f"statement {node.data} is not supported", node)
+        body, catch, final = (list(node.children) + [None, None, None])[:3]
+        self.need("iecoop", "try_catch", "ExceptionCode")
+        block = scope.temp("try")
+        inner = level
+        if final is not None:
+            self.emit("try:", level)
+            inner = level + 1
+        self.emit(f"with try_catch() as {block}:  # __TRY", inner)
+        self._emit_statements(body.statements if body is not None else [], scope, inner + 1)
+        if catch is not None:
+            variable, handler = (list(catch.children) + [None])[:2]
+            self.emit(f"if {block}.code != ExceptionCode.RTSEXCPT_NOEXCEPTION:  # __CATCH", inner)
+            self.assign(variable, Ex(f"{block}.code", TypeRef("elem", "UDINT")), scope, inner + 1)
+            if handler is not None:
+                self._emit_statements(handler.statements, scope, inner + 1)
+        if final is not None:
+            self.emit("finally:  # __FINALLY", level)
+            handler = final.children[0] if final.children else None
+            self._emit_statements(handler.statements if handler is not None else [], scope, level + 1)
 
     def _st_JumpStatement(self, node: Any, scope: Scope, level: int) -> None:
         raise self.fail("JMP is not supported", node)
@@ -2010,6 +2034,14 @@ class Translator:
 
     _hoisting = False
     _hoist_level = 0
+
+
+def statements_of(body: Any) -> list[Any]:
+    """The statements of a POU body (blark gives a lone statement of the grammar overlay as itself)."""
+    if body is None:
+        return []
+    statements = getattr(body, "statements", None)
+    return list(statements) if statements is not None else [body]
 
 
 def lark_token_type() -> type:

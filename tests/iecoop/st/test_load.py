@@ -87,6 +87,13 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      lambda m: (m.n, m.m2), (6, 6)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
+    ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
+                               "__TRY a := a / b; n := 1; __CATCH(exc) n := 2; __FINALLY n := n + 10; __ENDTRY "
+                               "bDiv := exc = __SYSTEM.ExceptionCode.RTSEXCPT_DIVIDEBYZERO;"), 1,
+     lambda m: (m.a, m.n, m.bDiv), (1, 12, True)),
+    ("try-without-fault", prog("a : INT := 4; b : INT := 2; exc : __SYSTEM.ExceptionCode; n : INT;",
+                               "__TRY a := a / b; __CATCH(exc) n := 2; __ENDTRY"), 1,
+     lambda m: (m.a, m.n, m.exc), (2, 0, 0)),
     ("test-and-set", prog("bLock : BOOL; a : BOOL; b : BOOL;", "a := TEST_AND_SET(bLock); b := TEST_AND_SET(bLock);"), 1,
      lambda m: (m.a, m.b, m.bLock), (True, False, True)),
 ]
