@@ -53,6 +53,8 @@ class Unit:
     filename: str
     #: flat line number -> (file, line) for sources joined from TwinCAT parts
     line_map: dict[int, tuple[str, int]] = dataclasses.field(default_factory=dict)
+    #: every comment and pragma token of the source, in order (each has ``.line``)
+    comments: tuple[Any, ...] = ()
 
     def where(self, line: int | None) -> str:
         """``file:line`` of a flat line."""
@@ -193,12 +195,13 @@ def _overlay_parser() -> Any:
 
 
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
-    return Unit(_tree(text, filename, tuple(sorted(line_map.items()))), filename, line_map)
+    tree, comments = _tree(text, filename, tuple(sorted(line_map.items())))
+    return Unit(tree, filename, line_map, comments)
 
 
 @functools.lru_cache(maxsize=128)
 def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
-    """blark's tree for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
+    """blark's tree and comment tokens for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
     import blark
     import lark
 
@@ -213,7 +216,7 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         detail = _syntax_detail(exc, text)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     try:
-        return result.transform()
+        return result.transform(), tuple(result.comments)
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
 

@@ -129,6 +129,10 @@ class Decl:
     values: list[str] = dataclasses.field(default_factory=list)
     alias_of: TypeRef | None = None
     implements: list[str] = dataclasses.field(default_factory=list)
+    #: the top-level item of the source it comes from (its lines hold its comments)
+    item: Any = None
+    #: for a GVL gathered from several sources: the unit of each VAR_GLOBAL block
+    units: dict[int, Unit] = dataclasses.field(default_factory=dict)
 
 
 @dataclasses.dataclass
@@ -172,6 +176,8 @@ class Translator:
         self.out: list[str] = []
         self.unit: Unit | None = None
         self.line: int | None = None
+        self.window: tuple[int, int] = (0, 0)
+        self.used_comments: set[int] = set()
         self._stdlib_decls()
 
     # --- errors and imports ---
@@ -216,6 +222,8 @@ class Translator:
                 if isinstance(item, tf.Action):
                     raise self.fail(f"ACTION {item.name} is not supported (use a METHOD)", item)
                 current = self._collect_item(unit, item)
+                if current is not None:
+                    current.item = item
 
     def _add(self, decl: Decl) -> Decl:
         key = decl.name.lower()
@@ -248,6 +256,7 @@ class Translator:
             existing = self.decls.get(str(name).lower())
             decl = existing if existing is not None else self._add(Decl("gvl", str(name), [], unit))
             decl.node.append(item)
+            decl.units[id(item)] = unit
             return None
         if isinstance(item, tf.DataTypeDeclaration):
             inner = item.declaration
@@ -266,6 +275,7 @@ class Translator:
                 decl = self._add(Decl("alias", str(inner.name), inner, unit))
             else:
                 raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
+            decl.item = item
             return None
         raise self.fail(f"{type(item).__name__} at the top level is not supported", item)
 
@@ -497,13 +507,42 @@ class Translator:
     def emit(self, text: str, level: int) -> None:
         self.out.append("    " * level + text if text else "")
 
+    def enter(self, node: Any) -> None:
+        """Comments are taken from the source lines of the top-level item ``node`` from now on."""
+        unit = self.unit
+        line = getattr(getattr(node, "meta", None), "line", None)
+        self.window = (0, 0)
+        if unit is None or line is None:
+            return
+        previous_end = 0
+        for item in unit.tree.items:
+            meta = getattr(item, "meta", None)
+            if item is node:
+                self.window = (previous_end + 1, getattr(meta, "end_line", None) or line)
+                return
+            end = getattr(meta, "end_line", None)
+            if end is not None and end < line:
+                previous_end = max(previous_end, end)
+
     def comments(self, node: Any, level: int, inline: bool = False) -> str:
-        """Emit the comments before ``node``; with ``inline``, return the one on its line, for the end of that line."""
+        """Emit the comments before ``node``; with ``inline``, return the one on its line, for the end of that line.
+
+        Comments are placed by their line in the source (blark attaches some of them to a later
+        statement), each once, within the lines of the item being written.
+        """
         meta = getattr(node, "meta", None)
         line = getattr(meta, "line", None)
         trailing = ""
-        for token in getattr(meta, "comments", None) or []:
+        if line is None or self.unit is None:
+            return ""
+        low, high = self.window
+        tokens = [
+            t for t in self.unit.comments
+            if low <= t.line <= min(line, high) and id(t) not in self.used_comments
+        ]
+        for token in tokens:
             text = str(token).strip()
+            self.used_comments.add(id(token))
             if text.startswith("{"):
                 continue  # pragmas are read where they matter (call_after_init)
             if text.startswith("//"):
@@ -523,8 +562,12 @@ class Translator:
             self.out[index] += f"  # {comment}"
 
     def pragmas(self, node: Any) -> list[str]:
-        meta = getattr(node, "meta", None)
-        return [str(t).strip() for t in getattr(meta, "comments", None) or [] if str(t).strip().startswith("{")]
+        """The pragmas (``{attribute 'x'}``) written before ``node``, within the current item's lines."""
+        line = getattr(getattr(node, "meta", None), "line", None)
+        if line is None or self.unit is None:
+            return []
+        low = self.window[0]
+        return [str(t).strip() for t in self.unit.comments if low <= t.line <= line and str(t).strip().startswith("{")]
 
     def ordered(self) -> list[Decl]:
         """User declarations, each after the ones it needs at class creation."""
@@ -569,6 +612,7 @@ class Translator:
         for decl in self.ordered():
             self.unit = decl.unit
             self.out = []
+            self.enter(decl.item)
             getattr(self, f"_emit_{decl.kind}")(decl)
             body.extend(["", ""] + self.out)
         header = ['"""Generated by iecoop.st from Structured Text; edit freely, it is plain iecoop code."""', "",
@@ -986,6 +1030,7 @@ class Translator:
 
     def _emit_method(self, decl: Decl, node: Any) -> None:
         self.line = node.meta.line if node.meta else None
+        self.enter(node)
         name = str(node.name)
         info = decl.methods[name.lower()]
         lifecycle = _LIFECYCLE.get(name.lower())
@@ -1089,6 +1134,7 @@ class Translator:
             if getter is None:
                 raise self.fail(f"PROPERTY {prop.name} has a Set accessor but no Get (iecoop needs the Get)", setter)
             self.emit("", 0)
+            self.enter(getter)
             self.comments(getter, 1)
             self.emit("@prop", 1)
             flags = self._access_decorator(getter.access)
@@ -1102,6 +1148,7 @@ class Translator:
                 self._emit_callable_body(getter, scope, prop.type, 2)
             if setter is not None:
                 self.emit("", 0)
+                self.enter(setter)
                 self.comments(setter, 1)
                 self.emit(f"@{prop.name}.setter", 1)
                 flags = self._access_decorator(setter.access)
@@ -1148,6 +1195,8 @@ class Translator:
         self.emit(f'"""VAR_GLOBAL list {decl.name}."""', 1)
         scope = Scope(decl, "const")
         for block in decl.node:
+            self.unit = decl.units.get(id(block), self.unit)
+            self.enter(block)
             self.comments(block, 1)
             attrs = block.attrs
             extra = []
@@ -1282,14 +1331,21 @@ class Translator:
         return value.type is not None and value.type.name == target.name and not value.compound
 
     def _st_SetStatement(self, node: Any, scope: Scope, level: int) -> None:
-        lhs = self.expr(node.variable, scope, store=True)
-        self.emit(f"if {self.expr(node.expression, scope).code}:", level)
-        self.emit(f"{lhs.code} = True", level + 1)
+        self._set_reset("S", True, node, scope, level)
 
     def _st_ResetStatement(self, node: Any, scope: Scope, level: int) -> None:
-        lhs = self.expr(node.variable, scope, store=True)
-        self.emit(f"if {self.expr(node.expression, scope).code}:", level)
-        self.emit(f"{lhs.code} = False", level + 1)
+        self._set_reset("R", False, node, scope, level)
+
+    def _set_reset(self, operator: str, value: bool, node: Any, scope: Scope, level: int) -> None:
+        """``x S= c`` is ``S(self, "x", c)`` (iecoop.stdlib); a method's local is set with an IF."""
+        condition = self.expr(node.expression, scope).code
+        if self.local_of(node.variable, scope) is not None:
+            self.emit(f"if {condition}:", level)
+            self.emit(f"{self.expr(node.variable, scope).code} = {value}", level + 1)
+            return
+        holder, field = self.holder_field(node.variable, scope)
+        self.need("iecoop.stdlib", operator)
+        self.emit(f'{operator}({holder}, "{field}", {condition})', level)
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
         holder, field = self.holder_field(node.variable, scope)

@@ -43,6 +43,9 @@ CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
         "all_on": "bAllOn", "all_off": "bAllOff", "dim": "nDim", "count_on": "nOn", "dimmer": "fbDimmer",
         "brightness": "Brightness", "fan": "fbFan", "rpm": "nRpm", "valve": "fbValve", "open": "bOpen",
         "switchings": "nSwitchings"}),
+    "ch15": ("ch15_exst.st", {
+        "start": "bStart", "stop": "bStop", "fault": "bFault", "ack": "bAck", "motor": "fbMotor",
+        "running": "bRunning", "follow": "bFollow", "alarm": "bAlarm"}),
     "ch07": ("ch07_this_and_super.st", {
         "i_base_cnt": "iBaseCnt", "i_fb1_cnt": "iFb1Cnt", "fb1": "fb1", "i_this": "iThis", "i_base": "iBase"}),
 }
