@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import itertools
 import linecache
+import os
 import pathlib
 import sys
 import types
@@ -65,13 +66,13 @@ class StModule(types.ModuleType):
         raise AttributeError(f"the loaded Structured Text declares no {name!r}")
 
 
-def _source_name(source: str | pathlib.Path) -> str:
-    if isinstance(source, pathlib.Path) or ("\n" not in source and pathlib.Path(source).exists()):
+def _source_name(source: str | os.PathLike[str]) -> str:
+    if not isinstance(source, str) or ("\n" not in source and pathlib.Path(source).exists()):
         return pathlib.Path(source).name
     return "st"
 
 
-def to_python(source: str | pathlib.Path) -> str:
+def to_python(source: str | os.PathLike[str]) -> str:
     """The readable Python module for ``source``: iecoop code, ST names kept, comments carried over.
 
     >>> from iecoop import st
@@ -96,7 +97,7 @@ def to_python(source: str | pathlib.Path) -> str:
 
 
 def load(
-    source: str | pathlib.Path,
+    source: str | os.PathLike[str],
     *,
     profile: str | None = None,
     externals: Mapping[str, Callable[..., Any]] | None = None,

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import os
 import pathlib
 import re
 import xml.etree.ElementTree as ElementTree
@@ -64,7 +65,7 @@ class Unit:
         return f"{file}:{real}"
 
 
-def parse_sources(source: str | pathlib.Path) -> list[Unit]:
+def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
     """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units."""
     if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
         return [_parse_text(source, "<st>", {})]

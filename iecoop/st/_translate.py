@@ -1435,7 +1435,7 @@ class Translator:
 
     def _st_FunctionCallStatement(self, node: Any, scope: Scope, level: int) -> None:
         call = self.call(node, scope, level=level)
-        if call is not None:
+        if call is not None and call.code:
             self.emit(call.code, level)
 
     def _st_ChainedFunctionCallStatement(self, node: Any, scope: Scope, level: int) -> None:
@@ -1773,6 +1773,8 @@ class Translator:
         return holder, field
 
     def address_of(self, node: Any, scope: Scope) -> str:
+        if isinstance(node, tf.SimpleVariable) and node.dereferenced and str(node.name).lower() != "this":
+            return self.name_ref(str(node.name), scope, node).code  # ADR(p^) is p
         self.need("iecoop", "adr")
         if isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.SubscriptList) and len(node.elements[-1].subscripts) == 1:
             rest = tf.MultiElementVariable(node.name, False, node.elements[:-1]) if len(node.elements) > 1 else node.name
@@ -2060,8 +2062,7 @@ class Translator:
                 raise self.fail("__DELETE inside an expression", node)
             self.need("iecoop", "delete")
             pointer = self.expr(params[0], scope)
-            self.emit(f"delete({pointer.code})", level)
-            return Ex(f"{pointer.code} = 0", None)
+            return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
         if upper == "__ISVALIDREF":
             self.need("iecoop", "is_valid_ref")
             holder, field = self.holder_field(params[0], scope)
@@ -2078,14 +2079,14 @@ class Translator:
             if upper == "__QUERYPOINTER":
                 self.need("iecoop", "query_pointer")
                 self.emit(f"{dest.code} = query_pointer({source.code})", self._hoist_level if level is None else level)
-                return Ex(f"bool({dest.code})", BOOL)
+                return Ex(f"bool({dest.code})" if level is None else "", BOOL)
             decl = self.decl_of(dest.type)
             if decl is None or decl.kind != "interface":
                 raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
             self.need("iecoop", "query_interface", "null")
             self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})",
                       self._hoist_level if level is None else level)
-            return Ex(f"bool({dest.code})", BOOL)
+            return Ex(f"bool({dest.code})" if level is None else "", BOOL)
         raise self.fail(f"{upper} is not supported", node)
 
     _hoisting = False

@@ -22,6 +22,9 @@ COURSE = pathlib.Path(__file__).parent / "data" / "course"
 
 #: chapter -> (ST file, Python name -> ST name: a whole traced path, or one part of a path or input name)
 CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
+    "ch14": ("ch14_operators.st", {
+        "": "MAIN_Operators", "before": "nBefore", "after_new": "nAfterNew", "after_delete": "nAfterDelete",
+        "deleted_is_null": "bDeletedIsNull", "valid_before": "bValidBefore"}),
     "ch01": ("ch01_classes_and_objects.st", {
         "accelerate": "bAccelerate", "drive": "bDrive", "brake": "bBrake", "mercedes": "fbMercedes",
         "bmw": "fbBmw", "audi": "fbAudi", "action": "sAction", "color": "sColor"}),
@@ -73,7 +76,7 @@ def st_path(path: str, names: dict[str, str]) -> str:
 
 def st_entry(entry: Entry, source: pathlib.Path, names: dict[str, str]) -> Entry:
     def builder(module: Any, runtime: Runtime) -> list[Any]:
-        program = st.load(source).MAIN
+        program = getattr(st.load(source), names.get("", "MAIN"))
         runtime.add_task(plc_task(), program)
         return [Renamed(program, names)]
 
