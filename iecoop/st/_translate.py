@@ -142,9 +142,24 @@ class Ex:
     code: str
     type: TypeRef | None = None
     compound: bool = False
+    #: Python precedence of the outermost operator (see PRECEDENCE); 0 for other compound code
+    prec: int = 100
+
+    def __post_init__(self) -> None:
+        if self.compound and self.prec == 100:
+            self.prec = 0
 
     def p(self) -> str:
         return f"({self.code})" if self.compound else self.code
+
+    def wrap(self, needed: int) -> str:
+        """The code as an operand of an operator of precedence ``needed``: in parentheses only when it binds looser."""
+        return f"({self.code})" if self.prec < needed else self.code
+
+
+#: Python operator precedence, loosest first, for the operators the translation writes.
+PRECEDENCE = {"or": 1, "and": 2, "not": 3, "compare": 4, "|": 5, "^": 6, "&": 7, "shift": 8, "+": 9, "-": 9,
+              "*": 10, "/": 10, "unary": 11, "**": 12}
 
 
 class Scope:
@@ -178,6 +193,7 @@ class Translator:
         self.line: int | None = None
         self.window: tuple[int, int] = (0, 0)
         self.used_comments: set[int] = set()
+        self.pending_references: list[Any] = []
         self._stdlib_decls()
 
     # --- errors and imports ---
@@ -739,12 +755,13 @@ class Translator:
         kwargs = []
         if type_.kind == "string" and type_.length not in (None, "80"):
             kwargs.append(f"length={type_.length}")
-        if type_.kind == "array":
-            assert type_.bounds is not None
-            pairs = [f"({a}, {b})" for a, b in type_.bounds]
+        shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
+        if shape.kind == "array":
+            assert shape.bounds is not None
+            pairs = [f"({a}, {b})" for a, b in shape.bounds]
             kwargs.append(f"bounds={pairs[0] if len(pairs) == 1 else '(' + ', '.join(pairs) + ')'}")
-            if type_.of is not None and type_.of.kind == "string" and type_.of.length not in (None, "80"):
-                kwargs.append(f"length={type_.of.length}")
+            if shape.of is not None and shape.of.kind == "string" and shape.of.length not in (None, "80"):
+                kwargs.append(f"length={shape.of.length}")
         fb_init = self.fb_init_args(init, scope)
         if fb_init:
             kwargs.append(f"fb_init={fb_init}")
@@ -785,6 +802,11 @@ class Translator:
         return ""
 
     def initial_value(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        if type_.kind == "reference" and getattr(init, "value", None) is not None:
+            if scope.owner is None or scope.kind != "body":
+                raise self.fail("a REFERENCE TO initialised at its declaration is supported in a block's VAR only", init)
+            self.pending_references.append(init.value)
+            return None
         value: Any = None
         if isinstance(init, tf.FunctionBlockInvocationDeclaration):
             value = init.defaults
@@ -900,7 +922,9 @@ class Translator:
     def _emit_pou(self, decl: Decl, kind: str) -> None:
         node = decl.node
         scope = Scope(decl, "body")
+        self.pending_references: list[Any] = []
         self._emit_fields(decl, node.declarations, scope, 1)
+        self._emit_reference_inits(decl, scope)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
         self._emit_properties(decl)
@@ -944,6 +968,27 @@ class Translator:
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
                 self.trail(index, trailing)
 
+    def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
+        """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
+        if not self.pending_references:
+            return
+        self.pending_references = []
+        self.need("iecoop", "call_after_init", "ref_assign")
+        self.emit("", 0)
+        self.emit("@call_after_init", 1)
+        self.emit(f"def _bind_references_{decl.name}(self) -> None:", 1)
+        self.emit('"""The REFERENCE TO variables initialised at their declaration (ref : REFERENCE TO T := x)."""', 2)
+        for block in decl.node.declarations:
+            for item in block.items:
+                init = getattr(item, "init", None)
+                if getattr(init, "value", None) is None or self.init_type(init, item).kind != "reference":
+                    continue
+                target = init.value
+                if isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
+                    target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+                for var in item.variables:
+                    self.emit(f'ref_assign(self, "{var.variable.name}", {self.address_of(target, scope)})', 2)
+
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
         inits: dict[str, Any] = {}
         for block in blocks:
@@ -953,9 +998,17 @@ class Translator:
                         name = str(var.variable.name if hasattr(var, "variable") else var)
                         inits[name.lower()] = getattr(item, "init", None)
         parts = []
-        for param in params:
+        last_reference = max((i for i, p in enumerate(params) if p.type is not None and p.type.kind == "reference"), default=-1)
+        for index, param in enumerate(params):
             assert param.type is not None
             self._need_type(param.type)
+            if index <= last_reference:
+                # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python
+                if param.type.kind != "reference" and index < last_reference:
+                    raise self.fail(f"input {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+                parts.append(f"{param.name}: {param.type.annotation()}")
+                scope.locals[param.name.lower()] = param
+                continue
             if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
                 raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
             if param.type.kind == "array":
@@ -1587,13 +1640,13 @@ class Translator:
         if op == "-":
             if re.fullmatch(r"\d+(\.\d+)?", inner.code):
                 return Ex(f"-{inner.code}", inner.type)
-            return Ex(f"-{inner.p()}", inner.type, True)
+            return Ex(f"-{inner.wrap(PRECEDENCE['unary'])}", inner.type, True, PRECEDENCE["unary"])
         if op == "+":
             return inner
         if op == "NOT":
             if inner.type is not None and inner.type.deref().is_int:
-                return Ex(f"~{inner.p()}", inner.type, True)
-            return Ex(f"not {inner.p()}", BOOL, True)
+                return Ex(f"~{inner.wrap(PRECEDENCE['unary'])}", inner.type, True, PRECEDENCE["unary"])
+            return Ex(f"not {inner.wrap(PRECEDENCE['not'])}", BOOL, True, PRECEDENCE["not"])
         raise self.fail(f"unary operator {op}", node)
 
     def _ex_BinaryOperation(self, node: Any, scope: Scope) -> Ex:
@@ -1608,26 +1661,34 @@ class Translator:
                 if other.code == "0" and side.type is not None and self._is_handle(side.type):
                     self.need("iecoop", "NULL")
                     return Ex(f"{side.p()} {py} NULL", BOOL, True)
-            return Ex(f"{left.p()} {py} {right.p()}", BOOL, True)
+            level = PRECEDENCE["compare"]  # both sides wrapped when they compare too: Python would chain them
+            return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
             if op in ("AND_THEN", "OR_ELSE") or logical:
                 word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or", "XOR": "!="}[op]
-                return Ex(f"{left.p()} {word} {right.p()}", BOOL, True)
+                level = PRECEDENCE[word] if word != "!=" else PRECEDENCE["compare"]
+                if word == "!=":
+                    return Ex(f"{left.wrap(level + 1)} != {right.wrap(level + 1)}", BOOL, True, level)
+                return Ex(f"{left.wrap(level)} {word} {right.wrap(level + 1)}", BOOL, True, level)
             symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
-            return Ex(f"{left.p()} {symbol} {right.p()}", self.wider(lt, rt), True)
+            level = PRECEDENCE[symbol]
+            return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
         if op in ("+", "-", "*"):
-            return Ex(f"{left.p()} {op} {right.p()}", self.wider(lt, rt), True)
+            level = PRECEDENCE[op]
+            return Ex(f"{left.wrap(level)} {op} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
         if op == "/":
             if (lt is not None and lt.is_real) or (rt is not None and rt.is_real):
-                return Ex(f"{left.p()} / {right.p()}", self.wider(lt, rt), True)
+                level = PRECEDENCE["/"]
+                return Ex(f"{left.wrap(level)} / {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
             self.need("iecoop.conversions", "DIV")
             return Ex(f"DIV({left.code}, {right.code})", self.wider(lt, rt))
         if op == "MOD":
             self.need("iecoop.conversions", "MOD")
             return Ex(f"MOD({left.code}, {right.code})", self.wider(lt, rt))
         if op == "**":
-            return Ex(f"{left.p()} ** {right.p()}", LREAL, True)
+            level = PRECEDENCE["**"]
+            return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
         raise self.fail(f"operator {op}", node)
 
     def _is_handle(self, type_: TypeRef) -> bool:

@@ -22,6 +22,8 @@ COURSE = pathlib.Path(__file__).parent / "data" / "course"
 
 #: chapter -> (ST file, Python name -> ST name: a whole traced path, or one part of a path or input name)
 CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
+    "ch09": ("ch09_pointers_and_references.st", {
+        "": "SR_Average", "avg_values": "fAvgValues", "avg_reference": "fAvgReference"}),
     "ch14": ("ch14_operators.st", {
         "": "MAIN_Operators", "before": "nBefore", "after_new": "nAfterNew", "after_delete": "nAfterDelete",
         "deleted_is_null": "bDeletedIsNull", "valid_before": "bValidBefore"}),
