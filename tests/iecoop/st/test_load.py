@@ -6,6 +6,8 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies
 
 from iecoop import PlcException, T
 from iecoop.runtime import Runtime, Task
@@ -369,3 +371,39 @@ def test_to_python_keeps_names_and_comments() -> None:
     assert "class MAIN(Program):" in text
     assert "# count up" in text and "# parts seen" in text
     assert "self.nCount = self.nCount + 1" in text
+
+
+def test_importing_iecoop_does_not_import_blark() -> None:
+    import subprocess
+    import sys
+
+    code = "import sys, iecoop, iecoop.st; print('blark' in sys.modules, 'lark' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["False", "False"]
+
+
+ARITHMETIC = st.load("""
+FUNCTION F_DivMod : DINT
+VAR_INPUT a : DINT; b : DINT; END_VAR
+F_DivMod := a / b * 1000 + a MOD b;
+END_FUNCTION
+FUNCTION F_AddInt : INT
+VAR_INPUT a : INT; b : INT; END_VAR
+VAR s : INT; END_VAR
+s := a + b;           // a method or function local wraps like the INT it is
+F_AddInt := s;
+END_FUNCTION
+""")
+
+
+@given(strategies.integers(-30000, 30000), strategies.integers(1, 999))
+def test_integer_division_truncates_and_mod_follows_the_dividend(a: int, b: int) -> None:
+    quotient = abs(a) // b * (1 if a >= 0 else -1)  # toward zero
+    remainder = a - b * quotient                      # sign of the dividend
+    assert ARITHMETIC.F_DivMod(a=a, b=b) == quotient * 1000 + remainder
+    assert ARITHMETIC.F_DivMod(a=a, b=-b) == -quotient * 1000 + remainder
+
+
+@given(strategies.integers(-32768, 32767), strategies.integers(-32768, 32767))
+def test_function_locals_wrap_like_their_type(a: int, b: int) -> None:
+    assert ARITHMETIC.F_AddInt(a=a, b=b) == (a + b + 32768) % 65536 - 32768
