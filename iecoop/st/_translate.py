@@ -922,7 +922,7 @@ class Translator:
     def _emit_pou(self, decl: Decl, kind: str) -> None:
         node = decl.node
         scope = Scope(decl, "body")
-        self.pending_references: list[Any] = []
+        self.pending_references = []
         self._emit_fields(decl, node.declarations, scope, 1)
         self._emit_reference_inits(decl, scope)
         for method in decl.method_nodes:
@@ -981,9 +981,9 @@ class Translator:
         for block in decl.node.declarations:
             for item in block.items:
                 init = getattr(item, "init", None)
-                if getattr(init, "value", None) is None or self.init_type(init, item).kind != "reference":
+                target = getattr(init, "value", None)
+                if target is None or self.init_type(init, item).kind != "reference":
                     continue
-                target = init.value
                 if isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
                     target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
                 for var in item.variables:
