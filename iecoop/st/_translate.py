@@ -1754,7 +1754,7 @@ class Translator:
             return Ex("__SYSTEM", TypeRef("user", "__SYSTEM"))
         raise self.fail(f"unknown variable {name!r}", node)
 
-    def member_ref(self, base: Ex, field: str, node: Any) -> Ex:
+    def member_ref(self, base: Ex, field: str, node: Any, store: bool = False) -> Ex:
         if base.type is not None and base.type.name == "__SYSTEM":
             if field.lower() == "exceptioncode":
                 self.need("iecoop", "ExceptionCode")
@@ -1779,6 +1779,11 @@ class Translator:
         kind, member = found
         if base.code == "super()" and kind == "method":
             return Ex(f"super().{member.name}", None)
+        if base.code == "super()" and kind == "member":
+            assert isinstance(member, Member)
+            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+        if base.code == "super()" and store:
+            raise self.fail(f"writing the base's PROPERTY through SUPER^.{field} is not supported yet (iecoop has no form for it)", node)
         if kind == "method":
             return Ex(f"{base.p()}.{member.name}", None)
         assert isinstance(member, Member)
@@ -1802,7 +1807,7 @@ class Translator:
                     raise self.fail("bit assignment in this position", node)
                 current = Ex(f"bool(({current.code} >> {field_name}) & 1)", BOOL)
                 continue
-            current = self.member_ref(current, field_name, node)
+            current = self.member_ref(current, field_name, node, store=store and index == len(elements) - 1)
             if isinstance(field, tf.SimpleVariable) and field.dereferenced or element.dereferenced:
                 current = self.deref(current, node)
         return current

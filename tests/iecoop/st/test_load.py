@@ -83,6 +83,10 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("constant-bounds", "VAR_GLOBAL CONSTANT cMaxCb : INT := 4; END_VAR\n"
      + prog("a : ARRAY[1..cMaxCb * 2] OF INT; n : INT;", "n := UPPER_BOUND_FAKE;").replace("n := UPPER_BOUND_FAKE;", "a[8] := 3; n := a[8];"), 1,
      lambda m: m.n, 3),
+    ("struct-and-array-copy", "TYPE ST_P : STRUCT x : INT; y : INT; END_STRUCT END_TYPE\n"
+     + prog("a : ST_P := (x := 1, y := 2); b : ST_P; u : ARRAY[1..3] OF INT := [1, 2, 3]; v : ARRAY[1..3] OF INT;",
+            "b := a; a.x := 5; v := u; u[1] := 9;"), 1,
+     lambda m: (m.a.x, m.b.x, m.b.y, list(m.u), list(m.v)), (5, 1, 2, [9, 2, 3], [1, 2, 3])),
     ("timer-stdlib", prog("fbT : TON; bQ : BOOL; tEt : TIME;", "fbT(IN := TRUE, PT := T#30ms, Q => bQ, ET => tEt);"), 1,
      lambda m: (m.bQ, m.tEt), (False, 0)),
     ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
@@ -346,7 +350,38 @@ def test_unknown_type_is_named() -> None:
         st.load("PROGRAM MAIN\nVAR x : FB_Nowhere; END_VAR\nEND_PROGRAM\n")
 
 
+def test_super_variable_is_the_same_variable() -> None:
+    module = st.load("""
+FUNCTION_BLOCK FB_A
+VAR nX : INT; END_VAR
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_B EXTENDS FB_A
+SUPER^.nX := SUPER^.nX + 2;
+END_FUNCTION_BLOCK
+""")
+    block = module.FB_B()
+    block(); block()
+    assert block.nX == 4
+
+
+SUPER_PROPERTY = """
+FUNCTION_BLOCK FB_A
+VAR _n : INT; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY N.Get : INT
+N := _n;
+END_PROPERTY
+PROPERTY N.Set : INT
+_n := N;
+END_PROPERTY
+FUNCTION_BLOCK FB_B EXTENDS FB_A
+SUPER^.N := 1;
+END_FUNCTION_BLOCK
+"""
+
+
 @pytest.mark.parametrize("source, construct", [
+    (SUPER_PROPERTY, r"<st>:12: writing the base's PROPERTY through SUPER\^.N"),
     (prog("x : INT;", "lbl: x := 1;"), "label"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n", "VAR_OUTPUT in a method"),
