@@ -442,3 +442,26 @@ def test_integer_division_truncates_and_mod_follows_the_dividend(a: int, b: int)
 @given(strategies.integers(-32768, 32767), strategies.integers(-32768, 32767))
 def test_function_locals_wrap_like_their_type(a: int, b: int) -> None:
     assert ARITHMETIC.F_AddInt(a=a, b=b) == (a + b + 32768) % 65536 - 32768
+
+
+def test_external_pragma_and_call_after_init() -> None:
+    module = st.load("""
+{external}
+FUNCTION F_Ext : INT
+VAR_INPUT x : INT; END_VAR
+F_Ext := x;             // the ST body stands in for a PLC library; Python replaces it
+END_FUNCTION
+FUNCTION_BLOCK FB_X
+VAR n : INT; END_VAR
+END_FUNCTION_BLOCK
+{attribute 'call_after_init'}
+METHOD Init
+n := 7;
+END_METHOD
+PROGRAM MAIN
+VAR r : INT; fb : FB_X; END_VAR
+r := F_Ext(3);
+END_PROGRAM
+""", externals={"F_Ext": lambda x: x * 100})
+    module.MAIN()
+    assert (module.MAIN.r, module.MAIN.fb.n) == (300, 7)
