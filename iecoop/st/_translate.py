@@ -523,6 +523,26 @@ class Translator:
     def emit(self, text: str, level: int) -> None:
         self.out.append("    " * level + text if text else "")
 
+    def emit_def(self, text: str, level: int) -> None:
+        """A ``def`` line; one parameter per line when it would be longer than 110 characters."""
+        if len(text) + 4 * level <= 110:
+            self.emit(text, level)
+            return
+        head, rest = text.split("(", 1)
+        inner, tail = rest.rsplit(") ->", 1)
+        params, depth, start = [], 0, 0
+        for index, char in enumerate(inner):
+            depth += char in "([{"
+            depth -= char in ")]}"
+            if char == "," and depth == 0:
+                params.append(inner[start:index].strip())
+                start = index + 1
+        params.append(inner[start:].strip())
+        self.emit(f"{head}(", level)
+        for param in params:
+            self.emit(f"{param},", level + 1)
+        self.emit(f") ->{tail}", level)
+
     def enter(self, node: Any) -> None:
         """Comments are taken from the source lines of the top-level item ``node`` from now on."""
         unit = self.unit
@@ -1127,7 +1147,7 @@ class Translator:
                 params = ", in_copy_code: BOOL" + self._params(info.params[1:], node.declarations, scope)
             else:
                 params = ""
-            self.emit(f"def {lifecycle}(self{params}) -> BOOL:", 1)
+            self.emit_def(f"def {lifecycle}(self{params}) -> BOOL:", 1)
             self.need("iecoop", "BOOL")
             scope.return_name = name
             returns = TypeRef("elem", "BOOL")
@@ -1136,7 +1156,7 @@ class Translator:
             params = self._params(info.params, node.declarations, scope)
             for decorator in decorators:
                 self.emit(decorator, 1)
-            self.emit(f"def {name}(self{params}) -> {ret_text}:", 1)
+            self.emit_def(f"def {name}(self{params}) -> {ret_text}:", 1)
         if node.access is not None and node.access & tf.AccessSpecifier.abstract or decl.kind == "interface":
             self.prototype(returns, 2)
             return
@@ -1285,11 +1305,11 @@ class Translator:
         if is_external:
             self.need("iecoop.st", "external")
             self.emit(f'@external("{decl.name}")', 0)
-            self.emit(f"def {decl.name}({params}) -> {ret_text}:", 0)
+            self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
             self.emit(f'"""FUNCTION {decl.name}: bound to a Python callable at load time."""', 1)
             self.emit(f'raise NotImplementedError("FUNCTION {decl.name} has no body: pass externals={{\'{decl.name}\': ...}}")', 1)
             return
-        self.emit(f"def {decl.name}({params}) -> {ret_text}:", 0)
+        self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
         self.emit(f'"""FUNCTION {decl.name}."""', 1)
         self._emit_callable_body(node, scope, info.returns, 1)
 
