@@ -465,3 +465,11 @@ END_PROGRAM
 """, externals={"F_Ext": lambda x: x * 100})
     module.MAIN()
     assert (module.MAIN.r, module.MAIN.fb.n) == (300, 7)
+
+
+def test_real_locals_are_32_bit() -> None:
+    import struct
+
+    module = st.load("FUNCTION F_Tenth : REAL\nVAR r : REAL; END_VAR\nr := 0.1;\nF_Tenth := r * 3;\nEND_FUNCTION\n")
+    tenth = struct.unpack("<f", struct.pack("<f", 0.1))[0]
+    assert module.F_Tenth() == struct.unpack("<f", struct.pack("<f", tenth * 3))[0] != 0.1 * 3
