@@ -2192,7 +2192,7 @@ def _exact_real(code: str) -> bool:
         number = float(code)
     except ValueError:
         return False
-    return struct.unpack("<f", struct.pack("<f", number))[0] == number
+    return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
 
 
 def statements_of(body: Any) -> list[Any]:
