@@ -1,0 +1,2241 @@
+"""blark tree -> a readable Python module that uses only iecoop's public API.
+
+Two passes. The first collects every declared name (POUs, data types, GVLs,
+their members, methods and properties) into a symbol table, so the second can
+resolve ST's case-insensitive names to their declared spelling, type each
+expression (``/`` on integers is DIV, ``AND`` on BOOL is ``and``, ``w.3`` is a
+bit of a WORD) and order the classes so a class exists before it is used.
+Whatever cannot be translated faithfully raises ``StUnsupportedError`` naming
+the file, line and construct; nothing is dropped silently.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+import struct
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+
+import blark.transform as tf
+
+from iecoop.st._parse import StUnsupportedError, Unit
+
+__all__ = ["translate"]
+
+INTEGER_TYPES = {
+    "SINT": 8, "INT": 16, "DINT": 32, "LINT": 64, "USINT": 8, "UINT": 16, "UDINT": 32, "ULINT": 64,
+    "BYTE": 8, "WORD": 16, "DWORD": 32, "LWORD": 64, "TIME": 32, "LTIME": 64, "DATE": 32, "TOD": 32, "DT": 32,
+}
+REAL_TYPES = {"REAL", "LREAL"}
+ELEMENTARY = {*INTEGER_TYPES, *REAL_TYPES, "BOOL", "STRING", "WSTRING"}
+TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
+#: Standard function blocks of iecoop.stdlib that ST code may instantiate.
+STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
+              "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
+_MATH = {"SQRT": "sqrt", "LN": "log", "LOG": "log10", "EXP": "exp", "SIN": "sin", "COS": "cos", "TAN": "tan",
+         "ASIN": "asin", "ACOS": "acos", "ATAN": "atan"}
+_SECTION_OF = {
+    tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
+    tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
+    tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
+    tf.ExternalVariableDeclarations: "VAR_EXTERNAL", tf.FunctionVariableDeclarations: "VAR",
+}
+_COMPARE = {"=": "==", "<>": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
+_ACCESS = {"PUBLIC": "PUBLIC", "PRIVATE": "PRIVATE", "PROTECTED": "PROTECTED", "INTERNAL": "INTERNAL",
+           "ABSTRACT": "ABSTRACT", "FINAL": "FINAL"}
+_LIFECYCLE = {"fb_init": "fb_init", "fb_reinit": "fb_reinit", "fb_exit": "fb_exit"}
+
+
+# --- types --------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class TypeRef:
+    """A resolved ST type: elementary, STRING(n), ARRAY, POINTER TO, REFERENCE TO or a user type."""
+
+    kind: str  # elem | string | array | pointer | reference | user | interface_null
+    name: str
+    of: TypeRef | None = None
+    length: str | None = None
+    bounds: list[tuple[str, str]] | None = None
+
+    def annotation(self) -> str:
+        if self.kind == "array":
+            assert self.of is not None
+            return f"ARRAY[{self.of.annotation()}]"
+        if self.kind == "pointer":
+            assert self.of is not None
+            return f"POINTER_TO[{self.of.annotation()}]"
+        if self.kind == "reference":
+            assert self.of is not None
+            return f"REFERENCE_TO[{self.of.annotation()}]"
+        return self.name
+
+    @property
+    def is_int(self) -> bool:
+        return self.kind == "elem" and self.name in INTEGER_TYPES
+
+    @property
+    def is_real(self) -> bool:
+        return self.kind == "elem" and self.name in REAL_TYPES
+
+    @property
+    def is_bool(self) -> bool:
+        return self.kind == "elem" and self.name == "BOOL"
+
+    @property
+    def is_string(self) -> bool:
+        return self.kind == "string"
+
+    def deref(self) -> TypeRef:
+        return self.of if self.kind == "reference" and self.of is not None else self
+
+
+BOOL = TypeRef("elem", "BOOL")
+LINT = TypeRef("elem", "LINT")
+LREAL = TypeRef("elem", "LREAL")
+STRING = TypeRef("string", "STRING", length="80")
+
+
+@dataclasses.dataclass
+class Member:
+    name: str
+    type: TypeRef | None
+    section: str
+
+
+@dataclasses.dataclass
+class Callable_:
+    name: str
+    returns: TypeRef | None
+    params: list[Member]
+
+
+@dataclasses.dataclass
+class Decl:
+    """Everything the second pass needs to know about one declared name."""
+
+    kind: str  # fb program function interface struct union enum alias gvl stdfb
+    name: str
+    node: Any = None
+    unit: Unit | None = None
+    bases: list[str] = dataclasses.field(default_factory=list)
+    members: dict[str, Member] = dataclasses.field(default_factory=dict)
+    methods: dict[str, Callable_] = dataclasses.field(default_factory=dict)
+    props: dict[str, Member] = dataclasses.field(default_factory=dict)
+    method_nodes: list[Any] = dataclasses.field(default_factory=list)
+    prop_nodes: list[Any] = dataclasses.field(default_factory=list)
+    values: list[str] = dataclasses.field(default_factory=list)
+    alias_of: TypeRef | None = None
+    implements: list[str] = dataclasses.field(default_factory=list)
+    #: the top-level item of the source it comes from (its lines hold its comments)
+    item: Any = None
+    #: for a GVL gathered from several sources: the unit of each VAR_GLOBAL block
+    units: dict[int, Unit] = dataclasses.field(default_factory=dict)
+
+
+@dataclasses.dataclass
+class Ex:
+    """A translated expression: Python code, its ST type (None when unknown), whether it needs parentheses."""
+
+    code: str
+    type: TypeRef | None = None
+    compound: bool = False
+    #: Python precedence of the outermost operator (see PRECEDENCE); 0 for other compound code
+    prec: int = 100
+
+    def __post_init__(self) -> None:
+        if self.compound and self.prec == 100:
+            self.prec = 0
+
+    def p(self) -> str:
+        return f"({self.code})" if self.compound else self.code
+
+    def wrap(self, needed: int) -> str:
+        """The code as an operand of an operator of precedence ``needed``: in parentheses only when it binds looser."""
+        return f"({self.code})" if self.prec < needed else self.code
+
+
+#: Python operator precedence, loosest first, for the operators the translation writes.
+PRECEDENCE = {"or": 1, "and": 2, "not": 3, "compare": 4, "|": 5, "^": 6, "&": 7, "shift": 8, "+": 9, "-": 9,
+              "*": 10, "/": 10, "unary": 11, "**": 12}
+
+
+class Scope:
+    """Name resolution inside one POU body, method, property accessor or function."""
+
+    def __init__(self, owner: Decl | None, kind: str, return_name: str | None = None) -> None:
+        self.owner = owner
+        self.kind = kind  # body | method | function | getter | setter
+        self.locals: dict[str, Member] = {}
+        self.return_name = return_name
+        self.counter = 0
+
+    def temp(self, stem: str) -> str:
+        self.counter += 1
+        return f"_{stem}{self.counter}"
+
+
+# --- the translator -----------------------------------------------------------------------------
+
+
+class Translator:
+    def __init__(self, units: Sequence[Unit], externals: Sequence[str] = ()) -> None:
+        self.units = units
+        self.decls: dict[str, Decl] = {}
+        self.enum_values: dict[str, tuple[str, str]] = {}
+        self.globals: dict[str, tuple[str, Member]] = {}
+        self.externals = {name.lower() for name in externals}
+        self.imports: dict[str, set[str]] = {}
+        self.out: list[str] = []
+        self.unit: Unit | None = None
+        self.line: int | None = None
+        self.window: tuple[int, int] = (0, 0)
+        self.used_comments: set[int] = set()
+        self.pending_references: list[Any] = []
+        self._stdlib_decls()
+
+    # --- errors and imports ---
+
+    def fail(self, construct: str, node: Any = None) -> StUnsupportedError:
+        line = getattr(getattr(node, "meta", None), "line", None) or self.line
+        where = self.unit.where(line) if self.unit is not None else "<st>"
+        return StUnsupportedError(f"{where}: {construct}")
+
+    def need(self, module: str, *names: str) -> None:
+        self.imports.setdefault(module, set()).update(names)
+
+    # --- pass 1: the symbol table ---
+
+    def _stdlib_decls(self) -> None:
+        import iecoop.stdlib as stdlib
+
+        for name in STDLIB_FBS:
+            cls = getattr(stdlib, name)
+            decl = Decl("stdfb", name)
+            for record in cls._iec_layout_.fields:
+                decl.members[record.name.lower()] = Member(record.name, self._elem_or_none(record.info.name), record.section)
+            self.decls[name.lower()] = decl
+
+    def _elem_or_none(self, name: str) -> TypeRef | None:
+        name = TYPE_SYNONYMS.get(name.upper(), name.upper())
+        if name in ELEMENTARY:
+            return TypeRef("string", name, length="80") if name in ("STRING", "WSTRING") else TypeRef("elem", name)
+        return None
+
+    def collect(self) -> None:
+        for unit in self.units:
+            self.unit = unit
+            current: Decl | None = None
+            for item in unit.tree.items:
+                self.line = item.meta.line if item.meta else None
+                if isinstance(item, (tf.Method, tf.Property)):
+                    if current is None or current.kind not in ("fb", "interface", "program"):
+                        raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
+                    (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    continue
+                if isinstance(item, tf.Action):
+                    raise self.fail(f"ACTION {item.name} is not supported (use a METHOD)", item)
+                current = self._collect_item(unit, item)
+                if current is not None:
+                    current.item = item
+
+    def _add(self, decl: Decl) -> Decl:
+        key = decl.name.lower()
+        if key in self.decls and self.decls[key].kind != "stdfb":
+            raise self.fail(f"{decl.name} is declared twice", decl.node)
+        self.decls[key] = decl
+        return decl
+
+    def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
+        if isinstance(item, tf.FunctionBlock):
+            decl = self._add(Decl("fb", str(item.name), item, unit))
+            if item.extends:
+                decl.bases.append(str(item.extends.interfaces[0]))
+            decl.implements = [str(i) for i in item.implements.interfaces] if item.implements else []
+            return decl
+        if isinstance(item, tf.Program):
+            return self._add(Decl("program", str(item.name), item, unit))
+        if isinstance(item, tf.Function):
+            return self._add(Decl("function", str(item.name), item, unit))
+        if isinstance(item, tf.Interface):
+            decl = self._add(Decl("interface", str(item.name), item, unit))
+            if item.extends:
+                decl.bases.extend(str(i) for i in item.extends.interfaces)
+            return decl
+        if isinstance(item, tf.GlobalVariableDeclarations):
+            name = str(item.name or "")
+            if not name.isidentifier():
+                stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
+                name = stem if stem.isidentifier() else "GVL"
+            existing = self.decls.get(str(name).lower())
+            decl = existing if existing is not None else self._add(Decl("gvl", str(name), [], unit))
+            decl.node.append(item)
+            decl.units[id(item)] = unit
+            return None
+        if isinstance(item, tf.DataTypeDeclaration):
+            inner = item.declaration
+            if isinstance(inner, tf.StructureTypeDeclaration):
+                decl = self._add(Decl("struct", str(inner.name), inner, unit))
+                if inner.extends:
+                    decl.bases.append(str(inner.extends.interfaces[0]))
+            elif isinstance(inner, tf.UnionTypeDeclaration):
+                decl = self._add(Decl("union", str(inner.name), inner, unit))
+            elif isinstance(inner, tf.EnumeratedTypeDeclaration):
+                decl = self._add(Decl("enum", str(inner.name), inner, unit))
+                for value in inner.init.spec.values or []:
+                    decl.values.append(str(value.name))
+                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, str(value.name)))
+            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration)):
+                decl = self._add(Decl("alias", str(inner.name), inner, unit))
+            else:
+                raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
+            decl.item = item
+            return None
+        raise self.fail(f"{type(item).__name__} at the top level is not supported", item)
+
+    def resolve_members(self) -> None:
+        """Second half of pass 1: member types, once every type name is known."""
+        for decl in list(self.decls.values()):
+            self.unit = decl.unit
+            if decl.kind in ("fb", "program", "function"):
+                for block in decl.node.declarations:
+                    for member in self._block_members(block):
+                        decl.members[member.name.lower()] = member
+            elif decl.kind in ("struct", "union"):
+                for element in decl.node.declarations:
+                    for member in self._element_members(element, decl.kind):
+                        decl.members[member.name.lower()] = member
+            elif decl.kind == "gvl":
+                for block in decl.node:
+                    for member in self._block_members(block):
+                        decl.members[member.name.lower()] = member
+                        self.globals[member.name.lower()] = (decl.name, member)
+            elif decl.kind == "alias":
+                decl.alias_of = self._alias_target(decl.node)
+            for node in decl.method_nodes:
+                name = str(node.name)
+                params = [m for block in node.declarations for m in self._block_members(block) if m.section == "VAR_INPUT"]
+                returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
+                decl.methods[name.lower()] = Callable_(name, returns, params)
+            for node in decl.prop_nodes:
+                name = str(node.name).split(".")[0]
+                decl.props[name.lower()] = Member(name, self._spec_type(node.return_type.spec, node), "PROPERTY")
+            if decl.kind == "function":
+                returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
+                params = [m for m in decl.members.values() if m.section == "VAR_INPUT"]
+                decl.methods["()"] = Callable_(decl.name, returns, params)
+
+    def _alias_target(self, node: Any) -> TypeRef:
+        if isinstance(node, tf.SimpleTypeDeclaration):
+            return self._spec_type(node.init.spec, node)
+        if isinstance(node, tf.StringTypeDeclaration):
+            return self._string_type(node.string_type)
+        return self._array_type(node.init.spec, None, node)
+
+    # --- types from blark nodes ---
+
+    def type_named(self, name: str, node: Any) -> TypeRef:
+        elem = self._elem_or_none(name)
+        if elem is not None:
+            return elem
+        if name.upper() == "__SYSTEM.EXCEPTIONCODE":
+            return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
+        decl = self.decls.get(name.lower())
+        if decl is None:
+            raise self.fail(f"unknown type {name!r}", node)
+        return TypeRef("user", decl.name)
+
+    def _string_type(self, spec: Any) -> TypeRef:
+        kind = str(spec.type_name).upper()
+        length = "80"
+        if spec.length is not None:
+            length = self.const_expr(spec.length.length)
+        return TypeRef("string", kind, length=length)
+
+    def _indirect(self, target: TypeRef, indirection: Any) -> TypeRef:
+        if indirection is None:
+            return target
+        if indirection.reference:
+            return TypeRef("reference", "REFERENCE_TO", of=target)
+        for _ in range(indirection.pointer_depth):
+            target = TypeRef("pointer", "POINTER_TO", of=target)
+        return target
+
+    def _spec_type(self, spec: Any, node: Any) -> TypeRef:
+        if isinstance(spec, tf.SimpleSpecification):
+            if isinstance(spec.type, tf.StringTypeSpecification):
+                return self._string_type(spec.type)
+            return self.type_named(str(spec.type), node)
+        if isinstance(spec, tf.IndirectSimpleSpecification):
+            return self._indirect(self._spec_type(spec.type, node), spec.indirection)
+        if isinstance(spec, tf.StringTypeSpecification):
+            return self._string_type(spec)
+        if isinstance(spec, tf.DataType):
+            if isinstance(spec.type_name, tf.StringTypeSpecification):
+                inner = self._string_type(spec.type_name)
+            else:
+                inner = self.type_named(str(spec.type_name), node)
+            return self._indirect(inner, spec.indirection)
+        if isinstance(spec, tf.ArraySpecification):
+            return self._array_type(spec, None, node)
+        if isinstance(spec, lark_token_type()):
+            return self.type_named(str(spec), node)
+        raise self.fail(f"type specification {type(spec).__name__} is not supported", node)
+
+    def _array_type(self, spec: Any, indirection: Any, node: Any) -> TypeRef:
+        bounds = []
+        for sub in spec.subranges:
+            if not isinstance(sub, tf.PartialSubrange):
+                raise self.fail("ARRAY[*] (variable length) is not supported", node)
+            bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
+        element_spec = spec.type
+        if isinstance(element_spec, tf.ArraySpecification):
+            raise self.fail("ARRAY OF ARRAY is not supported (use ARRAY[a..b, c..d])", node)
+        element = self._spec_type(element_spec, node)
+        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds), indirection)
+
+    def const_expr(self, node: Any) -> str:
+        """A constant expression (ARRAY bounds, STRING length) as Python text."""
+        if isinstance(node, (tf.ParenthesizedExpression, tf.BracketedExpression)):
+            node = node.expr if isinstance(node, tf.ParenthesizedExpression) else node.expression
+        scope = Scope(None, "const")
+        return self.expr(node, scope).code
+
+    def init_type(self, init: Any, node: Any) -> TypeRef:
+        if isinstance(init, tf.ArrayTypeInitialization):
+            return self._array_type(init.spec, init.indirection, node)
+        if isinstance(init, tf.StringTypeInitialization):
+            return self._string_type(init.spec)
+        if isinstance(init, tf.TypeInitialization):
+            return self._spec_type(init.spec, node)
+        if isinstance(init, tf.InitializedStructure):
+            return self.type_named(str(init.name), node)
+        if isinstance(init, tf.EnumeratedTypeInitialization):
+            if init.spec.values:
+                raise self.fail("an inline enumeration in a declaration is not supported (declare a TYPE)", node)
+            return self.type_named(str(init.spec.type_name), node)
+        if isinstance(init, tf.SubrangeTypeInitialization):
+            raise self.fail("subrange types are not supported", node)
+        raise self.fail(f"declaration {type(init).__name__} is not supported", node)
+
+    def _block_members(self, block: Any) -> Iterator[Member]:
+        section = _SECTION_OF.get(type(block))
+        if isinstance(block, tf.GlobalVariableDeclarations):
+            section = "VAR_GLOBAL"
+        if isinstance(block, (tf.LocatedVariableDeclarations, tf.IncompleteLocatedVariableDeclarations)):
+            raise self.fail("located variables (AT %I / %Q / %M) are not supported", block)
+        if section is None:
+            raise self.fail(f"{type(block).__name__} is not supported", block)
+        for item in block.items:
+            self.line = item.meta.line if item.meta else self.line
+            for name, type_ in self._item_types(item):
+                yield Member(name, type_, section)
+
+    def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
+        if isinstance(item, tf.ExternalVariableDeclaration):
+            yield str(item.name), self._spec_type(item.spec, item)
+            return
+        if isinstance(item, tf.GlobalVariableDeclaration):
+            init = item.init
+            if isinstance(init, tf.FunctionCall):
+                type_ = self.type_named(str(init.name.name), item)
+            else:
+                type_ = self.init_type(init, item)
+            for name in item.spec.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.FunctionBlockNameDeclaration):
+            type_ = self.type_named(str(item.spec), item)
+            for name in item.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.FunctionBlockInvocationDeclaration):
+            type_ = self.type_named(str(item.init.name.name), item)
+            for name in item.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.EdgeDeclaration):
+            raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
+        init = getattr(item, "init", None)
+        type_ = self.init_type(init, item)
+        for var in item.variables:
+            if var.location is not None:
+                raise self.fail(f"located variable {var.variable.name} AT % is not supported", item)
+            yield str(var.variable.name), type_
+
+    def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
+        self.line = element.meta.line if element.meta else self.line
+        if isinstance(element, tf.UnionElementDeclaration):
+            yield Member(str(element.name), self._spec_type(element.spec, element), "VAR")
+            return
+        init = element.init
+        if isinstance(init, tf.FunctionCall):
+            type_ = self.type_named(str(init.name.name), element)
+        else:
+            type_ = self.init_type(init, element)
+        for var in element.variables:
+            yield Member(str(var.variable.name), type_, "VAR")
+
+    # --- lookups ---
+
+    def decl_of(self, type_: TypeRef | None) -> Decl | None:
+        if type_ is None:
+            return None
+        type_ = type_.deref()
+        if type_.kind != "user":
+            return None
+        decl = self.decls.get(type_.name.lower())
+        while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
+            decl = self.decls.get(decl.alias_of.name.lower())
+        return decl
+
+    def lineage(self, decl: Decl) -> Iterator[Decl]:
+        seen = set()
+        pending = [decl]
+        while pending:
+            current = pending.pop(0)
+            if current.name in seen:
+                continue
+            seen.add(current.name)
+            yield current
+            for base in current.bases:
+                if base.upper() == "__SYSTEM.IQUERYINTERFACE":
+                    continue
+                found = self.decls.get(base.lower())
+                if found is not None:
+                    pending.append(found)
+
+    def find_member(self, decl: Decl, name: str) -> tuple[str, Member | Callable_] | None:
+        key = name.lower()
+        for current in self.lineage(decl):
+            if key in current.members:
+                return "member", current.members[key]
+            if key in current.props:
+                return "prop", current.props[key]
+            if key in current.methods:
+                return "method", current.methods[key]
+        return None
+
+    # --- pass 2: emission ---
+
+    def emit(self, text: str, level: int) -> None:
+        self.out.append("    " * level + text if text else "")
+
+    def emit_def(self, text: str, level: int) -> None:
+        """A ``def`` line; one parameter per line when it would be longer than 110 characters."""
+        if len(text) + 4 * level <= 110:
+            self.emit(text, level)
+            return
+        head, rest = text.split("(", 1)
+        inner, tail = rest.rsplit(") ->", 1)
+        params, depth, start = [], 0, 0
+        for index, char in enumerate(inner):
+            depth += char in "([{"
+            depth -= char in ")]}"
+            if char == "," and depth == 0:
+                params.append(inner[start:index].strip())
+                start = index + 1
+        params.append(inner[start:].strip())
+        self.emit(f"{head}(", level)
+        for param in params:
+            self.emit(f"{param},", level + 1)
+        self.emit(f") ->{tail}", level)
+
+    def enter(self, node: Any) -> None:
+        """Comments are taken from the source lines of the top-level item ``node`` from now on."""
+        unit = self.unit
+        line = getattr(getattr(node, "meta", None), "line", None)
+        self.window = (0, 0)
+        if unit is None or line is None:
+            return
+        previous_end = 0
+        for item in unit.tree.items:
+            meta = getattr(item, "meta", None)
+            if item is node:
+                self.window = (previous_end + 1, getattr(meta, "end_line", None) or line)
+                return
+            end = getattr(meta, "end_line", None)
+            if end is not None and end < line:
+                previous_end = max(previous_end, end)
+
+    def comments(self, node: Any, level: int, inline: bool = False) -> str:
+        """Emit the comments before ``node``; with ``inline``, return the one on its line, for the end of that line.
+
+        Comments are placed by their line in the source (blark attaches some of them to a later
+        statement), each once, within the lines of the item being written.
+        """
+        meta = getattr(node, "meta", None)
+        line = getattr(meta, "line", None)
+        trailing = ""
+        if line is None or self.unit is None:
+            return ""
+        low, high = self.window
+        tokens = [
+            t for t in self.unit.comments
+            if low <= t.line <= min(line, high) and id(t) not in self.used_comments
+        ]
+        for token in tokens:
+            text = str(token).strip()
+            self.used_comments.add(id(token))
+            if text.startswith("{"):
+                continue  # pragmas are read where they matter (call_after_init)
+            if text.startswith("//"):
+                body = [text[2:].strip()]
+            else:
+                body = [part.strip() for part in text[2:-2].strip().splitlines()]
+            if inline and line is not None and getattr(token, "line", None) == line and len(body) == 1:
+                trailing = body[0]
+                continue
+            for part in body:
+                self.emit(f"# {part}".rstrip(), level)
+        return trailing
+
+    def trail(self, index: int, comment: str) -> None:
+        """Put ``comment`` at the end of the line at ``index`` (an ST end-of-line comment)."""
+        if comment and index < len(self.out):
+            self.out[index] += f"  # {comment}"
+
+    def pragmas(self, node: Any) -> list[str]:
+        """The pragmas (``{attribute 'x'}``) written before ``node``, within the current item's lines."""
+        line = getattr(getattr(node, "meta", None), "line", None)
+        if line is None or self.unit is None:
+            return []
+        low = self.window[0]
+        return [str(t).strip() for t in self.unit.comments if low <= t.line <= line and str(t).strip().startswith("{")]
+
+    def ordered(self) -> list[Decl]:
+        """User declarations, each after the ones it needs at class creation."""
+        order: list[Decl] = []
+        state: dict[str, int] = {}
+
+        def needs(decl: Decl) -> Iterator[str]:
+            yield from (b.lower() for b in decl.bases)
+            yield from (i.lower() for i in decl.implements)
+            members = [m.type for m in decl.members.values()]
+            members += [p.type for p in decl.props.values()] + [m.returns for m in decl.methods.values()]
+            members += [p.type for m in decl.methods.values() for p in m.params]
+            for type_ in members:
+                while type_ is not None and type_.kind in ("array", "pointer", "reference"):
+                    type_ = type_.of
+                if type_ is not None and type_.kind == "user":
+                    yield type_.name.lower()
+            if decl.alias_of is not None and decl.alias_of.kind == "user":
+                yield decl.alias_of.name.lower()
+
+        def visit(decl: Decl) -> None:
+            key = decl.name.lower()
+            if state.get(key) == 2 or decl.kind == "stdfb":
+                return
+            if state.get(key) == 1:
+                return  # a cycle through a pointer or interface: annotations are strings, order does not matter
+            state[key] = 1
+            for dep in needs(decl):
+                if dep in self.decls and dep != key:
+                    visit(self.decls[dep])
+            state[key] = 2
+            order.append(decl)
+
+        for decl in self.decls.values():
+            visit(decl)
+        return order
+
+    def translate(self) -> str:
+        self.collect()
+        self.resolve_members()
+        body: list[str] = []
+        for decl in self.ordered():
+            self.unit = decl.unit
+            self.out = []
+            self.enter(decl.item)
+            getattr(self, f"_emit_{decl.kind}")(decl)
+            body.extend(["", ""] + self.out)
+        header = ['"""Generated by iecoop.st from Structured Text; edit freely, it is plain iecoop code."""', "",
+                  "from __future__ import annotations", ""]
+        standard = [m for m in ("math", "typing") if m in self.imports]
+        if "math" in self.imports:
+            header.append("import math")
+        if "typing" in self.imports:
+            header.append(f"from typing import {', '.join(sorted(self.imports['typing']))}")
+        if standard:
+            header.append("")
+        for module in sorted(m for m in self.imports if m not in standard):
+            names = sorted(self.imports[module])
+            line = f"from {module} import {', '.join(names)}"
+            if len(line) > 110:
+                header.append(f"from {module} import (")
+                chunk = ""
+                for name in names:
+                    if len(chunk) + len(name) > 100:
+                        header.append(f"    {chunk.rstrip()}")
+                        chunk = ""
+                    chunk += f"{name}, "
+                header.append(f"    {chunk.rstrip()}")
+                header.append(")")
+            else:
+                header.append(line)
+        return "\n".join(header + body) + "\n"
+
+    # --- data types ---
+
+    def _emit_enum(self, decl: Decl) -> None:
+        node = decl.node
+        self.line = node.meta.line if node.meta else None
+        base = node.init.spec.type_name
+        base_kw = ""
+        if base is not None:
+            base_type = self.type_named(str(base), node)
+            self.need("iecoop", base_type.name)
+            base_kw = f", base={base_type.name}"
+        self.need("iecoop", "IecEnum")
+        self.comments(node, 0)
+        self.emit(f"class {decl.name}(IecEnum{base_kw}):", 0)
+        self.emit(f'"""TYPE {decl.name} (enumeration)."""', 1)
+        value = -1
+        scope = Scope(None, "const")
+        for item in node.init.spec.values or []:
+            if item.value is not None:
+                text = self.expr(item.value, scope).code
+                try:
+                    value = int(eval(text, {}))  # a literal or a constant expression of literals
+                except Exception:
+                    raise self.fail(f"enumeration value {decl.name}.{item.name} := {text} is not a constant", node) from None
+            else:
+                value += 1
+            self.emit(f"{item.name} = {value}", 1)
+        if node.init.value is not None:
+            raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
+
+    def _emit_alias(self, decl: Decl) -> None:
+        assert decl.alias_of is not None
+        target = decl.alias_of
+        if target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds):
+            raise self.fail(f"alias {decl.name} of {target.annotation()} with a length or bounds is not supported", decl.node)
+        self.need("typing", "Annotated")
+        self.need("iecoop", "Alias")
+        self._need_type(target)
+        self.comments(decl.node, 0)
+        self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}")]', 0)
+
+    def _need_type(self, type_: TypeRef | None) -> None:
+        if type_ is None:
+            return
+        if type_.kind == "array":
+            self.need("iecoop", "ARRAY")
+        elif type_.kind == "pointer":
+            self.need("iecoop", "POINTER_TO")
+        elif type_.kind == "reference":
+            self.need("iecoop", "REFERENCE_TO")
+        elif type_.kind in ("elem", "string"):
+            self.need("iecoop", type_.name)
+        elif type_.name == "ExceptionCode":
+            self.need("iecoop", "ExceptionCode")
+        elif type_.name.upper() in STDLIB_FBS:
+            self.need("iecoop.stdlib", type_.name)
+        if type_.of is not None:
+            self._need_type(type_.of)
+
+    def _emit_struct(self, decl: Decl) -> None:
+        self._emit_datatype(decl, "Struct")
+
+    def _emit_union(self, decl: Decl) -> None:
+        self._emit_datatype(decl, "Union")
+
+    def _emit_datatype(self, decl: Decl, base: str) -> None:
+        node = decl.node
+        bases = decl.bases[0] if decl.bases else base
+        if not decl.bases:
+            self.need("iecoop", base)
+        self.comments(node, 0)
+        self.emit(f"class {decl.name}({bases}):", 0)
+        keyword = "STRUCT" if base == "Struct" else "UNION"
+        self.emit(f'"""TYPE {decl.name} : {keyword}."""', 1)
+        scope = Scope(decl, "const")
+        for element in node.declarations:
+            self.line = element.meta.line if element.meta else self.line
+            trailing = self.comments(element, 1, inline=True)
+            index = len(self.out)
+            members = list(self._element_members(element, decl.kind))
+            init = getattr(element, "init", None)
+            if isinstance(element, tf.UnionElementDeclaration):
+                init = None
+            for member in members:
+                self.emit(self.field_line(member, init, scope, plain=True), 1)
+            self.trail(index, trailing)
+        if not node.declarations:
+            self.emit("pass", 1)
+
+    # --- field declarations ---
+
+    def field_line(self, member: Member, init: Any, scope: Scope, *, plain: bool = False, extra: str = "") -> str:
+        type_ = member.type
+        assert type_ is not None
+        self._need_type(type_)
+        args: list[str] = []
+        value = self.initial_value(type_, init, scope)
+        if value is not None:
+            args.append(value)
+        kwargs = []
+        if type_.kind == "string" and type_.length not in (None, "80"):
+            kwargs.append(f"length={type_.length}")
+        shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
+        if shape.kind == "array":
+            assert shape.bounds is not None
+            pairs = [f"({a}, {b})" for a, b in shape.bounds]
+            kwargs.append(f"bounds={pairs[0] if len(pairs) == 1 else '(' + ', '.join(pairs) + ')'}")
+            if shape.of is not None and shape.of.kind == "string" and shape.of.length not in (None, "80"):
+                kwargs.append(f"length={shape.of.length}")
+        fb_init = self.fb_init_args(init, scope)
+        if fb_init:
+            kwargs.append(f"fb_init={fb_init}")
+        if extra:
+            kwargs.append(extra)
+        section = member.section if member.section != "VAR_GLOBAL" else "VAR"
+        if plain and not kwargs and value is not None:
+            return f"{member.name}: {type_.annotation()} = {value}"
+        self.need("iecoop", section)
+        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)})"
+
+    def fb_init_args(self, init: Any, scope: Scope) -> str:
+        call: Any = None
+        if isinstance(init, tf.FunctionBlockInvocationDeclaration):
+            call = init.init
+            type_name, parameters = str(call.name.name), call.parameters
+        elif isinstance(init, tf.TypeInitialization) and isinstance(init.spec, tf.IndirectSimpleSpecification) and init.spec.init_parameters:
+            call = init
+            type_name, parameters = str(init.spec.type.type), init.spec.init_parameters
+        if call is not None:
+            decl = self.decls.get(type_name.lower())
+            fb_init = self.find_member(decl, "FB_init") if decl is not None else None
+            params = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
+            params = [p for p in params if p.name.lower() not in ("binitretains", "bincopycode")]
+            pairs = []
+            for index, param in enumerate(parameters):
+                if isinstance(param, tf.OutputParameterAssignment):
+                    raise self.fail("an output (=>) in an FB_init call of a declaration", init)
+                if param.name is not None:
+                    name = str(param.name.name)
+                    match = next((p.name for p in params if p.name.lower() == name.lower()), name)
+                elif index < len(params):
+                    match = params[index].name
+                else:
+                    raise self.fail(f"FB_init of {type_name} has no input number {index + 1}", init)
+                pairs.append(f'"{match}": {self.expr(param.value, scope).code}')
+            return "{" + ", ".join(pairs) + "}"
+        return ""
+
+    def initial_value(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        if type_.kind == "reference" and getattr(init, "value", None) is not None:
+            if scope.owner is None or scope.kind != "body":
+                raise self.fail("a REFERENCE TO initialised at its declaration is supported in a block's VAR only", init)
+            self.pending_references.append(init.value)
+            return None
+        value: Any = None
+        if isinstance(init, tf.FunctionBlockInvocationDeclaration):
+            value = init.defaults
+        elif isinstance(init, tf.FunctionBlockNameDeclaration):
+            value = init.init
+        elif isinstance(init, tf.InitializedStructure):
+            value = init.init
+        elif init is not None and not isinstance(init, tf.FunctionCall):
+            value = getattr(init, "value", None)
+        if value is None:
+            decl = self.decl_of(type_) if type_.kind == "user" else None
+            if decl is not None and decl.kind == "enum" and decl.values:
+                return f"{decl.name}.{decl.values[0]}"
+            return None
+        if isinstance(value, lark_token_type()):
+            if type_.kind == "string":
+                return python_string(str(value))
+            raise self.fail(f"initial value {value}", init)
+        return self.init_value(value, type_, scope)
+
+    def init_value(self, value: Any, type_: TypeRef | None, scope: Scope) -> str:
+        if isinstance(value, tf.ArrayInitialization):
+            element = type_.of if type_ is not None and type_.kind == "array" else None
+            return "[" + ", ".join(self._array_elements(value, element, scope)) + "]"
+        if isinstance(value, tf.StructureInitialization):
+            decl = self.decl_of(type_)
+            pairs = []
+            for element in value.elements:
+                if element.name is None:
+                    raise self.fail("a structure initialiser element without a name", value)
+                found = self.find_member(decl, str(element.name)) if decl is not None else None
+                name = found[1].name if found is not None else str(element.name)
+                member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
+                pairs.append(f'"{name}": {self.init_value(element.value, member_type, scope)}')
+            return "{" + ", ".join(pairs) + "}"
+        if isinstance(value, tf.EnumeratedValue):
+            enum_name = str(value.type_name) if value.type_name is not None else None
+            return self.enum_ref(enum_name, str(value.name), value)
+        return self.coerce(self.expr(value, scope, expected=type_), type_).code
+
+    def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
+        for item in value.elements:
+            count = 1
+            if item.count is not None:
+                count = int(eval(self.expr(item.count, scope).code, {}))
+            if isinstance(item.element, tf.ArrayInitialization) and not item.element.brackets:
+                inner = list(self._array_elements(item.element, element, scope))
+                for _ in range(count):
+                    yield from inner
+                continue
+            text = self.init_value(item.element, element, scope)
+            for _ in range(count):
+                yield text
+
+    def enum_ref(self, enum_name: str | None, value: str, node: Any) -> str:
+        if enum_name is not None:
+            decl = self.decls.get(enum_name.lower())
+            if decl is None or decl.kind != "enum":
+                raise self.fail(f"unknown enumeration {enum_name!r}", node)
+            match = next((v for v in decl.values if v.lower() == value.lower()), None)
+            if match is None:
+                raise self.fail(f"enumeration {decl.name} has no value {value!r}", node)
+            return f"{decl.name}.{match}"
+        found = self.enum_values.get(value.lower())
+        if found is None:
+            raise self.fail(f"unknown enumeration value {value!r}", node)
+        return f"{found[0]}.{found[1]}"
+
+    # --- POUs ---
+
+    def _class_kwargs(self, access: Any) -> str:
+        kwargs = []
+        if access is not None:
+            if access & tf.AccessSpecifier.abstract:
+                kwargs.append("abstract=True")
+            if access & tf.AccessSpecifier.final:
+                kwargs.append("final=True")
+            if access & tf.AccessSpecifier.internal:
+                kwargs.append("internal=True")
+        return "".join(f", {k}" for k in kwargs)
+
+    def _emit_fb(self, decl: Decl) -> None:
+        node = decl.node
+        self.line = node.meta.line if node.meta else None
+        bases = list(decl.bases)
+        if not bases:
+            self.need("iecoop", "FunctionBlock")
+            bases.append("FunctionBlock")
+        else:
+            base_decl = self.decls.get(bases[0].lower())
+            if base_decl is None or base_decl.kind not in ("fb", "stdfb"):
+                raise self.fail(f"FUNCTION_BLOCK {decl.name} EXTENDS unknown block {bases[0]!r}", node)
+            bases[0] = base_decl.name
+            if base_decl.kind == "stdfb":
+                self.need("iecoop.stdlib", base_decl.name)
+        for itf in node.implements.interfaces if node.implements else []:
+            itf_decl = self.decls.get(str(itf).lower())
+            if itf_decl is None or itf_decl.kind != "interface":
+                raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {itf!r}", node)
+            bases.append(itf_decl.name)
+        self.comments(node, 0)
+        self.emit(f"class {decl.name}({', '.join(bases)}{self._class_kwargs(node.access)}):", 0)
+        self.emit(f'"""FUNCTION_BLOCK {decl.name}."""', 1)
+        self._emit_pou(decl, "FUNCTION_BLOCK")
+
+    def _emit_program(self, decl: Decl) -> None:
+        self.need("iecoop", "Program")
+        self.comments(decl.node, 0)
+        self.emit(f"class {decl.name}(Program):", 0)
+        self.emit(f'"""PROGRAM {decl.name}."""', 1)
+        self._emit_pou(decl, "PROGRAM")
+
+    def _emit_pou(self, decl: Decl, kind: str) -> None:
+        node = decl.node
+        scope = Scope(decl, "body")
+        self.pending_references = []
+        self._emit_fields(decl, node.declarations, scope, 1)
+        self._emit_reference_inits(decl, scope)
+        for method in decl.method_nodes:
+            self._emit_method(decl, method)
+        self._emit_properties(decl)
+        statements = statements_of(node.body)
+        if statements or (kind == "FUNCTION_BLOCK" and decl.bases and node.body is not None):
+            self.emit("", 0)
+            self.emit("def body(self) -> None:", 1)
+            self._emit_statements(statements, scope, 2)
+        if len(self.out) and self.out[-1].strip().startswith('"""') and self.out[-1].strip().endswith('"""'):
+            self.emit("pass", 1)
+
+    def _emit_fields(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None = None) -> None:
+        for block in blocks:
+            self.comments(block, level)
+            section = _SECTION_OF.get(type(block))
+            attrs = getattr(block, "attrs", None)
+            extra = []
+            if attrs is not None:
+                if attrs & tf.VariableAttributes.constant:
+                    extra.append("constant=True")
+                if attrs & tf.VariableAttributes.retain:
+                    extra.append("retain=True")
+                if attrs & tf.VariableAttributes.persistent:
+                    extra.append("persistent=True")
+            if method is not None and section == "VAR_INST":
+                extra.append(f'method="{method}"')
+            for item in block.items:
+                self.line = item.meta.line if item.meta else self.line
+                trailing = self.comments(item, level, inline=True)
+                index = len(self.out)
+                if section == "VAR_EXTERNAL":
+                    for name, type_ in self._item_types(item):
+                        self._need_type(type_)
+                        self.need("iecoop", "VAR_EXTERNAL")
+                        self.emit(f"{name}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
+                    self.trail(index, trailing)
+                    continue
+                for name, type_ in self._item_types(item):
+                    init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
+                    member = Member(name, type_, section or "VAR")
+                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
+                self.trail(index, trailing)
+
+    def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
+        """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
+        if not self.pending_references:
+            return
+        self.pending_references = []
+        self.need("iecoop", "call_after_init", "ref_assign")
+        self.emit("", 0)
+        self.emit("@call_after_init", 1)
+        self.emit(f"def _bind_references_{decl.name}(self) -> None:", 1)
+        self.emit('"""The REFERENCE TO variables initialised at their declaration (ref : REFERENCE TO T := x)."""', 2)
+        for block in decl.node.declarations:
+            for item in block.items:
+                init = getattr(item, "init", None)
+                target = getattr(init, "value", None)
+                if target is None or self.init_type(init, item).kind != "reference":
+                    continue
+                if isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
+                    target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+                for var in item.variables:
+                    self.emit(f'ref_assign(self, "{var.variable.name}", {self.address_of(target, scope)})', 2)
+
+    def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
+        inits: dict[str, Any] = {}
+        for block in blocks:
+            if isinstance(block, tf.InputDeclarations):
+                for item in block.items:
+                    for var in getattr(item, "variables", []):
+                        name = str(var.variable.name if hasattr(var, "variable") else var)
+                        inits[name.lower()] = getattr(item, "init", None)
+        parts = []
+        last_reference = max((i for i, p in enumerate(params) if p.type is not None and p.type.kind == "reference"), default=-1)
+        for index, param in enumerate(params):
+            assert param.type is not None
+            self._need_type(param.type)
+            if index <= last_reference:
+                # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python
+                if param.type.kind != "reference" and index < last_reference:
+                    raise self.fail(f"input {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+                parts.append(f"{param.name}: {param.type.annotation()}")
+                scope.locals[param.name.lower()] = param
+                continue
+            if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
+                raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
+            if param.type.kind == "array":
+                raise self.fail(f"ARRAY input {param.name} passed by value is not supported")
+            default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
+            parts.append(f"{param.name}: {param.type.annotation()} = {default}")
+            scope.locals[param.name.lower()] = param
+        return "".join(f", {p}" for p in parts)
+
+    def zero(self, type_: TypeRef) -> str:
+        if type_.is_bool:
+            return "False"
+        if type_.is_real:
+            return "0.0"
+        if type_.is_int:
+            return "0"
+        if type_.kind == "string":
+            return '""'
+        if type_.kind == "pointer":
+            self.need("iecoop", "Pointer")
+            return "Pointer(0, None)"
+        decl = self.decl_of(type_)
+        if decl is not None and decl.kind == "enum":
+            return f"{decl.name}.{decl.values[0]}"
+        if decl is not None and decl.kind == "interface":
+            self.need("iecoop", "null")
+            return f"null({decl.name})"
+        if decl is not None and decl.kind == "alias" and decl.alias_of is not None:
+            return self.zero(decl.alias_of)
+        if decl is not None and decl.kind in ("struct", "union", "fb"):
+            return f"{decl.name}()"
+        raise self.fail(f"a local or input of type {type_.annotation()} has no zero value here")
+
+    def _access_decorator(self, access: Any, extra: Sequence[str] = ()) -> str:
+        flags = list(extra)
+        if access is not None:
+            for spec in tf.AccessSpecifier:
+                if access & spec and spec.name.upper() in _ACCESS and spec.name.upper() != "PUBLIC":
+                    flags.append(spec.name.upper())
+        for flag in flags:
+            self.need("iecoop", flag)
+        self.need("iecoop", "method")
+        return f"@method({' | '.join(flags)})" if flags else "@method"
+
+    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
+        for block in blocks:
+            section = _SECTION_OF.get(type(block))
+            if section in ("VAR_INPUT", "VAR_INST"):
+                continue
+            if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+                raise self.fail(f"{section} in a {scope.kind} is not supported yet (iecoop has no form for it)", block)
+            if section == "VAR_STAT":
+                raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+            constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
+            for item in block.items:
+                self.line = item.meta.line if item.meta else self.line
+                trailing = self.comments(item, level, inline=True)
+                index = len(self.out)
+                for name, type_ in self._item_types(item):
+                    assert type_ is not None
+                    if type_.kind == "array":
+                        raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                    self._need_type(type_)
+                    init = getattr(item, "init", None)
+                    value = self.initial_value(type_, init, scope) or self.zero(type_)
+                    scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
+                    self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
+                self.trail(index, trailing)
+
+    def local_annotation(self, type_: TypeRef) -> str:
+        return type_.annotation()
+
+    def _emit_method(self, decl: Decl, node: Any) -> None:
+        self.line = node.meta.line if node.meta else None
+        self.enter(node)
+        name = str(node.name)
+        info = decl.methods[name.lower()]
+        lifecycle = _LIFECYCLE.get(name.lower())
+        scope = Scope(decl, "method", return_name=name if info.returns is not None else None)
+        self.emit("", 0)
+        self.comments(node, 1)
+        decorators = []
+        for pragma in self.pragmas(node):
+            if re.fullmatch(r"\{\s*attribute\s+'call_after_init'\s*\}", pragma, re.IGNORECASE):
+                self.need("iecoop", "call_after_init")
+                decorators.append("@call_after_init")
+        # the method's VAR_INST live in the instance
+        for block in node.declarations:
+            if isinstance(block, tf.MethodInstanceVariableDeclarations):
+                for item in block.items:
+                    for var_name, type_ in self._item_types(item):
+                        assert type_ is not None
+                        self._need_type(type_)
+                        decl.members[var_name.lower()] = Member(var_name, type_, "VAR_INST")
+                        self.need("iecoop", "VAR_INST")
+                        self.out.insert(self._field_insert_point(), "    " + self.field_line(
+                            Member(var_name, type_, "VAR_INST"), getattr(item, "init", None), scope,
+                            extra=f'method="{lifecycle or name}"'))
+        returns = info.returns
+        ret_text = returns.annotation() if returns is not None else "None"
+        self._need_type(returns)
+        if lifecycle is not None:
+            if lifecycle == "fb_init":
+                inputs = info.params
+                if len(inputs) < 2:
+                    raise self.fail(f"METHOD FB_init of {decl.name} needs the inputs bInitRetains and bInCopyCode", node)
+                # iecoop names the two implicit inputs in PEP 8; the ST names still resolve to them
+                first = ", init_retains: BOOL, in_copy_code: BOOL"
+                self.need("iecoop", "BOOL")
+                for p, py_name in zip(inputs[:2], ("init_retains", "in_copy_code")):
+                    scope.locals[p.name.lower()] = Member(py_name, p.type, "VAR_INPUT")
+                params = first + self._params(inputs[2:], node.declarations, scope)
+            elif lifecycle == "fb_exit":
+                if info.params:
+                    scope.locals[info.params[0].name.lower()] = Member("in_copy_code", BOOL, "VAR_INPUT")
+                params = ", in_copy_code: BOOL" + self._params(info.params[1:], node.declarations, scope)
+            else:
+                params = ""
+            self.emit_def(f"def {lifecycle}(self{params}) -> BOOL:", 1)
+            self.need("iecoop", "BOOL")
+            scope.return_name = name
+            returns = TypeRef("elem", "BOOL")
+        else:
+            decorators.insert(0, self._access_decorator(node.access))
+            params = self._params(info.params, node.declarations, scope)
+            for decorator in decorators:
+                self.emit(decorator, 1)
+            self.emit_def(f"def {name}(self{params}) -> {ret_text}:", 1)
+        if node.access is not None and node.access & tf.AccessSpecifier.abstract or decl.kind == "interface":
+            self.prototype(returns, 2)
+            return
+        self._emit_callable_body(node, scope, returns, 2)
+
+    def prototype(self, returns: TypeRef | None, level: int) -> None:
+        """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
+        self.emit("..." if returns is None else "raise NotImplementedError", level)
+
+    def _field_insert_point(self) -> int:
+        """Just after the last field line of the class being written."""
+        index = len(self.out)
+        for i, line in enumerate(self.out):
+            if line.startswith("    ") and not line.startswith("        ") and re.match(r"    \w+: .+ = ", line):
+                index = i + 1
+            if line.startswith("    def ") or line.startswith("    @"):
+                break
+        return index
+
+    def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
+        if returns is not None and scope.return_name is not None:
+            scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
+            self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
+        self._local_blocks(node.declarations, scope, level)
+        statements = statements_of(node.body)
+        self._emit_statements(statements, scope, level)
+        if returns is not None and scope.return_name is not None:
+            self.emit(f"return {scope.return_name}", level)
+        elif not statements and not any(isinstance(b, (tf.VariableDeclarations, tf.FunctionVariableDeclarations, tf.TemporaryVariableDeclarations)) for b in node.declarations):
+            self.emit("pass", level)
+
+    def _emit_properties(self, decl: Decl) -> None:
+        accessors: dict[str, dict[str, Any]] = {}
+        for node in decl.prop_nodes:
+            parts = str(node.name).split(".")
+            kind = parts[1].lower() if len(parts) > 1 else "get"
+            if kind not in ("get", "set"):
+                raise self.fail(f"PROPERTY {node.name}: the accessor after the dot must be Get or Set", node)
+            accessors.setdefault(parts[0].lower(), {})[kind] = node
+        for key, found in accessors.items():
+            prop = decl.props[key]
+            assert prop.type is not None
+            self._need_type(prop.type)
+            self.need("iecoop", "prop")
+            getter = found.get("get")
+            setter = found.get("set")
+            annotation = prop.type.annotation()
+            if getter is None:
+                raise self.fail(f"PROPERTY {prop.name} has a Set accessor but no Get (iecoop needs the Get)", setter)
+            self.emit("", 0)
+            self.enter(getter)
+            self.comments(getter, 1)
+            self.emit("@prop", 1)
+            flags = self._access_decorator(getter.access)
+            if flags != "@method":
+                self.emit(flags, 1)
+            self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
+            if decl.kind == "interface" or getter.access is not None and getter.access & tf.AccessSpecifier.abstract:
+                self.prototype(prop.type, 2)
+            else:
+                scope = Scope(decl, "getter", return_name=prop.name)
+                self._emit_callable_body(getter, scope, prop.type, 2)
+            if setter is not None:
+                self.emit("", 0)
+                self.enter(setter)
+                self.comments(setter, 1)
+                self.emit(f"@{prop.name}.setter", 1)
+                flags = self._access_decorator(setter.access)
+                if flags != "@method":
+                    self.emit(flags, 1)
+                self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
+                if decl.kind == "interface" or setter.access is not None and setter.access & tf.AccessSpecifier.abstract:
+                    self.emit("...", 2)
+                else:
+                    scope = Scope(decl, "setter")
+                    scope.locals[prop.name.lower()] = Member(prop.name, prop.type, "VAR_INPUT")
+                    self._emit_callable_body(setter, scope, None, 2)
+
+    def _emit_interface(self, decl: Decl) -> None:
+        node = decl.node
+        bases = []
+        for base in decl.bases:
+            if base.upper() == "__SYSTEM.IQUERYINTERFACE":
+                self.need("iecoop", "IQueryInterface")
+                bases.append("IQueryInterface")
+                continue
+            base_decl = self.decls.get(base.lower())
+            if base_decl is None or base_decl.kind != "interface":
+                raise self.fail(f"INTERFACE {decl.name} EXTENDS unknown interface {base!r}", node)
+            bases.append(base_decl.name)
+        if not bases:
+            self.need("iecoop", "Interface")
+            bases.append("Interface")
+        if node.declarations:
+            raise self.fail(f"INTERFACE {decl.name} declares variables; interfaces hold no state", node)
+        self.comments(node, 0)
+        self.emit(f"class {decl.name}({', '.join(bases)}):", 0)
+        self.emit(f'"""INTERFACE {decl.name}."""', 1)
+        for method in decl.method_nodes:
+            self._emit_method(decl, method)
+        self._emit_properties(decl)
+        if not decl.method_nodes and not decl.prop_nodes:
+            self.emit("pass", 1)
+
+    def _emit_gvl(self, decl: Decl) -> None:
+        self.need("iecoop", "GlobalVariables", "gvl")
+        self.emit("@gvl", 0)
+        self.emit(f"class {decl.name}(GlobalVariables):", 0)
+        self.emit(f'"""VAR_GLOBAL list {decl.name}."""', 1)
+        scope = Scope(decl, "const")
+        for block in decl.node:
+            self.unit = decl.units.get(id(block), self.unit)
+            self.enter(block)
+            self.comments(block, 1)
+            attrs = block.attrs
+            extra = []
+            if attrs is not None:
+                if attrs & tf.GlobalVariableAttributes.constant:
+                    extra.append("constant=True")
+                if attrs & tf.GlobalVariableAttributes.retain:
+                    extra.append("retain=True")
+                if attrs & tf.GlobalVariableAttributes.persistent:
+                    extra.append("persistent=True")
+            for item in block.items:
+                self.line = item.meta.line if item.meta else self.line
+                trailing = self.comments(item, 1, inline=True)
+                index = len(self.out)
+                init = item.init
+                for name, type_ in self._item_types(item):
+                    member = Member(name, type_, "VAR")
+                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
+                self.trail(index, trailing)
+
+    def _emit_function(self, decl: Decl) -> None:
+        node = decl.node
+        self.line = node.meta.line if node.meta else None
+        info = decl.methods["()"]
+        scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
+        self.comments(node, 0)
+        params = self._params(info.params, node.declarations, scope)[2:]
+        self._need_type(info.returns)
+        ret_text = info.returns.annotation() if info.returns is not None else "None"
+        statements = statements_of(node.body)
+        is_external = decl.name.lower() in self.externals or not statements or any(
+            re.fullmatch(r"\{\s*external\s*\}", p, re.IGNORECASE) for p in self.pragmas(node))
+        if is_external:
+            self.need("iecoop.st", "external")
+            self.emit(f'@external("{decl.name}")', 0)
+            self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
+            self.emit(f'"""FUNCTION {decl.name}: bound to a Python callable at load time."""', 1)
+            self.emit(f'raise NotImplementedError("FUNCTION {decl.name} has no body: pass externals={{\'{decl.name}\': ...}}")', 1)
+            return
+        self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
+        self.emit(f'"""FUNCTION {decl.name}."""', 1)
+        self._emit_callable_body(node, scope, info.returns, 1)
+
+    # --- statements ---
+
+    def _emit_statements(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        if not statements:
+            self.emit("pass", level)
+            return
+        start = len(self.out)
+        for statement in statements:
+            self.line = statement.meta.line if statement.meta else self.line
+            trailing = self.comments(statement, level, inline=True)
+            index = len(self.out)
+            self.statement(statement, scope, level)
+            self.trail(index, trailing)
+        if all(line.strip().startswith("#") or not line.strip() for line in self.out[start:]):
+            self.emit("pass", level)
+
+    def statement(self, node: Any, scope: Scope, level: int) -> None:
+        handler: Callable[[Any, Scope, int], None] | None = getattr(self, f"_st_{type(node).__name__}", None)
+        if handler is None:
+            raise self.fail(f"statement {type(node).__name__} is not supported", node)
+        handler(node, scope, level)
+
+    def _st_NoOpStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit(self.expr(node.variable, scope).code, level)
+
+    def _st_AssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self._hoisting, self._hoist_level = True, level  # __QUERYINTERFACE writes its operand first
+        try:
+            value = self.expr(node.expression, scope)
+        finally:
+            self._hoisting = False
+        targets = list(node.variables)
+        if len(targets) > 1:
+            temp = scope.temp("value")
+            self.emit(f"{temp} = {value.code}", level)
+            value = Ex(temp, value.type)
+        for target in targets:
+            self.assign(target, value, scope, level)
+
+    def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
+        bit = self.bit_target(target, scope)
+        if bit is not None:
+            holder, index = bit
+            if value.code == "True":
+                self.emit(f"{holder} = {holder} | (1 << {index})", level)
+            elif value.code == "False":
+                self.emit(f"{holder} = {holder} & ~(1 << {index})", level)
+            else:
+                self.emit(f"{holder} = ({holder} & ~(1 << {index})) | (int({value.code}) << {index})", level)
+            return
+        lhs = self.expr(target, scope, store=True)
+        local = self.local_of(target, scope)
+        if local is not None and local.section == "CONSTANT":
+            raise self.fail(f"assignment to CONSTANT {local.name}", target)
+        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
+
+    def local_of(self, target: Any, scope: Scope) -> Member | None:
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            return scope.locals.get(str(target.name).lower())
+        return None
+
+    def store_value(self, target: TypeRef | None, value: Ex, is_local: bool) -> str:
+        """What to store: converted where ST converts implicitly, wrapped where a Python local would not."""
+        if target is None:
+            return value.code
+        target = target.deref()
+        if target.is_bool and value.type is not None and value.type.is_int:
+            return f"bool({value.code})"
+        if target.is_int and value.type is not None and value.type.is_real:
+            self.need("iecoop.conversions", f"TO_{target.name}")
+            return f"TO_{target.name}({value.code})"
+        if is_local and target.is_int and not self._fits(value, target):
+            self.need("iecoop.conversions", f"TO_{target.name}")
+            return f"TO_{target.name}({value.code})"
+        if is_local and target.name == "REAL" and not _exact_real(value.code) and not (
+            value.type is not None and value.type.name == "REAL" and not value.compound
+        ):
+            self.need("iecoop.conversions", "TO_REAL")
+            return f"TO_REAL({value.code})"
+        if target.is_real and value.type is not None and value.type.is_int and is_local:
+            return f"float({value.code})"
+        return value.code
+
+    def _fits(self, value: Ex, target: TypeRef) -> bool:
+        if re.fullmatch(r"-?\d+", value.code):
+            bits = INTEGER_TYPES[target.name]
+            number = int(value.code)
+            signed = target.name in ("SINT", "INT", "DINT", "LINT")
+            low, high = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
+            return low <= number <= high
+        return value.type is not None and value.type.name == target.name and not value.compound
+
+    def _st_SetStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self._set_reset("S", True, node, scope, level)
+
+    def _st_ResetStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self._set_reset("R", False, node, scope, level)
+
+    def _set_reset(self, operator: str, value: bool, node: Any, scope: Scope, level: int) -> None:
+        """``x S= c`` is ``S(self, "x", c)`` (iecoop.stdlib); a method's local is set with an IF."""
+        condition = self.expr(node.expression, scope).code
+        if self.local_of(node.variable, scope) is not None:
+            self.emit(f"if {condition}:", level)
+            self.emit(f"{self.expr(node.variable, scope).code} = {value}", level + 1)
+            return
+        holder, field = self.holder_field(node.variable, scope)
+        self.need("iecoop.stdlib", operator)
+        self.emit(f'{operator}({holder}, "{field}", {condition})', level)
+
+    def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
+        holder, field = self.holder_field(node.variable, scope)
+        self.need("iecoop", "ref_assign")
+        target = self.address_of(node.expression, scope)
+        self.emit(f'ref_assign({holder}, "{field}", {target})', level)
+
+    def _st_IfStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit(f"if {self.condition(node.if_expression, scope)}:", level)
+        self._emit_statements(node.statements.statements if node.statements else [], scope, level + 1)
+        for clause in node.else_ifs:
+            self.emit(f"elif {self.condition(clause.if_expression, scope)}:", level)
+            self._emit_statements(clause.statements.statements if clause.statements else [], scope, level + 1)
+        if node.else_clause is not None:
+            self.emit("else:", level)
+            self._emit_statements(node.else_clause.statements.statements if node.else_clause.statements else [], scope, level + 1)
+
+    def condition(self, node: Any, scope: Scope) -> str:
+        return self.expr(node, scope).code
+
+    def _st_CaseStatement(self, node: Any, scope: Scope, level: int) -> None:
+        selector = self.expr(node.expression, scope)
+        subject = selector.code
+        if selector.compound or "(" in subject:
+            subject = scope.temp("case")
+            self.emit(f"{subject} = {selector.code}", level)
+        keyword = "if"
+        for case in node.cases:
+            tests = []
+            for match in case.matches:
+                if isinstance(match, tf.Subrange):
+                    low = self.expr(match.start, scope).code
+                    high = self.expr(match.stop, scope).code
+                    tests.append(f"{low} <= {subject} <= {high}")
+                else:
+                    tests.append(f"{subject} == {self.case_label(match, selector.type, scope)}")
+            self.emit(f"{keyword} {' or '.join(tests)}:", level)
+            self._emit_statements(case.statements.statements if case.statements else [], scope, level + 1)
+            keyword = "elif"
+        if node.else_clause is not None:
+            if keyword == "if":
+                self._emit_statements(node.else_clause.statements.statements if node.else_clause.statements else [], scope, level)
+                return
+            self.emit("else:", level)
+            self._emit_statements(node.else_clause.statements.statements if node.else_clause.statements else [], scope, level + 1)
+
+    def case_label(self, match: Any, selector: TypeRef | None, scope: Scope) -> str:
+        if isinstance(match, tf.EnumeratedValue):
+            return self.enum_ref(str(match.type_name) if match.type_name else None, str(match.name), match)
+        return self.expr(match, scope).code
+
+    def _st_ForStatement(self, node: Any, scope: Scope, level: int) -> None:
+        control = self.expr(node.control, scope, store=True)
+        start = self.expr(node.from_, scope)
+        stop = self.expr(node.to, scope)
+        step = self.expr(node.step, scope) if node.step is not None else None
+        if step is None:
+            header = f"range({start.code}, {stop.p()} + 1)"
+        elif re.fullmatch(r"-?\d+", step.code):
+            sign = "+ 1" if int(step.code) > 0 else "- 1"
+            if int(step.code) == 0:
+                raise self.fail("FOR ... BY 0 never ends", node)
+            header = f"range({start.code}, {stop.p()} {sign}, {step.code})"
+        else:
+            header = f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
+        self.emit(f"for {control.code} in {header}:", level)
+        self._emit_statements(node.statements.statements, scope, level + 1)
+
+    def _st_WhileStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit(f"while {self.condition(node.expression, scope)}:", level)
+        self._emit_statements(node.statements.statements, scope, level + 1)
+
+    def _st_RepeatStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit("while True:", level)
+        self._emit_statements(node.statements.statements, scope, level + 1)
+        self.emit(f"if {self.condition(node.expression, scope)}:", level + 1)
+        self.emit("break", level + 2)
+
+    def _st_ExitStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit("break", level)
+
+    def _st_ContinueStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit("continue", level)
+
+    def _st_ReturnStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit(f"return {scope.return_name}" if scope.return_name else "return", level)
+
+    def _st_FunctionCallStatement(self, node: Any, scope: Scope, level: int) -> None:
+        call = self.call(node, scope, level=level)
+        if call is not None and call.code:
+            self.emit(call.code, level)
+
+    def _st_ChainedFunctionCallStatement(self, node: Any, scope: Scope, level: int) -> None:
+        self.emit(self.expr(tf.ChainedFunctionCall(node.invocations), scope).code, level)
+
+    def _st_Tree(self, node: Any, scope: Scope, level: int) -> None:
+        """A statement of the grammar overlay: ``__TRY ... __CATCH(exc) ... __FINALLY ... __ENDTRY``."""
+        if str(node.data) != "try_statement":
+            raise self.fail(f"statement {node.data} is not supported", node)
+        body, catch, final = (list(node.children) + [None, None, None])[:3]
+        self.need("iecoop", "try_catch", "ExceptionCode")
+        block = scope.temp("try")
+        inner = level
+        if final is not None:
+            self.emit("try:", level)
+            inner = level + 1
+        self.emit(f"with try_catch() as {block}:  # __TRY", inner)
+        self._emit_statements(body.statements if body is not None else [], scope, inner + 1)
+        if catch is not None:
+            variable, handler = (list(catch.children) + [None])[:2]
+            self.emit(f"if {block}.code != ExceptionCode.RTSEXCPT_NOEXCEPTION:  # __CATCH", inner)
+            self.assign(variable, Ex(f"{block}.code", TypeRef("elem", "UDINT")), scope, inner + 1)
+            if handler is not None:
+                self._emit_statements(handler.statements, scope, inner + 1)
+        if final is not None:
+            self.emit("finally:  # __FINALLY", level)
+            handler = final.children[0] if final.children else None
+            self._emit_statements(handler.statements if handler is not None else [], scope, level + 1)
+
+    def _st_JumpStatement(self, node: Any, scope: Scope, level: int) -> None:
+        raise self.fail("JMP is not supported", node)
+
+    def _st_LabeledStatement(self, node: Any, scope: Scope, level: int) -> None:
+        raise self.fail("labels (JMP targets) are not supported", node)
+
+    # --- expressions ---
+
+    def expr(self, node: Any, scope: Scope, *, store: bool = False, expected: TypeRef | None = None) -> Ex:
+        handler = getattr(self, f"_ex_{type(node).__name__}", None)
+        if handler is None:
+            raise self.fail(f"expression {type(node).__name__} is not supported", node)
+        result: Ex = handler(node, scope) if not store else handler(node, scope, store=True) if type(node).__name__ in ("SimpleVariable", "MultiElementVariable") else handler(node, scope)
+        return result
+
+    def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
+        if type_ is not None and type_.is_real and re.fullmatch(r"-?\d+", value.code):
+            return Ex(f"{value.code}.0", type_)
+        return value
+
+    def _ex_ParenthesizedExpression(self, node: Any, scope: Scope) -> Ex:
+        inner = self.expr(node.expr, scope)
+        return Ex(inner.code, inner.type, inner.compound)
+
+    def _ex_BracketedExpression(self, node: Any, scope: Scope) -> Ex:
+        return self.expr(node.expression, scope)
+
+    def _literal_type(self, type_name: Any, default: TypeRef) -> TypeRef:
+        if type_name is None:
+            return default
+        found = self._elem_or_none(str(type_name))
+        return found or default
+
+    def _ex_Integer(self, node: Any, scope: Scope) -> Ex:
+        text = str(node.value).replace("_", "")
+        type_ = self._literal_type(node.type_name, LINT)
+        if type_.is_bool:
+            return Ex("True" if int(text) else "False", BOOL)
+        if type_.is_real:
+            return Ex(f"{int(text)}.0", type_)
+        return Ex(text, type_ if node.type_name is not None else None)
+
+    def _based(self, node: Any, prefix: str, base: int) -> Ex:
+        text = str(node.value).replace("_", "")
+        type_ = self._literal_type(node.type_name, LINT)
+        return Ex(f"{prefix}{text.upper() if base == 16 else text}", type_ if node.type_name is not None else None)
+
+    def _ex_HexInteger(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0x", 16)
+
+    def _ex_BinaryInteger(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0b", 2)
+
+    def _ex_OctalInteger(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0o", 8)
+
+    def _ex_HexBitString(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0x", 16)
+
+    def _ex_BinaryBitString(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0b", 2)
+
+    def _ex_OctalBitString(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "0o", 8)
+
+    def _ex_BitString(self, node: Any, scope: Scope) -> Ex:
+        return self._based(node, "", 10)
+
+    def _ex_Real(self, node: Any, scope: Scope) -> Ex:
+        text = str(node.value).replace("_", "")
+        if "." not in text and "e" not in text.lower():
+            text += ".0"
+        return Ex(text, self._literal_type(node.type_name, LREAL))
+
+    def _ex_Boolean(self, node: Any, scope: Scope) -> Ex:
+        return Ex("True" if str(node.value).upper() in ("TRUE", "1") else "False", BOOL)
+
+    def _ex_String(self, node: Any, scope: Scope) -> Ex:
+        return Ex(python_string(str(node.value)), STRING)
+
+    def _duration(self, node: Any, units: Sequence[tuple[str, str]]) -> str:
+        parts = []
+        for attr, suffix in units:
+            value = getattr(node, attr, None)
+            if value is not None:
+                parts.append(f"{str(value).replace('_', '')}{suffix}")
+        return "".join(parts) or "0ms"
+
+    def _ex_Duration(self, node: Any, scope: Scope) -> Ex:
+        self.need("iecoop", "T")
+        text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"), ("milliseconds", "ms")])
+        code = f'T("{text}")'
+        return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "TIME"), compound=node.negative)
+
+    def _ex_Lduration(self, node: Any, scope: Scope) -> Ex:
+        self.need("iecoop", "LTIME")
+        text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"),
+                                     ("milliseconds", "ms"), ("microseconds", "us"), ("nanoseconds", "ns")])
+        code = f'LTIME("{text}")'
+        return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "LTIME"), compound=node.negative)
+
+    def _ex_Date(self, node: Any, scope: Scope) -> Ex:
+        self.need("iecoop", "D")
+        return Ex(f'D("{node.year}-{node.month}-{node.day}")', TypeRef("elem", "DATE"))
+
+    def _ex_TimeOfDay(self, node: Any, scope: Scope) -> Ex:
+        self.need("iecoop", "TOD")
+        second = f":{node.second}" if node.second is not None else ""
+        return Ex(f'TOD("{node.hour}:{node.minute}{second}")', TypeRef("elem", "TOD"))
+
+    def _ex_DateTime(self, node: Any, scope: Scope) -> Ex:
+        self.need("iecoop", "DT")
+        date, time = node.date, node.time
+        second = f":{time.second}" if time.second is not None else ""
+        return Ex(f'DT("{date.year}-{date.month}-{date.day}-{time.hour}:{time.minute}{second}")', TypeRef("elem", "DT"))
+
+    def _ex_UnaryOperation(self, node: Any, scope: Scope) -> Ex:
+        op = str(node.op).upper()
+        inner = self.expr(node.expr, scope)
+        if op == "-":
+            if re.fullmatch(r"\d+(\.\d+)?", inner.code):
+                return Ex(f"-{inner.code}", inner.type)
+            return Ex(f"-{inner.wrap(PRECEDENCE['unary'])}", inner.type, True, PRECEDENCE["unary"])
+        if op == "+":
+            return inner
+        if op == "NOT":
+            if inner.type is not None and inner.type.deref().is_int:
+                return Ex(f"~{inner.wrap(PRECEDENCE['unary'])}", inner.type, True, PRECEDENCE["unary"])
+            return Ex(f"not {inner.wrap(PRECEDENCE['not'])}", BOOL, True, PRECEDENCE["not"])
+        raise self.fail(f"unary operator {op}", node)
+
+    def _ex_BinaryOperation(self, node: Any, scope: Scope) -> Ex:
+        op = str(node.op).upper()
+        left = self.expr(node.left, scope)
+        right = self.expr(node.right, scope)
+        lt = left.type.deref() if left.type is not None else None
+        rt = right.type.deref() if right.type is not None else None
+        if op in _COMPARE:
+            py = _COMPARE[op]
+            for side, other in ((left, right), (right, left)):
+                if other.code == "0" and side.type is not None and self._is_handle(side.type):
+                    self.need("iecoop", "NULL")
+                    return Ex(f"{side.p()} {py} NULL", BOOL, True)
+            level = PRECEDENCE["compare"]  # both sides wrapped when they compare too: Python would chain them
+            return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
+        if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
+            logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
+            if op in ("AND_THEN", "OR_ELSE") or logical:
+                word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or", "XOR": "!="}[op]
+                level = PRECEDENCE[word] if word != "!=" else PRECEDENCE["compare"]
+                if word == "!=":
+                    return Ex(f"{left.wrap(level + 1)} != {right.wrap(level + 1)}", BOOL, True, level)
+                return Ex(f"{left.wrap(level)} {word} {right.wrap(level + 1)}", BOOL, True, level)
+            symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
+            level = PRECEDENCE[symbol]
+            return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+        if op in ("+", "-", "*"):
+            level = PRECEDENCE[op]
+            return Ex(f"{left.wrap(level)} {op} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+        if op == "/":
+            if (lt is not None and lt.is_real) or (rt is not None and rt.is_real):
+                level = PRECEDENCE["/"]
+                return Ex(f"{left.wrap(level)} / {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+            self.need("iecoop.conversions", "DIV")
+            return Ex(f"DIV({left.code}, {right.code})", self.wider(lt, rt))
+        if op == "MOD":
+            self.need("iecoop.conversions", "MOD")
+            return Ex(f"MOD({left.code}, {right.code})", self.wider(lt, rt))
+        if op == "**":
+            level = PRECEDENCE["**"]
+            return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
+        raise self.fail(f"operator {op}", node)
+
+    def _is_handle(self, type_: TypeRef) -> bool:
+        if type_.kind == "pointer":
+            return True
+        decl = self.decl_of(type_)
+        return decl is not None and decl.kind == "interface"
+
+    def wider(self, left: TypeRef | None, right: TypeRef | None) -> TypeRef | None:
+        if left is None:
+            return right
+        if right is None:
+            return left
+        if left.is_real or right.is_real:
+            return LREAL if "LREAL" in (left.name, right.name) or not (left.is_real and right.is_real) and False else (left if left.is_real else right)
+        if left.is_int and right.is_int:
+            return left if INTEGER_TYPES[left.name] >= INTEGER_TYPES[right.name] else right
+        return left
+
+    # variables
+
+    def _ex_SimpleVariable(self, node: Any, scope: Scope, store: bool = False) -> Ex:
+        base = self.name_ref(str(node.name), scope, node)
+        if node.dereferenced:
+            return self.deref(base, node)
+        return base
+
+    def deref(self, base: Ex, node: Any) -> Ex:
+        if base.code in ("self", "super()"):
+            return base
+        target = base.type.of if base.type is not None and base.type.kind == "pointer" else None
+        if base.type is not None and base.type.kind != "pointer":
+            raise self.fail(f"^ applied to {base.code}, which is not a POINTER", node)
+        return Ex(f"{base.p()}.deref", target)
+
+    def name_ref(self, name: str, scope: Scope, node: Any) -> Ex:
+        key = name.lower()
+        if key == "this":
+            return Ex("self", TypeRef("user", scope.owner.name) if scope.owner else None)
+        if key == "super":
+            return Ex("super()", TypeRef("user", scope.owner.bases[0]) if scope.owner and scope.owner.bases else None)
+        local = scope.locals.get(key)
+        if local is not None:
+            return Ex(local.name, local.type)
+        if scope.owner is not None and scope.owner.kind in ("fb", "program", "interface", "struct", "union"):
+            found = self.find_member(scope.owner, name)
+            if found is not None and not (scope.kind == "const" and scope.owner.kind in ("struct", "union")):
+                kind, member = found
+                if kind == "method":
+                    return Ex(f"self.{member.name}", None)
+                assert isinstance(member, Member)
+                return Ex(f"self.{member.name}", member.type)
+        if key in self.globals:
+            gvl_name, member = self.globals[key]
+            return Ex(f"{gvl_name}.{member.name}", member.type)
+        decl = self.decls.get(key)
+        if decl is not None and decl.kind != "stdfb":
+            return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum") else None)
+        if key in self.enum_values:
+            enum, value = self.enum_values[key]
+            return Ex(f"{enum}.{value}", TypeRef("user", enum))
+        if key == "__system":
+            return Ex("__SYSTEM", TypeRef("user", "__SYSTEM"))
+        raise self.fail(f"unknown variable {name!r}", node)
+
+    def member_ref(self, base: Ex, field: str, node: Any, store: bool = False) -> Ex:
+        if base.type is not None and base.type.name == "__SYSTEM":
+            if field.lower() == "exceptioncode":
+                self.need("iecoop", "ExceptionCode")
+                return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
+        if base.code == "ExceptionCode":
+            return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
+        decl = self.decl_of(base.type)
+        if decl is None:
+            if base.type is None:
+                raise self.fail(f"cannot tell the type of {base.code} to read its member {field!r}", node)
+            raise self.fail(f"{base.type.annotation()} has no member {field!r}", node)
+        if decl.kind == "enum":
+            match = next((v for v in decl.values if v.lower() == field.lower()), None)
+            if match is None:
+                raise self.fail(f"enumeration {decl.name} has no value {field!r}", node)
+            return Ex(f"{decl.name}.{match}", TypeRef("user", decl.name))
+        if decl.kind == "program":
+            raise self.fail(f"access to PROGRAM {decl.name}'s variable {field} from outside is not supported", node)
+        found = self.find_member(decl, field)
+        if found is None:
+            raise self.fail(f"{decl.name} has no member {field!r}", node)
+        kind, member = found
+        if base.code == "super()" and kind == "method":
+            return Ex(f"super().{member.name}", None)
+        if base.code == "super()" and kind == "member":
+            assert isinstance(member, Member)
+            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+        if base.code == "super()" and store:
+            raise self.fail(f"writing the base's PROPERTY through SUPER^.{field} is not supported yet (iecoop has no form for it)", node)
+        if kind == "method":
+            return Ex(f"{base.p()}.{member.name}", None)
+        assert isinstance(member, Member)
+        return Ex(f"{base.p()}.{member.name}", member.type)
+
+    def _ex_MultiElementVariable(self, node: Any, scope: Scope, store: bool = False) -> Ex:
+        current = self._ex_SimpleVariable(node.name, scope)
+        elements = list(node.elements)
+        for index, element in enumerate(elements):
+            if isinstance(element, tf.SubscriptList):
+                indices = [self.expr(s, scope).code for s in element.subscripts]
+                element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
+                current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
+                if element.dereferenced:
+                    current = self.deref(current, node)
+                continue
+            field = element.field
+            field_name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+            if field_name.isdigit():
+                if store and index == len(elements) - 1:
+                    raise self.fail("bit assignment in this position", node)
+                current = Ex(f"bool(({current.code} >> {field_name}) & 1)", BOOL)
+                continue
+            current = self.member_ref(current, field_name, node, store=store and index == len(elements) - 1)
+            if isinstance(field, tf.SimpleVariable) and field.dereferenced or element.dereferenced:
+                current = self.deref(current, node)
+        return current
+
+    def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
+        if not isinstance(target, tf.MultiElementVariable) or not target.elements:
+            return None
+        last = target.elements[-1]
+        if not isinstance(last, tf.FieldSelector):
+            return None
+        field = last.field
+        name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+        if not name.isdigit():
+            return None
+        holder = tf.MultiElementVariable(target.name, False, target.elements[:-1]) if len(target.elements) > 1 else target.name
+        return self.expr(holder, scope).code, name
+
+    def holder_field(self, node: Any, scope: Scope) -> tuple[str, str]:
+        """``(holder code, field name)`` of a variable that is a field of something."""
+        if isinstance(node, tf.SimpleVariable):
+            ex = self.name_ref(str(node.name), scope, node)
+        elif isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.FieldSelector):
+            ex = self.expr(node, scope)
+        else:
+            raise self.fail("this variable has no holder to take its address from", node)
+        if "." not in ex.code or ex.code.endswith(")"):
+            raise self.fail(f"{ex.code} is a local variable; ADR / REF= need a variable of a block, struct or GVL", node)
+        holder, field = ex.code.rsplit(".", 1)
+        return holder, field
+
+    def address_of(self, node: Any, scope: Scope) -> str:
+        if isinstance(node, tf.SimpleVariable) and node.dereferenced and str(node.name).lower() != "this":
+            return self.name_ref(str(node.name), scope, node).code  # ADR(p^) is p
+        self.need("iecoop", "adr")
+        if isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.SubscriptList) and len(node.elements[-1].subscripts) == 1:
+            rest = tf.MultiElementVariable(node.name, False, node.elements[:-1]) if len(node.elements) > 1 else node.name
+            holder, field = self.holder_field(rest, scope)
+            index = self.expr(node.elements[-1].subscripts[0], scope).code
+            return f'adr({holder}, "{field}", {index})'
+        if isinstance(node, tf.SimpleVariable) and str(node.name).lower() == "this" and node.dereferenced:
+            return "adr(self)"
+        if isinstance(node, tf.SimpleVariable) and str(node.name).lower() in scope.locals:
+            local = scope.locals[str(node.name).lower()]
+            decl = self.decl_of(local.type)
+            if decl is not None and decl.kind in ("struct", "union", "fb"):
+                return f"adr({local.name})"
+        holder, field = self.holder_field(node, scope)
+        return f'adr({holder}, "{field}")'
+
+    # calls
+
+    def _ex_FunctionCall(self, node: Any, scope: Scope) -> Ex:
+        result = self.call(node, scope, level=None)
+        assert result is not None
+        return result
+
+    def _ex_ChainedFunctionCall(self, node: Any, scope: Scope) -> Ex:
+        current: Ex | None = None
+        for invocation in node.invocations:
+            if current is None:
+                current = self.call(invocation, scope, level=None)
+            else:
+                method = self.member_ref(current, str(invocation.name.name), invocation)
+                owner = self.decl_of(current.type)
+                found = self.find_member(owner, str(invocation.name.name)) if owner is not None else None
+                info = found[1] if found is not None and isinstance(found[1], Callable_) else None
+                args = self.arguments(invocation.parameters, info.params if info else None, scope, invocation)
+                current = Ex(f"{method.code}({', '.join(args)})", info.returns if info else None)
+        assert current is not None
+        return current
+
+    def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
+        args = []
+        for index, param in enumerate(params):
+            if isinstance(param, tf.OutputParameterAssignment):
+                raise self.fail("an output (=>) in a method or function call is not supported yet", node)
+            expected = None
+            if param.name is not None:
+                name = str(param.name.name)
+                match = next((p for p in declared or [] if p.name.lower() == name.lower()), None)
+                if declared is not None and match is None:
+                    raise self.fail(f"call has no input {name!r}", node)
+                value = self.expr(param.value, scope)
+                expected = match.type if match is not None else None
+                args.append(f"{match.name if match else name}={self.coerce(value, expected).code}")
+            else:
+                if declared is not None and index < len(declared):
+                    expected = declared[index].type
+                args.append(self.coerce(self.expr(param.value, scope), expected).code)
+        return args
+
+    def call(self, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        target = node.name
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            name = str(target.name)
+            key = name.lower()
+            standard = self.standard_call(name, node, scope, level)
+            if standard is not None:
+                return standard
+            if key == "super" and node.dereferenced or (key == "super"):
+                return Ex("super().body()", None)
+            decl = self.decls.get(key)
+            if decl is not None and decl.kind == "function" and key not in scope.locals:
+                info = decl.methods["()"]
+                args = self.arguments(node.parameters, info.params, scope, node)
+                return Ex(f"{decl.name}({', '.join(args)})", info.returns)
+        if isinstance(target, tf.SimpleVariable) and str(target.name).lower() == "super" and target.dereferenced:
+            return Ex("super().body()", None)
+        callee = self.expr(target, scope)
+        if node.dereferenced:
+            callee = self.deref(callee, node)
+        if callee.code.endswith("super()"):
+            return Ex("super().body()", None)
+        decl = self.decl_of(callee.type)
+        if decl is not None and decl.kind in ("fb", "stdfb") and callee.type is not None and callee.type.kind in ("user", "reference"):
+            return self.fb_call(callee, decl, node, scope, level)
+        # a method: find its declaration through the owner to type the result
+        method = self.method_info(target, scope)
+        args = self.arguments(node.parameters, method.params if method else None, scope, node)
+        return Ex(f"{callee.code}({', '.join(args)})", method.returns if method else None)
+
+    def method_info(self, target: Any, scope: Scope) -> Callable_ | None:
+        if isinstance(target, tf.SimpleVariable):
+            owner, name = scope.owner, str(target.name)
+        elif isinstance(target, tf.MultiElementVariable) and isinstance(target.elements[-1], tf.FieldSelector):
+            rest = tf.MultiElementVariable(target.name, False, target.elements[:-1]) if len(target.elements) > 1 else target.name
+            owner_ex = self.expr(rest, scope)
+            owner = self.decl_of(owner_ex.type)
+            field = target.elements[-1].field
+            name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+        else:
+            return None
+        if owner is None:
+            return None
+        found = self.find_member(owner, name)
+        if found is not None and found[0] == "method":
+            assert isinstance(found[1], Callable_)
+            return found[1]
+        return None
+
+    def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        inputs, outputs = [], []
+        for param in node.parameters:
+            if param.name is None:
+                raise self.fail(f"a call of function block {callee.code} needs named inputs (name := value)", node)
+            found = self.find_member(decl, str(param.name.name))
+            if found is None or not isinstance(found[1], Member):
+                raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
+            member = found[1]
+            if isinstance(param, tf.OutputParameterAssignment):
+                if param.inverted:
+                    raise self.fail("an inverted output (=> NOT) is not supported", node)
+                outputs.append((member, param.value))
+                continue
+            if member.section == "VAR_IN_OUT":
+                value = self.address_of(param.value, scope)
+            else:
+                value = self.coerce(self.expr(param.value, scope), member.type).code
+            inputs.append(f"{member.name}={value}")
+        code = f"{callee.code}({', '.join(inputs)})"
+        if outputs:
+            if level is None:
+                raise self.fail(f"outputs (=>) of {callee.code} in an expression", node)
+            self.emit(code, level)
+            for member, target in outputs:
+                self.assign(target, Ex(f"{callee.code}.{member.name}", member.type), scope, level)
+            return None
+        return Ex(code, None)
+
+    def standard_call(self, name: str, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        upper = name.upper()
+        if upper.lower() in scope.locals or (scope.owner is not None and self.find_member(scope.owner, name) is not None):
+            return None
+        if upper.lower() in self.decls and self.decls[upper.lower()].kind != "stdfb":
+            return None
+        args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
+        codes = [a.code for a in args]
+        first = args[0].type.deref() if args and args[0].type is not None else None
+        if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
+                     "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
+            return self.operator_call(upper, node, scope, level)
+        if upper == "ABS":
+            return Ex(f"abs({codes[0]})", first)
+        if upper in _MATH:
+            self.need("math")
+            return Ex(f"math.{_MATH[upper]}({codes[0]})", LREAL)
+        if upper == "EXPT":
+            return Ex(f"{args[0].p()} ** {args[1].p()}", LREAL, True)
+        if upper in ("MIN", "MAX"):
+            return Ex(f"{upper.lower()}({', '.join(codes)})", self.wider(first, args[1].type if len(args) > 1 else None))
+        if upper == "LIMIT":
+            return Ex(f"min(max({codes[1]}, {codes[0]}), {codes[2]})", args[1].type)
+        if upper == "SEL":
+            return Ex(f"{args[2].p()} if {args[0].p()} else {args[1].p()}", args[1].type, True)
+        if upper == "MUX":
+            return Ex(f"({', '.join(codes[1:])},)[{codes[0]}]", args[1].type)
+        if upper == "MOVE":
+            return args[0]
+        if upper in ("SHL", "SHR", "ROL", "ROR"):
+            width = INTEGER_TYPES.get(first.name) if first is not None and first.is_int else None
+            if upper == "SHR":
+                return Ex(f"{args[0].p()} >> {args[1].p()}", first, True)
+            if width is None:
+                raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
+            mask = hex((1 << width) - 1).upper().replace("0X", "0x")
+            if upper == "SHL":
+                return Ex(f"({args[0].p()} << {args[1].p()}) & {mask}", first, True)
+            n = args[1].p() if re.fullmatch(r"\d+", codes[1]) else f"({codes[1]} % {width})"
+            x = args[0].p()
+            if upper == "ROL":
+                return Ex(f"(({x} << {n}) | ({x} >> ({width} - {n}))) & {mask}", first, True)
+            return Ex(f"(({x} >> {n}) | ({x} << ({width} - {n}))) & {mask}", first, True)
+        if upper == "TRUNC":
+            self.need("iecoop.conversions", "TRUNC")
+            return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))
+        conversion = re.fullmatch(r"(?:(\w+?)_)?TO_(\w+)", upper)
+        if conversion is not None:
+            return self.conversion(conversion.group(1), conversion.group(2), args, node)
+        strings = self.string_call(upper, args, node)
+        if strings is not None:
+            return strings
+        if upper in ("AND", "OR", "XOR", "NOT"):
+            raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
+        return None
+
+    def conversion(self, source: str | None, target: str, args: list[Ex], node: Any) -> Ex:
+        from iecoop import conversions
+
+        source = TYPE_SYNONYMS.get(source, source) if source else None
+        target = TYPE_SYNONYMS.get(target, target)
+        value = args[0]
+        result_type = self._elem_or_none(target)
+        if result_type is None:
+            raise self.fail(f"conversion to {target} is not supported", node)
+        if target in ("STRING", "WSTRING"):
+            if source is not None and source in INTEGER_TYPES or value.type is not None and value.type.is_int:
+                return Ex(f"str({value.code})", result_type)
+            if source == "BOOL":
+                return Ex(f'"TRUE" if {value.p()} else "FALSE"', result_type, True)
+            raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
+        if source in ("STRING", "WSTRING"):
+            raise self.fail(f"{source}_TO_{target} is not supported", node)
+        name = f"{source}_TO_{target}" if source else f"TO_{target}"
+        if source is not None and name not in conversions.__all__:
+            if source == "BOOL":
+                name = f"TO_{target}"
+            elif source in INTEGER_TYPES and target in INTEGER_TYPES:
+                # reinterpret through the source width, then store in the target width
+                source_type = TypeRef("elem", source)
+                self.need("iecoop.conversions", f"TO_{source}", f"TO_{target}")
+                return Ex(f"TO_{target}(TO_{source}({value.code}))", result_type) if source_type else Ex("", None)
+            else:
+                name = f"TO_{target}"
+        if name not in conversions.__all__:
+            raise self.fail(f"conversion {name} is not supported", node)
+        self.need("iecoop.conversions", name)
+        return Ex(f"{name}({value.code})", result_type)
+
+    def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
+        codes = [a.p() for a in args]
+        if upper == "LEN":
+            return Ex(f"len({args[0].code})", TypeRef("elem", "INT"))
+        if upper == "LEFT":
+            return Ex(f"{codes[0]}[:{args[1].code}]", STRING)
+        if upper == "RIGHT":
+            return Ex(f"{codes[0]}[max(len({args[0].code}) - {codes[1]}, 0):]", STRING)
+        if upper == "MID":
+            return Ex(f"{codes[0]}[{codes[2]} - 1:{codes[2]} - 1 + {codes[1]}]", STRING)
+        if upper == "CONCAT":
+            return Ex(" + ".join(codes), STRING, True)
+        if upper == "INSERT":
+            return Ex(f"{codes[0]}[:{args[2].code}] + {codes[1]} + {codes[0]}[{args[2].code}:]", STRING, True)
+        if upper == "DELETE":
+            return Ex(f"{codes[0]}[:{codes[2]} - 1] + {codes[0]}[{codes[2]} - 1 + {codes[1]}:]", STRING, True)
+        if upper == "REPLACE":
+            return Ex(f"{codes[0]}[:{codes[3]} - 1] + {codes[1]} + {codes[0]}[{codes[3]} - 1 + {codes[2]}:]", STRING, True)
+        if upper == "FIND":
+            return Ex(f"{codes[0]}.find({args[1].code}) + 1", TypeRef("elem", "INT"), True)
+        return None
+
+    def operator_call(self, upper: str, node: Any, scope: Scope, level: int | None) -> Ex:
+        params = [p.value for p in node.parameters]
+        if upper == "ADR":
+            return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
+        if upper == "SIZEOF":
+            self.need("iecoop", "sizeof")
+            target = params[0]
+            if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+                name = str(target.name)
+                elem = self._elem_or_none(name)
+                if elem is not None:
+                    self._need_type(elem)
+                    return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
+                decl = self.decls.get(name.lower())
+                if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
+                    if decl.kind == "stdfb":
+                        self.need("iecoop.stdlib", decl.name)
+                    return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
+            ex = self.expr(target, scope)
+            decl = self.decl_of(ex.type)
+            if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
+                return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
+            holder, field = self.holder_field(target, scope)
+            return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
+        if upper == "__NEW":
+            self.need("iecoop", "new")
+            target = params[0]
+            if isinstance(target, tf.SimpleVariable):
+                decl = self.decls.get(str(target.name).lower())
+                if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
+                    raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
+                if decl.kind == "stdfb":
+                    self.need("iecoop.stdlib", decl.name)
+                return Ex(f"new({decl.name})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+            raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
+        if upper == "__DELETE":
+            if level is None:
+                raise self.fail("__DELETE inside an expression", node)
+            self.need("iecoop", "delete")
+            pointer = self.expr(params[0], scope)
+            return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
+        if upper == "__ISVALIDREF":
+            self.need("iecoop", "is_valid_ref")
+            holder, field = self.holder_field(params[0], scope)
+            return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
+        if upper in ("TEST_AND_SET", "TESTANDSET"):
+            self.need("iecoop", "test_and_set")
+            # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
+            return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
+        if upper in ("__QUERYINTERFACE", "__QUERYPOINTER"):
+            if level is None and not self._hoisting:
+                raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
+            source = self.expr(params[0], scope)
+            dest = self.expr(params[1], scope, store=True)
+            if upper == "__QUERYPOINTER":
+                self.need("iecoop", "query_pointer")
+                self.emit(f"{dest.code} = query_pointer({source.code})", self._hoist_level if level is None else level)
+                return Ex(f"bool({dest.code})" if level is None else "", BOOL)
+            decl = self.decl_of(dest.type)
+            if decl is None or decl.kind != "interface":
+                raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
+            self.need("iecoop", "query_interface", "null")
+            self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})",
+                      self._hoist_level if level is None else level)
+            return Ex(f"bool({dest.code})" if level is None else "", BOOL)
+        raise self.fail(f"{upper} is not supported", node)
+
+    _hoisting = False
+    _hoist_level = 0
+
+
+def _exact_real(code: str) -> bool:
+    """Whether ``code`` is a number literal that a REAL (32-bit) holds exactly: no TO_REAL needed."""
+    try:
+        number = float(code)
+    except ValueError:
+        return False
+    return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+def statements_of(body: Any) -> list[Any]:
+    """The statements of a POU body (blark gives a lone statement of the grammar overlay as itself)."""
+    if body is None:
+        return []
+    statements = getattr(body, "statements", None)
+    return list(statements) if statements is not None else [body]
+
+
+def lark_token_type() -> type:
+    import lark
+
+    return lark.Token
+
+
+def python_string(text: str) -> str:
+    """An ST string literal ('...' or "...") as a Python literal."""
+    quote = text[0]
+    body = text[1:-1]
+    escapes = {"$$": "$", "$'": "'", '$"': '"', "$L": "\n", "$N": "\n", "$P": "\f", "$R": "\r", "$T": "\t"}
+    out = []
+    i = 0
+    while i < len(body):
+        if body[i] == "$" and i + 1 < len(body):
+            pair = body[i:i + 2].upper() if body[i + 1].isalpha() else body[i:i + 2]
+            if pair in escapes:
+                out.append(escapes[pair])
+                i += 2
+                continue
+            if i + 2 < len(body) and all(c in "0123456789abcdefABCDEF" for c in body[i + 1:i + 3]):
+                out.append(chr(int(body[i + 1:i + 3], 16)))
+                i += 3
+                continue
+        out.append(body[i])
+        i += 1
+    del quote
+    return json.dumps("".join(out), ensure_ascii=False)
+
+
+def translate(units: Sequence[Unit], externals: Sequence[str] = ()) -> tuple[str, list[tuple[str, str]]]:
+    """The Python module text for ``units`` and the ``(kind, name)`` of each top-level ST name."""
+    translator = Translator(units, externals)
+    text = translator.translate()
+    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb"]
+    return text, names

@@ -1,0 +1,495 @@
+"""st.load: one small ST program per construct, expected values worked out by hand."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies
+
+from iecoop import PlcException, T
+from iecoop.runtime import Runtime, Task
+from iecoop import st
+
+
+def run(source: str, cycles: int = 1, program: str = "MAIN") -> Any:
+    """Load ``source`` and call its PROGRAM ``cycles`` times; the program instance."""
+    module = st.load(source)
+    main = getattr(module, program)
+    for _ in range(cycles):
+        main()
+    return main
+
+
+def prog(decls: str, body: str) -> str:
+    return f"PROGRAM MAIN\nVAR\n{decls}\nEND_VAR\n{body}\nEND_PROGRAM\n"
+
+
+# (id, ST source, cycles, what to read from MAIN, expected)
+CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
+    ("assign-and-wrap", prog("n : INT := 32767; b : BYTE := 255;", "n := n + 1; b := b + 1;"), 1,
+     lambda m: (m.n, m.b), (-32768, 0)),
+    ("integer-division-truncates", prog("a : INT; b : INT; c : DINT;", "a := -7 / 2; b := -7 MOD 2; c := 7 MOD -2;"), 1,
+     lambda m: (m.a, m.b, m.c), (-3, -1, 1)),
+    ("real-division", prog("r : REAL; l : LREAL;", "r := 7.0 / 2; l := 1.0 / 3.0;"), 1,
+     lambda m: (m.r, round(m.l, 6)), (3.5, 0.333333)),
+    ("real-is-32-bit", prog("r : REAL;", "r := 0.1;"), 1, lambda m: m.r == 0.1, False),
+    ("precedence", prog("a : INT; b : BOOL;", "a := 2 + 3 * 4 - -1; b := 1 + 1 = 2 AND NOT (3 < 2);"), 1,
+     lambda m: (m.a, m.b), (15, True)),
+    ("typed-literals", prog("a : INT; b : BYTE; c : INT; d : DINT; t : TIME; e : LREAL;",
+                             "a := 16#FF; b := 2#1010; c := INT#-5; d := 8#17; t := T#1s500ms; e := 1.5E3;"), 1,
+     lambda m: (m.a, m.b, m.c, m.d, m.t, m.e), (255, 10, -5, 15, 1500, 1500.0)),
+    ("bit-access", prog("w : WORD := 16#00F0; b3 : BOOL; b4 : BOOL;", "w.0 := TRUE; w.4 := FALSE; b3 := w.3; b4 := w.5;"), 1,
+     lambda m: (m.w, m.b3, m.b4), (0x00E1, False, True)),
+    ("bitwise-on-words", prog("w : WORD := 16#0F0F; v : WORD;", "v := (w AND 16#00FF) OR 16#F000; v := v XOR 16#0001;"), 1,
+     lambda m: m.v, 0xF00E),
+    ("if-elsif-else", prog("n : INT; s : INT;", "n := n + 1; IF n = 1 THEN s := 10; ELSIF n = 2 THEN s := 20; ELSE s := 30; END_IF"), 3,
+     lambda m: m.s, 30),
+    ("case-lists-ranges", prog("n : INT; a : INT; b : INT; c : INT;",
+                               "FOR n := 0 TO 9 DO CASE n OF 1, 3: a := a + 1; 5..7: b := b + 1; ELSE c := c + 1; END_CASE END_FOR"), 1,
+     lambda m: (m.a, m.b, m.c), (2, 3, 5)),
+    ("for-by-negative", prog("i : INT; s : INT;", "FOR i := 10 TO 1 BY -3 DO s := s * 100 + i; END_FOR"), 1,
+     lambda m: m.s, 10070401 % 65536 - 65536 if 10070401 % 65536 >= 32768 else 10070401 % 65536),
+    ("while-exit-continue", prog("i : INT; s : INT;",
+                                 "WHILE TRUE DO i := i + 1; IF i > 6 THEN EXIT; END_IF IF i MOD 2 = 0 THEN CONTINUE; END_IF s := s + i; END_WHILE"), 1,
+     lambda m: (m.i, m.s), (7, 9)),
+    ("repeat-until", prog("i : INT;", "REPEAT i := i + 2; UNTIL i >= 5 END_REPEAT"), 1, lambda m: m.i, 6),
+    ("set-reset", prog("q : BOOL; s : BOOL; r : BOOL; n : INT;",
+                       "n := n + 1; s := n = 1; r := n = 3; q S= s; q R= r;"), 2, lambda m: m.q, True),
+    ("min-max-limit-sel-mux", prog("a : INT; b : INT; c : INT; d : INT; e : INT;",
+                                   "a := MIN(4, 2, 9); b := MAX(4, 2); c := LIMIT(0, 150, 100); d := SEL(TRUE, 1, 2); e := MUX(2, 10, 20, 30);"), 1,
+     lambda m: (m.a, m.b, m.c, m.d, m.e), (2, 4, 100, 2, 30)),
+    ("shifts-rotates", prog("b : BYTE := 16#81; w : WORD := 16#8001; r1 : BYTE; r2 : WORD; s1 : BYTE; s2 : WORD;",
+                            "r1 := ROL(b, 1); r2 := ROR(w, 4); s1 := SHL(b, 1); s2 := SHR(w, 15);"), 1,
+     lambda m: (m.r1, m.r2, m.s1, m.s2), (0x03, 0x1800, 0x02, 1)),
+    ("conversions", prog("i : INT; r : REAL := 2.5; w : WORD := 65535; d : DINT; b : BOOL;",
+                         "i := REAL_TO_INT(r); d := WORD_TO_INT(w); b := INT_TO_BOOL(3); r := INT_TO_REAL(7);"), 1,
+     lambda m: (m.i, m.d, m.b, m.r), (2, -1, True, 7.0)),
+    ("string-functions", prog("s : STRING(20) := 'Hello'; a : STRING; n : INT; p : INT;",
+                              "a := CONCAT(LEFT(s, 2), RIGHT(s, 2)); n := LEN(s); p := FIND(s, 'll'); s := MID(s, 3, 2);"), 1,
+     lambda m: (m.a, m.n, m.p, m.s), ("Helo", 5, 3, "ell")),
+    ("string-edit", prog("a : STRING := 'ABCDE'; b : STRING; c : STRING;",
+                         "b := INSERT(a, 'xy', 2); c := REPLACE(a, 'z', 2, 3); a := DELETE(a, 2, 2);"), 1,
+     lambda m: (m.a, m.b, m.c), ("ADE", "ABxyCDE", "ABzE")),
+    ("string-escapes", prog("s : STRING;", "s := 'it$'s $$5';"), 1, lambda m: m.s, "it's $5"),
+    ("arrays-and-repetition", prog("a : ARRAY[1..6] OF INT := [1, 2(7), 3(0)]; s : INT; i : INT;",
+                                   "FOR i := 1 TO 6 DO s := s + a[i]; END_FOR a[6] := s;"), 1,
+     lambda m: list(m.a), [1, 7, 7, 0, 0, 15]),
+    ("array-2d", prog("a : ARRAY[0..1, 0..2] OF INT; i : INT; j : INT;",
+                      "FOR i := 0 TO 1 DO FOR j := 0 TO 2 DO a[i, j] := i * 10 + j; END_FOR END_FOR"), 1,
+     lambda m: (m.a[1, 2], m.a[0, 1]), (12, 1)),
+    ("constant-bounds", "VAR_GLOBAL CONSTANT cMaxCb : INT := 4; END_VAR\n"
+     + prog("a : ARRAY[1..cMaxCb * 2] OF INT; n : INT;", "n := UPPER_BOUND_FAKE;").replace("n := UPPER_BOUND_FAKE;", "a[8] := 3; n := a[8];"), 1,
+     lambda m: m.n, 3),
+    ("struct-and-array-copy", "TYPE ST_P : STRUCT x : INT; y : INT; END_STRUCT END_TYPE\n"
+     + prog("a : ST_P := (x := 1, y := 2); b : ST_P; u : ARRAY[1..3] OF INT := [1, 2, 3]; v : ARRAY[1..3] OF INT;",
+            "b := a; a.x := 5; v := u; u[1] := 9;"), 1,
+     lambda m: (m.a.x, m.b.x, m.b.y, list(m.u), list(m.v)), (5, 1, 2, [9, 2, 3], [1, 2, 3])),
+    ("timer-stdlib", prog("fbT : TON; bQ : BOOL; tEt : TIME;", "fbT(IN := TRUE, PT := T#30ms, Q => bQ, ET => tEt);"), 1,
+     lambda m: (m.bQ, m.tEt), (False, 0)),
+    ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
+     lambda m: (m.n, m.m2), (6, 6)),
+    ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
+     lambda m: (m.n, m.ok), (9, False)),
+    ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
+                               "__TRY a := a / b; n := 1; __CATCH(exc) n := 2; __FINALLY n := n + 10; __ENDTRY "
+                               "bDiv := exc = __SYSTEM.ExceptionCode.RTSEXCPT_DIVIDEBYZERO;"), 1,
+     lambda m: (m.a, m.n, m.bDiv), (1, 12, True)),
+    ("try-without-fault", prog("a : INT := 4; b : INT := 2; exc : __SYSTEM.ExceptionCode; n : INT;",
+                               "__TRY a := a / b; __CATCH(exc) n := 2; __ENDTRY"), 1,
+     lambda m: (m.a, m.n, m.exc), (2, 0, 0)),
+    ("test-and-set", prog("bLock : BOOL; a : BOOL; b : BOOL;", "a := TEST_AND_SET(bLock); b := TEST_AND_SET(bLock);"), 1,
+     lambda m: (m.a, m.b, m.bLock), (True, False, True)),
+]
+
+
+@pytest.mark.parametrize("source, cycles, read, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expected: Any) -> None:
+    assert read(run(source, cycles)) == expected
+
+
+OOP = """
+TYPE E_Gear : (LOW := 1, HIGH := 2) USINT; END_TYPE
+TYPE T_Speed : REAL; END_TYPE
+TYPE ST_Base : STRUCT nId : INT := 7; END_STRUCT END_TYPE
+TYPE ST_Item EXTENDS ST_Base : STRUCT rWeight : T_Speed := 2.5; END_STRUCT END_TYPE
+TYPE U_Split : UNION wWhole : WORD; aBytes : ARRAY[0..1] OF BYTE; END_UNION END_TYPE
+
+INTERFACE I_Vehicle EXTENDS __SYSTEM.IQueryInterface
+END_INTERFACE
+METHOD Accelerate : REAL
+VAR_INPUT rDelta : REAL; END_VAR
+END_METHOD
+PROPERTY Gear : E_Gear
+END_PROPERTY
+
+INTERFACE I_Other EXTENDS __SYSTEM.IQueryInterface
+END_INTERFACE
+
+FUNCTION_BLOCK ABSTRACT FB_Vehicle IMPLEMENTS I_Vehicle
+VAR
+    rSpeed : REAL;
+    eGear : E_Gear := E_Gear.LOW;
+    nCalls : INT;
+END_VAR
+nCalls := nCalls + 1;
+END_FUNCTION_BLOCK
+
+METHOD ABSTRACT MaxSpeed : REAL
+END_METHOD
+
+METHOD Accelerate : REAL
+VAR_INPUT rDelta : REAL; END_VAR
+rSpeed := Clamp(rSpeed + rDelta);
+Accelerate := rSpeed;
+END_METHOD
+
+METHOD PROTECTED FINAL Clamp : REAL
+VAR_INPUT rValue : REAL; END_VAR
+Clamp := MIN(rValue, THIS^.MaxSpeed());
+END_METHOD
+
+PROPERTY Gear.Get : E_Gear
+Gear := eGear;
+END_PROPERTY
+
+PROPERTY PRIVATE Gear.Set : E_Gear
+eGear := Gear;
+END_PROPERTY
+
+FUNCTION_BLOCK FB_Car EXTENDS FB_Vehicle
+VAR_INPUT nAxle : INT; END_VAR
+VAR nInit : INT; END_VAR
+SUPER^();
+SUPER^();
+END_FUNCTION_BLOCK
+
+METHOD FB_init : BOOL
+VAR_INPUT
+    bInitRetains : BOOL;
+    bInCopyCode : BOOL;
+    nStart : INT := 3;
+END_VAR
+nInit := nStart;
+END_METHOD
+
+METHOD MaxSpeed : REAL
+MaxSpeed := 120.0;
+END_METHOD
+
+METHOD Accelerate : REAL
+VAR_INPUT rDelta : REAL; END_VAR
+Accelerate := SUPER^.Accelerate(rDelta * 2);
+END_METHOD
+
+FUNCTION F_Square : DINT
+VAR_INPUT n : DINT; END_VAR
+F_Square := n * n;
+END_FUNCTION
+
+PROGRAM MAIN
+VAR
+    fbCar : FB_Car(nStart := 5);
+    fbCar2 : FB_Car := (nAxle := 2);
+    itf : I_Vehicle;
+    itfOther : I_Other;
+    pCar : POINTER TO FB_Car;
+    stItem : ST_Item := (rWeight := 4.0);
+    uSplit : U_Split;
+    rResult : REAL;
+    bNull : BOOL;
+    bOther : BOOL;
+    bFound : BOOL;
+    nSq : DINT;
+    eGear : E_Gear;
+    nGear : USINT;
+END_VAR
+bNull := itf = 0;
+itf := fbCar;
+rResult := itf.Accelerate(rDelta := 50.0);
+rResult := itf.Accelerate(50.0);
+fbCar();
+eGear := itf.Gear;
+nGear := E_Gear.HIGH;
+bOther := __QUERYINTERFACE(itf, itfOther);
+bFound := __QUERYPOINTER(itf, pCar);
+nSq := F_Square(n := 12) + F_Square(3);
+uSplit.wWhole := 16#1234;
+END_PROGRAM
+"""
+
+
+@pytest.fixture(scope="module")
+def oop() -> Any:
+    return st.load(OOP)
+
+
+def test_methods_properties_inheritance_interfaces(oop: Any) -> None:
+    main = oop.MAIN
+    main()
+    assert main.bNull is True
+    assert main.rResult == 120.0  # 2 * 50 = 100, then clamped to MaxSpeed 120
+    assert main.fbCar.nCalls == 2  # SUPER^() twice
+    assert main.fbCar.nInit == 5 and main.fbCar2.nInit == 3 and main.fbCar2.nAxle == 2
+    assert main.eGear == oop.E_Gear.LOW and main.nGear == 2
+    assert main.bOther is False and main.bFound is True
+    assert main.pCar.deref.nInit == 5
+    assert main.nSq == 153
+    assert (main.stItem.nId, main.stItem.rWeight) == (7, 4.0)
+    assert (main.uSplit.aBytes[0], main.uSplit.aBytes[1]) == (0x34, 0x12)
+
+
+def test_access_and_abstract_rules_hold(oop: Any) -> None:
+    from iecoop import AccessError, DefinitionError
+
+    with pytest.raises(DefinitionError, match="ABSTRACT"):
+        oop.FB_Vehicle()
+    car = oop.FB_Car()
+    with pytest.raises(AccessError, match="PROTECTED"):
+        car.Clamp(1.0)
+    with pytest.raises(AccessError, match="PRIVATE"):
+        car.Gear = oop.E_Gear.HIGH
+
+
+def test_case_insensitive_names(oop: Any) -> None:
+    assert oop.main is oop.MAIN and oop.f_square(4) == 16
+
+
+def test_program_runs_on_a_runtime() -> None:
+    module = st.load(prog("fbT : TON; bStart : BOOL := TRUE; nDone : INT;",
+                          "fbT(IN := bStart, PT := T#50ms); IF fbT.Q THEN nDone := nDone + 1; END_IF"))
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), module.MAIN)
+    runtime.run(cycles=5)
+    assert module.MAIN.nDone == 0
+    runtime.run(cycles=3)  # at 50, 60, 70 ms the timer is done
+    assert module.MAIN.nDone == 3
+
+
+def test_division_by_zero_faults_the_runtime() -> None:
+    module = st.load(prog("a : INT := 1; b : INT;", "a := a / b;"))
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), module.MAIN)
+    with pytest.raises(PlcException, match="DIVIDEBYZERO"):
+        runtime.run(cycles=1)
+
+
+def test_sections_stat_temp_inst_retain() -> None:
+    module = st.load("""
+FUNCTION_BLOCK FB_S
+VAR_STAT nShared : INT; END_VAR
+VAR_TEMP nTemp : INT; END_VAR
+VAR RETAIN nKept : INT; END_VAR
+VAR CONSTANT cStep : INT := 2; END_VAR
+nShared := nShared + 1; nTemp := nTemp + 1; nKept := nKept + nTemp * cStep;
+END_FUNCTION_BLOCK
+METHOD Dose : INT
+VAR_INST nDoses : INT; END_VAR
+nDoses := nDoses + 1;
+Dose := nDoses;
+END_METHOD
+""")
+    a, b = module.FB_S(), module.FB_S()
+    a(); a(); b()
+    assert (a.nShared, a.nTemp, a.nKept, b.nKept) == (3, 1, 4, 2)
+    assert (a.Dose(), a.Dose(), b.Dose()) == (1, 2, 1)
+
+
+def test_new_and_delete() -> None:
+    module = st.load("""
+FUNCTION_BLOCK FB_Dyn
+VAR nId : INT := 4; END_VAR
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR p : POINTER TO FB_Dyn; nSeen : INT; bNull : BOOL; END_VAR
+p := __NEW(FB_Dyn);
+nSeen := p^.nId;
+__DELETE(p);
+bNull := p = 0;
+END_PROGRAM
+""")
+    module.MAIN()
+    assert (module.MAIN.nSeen, module.MAIN.bNull) == (4, True)
+
+
+def test_globals_and_external_functions() -> None:
+    module = st.load("""
+VAR_GLOBAL
+    gnExtCount : INT := 10;
+END_VAR
+FUNCTION F_Scale : REAL
+VAR_INPUT x : REAL; END_VAR
+END_FUNCTION
+PROGRAM MAIN
+VAR r : REAL; END_VAR
+gnExtCount := gnExtCount + 1;
+GVL.gnExtCount := GVL.gnExtCount + 1;
+r := F_Scale(x := 2.0);
+END_PROGRAM
+""", externals={"F_Scale": lambda x: x * 10})
+    module.MAIN()
+    assert module.GVL.gnExtCount == 12 and module.MAIN.r == 20.0
+
+
+def test_external_function_must_be_bound() -> None:
+    with pytest.raises(st.StUnsupportedError, match="F_Missing"):
+        st.load("FUNCTION F_Missing : INT\nVAR_INPUT x : INT; END_VAR\nEND_FUNCTION\n")
+
+
+def test_syntax_error_names_file_and_line(tmp_path: Any) -> None:
+    path = tmp_path / "broken.st"
+    path.write_text("PROGRAM MAIN\nVAR x : INT; END_VAR\nx := := 1;\nEND_PROGRAM\n")
+    with pytest.raises(st.StSyntaxError, match=r"broken\.st:3: .*syntax error"):
+        st.load(path)
+
+
+def test_unknown_type_is_named() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:2: unknown type 'FB_Nowhere'"):
+        st.load("PROGRAM MAIN\nVAR x : FB_Nowhere; END_VAR\nEND_PROGRAM\n")
+
+
+def test_super_variable_is_the_same_variable() -> None:
+    module = st.load("""
+FUNCTION_BLOCK FB_A
+VAR nX : INT; END_VAR
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_B EXTENDS FB_A
+SUPER^.nX := SUPER^.nX + 2;
+END_FUNCTION_BLOCK
+""")
+    block = module.FB_B()
+    block(); block()
+    assert block.nX == 4
+
+
+SUPER_PROPERTY = """
+FUNCTION_BLOCK FB_A
+VAR _n : INT; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY N.Get : INT
+N := _n;
+END_PROPERTY
+PROPERTY N.Set : INT
+_n := N;
+END_PROPERTY
+FUNCTION_BLOCK FB_B EXTENDS FB_A
+SUPER^.N := 1;
+END_FUNCTION_BLOCK
+"""
+
+
+@pytest.mark.parametrize("source, construct", [
+    (SUPER_PROPERTY, r"<st>:12: writing the base's PROPERTY through SUPER\^.N"),
+    (prog("x : INT;", "lbl: x := 1;"), "label"),
+    (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
+    ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n", "VAR_OUTPUT in a method"),
+    ("PROGRAM MAIN\nVAR x AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variables"),
+])
+def test_unsupported_constructs_raise(source: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(source)
+
+
+def test_traceback_shows_generated_line() -> None:
+    import traceback
+
+    module = st.load(prog("a : INT; b : INT;", "a := a / b;"))
+    with pytest.raises(PlcException) as info:
+        module.MAIN()
+    assert "self.a = DIV(self.a, self.b)" in "".join(traceback.format_tb(info.tb))
+
+
+def test_to_python_keeps_names_and_comments() -> None:
+    text = st.to_python(prog("nCount : INT; // parts seen", "(* count up *)\nnCount := nCount + 1;"))
+    assert "class MAIN(Program):" in text
+    assert "# count up" in text and "# parts seen" in text
+    assert "self.nCount = self.nCount + 1" in text
+
+
+def test_importing_iecoop_does_not_import_blark() -> None:
+    import subprocess
+    import sys
+
+    code = "import sys, iecoop, iecoop.st; print('blark' in sys.modules, 'lark' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["False", "False"]
+
+
+def test_without_blark_load_and_to_python_name_the_extra() -> None:
+    import subprocess
+    import sys
+
+    # A None entry in sys.modules makes "import blark" fail, as when the package is not installed.
+    code = (
+        "import sys; sys.modules['blark'] = None\n"
+        "from iecoop import st\n"
+        "for call in (st.to_python, st.load):\n"
+        "    try:\n"
+        "        call('TYPE E_Mode : (IDLE, RUN) INT; END_TYPE')\n"
+        "    except ImportError as exc:\n"
+        "        print(exc)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    lines = result.stdout.splitlines()
+    assert len(lines) == 2
+    assert all('needs the blark parser' in line and 'pip install "iecoop[st]"' in line for line in lines)
+
+
+ARITHMETIC = st.load("""
+FUNCTION F_DivMod : DINT
+VAR_INPUT a : DINT; b : DINT; END_VAR
+F_DivMod := a / b * 1000 + a MOD b;
+END_FUNCTION
+FUNCTION F_AddInt : INT
+VAR_INPUT a : INT; b : INT; END_VAR
+VAR s : INT; END_VAR
+s := a + b;           // a method or function local wraps like the INT it is
+F_AddInt := s;
+END_FUNCTION
+""")
+
+
+@given(strategies.integers(-30000, 30000), strategies.integers(1, 999))
+def test_integer_division_truncates_and_mod_follows_the_dividend(a: int, b: int) -> None:
+    quotient = abs(a) // b * (1 if a >= 0 else -1)  # toward zero
+    remainder = a - b * quotient                      # sign of the dividend
+    assert ARITHMETIC.F_DivMod(a=a, b=b) == quotient * 1000 + remainder
+    assert ARITHMETIC.F_DivMod(a=a, b=-b) == -quotient * 1000 + remainder
+
+
+@given(strategies.integers(-32768, 32767), strategies.integers(-32768, 32767))
+def test_function_locals_wrap_like_their_type(a: int, b: int) -> None:
+    assert ARITHMETIC.F_AddInt(a=a, b=b) == (a + b + 32768) % 65536 - 32768
+
+
+def test_external_pragma_and_call_after_init() -> None:
+    module = st.load("""
+{external}
+FUNCTION F_Ext : INT
+VAR_INPUT x : INT; END_VAR
+F_Ext := x;             // the ST body stands in for a PLC library; Python replaces it
+END_FUNCTION
+FUNCTION_BLOCK FB_X
+VAR n : INT; END_VAR
+END_FUNCTION_BLOCK
+{attribute 'call_after_init'}
+METHOD Init
+n := 7;
+END_METHOD
+PROGRAM MAIN
+VAR r : INT; fb : FB_X; END_VAR
+r := F_Ext(3);
+END_PROGRAM
+""", externals={"F_Ext": lambda x: x * 100})
+    module.MAIN()
+    assert (module.MAIN.r, module.MAIN.fb.n) == (300, 7)
+
+
+def test_real_locals_are_32_bit() -> None:
+    import struct
+
+    module = st.load("FUNCTION F_Tenth : REAL\nVAR r : REAL; END_VAR\nr := 0.1;\nF_Tenth := r * 3;\nEND_FUNCTION\n")
+    tenth = struct.unpack("<f", struct.pack("<f", 0.1))[0]
+    assert module.F_Tenth() == struct.unpack("<f", struct.pack("<f", tenth * 3))[0] != 0.1 * 3

@@ -1,0 +1,24 @@
+"""The Python that ``st.to_python`` writes passes ``mypy --strict``: every ST source of these tests, in one run."""
+
+from __future__ import annotations
+
+import pathlib
+
+from iecoop import st
+from tests.iecoop.st.test_load import CASES, OOP
+from tests.typing.test_typing import run_mypy
+
+DATA = pathlib.Path(__file__).parent / "data"
+
+
+def test_generated_python_passes_mypy_strict(tmp_path: pathlib.Path) -> None:
+    sources: dict[str, str | pathlib.Path] = {"twincat": DATA / "twincat", "oop": OOP}
+    sources.update({path.stem: path for path in sorted((DATA / "course").glob("*.st"))})
+    sources.update({f"case_{name.replace('-', '_')}": text for name, text, *_ in CASES})
+    files = []
+    for name, source in sources.items():
+        path = tmp_path / f"st_{name}.py"
+        path.write_text(st.to_python(source))
+        files.append(path)
+    report, status = run_mypy(files)
+    assert (report, status) == ("", 0)

@@ -1,0 +1,53 @@
+"""``iecoop st2py`` and ``iecoop st run``: output, files written, and the exit status of each failure."""
+
+from __future__ import annotations
+
+import io
+import pathlib
+from collections.abc import Callable
+from typing import TextIO
+
+from patterns.showcase.st_cli import st2py, st_run
+
+TWINCAT = pathlib.Path(__file__).parents[1] / "iecoop" / "st" / "data" / "twincat"
+
+
+def call(command: Callable[[list[str], TextIO, TextIO], int], *argv: str) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    status = command(list(argv), out, err)
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_st_run_prints_the_trace_of_a_twincat_project() -> None:
+    status, out, err = call(st_run, str(TWINCAT), "--cycles", "9", "--every", "1")
+    assert (status, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0].startswith("MAIN on PlcTask (10 ms), twincat profile, 9 cycles")
+    assert lines[1].split()[:4] == ["time", "ms", "cycle", "rLevel"]
+    assert lines[5].split()[:3] == ["30", "4", "50.00"]  # full at the 4th cycle
+    assert len(lines) == 2 + 9
+
+
+def test_st_run_fault_exits_1(tmp_path: pathlib.Path) -> None:
+    source = tmp_path / "div.st"
+    source.write_text("PROGRAM MAIN\nVAR a : INT := 1; b : INT; END_VAR\na := a / b;\nEND_PROGRAM\n")
+    status, out, err = call(st_run, str(source), "--cycles", "2")
+    assert status == 1 and "PLC fault in cycle 1: RTSEXCPT_DIVIDEBYZERO" in err
+
+
+def test_st_run_bad_source_and_unknown_program_exit_2(tmp_path: pathlib.Path) -> None:
+    source = tmp_path / "bad.st"
+    source.write_text("PROGRAM MAIN\nVAR x : FB_Nowhere; END_VAR\nEND_PROGRAM\n")
+    status, _, err = call(st_run, str(source))
+    assert status == 2 and "unknown type 'FB_Nowhere'" in err
+    status, _, err = call(st_run, str(TWINCAT), "--program", "PLC_PRG")
+    assert status == 2 and "no PROGRAM PLC_PRG" in err
+
+
+def test_st2py_prints_or_writes(tmp_path: pathlib.Path) -> None:
+    status, out, _ = call(st2py, str(TWINCAT))
+    assert status == 0 and "class FB_Tank(FunctionBlock, I_Tank):" in out
+    status, out, _ = call(st2py, str(TWINCAT), "-o", str(tmp_path))
+    assert status == 0 and (tmp_path / "twincat.py").read_text().count("class ") == 6
+    status, _, err = call(st2py, str(tmp_path / "missing.st"))
+    assert status == 2 and "does not exist" in err
