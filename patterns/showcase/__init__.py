@@ -52,7 +52,7 @@ from typing import TextIO
 from iecoop import PlcException
 from patterns.showcase.catalogue import CATEGORIES, Entry, build, entries, find, normalise, read, show
 from patterns.showcase.text import render_rst
-from patterns.showcase import serve
+from patterns.showcase import serve, st_cli
 
 __all__ = ["COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "Trace", "main", "run_entry", "table"]
 
@@ -473,6 +473,8 @@ COMMANDS: dict[str, Command] = {
     "show": Command("the documentation of one pattern or example, and where its file is", _name_argument, _cmd_show),
     "run": Command("run one pattern or example, printing its trace rows as the cycles run", _run_arguments, _cmd_run),
     "serve": Command(serve.HELP, serve.add_arguments, serve.run),
+    "st2py": Command(st_cli.ST2PY_HELP, st_cli.add_st2py_arguments, st_cli.st2py_command),
+    "st": Command(st_cli.ST_HELP, st_cli.add_st_arguments, st_cli.st_command),
 }
 DEFAULT_COMMAND = "tour"
 

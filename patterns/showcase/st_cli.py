@@ -42,36 +42,56 @@ from typing import Any, TextIO
 
 from iecoop import DefinitionError, Program
 from iecoop.runtime import Runtime
-from patterns.showcase import _fault_text, run_entry, table
 from patterns.showcase.catalogue import Entry, generic_columns, plc_task
 
-__all__ = ["st2py", "st_run"]
+__all__ = ["ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "st2py", "st2py_command", "st_command", "st_run"]
+
+#: The help lines of ``iecoop st2py`` and ``iecoop st``.
+ST2PY_HELP = "translate Structured Text (.st, TwinCAT files, a folder, a .plcproj) to iecoop Python"
+ST_HELP = "run Structured Text: 'iecoop st run FILE_OR_FOLDER --program MAIN --cycles N'"
+
+
+def add_st2py_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``iecoop st2py``."""
+    parser.add_argument("sources", nargs="+", metavar="FILE_OR_FOLDER", help=".st, TwinCAT files, a folder or a .plcproj")
+    parser.add_argument("-o", "--output", metavar="DIR", help="write DIR/<name>.py for each source instead of printing")
 
 
 def _st2py_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="iecoop st2py", description="Translate Structured Text to iecoop Python.")
-    parser.add_argument("sources", nargs="+", metavar="FILE_OR_FOLDER", help=".st, TwinCAT files, a folder or a .plcproj")
-    parser.add_argument("-o", "--output", metavar="DIR", help="write DIR/<name>.py for each source instead of printing")
+    add_st2py_arguments(parser)
     return parser
 
 
-def _run_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="iecoop st run", description="Run a Structured Text PROGRAM with a trace.")
+def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("source", metavar="FILE_OR_FOLDER")
     parser.add_argument("--program", default="MAIN", help="the PROGRAM to run (default MAIN)")
     parser.add_argument("--cycles", type=int, default=100, help="cycles to run (default 100)")
     parser.add_argument("--every", type=int, default=None, help="show every K-th cycle instead of the changes")
     parser.add_argument("--profile", default="twincat", choices=("twincat", "codesys"))
+
+
+def add_st_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``iecoop st``: its one subcommand, ``run``."""
+    commands = parser.add_subparsers(dest="st_command", metavar="COMMAND", required=True)
+    _add_run_arguments(commands.add_parser("run", help="run a PROGRAM of the source and print its trace"))
+
+
+def _run_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="iecoop st run", description="Run a Structured Text PROGRAM with a trace.")
+    _add_run_arguments(parser)
     return parser
 
 
 def st2py(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = None) -> int:
     """``iecoop st2py``: the Python module of each source; 2 when a source does not translate."""
+    return st2py_command(_st2py_parser().parse_args(list(argv)), out or sys.stdout, err or sys.stderr)
+
+
+def st2py_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
+    """``iecoop st2py`` with its parsed arguments."""
     from iecoop import st
 
-    out = out or sys.stdout
-    err = err or sys.stderr
-    args = _st2py_parser().parse_args(list(argv))
     for source in args.sources:
         try:
             text = st.to_python(source)
@@ -92,11 +112,14 @@ def st2py(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = N
 
 def st_run(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = None) -> int:
     """``iecoop st run``: run a PROGRAM of the source and print its trace; 1 on a PLC fault, 2 on a bad source."""
-    from iecoop import st
+    return st_command(_run_parser().parse_args(list(argv)), out or sys.stdout, err or sys.stderr)
 
-    out = out or sys.stdout
-    err = err or sys.stderr
-    args = _run_parser().parse_args(list(argv))
+
+def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
+    """``iecoop st run`` with its parsed arguments."""
+    from iecoop import st
+    from patterns.showcase import _fault_text, run_entry, table  # the package imports this module
+
     try:
         module = st.load(args.source, profile=args.profile)
         program = getattr(module, args.program)

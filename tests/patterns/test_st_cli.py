@@ -7,6 +7,8 @@ import pathlib
 from collections.abc import Callable
 from typing import TextIO
 
+import pytest
+
 from patterns.showcase.st_cli import st2py, st_run
 
 TWINCAT = pathlib.Path(__file__).parents[1] / "iecoop" / "st" / "data" / "twincat"
@@ -51,3 +53,16 @@ def test_st2py_prints_or_writes(tmp_path: pathlib.Path) -> None:
     assert status == 0 and (tmp_path / "twincat.py").read_text().count("class ") == 6
     status, _, err = call(st2py, str(tmp_path / "missing.st"))
     assert status == 2 and "does not exist" in err
+
+
+def test_st2py_and_st_run_are_commands_of_iecoop(capsys: pytest.CaptureFixture[str]) -> None:
+    from patterns.showcase import main
+
+    folder = pathlib.Path(__file__).resolve().parent.parent / "iecoop" / "st" / "data" / "twincat"
+    assert main(["st", "run", str(folder), "--cycles", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "MAIN on PlcTask" in out and out.count("\n") >= 4
+    assert main(["st2py", str(folder)]) == 0
+    assert "class MAIN(Program):" in capsys.readouterr().out
+    assert main(["st", "run", str(folder), "--program", "NOPE"]) == 2
+    assert "declares no PROGRAM NOPE" in capsys.readouterr().err
