@@ -30,6 +30,7 @@ from iecoop.memory._core import (
     ReferenceInfo,
     StringInfo,
     TypeInfo,
+    check_block_size,
     resolve_type,
 )
 
@@ -280,6 +281,7 @@ def build_layout(
     fields_.extend((field, info.ctype) for field, info, _spec in pending)
     namespace["_fields_"] = fields_
     cls = create(namespace)
+    check_block_size(ctypes.sizeof(cls), name)
     scope.own = cls
 
     own: list[FieldRecord] = []
