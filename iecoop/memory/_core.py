@@ -157,15 +157,15 @@ def _containing(address: int) -> tuple[Allocation, int] | None:
 def allocation_of(obj: Any) -> tuple[Allocation, int]:
     """The allocation holding ctypes object ``obj`` and the byte offset of ``obj`` in it."""
     address = ctypes.addressof(obj)
+    # Without the lock: a search that races a change in another thread either raises
+    # IndexError or misses (then the locked search decides); a block it finds holds the
+    # address, and live blocks never overlap, so that answer is right.
     try:
-        # Without the lock: a search that races a change in another thread either raises
-        # IndexError or misses (then the locked search decides); a block it finds holds the
-        # address, and live blocks never overlap, so that answer is right.
-        found = _containing(address)
+        alloc = _by_base.get(_bases[bisect.bisect_right(_bases, address) - 1])
     except IndexError:
-        found = None
-    if found is not None:
-        return found
+        alloc = None
+    if alloc is not None and alloc.base <= address < alloc.base + max(alloc.size, 1):
+        return alloc, address - alloc.base
     with table_lock:
         found = _containing(address)
         if found is not None:
@@ -219,10 +219,9 @@ def owning_root(obj: Any) -> Any:
     while base is not None:
         top = base
         base = top._b_base_
-    alloc = _by_base.get(ctypes.addressof(top))
-    if alloc is not None and alloc.ref() is top:
+    if top._b_needsfree_:  # ctypes allocated this object's memory: it is the owner
         return top
-    # A view made by from_buffer (or a root never addressed): ask the allocation table.
+    # A view made by from_buffer: ask the allocation table.
     return allocation_of(obj)[0].ref()
 
 
@@ -233,18 +232,19 @@ def hold(holder: Any, offset: int, target: Any) -> None:
     instance alive, as a Python object keeps what it refers to (ctypes'
     ``_objects`` does the same); overwriting the slot drops the old target.
     """
-    root = owning_root(holder)
-    if root is None:
-        return
-    slot = ctypes.addressof(holder) + offset
+    root = holder
+    if holder._b_base_ is not None or not holder._b_needsfree_:
+        root = owning_root(holder)
+        if root is None:
+            return
     keep = root.__dict__.get(_KEEP)
     if target is None or target is root:
         if keep:
-            keep.pop(slot, None)
+            keep.pop(ctypes.addressof(holder) + offset, None)
         return
     if keep is None:
         keep = root.__dict__[_KEEP] = {}
-    keep[slot] = target
+    keep[ctypes.addressof(holder) + offset] = target
 
 
 def target_root(handle: int) -> Any:
@@ -895,8 +895,11 @@ class _PointerField:
 
     def __set__(self, obj: Any, value: Any) -> None:
         handle = self.info.coerce(value, self.where)
-        self.raw.__set__(obj, handle)
-        hold(obj, self.raw.offset, _kept_target(value, handle))
+        raw = self.raw
+        # Storing the address the variable already holds (every cycle, often) changes nothing.
+        if raw.__get__(obj) != handle:
+            raw.__set__(obj, handle)
+            hold(obj, raw.offset, _kept_target(value, handle))
 
 
 def _kept_target(value: Any, handle: int) -> Any:
@@ -1113,8 +1116,11 @@ class _InterfaceField:
 
     def __set__(self, obj: Any, value: Any) -> None:
         handle, block = self.info.handle_and_block(value, self.where)
-        self.raw.__set__(obj, handle)
-        hold(obj, self.raw.offset, block)
+        raw = self.raw
+        # Storing the instance the variable already holds (every cycle, often) changes nothing.
+        if raw.__get__(obj) != handle:
+            raw.__set__(obj, handle)
+            hold(obj, raw.offset, block)
 
 
 # ---------------------------------------------------------------------------

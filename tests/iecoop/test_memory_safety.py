@@ -460,3 +460,17 @@ def test_delete_still_ends_a_new_instance_held_by_a_block() -> None:
     delete(p)
     with access_violation("deleted or no longer exists"):
         station()
+
+
+class Plant(Struct):
+    stations: ARRAY[Station] = VAR(bounds=(1, 2))
+
+
+def test_an_instance_held_through_an_array_element_view_lives_while_held() -> None:
+    # An element of an ARRAY OF block is a view made over the array's memory:
+    # the instance is kept by the plant's block, not by that short-lived view.
+    plant = Plant()
+    plant.stations[2].machine = DolMotor()
+    gc.collect()
+    plant.stations[2]()
+    assert plant.stations[2].result == 3
