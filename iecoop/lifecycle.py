@@ -46,6 +46,7 @@ from iecoop.memory._core import (
     free,
     poison,
     register,
+    release_held,
     resolve,
     table_lock,
 )
@@ -147,6 +148,7 @@ def initialise(
     """
     if zero:
         ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
+        release_held(obj)
     type(obj)._iec_implicit_init_(obj)
     _init_tree(obj, init_retains, in_copy_code, args or _EMPTY, None)
 

@@ -247,6 +247,15 @@ def hold(holder: Any, offset: int, target: Any) -> None:
     keep[ctypes.addressof(holder) + offset] = target
 
 
+def release_held(block: Any) -> None:
+    """Drop what the slots of ``block`` kept alive (its memory was just cleared)."""
+    keep = owning_root(block).__dict__.get(_KEEP)
+    if keep:
+        start = ctypes.addressof(block)
+        for slot in [s for s in keep if start <= s < start + ctypes.sizeof(block)]:
+            del keep[slot]
+
+
 def target_root(handle: int) -> Any:
     """The live root block ``handle`` is into, or None."""
     alloc = _allocations.get(handle >> 32)
@@ -326,9 +335,6 @@ def class_for_tag(tag: int) -> type | None:
     return None
 
 
-_tagged_at: dict[tuple[type, int], frozenset[type]] = {}
-
-
 def _tagged_classes(cls: type, offset: int) -> frozenset[type]:
     """The tagged block classes whose instances start at ``offset`` in a block of class ``cls``.
 
@@ -361,10 +367,14 @@ def _tagged_in(info: TypeInfo, offset: int) -> frozenset[type]:
 
 
 def real_classes(cls: type, offset: int) -> frozenset[type]:
-    key = (cls, offset)
-    found = _tagged_at.get(key)
+    # Cached on the class itself, so the cache never keeps a class alive.
+    cache: dict[int, frozenset[type]] | None = cls.__dict__.get("_iec_tagged_at_")
+    if cache is None:
+        cache = {}
+        setattr(cls, "_iec_tagged_at_", cache)
+    found = cache.get(offset)
     if found is None:
-        found = _tagged_at[key] = _tagged_classes(cls, offset)
+        found = cache[offset] = _tagged_classes(cls, offset)
     return found
 
 

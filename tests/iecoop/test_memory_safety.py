@@ -22,10 +22,11 @@ import pytest
 
 from iecoop import (
     ARRAY, BOOL, INT, LINT, LREAL, POINTER_TO, REFERENCE_TO, VAR, VAR_INPUT, VAR_OUTPUT, DefinitionError,
-    ExceptionCode, FunctionBlock, Interface, PlcException, Struct, adr, delete, memcpy, method, new, ref_assign,
-    sizeof,
+    ExceptionCode, FunctionBlock, Interface, PlcException, Pointer, Program, Struct, T, adr, delete, memcpy,
+    method, new, ref_assign, sizeof,
 )
 from iecoop.memory._core import MAX_BLOCK_SIZE
+from iecoop.runtime import Runtime, Task
 from tests import checked_only
 
 AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
@@ -408,7 +409,7 @@ def test_an_instance_held_by_an_interface_variable_lives_while_held() -> None:
     assert station.result == 3
     assert station.machine.starts == 2
     watch = weakref.ref(station.machine)
-    station.machine = None  # overwritten: no longer kept
+    station.machine = Pump()  # overwritten: the old one is no longer kept
     gc.collect()
     assert watch() is None
 
@@ -421,7 +422,7 @@ def test_an_instance_held_by_a_pointer_or_reference_lives_while_held() -> None:
     assert station.motor_ptr.deref.kind() == 3
     assert station.motor_ref.kind() == 3
     watch = weakref.ref(station.motor_ptr.deref)
-    station.motor_ptr = 0
+    station.motor_ptr = Pointer()  # NULL
     gc.collect()
     assert watch() is None
 
@@ -474,3 +475,22 @@ def test_an_instance_held_through_an_array_element_view_lives_while_held() -> No
     gc.collect()
     plant.stations[2]()
     assert plant.stations[2].result == 3
+
+
+class Cell2(Program):
+    machine: IMachine = VAR_INPUT()
+
+
+def test_a_reset_that_clears_a_block_lets_go_of_what_it_held() -> None:
+    cell = Cell2()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), cell)
+    cell.machine = DolMotor()
+    watch = weakref.ref(cell.machine)
+    rt.run(cycles=1)
+    gc.collect()
+    assert watch() is not None
+    rt.reset_cold()
+    gc.collect()
+    assert watch() is None
+    assert not cell.machine
