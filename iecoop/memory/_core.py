@@ -904,7 +904,7 @@ class _PointerField:
         return Pointer(self.raw.__get__(obj), self.info.target, (obj, self.raw))
 
     def __set__(self, obj: Any, value: Any) -> None:
-        handle = self.info.coerce(value, self.where)
+        handle = value._handle if type(value) is Pointer else self.info.coerce(value, self.where)
         raw = self.raw
         # Storing the address the variable already holds (every cycle, often) changes nothing.
         if raw.__get__(obj) != handle:
