@@ -39,7 +39,17 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 from iecoop.exceptions import AccessError, ExceptionCode, PlcException
-from iecoop.memory._core import Pointer, allocation_for_handle, class_info, free, register, resolve
+from iecoop.memory._core import (
+    Pointer,
+    allocation_for_handle,
+    class_info,
+    free,
+    poison,
+    register,
+    release_held,
+    resolve,
+    table_lock,
+)
 from iecoop.members import caller_description
 
 __all__ = ["delete", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
@@ -49,6 +59,8 @@ _T = TypeVar("_T")
 _EMPTY: dict[str, Any] = {}
 #: Instances created by new(): kept alive until delete(), as a PLC heap block is.
 _heap: dict[int, Any] = {}
+#: Instances whose FB_exit is running inside delete(): deleting one again only clears the pointer.
+_exiting: set[int] = set()
 
 
 class _InitPlan:
@@ -137,6 +149,7 @@ def initialise(
     """
     if zero:
         ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
+        release_held(obj)
     type(obj)._iec_implicit_init_(obj)
     _init_tree(obj, init_retains, in_copy_code, args or _EMPTY, None)
 
@@ -206,7 +219,9 @@ def delete(pointer: Pointer[Any]) -> None:
     """``__DELETE(p)``: FB_exit, free the memory, set ``p`` to 0.
 
     Every other pointer, reference or interface variable still aimed at the
-    instance raises RTSEXCPT_ACCESS_VIOLATION when used.
+    instance raises RTSEXCPT_ACCESS_VIOLATION when used, and so does Python
+    code still holding the instance itself. ``delete`` of an instance whose
+    FB_exit is running (an FB_exit deleting its own instance) only sets ``p`` to 0.
     """
     if not isinstance(pointer, Pointer):
         raise TypeError(f"__DELETE needs a pointer from new(), got {type(pointer).__name__}")
@@ -214,17 +229,38 @@ def delete(pointer: Pointer[Any]) -> None:
     if handle == 0:
         return
     alloc = allocation_for_handle(handle)
+    if alloc is not None and alloc.id in _exiting:
+        pointer._clear()
+        return
     if alloc is None or alloc.id not in _heap:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE of memory that new() did not create (or already deleted)")
     if handle & 0xFFFFFFFF:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE needs the pointer new() returned, not one inside the block")
     resolve(handle, 0, "__DELETE")
-    obj = _heap[alloc.id]
     target = pointer._target
     static_type = getattr(target, "cls", None)
-    if getattr(type(obj), "_iec_kind_", "") == "fb":
-        finalise(obj, in_copy_code=False, static_type=static_type)
-    ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
-    del _heap[alloc.id]
-    free(alloc)
+    real = type(_heap.get(alloc.id))
+    if static_type is not None and not issubclass(real, static_type):
+        # FB_exit of an unrelated type must never run on this memory.
+        raise PlcException(
+            ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
+            f"__DELETE through POINTER TO {static_type.__name__} of a {real.__name__} instance; "
+            f"delete it through a POINTER TO {real.__name__} (or one of its bases)",
+        )
+    obj = _heap.pop(alloc.id, None)
+    if obj is None:  # another thread deleted it first
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE of memory that new() did not create (or already deleted)")
+    _exiting.add(alloc.id)
+    try:
+        if getattr(type(obj), "_iec_kind_", "") == "fb":
+            finalise(obj, in_copy_code=False, static_type=static_type)
+    except BaseException:
+        _heap[alloc.id] = obj
+        raise
+    finally:
+        _exiting.discard(alloc.id)
+    with table_lock:
+        ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
+        free(alloc)
+    poison(obj)
     pointer._clear()

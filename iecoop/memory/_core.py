@@ -18,8 +18,10 @@ from __future__ import annotations
 import bisect
 import ctypes
 import enum
+import itertools
 import operator
 import sys
+import threading
 import typing
 import weakref
 from collections.abc import Callable, Iterator
@@ -67,41 +69,67 @@ class Allocation:
 _allocations: dict[int, Allocation] = {}
 _bases: list[int] = []
 _by_base: dict[int, Allocation] = {}
-_next_id = [1]
+_ids = itertools.count(1)
+#: Guards the tables above and every C call on raw addresses (MEMCPY, MEMSET, MEMCMP, the
+#: clearing of a deleted block): a block cannot be freed between its check and such a call.
+#: Re-entrant because a collected block's weakref callback may run in the thread holding it.
+table_lock = threading.RLock()
+
+#: A handle's offset is a signed 32-bit number, so an address may step below its block and back.
+#: Arithmetic that leaves -2**31 .. 2**31 - 2 gives this offset instead, which lies outside
+#: every block and stays there: a pointer never wraps back into its block.
+WILD_OFFSET = 2**31 - 1
+#: The largest block (struct, array, POU) a handle can address.
+MAX_BLOCK_SIZE = WILD_OFFSET - 1
+
+
+def signed_offset(handle: int) -> int:
+    """The byte offset in a handle, negative below the block's start."""
+    offset = handle & _HANDLE_MASK
+    return offset - (1 << 32) if offset > WILD_OFFSET else offset
+
+
+def check_block_size(size: int, where: str) -> None:
+    """Refuse, at definition, a type whose instances a handle could not address."""
+    if size > MAX_BLOCK_SIZE:
+        raise DefinitionError(
+            f"{where}: {size} bytes is larger than the largest memory block ({MAX_BLOCK_SIZE} bytes, 2 GiB)"
+        )
 
 
 def _forget(alloc: Allocation) -> None:
-    if _allocations.get(alloc.id) is alloc:
-        del _allocations[alloc.id]
-    if _by_base.get(alloc.base) is alloc:
-        del _by_base[alloc.base]
-        index = bisect.bisect_left(_bases, alloc.base)
-        if index < len(_bases) and _bases[index] == alloc.base:
-            del _bases[index]
+    with table_lock:
+        if _allocations.get(alloc.id) is alloc:
+            del _allocations[alloc.id]
+        if _by_base.get(alloc.base) is alloc:
+            del _by_base[alloc.base]
+            index = bisect.bisect_left(_bases, alloc.base)
+            if index < len(_bases) and _bases[index] == alloc.base:
+                del _bases[index]
 
 
 def register(root: Any) -> Allocation:
     """Make ``root`` (a ctypes object owning its memory) an addressable allocation."""
-    ident = _next_id[0]
-    _next_id[0] += 1
-    alloc = Allocation(ident, root, type(root).__name__)
-    stale = _by_base.get(alloc.base)
-    if stale is not None:
-        _forget(stale)
-    _allocations[ident] = alloc
-    _by_base[alloc.base] = alloc
-    bisect.insort(_bases, alloc.base)
-    return alloc
+    with table_lock:
+        alloc = Allocation(next(_ids), root, type(root).__name__)
+        stale = _by_base.get(alloc.base)
+        if stale is not None:
+            _forget(stale)
+        _allocations[alloc.id] = alloc
+        _by_base[alloc.base] = alloc
+        bisect.insort(_bases, alloc.base)
+        return alloc
 
 
 def free(alloc: Allocation) -> None:
     """Release an allocation (``__DELETE``): every handle into it stops resolving."""
-    alloc.freed = True
-    # Only the id stops resolving. The block stays known by its address until it is
-    # collected, so ADR of the deleted instance (or of a view into it) yields a handle
-    # that faults, instead of registering the same memory again as a fresh, valid block.
-    if _allocations.get(alloc.id) is alloc:
-        del _allocations[alloc.id]
+    with table_lock:
+        alloc.freed = True
+        # Only the id stops resolving. The block stays known by its address until it is
+        # collected, so ADR of the deleted instance (or of a view into it) yields a handle
+        # that faults, instead of registering the same memory again as a fresh, valid block.
+        if _allocations.get(alloc.id) is alloc:
+            del _allocations[alloc.id]
 
 
 def _root_of(obj: Any) -> Any:
@@ -117,15 +145,32 @@ def registered_allocation(obj: Any) -> Allocation | None:
     return alloc if alloc is not None and not alloc.freed and alloc.ref() is obj else None
 
 
+def _containing(address: int) -> tuple[Allocation, int] | None:
+    index = bisect.bisect_right(_bases, address) - 1
+    if index >= 0:
+        alloc = _by_base.get(_bases[index])
+        if alloc is not None and alloc.base <= address < alloc.base + max(alloc.size, 1):
+            return alloc, address - alloc.base
+    return None
+
+
 def allocation_of(obj: Any) -> tuple[Allocation, int]:
     """The allocation holding ctypes object ``obj`` and the byte offset of ``obj`` in it."""
     address = ctypes.addressof(obj)
-    index = bisect.bisect_right(_bases, address) - 1
-    if index >= 0:
-        alloc = _by_base[_bases[index]]
-        if address < alloc.base + max(alloc.size, 1):
-            return alloc, address - alloc.base
-    alloc = register(_root_of(obj))
+    # Without the lock: a search that races a change in another thread either raises
+    # IndexError or misses (then the locked search decides); a block it finds holds the
+    # address, and live blocks never overlap, so that answer is right.
+    try:
+        alloc = _by_base.get(_bases[bisect.bisect_right(_bases, address) - 1])
+    except IndexError:
+        alloc = None
+    if alloc is not None and alloc.base <= address < alloc.base + max(alloc.size, 1):
+        return alloc, address - alloc.base
+    with table_lock:
+        found = _containing(address)
+        if found is not None:
+            return found
+        alloc = register(_root_of(obj))
     offset = address - alloc.base
     if not 0 <= offset < max(alloc.size, 1):
         raise access_violation(f"{type(obj).__name__} instance lies outside any known memory block")
@@ -135,7 +180,8 @@ def allocation_of(obj: Any) -> tuple[Allocation, int]:
 def handle_of(obj: Any, extra_offset: int = 0) -> int:
     """The handle (what ADR returns, as stored in memory) of ``obj`` plus ``extra_offset`` bytes."""
     alloc, offset = allocation_of(obj)
-    return (alloc.id << 32) | ((offset + extra_offset) & _HANDLE_MASK)
+    offset += extra_offset
+    return (alloc.id << 32) | (offset if 0 <= offset < WILD_OFFSET else WILD_OFFSET)
 
 
 def resolve(handle: int, size: int, what: str) -> tuple[Any, int]:
@@ -148,14 +194,127 @@ def resolve(handle: int, size: int, what: str) -> tuple[Any, int]:
         raise access_violation(f"{what}: the target memory was deleted or no longer exists")
     offset = handle & _HANDLE_MASK
     if offset + size > alloc.size:
+        where = "an address moved outside its block" if offset == WILD_OFFSET else f"address {signed_offset(offset)}"
         raise access_violation(
-            f"{what}: address {offset} + {size} bytes lies outside its {alloc.size}-byte block ({alloc.label})"
+            f"{what}: {where} + {size} bytes lies outside its {alloc.size}-byte block ({alloc.label})"
         )
     return root, offset
 
 
 def allocation_for_handle(handle: int) -> Allocation | None:
     return _allocations.get(handle >> 32)
+
+
+# ---------------------------------------------------------------------------
+# Keeping a target alive while a block holds its address
+# ---------------------------------------------------------------------------
+
+_KEEP = "_iec_keep_"
+
+
+def owning_root(obj: Any) -> Any:
+    """The root block (the object owning the memory) that ctypes object ``obj`` lies in."""
+    top = obj
+    base = top._b_base_
+    while base is not None:
+        top = base
+        base = top._b_base_
+    if top._b_needsfree_:  # ctypes allocated this object's memory: it is the owner
+        return top
+    # A view made by from_buffer: ask the allocation table.
+    return allocation_of(obj)[0].ref()
+
+
+def hold(holder: Any, offset: int, target: Any) -> None:
+    """Record that ``holder``'s slot at ``offset`` refers to block ``target`` (None: to nothing).
+
+    A block holding a pointer, reference or interface to an instance keeps that
+    instance alive, as a Python object keeps what it refers to (ctypes'
+    ``_objects`` does the same); overwriting the slot drops the old target.
+    """
+    root = holder
+    if holder._b_base_ is not None or not holder._b_needsfree_:
+        root = owning_root(holder)
+        if root is None:
+            return
+    keep = root.__dict__.get(_KEEP)
+    if target is None or target is root:
+        if keep:
+            keep.pop(ctypes.addressof(holder) + offset, None)
+        return
+    if keep is None:
+        keep = root.__dict__[_KEEP] = {}
+    keep[ctypes.addressof(holder) + offset] = target
+
+
+def release_held(block: Any) -> None:
+    """Drop what the slots of ``block`` kept alive (its memory was just cleared)."""
+    keep = owning_root(block).__dict__.get(_KEEP)
+    if keep:
+        start = ctypes.addressof(block)
+        for slot in [s for s in keep if start <= s < start + ctypes.sizeof(block)]:
+            del keep[slot]
+
+
+def target_root(handle: int) -> Any:
+    """The live root block ``handle`` is into, or None."""
+    alloc = _allocations.get(handle >> 32)
+    return alloc.ref() if alloc is not None else None
+
+
+# ---------------------------------------------------------------------------
+# Deleted instances kept by Python
+# ---------------------------------------------------------------------------
+
+_CTYPES_INTERNALS = frozenset(("_b_base_", "_b_needsfree_", "_objects"))
+
+
+def _deleted_fault(obj: Any, what: str) -> PlcException:
+    label = object.__getattribute__(obj, "__dict__").get("_iec_deleted_", "instance")
+    return access_violation(f"{what} of a deleted {label} (the instance was freed by __DELETE)")
+
+
+class DeletedInstance(ctypes.Structure):
+    """What an instance freed by ``delete()`` becomes for Python code still holding it.
+
+    Reading or writing a member, calling a method or the block itself faults
+    with RTSEXCPT_ACCESS_VIOLATION, like use through a handle into freed memory.
+    """
+
+    def __getattribute__(self, name: str) -> Any:
+        if name in _CTYPES_INTERNALS or (name.startswith("__") and name.endswith("__")):
+            return object.__getattribute__(self, name)
+        raise _deleted_fault(self, f"{name!r} read")
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise _deleted_fault(self, f"{name!r} written")
+
+    def __delattr__(self, name: str) -> None:
+        raise _deleted_fault(self, f"{name!r} deleted")
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        raise _deleted_fault(self, "call")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ctypes._CData) and ctypes.addressof(self) == ctypes.addressof(other)
+
+    def __hash__(self) -> int:
+        return hash(ctypes.addressof(self))
+
+    def __repr__(self) -> str:
+        label = object.__getattribute__(self, "__dict__").get("_iec_deleted_", "instance")
+        return f"<deleted {label}>"
+
+
+def poison(obj: Any) -> bool:
+    """Turn a freed root block into a DeletedInstance; False if its class does not allow it."""
+    label = type(obj).__name__
+    try:
+        object.__setattr__(obj, "__class__", DeletedInstance)
+    except TypeError:
+        return False
+    object.__getattribute__(obj, "__dict__")["_iec_deleted_"] = label
+    return True
 
 
 # ---------------------------------------------------------------------------
@@ -180,6 +339,66 @@ def class_for_tag(tag: int) -> type | None:
         return _class_by_tag[tag]()
     except KeyError:
         return None
+
+
+def _tagged_classes(cls: type, offset: int) -> frozenset[type]:
+    """The tagged block classes whose instances start at ``offset`` in a block of class ``cls``.
+
+    Fixed by the layout: an inline member keeps its declared type (a derived
+    block stored into it keeps the member's tag), so the real class of the
+    instance at an address is known without reading memory.
+    """
+    found: set[type] = set()
+    if offset == 0 and getattr(cls, "_iec_tagged_", False):
+        found.add(cls)
+    layout = getattr(cls, "_iec_layout_", None)
+    if layout is not None:
+        for record in layout.fields:
+            start = record.offset
+            if start <= offset < start + record.info.size:
+                found |= _tagged_in(record.info, offset - start)
+    else:
+        info = getattr(cls, "_iec_info_", None)
+        if isinstance(info, TypeInfo):
+            found |= _tagged_in(info, offset)
+    return frozenset(found)
+
+
+def _tagged_in(info: TypeInfo, offset: int) -> frozenset[type]:
+    if isinstance(info, AggregateInfo):
+        return real_classes(info.cls, offset)
+    if isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo):
+        return real_classes(info.elem.cls, offset % info.elem.size)
+    return frozenset()
+
+
+def real_classes(cls: type, offset: int) -> frozenset[type]:
+    # Cached on the class itself, so the cache never keeps a class alive.
+    cache: dict[int, frozenset[type]] | None = cls.__dict__.get("_iec_tagged_at_")
+    if cache is None:
+        cache = {}
+        setattr(cls, "_iec_tagged_at_", cache)
+    found = cache.get(offset)
+    if found is None:
+        found = cache[offset] = _tagged_classes(cls, offset)
+    return found
+
+
+def dynamic_class(root: Any, offset: int, what: str) -> type:
+    """The block class at (root, offset) per its type tag, checked against the block's real class.
+
+    A tag that memory operations overwrote (MEMCPY of another block's header)
+    faults instead of calling into the wrong class.
+    """
+    tag = ctypes.c_uint64.from_buffer(root, offset).value
+    cls = class_for_tag(tag)
+    if offset == 0 and type(root) is cls:
+        return cls
+    if cls is None or cls not in real_classes(type(root), offset):
+        raise access_violation(
+            f"{what}: the memory holds no function block of a matching type (type tag {tag} was overwritten or never set)"
+        )
+    return cls
 
 
 # ---------------------------------------------------------------------------
@@ -257,9 +476,14 @@ class ElementaryInfo(TypeInfo):
         elif kind == "real":
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise _kind_error(where, self.name, value)
-            if isinstance(value, int) and not -(2**1023) < value < 2**1023:
-                # No IEC integer is this large; a Python int this size has no floating-point value.
-                raise OverflowError(f"{where}: an integer of {value.bit_length()} bits is outside the range of {self.name}")
+            if isinstance(value, int) and value.bit_length() > 1000:
+                try:
+                    float(value)
+                except OverflowError:
+                    # No IEC integer is this large; a Python int this size has no floating-point value.
+                    raise ValueError(
+                        f"{where}: an integer of {value.bit_length()} bits is outside the range of {self.name}"
+                    ) from None
         elif isinstance(value, bool) or not isinstance(value, int):
             raise _kind_error(where, self.name, value)
 
@@ -456,10 +680,9 @@ class AggregateInfo(TypeInfo):
         """Through an address: the type tag says which derived block is there (a virtual call's target)."""
         cls = self.cls
         if getattr(cls, "_iec_tagged_", False):
-            tag = ctypes.c_uint64.from_buffer(root, offset).value
-            dynamic = class_for_tag(tag)
-            if dynamic is None or not issubclass(dynamic, cls):
-                raise access_violation(f"no {self.name} instance at this address (type tag {tag})")
+            dynamic = dynamic_class(root, offset, self.name)
+            if not issubclass(dynamic, cls):
+                raise access_violation(f"no {self.name} instance at this address (it holds a {dynamic.__name__})")
             cls = dynamic
         if offset == 0 and type(root) is cls:
             return root
@@ -470,11 +693,11 @@ class AggregateInfo(TypeInfo):
             # A STRUCT from its members' values (ST: stPoint := (x := 1.5, y := 2.0)).
             if getattr(self.cls, "_iec_kind_", "") in ("fb", "program"):
                 raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
+            # All or nothing: every member is checked before the first one is written.
+            check_value(self, value, where)
             layout = getattr(self.cls, "_iec_layout_")
             for name, item in value.items():
-                record = layout.by_name.get(name)
-                if record is None:
-                    raise TypeError(f"{where}: {self.name} has no member {name!r}")
+                record = layout.by_name[name]
                 record.info.store(root, offset + record.offset, item, f"{where}.{name}")
             return
         self.validate(value, where)
@@ -516,16 +739,22 @@ class Pointer(Generic[_T]):
     2
     """
 
-    __slots__ = ("_handle", "_target", "_origin")
+    __slots__ = ("_handle", "_target", "_origin", "_keep")
 
     _handle: int
     _target: TypeInfo | None
     _origin: tuple[Any, Any] | None
+    #: The block the address is into, when ADR took it of an object Python owns: the pointer
+    #: keeps it alive, and so does a block the pointer is stored in.
+    _keep: Any
 
-    def __init__(self, handle: int = 0, target: TypeInfo | None = None, origin: tuple[Any, Any] | None = None) -> None:
+    def __init__(
+        self, handle: int = 0, target: TypeInfo | None = None, origin: tuple[Any, Any] | None = None, keep: Any = None
+    ) -> None:
         self._handle = handle & 0xFFFFFFFFFFFFFFFF
         self._target = target
         self._origin = origin
+        self._keep = keep
 
     def _clear(self) -> None:
         """Set the pointer to 0, and the variable it was read from (``__DELETE(p)`` does)."""
@@ -533,6 +762,7 @@ class Pointer(Generic[_T]):
         if self._origin is not None:
             holder, raw = self._origin
             raw.__set__(holder, 0)
+            hold(holder, raw.offset, None)
 
     @property
     def handle(self) -> int:
@@ -561,7 +791,7 @@ class Pointer(Generic[_T]):
 
     def typed(self, target: Any) -> Pointer[Any]:
         """The same address seen as ``POINTER TO target`` (an IEC type annotation)."""
-        return Pointer(self._handle, resolve_type(target, "pointer cast"))
+        return Pointer(self._handle, resolve_type(target, "pointer cast"), keep=self._keep)
 
     def __bool__(self) -> bool:
         return self._handle != 0
@@ -573,8 +803,15 @@ class Pointer(Generic[_T]):
         return self._handle
 
     def _moved(self, delta: int) -> Pointer[_T]:
-        base = self._handle & ~_HANDLE_MASK
-        return Pointer(base | ((self._handle + delta) & _HANDLE_MASK), self._target)
+        handle = self._handle
+        offset = signed_offset(handle)
+        if offset != WILD_OFFSET:
+            # Full width: an address moved outside the 32-bit offset range becomes wild for
+            # good, so no amount of arithmetic wraps it back into its block.
+            offset += delta
+            if not -(2**31) <= offset < WILD_OFFSET:
+                offset = WILD_OFFSET
+        return Pointer((handle & ~_HANDLE_MASK) | (offset & _HANDLE_MASK), self._target, keep=self._keep)
 
     def __add__(self, offset: int) -> Pointer[_T]:
         if not isinstance(offset, int):
@@ -593,7 +830,7 @@ class Pointer(Generic[_T]):
         if isinstance(other, Pointer):
             if (self._handle >> 32) != (other._handle >> 32):
                 raise access_violation("pointer difference between two different memory blocks")
-            return (self._handle & _HANDLE_MASK) - (other._handle & _HANDLE_MASK)
+            return signed_offset(self._handle) - signed_offset(other._handle)
         if isinstance(other, int):
             return self._moved(-other)
         return NotImplemented
@@ -616,7 +853,7 @@ class Pointer(Generic[_T]):
             return f"<POINTER TO {target}: 0>"
         alloc = allocation_for_handle(self._handle)
         where = alloc.label if alloc is not None else "freed memory"
-        return f"<POINTER TO {target}: {where}+{self._handle & _HANDLE_MASK}>"
+        return f"<POINTER TO {target}: {where}{signed_offset(self._handle):+d}>"
 
 
 #: ``POINTER TO T``; ``POINTER_TO[INT]`` in annotations.
@@ -642,7 +879,9 @@ class PointerInfo(TypeInfo):
         return Pointer(ctypes.c_uint64.from_buffer(root, offset).value, self.target)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
-        ctypes.c_uint64.from_buffer(root, offset).value = self.coerce(value, where)
+        handle = self.coerce(value, where)
+        ctypes.c_uint64.from_buffer(root, offset).value = handle
+        hold(root, offset, _kept_target(value, handle))
 
     def coerce(self, value: Any, where: str) -> int:
         if isinstance(value, Pointer):
@@ -671,7 +910,20 @@ class _PointerField:
         return Pointer(self.raw.__get__(obj), self.info.target, (obj, self.raw))
 
     def __set__(self, obj: Any, value: Any) -> None:
-        self.raw.__set__(obj, self.info.coerce(value, self.where))
+        handle = value._handle if type(value) is Pointer else self.info.coerce(value, self.where)
+        raw = self.raw
+        # Storing the address the variable already holds (every cycle, often) changes nothing.
+        if raw.__get__(obj) != handle:
+            raw.__set__(obj, handle)
+            hold(obj, raw.offset, _kept_target(value, handle))
+
+
+def _kept_target(value: Any, handle: int) -> Any:
+    """The block a stored pointer keeps alive: the one its address is into."""
+    if not handle:
+        return None
+    keep = getattr(value, "_keep", None)
+    return keep if keep is not None else target_root(handle)
 
 
 # ---------------------------------------------------------------------------
@@ -824,24 +1076,26 @@ class InterfaceInfo(TypeInfo):
         self.name = iface.__name__
 
     def handle_for(self, value: Any, where: str) -> int:
+        return self.handle_and_block(value, where)[0]
+
+    def handle_and_block(self, value: Any, where: str) -> tuple[int, Any]:
+        """The handle an assignment stores, and the block it keeps alive (None for the null reference)."""
         if value is None or isinstance(value, NullInterface):
-            return 0
+            return 0, None
         if isinstance(value, int) and not isinstance(value, bool) and value == 0:
-            return 0
+            return 0, None
         if not isinstance(value, self.iface):
             raise TypeError(
                 f"{where}: {type(value).__name__} does not implement {self.name} and cannot be assigned to it"
             )
-        return handle_of(value)
+        alloc, offset = allocation_of(value)
+        return (alloc.id << 32) | offset, alloc.ref()
 
     def value_for(self, handle: int, where: str) -> Any:
         if handle == 0:
             return NullInterface(self.name, where)
         root, offset = resolve(handle, 8, where)
-        tag = ctypes.c_uint64.from_buffer(root, offset).value
-        cls = class_for_tag(tag)
-        if cls is None:
-            raise access_violation(f"{where}: interface reference to memory that holds no function block")
+        cls = dynamic_class(root, offset, f"{where}: interface reference")
         if offset == 0 and type(root) is cls:
             return root
         return typing.cast(Any, cls).from_buffer(root, offset)
@@ -850,7 +1104,9 @@ class InterfaceInfo(TypeInfo):
         return self.value_for(ctypes.c_uint64.from_buffer(root, offset).value, self.name)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
-        ctypes.c_uint64.from_buffer(root, offset).value = self.handle_for(value, where)
+        handle, block = self.handle_and_block(value, where)
+        ctypes.c_uint64.from_buffer(root, offset).value = handle
+        hold(root, offset, block)
 
     def validate(self, value: Any, where: str) -> None:
         if value is None or isinstance(value, NullInterface):
@@ -875,7 +1131,12 @@ class _InterfaceField:
         return self.info.value_for(self.raw.__get__(obj), self.where)
 
     def __set__(self, obj: Any, value: Any) -> None:
-        self.raw.__set__(obj, self.info.handle_for(value, self.where))
+        handle, block = self.info.handle_and_block(value, self.where)
+        raw = self.raw
+        # Storing the instance the variable already holds (every cycle, often) changes nothing.
+        if raw.__get__(obj) != handle:
+            raw.__set__(obj, handle)
+            hold(obj, raw.offset, block)
 
 
 # ---------------------------------------------------------------------------
@@ -1082,14 +1343,11 @@ class ArrayInfo(TypeInfo):
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         if isinstance(value, (list, tuple)):
             # Element by element, in row-major order (ST: aValues := [1, 2, 3]); the rest is left as it is.
-            items = list(_flatten(value))
-            if len(items) > self.count:
-                raise TypeError(f"{where}: {len(items)} values for {self.name}, which has {self.count} elements")
+            # All or nothing: every element is checked before the first one is written.
+            items = check_value(self, value, where)
             size = self.elem.size
-            lo = self.bounds[0][0]
             for i, item in enumerate(items):
-                label = lo + i if len(self.bounds) == 1 else i
-                self.elem.store(root, offset + i * size, item, f"{where}[{label}]")
+                self.elem.store(root, offset + i * size, item, self.element_label(where, i))
             return
         self.validate(value, where)
         ctypes.memmove(ctypes.addressof(root) + offset, ctypes.addressof(value), self.size)
@@ -1097,6 +1355,38 @@ class ArrayInfo(TypeInfo):
     def validate(self, value: Any, where: str) -> None:
         if type(value) is not self.ctype:
             raise _kind_error(where, self.name, value)
+
+    def element_label(self, where: str, position: int) -> str:
+        return f"{where}[{self.bounds[0][0] + position if len(self.bounds) == 1 else position}]"
+
+
+def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
+    """Raise what storing ``value`` would raise, without writing; the flattened items of a list.
+
+    A list into an ARRAY and a dict into a STRUCT are checked to the leaves
+    first, so a bad item leaves the target untouched.
+    """
+    if isinstance(info, ReferenceInfo):
+        check_value(info.target, value, where)
+    elif isinstance(info, ArrayInfo) and isinstance(value, (list, tuple)):
+        items = list(_flatten(value))
+        if len(items) > info.count:
+            raise TypeError(f"{where}: {len(items)} values for {info.name}, which has {info.count} elements")
+        for i, item in enumerate(items):
+            check_value(info.elem, item, info.element_label(where, i))
+        return items
+    elif isinstance(info, AggregateInfo) and isinstance(value, dict):
+        if getattr(info.cls, "_iec_kind_", "") in ("fb", "program"):
+            raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
+        by_name = getattr(info.cls, "_iec_layout_").by_name
+        for name, item in value.items():
+            record = by_name.get(name)
+            if record is None:
+                raise TypeError(f"{where}: {info.name} has no member {name!r}")
+            check_value(record.info, item, f"{where}.{name}")
+    else:
+        info.validate(value, where)
+    return []
 
 
 def _flatten(values: Any) -> Iterator[Any]:
@@ -1244,6 +1534,10 @@ def resolve_type(
             raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
         if isinstance(elem, ArrayInfo):
             raise DefinitionError(f"{where}: write a multi-dimensional ARRAY with several bound pairs")
+        count = 1
+        for lo, hi in pairs:
+            count *= hi - lo + 1
+        check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
         return array_info(elem, pairs)
     if origin is Pointer:
         (target_annotation,) = typing.get_args(annotation) or (None,)

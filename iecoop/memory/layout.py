@@ -30,6 +30,7 @@ from iecoop.memory._core import (
     ReferenceInfo,
     StringInfo,
     TypeInfo,
+    check_block_size,
     resolve_type,
 )
 
@@ -334,6 +335,7 @@ class LayoutBuilder:
         self.cls = cls
         self.scope.own = cls
         cls._fields_ = [(field, info.ctype) for field, info, _spec in self.pending]
+        check_block_size(ctypes.sizeof(cls), self.name)
 
     def install(self) -> ClassLayout:
         """Phase 3: descriptors where a type needs one, the field records and the layout."""

@@ -35,9 +35,13 @@ from iecoop.memory._core import (
     TypeInfo,
     access_violation,
     allocation_for_handle,
+    allocation_of,
     handle_of,
+    hold,
     resolve,
     resolve_type,
+    table_lock,
+    target_root,
 )
 from iecoop.memory.layout import ClassLayout, FieldRecord
 
@@ -107,7 +111,7 @@ def adr(obj: Any, member: str | int | tuple[int, ...] | None = None, index: int 
     VAR_IN_OUT variable it is the address of what the reference designates.
     """
     if member is None:
-        return Pointer(handle_of(obj), type_info_of(obj))
+        return _pointer_into(obj, 0, type_info_of(obj))
     if isinstance(member, str):
         record = _record(obj, member, "ADR")
         if isinstance(record.info, ReferenceInfo):
@@ -116,15 +120,21 @@ def adr(obj: Any, member: str | int | tuple[int, ...] | None = None, index: int 
             if index is not None:
                 array = target.load_handle(handle, record.where)
                 return adr(array, index)
-            return Pointer(handle, target)
+            return Pointer(handle, target, keep=target_root(handle))
         if index is not None:
             return adr(record.raw.__get__(obj), index)
-        return Pointer(handle_of(obj, record.offset), record.info)
+        return _pointer_into(obj, record.offset, record.info)
     info = getattr(type(obj), "_iec_info_", None)
     if not isinstance(info, ArrayInfo):
         raise TypeError(f"ADR with an index needs an ARRAY, got {type(obj).__name__}")
     position = obj._flat(member)
-    return Pointer(handle_of(obj, position * info.elem.size), info.elem)
+    return _pointer_into(obj, position * info.elem.size, info.elem)
+
+
+def _pointer_into(obj: Any, extra: int, target: TypeInfo) -> Pointer[Any]:
+    # The pointer holds the block, so ADR of an object only Python refers to stays valid.
+    alloc, offset = allocation_of(obj)
+    return Pointer((alloc.id << 32) | (offset + extra), target, keep=alloc.ref())
 
 
 def sizeof(x: Any, member: str | None = None) -> int:
@@ -146,11 +156,14 @@ def sizeof(x: Any, member: str | None = None) -> int:
     return resolve_type(x, "SIZEOF").size
 
 
-def _span(pointer: Pointer[Any], size: int, what: str) -> int:
+_stored_handle = typing.cast(Any, Pointer).__dict__["_handle"].__get__
+
+
+def _handle(pointer: Pointer[Any], what: str) -> int:
+    # Read through the slot itself: no code of a Pointer subclass runs between the checks and the C call.
     if not isinstance(pointer, Pointer):
         raise TypeError(f"{what} needs a pointer from adr(...), got {type(pointer).__name__}")
-    root, offset = resolve(pointer.handle, size, what)
-    return ctypes.addressof(root) + offset
+    return int(_stored_handle(pointer))
 
 
 def _count(n: int, what: str) -> int:
@@ -164,9 +177,15 @@ def memcpy(dest: Pointer[Any], src: Pointer[Any], n: int) -> int:
     _count(n, "MEMCPY")
     if n == 0:
         return 0
-    target = _span(dest, n, "MEMCPY destination")
-    source = _span(src, n, "MEMCPY source")
-    ctypes.memmove(target, source, n)
+    target, source = _handle(dest, "MEMCPY destination"), _handle(src, "MEMCPY source")
+    # The roots stay referenced and the table locked until the copy ends: no thread can free
+    # or delete either block between the check and the C call.
+    with table_lock:
+        target_block, target_offset = resolve(target, n, "MEMCPY destination")
+        source_block, source_offset = resolve(source, n, "MEMCPY source")
+        ctypes.memmove(
+            ctypes.addressof(target_block) + target_offset, ctypes.addressof(source_block) + source_offset, n
+        )
     return n
 
 
@@ -174,7 +193,11 @@ def memset(dest: Pointer[Any], value: int, n: int) -> int:
     """``MEMSET(destAddr, fillByte, n)``: fill n bytes with ``value``; returns n."""
     _count(n, "MEMSET")
     if n:
-        ctypes.memset(_span(dest, n, "MEMSET destination"), value & 0xFF, n)
+        target = _handle(dest, "MEMSET destination")
+        fill = int(value) & 0xFF
+        with table_lock:
+            block, offset = resolve(target, n, "MEMSET destination")
+            ctypes.memset(ctypes.addressof(block) + offset, fill, n)
     return n
 
 
@@ -183,8 +206,12 @@ def memcmp(a: Pointer[Any], b: Pointer[Any], n: int) -> int:
     _count(n, "MEMCMP")
     if n == 0:
         return 0
-    left = ctypes.string_at(_span(a, n, "MEMCMP first buffer"), n)
-    right = ctypes.string_at(_span(b, n, "MEMCMP second buffer"), n)
+    first, second = _handle(a, "MEMCMP first buffer"), _handle(b, "MEMCMP second buffer")
+    with table_lock:
+        left_block, left_offset = resolve(first, n, "MEMCMP first buffer")
+        right_block, right_offset = resolve(second, n, "MEMCMP second buffer")
+        left = ctypes.string_at(ctypes.addressof(left_block) + left_offset, n)
+        right = ctypes.string_at(ctypes.addressof(right_block) + right_offset, n)
     return (left > right) - (left < right)
 
 
@@ -208,7 +235,11 @@ def ref_assign(holder: Any, field: str, target: Any) -> None:
     record = _record(holder, field, "REF=")
     if not isinstance(record.info, ReferenceInfo):
         raise TypeError(f"REF=: {record.where} is {record.info.name}, not a REFERENCE TO")
-    record.raw.__set__(holder, record.info.bind_handle(target, record.where))
+    handle = record.info.bind_handle(target, record.where)
+    record.raw.__set__(holder, handle)
+    # A block holding a reference keeps its target alive, as Python does.
+    kept = getattr(target, "_keep", None) if isinstance(target, Pointer) else None
+    hold(holder, record.offset, (kept if kept is not None else target_root(handle)) if handle else None)
 
 
 def is_valid_ref(holder: Any, field: str) -> bool:

@@ -83,8 +83,10 @@ def raw(obj: object) -> bytes:
 
 
 def pointer_into_collected_cell() -> Pointer[Any]:
+    """A bare handle (as MEMCPY copies it) into a Cell nothing keeps alive."""
     cell = Cell(a=5)
-    return adr(cell, "a")
+    p = adr(cell, "a")
+    return Pointer(p.handle, p._target)
 
 
 # ---------------------------------------------------------------------------
@@ -247,7 +249,9 @@ def test_arithmetic_below_the_block_and_back_is_the_same_address() -> None:
     cell = Cell()
     p = adr(cell, "a")
     assert (p - 6) + 6 == p
-    assert (p - 6) - p == 2**32 - 6  # offsets are 32-bit, as in the handle
+    assert (p - 6) - p == -6  # a signed offset: below the block is negative, not wrapped
+    with raises_plc(AV, "address -6 \\+ 2 bytes lies outside"):
+        _ = (p - 6).deref
 
 
 def test_pointer_difference_between_blocks_is_an_access_violation() -> None:
@@ -721,7 +725,13 @@ _INVALID = sorted((place for place, where in ADDRESSES.items() if where is None)
 # Mostly addresses inside the bounds, so that most pointers start valid.
 PLACES = st.sampled_from(_VALID) | st.sampled_from(_VALID) | st.sampled_from(_INVALID)
 # Mostly element-sized steps that stay inside a 36-byte block, some that leave it.
-DELTAS = st.sampled_from([0, 1, 2, 4, 8, 16, 28, -2, -4, -8]) | st.integers(-40, 40)
+DELTAS = (
+    st.sampled_from([0, 1, 2, 4, 8, 16, 28, -2, -4, -8])
+    | st.integers(-40, 40)
+    | st.sampled_from([2**32, -(2**32), 2**31, -(2**31), 2**64])  # never wraps back into the block
+)
+#: The offset of an address moved outside the 32-bit range: outside every block, for good.
+WILD = 2**31 - 1
 COUNTS = st.integers(0, 12) | st.integers(0, 40)
 
 
@@ -756,12 +766,17 @@ class Ref:
 
     pointer: Pointer[Any]
     block: Block | None  # None: derived from the null pointer
-    offset: int  # modulo 2**32, as in the handle
+    offset: int  # signed; WILD once moved outside the 32-bit range
     kind: str
 
     def valid(self, size: int | None = None) -> bool:
         width = WIDTH[self.kind] if size is None else size
-        return self.block is not None and self.block.alive and self.offset + width <= REC_SIZE
+        return self.block is not None and self.block.alive and 0 <= self.offset and self.offset + width <= REC_SIZE
+
+
+def bare(pointer: Pointer[Any]) -> Pointer[Any]:
+    """The pointer as a block stores it: the handle alone, which does not keep its block alive."""
+    return Pointer(pointer.handle, pointer._target)
 
 
 def expect(valid: bool, code: ExceptionCode = AV) -> Callable[[Callable[[], Any]], Any]:
@@ -811,8 +826,9 @@ class MemoryMachine(RuleBasedStateMachine):
         self.blocks = [Block(Rec(), bytearray(REC_SIZE)) for _ in range(3)]
         # Bundle draws favour the first entries, so those are valid pointers and the
         # null pointer comes last.
-        starts = [Ref(adr(block.obj, "arr", 1), block, 8, "INT") for block in self.blocks]
-        starts += [Ref(adr(block.obj), block, 0, "Rec") for block in self.blocks]
+        # Bare handles, so that collect() can free a block a pointer designates.
+        starts = [Ref(bare(adr(block.obj, "arr", 1)), block, 8, "INT") for block in self.blocks]
+        starts += [Ref(bare(adr(block.obj)), block, 0, "Rec") for block in self.blocks]
         return multiple(*starts, Ref(NullSource().p, None, 0, "INT"))
 
     @rule(target=pointers, which=st.integers(0, 4), place=PLACES, through_array=st.booleans())
@@ -837,12 +853,14 @@ class MemoryMachine(RuleBasedStateMachine):
         if expected is None:
             return multiple()
         offset, kind = expected
-        return multiple(Ref(pointer, block, offset, kind))
+        return multiple(Ref(bare(pointer), block, offset, kind))
 
     @rule(target=pointers, ref=pointers, delta=DELTAS, subtract=st.booleans())
     def move(self, ref: Ref, delta: int, subtract: bool) -> Ref:
         moved = ref.pointer - delta if subtract else ref.pointer + delta
-        offset = (ref.offset + (-delta if subtract else delta)) % 2**32
+        offset = ref.offset + (-delta if subtract else delta)
+        if ref.offset == WILD or not -(2**31) <= offset < WILD:
+            offset = WILD
         assert moved - ref.pointer == offset - ref.offset
         return Ref(moved, ref.block, offset, ref.kind)
 

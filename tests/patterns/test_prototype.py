@@ -181,10 +181,15 @@ def test_a_pointer_to_a_table_that_no_longer_exists_faults_instead_of_reading_st
     shallow = master.clone(CopyMode.SHALLOW)
     del table
     gc.collect()
-    for holder in (master, shallow):
-        with pytest.raises(PlcException, match="target memory was deleted or no longer exists") as info:
-            holder.compensation(100.0)
-        assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+    # The master's POINTER keeps the table alive, as a Python reference would ...
+    assert shallow.compensation(100.0) == master.compensation(100.0)
+    # ... until it points elsewhere: the shallow copy's pointer is copied bytes and keeps nothing.
+    other = table_of(1.0, 1.0, 1.0, 1.0, 1.0)
+    master.tune(8.0, 200.0, adr(other))
+    gc.collect()
+    with pytest.raises(PlcException, match="target memory was deleted or no longer exists") as info:
+        shallow.compensation(100.0)
+    assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 
 
 error_um = st.floats(min_value=-50.0, max_value=50.0, width=32)
