@@ -34,6 +34,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 import types
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -805,11 +806,15 @@ _HREF = re.compile(r'href="([^"#?]*)(?:\?[^"#]*)?(?:#([^"]*))?"')
 _ID = re.compile(r'\bid="([^"]+)"')
 
 
-def dead_links(root: Path) -> list[tuple[str, str]]:
-    """``(page, href)`` of each link in the HTML under ``root`` to a file or an anchor that does not exist."""
+def dead_links(root: Path, since: float = 0.0) -> list[tuple[str, str]]:
+    """``(page, href)`` of each link in the HTML under ``root`` to a file or an anchor that does not exist.
+
+    Only pages written at ``since`` or later are read for links: a page an
+    earlier build left behind (a module renamed since) is not part of the site.
+    """
     pages = {path: set(_ID.findall(path.read_text(encoding="utf-8"))) for path in root.rglob("*.html")}
     dead: list[tuple[str, str]] = []
-    for page, _ in pages.items():
+    for page in [path for path in pages if path.stat().st_mtime >= since]:
         for href, anchor in _HREF.findall(page.read_text(encoding="utf-8")):
             if re.match(r"^[a-z][a-z0-9+.-]*:", href):
                 continue  # another site: not checked here
@@ -821,10 +826,15 @@ def dead_links(root: Path) -> list[tuple[str, str]]:
     return dead
 
 
+def _note_start(app: Sphinx) -> None:
+    # A second early: file times may be rounded by the file system.
+    setattr(app, "iecoop_started", time.time() - 1.0)
+
+
 def _check_links(app: Sphinx, exception: BaseException | None) -> None:
     if exception is not None or app.builder.format != "html":
         return
-    for page, href in dead_links(Path(app.outdir)):
+    for page, href in dead_links(Path(app.outdir), getattr(app, "iecoop_started", 0.0)):
         logger.warning("%s links to %s, which does not exist", page, href)
 
 
@@ -849,5 +859,6 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("env-merge-info", _merge_anchors)
     app.connect("env-updated", lambda app, env: _fix_source_links(app))
     app.connect("doctree-resolved", _add_aliases)
+    app.connect("builder-inited", _note_start)
     app.connect("build-finished", _check_links)
     return {"version": "3", "env_version": 3, "parallel_read_safe": True, "parallel_write_safe": True}

@@ -58,6 +58,16 @@ def test_dead_links_finds_missing_files_and_anchors(pages: ModuleType, tmp_path:
     assert pages.dead_links(tmp_path) == [("index.html", "sub/page.html#gone"), ("index.html", "missing.html")]
 
 
+def test_dead_links_reads_only_the_pages_of_this_build(pages: ModuleType, tmp_path: Path) -> None:
+    import os
+
+    (tmp_path / "old.html").write_text('<a href="renamed-away.html">stale</a>')
+    os.utime(tmp_path / "old.html", (1_000_000, 1_000_000))
+    (tmp_path / "new.html").write_text('<a href="old.html">fine</a> <a href="gone.html">dead</a>')
+    assert pages.dead_links(tmp_path, since=2_000_000) == [("new.html", "gone.html")]
+    assert sorted(pages.dead_links(tmp_path)) == [("new.html", "gone.html"), ("old.html", "renamed-away.html")]
+
+
 # -- the class diagrams of the pattern pages -------------------------------------------------------
 
 @pytest.fixture(scope="module")
