@@ -132,7 +132,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import F_TRIG, R_TRIG, TON
-from patterns.showcase.entry import Column, Showcase, steps
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "AxisHoming",

@@ -36,13 +36,9 @@ from iecoop import TYPE_CLASS, FunctionBlock, Program, var_info
 from iecoop.runtime import Runtime
 from iecoop.uml import class_diagram
 from patterns.showcase.entry import (
-    Builder,
     Column,
-    Getter,
     Scenario,
-    Script,
     Showcase,
-    chain,
     ms,
     plc_task,
     press,

@@ -18,8 +18,11 @@ A column reads the traced program instance through a function of it:
 >>> column = Column("count", lambda p: p.count)
 >>> column.source(Counter())
 0
->>> script = steps(*press("start", 2))
->>> [(cycle, path, value) for cycle, path, value in press("start", 2, hold=3)]
+
+A script is called before each cycle; ``steps`` makes one from events, and
+``press`` gives the events of a button held for some cycles:
+
+>>> press("start", 2, hold=3)
 [(2, 'start', True), (5, 'start', False)]
 """
 
