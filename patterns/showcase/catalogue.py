@@ -336,21 +336,29 @@ def _short_names(category: str, modules: Sequence[str]) -> dict[str, str]:
     return base
 
 
-def entries() -> list[Entry]:
-    """Every entry, by category: those of :data:`ENTRIES`, then every module found (examples by chapter)."""
+def _found() -> Iterator[tuple[str, str, str]]:
+    """``(category, module, name)`` of every module in the packages, in catalogue order, without importing it."""
     known = {entry.module for entry in ENTRIES}
     taken = {entry.name for entry in ENTRIES}
-    result: list[Entry] = []
     for category, package in _PACKAGES.items():
-        group = [entry for entry in ENTRIES if entry.category == category]
         found = _ordered(category, [m for m in _modules(package) if m not in known])
         for module_name, name in _short_names(category, found).items():
             if name in taken:
                 name = f"{category}-{name}"
-            entry = _collect(name, category, module_name)
+            taken.add(name)
+            yield category, module_name, name
+
+
+def entries() -> list[Entry]:
+    """Every entry, by category: those of :data:`ENTRIES`, then every module found (examples by chapter)."""
+    found = list(_found())
+    result: list[Entry] = []
+    for category in _PACKAGES:
+        group = [entry for entry in ENTRIES if entry.category == category]
+        for where, module_name, name in found:
+            entry = _collect(name, category, module_name) if where == category else None
             if entry is not None:
                 group.append(entry)
-                taken.add(name)
         if category == "examples":
             group.sort(key=lambda entry: entry.module)  # chapter order
         result += group
@@ -370,7 +378,13 @@ def normalise(name: str) -> str:
 def find(name: str) -> Entry:
     """The entry called ``name`` (case and ``_`` / ``-`` do not matter); KeyError if there is none."""
     wanted = normalise(name)
-    for entry in entries():
+    for entry in ENTRIES:
         if entry.name == wanted or entry.module == name:
             return entry
+    # Only the module asked for is imported: 'iecoop run NAME' does not load the whole catalogue.
+    for category, module_name, short in _found():
+        if short == wanted or module_name == name:
+            collected = _collect(short, category, module_name)
+            if collected is not None:
+                return collected
     raise KeyError(name)

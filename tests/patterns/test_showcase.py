@@ -508,3 +508,12 @@ def test_a_module_that_does_not_import_is_listed_with_its_problem(
     entry = catalogue._collect("broken", "examples", "showcase_broken")
     assert entry is not None and not entry.runnable
     assert entry.problem.startswith("cannot import: ModuleNotFoundError") and "no_such_module_anywhere" in entry.problem
+
+
+def test_finding_one_entry_imports_only_its_module() -> None:
+    code = (
+        "import sys; from patterns.showcase.catalogue import find; entry = find('state'); "
+        "print(entry.name, sorted(m for m in sys.modules if m.startswith('patterns.behavioral.')))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "state ['patterns.behavioral.state']"
