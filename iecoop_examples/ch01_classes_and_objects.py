@@ -71,6 +71,7 @@ from __future__ import annotations
 
 from iecoop import BOOL, STRING, VAR, VAR_INPUT, FunctionBlock, Program, T, adr, method, prop, sizeof
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = ["Car", "Main", "main"]
 
@@ -170,6 +171,14 @@ def main() -> None:
     print(f"MAIN.sColor = {program.color!r}; the command flags are FALSE again: {flags_reset}")
     gap = adr(program.bmw) - adr(program.mercedes)
     print(f"SIZEOF(FB_Car) = {sizeof(Car)} bytes for each object; ADR(fbBmw) - ADR(fbMercedes) = {gap}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("fbMercedes", lambda p: p.mercedes.action), Column("fbBMW", lambda p: p.bmw.action),
+             Column("fbAudi", lambda p: p.audi.action), Column("sColor", lambda p: p.color)),
+    script=steps(*press("accelerate", 2), *press("drive", 4), *press("brake", 6)),
+    cycles=8,
+)
 
 
 if __name__ == "__main__":

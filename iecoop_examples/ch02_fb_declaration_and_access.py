@@ -122,6 +122,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = ["Access", "AccessChild", "MEMBERS", "Main", "PlantGlobals", "Pump", "access_table", "main"]
 
@@ -284,6 +285,14 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("start", lambda p: p.start), Column("stop", lambda p: p.stop), Column("running", lambda p: p.pump.running),
+             Column("MAIN's starts", lambda p: p.pump_starts)),
+    script=steps(*press("start", 2), *press("stop", 5), *press("start", 8)),
+    cycles=10,
+)
 
 
 if __name__ == "__main__":

@@ -96,6 +96,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Showcase
 
 __all__ = ["Counter", "ISample", "Main", "Sample", "SampleData", "main"]
 
@@ -218,6 +219,11 @@ def main() -> None:
         )
     program.change_copy()
     print(f"stGet.nVar := -1 changes a copy: fbSample.MyProp.nVar is still {program.sample.my_prop.n_var}")
+
+
+SHOWCASE = Showcase(
+    demo=True,
+)
 
 
 if __name__ == "__main__":

@@ -59,6 +59,7 @@ from __future__ import annotations
 
 from iecoop import BOOL, INT, PRIVATE, REAL, VAR, AccessError, FunctionBlock, Program, T, method, prop
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["Main", "Tank", "main"]
 
@@ -153,6 +154,13 @@ def main() -> None:
         tank.capacity = 5000.0
     except AccessError as exc:
         print(f"fbTank.Capacity := 5000: AccessError: {exc}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("Setpoint %", lambda p: p.tank.setpoint, ".1f"), Column("Level %", lambda p: p.tank.level, ".1f"),
+             Column("Volume l", lambda p: p.tank.volume, ".1f")),
+    cycles=50,
+)
 
 
 if __name__ == "__main__":

@@ -89,6 +89,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["Engine", "IEngine", "Main", "NewEngine", "main"]
 
@@ -218,6 +219,14 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"FINAL Stop: DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("FB_Engine running", lambda p: p.engine.running), Column("odometer", lambda p: p.engine.odometer, ".1f"),
+             Column("FB_NewEngine running", lambda p: p.new_engine.running), Column("odometer ", lambda p: p.new_engine.odometer, ".1f"),
+             Column("gear", lambda p: p.new_engine.gear)),
+    cycles=10,
+)
 
 
 if __name__ == "__main__":

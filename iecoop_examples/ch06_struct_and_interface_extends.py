@@ -112,6 +112,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Showcase
 
 __all__ = [
     "IMotor",
@@ -307,6 +308,11 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    demo=True,
+)
 
 
 if __name__ == "__main__":

@@ -58,6 +58,7 @@ from __future__ import annotations
 
 from iecoop import BOOL, INT, VAR, VAR_OUTPUT, FunctionBlock, Program, T, method
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["Base", "Derived", "Main", "main"]
 
@@ -154,6 +155,13 @@ def main() -> None:
     derived.meth_set_count(1000)
     derived()
     print(f"fb1.METH_SetCount(iCnt := 1000), then fb1(): fb1.iCnt = {derived.i_cnt}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("iBaseCnt", lambda p: p.i_base_cnt), Column("iFb1Cnt", lambda p: p.i_fb1_cnt), Column("fb1.iThis", lambda p: p.fb1.i_this),
+             Column("fb1.iBase", lambda p: p.fb1.i_base)),
+    cycles=5,
+)
 
 
 if __name__ == "__main__":

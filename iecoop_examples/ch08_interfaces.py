@@ -81,6 +81,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = ["IActuator", "Lamp", "Main", "Motor", "Valve", "main"]
 
@@ -238,6 +239,14 @@ def main() -> None:
         program.actuators[4].start()
     except PlcException as exc:
         print(f"aActuators[4].Start(): {exc.code.name}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("nRunning", lambda p: p.running), Column("motor", lambda p: p.motor.running), Column("valve", lambda p: p.valve.running),
+             Column("lamp", lambda p: p.lamp.running), Column("motor cycles", lambda p: p.motor.run_cycles, watch=False)),
+    script=steps(*press("start_all", 1), *press("stop_all", 51)),
+    cycles=60,
+)
 
 
 if __name__ == "__main__":

@@ -113,6 +113,7 @@ from iecoop import (
     sizeof,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "Rectangle",
@@ -266,6 +267,13 @@ def main() -> None:
         f"copied per call: by value SIZEOF(arFIFO) = {sizeof(average, 'fifo')} bytes, "
         f"by reference one address, {sizeof(arrays, 'paint')} bytes"
     )
+
+
+SHOWCASE = Showcase(
+    program=SrAverage,
+    columns=(Column("avg by value", lambda p: p.avg_values, ".4f"), Column("by reference", lambda p: p.avg_reference, ".4f")),
+    cycles=3,
+)
 
 
 if __name__ == "__main__":

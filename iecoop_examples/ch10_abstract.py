@@ -83,6 +83,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["Main", "PressureSensor", "Sensor", "TemperatureSensor", "main"]
 
@@ -237,6 +238,13 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"ABSTRACT member: DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("raw", lambda p: p.raw), Column("degC", lambda p: p.temperature.value, ".2f"), Column("bar", lambda p: p.pressure.value, ".2f"),
+             Column("nAlarms", lambda p: p.alarms)),
+    cycles=20,
+)
 
 
 if __name__ == "__main__":

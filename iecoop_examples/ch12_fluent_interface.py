@@ -62,6 +62,7 @@ from __future__ import annotations
 
 from iecoop import BOOL, INT, LREAL, VAR, FunctionBlock, Interface, Program, T, method, prop
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["Calculator", "ICalculator", "Main", "main"]
 
@@ -177,6 +178,13 @@ def main() -> None:
             f"{program.cycle:5d} {program.result:8.1f} {program.half:6.1f}  {program.error!s:<6}  "
             f"{program.calculator.result}"
         )
+
+
+SHOWCASE = Showcase(
+    columns=(Column("MAIN.cycle", lambda p: p.cycle), Column("fResult", lambda p: p.result, ".1f"), Column("fHalf", lambda p: p.half, ".1f"),
+             Column("bError", lambda p: p.error)),
+    cycles=5,
+)
 
 
 if __name__ == "__main__":

@@ -103,6 +103,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase, steps
 
 __all__ = [
     "Device",
@@ -298,6 +299,15 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    columns=(Column("nOn", lambda p: p.count_on), Column("brightness %", lambda p: p.dimmer.brightness), Column("fan rpm", lambda p: p.fan.rpm),
+             Column("valve open", lambda p: p.valve.open), Column("nSwitchings", lambda p: p.switchings)),
+    script=steps((1, "all_on", True), (2, "all_on", False), (2, "dim", 30), (3, "all_off", True),
+                 (4, "all_off", False), (4, "all_on", True), (5, "all_on", False)),
+    cycles=6,
+)
 
 
 if __name__ == "__main__":

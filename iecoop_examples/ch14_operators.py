@@ -116,6 +116,7 @@ from iecoop import (
     var_info,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = ["IDiagnosis", "IDrive", "IPrinter", "MainOperators", "MainTry", "Motor", "main"]
 
@@ -312,6 +313,15 @@ def main() -> None:
             f"__TRY 100 / {divisor}: nResult = {division.result}, nErrors = {division.errors}, "
             f"nCalls = {division.calls}{caught}"
         )
+
+
+SHOWCASE = Showcase(
+    program=MainOperators,
+    columns=(Column("instances before", lambda p: p.before), Column("after __NEW", lambda p: p.after_new),
+             Column("after __DELETE", lambda p: p.after_delete), Column("p = 0", lambda p: p.deleted_is_null),
+             Column("__ISVALIDREF", lambda p: p.valid_before)),
+    cycles=3,
+)
 
 
 if __name__ == "__main__":

@@ -39,6 +39,7 @@ from __future__ import annotations
 from iecoop import BOOL, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, Program, T
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R, S
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = ["Main", "MotorControl", "main"]
 
@@ -106,6 +107,13 @@ def main() -> None:
             f"t={now:3d} ms  button {button or '-':<5}  bFollow={m.follow!s:<5}  "
             f"bRunning={m.running!s:<5}  bAlarm={m.alarm}"
         )
+
+
+SHOWCASE = Showcase(
+    columns=(Column("running", lambda p: p.motor.running), Column("follow", lambda p: p.motor.follow), Column("alarm", lambda p: p.motor.alarm)),
+    script=steps(*press("start", 2), *press("fault", 5), *press("ack", 8), *press("start", 10), *press("stop", 13)),
+    cycles=16,
+)
 
 
 if __name__ == "__main__":

@@ -50,6 +50,7 @@ from iecoop import DefinitionError, Program, T, VAR
 from iecoop.runtime import Runtime, Task
 
 from iecoop_examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb, solution2_interface, solution3_combination
+from patterns.showcase.entry import Showcase
 
 __all__ = ["main"]
 
@@ -106,3 +107,8 @@ def main() -> None:
 
     except DefinitionError as exc:
         print(f"fbEmployee : FB_Employee: DefinitionError: {exc}")
+
+
+SHOWCASE = Showcase(
+    demo=True,
+)

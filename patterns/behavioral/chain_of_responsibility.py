@@ -139,6 +139,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Showcase, steps
 
 __all__ = [
     "MAX_CHAIN_LENGTH",
@@ -615,3 +616,24 @@ def main() -> None:
         if state != shown:
             shown = state
             print(f"t={now:4d} ms  {signal.raw_ma:5.2f} mA  {signal.value:5.2f} bar  {state}")
+
+
+SHOWCASE = Showcase(
+    use_when="stages (signal conditioning, permissives) are chosen per channel or added without editing the base",
+    columns=(
+        Column("mA", lambda p: p.pt205.signal.raw_ma, ".2f", watch=False),
+        Column("bar", lambda p: p.pt205.signal.value, ".2f", watch=False),
+        Column("quality", lambda p: p.pt205.signal.quality),
+        Column("status", lambda p: p.pt205.signal.status),
+        Column("high", lambda p: p.pt205.signal.high_alarm),
+        Column("blocked by", lambda p: p.blocked_by or "- (start permitted)"),
+    ),
+    script=steps((76, "door_closed", False), (81, "estop_released", False), (86, "door_closed", True),
+                 (91, "estop_released", True)),
+    cycles=100,
+    tour_cycles=100,
+    expected=(
+        ("SPIKE_HELD, WIRE_BREAK", "the simulated transmitter sends a spike and a broken-wire current"),
+        ("blocked by", "the guard door opens in cycle 76 and the e-stop is pressed in cycle 81"),
+    ),
+)

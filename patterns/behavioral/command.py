@@ -113,6 +113,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ABSTRACT,
     ARRAY,
@@ -142,6 +144,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Showcase, steps
 
 __all__ = [
     "AUDIT_DEPTH",
@@ -793,3 +796,35 @@ def skid_state(skid: DosingSkid) -> str:
         f"{skid.inlet.tag} open={skid.inlet.is_open}, {skid.pump.tag} {skid.pump.speed:g} %, "
         f"{skid.mixer.tag} running={skid.mixer.running}"
     )
+
+
+_COMMANDS = [
+    *[(c, "panel.buttons[2]", v) for c, v in ((2, True), (5, False))],
+    *[(c, "panel.buttons[4]", v) for c, v in ((6, True), (9, False))],
+    *[(c, "panel.buttons[1]", v) for c, v in ((10, True), (12, False))],
+    *[(c, "panel.undo_button", v) for n in range(4) for c, v in ((13 + 3 * n, True), (15 + 3 * n, False))],
+]
+
+
+def _audit(prog: Any) -> object:
+    audit = prog.panel.audit
+    if not audit.count:
+        return "-"
+    line = audit.entry(audit.count)
+    return f"{AuditAction(line.action).name} {line.command}"
+
+
+SHOWCASE = Showcase(
+    use_when="HMI actions must be logged, queued, combined into macros or undone",
+    columns=(
+        Column("XV101", lambda p: p.inlet.is_open),
+        Column("P201 %", lambda p: p.pump.speed, fmt=".0f"),
+        Column("M301", lambda p: p.mixer.running),
+        Column("history", lambda p: p.panel.history.count),
+        Column("audit", _audit),
+    ),
+    script=steps(*_COMMANDS),
+    cycles=26,
+    tour_cycles=26,
+    expected=(("REFUSED undo: history empty", "Undo is pressed once more than there are commands to undo"),),
+)

@@ -142,6 +142,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Scenario, Showcase, flag
 
 __all__ = [
     "MAX_DEPTH",
@@ -936,3 +937,28 @@ def main() -> None:
         except ExpressionError as error:
             print(error.caret())
     print(f"still active: {program.transfer.source}")
+
+
+def _heat(scenario: Scenario, cycle: int) -> None:
+    prog = scenario.program
+    if cycle <= 70:
+        prog.tt101 = 20.0 + cycle
+    prog.pt102 = 3.0 if cycle > 70 else 1.0
+    prog.bypass = cycle > 80
+    prog.ls3 = cycle > 90
+
+
+SHOWCASE = Showcase(
+    use_when="conditions arrive with the recipe at download time rather than at design time",
+    columns=(
+        Column("TT101", lambda p: p.tt101, ".1f", watch=False),
+        Column("LS3", lambda p: p.ls3),
+        Column("PT102", lambda p: p.pt102, ".1f"),
+        Column("BYPASS", lambda p: p.bypass),
+        Column("pump", lambda p: p.pump_on, flag),
+        Column("starts", lambda p: p.pump_starts),
+    ),
+    script=_heat,
+    cycles=100,
+    tour_cycles=100,
+)

@@ -135,6 +135,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = [
     "ALARM_CAPACITY",
@@ -480,3 +481,20 @@ def main() -> None:
     rt.run(cycles=1)
     shown = [f"#{hmi.alarm_pager.rows[i].sequence}" for i in range(1, hmi.alarm_pager.row_count + 1)]
     print(f"ALARM and above, page 1: {', '.join(shown)}")
+
+
+SHOWCASE = Showcase(
+    use_when="a client walks a storage (a ring buffer, a filtered view) without seeing how it is kept",
+    columns=(
+        Column("raised", lambda p: p.history.total, watch=False),
+        Column("kept", lambda p: p.history.count, watch=False),
+        Column("page", lambda p: p.all_pager.page),
+        Column("rows", lambda p: p.all_pager.row_count),
+        Column("more", lambda p: p.all_pager.more),
+        Column("top row", lambda p: p.all_pager.rows[1].text if p.all_pager.row_count else "-"),
+    ),
+    script=steps((1, "simulate", True), (11, "simulate", False), *press("all_pager.first_page", 12),
+                 *press("all_pager.next_page", 14), *press("all_pager.first_page", 16)),
+    cycles=18,
+    tour_cycles=18,
+)

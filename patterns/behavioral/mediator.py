@@ -130,6 +130,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "LOG_SIZE",
@@ -526,3 +527,17 @@ def main() -> None:
     inside = program.infeed.arrived - cell.good_count - cell.reject_count
     print(f"after {rt.time_ms} ms: {program.infeed.arrived} bottles in, {cell.good_count} good, "
           f"{cell.reject_count} rejected, {inside} still in the cell")
+
+
+SHOWCASE = Showcase(
+    use_when="the stations of a cell must coordinate without knowing each other",
+    columns=(
+        Column("arrived", lambda p: p.infeed.arrived),
+        Column("filling", lambda p: p.filler.valve_open, watch=False),
+        Column("divert", lambda p: p.gate.divert, watch=False),
+        Column("good", lambda p: p.cell.good_count),
+        Column("rejected", lambda p: p.cell.reject_count),
+    ),
+    cycles=200,
+    tour_cycles=200,
+)

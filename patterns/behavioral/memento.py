@@ -141,6 +141,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "SNAPSHOT_SLOTS",
@@ -462,3 +463,34 @@ def main() -> None:
         reset()
         rt.run(cycles=1)
         print(f"{name:<13} {describe(editor.working)}, loaded from last good: {editor.loaded_at_start}")
+
+
+def _recipe(scenario: Scenario, cycle: int) -> None:
+    station = scenario.program
+    editor = station.editor
+    if cycle == 2:
+        editor.rename("Base")
+        editor.set_dose(120.0)
+        editor.set_pump_speed(60.0)
+        editor.set_mix_time(T("45s"))
+        station.label = "before speed trial"
+    if cycle == 5:
+        editor.set_pump_speed(95.0)
+    station.snapshot_button = cycle == 3
+    station.restore_button = cycle == 7
+    station.commit_button = cycle == 9
+
+
+SHOWCASE = Showcase(
+    use_when="an operator edits a data set and must be able to return to a snapshot or the last good one",
+    columns=(
+        Column("recipe", lambda p: p.editor.working.name, repr),
+        Column("dose l", lambda p: p.editor.working.dose_litres, ".0f"),
+        Column("pump %", lambda p: p.editor.working.pump_speed, ".0f"),
+        Column("snapshots", lambda p: p.snapshots.used),
+        Column("message", lambda p: p.message),
+    ),
+    script=_recipe,
+    cycles=12,
+    tour_cycles=12,
+)

@@ -123,6 +123,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "LOG_SIZE",
@@ -475,3 +476,18 @@ def main() -> None:
         entry = program.logger.entry(number)
         print(f"  t={entry.time_ms:4d} ms  {entry.value:5.1f} C  {entry.quality.name:4}  {entry.reason.name}")
     print(f"trend: {program.trend.stored} samples, newest {program.trend.value_at(0):.1f} C")
+
+
+SHOWCASE = Showcase(
+    use_when="consumers of a value come and go at run time and the producer must stay closed to edits",
+    columns=(
+        Column("TT101 C", lambda p: p.tt101.value, ".1f", watch=False),
+        Column("quality", lambda p: p.tt101.quality),
+        Column("observers", lambda p: p.tt101.observer_count),
+        Column("alarm", lambda p: p.high_alarm.active),
+        Column("sensor fault", lambda p: p.high_alarm.sensor_fault),
+        Column("log", lambda p: p.logger.total, watch=False),
+    ),
+    cycles=100,
+    tour_cycles=100,
+)

@@ -142,6 +142,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "INITIAL_STATE",
@@ -810,3 +811,18 @@ def main() -> None:
         f"packs={line.unit.execute.packs}  refused={line.unit.refused} "
         f"(last: {line.unit.last_refused.name.capitalize()})"
     )
+
+
+SHOWCASE = Showcase(
+    use_when="states have behaviour of their own (entry actions, timing, commands) reviewed against a diagram, as in PackML",
+    columns=(
+        Column("state", lambda p: p.unit.state),
+        Column("packs", lambda p: p.unit.execute.packs),
+        Column("transitions", lambda p: p.unit.transitions),
+        Column("refused", lambda p: p.unit.refused),
+        Column("batches", lambda p: p.batches),
+    ),
+    cycles=250,
+    tour_cycles=250,
+    expected=(("refused", "Start is pressed again while the unit is already in EXECUTE"),),
+)

@@ -91,6 +91,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     BOOL,
     REAL,
@@ -110,6 +112,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import TON, TP
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "ControlMode",
@@ -499,3 +502,28 @@ def main() -> None:
         for _ in range(2):
             rt.run(cycles=500)
             report()
+
+
+def _modes(scenario: Scenario, cycle: int) -> None:
+    modes = {2001: "PWM", 3001: "PID", 4001: "ON_OFF"}
+    if cycle in modes:
+        scenario.program.mode = ControlMode[modes[cycle]]
+
+
+def _strategy_name(prog: Any) -> object:
+    return prog.zone.strategy.name
+
+
+SHOWCASE = Showcase(
+    use_when="an algorithm (PID, PWM, on/off) is swapped at run time behind one interface, without a bump",
+    columns=(
+        Column("mode", lambda p: p.mode),
+        Column("strategy", _strategy_name),
+        Column("T degC", lambda p: p.process.temperature, ".1f", watch=False),
+        Column("output %", lambda p: p.zone.output, ".1f", watch=False),
+        Column("swaps", lambda p: p.zone.swaps),
+    ),
+    script=_modes,
+    cycles=5000,
+    tour_cycles=5000,
+)

@@ -107,6 +107,7 @@ References
 from __future__ import annotations
 
 import math
+from operator import attrgetter
 
 from iecoop import (
     ABSTRACT,
@@ -131,6 +132,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import F_TRIG, R_TRIG, TON
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "AxisHoming",
@@ -631,3 +633,15 @@ def main() -> None:
     axes = (cell.x_axis, cell.y_axis, cell.z_axis)
     print(f"{'position':<14}" + "".join(f"{a.position:>{w}.3f}" for a, w in zip(axes, (10, 10, 12))))
     print(f"W: {cell.w_homing.error_text}")
+
+
+SHOWCASE = Showcase(
+    use_when="axis variants share one fixed homing sequence and differ only in its steps",
+    columns=(
+        *(Column(f"{axis} {method}", attrgetter(f"{axis.lower()}_homing.step"))
+          for axis, method in (("X", "switch"), ("Y", "index"), ("Z", "absolute"), ("W", "switch"))),
+        Column("all done", lambda p: p.all_done),
+    ),
+    cycles=150,
+    tour_cycles=150,
+)

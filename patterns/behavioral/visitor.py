@@ -135,6 +135,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = [
     "MAX_AREAS",
@@ -796,3 +797,24 @@ def main() -> None:
         f"energy: {energy.total_wh:.1f} Wh (motors {energy.motors_wh:.1f}, valves {energy.valves_wh:.1f}); "
         f"Area1 {energy.area_wh[1]:.1f} Wh, Area2 {energy.area_wh[2]:.1f} Wh"
     )
+
+
+SHOWCASE = Showcase(
+    use_when="new reports or exports over a fixed set of device kinds are added often",
+    columns=(
+        Column("exports", lambda p: p.exports),
+        Column("report rows", lambda p: p.report.count),
+        Column("faults", lambda p: p.report.faults),
+        Column("warnings", lambda p: p.report.warnings),
+        Column("energy Wh", lambda p: p.energy.total_wh, ".1f"),
+    ),
+    script=steps(
+        (1, "motor1.run", True), (1, "motor2.run", True), (1, "tt101.raw_ma", 12.0), (1, "lt201.raw_ma", 2.1),
+        *press("export", 50), (101, "motor3.run", True), (101, "valve2.stuck", True),
+        (101, "valve1.open_cmd", True), (101, "valve2.open_cmd", True), *press("export", 150),
+        (251, "motor1.overload", True), *press("export", 300), *press("export", 400),
+    ),
+    cycles=400,
+    tour_cycles=400,
+    expected=(("faults, warnings", "a valve sticks in cycle 101 and a motor overloads in cycle 251"),),
+)

@@ -134,6 +134,7 @@ from iecoop import (
     prop,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Scenario, Showcase, flag, hex_word
 
 __all__ = [
     "BusImage",
@@ -558,3 +559,36 @@ def main() -> None:
     farm.ec_bus.inputs[ec_ai] = EC_STATUS_ERROR
     farm.pn_bus.inputs[pn_ai] = PN_OVERFLOW
     show(f"broken   status 16#{EC_STATUS_ERROR:04X}   16#{PN_OVERFLOW:04X}")
+
+
+def _tanks(scenario: Scenario, cycle: int) -> None:
+    farm = scenario.program
+    if cycle == 1:
+        scenario.sim.update(a=0.5, b=0.8)
+        return  # the factories bind the modules in the first scan
+    for key, tank, bus, full_scale in (("a", farm.tank_a, farm.ec_bus, 32767), ("b", farm.tank_b, farm.pn_bus, 27648)):
+        level = scenario.sim[key] + (0.1 if tank.pump_on else -0.04)
+        scenario.sim[key] = level = min(max(level, 0.0), 4.0)
+        address = tank.level_sensor.address
+        raw = round(level / 4.0 * full_scale)
+        if key == "a":
+            bus.inputs[address] = EC_STATUS_ERROR if 71 <= cycle < 81 else 0
+            bus.inputs[address + 1] = raw
+        else:
+            bus.inputs[address] = raw
+
+
+SHOWCASE = Showcase(
+    use_when="a library sold with several I/O hardware options, or a simulated family swapped in for commissioning",
+    columns=(
+        Column("A level m", lambda p: p.tank_a.level, ".2f", watch=False),
+        Column("A pump", lambda p: p.tank_a.pump_on, flag),
+        Column("A fault", lambda p: p.tank_a.fault),
+        Column("EC QW0", lambda p: p.ec_bus.outputs[0], hex_word),
+        Column("B level m", lambda p: p.tank_b.level, ".2f", watch=False),
+        Column("PN QW0", lambda p: p.pn_bus.outputs[0], hex_word),
+    ),
+    script=_tanks,
+    cycles=120,
+    tour_cycles=90,
+)

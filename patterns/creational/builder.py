@@ -133,6 +133,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "DISTANCE_TOLERANCE",
@@ -485,3 +486,18 @@ def main() -> None:
             print(f"t={cycle_start:4d} ms  {what:<17}  v={runner.velocity:5.1f} mm/s  x={runner.position:5.1f} mm")
         if runner.done:
             break
+
+
+SHOWCASE = Showcase(
+    use_when="motion profiles or recipes assembled at run time from HMI or product data, checked in one place",
+    columns=(
+        Column("jog build", lambda p: p.jog_result),
+        Column("step", lambda p: p.runner.step),
+        Column("v mm/s", lambda p: p.runner.velocity, ".1f", watch=False),
+        Column("x mm", lambda p: p.runner.position, ".1f", watch=False),
+        Column("busy", lambda p: p.runner.busy),
+        Column("finished", lambda p: p.runner.finished),
+    ),
+    cycles=100,
+    tour_cycles=90,
+)

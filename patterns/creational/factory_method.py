@@ -103,6 +103,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ABSTRACT,
     ARRAY,
@@ -127,6 +129,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Getter, Showcase
 
 __all__ = [
     "FactoryError",
@@ -473,3 +476,24 @@ def main() -> None:
             if valve and valve.is_open and row not in reported:
                 reported.add(row)
                 print(f"t={cycle_start:4d} ms  {valve.tag:<5} {valve.type_code.name:<13} open")
+
+
+def _valve_open(row: int) -> Getter:
+    def get(prog: Any) -> object:
+        valve = prog.factory.valve(row)
+        return bool(valve) and valve.is_open
+
+    return get
+
+
+SHOWCASE = Showcase(
+    use_when="the device mix varies per machine (options, retrofits) while the sequence code stays untouched",
+    columns=(
+        Column("created", lambda p: p.factory.created),
+        Column("error", lambda p: p.factory.error),
+        *(Column(f"V10{row} open", _valve_open(row)) for row in range(1, 5)),
+    ),
+    cycles=110,
+    tour_cycles=110,
+    expected=(("UNKNOWN_TYPE", "row 5 of the I/O table names a BUTTERFLY valve, a type no factory builds"),),
+)

@@ -104,6 +104,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -132,6 +134,7 @@ from iecoop import (
     sizeof,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Getter, Scenario, Showcase
 
 __all__ = [
     "AxisParams",
@@ -366,3 +369,30 @@ def main() -> None:
     print(f"point 3 re-measured in the shared table: {old:.0f} um -> {cell.screw_table.error_um[3]:.0f} um")
     rt.run(cycles=1)
     print(f"t={rt.time_ms:4d} ms  load at 250 mm: {report()}")
+
+
+def _remeasure(scenario: Scenario, cycle: int) -> None:
+    if cycle == 211:
+        scenario.program.master.set_compensation(3, 30.0)
+
+
+def _load_error(station: int) -> Getter:
+    def get(prog: Any) -> object:
+        s = prog.stations[station]
+        return (s.load_position - s.position) * 1000.0
+
+    return get
+
+
+SHOWCASE = Showcase(
+    use_when="new stations start from a tuned parameter block and each needs its own copy, not a shared reference",
+    columns=(
+        Column("x1 mm", lambda p: p.stations[1].position, ".1f", watch=False),
+        Column("in pos", lambda p: "".join("T" if st.in_position else "-" for st in p.stations)),
+        Column("table[3] um", lambda p: p.screw_table.error_um[3], ".0f"),
+        *(Column(f"err{i} um", _load_error(i), "+.1f", watch=False) for i in range(1, 4)),
+    ),
+    script=_remeasure,
+    cycles=220,
+    tour_cycles=220,
+)

@@ -106,6 +106,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -134,6 +136,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
+from patterns.showcase.entry import Column, Scenario, Showcase, flag, steps
 
 __all__ = [
     "CAPACITY",
@@ -427,3 +430,31 @@ def main() -> None:
         event = log.newest(age)
         print(f"t={event.stamp:4d} ms  {event.severity.name:<8} {event.source:<6} {event.text}")
     print(f"logged {log.count}, held {log.held} of {CAPACITY}, one log: {PlantLog().count == log.count}")
+
+
+def _clear_log(scenario: Scenario) -> None:
+    GVL_PlantEvents.plant_events.clear()
+
+
+def _newest_event(prog: Any) -> object:
+    log = GVL_PlantEvents.plant_events
+    if not log.held:
+        return ""
+    event = log.newest(0)
+    return f"{event.source} {event.text}"
+
+
+SHOWCASE = Showcase(
+    use_when="something that is one by physics (the controller's clock, its diagnostic buffer); otherwise inject it",
+    columns=(
+        Column("CV101", lambda p: p.cv101.motor_on, flag),
+        Column("CV102", lambda p: p.cv102.motor_on, flag),
+        Column("P101", lambda p: p.p101.motor_on, flag),
+        Column("logged", lambda p: GVL_PlantEvents.plant_events.count),
+        Column("newest event", _newest_event),
+    ),
+    setup=_clear_log,
+    script=steps((1, "cmd_run", True), (6, "overload_cv102", True), (9, "dry_run_p101", True), (13, "cmd_run", False)),
+    cycles=20,
+    tour_cycles=20,
+)

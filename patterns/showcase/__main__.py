@@ -2,6 +2,6 @@
 
 import sys
 
-from patterns.showcase import main
+from patterns.showcase.cli import main
 
 sys.exit(main())

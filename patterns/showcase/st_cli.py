@@ -118,7 +118,7 @@ def st_run(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = 
 def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
     from iecoop import st
-    from patterns.showcase import _fault_text, run_entry, table  # the package imports this module
+    from patterns.showcase.cli import _fault_text, run_entry, table  # the command table imports this module
 
     try:
         module = st.load(args.source, profile=args.profile)

@@ -105,6 +105,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     BOOL,
     POINTER_TO,
@@ -125,6 +127,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Showcase, flag, steps
 
 #: ``FB_VfdDrive`` control words (a CiA 402 subset): shutdown, enable operation, fault reset.
 CW_SHUTDOWN = 0x0006
@@ -461,3 +464,23 @@ def main() -> None:
     same_policy = ConveyorController(lamp=lamp, drive=vfd)
     same_policy(start_request=True)
     print(f"ConveyorController(lamp=TowerLamp(), drive=VfdDrive()): control word 16#{vfd.control_word:04X} after start")
+
+
+def _lamp(value: Any) -> str:
+    return str(value.name)
+
+
+SHOWCASE = Showcase(
+    use_when="a controller is to be tested or reused with other devices: it depends on interfaces given at FB_init",
+    columns=(
+        Column("fixed: contactor", lambda p: p.fixed.drive.q_contactor, flag),
+        Column("lamp", lambda p: p.fixed.lamp.mode, _lamp),
+        Column("injected: contactor", lambda p: p.drive.q_contactor, flag),
+        Column("lamp ", lambda p: p.lamp.mode, _lamp),
+        Column("jam", lambda p: p.jam),
+    ),
+    script=steps((1, "start_request", True), (1, "contactor_feedback", True), (2, "start_request", False),
+                 (21, "jam", True), (22, "contactor_feedback", False), (81, "jam", False)),
+    cycles=90,
+    tour_cycles=90,
+)

@@ -97,6 +97,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -121,6 +123,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Getter, Showcase, hex_word, steps
 
 #: Slots of every client's pool: ``ARRAY[1..SLOTS] OF I_...``.
 SLOTS = 8
@@ -663,3 +666,26 @@ def main() -> None:
     cell.download.add_row(2, 3, 2.0)
     accepted = cell.download.download()
     print(f"compliant  parameter download over I_Parameterisable: {accepted} of {cell.download.rows} rows accepted")
+
+
+def _running(*names: str) -> Getter:
+    def get(cell: Any) -> object:
+        return " ".join(getattr(cell, n).tag for n in names if getattr(cell, n).running) or "-"
+
+    return get
+
+
+SHOWCASE = Showcase(
+    use_when="clients need only part of a device's abilities: give them small interfaces, not one large one",
+    columns=(
+        Column("fat: running", _running("fat_pump", "fat_transmitter", "fat_fan")),
+        Column("failed slot", lambda p: p.fat_sequencer.failed_slot),
+        Column("healthy", lambda p: p.fat_scanner.healthy),
+        Column("small: running", _running("pump", "fan")),
+        Column("healthy ", lambda p: p.scanner.healthy),
+        Column("fault code", lambda p: p.scanner.first_fault_code, hex_word),
+    ),
+    script=steps((1, "start_request", True), (1, "fat_transmitter.raw_in", 32767), (1, "transmitter.raw_in", 32767)),
+    cycles=200,
+    tour_cycles=200,
+)

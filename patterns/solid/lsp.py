@@ -117,6 +117,7 @@ from iecoop import (
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
 from patterns.plant import ramp
+from patterns.showcase.entry import Column, Showcase
 
 #: Card counts per percent: the cards are configured for 0..32000 = 0..100 %.
 COUNTS_PER_PERCENT = 320
@@ -357,3 +358,18 @@ def main() -> None:
         f"compliant  monitors (I_AnalogValue): output {cell.monitor_output.shown:.1f} %, "
         f"sensor {cell.monitor_sensor.shown:.1f} %"
     )
+
+
+SHOWCASE = Showcase(
+    use_when="a derived block must work wherever its base does: never extend a base whose promises it cannot keep",
+    columns=(
+        Column("actuator %", lambda p: p.actuator.value, ".1f", watch=False),
+        Column("sensor-as-actuator %", lambda p: p.sensor_on_base.value, ".1f"),
+        Column("timed out", lambda p: p.ramp_sensor.timed_out),
+        Column("refused", lambda p: p.sensor_on_base.refused, watch=False),
+        Column("output %", lambda p: p.output.value, ".1f", watch=False),
+        Column("done", lambda p: p.output_ramp.done),
+    ),
+    cycles=250,
+    tour_cycles=250,
+)

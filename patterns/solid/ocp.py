@@ -122,6 +122,7 @@ from iecoop import (
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
 from patterns.plant import ramp
+from patterns.showcase.entry import Column, Getter, Showcase, hex_word, steps
 
 #: ``ERR_UNKNOWN_KIND : UDINT := 16#8001``: the CASE met a type code it has no branch for.
 ERR_UNKNOWN_KIND = 0x8001
@@ -406,3 +407,21 @@ def main() -> None:
         after = "open" if new.is_open else "closed" if new.is_closed else "moving"
         print(f"{slot:<5} {old.kind.name:<13} {before:<28} {after}")
     print(f"manifold all open: {cell.manifold.all_open}")
+
+
+def _position(index: int) -> Getter:
+    return lambda prog: prog.by_case[index].position
+
+
+SHOWCASE = Showcase(
+    use_when="new device types must join without editing a CASE in code that is already commissioned",
+    columns=(
+        *(Column(f"CASE {k}", _position(i), ".0f") for i, k in ((1, "sol"), (2, "mot"), (3, "prop"))),
+        Column("CASE errors", lambda p: " ".join(hex_word(p.by_case[i].error_id) for i in range(1, 4)
+                                             if p.by_case[i].error) or "-"),
+        Column("manifold all open", lambda p: p.manifold.all_open),
+    ),
+    script=steps((1, "cmd_open", True)),
+    cycles=40,
+    tour_cycles=40,
+)

@@ -95,6 +95,10 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from types import ModuleType
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -120,6 +124,7 @@ from iecoop import (
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 from patterns.plant import ramp
+from patterns.showcase.entry import Column, Scenario, Showcase, plc_task
 
 #: Entries kept by an event log: ``ARRAY[1..EVENTS] OF STRING(40)``.
 EVENTS = 8
@@ -460,3 +465,36 @@ def main() -> None:
     print(f"events, newest first ({'the same in both designs' if same else 'the designs differ'}):")
     for age in shown:
         print(f"  {motion.log.event(age)}")
+
+
+def _srp(module: ModuleType, runtime: Runtime) -> Sequence[Any]:
+    violating, motion, hmi = module.ViolatingCell(), module.MotionMain(), module.HmiMain()
+    hmi.drive = motion.drive
+    runtime.add_task(plc_task(), motion, violating)
+    runtime.add_task(Task("HmiTask", interval=T("100ms"), priority=30), hmi)
+    return [motion, violating, hmi]
+
+
+def _srp_buttons(scenario: Scenario, cycle: int) -> None:
+    plan = {1: {"start_button": True}, 31: {"start_button": False, "overload": True},
+            36: {"overload": False, "reset_button": True}, 41: {"reset_button": False, "start_button": True}}
+    for name, value in plan.get(cycle, {}).items():
+        for cell in scenario.programs[:2]:
+            setattr(cell, name, value)
+
+
+SHOWCASE = Showcase(
+    use_when="a block starts mixing control, HMI text and logging: split it so that each part changes for one reason",
+    columns=(
+        Column("drive", lambda p: p.drive.state),
+        Column("speed %", lambda p: p.drive.speed_ref, ".1f", watch=False),
+        Column("events", lambda p: p.log.event_total),
+        Column("texts: violating", lambda p: p.drive.format_count, watch=False, of=1),
+        Column("compliant", lambda p: p.formatter.format_count, watch=False, of=2),
+        Column("HMI text", lambda p: p.formatter.status_text, watch=False, of=2),
+    ),
+    builder=_srp,
+    script=_srp_buttons,
+    cycles=100,
+    tour_cycles=100,
+)

@@ -100,6 +100,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -144,6 +146,7 @@ from patterns.plant.vfd import (
     VfdSim,
     has_bit,
 )
+from patterns.showcase.entry import Column, Getter, Showcase, press, steps
 
 __all__ = [
     "AxisDrive",
@@ -575,3 +578,29 @@ def main() -> None:
                 state = "fault" if drive.fault else "running" if drive.running else "stopped"
                 print(f"t={t:4d} ms  {name:<5} {state:<8} {drive.actual_speed:6.0f} rpm")
                 seen[i - 1] = now
+
+
+def _drive_state(index: int) -> Getter:
+    def get(prog: Any) -> object:
+        drive = prog.drives[index]
+        return "fault" if drive.fault else "running" if drive.running else "stopped"
+
+    return get
+
+
+def _drive_speed(index: int) -> Getter:
+    return lambda prog: prog.drives[index].actual_speed
+
+
+SHOWCASE = Showcase(
+    use_when="devices of different makes must look alike to the line without hiding what matters about them",
+    columns=(
+        Column("VFD", _drive_state(1)), Column("rpm", _drive_speed(1), ".0f", watch=False),
+        Column("AXIS", _drive_state(2)), Column("rpm ", _drive_speed(2), ".0f", watch=False),
+        Column("DOL", _drive_state(3)), Column(" rpm", _drive_speed(3), ".0f", watch=False),
+    ),
+    script=steps(*press("cmd_start", 1), *press("vfd_sim.trip", 51), *press("cmd_stop", 61), *press("cmd_reset", 71)),
+    cycles=100,
+    tour_cycles=100,
+    expected=(("VFD fault", "the Modbus drive trips in cycle 51 and is reset in cycle 71"),),
+)

@@ -94,6 +94,9 @@ References
 
 from __future__ import annotations
 
+from operator import attrgetter
+from typing import Any
+
 from iecoop import (
     ABSTRACT,
     ARRAY,
@@ -122,6 +125,7 @@ from iecoop import (
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
 from patterns.plant import ramp
+from patterns.showcase.entry import Column, Showcase, steps
 
 __all__ = [
     "POINTS",
@@ -554,3 +558,22 @@ def main() -> None:
         if failed:
             print(f"t={t:4d} ms  faulted: {', '.join(failed)}")
             break
+
+
+def _bridge_faults(skid: Any) -> object:
+    return " ".join(skid.devices[k].tag for k in range(1, 7) if skid.devices[k].fault) or "-"
+
+
+SHOWCASE = Showcase(
+    use_when="devices and their channels (local I/O, fieldbus, simulation) really vary independently",
+    columns=(
+        *(Column(f"P-{channel}", attrgetter(f"p_{channel.lower()}.at_speed")) for channel in ("LOC", "MB", "SIM")),
+        Column("V-MB open", lambda p: p.v_mb.is_open),
+        Column("Modbus link", lambda p: p.modbus.link_up),
+        Column("faulted", _bridge_faults),
+    ),
+    script=steps((1, "cmd_run", True), (41, "modbus.link_up", False)),
+    cycles=60,
+    tour_cycles=60,
+    expected=(("faulted P-MB V-MB", "the Modbus TCP link drops in cycle 41"),),
+)

@@ -89,6 +89,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -111,6 +113,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Showcase, press, steps
 
 __all__ = [
     "MAX_CHILDREN",
@@ -508,6 +511,28 @@ def main() -> None:
     prog.cmd_start = True
     rt.run(cycles=60)
     _trace(rt, prog, "restarted")
+
+
+def _sections_on(prog: Any) -> object:
+    return " ".join(s.name for s in (prog.s1, prog.s2, prog.s3, prog.s4, prog.s5) if s.contactor) or "-"
+
+
+SHOWCASE = Showcase(
+    use_when="a line of zones of sections is commanded and queried through one interface, wired once at start-up",
+    columns=(
+        Column("running", lambda p: p.running),
+        Column("faulted", lambda p: p.faulted),
+        Column("kW", lambda p: p.power_kw, ".2f"),
+        Column("contactors on", _sections_on),
+    ),
+    script=steps(
+        *press("cmd_start", 1), (62, "s4.motor_trip", True), *press("cmd_reset", 82, hold=20),
+        (102, "s4.motor_trip", False), *press("cmd_reset", 103), *press("cmd_start", 122),
+    ),
+    cycles=190,
+    tour_cycles=190,
+    expected=(("faulted", "the motor of section S4 trips in cycle 62"),),
+)
 
 
 if __name__ == "__main__":

@@ -94,6 +94,8 @@ References
 
 from __future__ import annotations
 
+from typing import Any
+
 from iecoop import (
     ARRAY,
     BOOL,
@@ -113,6 +115,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "MAX_WINDOW",
@@ -388,6 +391,37 @@ def main() -> None:
             )
     print(f"after {rt.time_ms / 1000:.2f} s: {prog.counter.operating_s} s in service, "
           f"{prog.counter.switchings} switchings")
+
+
+def _pressure(scenario: Scenario, cycle: int) -> None:
+    prog = scenario.program
+    t = (cycle - 1) * 10
+    bar = 9.0 if t == 50 else 7.0 if 100 <= t < 200 or t >= 500 else 2.0
+    prog.pt101.raw = round(bar / 10.0 * RAW_FULL_SCALE)
+    prog.pt101.error = 300 <= t < 400
+    if t == 500:
+        prog.override.sim_value = 4.5
+        prog.override.simulate = True
+
+
+def _pt101(prog: Any) -> object:
+    pt101 = prog.pt101
+    return "-.--" if pt101.error else f"{pt101.value:.2f}"
+
+
+SHOWCASE = Showcase(
+    use_when="signal treatments (filtering, simulation, counting) are stacked per channel at configuration",
+    columns=(
+        Column("PT101 bar", _pt101),
+        Column("logic bar", lambda p: p.pressure, ".2f", watch=False),
+        Column("ok", lambda p: p.pressure_ok),
+        Column("simulate", lambda p: p.override.simulate),
+        Column("switchings", lambda p: p.counter.switchings),
+    ),
+    script=_pressure,
+    cycles=70,
+    tour_cycles=70,
+)
 
 
 if __name__ == "__main__":

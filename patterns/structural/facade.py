@@ -103,6 +103,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG, TON
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "CASES_PER_PALLET",
@@ -649,3 +650,30 @@ def main() -> None:
             print(f"t={t:4d} ms  {action:<17} {status}")
             shown = status
     print(f"pallets done: {hmi.cell.pallets_done}, cases placed: {hmi.cell.robot.placed}")
+
+
+_FACADE = {1: "start", 211: "estop", 221: "reset", 231: "estop", 241: "reset", 251: "start", 331: "stop"}
+
+
+def _cell_buttons(scenario: Scenario, cycle: int) -> None:
+    hmi = scenario.program
+    action = _FACADE.get(cycle, "")
+    hmi.estop_ok = hmi.estop_ok != (action == "estop")
+    hmi.btn_start = action == "start"
+    hmi.btn_stop = action == "stop"
+    hmi.btn_reset = action == "reset"
+
+
+SHOWCASE = Showcase(
+    use_when="an HMI or a line controller needs a few buttons, not the detail of every subsystem of a cell",
+    columns=(
+        Column("state", lambda p: p.cell.state),
+        Column("message", lambda p: p.cell.message),
+        Column("pallets", lambda p: p.cell.pallets_done),
+        Column("cases", lambda p: p.cell.robot.placed, watch=False),
+    ),
+    script=_cell_buttons,
+    cycles=380,
+    tour_cycles=250,
+    expected=(("TRIPPED, reset refused", "the e-stop is pressed in cycle 211, a reset tried while it is still pressed"),),
+)

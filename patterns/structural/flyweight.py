@@ -114,6 +114,7 @@ from iecoop import (
     sizeof,
 )
 from iecoop.runtime import Runtime, Task
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "MAX_POINTS",
@@ -353,6 +354,32 @@ def main() -> None:
         note = " OUT OF RANGE" if not tc.in_range else f" (offset {offset})" if offset else ""
         print(f"{'TC' + str(index):<5} type {kind} {raw_uv / 1000:7.3f} mV -> {tc.temperature:6.1f} degC{note}")
     print(f"hottest: TC{prog.hottest_at} at {prog.hottest:.1f} degC; {prog.out_of_range} out of range")
+
+
+_READINGS = {1: (1, 4096, 0.0), 2: (2, 41276, -1.5), 3: (150, 41276, 0.0), 11: (151, 80000, 0.0), 21: (150, 60000, 0.0)}
+
+
+def _thermocouples(scenario: Scenario, cycle: int) -> None:
+    if cycle in _READINGS:
+        index, raw_uv, offset = _READINGS[cycle]
+        tc = scenario.program.thermocouples[index]
+        tc.raw_uv = raw_uv
+        tc.offset = offset
+
+
+SHOWCASE = Showcase(
+    use_when="hundreds of instances share large, immutable data such as a calibration table per sensor type",
+    columns=(
+        Column("TC2 degC", lambda p: p.thermocouples[2].temperature, ".1f"),
+        Column("TC150 degC", lambda p: p.thermocouples[150].temperature, ".1f"),
+        Column("hottest degC", lambda p: p.hottest, ".1f"),
+        Column("at TC", lambda p: p.hottest_at),
+        Column("out of range", lambda p: p.out_of_range),
+    ),
+    script=_thermocouples,
+    cycles=30,
+    tour_cycles=25,
+)
 
 
 if __name__ == "__main__":

@@ -114,6 +114,7 @@ from iecoop import (
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
+from patterns.showcase.entry import Column, Scenario, Showcase
 
 __all__ = [
     "AccessLevel",
@@ -514,6 +515,44 @@ def main() -> None:
     prog.station.remote_value = prog.direct.remote_value = 2.75
     rt.run(cycles=100)
     show()
+
+
+def _oven(scenario: Scenario, cycle: int) -> None:
+    prog = scenario.program
+    if cycle == 1:
+        prog.station.remote_value = prog.direct.remote_value = 2.5
+    writes = {2: 185.0, 3: 240.0, 5: 320.0, 7: 325.0}
+    if cycle == 4:
+        prog.access.login(AccessLevel.ENGINEER)
+    if cycle == 6:
+        prog.access.logout()
+    if cycle in writes:
+        prog.hmi_setpoint.write(writes[cycle])
+    if cycle == 101:
+        prog.station.link_ok = prog.direct.link_ok = False
+    if cycle == 301:
+        prog.station.link_ok = prog.direct.link_ok = True
+        prog.station.remote_value = prog.direct.remote_value = 2.75
+
+
+SHOWCASE = Showcase(
+    use_when="access to a block is guarded by access level, or a slow remote value is cached with its quality",
+    columns=(
+        Column("access", lambda p: p.access.level),
+        Column("setpoint", lambda p: p.hmi_setpoint.setpoint, ".1f"),
+        Column("refused", lambda p: p.access.refused),
+        Column("level", lambda p: f"{p.level_m:.2f} m {p.level_quality.name}"),
+        Column("bus requests: cached", lambda p: p.station.requests, watch=False),
+        Column("direct", lambda p: p.direct.requests, watch=False),
+    ),
+    script=_oven,
+    cycles=400,
+    tour_cycles=400,
+    expected=(
+        ("refused", "an OPERATOR writes setpoints above the operator limit in cycles 3 and 7"),
+        ("STALE", "the remote I/O link is lost from cycle 101"),
+    ),
+)
 
 
 if __name__ == "__main__":

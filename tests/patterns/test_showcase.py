@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import inspect
 import io
 import pkgutil
 import re
@@ -14,10 +15,10 @@ from pathlib import Path
 import pytest
 
 from iecoop import DINT, INT, VAR, VAR_OUTPUT, Program
-import patterns.showcase as showcase
-from patterns.showcase import TOUR_CATEGORIES, main, run_entry
-from patterns.showcase import catalogue
-from patterns.showcase.catalogue import Column, Entry, build, entries, find
+import patterns.showcase.cli as showcase
+from patterns.showcase.cli import TOUR_CATEGORIES, main, run_entry
+from patterns.showcase import catalogue, cli
+from patterns.showcase.catalogue import Column, Entry, Showcase, build, entries, find, read
 
 SCRIPT = Path(sys.executable).with_name("iecoop")
 
@@ -84,7 +85,7 @@ def test_show_renders_the_docs_for_a_terminal_and_names_the_file(capsys: pytest.
 def test_show_takes_its_sections_from_one_list(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import patterns.showcase as showcase
+    import patterns.showcase.cli as showcase
 
     sections = [*showcase.SHOW_SECTIONS, lambda entry, module: f"ST of {module.__name__}"]
     monkeypatch.setattr(showcase, "SHOW_SECTIONS", sections)
@@ -459,8 +460,68 @@ def test_into_a_pipe_the_rows_come_before_the_run_ends() -> None:
 
 
 def test_serve_is_one_of_the_commands(capsys: pytest.CaptureFixture[str]) -> None:
-    assert "serve" in showcase.COMMANDS
+    assert "serve" in cli.COMMANDS
     assert main(["serve", "no-such-pattern"]) == 2
     assert "iecoop serve: unknown name 'no-such-pattern'" in capsys.readouterr().err
     assert main(["serve", "state", "--duration", "0ms"]) == 2
     assert "must be longer than 0 ms" in capsys.readouterr().err
+
+
+# -- the declarations ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", [e.name for e in entries() if e.category in TOUR_CATEGORIES])
+def test_each_pattern_declares_its_showcase_next_to_its_main(name: str) -> None:
+    entry = find(name)
+    module = entry.load()
+    declared = module.SHOWCASE
+    assert isinstance(declared, Showcase)
+    assert entry.columns == declared.columns and entry.script is declared.script
+    assert (entry.cycles, entry.tour_cycles, entry.expected) == (declared.cycles, declared.tour_cycles, declared.expected)
+    source = inspect.getsource(module)
+    assert source.index("\nSHOWCASE = Showcase(") > source.index("\ndef main()"), "the declaration follows main()"
+
+
+def test_a_declared_program_class_is_the_one_built() -> None:
+    import iecoop_examples.ch09_pointers_and_references as ch09
+
+    assert ch09.SHOWCASE.program is ch09.SrAverage and find("ch09").program is ch09.SrAverage
+    assert [type(p).__name__ for p in build(find("ch09")).programs] == ["SrAverage"]
+
+
+def test_a_column_reads_the_program_it_names() -> None:
+    scenario = build(find("srp"))
+    scenario.runtime.run(cycles=1)
+    texts = [column for column in find("srp").columns if column.label == "texts: violating"]
+    assert texts[0].of == 1 and read(scenario, texts[0]) == scenario.programs[1].drive.format_count
+    with pytest.raises(AttributeError, match="no_such_variable"):
+        read(scenario, Column("bad", lambda p: p.no_such_variable))
+
+
+def test_the_solid_principles_keep_their_acronyms_order() -> None:
+    assert [e.name for e in entries() if e.category == "solid"] == ["srp", "ocp", "lsp", "isp", "dip"]
+
+
+def test_a_pattern_module_imports_the_declaration_but_not_the_command() -> None:
+    code = "import sys, patterns.behavioral.state; print(sorted(m for m in sys.modules if m.startswith('patterns.showcase')))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "['patterns.showcase', 'patterns.showcase.entry']"
+
+
+def test_a_module_that_does_not_import_is_listed_with_its_problem(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "showcase_broken.py").write_text("import no_such_module_anywhere\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    entry = catalogue._collect("broken", "examples", "showcase_broken")
+    assert entry is not None and not entry.runnable
+    assert entry.problem.startswith("cannot import: ModuleNotFoundError") and "no_such_module_anywhere" in entry.problem
+
+
+def test_finding_one_entry_imports_only_its_module() -> None:
+    code = (
+        "import sys; from patterns.showcase.catalogue import find; entry = find('state'); "
+        "print(entry.name, sorted(m for m in sys.modules if m.startswith('patterns.behavioral.')))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "state ['patterns.behavioral.state']"
