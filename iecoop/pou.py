@@ -54,6 +54,7 @@ from iecoop.memory._core import (
     ReferenceInfo,
     TypeInfo,
     new_class_tag,
+    set_state_without_views,
 )
 from iecoop.memory.layout import (
     MISSING,
@@ -834,6 +835,9 @@ class _PouMixin:
     if TYPE_CHECKING:
 
         def __call__(self, **inputs: Any) -> None: ...
+
+    #: A copy (copy.copy) takes the memory, not the views of members kept for the original.
+    __setstate__ = set_state_without_views
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, _PouMixin):

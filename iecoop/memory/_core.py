@@ -457,6 +457,12 @@ class CachedView:
         return view
 
 
+def set_state_without_views(obj: Any, values: dict[str, Any], memory: bytes) -> None:
+    """``__setstate__`` of a copy (``copy.copy``): the memory and ``__dict__``, but not the original's kept views."""
+    fresh = {k: v for k, v in values.items() if not k.startswith(CACHE_PREFIX)}
+    typing.cast(Any, ctypes.Structure).__setstate__(obj, fresh, memory)  # ctypes' own, for structures and arrays
+
+
 def drop_cached_views(obj: Any) -> None:
     """Forget the views cached in ``obj`` and in them, so no cached view outlives a deleted block."""
     state = getattr(obj, "__dict__", None)
@@ -1115,6 +1121,7 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         __eq__=eq,
         __hash__=None,
         __repr__=rep,
+        __setstate__=set_state_without_views,
     )
     return type(f"ARRAY[{dims}] OF {elem.name}", (base,), namespace)
 

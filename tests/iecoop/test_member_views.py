@@ -8,6 +8,8 @@ keeps the member's type, and a deleted block's views are not kept.
 
 from __future__ import annotations
 
+import copy
+
 import pytest
 
 from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, PlcException, Program, T, delete, method, new
@@ -97,3 +99,18 @@ def test_a_deleted_block_does_not_keep_its_member_views() -> None:
     with pytest.raises(PlcException) as info:
         _ = p.deref
     assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_copy_has_its_own_member_views() -> None:
+    holder = Holder()
+    kept = holder.timer
+    holder(go=True)
+    twin = copy.copy(holder)
+    assert twin.timer is not kept and twin.timer.IN is True  # the memory is copied, the views are not
+    twin(go=False)
+    assert [twin.timer.IN, holder.timer.IN] == [False, True]
+    cell = Cell()
+    cell.body()
+    other = copy.copy(cell.holders)
+    other[1](go=False)
+    assert [other[1].go, cell.holders[1].go] == [False, True]
