@@ -18,7 +18,8 @@ Each case is timed with ``timeit.repeat`` in several rounds, the cases taking
 turns, so a burst of load on the machine hits all of them alike. The table
 shows the median time per statement, raw and with the loop's own cost (an
 empty statement, timed the same way) taken off, and the ratios of the net
-medians. In fast mode the script exits with status 1 when a/b exceeds 3.0.
+medians. The script exits with status 1 when a/b exceeds the limit of its
+mode: 3.0 in fast mode (``IECOOP_CHECKS=0``), 8.0 in checked mode.
 Options: ``--number`` statements per timing, ``--repeat`` timings per round,
 ``--rounds`` rounds.
 """
@@ -30,6 +31,7 @@ import dataclasses
 import platform
 import statistics
 import sys
+import time
 import timeit
 from collections.abc import Callable
 from pathlib import Path
@@ -43,6 +45,7 @@ from iecoop import INT, Struct  # noqa: E402
 from iecoop import _config  # noqa: E402
 
 FAST_MODE_LIMIT = 3.0
+CHECKED_MODE_LIMIT = 8.0
 
 
 class Counter(Struct):
@@ -101,7 +104,8 @@ def median_ns(cases: list[Case], number: int, repeat: int, rounds: int) -> dict[
     runs: dict[str, list[float]] = {case.key: [] for case in cases}
     for _ in range(rounds):
         for case in cases:
-            seconds = timeit.repeat(case.stmt, globals=case.make(), number=number, repeat=repeat)
+            # CPU time of the process: waiting for a core on a loaded machine is not counted.
+            seconds = timeit.repeat(case.stmt, globals=case.make(), number=number, repeat=repeat, timer=time.process_time)
             runs[case.key].extend(t / number * 1e9 for t in seconds)
     return {key: statistics.median(values) for key, values in runs.items()}
 
@@ -133,8 +137,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ratio {top}/{bottom} = {net[top] / net[bottom]:.2f}")
 
     ratio = net["a"] / net["b"]
-    if not _config.CHECKS and ratio > FAST_MODE_LIMIT:
-        print(f"FAIL: in fast mode a/b = {ratio:.2f} exceeds {FAST_MODE_LIMIT}")
+    limit = CHECKED_MODE_LIMIT if _config.CHECKS else FAST_MODE_LIMIT
+    if ratio > limit:
+        print(f"FAIL: a/b = {ratio:.2f} exceeds {limit} in this mode")
         return 1
     return 0
 

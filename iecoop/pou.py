@@ -54,9 +54,11 @@ from iecoop.memory._core import (
     ReferenceInfo,
     TypeInfo,
     new_class_tag,
+    set_state_without_views,
 )
 from iecoop.memory.layout import (
     MISSING,
+    accepted_type,
     ClassLayout,
     DefinitionScope,
     FieldRecord,
@@ -624,8 +626,9 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         elif info.direct and _config.CHECKS:
             globs[f"_check{i}"] = info.validate
             globs[f"_set{i}"] = record.raw.__set__
+            globs[f"_type{i}"] = accepted_type(info)
             lines.append(f"    if {record.name} is not _M:")
-            lines.append(f"        _check{i}({record.name}, {record.where!r})")
+            lines.append(f"        if {record.name}.__class__ is not _type{i}: _check{i}({record.name}, {record.where!r})")
             lines.append(f"        _set{i}(self, {record.name})")
         elif info.direct:
             # fast mode: a plain attribute store reaches the ctypes field in C
@@ -647,7 +650,13 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
     if cls._iec_temp_reset_ is not None:
         globs["_temp_reset"] = cls._iec_temp_reset_
         lines.append("    _temp_reset(self)")
-    lines.append("    self.body()")
+    body = next((k.__dict__["body"] for k in cls.__mro__ if "body" in k.__dict__), None)
+    if isinstance(body, types.FunctionType):
+        # The class's body as found now: this call is this class's own (a subclass generates its own).
+        globs["_body"] = body
+        lines.append("    _body(self)")
+    else:
+        lines.append("    self.body()")
     signature = ", ".join(["self", "*", *params]) if params else "self"
     source = f"def __call__({signature}) -> None:\n" + "\n".join(lines) + "\n"
     _script_counter[0] += 1
@@ -737,8 +746,24 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY
+    # Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
+    # VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
+    # one is written by the block's own code without the rule check. The rest takes the general path.
+    fast: dict[str, tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]] = {}
+    for record in layout.fields:
+        validate, where, section, method_name, constant = rules[record.name]
+        if validate is not None and not constant and method_name is None:
+            fast[record.name] = (accepted_type(record.info), section in inside_only, validate, where, record.raw.__set__)
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
+        spec = fast.get(field)
+        if spec is not None:
+            accepted, inside, check, where, store = spec
+            if not inside or getframe(1).f_code in type(self)._iec_codes_:
+                if value.__class__ is not accepted:
+                    check(value, where)
+                store(self, value)
+                return
         rule = rules.get(field)
         if rule is None:
             if field.startswith("_iec") or not hasattr(type(self), field):
@@ -810,6 +835,9 @@ class _PouMixin:
     if TYPE_CHECKING:
 
         def __call__(self, **inputs: Any) -> None: ...
+
+    #: A copy (copy.copy) takes the memory, not the views of members kept for the original.
+    __setstate__ = set_state_without_views
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, _PouMixin):

@@ -125,6 +125,9 @@ def free(alloc: Allocation) -> None:
     """Release an allocation (``__DELETE``): every handle into it stops resolving."""
     with table_lock:
         alloc.freed = True
+        root = alloc.ref()
+        if root is not None:
+            drop_cached_views(root)
         # Only the id stops resolving. The block stays known by its address until it is
         # collected, so ADR of the deleted instance (or of a view into it) yields a handle
         # that faults, instead of registering the same memory again as a fresh, valid block.
@@ -606,22 +609,32 @@ class CheckedMemberField:
     elements of a marked view are marked too.
     """
 
-    __slots__ = ("info", "raw", "offset", "where", "rule")
+    __slots__ = ("info", "raw", "offset", "where", "rule", "cache_key")
 
-    def __init__(self, info: TypeInfo, raw: Any, where: str) -> None:
+    def __init__(self, info: TypeInfo, raw: Any, where: str, cache_key: str | None = None) -> None:
         self.info, self.raw, self.offset, self.where = info, raw, int(raw.offset), where
         #: Set by the POU layer: (holder, reading frame) -> the refusal text, or None when the reader may write.
         self.rule: Callable[[Any, Any], str | None] | None = None
+        #: An ARRAY OF FB: the holder keeps the writable view (a marked one is made for each read).
+        self.cache_key = cache_key
 
     def __get__(self, obj: Any, owner: Any = None) -> Any:
         if obj is None:
             return self
-        view = self.raw.__get__(obj)
-        refusal = obj.__dict__.get(READ_ONLY)
+        state = obj.__dict__
+        refusal = state.get(READ_ONLY)
         if refusal is None and self.rule is not None:
             refusal = self.rule(obj, sys._getframe(1))
         if refusal is not None:
+            view = self.raw.__get__(obj)
             view.__dict__[READ_ONLY] = refusal
+            return view
+        key = self.cache_key
+        if key is None:
+            return self.raw.__get__(obj)
+        view = state.get(key)
+        if view is None:
+            view = state[key] = self.raw.__get__(obj)
         return view
 
     def __set__(self, obj: Any, value: Any) -> None:
@@ -632,12 +645,57 @@ class CheckedMemberField:
 
 
 class _MemberProperty(property):
-    """A property whose getter is ``operator.attrgetter`` of the ctypes field's alias (no Python frame on a read)."""
+    """A property whose getter is ``operator.attrgetter`` of the ctypes field's alias (no Python frame on a read).
+
+    The alias (``cached``) keeps the member's view in the holder's ``__dict__``
+    at the first read, so later reads return it from C without building a view.
+    """
 
     def __init__(self, raw: Any, alias: str, fset: Callable[[Any, Any], None], doc: str) -> None:
         super().__init__(operator.attrgetter(alias), fset, None, doc)
         self.raw = raw
         self.alias = alias
+        self.cached = CachedView(raw, alias)
+
+
+#: Holder ``__dict__`` keys that keep cached views (dropped on ``__DELETE``, never copied).
+CACHE_PREFIX = "_iec_m_"
+
+
+class CachedView:
+    """A non-data descriptor under a member's alias: makes the view once, then the holder's ``__dict__`` answers.
+
+    A view designates fixed memory (the holder's, at a fixed offset), so one
+    view serves every read; a write still copies memory through the member's setter.
+    """
+
+    __slots__ = ("raw", "alias")
+
+    def __init__(self, raw: Any, alias: str) -> None:
+        self.raw, self.alias = raw, alias
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self.raw
+        view = obj.__dict__[self.alias] = self.raw.__get__(obj)
+        return view
+
+
+def set_state_without_views(obj: Any, values: dict[str, Any], memory: bytes) -> None:
+    """``__setstate__`` of a copy (``copy.copy``): the memory and ``__dict__``, but not the original's kept views."""
+    fresh = {k: v for k, v in values.items() if not k.startswith(CACHE_PREFIX)}
+    typing.cast(Any, ctypes.Structure).__setstate__(obj, fresh, memory)  # ctypes' own, for structures and arrays
+
+
+def drop_cached_views(obj: Any) -> None:
+    """Forget the views cached in ``obj`` and in them, so no cached view outlives a deleted block."""
+    state = getattr(obj, "__dict__", None)
+    if not state:
+        return
+    for key in [k for k in state if k.startswith(CACHE_PREFIX)]:
+        cached = state.pop(key)
+        for view in cached if isinstance(cached, list) else (cached,):
+            drop_cached_views(view)
 
 
 class AggregateInfo(TypeInfo):
@@ -674,7 +732,7 @@ class AggregateInfo(TypeInfo):
             store(obj, offset, value, where)
 
         # The ctypes field stays reachable under a private alias, read through a C-level getter.
-        return _MemberProperty(raw, f"_iec_m_{name}", set_member, f"{self.name} member {where}")
+        return _MemberProperty(raw, f"{CACHE_PREFIX}{name}", set_member, f"{self.name} member {where}")
 
     def load_dynamic(self, root: Any, offset: int) -> Any:
         """Through an address: the type tag says which derived block is there (a virtual call's target)."""
@@ -1286,6 +1344,18 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         def setitem(self: Any, index: Any, value: Any) -> None:
             elem.store(self, flat(self, index) * size, value, f"element {index!r}")
 
+    if elem.direct and getattr(getattr(elem, "cls", None), "_iec_tagged_", False):
+        views_key = f"{CACHE_PREFIX}elements"
+
+        def getitem(self: Any, index: Any) -> Any:
+            # ARRAY OF FB: the element views are made once and kept in the array's view (their members cached in them).
+            views = self.__dict__.get(views_key)
+            if views is None:
+                views = self.__dict__[views_key] = [raw_get(self, i) for i in range(count)]
+            if type(index) is int and lo0 <= index <= hi0 and one_dim:
+                return views[index - lo0]
+            return views[flat(self, index)]
+
     def iterate(self: Any) -> Iterator[Any]:
         if elem.direct:
             for i in range(count):
@@ -1312,6 +1382,7 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         __eq__=eq,
         __hash__=None,
         __repr__=rep,
+        __setstate__=set_state_without_views,
     )
     return type(f"ARRAY[{dims}] OF {elem.name}", (base,), namespace)
 
@@ -1338,7 +1409,13 @@ class ArrayInfo(TypeInfo):
         return self.ctype.from_buffer(root, offset)
 
     def descriptor(self, raw: Any, name: str, owner: str) -> Any:
-        return CheckedMemberField(self, raw, f"{owner}.{name}") if _config.CHECKS else None
+        # An ARRAY OF FB: the holder keeps the array's view, and the view its elements' views.
+        of_blocks = isinstance(self.elem, AggregateInfo) and getattr(self.elem.cls, "_iec_tagged_", False)
+        if _config.CHECKS:
+            return CheckedMemberField(self, raw, f"{owner}.{name}", f"{CACHE_PREFIX}{name}" if of_blocks else None)
+        if of_blocks:
+            return _MemberProperty(raw, f"{CACHE_PREFIX}{name}", raw.__set__, f"{self.name} member {owner}.{name}")
+        return None
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         if isinstance(value, (list, tuple)):

@@ -348,7 +348,7 @@ class LayoutBuilder:
                 setattr(cls, field, descriptor)
                 alias = getattr(descriptor, "alias", None)
                 if alias is not None:
-                    setattr(cls, alias, raw)
+                    setattr(cls, alias, descriptor.cached)
             own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
         all_fields = tuple(self.inherited) + tuple(own)
         init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)
@@ -606,6 +606,19 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
 # ---------------------------------------------------------------------------
 
 
+def accepted_type(info: TypeInfo) -> type | None:
+    """The one type a write of ``info`` accepts without calling its validator (None: always validate).
+
+    Like attrs' per-field validators: an exact ``bool`` for BOOL, ``float`` for
+    REAL / LREAL, ``int`` for the other elementary types passes at once; any
+    other value goes to ``info.validate``, which accepts it or words the refusal.
+    """
+    if type(info) is not ElementaryInfo:
+        return None
+    kind = info.record.kind
+    return bool if kind == "bool" else float if kind == "real" else int
+
+
 def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
     """A ``__setattr__`` that validates the value's kind and rejects unknown members."""
     validators: dict[str, Callable[[Any, str], None]] = {}
@@ -616,11 +629,24 @@ def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, A
             wheres[record.name] = record.where
     constants = {record.name: record.where for record in layout.fields if record.spec.constant}
     setter = object.__setattr__
+    # Per field: a value of the field's exact Python type is stored without a validator call.
+    fast = {
+        record.name: (accepted_type(record.info), validators[record.name], record.where, record.raw.__set__)
+        for record in layout.fields
+        if record.name in validators and record.name not in constants
+    }
 
     def __setattr__(self: Any, name: str, value: Any) -> None:
         refusal = self.__dict__.get("_iec_ro_")
         if refusal is not None:  # a view of another block's local / output, or of a CONSTANT
             raise AccessError(refusal)
+        spec = fast.get(name)
+        if spec is not None:
+            accepted, check, where, store = spec
+            if value.__class__ is not accepted:
+                check(value, where)
+            store(self, value)
+            return
         if name in constants:
             raise AccessError(f"{constants[name]} is CONSTANT and cannot be written")
         validate = validators.get(name)

@@ -294,7 +294,8 @@ def test_instances_are_independent() -> None:
 
 def test_two_views_of_one_nested_instance_share_the_section() -> None:
     cell = Cell()
-    first, second = cell.section, cell.section
+    # A second view of the same memory, through its address (reads of cell.section return one kept view).
+    first, second = cell.section, adr(cell.section).deref
     assert first is not second and first == second
     assert first.enter() is True
     assert second.enter() is False  # same thread, same section

@@ -1,0 +1,119 @@
+"""Reading a block member or an ARRAY OF FB element: one kept view, the same memory semantics.
+
+A member block (``jam : TON``) or an element of an ``ARRAY OF FB`` is read as a
+view of the holder's memory. The view is made at the first read and kept, so a
+scan does not build one per read; writing the member still copies memory and
+keeps the member's type, and a deleted block's views are not kept.
+"""
+
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, PlcException, Program, T, delete, method, new
+from iecoop.exceptions import ExceptionCode
+from iecoop.memory._core import CACHE_PREFIX
+from iecoop.stdlib import TON
+
+
+class Base(FunctionBlock):
+    n: INT = VAR_OUTPUT()
+
+    def body(self) -> None:
+        self.n += 1
+
+
+class Derived(Base):
+    def body(self) -> None:
+        self.n += 10
+
+
+class Holder(FunctionBlock):
+    go: BOOL = VAR_INPUT()
+    part: Base = VAR_INPUT()
+    timer: TON = VAR()
+
+    def body(self) -> None:
+        self.timer(IN=self.go, PT=T("20ms"))
+        self.part()
+
+
+class Cell(Program):
+    holders: ARRAY[Holder] = VAR(bounds=(1, 3))
+
+    def body(self) -> None:
+        for i in range(1, 4):
+            self.holders[i](go=True)
+
+    @method
+    def same_element_view(self) -> BOOL:
+        """The program's own reads of one element give one view."""
+        return self.holders[2] is self.holders[2] and self.holders[1] != self.holders[2]
+
+
+def test_two_reads_of_a_member_are_one_view_of_the_same_memory() -> None:
+    holder = Holder()
+    first, second = holder.timer, holder.timer
+    assert first is second and first == second
+    holder(go=True)
+    assert holder.timer.IN is True and first.IN is True
+    other = Holder()
+    assert other.timer != holder.timer  # another instance: another view, other memory
+
+
+def test_writing_a_member_copies_memory_and_keeps_its_type() -> None:
+    holder, source = Holder(), Derived()
+    view = holder.part
+    source()
+    holder.part = source
+    assert holder.part is view and holder.part is not source
+    assert view.n == 10
+    source()
+    assert source.n == 20 and view.n == 10  # a copy, not an alias of the source
+    holder()
+    assert type(holder.part) is Base and holder.part.n == 11  # still a Base: Base's body ran
+
+
+def test_array_of_fb_elements_are_kept_views_and_bounds_still_fault() -> None:
+    cell = Cell()
+    assert cell.same_element_view()
+    assert cell.holders[2] == cell.holders[2]  # read from outside (checked mode: a read-only view), same memory
+    for _ in range(3):
+        cell.body()
+    assert [cell.holders[i].part.n for i in range(1, 4)] == [3, 3, 3]
+    indexes: tuple[object, ...] = (0, 4, True, "1")
+    for index in indexes:
+        with pytest.raises(PlcException) as info:
+            _ = cell.holders[index]  # type: ignore[index]
+        assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+
+
+def test_a_deleted_block_does_not_keep_its_member_views() -> None:
+    p = new(Holder)
+    holder = p.deref
+    before = holder.timer
+    assert holder.timer is before
+    delete(p)
+    kept = object.__getattribute__(holder, "__dict__")
+    assert not [key for key in kept if key.startswith(CACHE_PREFIX)]  # no cached view survives the delete
+    for read in (lambda: holder.timer, lambda: p.deref):  # and the instance Python still holds faults
+        with pytest.raises(PlcException) as info:
+            read()
+        assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_copy_has_its_own_member_views() -> None:
+    holder = Holder()
+    kept = holder.timer
+    holder(go=True)
+    twin = copy.copy(holder)
+    assert twin.timer is not kept and twin.timer.IN is True  # the memory is copied, the views are not
+    twin(go=False)
+    assert [twin.timer.IN, holder.timer.IN] == [False, True]
+    cell = Cell()
+    cell.body()
+    other = copy.copy(cell.holders)
+    other[1](go=False)
+    assert [other[1].go, cell.holders[1].go] == [False, True]
