@@ -33,7 +33,7 @@ from iecoop.memory._core import (
     class_info,
     resolve_type,
 )
-from iecoop.st._emit_model import StExportError, annotation_info, return_info, type_text
+from iecoop.st._emit_model import StExportError, annotation_info, ident, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 
 __all__ = ["BodyWriter", "Scope", "literal"]
@@ -125,11 +125,13 @@ def literal(value: Any, info: TypeInfo | None = None) -> str:
 class Scope:
     """What a body's names mean: the class's variables and members, and module constants."""
 
-    def __init__(self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any]) -> None:
+    def __init__(self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any]) -> None:
         self.cls = cls
         self.fields = fields
         #: Module constants the bodies use, by name (emitted as a VAR_GLOBAL CONSTANT list).
         self.constants = constants
+        #: Module functions the bodies call, by name (emitted as FUNCTIONs).
+        self.functions = functions
 
 
 def _fields_of(cls: Any) -> dict[str, TypeInfo]:
@@ -238,6 +240,12 @@ class BodyWriter:
     # -- statements ----------------------------------------------------------
 
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
+        start = len(self.lines)
+        self._block(body, depth, top)
+        if not top and len(self.lines) == start:
+            self.emit(depth, ";")  # ST needs a statement where Python had only pass / a docstring
+
+    def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
             mark = len(self.lines)
@@ -484,7 +492,7 @@ class BodyWriter:
         return text
 
     def name_text(self, name: str) -> str:
-        return self.rename.get(name, name)
+        return self.rename.get(name, ident(name))
 
     def expr(self, node: ast.expr, need: int = 0) -> tuple[str, int]:
         text, prec = self._expr(node)
@@ -590,7 +598,7 @@ class BodyWriter:
         if name in self.rename:
             return self.rename[name]
         if name in self.locals or name in self.params:
-            return name
+            return ident(name)
         if name == "self":
             return "THIS^"
         if name in ("True", "False"):
@@ -607,6 +615,15 @@ class BodyWriter:
                 return name
             if isinstance(value, type):
                 return value.__name__
+            if getattr(type(value), "_iec_kind_", None) == "gvl":
+                return type(value).__name__
+            if typing.get_origin(value) is typing.Annotated:
+                from iecoop.memory._core import resolve_type as _resolve
+
+                try:
+                    return type_text(_resolve(value, name))
+                except Exception:
+                    pass
         self.fail(node, f"the name {name!r}")
 
     def attribute(self, node: ast.Attribute) -> str:
@@ -614,8 +631,8 @@ class BodyWriter:
         attr = node.attr
         if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
             if attr in self.locals or attr in self.params or attr in self.rename.values() or attr == self.st_name:
-                return f"THIS^.{attr}"
-            return attr
+                return f"THIS^.{ident(attr)}"
+            return ident(attr)
         if attr == "deref":
             return f"{self.expr(base, _ATOM)[0]}^"
         if isinstance(base, ast.Name) and base.id in self.catch_vars and attr == "code":
@@ -629,7 +646,10 @@ class BodyWriter:
             self.fail(node, f"the attribute {ast.unparse(node)}")
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
             return f"SUPER^.{attr}"
-        return f"{self.expr(base, _ATOM)[0]}.{attr}"
+        if isinstance(base, ast.Call):
+            # TwinCAT reads a member of a returned REFERENCE, but the grammar blark parses does not.
+            self.fail(node, "a member of a call's result")
+        return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
 
     def constant_object(self, node: ast.expr | None) -> Any:
         """The module-level object a name or dotted name designates (an enum, an interface), or None."""
@@ -698,6 +718,9 @@ class BodyWriter:
             return self.named_call(node, func.id)
         if isinstance(func, ast.Attribute) and self.constant_object(func.value) is not None and isinstance(self.constant_object(func.value), type(inspect)):
             return self.named_call(node, func.attr)
+        if isinstance(func, ast.Attribute) and func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
+            # Pointer.typed(T): ST converts between POINTER types on assignment.
+            return self.expr(func.value)
         callee = self.expr(func, _ATOM)[0]
         return f"{callee}({self.arguments(node)})", _ATOM
 
@@ -706,7 +729,7 @@ class BodyWriter:
         for kw in node.keywords:
             if kw.arg is None:
                 self.fail(node, "**arguments")
-            parts.append(f"{kw.arg} := {self.expr(kw.value)[0]}")
+            parts.append(f"{ident(kw.arg)} := {self.expr(kw.value)[0]}")
         return ", ".join(parts)
 
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
@@ -756,7 +779,33 @@ class BodyWriter:
         if library and callable(value) and name.isupper() or library and callable(value) and name[:1].isupper() and "_TO_" in name:
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
+        if name == "len" and value is None and len(args) == 1 and isinstance(self.typeof(args[0]), StringInfo):
+            return f"LEN({self.expr(args[0])[0]})", _ATOM
+        if self.function_signature(value) is not None:
+            known = self.scope.functions.get(name, value)
+            if known is not value:
+                raise StExportError(f"{self.where_text(node)}: two functions named {name} are called")
+            self.scope.functions[name] = value
+            return f"{ident(name)}({self.arguments(node)})", _ATOM
         self.fail(node, f"a call of {name}()")
+
+    def function_signature(self, value: Any) -> tuple[list[tuple[str, TypeInfo, Any]], TypeInfo | None] | None:
+        """Inputs and result of a module function that can be an ST FUNCTION, or None."""
+        if not inspect.isfunction(value):
+            return None
+        module = getattr(value, "__module__", "") or ""
+        if module == "iecoop" or module.startswith("iecoop.") or value.__name__.startswith("<"):
+            return None
+        from iecoop.st._emit_model import function_parameters
+
+        try:
+            inputs = function_parameters(value, value.__qualname__)
+            result = return_info(value, value.__qualname__, None)
+        except StExportError:
+            return None
+        if result is None:
+            return None
+        return inputs, result
 
     # -- types ---------------------------------------------------------------
 
@@ -886,6 +935,11 @@ class BodyWriter:
             if name == "adr" and node.args:
                 target = self._typeof(node.args[0]) if len(node.args) == 1 else None
                 return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
+            if name == "len":
+                return _DINT
+            signature = self.function_signature(value)
+            if signature is not None:
+                return signature[1]
             if callable(value) and (getattr(value, "__module__", "") or "").startswith("iecoop"):
                 hints = typing.get_type_hints(value) if not isinstance(value, type) else {}
                 ret = hints.get("return")

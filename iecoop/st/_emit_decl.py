@@ -24,6 +24,7 @@ from iecoop.st._emit_model import (
     MemberDecl,
     StExportError,
     access_words,
+    ident,
     alias_target,
     enum_base,
     enum_members,
@@ -62,10 +63,12 @@ class Unit:
     implementation: str = ""
     parts: list[Part] = dataclasses.field(default_factory=list)
     meta: ClassMeta | None = None
+    #: A FUNCTION's result, inputs and locals.
+    signature: tuple[TypeInfo, tuple[tuple[str, TypeInfo, Any], ...], dict[str, TypeInfo | str]] | None = None
 
     @property
     def word(self) -> str:
-        return {"fb": "FUNCTION_BLOCK", "program": "PROGRAM", "interface": "INTERFACE"}.get(self.kind, "TYPE")
+        return {"fb": "FUNCTION_BLOCK", "program": "PROGRAM", "interface": "INTERFACE", "function": "FUNCTION"}.get(self.kind, "TYPE")
 
 
 # ---------------------------------------------------------------------------
@@ -76,6 +79,8 @@ class Unit:
 def initial_text(info: TypeInfo, value: Any, where: str) -> str:
     """The ``:= ...`` text of an initial value (a list for an ARRAY, a dict for a STRUCT)."""
     if isinstance(info, ArrayInfo):
+        if type(value) is info.ctype:
+            value = list(value)
         if not isinstance(value, (list, tuple)):
             raise StExportError(f"{where}: an ARRAY initial value must be a list")
         return "[" + ", ".join(initial_text(info.elem, v, where) for v in value) + "]"
@@ -96,7 +101,8 @@ def initial_text(info: TypeInfo, value: Any, where: str) -> str:
 
 def _default_initial(info: TypeInfo, value: Any) -> bool:
     """Whether an initial value is the type's zero (left out, as ST code usually does)."""
-    if value is MISSING:
+    if value is MISSING or getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+        # A block instance as initial value is the declaration itself: FB instances have no literal.
         return True
     if isinstance(value, enum.Enum):
         return False
@@ -107,10 +113,26 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
     return value is None
 
 
+def _argument(value: Any, where: str) -> str:
+    """An FB_init argument: a literal, or the global instance it designates."""
+    if getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+        from iecoop.gvl import global_lists
+
+        for instance in global_lists().values():
+            for record in type(instance)._iec_layout_.fields:
+                if isinstance(record.info, AggregateInfo) and getattr(instance, record.name) == value:
+                    return ident(record.name)
+        raise StExportError(f"{where}: an FB_init argument that is a block instance must be a global one")
+    try:
+        return literal(value)
+    except ValueError as exc:
+        raise StExportError(f"{where}: {exc}") from None
+
+
 def variable_line(name: str, info: TypeInfo, initial: Any, where: str, fb_init: Any = None) -> str:
-    text = f"{name} : {type_text(info)}"
+    text = f"{ident(name)} : {type_text(info)}"
     if fb_init and isinstance(fb_init, Mapping):
-        args = ", ".join(f"{k} := {literal(v)}" for k, v in fb_init.items())
+        args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
         text += f"({args})"
     elif fb_init:
         raise StExportError(f"{where}: FB_init inputs per ARRAY element have no declaration form the writer knows")
@@ -177,7 +199,7 @@ def _local_lines(writer: BodyWriter) -> list[str]:
         return []
     lines = ["VAR"]
     for name, info in writer.locals.items():
-        lines.append(f"    {name} : {info if isinstance(info, str) else type_text(info)};")
+        lines.append(f"    {ident(name)} : {info if isinstance(info, str) else type_text(info)};")
     lines.append("END_VAR")
     return lines
 
@@ -226,8 +248,9 @@ class _Writer:
         st_name = LIFECYCLE[name]
         where = f"{meta.name}.{st_name}"
         inputs = parameters(func, where, meta.cls)
-        writer = self.body(func, st_name=st_name, result=None, params={n: i for n, i, _ in inputs}, rename=_LIFECYCLE_INPUTS)
         from iecoop.st._emit_body import _BOOL
+
+        writer = self.body(func, st_name=st_name, result=_BOOL, params={n: i for n, i, _ in inputs}, rename=_LIFECYCLE_INPUTS)
 
         decl = _inputs_lines(inputs, where, _LIFECYCLE_INPUTS) + _local_lines(writer)
         renamed = tuple((_LIFECYCLE_INPUTS.get(n, n), i, d) for n, i, d in inputs)
@@ -293,12 +316,23 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
                 temps[0] = "VAR_TEMP"
         decl_lines += sections(meta.fields, name) + temps
         for lifecycle_name, func in meta.lifecycle:
-            parts.append(writer.lifecycle(meta, lifecycle_name, func))
+            try:
+                parts.append(writer.lifecycle(meta, lifecycle_name, func))
+            except StExportError as exc:
+                if not writer.lenient:
+                    raise
+                writer.untranslated.append(f"{meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
     for member in meta.members:
-        if member.kind == "method":
-            parts.append(writer.method(meta, member, interface))
-        else:
-            parts.extend(writer.accessors(meta, member, interface))
+        try:
+            if member.kind == "method":
+                parts.append(writer.method(meta, member, interface))
+            else:
+                parts.extend(writer.accessors(meta, member, interface))
+        except StExportError as exc:
+            if not writer.lenient:
+                raise
+            # A Python-only helper (its signature has no IEC type): left out, and said so.
+            writer.untranslated.append(f"{meta.name}.{member.name}: member left out: {exc}")
     return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta)
 
 
@@ -310,9 +344,24 @@ def _iface_info(cls: Any) -> TypeInfo:
     return info
 
 
+def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
+    from iecoop.st._emit_model import function_parameters
+
+    inputs = function_parameters(func, name)
+    result = return_info(func, name, None)
+    assert result is not None
+    body = writer.body(func, st_name=ident(name), result=result, params={n: i for n, i, _ in inputs})
+    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(inputs, name, {}), *_local_lines(body)]
+    return Unit(
+        "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
+        signature=(result, tuple(inputs), dict(body.locals)),
+    )
+
+
 def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Unit], list[str]]:
     """Every object to export, with a GVL of the module constants the bodies use, and what was not translated."""
     constants: dict[str, Any] = {}
+    functions: dict[str, Any] = {}
     untranslated: list[str] = []
     found: list[Unit] = []
     for meta in metas:
@@ -323,8 +372,16 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         else:
             from iecoop.st._emit_body import _fields_of
 
-            scope = Scope(meta.cls, _fields_of(meta.cls), constants)
+            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
+    done: set[str] = set()
+    while set(functions) - done:
+        for fname in sorted(set(functions) - done):
+            done.add(fname)
+            scope = Scope(None, {}, constants, functions)
+            unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
+            found.insert(index, unit)
     if constants:
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
@@ -341,7 +398,7 @@ def flat_text(unit: Unit) -> str:
     out: list[str] = []
     if unit.kind in ("enum", "alias", "struct", "union", "gvl"):
         return unit.declaration
-    end = {"fb": "END_FUNCTION_BLOCK", "program": "END_PROGRAM", "interface": "END_INTERFACE"}[unit.kind]
+    end = {"fb": "END_FUNCTION_BLOCK", "program": "END_PROGRAM", "interface": "END_INTERFACE", "function": "END_FUNCTION"}[unit.kind]
     out.append(unit.declaration.rstrip("\n"))
     if unit.implementation:
         out.append(unit.implementation)

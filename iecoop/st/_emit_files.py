@@ -34,8 +34,8 @@ from iecoop.st._emit_model import FieldDecl, enum_base, enum_members, type_text
 __all__ = ["guid", "plcopen_project", "twincat_file"]
 
 _NAMESPACE = uuid.UUID("6f1c2a1e-5b0e-4c7e-9d8a-1e0c0b7a3f11")
-_EXTENSIONS = {"fb": "TcPOU", "program": "TcPOU", "interface": "TcIO", "gvl": "TcGVL"}
-_TAGS = {"fb": "POU", "program": "POU", "interface": "Itf", "gvl": "GVL"}
+_EXTENSIONS = {"fb": "TcPOU", "program": "TcPOU", "function": "TcPOU", "interface": "TcIO", "gvl": "TcGVL"}
+_TAGS = {"fb": "POU", "program": "POU", "function": "POU", "interface": "Itf", "gvl": "GVL"}
 _NL = "\r\n"
 
 
@@ -295,6 +295,25 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
             _add_data(data_type, "union")
 
 
+def _function_interface(interface: ET.Element, unit: Unit) -> None:
+    """A FUNCTION's result, inputs and locals, read back from its declaration text."""
+    assert unit.signature is not None
+    result, inputs, temps = unit.signature
+    _type(_sub(interface, "returnType"), result)
+    if inputs:
+        block = _sub(interface, "inputVars")
+        for name, info, default in inputs:
+            _variable(block, name, info, default, f"{unit.name}.{name}")
+    if temps:
+        block = _sub(interface, "tempVars")
+        for name, local in temps.items():
+            variable = _sub(block, "variable", name=name)
+            if isinstance(local, str):
+                _sub(_sub(variable, "type"), "derived", name=local)
+            else:
+                _type(_sub(variable, "type"), local)
+
+
 def plcopen_project(name: str, units: Sequence[Unit]) -> str:
     """One PLCopen XML (TC6 2.01) project holding every unit."""
     ET.register_namespace("", TC6)
@@ -320,10 +339,13 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
         elif unit.kind == "interface":
             interfaces.append(unit)
         else:
-            pou = _sub(pous, "pou", name=unit.name, pouType="program" if unit.kind == "program" else "functionBlock")
+            pou_type = {"program": "program", "function": "function"}.get(unit.kind, "functionBlock")
+            pou = _sub(pous, "pou", name=unit.name, pouType=pou_type)
             interface = _sub(pou, "interface")
-            assert unit.meta is not None
-            _sections(interface, [f for f in unit.meta.fields if f.section != "VAR_INST"], unit.name)
+            if unit.meta is not None:
+                _sections(interface, [f for f in unit.meta.fields if f.section != "VAR_INST"], unit.name)
+            else:
+                _function_interface(interface, unit)
             _st_body(pou, unit.implementation)
             _members(pou, unit, True)
             _inheritance(pou, unit)

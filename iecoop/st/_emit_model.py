@@ -31,7 +31,7 @@ from iecoop.memory._core import (
 from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
 from iecoop.types import elementary_type
 
-__all__ = ["ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text"]
+__all__ = ["RESERVED", "ident", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text"]
 
 
 class StExportError(DefinitionError):
@@ -209,21 +209,41 @@ def annotation_info(annotation: Any, func: Any, where: str, owner: Any = None) -
             raise StExportError(f"{where}: cannot resolve the annotation {annotation!r} ({exc})") from None
     if annotation is None or annotation is type(None):
         return None
-    if isinstance(annotation, type) and issubclass(annotation, bool):
-        annotation = _BOOL
+    if isinstance(annotation, types.UnionType) or typing.get_origin(annotation) is typing.Union:
+        # `IValve | None`: an interface or pointer input that may be 0 is just that type in ST.
+        options = [a for a in typing.get_args(annotation) if a is not type(None)]
+        if len(options) == 1:
+            annotation = options[0]
+    annotation = _PLAIN.get(annotation, annotation)
     try:
         return resolve_type(annotation, where)
     except DefinitionError as exc:
         raise StExportError(str(exc) if str(exc).startswith(where) else f"{where}: {exc}") from None
 
 
-def _bool_annotation() -> Any:
-    from iecoop.types import BOOL
+def _plain_annotations() -> dict[Any, Any]:
+    from iecoop.types import BOOL, DINT, LREAL, STRING
 
-    return BOOL
+    return {bool: BOOL, int: DINT, float: LREAL, str: STRING}
 
 
-_BOOL = _bool_annotation()
+#: Plain Python annotations and the IEC type a value of them is in ST.
+_PLAIN = _plain_annotations()
+
+#: ST keywords a Python name may spell; such a name gets a trailing underscore in ST.
+RESERVED = frozenset("""
+ABSTRACT ACTION AND AND_THEN ARRAY AT BY CASE CONSTANT CONTINUE DO ELSE ELSIF END_ACTION END_CASE END_FOR
+END_FUNCTION END_FUNCTION_BLOCK END_IF END_INTERFACE END_METHOD END_PROGRAM END_PROPERTY END_REPEAT END_STRUCT
+END_TYPE END_UNION END_VAR END_WHILE EXIT EXTENDS FINAL FOR FUNCTION FUNCTION_BLOCK IF IMPLEMENTS INTERFACE
+INTERNAL JMP METHOD MOD NOT OF ON OR OR_ELSE PERSISTENT POINTER PRIVATE PROGRAM PROPERTY PROTECTED PUBLIC
+READ_ONLY READ_WRITE REFERENCE REPEAT RETAIN RETURN STRUCT SUPER THEN THIS TO TYPE UNION UNTIL VAR VAR_ACCESS
+VAR_CONFIG VAR_EXTERNAL VAR_GLOBAL VAR_INPUT VAR_INST VAR_IN_OUT VAR_OUTPUT VAR_STAT VAR_TEMP WHILE XOR
+""".split())
+
+
+def ident(name: str) -> str:
+    """The ST identifier of a Python name: itself, or with a trailing underscore if it spells a keyword."""
+    return f"{name}_" if name.upper() in RESERVED else name
 
 
 def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, Any]]:
@@ -239,6 +259,19 @@ def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, A
             raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
         default = MISSING if param.default is inspect.Parameter.empty else param.default
         found.append((param.name, info, default))
+    return found
+
+
+def function_parameters(func: Any, where: str) -> list[tuple[str, TypeInfo, Any]]:
+    """(name, type, default) of each input of a module function (no ``self``)."""
+    found: list[tuple[str, TypeInfo, Any]] = []
+    for param in inspect.signature(func).parameters.values():
+        if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
+            raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
+        info = annotation_info(param.annotation, func, f"{where}.{param.name}")
+        if info is None:
+            raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
+        found.append((param.name, info, MISSING if param.default is inspect.Parameter.empty else param.default))
     return found
 
 
