@@ -242,7 +242,7 @@ class BodyWriter:
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
         start = len(self.lines)
         self._block(body, depth, top)
-        if not top and len(self.lines) == start:
+        if not top and all(line.lstrip().startswith("(*") for line in self.lines[start:]):
             self.emit(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
