@@ -255,7 +255,7 @@ class BodyWriter:
             except _Untranslated as exc:
                 del self.lines[mark:]
                 self.locals, self.references = saved
-                line = self.first_line + exc.node.lineno - 1
+                line = self.first_line + getattr(exc.node, "lineno", 1) - 1
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
                     raise StExportError(message) from None
@@ -318,8 +318,6 @@ class BodyWriter:
             if self.result is None:
                 self.fail(node, "a return value in a block without a result")
             value = self.expr(node.value)[0]
-            if isinstance(self.result, (AggregateInfo,)) and False:
-                pass
             self.emit(depth, f"{self.st_name} := {value};")
         if not last:
             self.emit(depth, "RETURN;")
@@ -535,8 +533,8 @@ class BodyWriter:
                 return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
         if isinstance(node, ast.BoolOp):
             word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
-            parts = [self.condition_operand(v, prec) for v in node.values]
-            return f" {word} ".join(parts), prec
+            operands = [self.condition_operand(v, prec) for v in node.values]
+            return f" {word} ".join(operands), prec
         if isinstance(node, ast.Compare):
             return self.compare(node)
         if isinstance(node, ast.IfExp):

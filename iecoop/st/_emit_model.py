@@ -38,6 +38,10 @@ class StExportError(DefinitionError):
     """A class or a statement has no Structured Text form the writer knows; the message names where and what."""
 
 
+# Documented, and imported by users, from the public module.
+StExportError.__module__ = "iecoop.st.export"
+
+
 #: Kinds of declared classes, in the order a project lists them (types first, code last).
 KINDS = ("enum", "alias", "struct", "union", "gvl", "interface", "fb", "program")
 

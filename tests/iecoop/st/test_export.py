@@ -40,7 +40,8 @@ class Point(Struct):
 
 class IPump(Interface):
     @method
-    def start(self, speed: REAL) -> BOOL: ...
+    def start(self, speed: REAL) -> BOOL:
+        raise NotImplementedError
 
     @prop
     def running(self) -> BOOL:
