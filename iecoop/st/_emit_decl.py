@@ -232,7 +232,9 @@ class _Writer:
         where = f"{meta.name}.{member.name}"
         inputs = parameters(func, where, meta.cls)
         result = return_info(func, where, meta.cls)
-        header = f"METHOD {access_words(member.flags)} {member.name}" + (f" : {type_text(result)}" if result is not None else "")
+        # Interface prototypes carry no access specifier (they are PUBLIC by definition).
+        words = "" if interface else f"{access_words(member.flags)} "
+        header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
         decl = _inputs_lines(inputs, where, {})
         implementation = ""
@@ -261,7 +263,8 @@ class _Writer:
         result = return_info(member.getter, where, meta.cls)
         if result is None:
             raise StExportError(f"{where}: a PROPERTY needs a type (annotate the getter's return)")
-        header = f"PROPERTY {access_words(member.flags)} {member.name} : {type_text(result)}"
+        words = "" if interface else f"{access_words(member.flags)} "
+        header = f"PROPERTY {words}{member.name} : {type_text(result)}"
         parts: list[Part] = []
         for kind, func, flags in (("get", member.getter, member.get_flags), ("set", member.setter, member.set_flags)):
             if func is None:

@@ -190,7 +190,8 @@ def test_types_and_interface() -> None:
     text = dump([Mode, Point, IPump])
     assert "TYPE Mode :\n(\n    AUTO := 0,\n    MANUAL := 1\n) INT;\nEND_TYPE\n" in text
     assert "TYPE Point :\nSTRUCT\n    x : REAL := 1.5;\n    label : STRING(12) := 'p';\nEND_STRUCT\nEND_TYPE\n" in text
-    assert "INTERFACE IPump\nEND_INTERFACE\n\nMETHOD PUBLIC start : BOOL\nVAR_INPUT\n    speed : REAL;\nEND_VAR\nEND_METHOD\n" in text
+    assert "INTERFACE IPump\nEND_INTERFACE\n\nMETHOD start : BOOL\nVAR_INPUT\n    speed : REAL;\nEND_VAR\nEND_METHOD\n" in text
+    assert "// Get\nPROPERTY running : BOOL\nVAR\nEND_VAR\nEND_PROPERTY\n" in text
 
 
 def test_program_calls_references_and_try() -> None:
