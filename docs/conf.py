@@ -37,6 +37,7 @@ nitpick_ignore = [
     ("py:class", "collections.abc.Mapping"),
     ("py:class", "collections.abc.Sequence"),
     ("py:class", "os.PathLike"),
+    ("py:class", "pathlib.Path"),
     ("py:class", "types.ModuleType"),
     ("py:class", "hypothesis.strategies.SearchStrategy"),
     ("py:class", "_pytest.config.Config"),

@@ -1,0 +1,1009 @@
+"""Python bodies to Structured Text statements: the subset iecoop code is written in.
+
+A POU body, a METHOD or a property accessor is read from its source
+(``inspect.getsource`` + ``ast``) and translated statement by statement.
+Types of locals come from their annotation or from the expression that first
+assigns them. Anything outside the subset raises :class:`StExportError`
+naming the file, the line and the construct, or, when the caller asks for
+it, becomes an ST comment that says the same.
+"""
+
+from __future__ import annotations
+
+import ast
+import enum
+import inspect
+import textwrap
+import typing
+from collections.abc import Callable, Iterator
+from typing import Any
+
+from iecoop.exceptions import ExceptionCode
+from iecoop.literals import D, T, format_date, format_ltime, format_time, parse_ltime
+from iecoop.memory._core import (
+    AggregateInfo,
+    ArrayInfo,
+    ElementaryInfo,
+    EnumInfo,
+    InterfaceInfo,
+    PointerInfo,
+    ReferenceInfo,
+    StringInfo,
+    TypeInfo,
+    class_info,
+    resolve_type,
+)
+from iecoop.st._emit_model import StExportError, annotation_info, ident, return_info, type_text
+from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
+
+__all__ = ["BodyWriter", "Scope", "literal"]
+
+_BOOL = resolve_type(BOOL, "BOOL")
+_DINT = resolve_type(DINT, "DINT")
+_LREAL = resolve_type(LREAL, "LREAL")
+_TIME = resolve_type(TIME, "TIME")
+_LTIME = resolve_type(LTIME, "LTIME")
+_STRING = resolve_type(STRING, "STRING")
+
+#: ST operator precedence, loosest first (parentheses are added where a child binds looser).
+_OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY, _ATOM = range(1, 10)
+
+_BINOPS: dict[type, tuple[str, int]] = {
+    ast.Add: ("+", _ADD), ast.Sub: ("-", _ADD), ast.Mult: ("*", _MUL), ast.Div: ("/", _MUL),
+    ast.FloorDiv: ("/", _MUL), ast.Mod: ("MOD", _MUL), ast.BitAnd: ("AND", _AND), ast.BitOr: ("OR", _OR),
+    ast.BitXor: ("XOR", _XOR),
+}
+_COMPARE: dict[type, tuple[str, int]] = {
+    ast.Eq: ("=", _EQ), ast.NotEq: ("<>", _EQ), ast.Lt: ("<", _CMP), ast.LtE: ("<=", _CMP),
+    ast.Gt: (">", _CMP), ast.GtE: (">=", _CMP), ast.Is: ("=", _EQ), ast.IsNot: ("<>", _EQ),
+}
+#: Python builtins and their IEC standard functions.
+_BUILTINS = {"min": "MIN", "max": "MAX", "abs": "ABS"}
+#: iecoop operators with an ST operator of another spelling.
+_OPERATORS = {
+    "adr": "ADR", "sizeof": "SIZEOF", "memcpy": "MEMCPY", "memset": "MEMSET", "memcmp": "MEMCMP",
+    "new": "__NEW", "delete": "__DELETE", "test_and_set": "TestAndSet",
+}
+
+
+def _is_real(info: TypeInfo | None) -> bool:
+    return isinstance(info, ElementaryInfo) and info.record.kind == "real"
+
+
+def _is_integer(info: TypeInfo | None) -> bool:
+    return isinstance(info, (ElementaryInfo, EnumInfo)) and (
+        isinstance(info, EnumInfo) or info.record.kind in ("signed", "unsigned")
+    )
+
+
+def _is_bool(info: TypeInfo | None) -> bool:
+    return isinstance(info, ElementaryInfo) and info.record.kind == "bool"
+
+
+def _real_text(value: float) -> str:
+    text = repr(float(value))
+    if "inf" in text or "nan" in text:
+        raise ValueError(f"{value!r} has no ST literal")
+    mantissa, _, exponent = text.partition("e")
+    if "." not in mantissa:
+        mantissa += ".0"
+    return f"{mantissa}E{exponent}" if exponent else mantissa
+
+
+def _string_text(value: str) -> str:
+    escaped = value.replace("$", "$$").replace("'", "$'").replace("\n", "$N").replace("\t", "$T").replace("\r", "$R")
+    return f"'{escaped}'"
+
+
+def literal(value: Any, info: TypeInfo | None = None) -> str:
+    """A Python value as an ST literal of type ``info`` (TIME values as ``T#...``)."""
+    if isinstance(value, enum.Enum):
+        return f"{type(value).__name__}.{value.name}"
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
+    if isinstance(info, ElementaryInfo) and isinstance(value, int):
+        kind, name = info.record.kind, info.record.name
+        if name == "TIME":
+            return format_time(value).upper()
+        if name == "LTIME":
+            return format_ltime(value).upper()
+        if name == "DATE":
+            return format_date(value)
+        if kind == "real":
+            return _real_text(value)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return _real_text(value)
+    if isinstance(value, str):
+        return _string_text(value) if not (isinstance(info, StringInfo) and info.record.name == "WSTRING") else '"' + value.replace("$", "$$").replace('"', '$"') + '"'
+    if value is None:
+        return "0"
+    raise ValueError(f"{value!r} has no ST literal")
+
+
+class Scope:
+    """What a body's names mean: the class's variables and members, and module constants."""
+
+    def __init__(self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any]) -> None:
+        self.cls = cls
+        self.fields = fields
+        #: Module constants the bodies use, by name (emitted as a VAR_GLOBAL CONSTANT list).
+        self.constants = constants
+        #: Module functions the bodies call, by name (emitted as FUNCTIONs).
+        self.functions = functions
+
+
+def _fields_of(cls: Any) -> dict[str, TypeInfo]:
+    """Every variable of a class (inherited ones, VAR_STAT and VAR_EXTERNAL included) by name."""
+    from iecoop.st._emit_model import metadata
+
+    found: dict[str, TypeInfo] = {}
+    for klass in reversed(getattr(cls, "__mro__", ())):
+        if getattr(klass, "_iec_kind_", None) not in ("fb", "program", "struct", "union", "gvl") or "_iec_base_class_" in klass.__dict__:
+            continue
+        for field in metadata(klass).fields:
+            info = field.info.target if field.section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo) else field.info
+            found[field.name] = info
+    return found
+
+
+def _member_function(cls: Any, name: str) -> tuple[Any, Any] | None:
+    """(function, owner) of METHOD / PROPERTY ``name`` (a property gives its getter)."""
+    for klass in getattr(cls, "__mro__", ()):
+        value = klass.__dict__.get(name)
+        if value is None:
+            continue
+        if isinstance(value, property):
+            return (inspect.unwrap(value.fget) if value.fget is not None else None), klass
+        if inspect.isfunction(value):
+            return inspect.unwrap(value), klass
+        return None
+    return None
+
+
+def _class_of(info: TypeInfo | None) -> Any:
+    if isinstance(info, AggregateInfo):
+        return info.cls
+    if isinstance(info, InterfaceInfo):
+        return info.iface
+    return None
+
+
+class _Untranslated(Exception):
+    def __init__(self, node: ast.AST, what: str) -> None:
+        super().__init__(what)
+        self.node = node
+        self.what = what
+
+
+class BodyWriter:
+    """Translate one function of a POU into ST lines and the locals they need."""
+
+    def __init__(
+        self,
+        scope: Scope,
+        func: Callable[..., Any],
+        *,
+        st_name: str,
+        result: TypeInfo | None = None,
+        params: dict[str, TypeInfo] | None = None,
+        rename: dict[str, str] | None = None,
+        lenient: bool = False,
+    ) -> None:
+        self.scope = scope
+        self.func = func
+        self.st_name = st_name
+        self.result = result
+        self.params = dict(params or {})
+        self.rename = dict(rename or {})
+        self.lenient = lenient
+        self.locals: dict[str, TypeInfo | str] = {}
+        self.references: set[str] = set()
+        self.catch_vars: set[str] = set()
+        self.fields = _fields_of(scope.cls)
+        self.globals = getattr(func, "__globals__", {})
+        self.filename = inspect.getsourcefile(func) or "<unknown>"
+        self.lines: list[str] = []
+        self.first_line = func.__code__.co_firstlineno
+        #: Statements that became comments (lenient mode): (line, construct).
+        self.untranslated: list[tuple[int, str]] = []
+
+    # -- entry point ---------------------------------------------------------
+
+    def translate(self) -> list[str]:
+        try:
+            source = textwrap.dedent(inspect.getsource(self.func))
+        except (OSError, TypeError) as exc:
+            raise StExportError(f"{self.where_text()}: the source of {self.func.__qualname__} is not available ({exc})") from None
+        tree = ast.parse(source)
+        node = tree.body[0]
+        if not isinstance(node, ast.FunctionDef):
+            raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
+        self.source_lines = source.splitlines()
+        body = list(node.body)
+        if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+            body = body[1:]
+        if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
+            body = []
+        # A final `return x` needs no RETURN after the result assignment.
+        self.block(body, 0, top=True)
+        return self.lines
+
+    def where_text(self, node: ast.AST | None = None) -> str:
+        line = self.first_line + (getattr(node, "lineno", 1) - 1)
+        return f"{self.filename}:{line}"
+
+    def fail(self, node: ast.AST, what: str) -> typing.NoReturn:
+        raise _Untranslated(node, what)
+
+    # -- statements ----------------------------------------------------------
+
+    def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
+        start = len(self.lines)
+        self._block(body, depth, top)
+        if not top and all(line.lstrip().startswith("(*") for line in self.lines[start:]):
+            self.emit(depth, ";")  # ST needs a statement where Python had only pass / a docstring
+
+    def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
+        for i, stmt in enumerate(body):
+            last = top and i == len(body) - 1
+            mark = len(self.lines)
+            saved = (dict(self.locals), set(self.references))
+            try:
+                self.statement(stmt, depth, last)
+            except _Untranslated as exc:
+                del self.lines[mark:]
+                self.locals, self.references = saved
+                line = self.first_line + getattr(exc.node, "lineno", 1) - 1
+                message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
+                if not self.lenient:
+                    raise StExportError(message) from None
+                self.untranslated.append((line, exc.what))
+                text = " ".join(
+                    part.strip() for part in self.source_lines[stmt.lineno - 1 : (stmt.end_lineno or stmt.lineno)]
+                )
+                text = text.replace("(*", "( *").replace("*)", "* )")
+                self.emit(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
+
+    def emit(self, depth: int, text: str) -> None:
+        self.lines.append("    " * depth + text)
+
+    def statement(self, node: ast.stmt, depth: int, last: bool) -> None:
+        if isinstance(node, ast.Pass) or (isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)):
+            return
+        if isinstance(node, ast.Expr):
+            self.call_statement(node.value, depth)
+        elif isinstance(node, ast.Assign):
+            self.assign(node, depth)
+        elif isinstance(node, ast.AnnAssign):
+            if not isinstance(node.target, ast.Name):
+                self.fail(node, "an annotated assignment to an attribute")
+            info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
+            if info is None:
+                self.fail(node, "a local annotated None")
+            self.declare(node.target.id, info, node)
+            if node.value is not None:
+                self.assign_one(node.target, node.value, depth, node)
+        elif isinstance(node, ast.AugAssign):
+            target = self.target(node.target)
+            op = _BINOPS.get(type(node.op))
+            if op is None:
+                self.fail(node, f"the operator {type(node.op).__name__}=")
+            value = self.binop(ast.BinOp(node.target, node.op, node.value), node)[0]
+            self.emit(depth, f"{target} := {value};")
+        elif isinstance(node, ast.If):
+            self.if_statement(node, depth)
+        elif isinstance(node, ast.For):
+            self.for_statement(node, depth)
+        elif isinstance(node, ast.While):
+            if node.orelse:
+                self.fail(node, "while ... else")
+            self.emit(depth, f"WHILE {self.condition(node.test)} DO")
+            self.block(node.body, depth + 1)
+            self.emit(depth, "END_WHILE")
+        elif isinstance(node, ast.Break):
+            self.emit(depth, "EXIT;")
+        elif isinstance(node, ast.Continue):
+            self.emit(depth, "CONTINUE;")
+        elif isinstance(node, ast.Return):
+            self.return_statement(node, depth, last)
+        elif isinstance(node, ast.With):
+            self.with_statement(node, depth)
+        else:
+            self.fail(node, _describe(node))
+
+    def return_statement(self, node: ast.Return, depth: int, last: bool) -> None:
+        if node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
+            if self.result is None:
+                self.fail(node, "a return value in a block without a result")
+            value = self.expr(node.value)[0]
+            self.emit(depth, f"{self.st_name} := {value};")
+        if not last:
+            self.emit(depth, "RETURN;")
+
+    def if_statement(self, node: ast.If, depth: int) -> None:
+        self.emit(depth, f"IF {self.condition(node.test)} THEN")
+        self.block(node.body, depth + 1)
+        orelse = node.orelse
+        while len(orelse) == 1 and isinstance(orelse[0], ast.If):
+            branch = orelse[0]
+            self.emit(depth, f"ELSIF {self.condition(branch.test)} THEN")
+            self.block(branch.body, depth + 1)
+            orelse = branch.orelse
+        if orelse:
+            self.emit(depth, "ELSE")
+            self.block(orelse, depth + 1)
+        self.emit(depth, "END_IF")
+
+    def for_statement(self, node: ast.For, depth: int) -> None:
+        if node.orelse:
+            self.fail(node, "for ... else")
+        it = node.iter
+        if not (isinstance(node.target, ast.Name) and isinstance(it, ast.Call) and _is_name(it.func, "range") and not it.keywords):
+            self.fail(node, "a for loop over something other than range()")
+        args = it.args
+        if not 1 <= len(args) <= 3:
+            self.fail(node, "range() with no argument")
+        start = args[0] if len(args) > 1 else ast.Constant(0)
+        stop = args[1] if len(args) > 1 else args[0]
+        step = 1
+        if len(args) == 3:
+            value = _constant_int(args[2])
+            if value is None or value == 0:
+                self.fail(node, "a range() step that is not a constant integer")
+            step = value
+        name = node.target.id
+        if name not in self.locals and name not in self.params:
+            self.declare(name, _DINT, node)
+        end = self.end_bound(stop, -1 if step > 0 else 1)
+        by = f" BY {step}" if step != 1 else ""
+        self.emit(depth, f"FOR {self.name_text(name)} := {self.expr(start)[0]} TO {end}{by} DO")
+        self.block(node.body, depth + 1)
+        self.emit(depth, "END_FOR")
+
+    def end_bound(self, stop: ast.expr, delta: int) -> str:
+        """``stop + delta`` written simply (``n + 1`` with delta -1 is ``n``)."""
+        value = _constant_int(stop)
+        if value is not None:
+            return str(value + delta)
+        if isinstance(stop, ast.BinOp) and isinstance(stop.op, (ast.Add, ast.Sub)):
+            right = _constant_int(stop.right)
+            if right is not None:
+                total = (right if isinstance(stop.op, ast.Add) else -right) + delta
+                left = self.expr(stop.left, _ADD)[0]
+                if total == 0:
+                    return left
+                return f"{left} {'+' if total > 0 else '-'} {abs(total)}"
+        text = self.expr(stop, _ADD)[0]
+        return f"{text} {'+' if delta > 0 else '-'} {abs(delta)}"
+
+    def with_statement(self, node: ast.With, depth: int) -> None:
+        if len(node.items) != 1:
+            self.fail(node, "a with statement of several items")
+        item = node.items[0]
+        call = item.context_expr
+        if not (isinstance(call, ast.Call) and self.resolves_to(call.func, "try_catch")):
+            self.fail(node, "a with statement other than try_catch()")
+        self.emit(depth, "__TRY")
+        self.block(node.body, depth + 1)
+        if isinstance(item.optional_vars, ast.Name):
+            name = item.optional_vars.id
+            self.catch_vars.add(name)
+            self.declare(name, "__SYSTEM.ExceptionCode", node)
+            self.emit(depth, f"__CATCH({name})")
+        else:
+            self.emit(depth, "__CATCH")
+        self.emit(depth, "__ENDTRY")
+
+    def call_statement(self, node: ast.expr, depth: int) -> None:
+        if not isinstance(node, ast.Call):
+            self.fail(node, "an expression statement that is not a call")
+        func = node.func
+        if self.resolves_to(func, "ref_assign"):
+            holder, field, target = self.operator_args(node, 3)
+            self.emit(depth, f"{self.member_text(holder, field)} REF= {self.ref_target(target)};")
+            return
+        for op, word in (("S", "S="), ("R", "R=")):
+            if self.resolves_to(func, op) and getattr(self.globals.get(op), "__module__", "").startswith("iecoop"):
+                holder, field, condition = self.operator_args(node, 3)
+                self.emit(depth, f"{self.member_text(holder, field)} {word} {self.expr(condition)[0]};")
+                return
+        self.emit(depth, f"{self.call(node)[0]};")
+
+    def assign(self, node: ast.Assign, depth: int) -> None:
+        for target in node.targets:
+            if isinstance(target, ast.Tuple):
+                if not (isinstance(node.value, ast.Tuple) and len(node.value.elts) == len(target.elts)) or len(node.targets) != 1:
+                    self.fail(node, "unpacking a value that is not a tuple of the same length")
+                names = [ast.unparse(t) for t in target.elts]
+                for i, (t, v) in enumerate(zip(target.elts, node.value.elts)):
+                    later = [ast.unparse(x) for x in node.value.elts[i + 1 :]]
+                    if any(names[i] in text for text in later):
+                        self.fail(node, "a tuple assignment whose later values read an earlier target")
+                    self.assign_one(t, v, depth, node)
+            else:
+                self.assign_one(target, node.value, depth, node)
+
+    def assign_one(self, target: ast.expr, value: ast.expr, depth: int, node: ast.stmt) -> None:
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
+            source, _iface = self.operator_args(value, 2)
+            self.maybe_declare(target, value, node)
+            self.emit(depth, f"__QUERYINTERFACE({self.expr(source)[0]}, {self.target(target)});")
+            return
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
+            (source,) = self.operator_args(value, 1)
+            self.maybe_declare(target, value, node)
+            self.emit(depth, f"__QUERYPOINTER({self.expr(source)[0]}, {self.target(target)});")
+            return
+        self.maybe_declare(target, value, node)
+        if isinstance(target, ast.Name) and target.id in self.references:
+            self.emit(depth, f"{self.name_text(target.id)} REF= {self.expr(value)[0]};")
+            return
+        text, _prec = self.expr(value)
+        self.emit(depth, f"{self.target(target)} := {text};")
+
+    def maybe_declare(self, target: ast.expr, value: ast.expr, node: ast.stmt) -> None:
+        if not isinstance(target, ast.Name):
+            return
+        name = target.id
+        if name in self.locals or name in self.params:
+            return
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
+            iface = value.args[1] if len(value.args) > 1 else None
+            cls = self.constant_object(iface) if iface is not None else None
+            if cls is None:
+                self.fail(node, "query_interface() with a target that is not an interface name")
+            self.declare(name, cls.__name__, node)
+            return
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
+            self.declare(name, "PVOID", node)
+            return
+        info = self.typeof(value)
+        if info is None:
+            self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
+        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call):
+            # Python binds a name to the element itself: in ST that is a reference to it.
+            self.references.add(name)
+            self.declare(name, f"REFERENCE TO {type_text(info)}", node)
+            return
+        self.declare(name, info, node)
+
+    def declare(self, name: str, info: TypeInfo | str, node: ast.AST) -> None:
+        if name in self.fields and name not in self.params:
+            # A local with a variable's name hides the variable: ST reads it as THIS^.name.
+            pass
+        self.locals[name] = info
+
+    # -- expressions ---------------------------------------------------------
+
+    def target(self, node: ast.expr) -> str:
+        if isinstance(node, (ast.Name, ast.Attribute, ast.Subscript)):
+            return self.expr(node)[0]
+        self.fail(node, f"an assignment to {_describe(node)}")
+
+    def condition(self, node: ast.expr) -> str:
+        info = self.typeof(node)
+        text, prec = self.expr(node)
+        if info is not None and not _is_bool(info):
+            return f"{_paren(text, prec, _EQ + 1)} <> 0"
+        return text
+
+    def name_text(self, name: str) -> str:
+        return self.rename.get(name, ident(name))
+
+    def expr(self, node: ast.expr, need: int = 0) -> tuple[str, int]:
+        text, prec = self._expr(node)
+        return (_paren(text, prec, need), _ATOM if prec < need else prec)
+
+    def _expr(self, node: ast.expr) -> tuple[str, int]:
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, (bool, int, float, str)) or node.value is None:
+                return literal(node.value), _ATOM
+            self.fail(node, f"the constant {node.value!r}")
+        if isinstance(node, ast.Name):
+            return self.name(node), _ATOM
+        if isinstance(node, ast.Attribute):
+            return self.attribute(node), _ATOM
+        if isinstance(node, ast.Subscript):
+            base = self.expr(node.value, _ATOM)[0]
+            index = node.slice
+            parts = index.elts if isinstance(index, ast.Tuple) else [index]
+            if any(isinstance(p, ast.Slice) for p in parts):
+                self.fail(node, "a slice")
+            return f"{base}[{', '.join(self.expr(p)[0] for p in parts)}]", _ATOM
+        if isinstance(node, ast.Call):
+            return self.call(node)
+        if isinstance(node, ast.BinOp):
+            return self.binop(node, node)
+        if isinstance(node, ast.UnaryOp):
+            if isinstance(node.op, ast.Not):
+                info = self.typeof(node.operand)
+                if info is not None and not _is_bool(info):
+                    return f"{self.expr(node.operand, _EQ + 1)[0]} = 0", _EQ
+                return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
+            if isinstance(node.op, ast.USub):
+                operand = node.operand
+                if isinstance(operand, ast.Constant) and isinstance(operand.value, (int, float)) and not isinstance(operand.value, bool):
+                    return literal(-operand.value), _ATOM
+                return f"-{self.expr(operand, _UNARY + 1)[0]}", _UNARY
+            if isinstance(node.op, ast.UAdd):
+                return self.expr(node.operand)
+            if isinstance(node.op, ast.Invert):
+                return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
+        if isinstance(node, ast.BoolOp):
+            word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
+            operands = [self.condition_operand(v, prec) for v in node.values]
+            return f" {word} ".join(operands), prec
+        if isinstance(node, ast.Compare):
+            return self.compare(node)
+        if isinstance(node, ast.IfExp):
+            cond = self.condition(node.test)
+            return f"SEL({cond}, {self.expr(node.orelse)[0]}, {self.expr(node.body)[0]})", _ATOM
+        self.fail(node, _describe(node))
+
+    def condition_operand(self, node: ast.expr, prec: int) -> str:
+        info = self.typeof(node)
+        if info is not None and not _is_bool(info):
+            return f"({self.expr(node, _EQ + 1)[0]} <> 0)"
+        return self.expr(node, prec + 1)[0]
+
+    def compare(self, node: ast.Compare) -> tuple[str, int]:
+        parts: list[str] = []
+        left = node.left
+        for op, right in zip(node.ops, node.comparators):
+            if isinstance(op, (ast.In, ast.NotIn)):
+                if not isinstance(right, (ast.Tuple, ast.List, ast.Set)):
+                    self.fail(node, "'in' over something other than a literal tuple")
+                word, join = ("=", " OR ") if isinstance(op, ast.In) else ("<>", " AND ")
+                lhs = self.expr(left, _EQ + 1)[0]
+                tests = [f"{lhs} {word} {self.expr(e, _EQ + 1)[0]}" for e in right.elts]
+                parts.append("(" + join.join(tests) + ")" if len(tests) > 1 else tests[0])
+            else:
+                symbol, prec = _COMPARE[type(op)]
+                parts.append(f"{self.expr(left, prec + 1)[0]} {symbol} {self.expr(right, prec + 1)[0]}")
+            left = right
+        if len(parts) == 1:
+            only = parts[0]
+            prec = _EQ if isinstance(node.ops[0], (ast.Eq, ast.NotEq, ast.Is, ast.IsNot)) else _CMP
+            return only, (_ATOM if only.startswith("(") and only.endswith(")") else prec)
+        return " AND ".join(p if p.startswith("(") else f"({p})" for p in parts), _AND
+
+    def binop(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
+        if isinstance(node.op, (ast.LShift, ast.RShift)):
+            word = "SHL" if isinstance(node.op, ast.LShift) else "SHR"
+            return f"{word}({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
+        if isinstance(node.op, ast.Pow):
+            return f"EXPT({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
+        op = _BINOPS.get(type(node.op))
+        if op is None:
+            self.fail(where, f"the operator {type(node.op).__name__}")
+        symbol, prec = op
+        left, right = node.left, node.right
+        left_text = self.expr(left, prec)[0]
+        right_text = self.expr(right, prec + 1)[0]
+        if isinstance(node.op, ast.Div):
+            lt, rt = self.typeof(left), self.typeof(right)
+            if _is_integer(lt) and _is_integer(rt):
+                # Python's / on integers gives a float; ST's gives an integer.
+                left_text = f"TO_LREAL({self.expr(left)[0]})"
+        if isinstance(node.op, ast.FloorDiv) and (_is_real(self.typeof(left)) or _is_real(self.typeof(right))):
+            self.fail(where, "// on REAL values")
+        return f"{left_text} {symbol} {right_text}", prec
+
+    def name(self, node: ast.Name) -> str:
+        name = node.id
+        if name in self.rename:
+            return self.rename[name]
+        if name in self.locals or name in self.params:
+            return ident(name)
+        if name == "self":
+            return "THIS^"
+        if name in ("True", "False"):
+            return name.upper()
+        if name in ("NULL", "None"):
+            return "0"
+        if name in self.globals:
+            value = self.globals[name]
+            if isinstance(value, (bool, int, float, str)) and not isinstance(value, enum.Enum):
+                known = self.scope.constants.get(name, value)
+                if known != value:
+                    raise StExportError(f"{self.where_text(node)}: two module constants named {name} have different values")
+                self.scope.constants[name] = value
+                return name
+            if isinstance(value, type):
+                return value.__name__
+            if getattr(type(value), "_iec_kind_", None) == "gvl":
+                return type(value).__name__
+            if typing.get_origin(value) is typing.Annotated:
+                from iecoop.memory._core import resolve_type as _resolve
+
+                try:
+                    return type_text(_resolve(value, name))
+                except Exception:
+                    pass
+        self.fail(node, f"the name {name!r}")
+
+    def attribute(self, node: ast.Attribute) -> str:
+        base = node.value
+        attr = node.attr
+        if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
+            if attr in self.locals or attr in self.params or attr in self.rename.values() or attr == self.st_name:
+                return f"THIS^.{ident(attr)}"
+            return ident(attr)
+        if attr == "deref":
+            return f"{self.expr(base, _ATOM)[0]}^"
+        if isinstance(base, ast.Name) and base.id in self.catch_vars and attr == "code":
+            return base.id
+        owner = self.constant_object(base)
+        if owner is not None:
+            if owner is ExceptionCode:
+                return f"__SYSTEM.ExceptionCode.{attr}"
+            if isinstance(owner, type) and issubclass(owner, enum.Enum):
+                return f"{owner.__name__}.{attr}"
+            self.fail(node, f"the attribute {ast.unparse(node)}")
+        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            return f"SUPER^.{attr}"
+        if isinstance(base, ast.Call):
+            # TwinCAT reads a member of a returned REFERENCE, but the grammar blark parses does not.
+            self.fail(node, "a member of a call's result")
+        return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
+
+    def constant_object(self, node: ast.expr | None) -> Any:
+        """The module-level object a name or dotted name designates (an enum, an interface), or None."""
+        if isinstance(node, ast.Name) and node.id not in self.locals and node.id not in self.params and node.id != "self":
+            value = self.globals.get(node.id)
+            if isinstance(value, type) or isinstance(value, type(inspect)):
+                return value
+            return None
+        if isinstance(node, ast.Attribute):
+            owner = self.constant_object(node.value)
+            if isinstance(owner, type(inspect)):
+                value = getattr(owner, node.attr, None)
+                return value if isinstance(value, type) else None
+        return None
+
+    def resolves_to(self, node: ast.expr, name: str) -> bool:
+        if isinstance(node, ast.Name):
+            return node.id == name and node.id not in self.locals
+        if isinstance(node, ast.Attribute):
+            return node.attr == name and self.constant_object(node.value) is not None and not isinstance(self.constant_object(node.value), type)
+        return False
+
+    def operator_args(self, node: ast.Call, count: int) -> list[ast.expr]:
+        if node.keywords or len(node.args) != count:
+            self.fail(node, f"{ast.unparse(node.func)}() with other than {count} positional arguments")
+        return list(node.args)
+
+    def member_text(self, holder: ast.expr, field: ast.expr) -> str:
+        if not (isinstance(field, ast.Constant) and isinstance(field.value, str)):
+            self.fail(field, "a member name that is not a string literal")
+        if isinstance(holder, ast.Name) and holder.id == "self":
+            return self.attribute(ast.Attribute(holder, field.value, ast.Load()))
+        return f"{self.expr(holder, _ATOM)[0]}.{field.value}"
+
+    def address_operand(self, node: ast.Call) -> str:
+        """``adr(obj)`` / ``adr(obj, "field")`` / ``adr(array, index)``: the variable ADR takes."""
+        if node.keywords or not 1 <= len(node.args) <= 3:
+            self.fail(node, "adr() with these arguments")
+        holder = node.args[0]
+        if len(node.args) == 1:
+            return self.expr(holder, _ATOM)[0]
+        text = self.member_text(holder, node.args[1]) if isinstance(node.args[1], ast.Constant) and isinstance(node.args[1].value, str) else f"{self.expr(holder, _ATOM)[0]}[{self.expr(node.args[1])[0]}]"
+        if len(node.args) == 3:
+            text += f"[{self.expr(node.args[2])[0]}]"
+        return text
+
+    def ref_target(self, node: ast.expr) -> str:
+        if isinstance(node, ast.Constant) and node.value is None:
+            return "0"
+        if isinstance(node, ast.Call) and self.resolves_to(node.func, "adr"):
+            return self.address_operand(node)
+        info = self.typeof(node)
+        if isinstance(info, PointerInfo):
+            return f"{self.expr(node, _ATOM)[0]}^"
+        return self.expr(node)[0]
+
+    def call(self, node: ast.Call) -> tuple[str, int]:
+        func = node.func
+        if isinstance(func, ast.Call) and _is_name(func.func, "super"):
+            self.fail(node, "super()()")
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and _is_name(func.value.func, "super"):
+            if func.attr == "body":
+                return "SUPER^()", _ATOM
+            return f"SUPER^.{func.attr}({self.arguments(node)})", _ATOM
+        if isinstance(func, ast.Name) and func.id not in self.locals and func.id not in self.params:
+            return self.named_call(node, func.id)
+        if isinstance(func, ast.Attribute) and self.constant_object(func.value) is not None and isinstance(self.constant_object(func.value), type(inspect)):
+            return self.named_call(node, func.attr)
+        if isinstance(func, ast.Attribute) and func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
+            # Pointer.typed(T): ST converts between POINTER types on assignment.
+            return self.expr(func.value)
+        callee = self.expr(func, _ATOM)[0]
+        return f"{callee}({self.arguments(node)})", _ATOM
+
+    def arguments(self, node: ast.Call) -> str:
+        parts = [self.expr(a)[0] for a in node.args]
+        for kw in node.keywords:
+            if kw.arg is None:
+                self.fail(node, "**arguments")
+            parts.append(f"{ident(kw.arg)} := {self.expr(kw.value)[0]}")
+        return ", ".join(parts)
+
+    def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
+        value = self.globals.get(name)
+        module = getattr(value, "__module__", "") or ""
+        library = module == "iecoop" or module.startswith("iecoop.")
+        args = node.args
+        if name == "T" and value is T or name == "LTIME" and library or name == "D" and value is D:
+            if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
+                self.fail(node, f"{name}() of a value that is not a string literal")
+            text = args[0].value
+            if name == "T":
+                return format_time(T(text)).upper(), _ATOM
+            if name == "D":
+                return format_date(D(text)), _ATOM
+            return format_ltime(parse_ltime(text)).upper(), _ATOM
+        if name in _BUILTINS and value is None:
+            return f"{_BUILTINS[name]}({self.arguments(node)})", _ATOM
+        if name in ("int", "float", "bool") and value is None and len(args) == 1 and not node.keywords:
+            info = self.typeof(args[0])
+            inner = self.expr(args[0])[0]
+            if name == "bool":
+                return (inner, _ATOM) if _is_bool(info) else (f"{self.expr(args[0], _EQ + 1)[0]} <> 0", _EQ)
+            if name == "int":
+                return (inner, _ATOM) if _is_integer(info) or _is_bool(info) and False else (f"TRUNC({inner})" if _is_real(info) else f"TO_DINT({inner})", _ATOM)
+            return f"TO_LREAL({inner})", _ATOM
+        if library and name == "adr":
+            return f"ADR({self.address_operand(node)})", _ATOM
+        if library and name == "sizeof":
+            if len(args) == 2:
+                return f"SIZEOF({self.member_text(args[0], args[1])})", _ATOM
+            return f"SIZEOF({self.expr(args[0])[0]})", _ATOM
+        if library and name == "is_valid_ref":
+            holder, field = self.operator_args(node, 2)
+            return f"__ISVALIDREF({self.member_text(holder, field)})", _ATOM
+        if library and name == "test_and_set":
+            (flag,) = self.operator_args(node, 1)
+            if isinstance(flag, ast.Call) and self.resolves_to(flag.func, "adr"):
+                return f"TestAndSet({self.address_operand(flag)})", _ATOM
+            return f"TestAndSet({self.expr(flag)[0]}^)", _ATOM
+        if library and name == "now_ms":
+            return "TIME()", _ATOM
+        if library and name == "MOD" and len(args) == 2:
+            return f"{self.expr(args[0], _MUL)[0]} MOD {self.expr(args[1], _MUL + 1)[0]}", _MUL
+        if library and name in _OPERATORS:
+            return f"{_OPERATORS[name]}({self.arguments(node)})", _ATOM
+        if library and callable(value) and name.isupper() or library and callable(value) and name[:1].isupper() and "_TO_" in name:
+            # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
+            return f"{name}({self.arguments(node)})", _ATOM
+        if name == "len" and value is None and len(args) == 1 and isinstance(self.typeof(args[0]), StringInfo):
+            return f"LEN({self.expr(args[0])[0]})", _ATOM
+        if self.function_signature(value) is not None:
+            known = self.scope.functions.get(name, value)
+            if known is not value:
+                raise StExportError(f"{self.where_text(node)}: two functions named {name} are called")
+            self.scope.functions[name] = value
+            return f"{ident(name)}({self.arguments(node)})", _ATOM
+        self.fail(node, f"a call of {name}()")
+
+    def function_signature(self, value: Any) -> tuple[list[tuple[str, TypeInfo, Any]], TypeInfo | None] | None:
+        """Inputs and result of a module function that can be an ST FUNCTION, or None."""
+        if not inspect.isfunction(value):
+            return None
+        module = getattr(value, "__module__", "") or ""
+        if module == "iecoop" or module.startswith("iecoop.") or value.__name__.startswith("<"):
+            return None
+        from iecoop.st._emit_model import function_parameters
+
+        try:
+            inputs = function_parameters(value, value.__qualname__)
+            result = return_info(value, value.__qualname__, None)
+        except StExportError:
+            return None
+        if result is None:
+            return None
+        return inputs, result
+
+    # -- types ---------------------------------------------------------------
+
+    def typeof(self, node: ast.expr | None) -> TypeInfo | None:
+        try:
+            return self._typeof(node)
+        except _Untranslated:
+            return None
+
+    def _local_info(self, name: str) -> TypeInfo | None:
+        info = self.locals.get(name, self.params.get(name))
+        if isinstance(info, str):
+            if info.startswith("REFERENCE TO "):
+                cls = self.globals.get(info[len("REFERENCE TO ") :])
+                return class_info(cls) if isinstance(cls, type) else None
+            return None
+        return info
+
+    def _typeof(self, node: ast.expr | None) -> TypeInfo | None:
+        if node is None:
+            return None
+        if isinstance(node, ast.Constant):
+            value = node.value
+            if isinstance(value, bool):
+                return _BOOL
+            if isinstance(value, int):
+                return _DINT
+            if isinstance(value, float):
+                return _LREAL
+            if isinstance(value, str):
+                return _STRING
+            return None
+        if isinstance(node, ast.Name):
+            if node.id in self.locals or node.id in self.params:
+                return self._local_info(node.id)
+            if node.id in self.rename:
+                return self.params.get(node.id)
+            if node.id in ("True", "False"):
+                return _BOOL
+            value = self.globals.get(node.id)
+            if isinstance(value, bool):
+                return _BOOL
+            if isinstance(value, int) and not isinstance(value, enum.Enum):
+                return _DINT
+            if isinstance(value, float):
+                return _LREAL
+            return None
+        if isinstance(node, ast.Attribute):
+            base = node.value
+            if isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
+                return self.member_type(self.scope.cls, node.attr, self.fields)
+            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+                return self.member_type(self.scope.cls, node.attr, self.fields)
+            owner = self.constant_object(base)
+            if isinstance(owner, type) and issubclass(owner, enum.Enum):
+                return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
+            inner = self._typeof(base)
+            if node.attr == "deref" and isinstance(inner, PointerInfo):
+                return inner.target
+            if isinstance(inner, ReferenceInfo):
+                inner = inner.target
+            cls = _class_of(inner)
+            if cls is not None:
+                return self.member_type(cls, node.attr, _fields_of(cls))
+            return None
+        if isinstance(node, ast.Subscript):
+            inner = self._typeof(node.value)
+            if isinstance(inner, ReferenceInfo):
+                inner = inner.target
+            if isinstance(inner, ArrayInfo):
+                return inner.elem
+            return None
+        if isinstance(node, ast.Call):
+            return self.call_type(node)
+        if isinstance(node, ast.BinOp):
+            left, right = self._typeof(node.left), self._typeof(node.right)
+            if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
+                return _LREAL
+            if _is_real(left):
+                return left
+            if _is_real(right):
+                return right
+            return left or right
+        if isinstance(node, (ast.Compare, ast.BoolOp)):
+            return _BOOL
+        if isinstance(node, ast.UnaryOp):
+            return _BOOL if isinstance(node.op, ast.Not) else self._typeof(node.operand)
+        if isinstance(node, ast.IfExp):
+            return self._typeof(node.body) or self._typeof(node.orelse)
+        return None
+
+    def member_type(self, cls: Any, name: str, fields: dict[str, TypeInfo]) -> TypeInfo | None:
+        if name in fields:
+            return fields[name]
+        found = _member_function(cls, name)
+        if found is None or found[0] is None:
+            return None
+        func, owner = found
+        value = owner.__dict__.get(name)
+        if isinstance(value, property):
+            return return_info(func, f"{owner.__name__}.{name}", owner)
+        return None
+
+    def call_type(self, node: ast.Call) -> TypeInfo | None:
+        func = node.func
+        if isinstance(func, ast.Name) and func.id not in self.locals:
+            name = func.id
+            value = self.globals.get(name)
+            if name == "T":
+                return _TIME
+            if name == "LTIME":
+                return _LTIME
+            if name in _BUILTINS and node.args:
+                return self._typeof(node.args[0])
+            if name == "float":
+                return _LREAL
+            if name == "int":
+                return _DINT
+            if name in ("bool", "is_valid_ref", "test_and_set"):
+                return _BOOL
+            if name == "now_ms":
+                return _TIME
+            if name == "new" and node.args:
+                cls = self.constant_object(node.args[0])
+                info = class_info(cls) if isinstance(cls, type) else None
+                return PointerInfo(lambda: info, type_text(info)) if info is not None else None
+            if name == "adr" and node.args:
+                target = self._typeof(node.args[0]) if len(node.args) == 1 else None
+                return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
+            if name == "len":
+                return _DINT
+            signature = self.function_signature(value)
+            if signature is not None:
+                return signature[1]
+            if callable(value) and (getattr(value, "__module__", "") or "").startswith("iecoop"):
+                hints = typing.get_type_hints(value) if not isinstance(value, type) else {}
+                ret = hints.get("return")
+                if ret is int:
+                    suffix = name.rsplit("TO_", 1)[-1] if "TO_" in name else "DINT"
+                    try:
+                        from iecoop import types as iec_types
+
+                        return resolve_type(getattr(iec_types, suffix), suffix)
+                    except Exception:
+                        return _DINT
+                if ret is float:
+                    return _LREAL
+                if ret is bool:
+                    return _BOOL
+            return None
+        if isinstance(func, ast.Attribute):
+            base = func.value
+            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+                cls = self.scope.cls.__mro__[1]
+            elif isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
+                cls = self.scope.cls
+            else:
+                cls = _class_of(self._typeof(base))
+            if cls is None:
+                return None
+            found = _member_function(cls, func.attr)
+            if found is None or found[0] is None:
+                return None
+            function, owner = found
+            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+        return None
+
+
+def _constant_int(node: ast.expr) -> int | None:
+    if isinstance(node, ast.Constant) and isinstance(node.value, int) and not isinstance(node.value, bool):
+        return node.value
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+        inner = _constant_int(node.operand)
+        return -inner if inner is not None else None
+    return None
+
+
+def _is_name(node: ast.AST | None, name: str) -> bool:
+    return isinstance(node, ast.Name) and node.id == name
+
+
+def _paren(text: str, prec: int, need: int) -> str:
+    return f"({text})" if prec < need else text
+
+
+_DESCRIPTIONS = {
+    "Raise": "raise", "Try": "try / except", "Match": "match", "JoinedStr": "an f-string",
+    "GeneratorExp": "a generator expression", "ListComp": "a list comprehension", "Lambda": "lambda",
+    "Delete": "del", "Global": "global", "Nonlocal": "nonlocal", "Import": "import", "ImportFrom": "import",
+    "FunctionDef": "a nested def", "ClassDef": "a nested class", "Assert": "assert", "List": "a list",
+    "Dict": "a dict", "Tuple": "a tuple", "Set": "a set", "Yield": "yield", "Await": "await",
+    "AsyncFor": "async for", "AsyncWith": "async with", "Starred": "*unpacking", "NamedExpr": "the := operator",
+}
+
+
+def _describe(node: ast.AST) -> str:
+    return _DESCRIPTIONS.get(type(node).__name__, type(node).__name__)
+
+
+def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            yield node

@@ -1,0 +1,419 @@
+"""Declarations and bodies of each exported object, split as TwinCAT keeps them.
+
+Every POU, interface, data type and GVL becomes a :class:`Unit`: its
+declaration text, its implementation text, and its METHODs and PROPERTY
+accessors as :class:`Part` s. The flat ST text, the TwinCAT files and the
+PLCopen XML are all written from these.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from iecoop.members import Access
+from iecoop.memory._core import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.layout import MISSING
+from iecoop.st._emit_body import BodyWriter, Scope, literal
+from iecoop.st._emit_model import (
+    LIFECYCLE,
+    ClassMeta,
+    FieldDecl,
+    MemberDecl,
+    StExportError,
+    access_words,
+    ident,
+    alias_target,
+    enum_base,
+    enum_members,
+    parameters,
+    return_info,
+    type_text,
+)
+
+__all__ = ["Part", "Unit", "units"]
+
+_SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
+#: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
+_LIFECYCLE_INPUTS = {"init_retains": "bInitRetains", "in_copy_code": "bInCopyCode"}
+
+
+@dataclasses.dataclass
+class Part:
+    """A METHOD, or one accessor (Get / Set) of a PROPERTY."""
+
+    kind: str  # "method", "get" or "set"
+    name: str
+    header: str  # METHOD ... / PROPERTY ... line
+    declaration: str  # the VAR sections after the header
+    implementation: str
+    result: TypeInfo | None = None
+    inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
+
+
+@dataclasses.dataclass
+class Unit:
+    """One exported object."""
+
+    kind: str  # enum alias struct union gvl interface fb program
+    name: str
+    declaration: str
+    implementation: str = ""
+    parts: list[Part] = dataclasses.field(default_factory=list)
+    meta: ClassMeta | None = None
+    #: A FUNCTION's result, inputs and locals.
+    signature: tuple[TypeInfo, tuple[tuple[str, TypeInfo, Any], ...], dict[str, TypeInfo | str]] | None = None
+
+    @property
+    def word(self) -> str:
+        return {"fb": "FUNCTION_BLOCK", "program": "PROGRAM", "interface": "INTERFACE", "function": "FUNCTION"}.get(self.kind, "TYPE")
+
+
+# ---------------------------------------------------------------------------
+# Variables
+# ---------------------------------------------------------------------------
+
+
+def initial_text(info: TypeInfo, value: Any, where: str) -> str:
+    """The ``:= ...`` text of an initial value (a list for an ARRAY, a dict for a STRUCT)."""
+    if isinstance(info, ArrayInfo):
+        if type(value) is info.ctype:
+            value = list(value)
+        if not isinstance(value, (list, tuple)):
+            raise StExportError(f"{where}: an ARRAY initial value must be a list")
+        return "[" + ", ".join(initial_text(info.elem, v, where) for v in value) + "]"
+    if isinstance(info, AggregateInfo):
+        if isinstance(value, dict):
+            layout = getattr(info.cls, "_iec_layout_")
+            parts = [f"{k} := {initial_text(layout.by_name[k].info, v, f'{where}.{k}')}" for k, v in value.items()]
+            return "(" + ", ".join(parts) + ")"
+        if isinstance(value, info.cls):
+            layout = getattr(info.cls, "_iec_layout_")
+            parts = [f"{f.name} := {initial_text(f.info, getattr(value, f.name), where)}" for f in layout.fields]
+            return "(" + ", ".join(parts) + ")"
+    try:
+        return literal(value, info)
+    except ValueError as exc:
+        raise StExportError(f"{where}: {exc}") from None
+
+
+def _default_initial(info: TypeInfo, value: Any) -> bool:
+    """Whether an initial value is the type's zero (left out, as ST code usually does)."""
+    if value is MISSING or getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+        # A block instance as initial value is the declaration itself: FB instances have no literal.
+        return True
+    if isinstance(value, enum.Enum):
+        return False
+    if isinstance(value, bool) or isinstance(value, (int, float)):
+        return value == 0 and not isinstance(value, bool) or value is False
+    if isinstance(value, str):
+        return value == ""
+    return value is None
+
+
+def _argument(value: Any, where: str) -> str:
+    """An FB_init argument: a literal, or the global instance it designates."""
+    if getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+        from iecoop.gvl import global_lists
+
+        for instance in global_lists().values():
+            for record in type(instance)._iec_layout_.fields:
+                if isinstance(record.info, AggregateInfo) and getattr(instance, record.name) == value:
+                    return ident(record.name)
+        raise StExportError(f"{where}: an FB_init argument that is a block instance must be a global one")
+    try:
+        return literal(value)
+    except ValueError as exc:
+        raise StExportError(f"{where}: {exc}") from None
+
+
+def variable_line(name: str, info: TypeInfo, initial: Any, where: str, fb_init: Any = None) -> str:
+    text = f"{ident(name)} : {type_text(info)}"
+    if fb_init and isinstance(fb_init, Mapping):
+        args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
+        text += f"({args})"
+    elif fb_init:
+        raise StExportError(f"{where}: FB_init inputs per ARRAY element have no declaration form the writer knows")
+    if not _default_initial(info, initial):
+        text += f" := {initial_text(info, initial, where)}"
+    return text + ";"
+
+
+def _declared_type(field: FieldDecl) -> TypeInfo:
+    if field.section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo):
+        return field.info.target
+    return field.info
+
+
+def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = None) -> list[str]:
+    """VAR blocks in ST order, one per section and qualifier."""
+    lines: list[str] = []
+    groups: dict[tuple[str, str], list[FieldDecl]] = {}
+    for field in fields:
+        section = default or field.section
+        qualifier = field.spec.qualifiers if section != "VAR_IN_OUT" else ("CONSTANT" if field.spec.constant else "")
+        groups.setdefault((section, qualifier), []).append(field)
+    order = {s: i for i, s in enumerate((*_SECTION_ORDER, "VAR_GLOBAL"))}
+    for (section, qualifier), members in sorted(groups.items(), key=lambda item: order.get(item[0][0], 99)):
+        if section == "VAR_INST":
+            continue  # declared inside the METHOD it belongs to
+        lines.append(f"{section} {qualifier}".rstrip())
+        for field in members:
+            initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
+            lines.append("    " + variable_line(field.name, _declared_type(field), initial, f"{owner}.{field.name}", field.spec.fb_init))
+        lines.append("END_VAR")
+    return lines
+
+
+# ---------------------------------------------------------------------------
+# Units
+# ---------------------------------------------------------------------------
+
+
+def _type_unit(meta: ClassMeta) -> Unit:
+    name = meta.name
+    if meta.kind == "enum":
+        items = enum_members(meta.cls)
+        body = ",\n".join(f"    {n} := {v}" for n, v in items)
+        return Unit("enum", name, f"TYPE {name} :\n(\n{body}\n) {enum_base(meta.cls)};\nEND_TYPE\n", meta=meta)
+    if meta.kind == "alias":
+        return Unit("alias", name, f"TYPE {name} : {alias_target(meta.cls)};\nEND_TYPE\n", meta=meta)
+    word = "STRUCT" if meta.kind == "struct" else "UNION"
+    extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
+    lines = [f"TYPE {name}{extends} :", word]
+    for field in meta.fields:
+        lines.append("    " + variable_line(field.name, field.info, field.spec.initial, f"{name}.{field.name}"))
+    lines += [f"END_{word}", "END_TYPE", ""]
+    return Unit(meta.kind, name, "\n".join(lines), meta=meta)
+
+
+def _gvl_unit(meta: ClassMeta) -> Unit:
+    lines = ["{attribute 'qualified_only'}", *sections(meta.fields, meta.name, default="VAR_GLOBAL"), ""]
+    return Unit("gvl", meta.name, "\n".join(lines), meta=meta)
+
+
+def _local_lines(writer: BodyWriter) -> list[str]:
+    if not writer.locals:
+        return []
+    lines = ["VAR"]
+    for name, info in writer.locals.items():
+        lines.append(f"    {ident(name)} : {info if isinstance(info, str) else type_text(info)};")
+    lines.append("END_VAR")
+    return lines
+
+
+def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
+    if not inputs:
+        return []
+    lines = ["VAR_INPUT"]
+    for name, info, default in inputs:
+        lines.append("    " + variable_line(rename.get(name, name), info, default, f"{owner}.{name}"))
+    lines.append("END_VAR")
+    return lines
+
+
+class _Writer:
+    def __init__(self, scope: Scope, lenient: bool, untranslated: list[str]) -> None:
+        self.scope = scope
+        self.lenient = lenient
+        self.untranslated = untranslated
+
+    def body(self, func: Any, **kwargs: Any) -> BodyWriter:
+        writer = BodyWriter(self.scope, func, lenient=self.lenient, **kwargs)
+        writer.translate()
+        for line, what in writer.untranslated:
+            self.untranslated.append(f"{writer.filename}:{line}: {what}")
+        return writer
+
+    def method(self, meta: ClassMeta, member: MemberDecl, interface: bool) -> Part:
+        func = member.function
+        where = f"{meta.name}.{member.name}"
+        inputs = parameters(func, where, meta.cls)
+        result = return_info(func, where, meta.cls)
+        # Interface prototypes carry no access specifier (they are PUBLIC by definition).
+        words = "" if interface else f"{access_words(member.flags)} "
+        header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
+        inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
+        decl = _inputs_lines(inputs, where, {})
+        implementation = ""
+        if not interface and not member.flags & Access.ABSTRACT:
+            writer = self.body(func, st_name=member.name, result=result, params={n: i for n, i, _ in inputs})
+            decl += _local_lines(writer)
+            implementation = "\n".join(writer.lines)
+        if inst:
+            decl += sections(inst, meta.name, default="VAR_INST")
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(inputs))
+
+    def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
+        st_name = LIFECYCLE[name]
+        where = f"{meta.name}.{st_name}"
+        inputs = parameters(func, where, meta.cls)
+        from iecoop.st._emit_body import _BOOL
+
+        writer = self.body(func, st_name=st_name, result=_BOOL, params={n: i for n, i, _ in inputs}, rename=_LIFECYCLE_INPUTS)
+
+        decl = _inputs_lines(inputs, where, _LIFECYCLE_INPUTS) + _local_lines(writer)
+        renamed = tuple((_LIFECYCLE_INPUTS.get(n, n), i, d) for n, i, d in inputs)
+        return Part("method", st_name, f"METHOD {st_name} : BOOL", "\n".join(decl), "\n".join(writer.lines), _BOOL, renamed)
+
+    def accessors(self, meta: ClassMeta, member: MemberDecl, interface: bool) -> list[Part]:
+        where = f"{meta.name}.{member.name}"
+        result = return_info(member.getter, where, meta.cls)
+        if result is None:
+            raise StExportError(f"{where}: a PROPERTY needs a type (annotate the getter's return)")
+        words = "" if interface else f"{access_words(member.flags)} "
+        header = f"PROPERTY {words}{member.name} : {type_text(result)}"
+        parts: list[Part] = []
+        for kind, func, flags in (("get", member.getter, member.get_flags), ("set", member.setter, member.set_flags)):
+            if func is None:
+                continue
+            implementation, decl = "", ["VAR", "END_VAR"]
+            if not interface and not flags & Access.ABSTRACT:
+                rename: dict[str, str] = {}
+                params: dict[str, TypeInfo] = {}
+                if kind == "set":
+                    inputs = parameters(func, where, meta.cls)
+                    if len(inputs) != 1:
+                        raise StExportError(f"{where}: a Set accessor takes exactly one value")
+                    rename = {inputs[0][0]: member.name}
+                    params = {inputs[0][0]: inputs[0][1]}
+                writer = self.body(func, st_name=member.name, result=result if kind == "get" else None, params=params, rename=rename)
+                decl = _local_lines(writer) or decl
+                implementation = "\n".join(writer.lines)
+            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result))
+        return parts
+
+
+def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
+    name = meta.name
+    interface = meta.kind == "interface"
+    words = [meta.kind == "program" and "PROGRAM" or interface and "INTERFACE" or "FUNCTION_BLOCK"]
+    if meta.abstract:
+        words.append("ABSTRACT")
+    if meta.final:
+        words.append("FINAL")
+    if meta.internal:
+        words.append("INTERNAL")
+    words.append(name)
+    if interface:
+        bases = [b for b in meta.cls.__bases__ if getattr(b, "_iec_kind_", None) == "interface" and "_iec_base_class_" not in b.__dict__ and b.__name__ != "Interface"]
+        if bases:
+            words.append("EXTENDS " + ", ".join(type_text(_iface_info(b)) for b in bases))
+    else:
+        if meta.parent is not None:
+            words.append(f"EXTENDS {meta.parent.__name__}")
+        if meta.interfaces:
+            words.append("IMPLEMENTS " + ", ".join(type_text(_iface_info(i)) for i in meta.interfaces))
+    implementation = ""
+    parts: list[Part] = []
+    decl_lines = [" ".join(words)]
+    if not interface:
+        temps: list[str] = []
+        if meta.body is not None:
+            body = writer.body(meta.body, st_name=name)
+            implementation = "\n".join(body.lines)
+            temps = _local_lines(body)
+            if temps:
+                temps[0] = "VAR_TEMP"
+        decl_lines += sections(meta.fields, name) + temps
+        for lifecycle_name, func in meta.lifecycle:
+            try:
+                parts.append(writer.lifecycle(meta, lifecycle_name, func))
+            except StExportError as exc:
+                if not writer.lenient:
+                    raise
+                writer.untranslated.append(f"{meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
+    for member in meta.members:
+        try:
+            if member.kind == "method":
+                parts.append(writer.method(meta, member, interface))
+            else:
+                parts.extend(writer.accessors(meta, member, interface))
+        except StExportError as exc:
+            if not writer.lenient:
+                raise
+            # A Python-only helper (its signature has no IEC type): left out, and said so.
+            writer.untranslated.append(f"{meta.name}.{member.name}: member left out: {exc}")
+    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta)
+
+
+def _iface_info(cls: Any) -> TypeInfo:
+    from iecoop.memory._core import class_info
+
+    info = class_info(cls)
+    assert info is not None
+    return info
+
+
+def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
+    from iecoop.st._emit_model import function_parameters
+
+    inputs = function_parameters(func, name)
+    result = return_info(func, name, None)
+    assert result is not None
+    body = writer.body(func, st_name=ident(name), result=result, params={n: i for n, i, _ in inputs})
+    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(inputs, name, {}), *_local_lines(body)]
+    return Unit(
+        "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
+        signature=(result, tuple(inputs), dict(body.locals)),
+    )
+
+
+def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Unit], list[str]]:
+    """Every object to export, with a GVL of the module constants the bodies use, and what was not translated."""
+    constants: dict[str, Any] = {}
+    functions: dict[str, Any] = {}
+    untranslated: list[str] = []
+    found: list[Unit] = []
+    for meta in metas:
+        if meta.kind in ("enum", "alias", "struct", "union"):
+            found.append(_type_unit(meta))
+        elif meta.kind == "gvl":
+            found.append(_gvl_unit(meta))
+        else:
+            from iecoop.st._emit_body import _fields_of
+
+            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions)
+            found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
+    done: set[str] = set()
+    while set(functions) - done:
+        for fname in sorted(set(functions) - done):
+            done.add(fname)
+            scope = Scope(None, {}, constants, functions)
+            unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
+            found.insert(index, unit)
+    if constants:
+        lines = ["VAR_GLOBAL CONSTANT"]
+        for cname, value in sorted(constants.items()):
+            st_type = "BOOL" if isinstance(value, bool) else "DINT" if isinstance(value, int) else "LREAL" if isinstance(value, float) else f"STRING({max(1, len(value))})"
+            lines.append(f"    {cname} : {st_type} := {literal(value)};")
+        lines += ["END_VAR", ""]
+        index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
+        found.insert(index, Unit("gvl", "GVL_Constants", "\n".join(lines)))
+    return found, untranslated
+
+
+def flat_text(unit: Unit) -> str:
+    """The unit in the flat convention: the POU, then each METHOD / PROPERTY accessor after it."""
+    out: list[str] = []
+    if unit.kind in ("enum", "alias", "struct", "union", "gvl"):
+        return unit.declaration
+    end = {"fb": "END_FUNCTION_BLOCK", "program": "END_PROGRAM", "interface": "END_INTERFACE", "function": "END_FUNCTION"}[unit.kind]
+    out.append(unit.declaration.rstrip("\n"))
+    if unit.implementation:
+        out.append(unit.implementation)
+    out.append(end)
+    for part in unit.parts:
+        out.append("")
+        if part.kind in ("get", "set"):
+            out.append(f"// {part.kind.capitalize()}")
+        out.append(part.header)
+        if part.declaration:
+            out.append(part.declaration)
+        if part.implementation:
+            out.append(part.implementation)
+        out.append("END_METHOD" if part.kind == "method" else "END_PROPERTY")
+    return "\n".join(out) + "\n"

@@ -1,0 +1,345 @@
+"""What the ST writer reads from a declared class: one adapter over the class builder's records.
+
+Every attribute the class builder leaves on a class (``_iec_layout_``,
+``_iec_members_``, ``_iec_static_fields_``...) is read in :func:`metadata`
+and nowhere else, so a change in how classes are built is fixed here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import inspect
+import types
+import typing
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from iecoop.exceptions import DefinitionError
+from iecoop.gvl import GlobalVariables, find_global
+from iecoop.interfaces import Interface, IQueryInterface
+from iecoop.members import Access, Member, flags_of, visibility
+from iecoop.memory._core import (
+    Alias,
+    ArrayInfo,
+    PointerInfo,
+    ReferenceInfo,
+    StringInfo,
+    TypeInfo,
+    resolve_type,
+)
+from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
+from iecoop.types import elementary_type
+
+__all__ = ["RESERVED", "ident", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text"]
+
+
+class StExportError(DefinitionError):
+    """A class or a statement has no Structured Text form the writer knows; the message names where and what."""
+
+
+# Documented, and imported by users, from the public module.
+StExportError.__module__ = "iecoop.st.export"
+
+
+#: Kinds of declared classes, in the order a project lists them (types first, code last).
+KINDS = ("enum", "alias", "struct", "union", "gvl", "interface", "fb", "program")
+
+#: Lifecycle methods and their ST names.
+LIFECYCLE = {"fb_init": "FB_init", "fb_reinit": "FB_reinit", "fb_exit": "FB_exit"}
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldDecl:
+    """One variable as ST declares it."""
+
+    name: str
+    section: str
+    info: TypeInfo
+    spec: FieldSpec
+
+
+@dataclasses.dataclass(frozen=True)
+class MemberDecl:
+    """One METHOD or PROPERTY declared by the class itself."""
+
+    name: str
+    kind: str  # "method" or "property"
+    flags: Access
+    function: Any  # the method, or the property object
+    getter: Any = None
+    setter: Any = None
+    get_flags: Access = Access.PUBLIC
+    set_flags: Access = Access.PUBLIC
+
+
+@dataclasses.dataclass(frozen=True)
+class ClassMeta:
+    """A declared class as the ST writer sees it."""
+
+    cls: Any
+    name: str
+    kind: str
+    fields: tuple[FieldDecl, ...] = ()
+    members: tuple[MemberDecl, ...] = ()
+    parent: Any = None
+    interfaces: tuple[Any, ...] = ()
+    abstract: bool = False
+    final: bool = False
+    internal: bool = False
+    body: Any = None
+    lifecycle: tuple[tuple[str, Any], ...] = ()
+
+
+def _kind(obj: Any) -> str | None:
+    if isinstance(obj, GlobalVariables):
+        obj = type(obj)
+    if typing.get_origin(obj) is typing.Annotated and any(isinstance(m, Alias) for m in obj.__metadata__):
+        return "alias"
+    if not isinstance(obj, type) or "_iec_base_class_" in obj.__dict__ or obj in (Interface, IQueryInterface):
+        return None
+    kind = getattr(obj, "_iec_kind_", None)
+    if kind in ("enum", "struct", "union", "gvl", "interface", "fb", "program"):
+        return typing.cast(str, kind)
+    return None
+
+
+def _alias_name(obj: Any) -> str:
+    return next(m.name for m in obj.__metadata__ if isinstance(m, Alias))
+
+
+def metadata(obj: Any) -> ClassMeta:
+    """Read a class (a GVL instance, an alias) into a :class:`ClassMeta`."""
+    kind = _kind(obj)
+    if kind is None:
+        raise StExportError(f"{obj!r} is not a declared IEC type, POU, interface or GVL")
+    if kind == "alias":
+        return ClassMeta(obj, _alias_name(obj), kind)
+    cls = type(obj) if isinstance(obj, GlobalVariables) else obj
+    name = cls.__name__
+    if kind == "enum":
+        return ClassMeta(cls, name, kind)
+    layout = cls.__dict__.get("_iec_layout_")
+    fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())]
+    if kind in ("fb", "program"):
+        fields.extend(_outside_fields(cls))
+    parent = next((b for b in cls.__bases__ if _kind(b) == kind and kind in ("fb", "program", "struct")), None)
+    interfaces = tuple(b for b in cls.__bases__ if getattr(b, "_iec_kind_", None) == "interface" and b is not Interface)
+    members = _own_members(cls)
+    body = cls.__dict__.get("body") if kind in ("fb", "program") else None
+    lifecycle = tuple((n, cls.__dict__[n]) for n in LIFECYCLE if kind in ("fb", "program") and n in cls.__dict__)
+    return ClassMeta(
+        cls, name, kind, tuple(fields), members, parent, interfaces,
+        bool(cls.__dict__.get("_iec_abstract_", False)), bool(cls.__dict__.get("_iec_final_", False)),
+        bool(cls.__dict__.get("_iec_internal_", False)), body, lifecycle,
+    )
+
+
+def _outside_fields(cls: Any) -> list[FieldDecl]:
+    """VAR_STAT and VAR_EXTERNAL variables: the builder keeps them outside the instance block."""
+    found: list[FieldDecl] = []
+    for record in cls.__dict__.get("_iec_static_fields_", ()):
+        found.append(FieldDecl(record.name, "VAR_STAT", record.info, record.spec))
+    statics = {r.name for r in cls.__dict__.get("_iec_static_fields_", ())}
+    for name, value in cls.__dict__.items():
+        if type(value).__name__ == "_Static" and name not in statics:
+            _block, record = find_global(name, f"{cls.__name__}.{name}")
+            found.append(FieldDecl(name, "VAR_EXTERNAL", record.info, FieldSpec("VAR_EXTERNAL")))
+    return found
+
+
+def _own_members(cls: Any) -> tuple[MemberDecl, ...]:
+    members: dict[str, Member] = getattr(cls, "_iec_members_", {})
+    found: list[MemberDecl] = []
+    for name, value in cls.__dict__.items():
+        member = members.get(name)
+        if member is None or member.owner is not cls:
+            continue
+        if member.kind == "property":
+            getter = inspect.unwrap(value.fget) if value.fget is not None else None
+            raw_setter = value.fset if value.fset is not None and getattr(value.fset, "__name__", "") != "read_only" else None
+            setter = inspect.unwrap(raw_setter) if raw_setter is not None else None
+            found.append(MemberDecl(
+                name, "property", member.flags, value, getter, setter, flags_of(getter), flags_of(setter) if setter else Access.PUBLIC,
+            ))
+        else:
+            found.append(MemberDecl(name, "method", member.flags, inspect.unwrap(value)))
+    return tuple(found)
+
+
+def access_words(flags: Access, *, default_public: bool = True) -> str:
+    """``PUBLIC`` / ``PRIVATE ABSTRACT`` ... as ST writes them after METHOD / PROPERTY."""
+    words = [typing.cast(str, visibility(flags).name)]
+    if flags & Access.ABSTRACT:
+        words.append("ABSTRACT")
+    if flags & Access.FINAL:
+        words.append("FINAL")
+    return " ".join(words)
+
+
+# ---------------------------------------------------------------------------
+# Types
+# ---------------------------------------------------------------------------
+
+
+def type_text(info: TypeInfo) -> str:
+    """The ST type of a resolved TypeInfo (``STRING(20)``, ``ARRAY[1..4] OF INT``, ``POINTER TO X``)."""
+    if isinstance(info, StringInfo):
+        return info.record.name if info.length == info.record.default_length else f"{info.record.name}({info.length})"
+    if isinstance(info, ArrayInfo):
+        dims = ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
+        return f"ARRAY[{dims}] OF {type_text(info.elem)}"
+    if isinstance(info, PointerInfo):
+        target = info.target
+        return "PVOID" if target is None else f"POINTER TO {type_text(target)}"
+    if isinstance(info, ReferenceInfo):
+        return f"REFERENCE TO {type_text(info.target)}"
+    if getattr(info, "iface", None) is IQueryInterface:
+        return "__SYSTEM.IQueryInterface"
+    return info.name
+
+
+def annotation_info(annotation: Any, func: Any, where: str, owner: Any = None) -> TypeInfo | None:
+    """The TypeInfo of a parameter / return annotation of ``func`` (None for ``-> None``)."""
+    if annotation is None or annotation is type(None) or annotation == "None" or annotation is inspect.Signature.empty:
+        return None
+    if isinstance(annotation, str):
+        namespace: dict[str, Any] = {}
+        if owner is not None:
+            namespace[owner.__name__] = owner
+        try:
+            annotation = eval(annotation, getattr(func, "__globals__", {}), namespace)  # noqa: S307 - the user's own annotation
+        except Exception as exc:
+            raise StExportError(f"{where}: cannot resolve the annotation {annotation!r} ({exc})") from None
+    if annotation is None or annotation is type(None):
+        return None
+    if isinstance(annotation, types.UnionType) or typing.get_origin(annotation) is typing.Union:
+        # `IValve | None`: an interface or pointer input that may be 0 is just that type in ST.
+        options = [a for a in typing.get_args(annotation) if a is not type(None)]
+        if len(options) == 1:
+            annotation = options[0]
+    annotation = _PLAIN.get(annotation, annotation)
+    try:
+        return resolve_type(annotation, where)
+    except DefinitionError as exc:
+        raise StExportError(str(exc) if str(exc).startswith(where) else f"{where}: {exc}") from None
+
+
+def _plain_annotations() -> dict[Any, Any]:
+    from iecoop.types import BOOL, DINT, LREAL, STRING
+
+    return {bool: BOOL, int: DINT, float: LREAL, str: STRING}
+
+
+#: Plain Python annotations and the IEC type a value of them is in ST.
+_PLAIN = _plain_annotations()
+
+#: ST keywords a Python name may spell; such a name gets a trailing underscore in ST.
+RESERVED = frozenset("""
+ABSTRACT ACTION AND AND_THEN ARRAY AT BY CASE CONSTANT CONTINUE DO ELSE ELSIF END_ACTION END_CASE END_FOR
+END_FUNCTION END_FUNCTION_BLOCK END_IF END_INTERFACE END_METHOD END_PROGRAM END_PROPERTY END_REPEAT END_STRUCT
+END_TYPE END_UNION END_VAR END_WHILE EXIT EXTENDS FINAL FOR FUNCTION FUNCTION_BLOCK IF IMPLEMENTS INTERFACE
+INTERNAL JMP METHOD MOD NOT OF ON OR OR_ELSE PERSISTENT POINTER PRIVATE PROGRAM PROPERTY PROTECTED PUBLIC
+READ_ONLY READ_WRITE REFERENCE REPEAT RETAIN RETURN STRUCT SUPER THEN THIS TO TYPE UNION UNTIL VAR VAR_ACCESS
+VAR_CONFIG VAR_EXTERNAL VAR_GLOBAL VAR_INPUT VAR_INST VAR_IN_OUT VAR_OUTPUT VAR_STAT VAR_TEMP WHILE XOR
+""".split())
+
+
+def ident(name: str) -> str:
+    """The ST identifier of a Python name: itself, or with a trailing underscore if it spells a keyword."""
+    return f"{name}_" if name.upper() in RESERVED else name
+
+
+def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, Any]]:
+    """(name, type, default or MISSING) of each parameter after ``self``."""
+    found: list[tuple[str, TypeInfo, Any]] = []
+    for i, param in enumerate(inspect.signature(func).parameters.values()):
+        if i == 0:
+            continue
+        if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
+            raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
+        info = annotation_info(param.annotation, func, f"{where}.{param.name}", owner)
+        if info is None:
+            raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
+        default = MISSING if param.default is inspect.Parameter.empty else param.default
+        found.append((param.name, info, default))
+    return found
+
+
+def function_parameters(func: Any, where: str) -> list[tuple[str, TypeInfo, Any]]:
+    """(name, type, default) of each input of a module function (no ``self``)."""
+    found: list[tuple[str, TypeInfo, Any]] = []
+    for param in inspect.signature(func).parameters.values():
+        if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
+            raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
+        info = annotation_info(param.annotation, func, f"{where}.{param.name}")
+        if info is None:
+            raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
+        found.append((param.name, info, MISSING if param.default is inspect.Parameter.empty else param.default))
+    return found
+
+
+def return_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    return annotation_info(inspect.signature(func).return_annotation, func, where, owner)
+
+
+# ---------------------------------------------------------------------------
+# Which classes a module or a list declares
+# ---------------------------------------------------------------------------
+
+
+def _library(obj: Any) -> bool:
+    """Library classes (TON, CTU...) exist on the PLC already: they are referenced, not exported."""
+    module = getattr(obj, "__module__", "") or ""
+    return module == "iecoop" or module.startswith("iecoop.")
+
+
+def collect(source: Any) -> list[ClassMeta]:
+    """The declared classes of a module (in definition order) or of an iterable of classes."""
+    if isinstance(source, types.ModuleType):
+        candidates: Iterable[Any] = [
+            v for v in vars(source).values()
+            if _kind(v) is not None and (getattr(type(v) if isinstance(v, GlobalVariables) else v, "__module__", None) == source.__name__ or _kind(v) == "alias")
+        ]
+    elif isinstance(source, (type, GlobalVariables)):
+        candidates = [source]
+    else:
+        candidates = list(source)
+    seen: set[int] = set()
+    metas: list[ClassMeta] = []
+    for obj in candidates:
+        key = id(type(obj) if isinstance(obj, GlobalVariables) else obj)
+        if key in seen or (_kind(obj) != "alias" and _library(type(obj) if isinstance(obj, GlobalVariables) else obj)):
+            continue
+        seen.add(key)
+        metas.append(metadata(obj))
+    order = {kind: i for i, kind in enumerate(KINDS)}
+    return sorted(metas, key=lambda m: order[m.kind])
+
+
+def enum_members(cls: Any) -> list[tuple[str, int]]:
+    return [(m.name, int(m.value)) for m in typing.cast(Iterable[enum.IntEnum], cls)]
+
+
+def enum_base(cls: Any) -> str:
+    return typing.cast(str, cls._iec_base_.name)
+
+
+def alias_target(obj: Any) -> str:
+    record = elementary_type(obj)
+    return record.name if record is not None else str(obj.__origin__)
+
+
+def functions_of(meta: ClassMeta) -> Iterable[Callable[..., Any]]:
+    """Every function whose body the writer translates."""
+    if meta.body is not None:
+        yield meta.body
+    for _name, func in meta.lifecycle:
+        yield func
+    for member in meta.members:
+        if member.kind == "method":
+            yield member.function
+        else:
+            for func in (member.getter, member.setter):
+                if func is not None:
+                    yield func

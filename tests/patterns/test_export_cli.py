@@ -1,0 +1,38 @@
+"""``iecoop export`` / ``iecoop show --st`` as functions (the dispatcher wires them)."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import pytest
+
+from patterns.showcase.export_cli import export_command, st_text
+
+
+def test_export_writes_twincat_files(tmp_path: Path) -> None:
+    out = io.StringIO()
+    assert export_command(["observer", "--format", "twincat", "-o", str(tmp_path)], out) == 0
+    written = out.getvalue().split()
+    assert str(tmp_path / "TemperatureTransmitter.TcPOU") in written
+    assert (tmp_path / "IObserver.TcIO").read_text().count("<Method Name=") == 1
+
+
+def test_export_by_module_name_as_plcopen(tmp_path: Path) -> None:
+    assert export_command(["patterns.solid.srp", "--format", "plcopen", "-o", str(tmp_path)], io.StringIO()) == 0
+    assert (tmp_path / "srp.xml").read_text().startswith('<?xml version="1.0" encoding="utf-8"?>\n<project')
+
+
+def test_strict_export_fails_on_a_statement_with_no_st_form(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert export_command(["observer", "--strict", "-o", str(tmp_path)], io.StringIO()) == 1
+    assert "raise has no Structured Text form" in capsys.readouterr().err
+
+
+def test_unknown_name(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert export_command(["no_such_pattern", "-o", str(tmp_path)], io.StringIO()) == 2
+    assert "no catalogue entry or module named 'no_such_pattern'" in capsys.readouterr().err
+
+
+def test_st_text_is_the_dump() -> None:
+    text = st_text("ch05")
+    assert "FUNCTION_BLOCK" in text and "EXTENDS" in text
