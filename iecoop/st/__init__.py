@@ -1,4 +1,4 @@
-"""Structured Text in, live iecoop classes out: ``load`` and ``to_python``.
+"""Structured Text both ways: ``load`` and ``to_python`` read it, ``dump`` and ``export`` write it.
 
 ``st.load(source)`` reads ST text, an ``.st`` file, a TwinCAT file
 (``.TcPOU``, ``.TcDUT``, ``.TcGVL``, ``.TcIO``), a folder of them or a
@@ -38,8 +38,11 @@ from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
 from iecoop.st._parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.export import StExportError, dump, export
 
-__all__ = ["StModule", "StSyntaxError", "StUnsupportedError", "external", "load", "to_python"]
+__all__ = [
+    "StExportError", "StModule", "StSyntaxError", "StUnsupportedError", "dump", "export", "external", "load", "to_python",
+]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _counter = itertools.count(1)

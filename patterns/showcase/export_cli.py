@@ -22,7 +22,10 @@ from typing import TextIO
 from iecoop.st.export import StExportError, dump, export
 from patterns.showcase.catalogue import find
 
-__all__ = ["export_command", "module_of", "st_text"]
+__all__ = ["EXPORT_HELP", "add_export_arguments", "export_command", "export_run", "module_of", "st_text"]
+
+#: The help line of ``iecoop export``.
+EXPORT_HELP = "write a pattern, example or module as TwinCAT files, PLCopen XML or plain ST"
 
 
 def module_of(name: str) -> ModuleType:
@@ -42,24 +45,32 @@ def st_text(entry_name: str, *, strict: bool = False) -> str:
     return dump(module_of(entry_name), lenient=not strict)
 
 
-def export_command(argv: Sequence[str], out: TextIO | None = None) -> int:
-    """``iecoop export NAME|MODULE --format twincat|plcopen|st -o DIR``; the exit status."""
-    stream = out if out is not None else sys.stdout
-    parser = argparse.ArgumentParser(prog="iecoop export", description="Write a design as Structured Text files.")
+def add_export_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``iecoop export``."""
     parser.add_argument("name", help="catalogue entry (observer, srp, ch08...) or module (patterns.behavioral.state)")
     parser.add_argument("--format", choices=("twincat", "plcopen", "st"), default="twincat")
     parser.add_argument("-o", "--output", default=".", help="folder to write into (created if missing)")
     parser.add_argument("--strict", action="store_true", help="fail on a statement with no ST form")
-    args = parser.parse_args(list(argv))
+
+
+def export_command(argv: Sequence[str], out: TextIO | None = None) -> int:
+    """``iecoop export NAME|MODULE --format twincat|plcopen|st -o DIR``; the exit status."""
+    parser = argparse.ArgumentParser(prog="iecoop export", description="Write a design as Structured Text files.")
+    add_export_arguments(parser)
+    return export_run(parser.parse_args(list(argv)), out if out is not None else sys.stdout, sys.stderr)
+
+
+def export_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
+    """``iecoop export`` with its parsed arguments."""
     try:
         module = module_of(args.name)
         files = export(module, args.output, format=args.format, lenient=not args.strict)
     except KeyError as exc:
-        print(f"iecoop export: {exc.args[0]}", file=sys.stderr)
+        print(f"iecoop export: {exc.args[0]}", file=err)
         return 2
     except StExportError as exc:
-        print(f"iecoop export: {exc}", file=sys.stderr)
+        print(f"iecoop export: {exc}", file=err)
         return 1
     for path in files:
-        print(path, file=stream)
+        print(path, file=out)
     return 0

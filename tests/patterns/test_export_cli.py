@@ -36,3 +36,16 @@ def test_unknown_name(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> Non
 def test_st_text_is_the_dump() -> None:
     text = st_text("ch05")
     assert "FUNCTION_BLOCK" in text and "EXTENDS" in text
+
+
+def test_export_and_show_st_are_commands_of_iecoop(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from patterns.showcase.cli import main
+
+    assert main(["export", "observer", "--format", "twincat", "-o", str(tmp_path)]) == 0
+    written = capsys.readouterr().out.split()
+    assert written and all(Path(path).exists() for path in written)
+    assert any(path.endswith(".TcPOU") for path in written)
+    assert main(["show", "observer", "--st"]) == 0
+    assert "FUNCTION_BLOCK TemperatureTransmitter IMPLEMENTS ISubject" in capsys.readouterr().out
+    assert main(["export", "no-such-thing", "-o", str(tmp_path)]) == 2
+    assert "no catalogue entry or module named 'no-such-thing'" in capsys.readouterr().err
