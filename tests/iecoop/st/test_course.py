@@ -38,7 +38,7 @@ CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
         "gear": "Gear"}),
     "ch08": ("ch08_interfaces.st", {
         "start_all": "bStartAll", "stop_all": "bStopAll", "running": "nRunning", "motor.running": "fbMotor.Running",
-        "valve.running": "fbValve.Running", "lamp.running": "fbLamp.Running", "motor": "fbMotor",
+        "valve.running": "fbValve.Running", "lamp.running": "fbLamp.Running", "motor": "fbMotor", "valve": "fbValve", "lamp": "fbLamp",
         "run_cycles": "nRunCycles"}),
     "ch10": ("ch10_abstract.st", {
         "raw": "nRaw", "temperature": "fbTemperature", "pressure": "fbPressure", "value": "rValue",
@@ -59,15 +59,36 @@ CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
 class Renamed:
     """The ST program seen under the Python example's names, so the chapter's script and columns apply."""
 
-    def __init__(self, program: Any, names: dict[str, str]) -> None:
+    def __init__(self, program: Any, names: dict[str, str], path: str = "") -> None:
         object.__setattr__(self, "_program", program)
         object.__setattr__(self, "_names", names)
+        object.__setattr__(self, "_path", path)
+
+    def _st_name(self, name: str) -> str:
+        # A dotted entry ("motor.running": "fbMotor.Running") names a member in its place; a plain one anywhere.
+        full = f"{self._path}.{name}" if self._path else name
+        if full in self._names:
+            return str(self._names[full].rsplit(".", 1)[-1])
+        return str(self._names.get(name, name))
 
     def __getattr__(self, name: str) -> Any:
-        return getattr(self._program, self._names.get(name, name))
+        full = f"{self._path}.{name}" if self._path else name
+        return self._wrap(getattr(self._program, self._st_name(name)), full)
+
+    def __getitem__(self, index: Any) -> Any:
+        return self._wrap(self._program[index], self._path)
 
     def __setattr__(self, name: str, value: Any) -> None:
-        setattr(self._program, self._names.get(name, name), value)
+        setattr(self._program, self._st_name(name), value)
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return self._program(*args, **{self._names.get(k, k): v for k, v in kwargs.items()})
+
+    def _wrap(self, value: Any, path: str) -> Any:
+        # A nested block, STRUCT or ARRAY is seen under the Python names too (a column p.mercedes.action).
+        if isinstance(value, (bool, int, float, str, bytes)) or value is None:
+            return value
+        return Renamed(value, self._names, path)
 
 
 def st_path(path: str, names: dict[str, str]) -> str:
