@@ -34,8 +34,8 @@ TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
 #: Standard function blocks of iecoop.stdlib that ST code may instantiate.
 STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
               "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
-_MATH = {"SQRT": "sqrt", "LN": "log", "LOG": "log10", "EXP": "exp", "SIN": "sin", "COS": "cos", "TAN": "tan",
-         "ASIN": "asin", "ACOS": "acos", "ATAN": "atan"}
+_MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
+_STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
     tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
@@ -1361,12 +1361,8 @@ class Translator:
         bit = self.bit_target(target, scope)
         if bit is not None:
             holder, index = bit
-            if value.code == "True":
-                self.emit(f"{holder} = {holder} | (1 << {index})", level)
-            elif value.code == "False":
-                self.emit(f"{holder} = {holder} & ~(1 << {index})", level)
-            else:
-                self.emit(f"{holder} = ({holder} & ~(1 << {index})) | (int({value.code}) << {index})", level)
+            self.need("iecoop.functions", "set_bit")
+            self.emit(f"{holder} = set_bit({holder}, {index}, {value.code})", level)
             return
         lhs = self.expr(target, scope, store=True)
         local = self.local_of(target, scope)
@@ -1832,7 +1828,8 @@ class Translator:
             if field_name.isdigit():
                 if store and index == len(elements) - 1:
                     raise self.fail("bit assignment in this position", node)
-                current = Ex(f"bool(({current.code} >> {field_name}) & 1)", BOOL)
+                self.need("iecoop.functions", "get_bit")
+                current = Ex(f"get_bit({current.code}, {field_name})", BOOL)
                 continue
             current = self.member_ref(current, field_name, node, store=store and index == len(elements) - 1)
             if isinstance(field, tf.SimpleVariable) and field.dereferenced or element.dereferenced:
@@ -2017,36 +2014,20 @@ class Translator:
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)
         if upper == "ABS":
-            return Ex(f"abs({codes[0]})", first)
-        if upper in _MATH:
-            self.need("math")
-            return Ex(f"math.{_MATH[upper]}({codes[0]})", LREAL)
-        if upper == "EXPT":
-            return Ex(f"{args[0].p()} ** {args[1].p()}", LREAL, True)
+            return self.function_call(upper, codes, first)
+        if upper in _MATH or upper == "EXPT":
+            return self.function_call(upper, codes, LREAL)
         if upper in ("MIN", "MAX"):
-            return Ex(f"{upper.lower()}({', '.join(codes)})", self.wider(first, args[1].type if len(args) > 1 else None))
-        if upper == "LIMIT":
-            return Ex(f"min(max({codes[1]}, {codes[0]}), {codes[2]})", args[1].type)
-        if upper == "SEL":
-            return Ex(f"{args[2].p()} if {args[0].p()} else {args[1].p()}", args[1].type, True)
-        if upper == "MUX":
-            return Ex(f"({', '.join(codes[1:])},)[{codes[0]}]", args[1].type)
+            return self.function_call(upper, codes, self.wider(first, args[1].type if len(args) > 1 else None))
+        if upper in ("LIMIT", "SEL", "MUX"):
+            return self.function_call(upper, codes, args[1].type)
         if upper == "MOVE":
             return args[0]
         if upper in ("SHL", "SHR", "ROL", "ROR"):
-            width = INTEGER_TYPES.get(first.name) if first is not None and first.is_int else None
-            if upper == "SHR":
-                return Ex(f"{args[0].p()} >> {args[1].p()}", first, True)
-            if width is None:
+            if first is None or not first.is_int:
                 raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
-            mask = hex((1 << width) - 1).upper().replace("0X", "0x")
-            if upper == "SHL":
-                return Ex(f"({args[0].p()} << {args[1].p()}) & {mask}", first, True)
-            n = args[1].p() if re.fullmatch(r"\d+", codes[1]) else f"({codes[1]} % {width})"
-            x = args[0].p()
-            if upper == "ROL":
-                return Ex(f"(({x} << {n}) | ({x} >> ({width} - {n}))) & {mask}", first, True)
-            return Ex(f"(({x} >> {n}) | ({x} << ({width} - {n}))) & {mask}", first, True)
+            self._need_type(first)
+            return self.function_call(upper, [*codes, first.name], first)
         if upper == "TRUNC":
             self.need("iecoop.conversions", "TRUNC")
             return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))
@@ -2094,26 +2075,15 @@ class Translator:
         return Ex(f"{name}({value.code})", result_type)
 
     def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
-        codes = [a.p() for a in args]
-        if upper == "LEN":
-            return Ex(f"len({args[0].code})", TypeRef("elem", "INT"))
-        if upper == "LEFT":
-            return Ex(f"{codes[0]}[:{args[1].code}]", STRING)
-        if upper == "RIGHT":
-            return Ex(f"{codes[0]}[max(len({args[0].code}) - {codes[1]}, 0):]", STRING)
-        if upper == "MID":
-            return Ex(f"{codes[0]}[{codes[2]} - 1:{codes[2]} - 1 + {codes[1]}]", STRING)
-        if upper == "CONCAT":
-            return Ex(" + ".join(codes), STRING, True)
-        if upper == "INSERT":
-            return Ex(f"{codes[0]}[:{args[2].code}] + {codes[1]} + {codes[0]}[{args[2].code}:]", STRING, True)
-        if upper == "DELETE":
-            return Ex(f"{codes[0]}[:{codes[2]} - 1] + {codes[0]}[{codes[2]} - 1 + {codes[1]}:]", STRING, True)
-        if upper == "REPLACE":
-            return Ex(f"{codes[0]}[:{codes[3]} - 1] + {codes[1]} + {codes[0]}[{codes[3]} - 1 + {codes[2]}:]", STRING, True)
-        if upper == "FIND":
-            return Ex(f"{codes[0]}.find({args[1].code}) + 1", TypeRef("elem", "INT"), True)
-        return None
+        if upper not in _STRING_FUNCTIONS:
+            return None
+        result = TypeRef("elem", "INT") if upper in ("LEN", "FIND") else STRING
+        return self.function_call(upper, [a.code for a in args], result)
+
+    def function_call(self, name: str, codes: Sequence[str], type_: TypeRef | None) -> Ex:
+        """A call of the standard function ``name`` of ``iecoop.functions``: the form the Rosetta teaches."""
+        self.need("iecoop.functions", name)
+        return Ex(f"{name}({', '.join(codes)})", type_)
 
     def operator_call(self, upper: str, node: Any, scope: Scope, level: int | None) -> Ex:
         params = [p.value for p in node.parameters]

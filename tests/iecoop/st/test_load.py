@@ -493,3 +493,78 @@ def test_real_locals_are_32_bit() -> None:
     module = st.load("FUNCTION F_Tenth : REAL\nVAR r : REAL; END_VAR\nr := 0.1;\nF_Tenth := r * 3;\nEND_FUNCTION\n")
     tenth = struct.unpack("<f", struct.pack("<f", 0.1))[0]
     assert module.F_Tenth() == struct.unpack("<f", struct.pack("<f", tenth * 3))[0] != 0.1 * 3
+
+
+STANDARD = st.load("""
+FUNCTION F_Strings : STRING(80)
+VAR_INPUT s : STRING(40); t : STRING(40); n : INT; p : INT; END_VAR
+F_Strings := CONCAT(CONCAT(MID(s, n, p), '|'), CONCAT(LEFT(s, n), '|'));
+F_Strings := CONCAT(F_Strings, CONCAT(CONCAT(RIGHT(s, n), '|'), CONCAT(DELETE(s, n, p), '|')));
+F_Strings := CONCAT(F_Strings, CONCAT(CONCAT(INSERT(s, t, p), '|'), REPLACE(s, t, n, p)));
+END_FUNCTION
+FUNCTION F_Find : INT
+VAR_INPUT s : STRING(40); t : STRING(40); END_VAR
+F_Find := FIND(s, t) * 100 + LEN(t);
+END_FUNCTION
+FUNCTION F_Shifts : LWORD
+VAR_INPUT i : INT; n : INT; END_VAR
+VAR w : WORD; END_VAR
+w := i;
+F_Shifts := SHL(i, n) * 16#1000000000000 + SHR(i, n) * 16#100000000 + ROL(w, n) * 16#10000 + ROR(w, n);
+END_FUNCTION
+FUNCTION F_Bits : WORD
+VAR_INPUT w : WORD; n : INT; b : BOOL; END_VAR
+CASE n OF
+0: w.0 := b; 5: w.5 := b; 15: w.15 := b;
+END_CASE
+F_Bits := w;
+IF w.15 THEN F_Bits := F_Bits OR 16#1; END_IF
+END_FUNCTION
+""")
+
+_TEXT = strategies.text("ab", max_size=6)
+
+
+@given(_TEXT, _TEXT, strategies.integers(-2, 8), strategies.integers(-2, 8))
+def test_string_functions_match_the_python_forms(s: str, t: str, n: int, p: int) -> None:
+    from iecoop.functions import DELETE, FIND, INSERT, LEFT, LEN, MID, REPLACE, RIGHT
+
+    expected = "|".join([MID(s, n, p), LEFT(s, n), RIGHT(s, n), DELETE(s, n, p), INSERT(s, t, p), REPLACE(s, t, n, p)])
+    assert STANDARD.F_Strings(s=s, t=t, n=n, p=p) == expected
+    assert STANDARD.F_Find(s=s, t=t) == FIND(s, t) * 100 + LEN(t)
+
+
+def test_string_function_edges_follow_iec() -> None:
+    # FIND of an empty string is 0; MID from a position below 1 starts at the first character
+    assert STANDARD.F_Find(s="abc", t="") == 0
+    assert STANDARD.F_Strings(s="abc", t="", n=2, p=0).split("|")[0] == "ab"
+
+
+@given(strategies.integers(-32768, 32767), strategies.integers(0, 20))
+def test_shifts_match_the_python_forms(i: int, n: int) -> None:
+    from iecoop import INT, WORD
+    from iecoop.functions import ROL, ROR, SHL, SHR
+
+    w = i & 0xFFFF
+    expected = (SHL(i, n, INT) << 48) + (SHR(i, n, INT) << 32) + (ROL(w, n, WORD) << 16) + ROR(w, n, WORD)
+    assert STANDARD.F_Shifts(i=i, n=n) == expected
+
+
+def test_shr_of_a_negative_int_shifts_in_zeros() -> None:
+    assert STANDARD.F_Shifts(i=-1, n=4) >> 32 & 0xFFFF == 0x0FFF
+
+
+@given(strategies.integers(0, 0xFFFF), strategies.sampled_from([0, 5, 15]), strategies.booleans())
+def test_bit_access_matches_get_bit_and_set_bit(w: int, n: int, b: bool) -> None:
+    from iecoop.functions import get_bit, set_bit
+
+    written = set_bit(w, n, b)
+    assert STANDARD.F_Bits(w=w, n=n, b=b) == (written | 1 if get_bit(written, 15) else written)
+
+
+def test_generated_python_calls_the_standard_functions() -> None:
+    code = st.to_python(prog("w : WORD; b : BOOL; s : STRING; n : INT;",
+                             "w.3 := TRUE; b := w.3; w := ROL(w, 2); n := FIND(s, 'x'); s := MID(s, 2, 1);"))
+    for form in ("set_bit(self.w, 3, True)", "get_bit(self.w, 3)", "ROL(self.w, 2, WORD)",
+                 'FIND(self.s, "x")', "MID(self.s, 2, 1)", "from iecoop.functions import"):
+        assert form in code, form
