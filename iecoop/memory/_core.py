@@ -1225,7 +1225,8 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         "bounds": bounds,
         "_flat": flat,
     }
-    if elem.direct:
+    # An element ARRAY (ARRAY OF ARRAY) is a view, written through its info so a list can be stored.
+    if elem.direct and not isinstance(elem, ArrayInfo):
 
         def getitem(self: Any, index: Any) -> Any:
             if type(index) is int and lo0 <= index <= hi0 and one_dim:
@@ -1369,7 +1370,8 @@ def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
     if isinstance(info, ReferenceInfo):
         check_value(info.target, value, where)
     elif isinstance(info, ArrayInfo) and isinstance(value, (list, tuple)):
-        items = list(_flatten(value))
+        # ARRAY OF ARRAY takes one list per element array; a multi-dimensional ARRAY any nesting, row-major
+        items = list(value) if isinstance(info.elem, ArrayInfo) else list(_flatten(value))
         if len(items) > info.count:
             raise TypeError(f"{where}: {len(items)} values for {info.name}, which has {info.count} elements")
         for i, item in enumerate(items):
@@ -1498,64 +1500,11 @@ def resolve_type(
         annotation = resolver(annotation)
     origin = typing.get_origin(annotation)
     if origin is Annotated:
-        metadata = annotation.__metadata__
-        if any(m is REFERENCE for m in metadata):
-            rest = tuple(m for m in metadata if m is not REFERENCE)
-            inner = annotation.__origin__
-            target_annotation = Annotated[(inner, *rest)] if rest else inner
-            # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
-            target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
-            if isinstance(target, (InterfaceInfo, ReferenceInfo)):
-                raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
-            return ReferenceInfo(target)
-        record = elementary_type(annotation)
-        if isinstance(record, StringType):
-            n = record.default_length if length is None else length
-            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STRING_LENGTH:
-                raise DefinitionError(
-                    f"{where}: {record.name} length must be an integer 1..{MAX_STRING_LENGTH}, got {n!r}"
-                )
-            _check_no_bounds(bounds, where, record.name)
-            return string_info(record, n)
-        if isinstance(record, ElementaryType):
-            _check_plain(length, bounds, where, record.name)
-            alias = next((m for m in metadata if isinstance(m, Alias)), None)
-            if alias is not None:
-                return ElementaryInfo(record, alias.name)
-            return elementary_info(record)
-        return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
+        return _resolve_annotated(annotation, where, length, bounds, resolver)
     if origin is ARRAY:
-        (elem_annotation,) = typing.get_args(annotation)
-        if bounds is None:
-            raise DefinitionError(f"{where}: ARRAY needs bounds, e.g. VAR(bounds=(1, 10))")
-        pairs = normalise_bounds(bounds, where)
-        elem = resolve_type(elem_annotation, where, length=length, resolver=resolver)
-        if isinstance(elem, ReferenceInfo):
-            raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
-        if isinstance(elem, ArrayInfo):
-            raise DefinitionError(f"{where}: write a multi-dimensional ARRAY with several bound pairs")
-        count = 1
-        for lo, hi in pairs:
-            count *= hi - lo + 1
-        check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
-        return array_info(elem, pairs)
-    if origin is Pointer:
-        (target_annotation,) = typing.get_args(annotation) or (None,)
-        to_array = typing.get_origin(target_annotation) is ARRAY
-        if not to_array:
-            _check_plain(None, bounds, where, "POINTER")
-
-        def thunk() -> TypeInfo | None:
-            if target_annotation is None or target_annotation is Any:
-                return None
-            # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
-            return resolve_type(
-                target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver
-            )
-
-        return PointerInfo(thunk, _annotation_name(target_annotation))
-    if annotation is Pointer:
-        return PointerInfo(lambda: None, "PVOID")
+        return _resolve_array(annotation, where, length, bounds, resolver)
+    if origin is Pointer or annotation is Pointer:
+        return _resolve_pointer(annotation, where, length, bounds, resolver)
     if isinstance(annotation, type):
         info = class_info(annotation)
         if info is not None:
@@ -1566,6 +1515,103 @@ def resolve_type(
                 f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
             )
     raise DefinitionError(f"{where}: {_annotation_name(annotation)} is not an IEC type")
+
+
+_Resolver = Callable[[Any], Any] | None
+
+
+def _resolve_annotated(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``Annotated[...]``: a REFERENCE_TO, a STRING(n), an alias of an elementary type, or metadata to look through."""
+    metadata = annotation.__metadata__
+    if any(m is REFERENCE for m in metadata):
+        rest = tuple(m for m in metadata if m is not REFERENCE)
+        inner = annotation.__origin__
+        target_annotation = Annotated[(inner, *rest)] if rest else inner
+        # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
+        target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
+        if isinstance(target, (InterfaceInfo, ReferenceInfo)):
+            raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
+        return ReferenceInfo(target)
+    record = elementary_type(annotation)
+    if isinstance(record, StringType):
+        n = record.default_length if length is None else length
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STRING_LENGTH:
+            raise DefinitionError(f"{where}: {record.name} length must be an integer 1..{MAX_STRING_LENGTH}, got {n!r}")
+        _check_no_bounds(bounds, where, record.name)
+        return string_info(record, n)
+    if isinstance(record, ElementaryType):
+        _check_plain(length, bounds, where, record.name)
+        alias = next((m for m in metadata if isinstance(m, Alias)), None)
+        if alias is not None:
+            return ElementaryInfo(record, alias.name)
+        return elementary_info(record)
+    return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
+
+
+def _array_depth(annotation: Any) -> int:
+    """How many ARRAY levels ``ARRAY[ARRAY[...]]`` nests (1 for a plain ARRAY)."""
+    depth = 0
+    while typing.get_origin(annotation) is ARRAY:
+        depth += 1
+        (annotation,) = typing.get_args(annotation)
+    return depth
+
+
+def _resolve_array(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``ARRAY[T]`` with ``bounds=``; ``ARRAY[ARRAY[T]]`` takes one bounds entry per level, outermost first."""
+    (elem_annotation,) = typing.get_args(annotation)
+    depth = _array_depth(annotation)
+    if bounds is None:
+        example = "bounds=(1, 10)" if depth == 1 else "bounds=((0, 4), (0, 9)), one (lo, hi) per ARRAY level"
+        raise DefinitionError(f"{where}: ARRAY needs bounds=, e.g. VAR({example})")
+    if depth > 1:
+        if not isinstance(bounds, tuple) or len(bounds) != depth or not all(isinstance(b, tuple) for b in bounds):
+            raise DefinitionError(
+                f"{where}: an ARRAY of ARRAY nests {depth} levels and takes one bounds entry per level, "
+                f"outermost first, e.g. bounds=((0, 4), (0, 9)); got {bounds!r}"
+            )
+        level_bounds, inner_bounds = bounds[0], bounds[1:] if depth > 2 else bounds[1]
+    else:
+        level_bounds, inner_bounds = bounds, None
+    pairs = normalise_bounds(level_bounds, where)
+    elem = resolve_type(elem_annotation, where, length=length, bounds=inner_bounds, resolver=resolver)
+    if isinstance(elem, ReferenceInfo):
+        raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
+    leaf = _array_leaf(elem)
+    if leaf is not elem and isinstance(leaf, AggregateInfo) and getattr(leaf.cls, "_iec_kind_", "") in ("fb", "program"):
+        raise DefinitionError(
+            f"{where}: ARRAY OF ARRAY OF a function block is not supported; write ARRAY[a..b, c..d] OF the block"
+        )
+    count = 1
+    for lo, hi in pairs:
+        count *= hi - lo + 1
+    check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
+    return array_info(elem, pairs)
+
+
+def _array_leaf(info: TypeInfo) -> TypeInfo:
+    """The innermost element type of a (nested) ARRAY."""
+    while isinstance(info, ArrayInfo):
+        info = info.elem
+    return info
+
+
+def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``POINTER_TO[T]`` (its target resolved lazily, so a block may point to itself), or ``Pointer``: PVOID."""
+    if annotation is Pointer:
+        return PointerInfo(lambda: None, "PVOID")
+    (target_annotation,) = typing.get_args(annotation) or (None,)
+    to_array = typing.get_origin(target_annotation) is ARRAY
+    if not to_array:
+        _check_plain(None, bounds, where, "POINTER")
+
+    def thunk() -> TypeInfo | None:
+        if target_annotation is None or target_annotation is Any:
+            return None
+        # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
+        return resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
+
+    return PointerInfo(thunk, _annotation_name(target_annotation))
 
 
 def _annotation_name(annotation: Any) -> str:

@@ -577,6 +577,8 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
                         _assign_members(view, item)
 
         return op
+    if isinstance(elem, ArrayInfo):
+        return _nested_array_op(info, get, initial)
     if initial is MISSING or not initial:
         return None
     values = list(initial)
@@ -599,6 +601,29 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
             raw_set(array, i, value)
 
     return op_values
+
+
+def _nested_array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Callable[[Any], None] | None:
+    """ARRAY OF ARRAY: each element array initialised as a field of its own (its item of ``initial``, a list)."""
+    raw_get = info.ctype.__mro__[1].__getitem__
+    items = list(initial) if initial is not MISSING else []
+    ops: list[Callable[[Any], None]] = []
+    for i in range(info.count):
+
+        def element(obj: Any, i: int = i) -> Any:
+            return raw_get(get(obj), i)
+
+        op = _array_op(typing.cast(ArrayInfo, info.elem), element, items[i] if i < len(items) else MISSING)
+        if op is not None:
+            ops.append(op)
+    if not ops:
+        return None
+
+    def op_all(obj: Any) -> None:
+        for op in ops:
+            op(obj)
+
+    return op_all
 
 
 # ---------------------------------------------------------------------------

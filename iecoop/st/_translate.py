@@ -393,8 +393,9 @@ class Translator:
             bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
         element_spec = spec.type
         if isinstance(element_spec, tf.ArraySpecification):
-            raise self.fail("ARRAY OF ARRAY is not supported (use ARRAY[a..b, c..d])", node)
-        element = self._spec_type(element_spec, node)
+            element = self._array_type(element_spec, None, node)
+        else:
+            element = self._spec_type(element_spec, node)
         return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds), indirection)
 
     def const_expr(self, node: Any) -> str:
@@ -782,11 +783,16 @@ class Translator:
             kwargs.append(f"length={type_.length}")
         shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
         if shape.kind == "array":
-            assert shape.bounds is not None
-            pairs = [f"({a}, {b})" for a, b in shape.bounds]
-            kwargs.append(f"bounds={pairs[0] if len(pairs) == 1 else '(' + ', '.join(pairs) + ')'}")
-            if shape.of is not None and shape.of.kind == "string" and shape.of.length not in (None, "80"):
-                kwargs.append(f"length={shape.of.length}")
+            levels = []
+            while shape.kind == "array" and shape.of is not None:
+                assert shape.bounds is not None
+                pairs = [f"({a}, {b})" for a, b in shape.bounds]
+                levels.append(pairs[0] if len(pairs) == 1 else "(" + ", ".join(pairs) + ")")
+                shape = shape.of
+            # ARRAY OF ARRAY: one bounds entry per level, outermost first
+            kwargs.append(f"bounds={levels[0] if len(levels) == 1 else '(' + ', '.join(levels) + ')'}")
+            if shape.kind == "string" and shape.length not in (None, "80"):
+                kwargs.append(f"length={shape.length}")
         fb_init = self.fb_init_args(init, scope)
         if fb_init:
             kwargs.append(f"fb_init={fb_init}")

@@ -80,6 +80,9 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("array-2d", prog("a : ARRAY[0..1, 0..2] OF INT; i : INT; j : INT;",
                       "FOR i := 0 TO 1 DO FOR j := 0 TO 2 DO a[i, j] := i * 10 + j; END_FOR END_FOR"), 1,
      lambda m: (m.a[1, 2], m.a[0, 1]), (12, 1)),
+    ("array-of-array", prog("a : ARRAY[0..4] OF ARRAY[0..2] OF INT; i : INT; j : INT; s : INT;",
+                            "FOR i := 0 TO 4 DO FOR j := 0 TO 2 DO a[i][j] := i * 10 + j; END_FOR END_FOR s := a[3][2] + a[4][1];"), 1,
+     lambda m: (m.s, list(m.a[2])), (73, [20, 21, 22])),
     ("constant-bounds", "VAR_GLOBAL CONSTANT cMaxCb : INT := 4; END_VAR\n"
      + prog("a : ARRAY[1..cMaxCb * 2] OF INT; n : INT;", "n := UPPER_BOUND_FAKE;").replace("n := UPPER_BOUND_FAKE;", "a[8] := 3; n := a[8];"), 1,
      lambda m: m.n, 3),
