@@ -76,6 +76,17 @@ def _record(obj: Any, field: str, op: str) -> FieldRecord:
     return record
 
 
+def _class_record(cls: type, field: str, op: str) -> FieldRecord:
+    """The field record of a class (``SIZEOF(ST_Recipe.nSteps)`` needs no instance)."""
+    layout = getattr(cls, "_iec_layout_", None)
+    if not isinstance(layout, ClassLayout):
+        raise TypeError(f"{op}: {cls.__name__} is not a struct, union or POU class with a layout")
+    record = layout.by_name.get(field)
+    if record is None:
+        raise AttributeError(f"{op}: {cls.__name__} has no variable {field!r}")
+    return record
+
+
 def type_info_of(obj: Any) -> TypeInfo:
     """The TypeInfo of an instance (struct, union, POU or array)."""
     info = getattr(type(obj), "_iec_info_", None)
@@ -141,9 +152,12 @@ def sizeof(x: Any, member: str | None = None) -> int:
     """``SIZEOF(x)``: bytes of a type (``sizeof(INT)``, ``sizeof(Recipe)``) or of a variable.
 
     ``sizeof(STRING)`` is 81 (STRING(80) plus its terminator). For a declared
-    variable of non-default length use ``sizeof(obj, "name")``.
+    variable of non-default length use ``sizeof(obj, "name")`` or, without an
+    instance, ``sizeof(Recipe, "name")``.
     """
     if member is not None:
+        if isinstance(x, type):
+            return _class_record(x, member, "SIZEOF").info.size
         return _record(x, member, "SIZEOF").info.size
     if isinstance(x, Pointer):
         return 8

@@ -273,6 +273,19 @@ def test_sizeof_declared_variables() -> None:
     assert sizeof(OuterAligned8(), "inner") == 16
 
 
+def test_sizeof_a_declared_variable_of_a_class_needs_no_instance() -> None:
+    for cls, field, size in [(BoolString10Dint, "text", 11), (BoolWString5, "text", 12), (DintGridBool, "grid", 24),
+                             (StringArrayDint, "names", 15), (OuterAligned8, "inner", 16), (Grid, "b", 12)]:
+        assert sizeof(cls, field) == sizeof(cls(), field) == size
+
+
+def test_sizeof_of_a_class_names_the_class_and_the_missing_variable() -> None:
+    with pytest.raises(AttributeError, match=r"SIZEOF: BoolString10Dint has no variable 'txt'"):
+        sizeof(BoolString10Dint, "txt")
+    with pytest.raises(TypeError, match=r"SIZEOF: int is not a struct, union or POU class with a layout"):
+        sizeof(int, "real")
+
+
 def test_union_members_share_their_bytes() -> None:
     u = UnionDintInts(whole=0x12345678)
     assert list(u.halves) == [0x5678, 0x1234]  # little endian: the low half first
