@@ -847,6 +847,30 @@ class Pointer(Generic[_T]):
     def __hash__(self) -> int:
         return hash(self._handle)
 
+    # ``p < q`` compares addresses, as CODESYS and TwinCAT compile it. Within one block that is
+    # the byte offset; 0 (NULL) is below every address; two blocks compare in the order they
+    # were allocated (a real PLC orders them by where the linker put them, as fixed).
+    @staticmethod
+    def _address_key(value: object, op: str) -> tuple[int, int]:
+        if isinstance(value, Pointer):
+            handle = value._handle
+            return (handle >> 32, signed_offset(handle)) if handle else (0, 0)
+        if value is None or (type(value) is int and value == 0):
+            return (0, 0)
+        raise TypeError(f"POINTER {op}: a pointer compares with a pointer or with 0 (NULL), got {value!r}")
+
+    def __lt__(self, other: object) -> bool:
+        return self._address_key(self, "<") < self._address_key(other, "<")
+
+    def __le__(self, other: object) -> bool:
+        return self._address_key(self, "<=") <= self._address_key(other, "<=")
+
+    def __gt__(self, other: object) -> bool:
+        return self._address_key(self, ">") > self._address_key(other, ">")
+
+    def __ge__(self, other: object) -> bool:
+        return self._address_key(self, ">=") >= self._address_key(other, ">=")
+
     def __repr__(self) -> str:
         target = self._target.name if self._target is not None else "PVOID"
         if self._handle == 0:

@@ -2013,12 +2013,12 @@ class Translator:
             return None
         if upper.lower() in self.decls and self.decls[upper.lower()].kind != "stdfb":
             return None
+        if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
+                     "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
+            return self.operator_call(upper, node, scope, level)  # operands that are types, not values
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
-        if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
-                     "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
-            return self.operator_call(upper, node, scope, level)
         if upper == "ABS":
             return self.function_call(upper, codes, first)
         if upper in _MATH or upper == "EXPT":

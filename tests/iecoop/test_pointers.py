@@ -18,12 +18,12 @@ from contextlib import contextmanager
 from typing import Any, cast
 
 import pytest
-from hypothesis import HealthCheck, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, MultipleResults, RuleBasedStateMachine, initialize, invariant, multiple, rule
 
 from iecoop import (
-    ARRAY, DINT, INT, LREAL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
+    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
     Pointer, Struct, adr, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
 )
 from iecoop.memory._core import allocation_of, free
@@ -1093,3 +1093,29 @@ def test_a_derived_block_copied_into_a_base_variable_stays_the_base_type() -> No
     assert type(cell.spare) is Motor and cell.spare.speed == 5 and cell.spare.kind() == "motor"
     pointer = adr(cell, "spare")
     assert type(pointer.deref) is Motor  # the type tag still says Motor
+
+
+class Samples(Struct):
+    values: ARRAY[INT] = VAR(bounds=(0, 9))
+
+
+@given(st.integers(-4, 30), st.integers(-4, 30))
+def test_pointers_into_one_block_compare_by_offset(i: int, j: int) -> None:
+    samples = Samples()
+    p, q = adr(samples) + i, adr(samples) + j
+    assert (p < q, p <= q, p > q, p >= q, p == q) == (i < j, i <= j, i > j, i >= j, i == j)
+
+
+def test_null_is_below_every_address_and_blocks_compare_in_allocation_order() -> None:
+    first, second = Samples(), Samples()
+    p, q = adr(first, "values", 9), adr(second, "values", 0)
+    assert p > 0 and 0 < p and p > NULL and not p <= 0 and Pointer() <= 0 and Pointer() < p
+    assert p < q and q > p and not q <= p  # first allocated, first in order, whatever the offsets
+    assert sorted([q, p, Pointer()]) == [Pointer(), p, q]
+
+
+def test_a_pointer_compares_with_a_pointer_or_with_0_only() -> None:
+    p = adr(Samples())
+    for value in (5, 1.5, "x", True):
+        with pytest.raises(TypeError, match=r"POINTER <: a pointer compares with a pointer or with 0 \(NULL\)"):
+            p < value  # noqa: B015 - the comparison is the test

@@ -94,6 +94,10 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      lambda m: (m.bQ, m.tEt), (False, 0)),
     ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
      lambda m: (m.n, m.m2), (6, 6)),
+    ("pointer-compare", prog("a : ARRAY[0..4] OF INT := [1, 2, 3, 4, 5]; p : POINTER TO INT; pEnd : POINTER TO INT; s : INT; lt : BOOL;",
+                             "p := ADR(a[0]); pEnd := ADR(a[4]); lt := p < pEnd AND pEnd >= p AND p > 0; "
+                             "WHILE p <= pEnd DO s := s + p^; p := p + SIZEOF(INT); END_WHILE"), 1,
+     lambda m: (m.s, m.lt), (15, True)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
     ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
