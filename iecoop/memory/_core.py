@@ -456,10 +456,12 @@ def _kind_error(where: str, expected: str, value: object) -> TypeError:
 class ElementaryInfo(TypeInfo):
     """BOOL, integers, bit strings, REAL/LREAL, TIME and dates: ctypes stores and wraps them."""
 
-    def __init__(self, record: ElementaryType, name: str | None = None) -> None:
+    def __init__(self, record: ElementaryType, name: str | None = None, initial: Any = None) -> None:
         self.record = record
         self.name = name or record.name
         self.ctype = record.ctype
+        #: An alias's own initial value (``TYPE T_Index : DINT := -1;``), None for none.
+        self.initial = initial
 
     def load(self, root: Any, offset: int) -> Any:
         return self.ctype.from_buffer(root, offset).value
@@ -959,16 +961,21 @@ class Alias:
     """Metadata naming a type alias: ``T_Speed = Annotated[REAL, Alias("T_Speed")]``.
 
     ST: ``TYPE T_Speed : REAL; END_TYPE``. Values behave as the base type; the
-    alias name shows in ``var_info`` and diagrams.
+    alias name shows in ``var_info`` and diagrams. ``initial=`` is the alias's
+    own initial value (``TYPE T_Index : DINT := -1; END_TYPE`` is
+    ``Annotated[DINT, Alias("T_Index", initial=-1)]``): a variable of the alias
+    type starts with it unless its declaration gives one, and so does each
+    element of an ARRAY OF the alias.
     """
 
-    __slots__ = ("name",)
+    __slots__ = ("name", "initial")
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, initial: Any = None) -> None:
         self.name = name
+        self.initial = initial
 
     def __repr__(self) -> str:
-        return f"Alias({self.name!r})"
+        return f"Alias({self.name!r})" if self.initial is None else f"Alias({self.name!r}, initial={self.initial!r})"
 
 
 class _ReferenceMarker:
@@ -1567,7 +1574,7 @@ def _resolve_annotated(annotation: Any, where: str, length: int | None, bounds: 
         _check_plain(length, bounds, where, record.name)
         alias = next((m for m in metadata if isinstance(m, Alias)), None)
         if alias is not None:
-            return ElementaryInfo(record, alias.name)
+            return ElementaryInfo(record, alias.name, alias.initial)
         return elementary_info(record)
     return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
 

@@ -10,6 +10,7 @@ Nothing of this runs on a variable read.
 
 from __future__ import annotations
 
+import copy
 import ctypes
 import dataclasses
 import os
@@ -326,6 +327,7 @@ class LayoutBuilder:
             info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
             if self.adjust is not None:
                 info = self.adjust(info, spec, where)
+            spec = _with_alias_initial(spec, info)
             check_initial(info, spec.initial, where)
             self.pending.append((field, info, spec))
             taken[field] = name
@@ -355,6 +357,24 @@ class LayoutBuilder:
         layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, init_ops)
         cls._iec_layout_ = layout
         return layout
+
+
+def _with_alias_initial(spec: FieldSpec, info: TypeInfo) -> FieldSpec:
+    """The declaration, with the initial value of its alias type (or ARRAY OF it) where it gives none."""
+    initial: Any = spec.initial
+    if isinstance(info, ElementaryInfo) and info.initial is not None and initial is MISSING:
+        initial = info.initial
+    elif isinstance(info, ArrayInfo) and isinstance(info.elem, ElementaryInfo) and info.elem.initial is not None:
+        # the elements the list does not give start with the alias's value, as ST's do
+        given = [] if initial is MISSING else list(initial) if isinstance(initial, (list, tuple)) else None
+        if given is None or len(given) >= info.count:
+            return spec
+        initial = given + [info.elem.initial] * (info.count - len(given))
+    else:
+        return spec
+    spec = copy.copy(spec)  # the VAR(...) object is the caller's
+    spec.initial = initial
+    return spec
 
 
 def check_unannotated(title: str, namespace: Mapping[str, Any], annotations: Mapping[str, Any]) -> None:

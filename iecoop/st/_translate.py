@@ -718,7 +718,13 @@ class Translator:
         self.need("iecoop", "Alias")
         self._need_type(target)
         self.comments(decl.node, 0)
-        self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}")]', 0)
+        init = getattr(getattr(decl.node, "init", None), "value", None)
+        initial = ""
+        if init is not None:
+            if target.kind != "elem":
+                raise self.fail(f"alias {decl.name} of {target.annotation()} with an initial value is not supported", decl.node)
+            initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
+        self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _need_type(self, type_: TypeRef | None) -> None:
         if type_ is None:

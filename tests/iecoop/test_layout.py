@@ -12,6 +12,7 @@ as its largest member, rounded up to the largest alignment.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Annotated
 
 import pytest
 
@@ -19,7 +20,7 @@ from tests import checked_only
 
 from iecoop import (
     ARRAY, BOOL, BYTE, DATE, DINT, DT, DWORD, INT, LINT, LREAL, LTIME, LWORD, POINTER_TO, REAL, REFERENCE_TO, SINT,
-    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, DefinitionError, FunctionBlock, IecEnum, Struct,
+    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, Alias, DefinitionError, FunctionBlock, IecEnum, Struct,
     PlcException, Union, sizeof, var_info,
 )
 
@@ -649,3 +650,33 @@ def test_an_array_of_arrays_takes_a_list_of_lists_all_or_nothing() -> None:
     with pytest.raises(TypeError, match=r"Grid\.a\[1\]: 4 values for ARRAY\[0\.\.2\] OF INT, which has 3 elements"):
         grid.a = [[9], [1, 2, 3, 4]]
     assert grid.a[0][0] == 1
+
+
+Index = Annotated[DINT, Alias("T_Index", initial=-1)]
+
+
+class Cursor(Struct):
+    """ST: ``TYPE T_Index : DINT := -1; END_TYPE`` and fields of that type."""
+
+    unset: Index = VAR()
+    given: Index = 4
+    many: ARRAY[Index] = VAR([7], bounds=(1, 3))
+    plain: DINT = VAR()
+
+
+class FB_Cursor(FunctionBlock):
+    at: Index = VAR_INPUT()
+
+
+def test_a_field_of_an_alias_type_starts_with_the_alias_initial_value_unless_it_gives_its_own() -> None:
+    cursor = Cursor()
+    assert (cursor.unset, cursor.given, list(cursor.many), cursor.plain) == (-1, 4, [7, -1, -1], 0)
+    assert FB_Cursor().at == -1
+    assert var_info(cursor, "unset").TypeName == "T_Index"
+    assert repr(Alias("T_Index", initial=-1)) == "Alias('T_Index', initial=-1)"
+
+
+def test_an_alias_initial_value_of_the_wrong_type_names_the_field() -> None:
+    with pytest.raises(DefinitionError, match=r"Bad\.flag: initial value of the wrong type: cannot store str 'x' in BOOL"):
+        class Bad(Struct):
+            flag: Annotated[BOOL, Alias("T_Flag", initial="x")] = VAR()

@@ -83,6 +83,9 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("array-of-array", prog("a : ARRAY[0..4] OF ARRAY[0..2] OF INT; i : INT; j : INT; s : INT;",
                             "FOR i := 0 TO 4 DO FOR j := 0 TO 2 DO a[i][j] := i * 10 + j; END_FOR END_FOR s := a[3][2] + a[4][1];"), 1,
      lambda m: (m.s, list(m.a[2])), (73, [20, 21, 22])),
+    ("alias-initial-value", "TYPE T_Index : DINT := -1; END_TYPE\n"
+     + prog("a : T_Index; b : T_Index := 3; c : ARRAY[1..3] OF T_Index := [7]; n : INT;", "n := n + 1;"), 1,
+     lambda m: (m.a, m.b, list(m.c)), (-1, 3, [7, -1, -1])),
     ("constant-bounds", "VAR_GLOBAL CONSTANT cMaxCb : INT := 4; END_VAR\n"
      + prog("a : ARRAY[1..cMaxCb * 2] OF INT; n : INT;", "n := UPPER_BOUND_FAKE;").replace("n := UPPER_BOUND_FAKE;", "a[8] := 3; n := a[8];"), 1,
      lambda m: m.n, 3),
