@@ -613,7 +613,7 @@ def test_an_element_array_is_a_view_that_takes_an_array_or_a_list() -> None:
     row[0] = 5
     assert grid.a[1][0] == 5
     grid.a[2] = row
-    grid.a[3] = [7, 8]
+    grid.a[3] = [7, 8]  # type: ignore[assignment]  # a list stores element by element
     assert [list(r) for r in grid.a] == [[0, 0, 0], [5, 0, 0], [5, 0, 0], [7, 8, 0], [0, 0, 0]]
     with pytest.raises(PlcException, match="RTSEXCPT_ARRAYBOUNDS"):
         grid.a[5][0] = 1
@@ -645,10 +645,10 @@ def test_an_array_of_arrays_of_blocks_is_refused_with_the_multi_dimensional_form
 @checked_only
 def test_an_array_of_arrays_takes_a_list_of_lists_all_or_nothing() -> None:
     grid = Grid()
-    grid.a = [[1], [2, 3]]
+    grid.a = [[1], [2, 3]]  # type: ignore[assignment]
     assert [list(r) for r in grid.a][:2] == [[1, 0, 0], [2, 3, 0]]
     with pytest.raises(TypeError, match=r"Grid\.a\[1\]: 4 values for ARRAY\[0\.\.2\] OF INT, which has 3 elements"):
-        grid.a = [[9], [1, 2, 3, 4]]
+        grid.a = [[9], [1, 2, 3, 4]]  # type: ignore[assignment]
     assert grid.a[0][0] == 1
 
 
