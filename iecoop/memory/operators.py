@@ -43,12 +43,13 @@ from iecoop.memory._core import (
     table_lock,
     target_root,
 )
-from iecoop.memory.layout import ClassLayout, FieldRecord
+from iecoop.memory.layout import AddressOf, ClassLayout, FieldRecord
 
 __all__ = [
     "TYPE_CLASS",
     "VarInfo",
     "adr",
+    "adr_of",
     "is_valid_ref",
     "memcmp",
     "memcpy",
@@ -140,6 +141,27 @@ def adr(obj: Any, member: str | int | tuple[int, ...] | None = None, index: int 
         raise TypeError(f"ADR with an index needs an ARRAY, got {type(obj).__name__}")
     position = obj._flat(member)
     return _pointer_into(obj, position * info.elem.size, info.elem)
+
+
+def adr_of(member: str, index: int | tuple[int, ...] | None = None) -> Any:
+    """The initial value ``ADR(member)`` of a POINTER, or ``REF= member`` of a REFERENCE, declared beside it.
+
+    ST: ``pValue : POINTER TO INT := ADR(nValue);`` is
+    ``value_ptr: POINTER_TO[INT] = VAR(adr_of("value"))``;
+    ``adr_of("values", 3)`` is ``ADR(aValues[3])``. Each instance binds it to
+    its own member when it is created, after the other initial values and
+    before FB_init. The member must exist and have the pointed-to type.
+
+    >>> from iecoop import INT, POINTER_TO, REFERENCE_TO, Struct, VAR
+    >>> class Counter(Struct):
+    ...     value: INT = 5
+    ...     value_ptr: POINTER_TO[INT] = VAR(adr_of("value"))
+    ...     value_ref: REFERENCE_TO[INT] = VAR(adr_of("value"))
+    >>> counter = Counter()
+    >>> counter.value_ptr.deref, counter.value_ref
+    (5, 5)
+    """
+    return AddressOf(member, index)
 
 
 def _pointer_into(obj: Any, extra: int, target: TypeInfo) -> Pointer[Any]:

@@ -838,7 +838,36 @@ class Translator:
             return "{" + ", ".join(pairs) + "}"
         return ""
 
+    def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""
+        target = getattr(init, "value", None)
+        if type_.kind == "pointer":
+            if not (isinstance(target, tf.FunctionCall) and str(target.name).upper() == "ADR" and len(target.parameters) == 1):
+                return None
+            target = target.parameters[0].value
+        elif isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
+            target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+        index = ""
+        if isinstance(target, tf.MultiElementVariable) and len(target.elements) == 1 and isinstance(target.elements[0], tf.SubscriptList):
+            subscripts = target.elements[0].subscripts
+            if not all(isinstance(sub, tf.Integer) for sub in subscripts):
+                return None
+            numbers = [self.expr(sub, scope).code for sub in subscripts]
+            index = ", " + (numbers[0] if len(numbers) == 1 else "(" + ", ".join(numbers) + ")")
+            target = target.name
+        if scope.owner is None or not isinstance(target, tf.SimpleVariable) or target.dereferenced:
+            return None
+        found = self.find_member(scope.owner, str(target.name))
+        if found is None or not isinstance(found[1], Member):
+            return None
+        self.need("iecoop", "adr_of")
+        return f'adr_of("{found[1].name}"{index})'
+
     def initial_value(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        if type_.kind in ("pointer", "reference"):
+            sibling = self.sibling_address(type_, init, scope)
+            if sibling is not None:
+                return sibling
         if type_.kind == "reference" and getattr(init, "value", None) is not None:
             if scope.owner is None or scope.kind != "body":
                 raise self.fail("a REFERENCE TO initialised at its declaration is supported in a block's VAR only", init)

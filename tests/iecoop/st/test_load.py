@@ -101,6 +101,12 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
                              "p := ADR(a[0]); pEnd := ADR(a[4]); lt := p < pEnd AND pEnd >= p AND p > 0; "
                              "WHILE p <= pEnd DO s := s + p^; p := p + SIZEOF(INT); END_WHILE"), 1,
      lambda m: (m.s, m.lt), (15, True)),
+    ("pointer-reference-initialised-with-a-sibling",
+     "TYPE ST_C : STRUCT n : INT := 5; a : ARRAY[1..3] OF INT := [1, 2, 3]; p : POINTER TO INT := ADR(n); "
+     "pa : POINTER TO INT := ADR(a[2]); END_STRUCT END_TYPE\n"
+     + prog("c : ST_C; x : INT := 3; px : POINTER TO INT := ADR(x); r : REFERENCE TO INT := x;",
+            "r := r + 1; px^ := px^ * 10; c.p^ := c.pa^;"), 2,
+     lambda m: (m.x, m.c.n), (410, 2)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
     ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
