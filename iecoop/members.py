@@ -54,6 +54,7 @@ __all__ = [
     "call_after_init",
     "method",
     "prop",
+    "super_set",
 ]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
@@ -130,6 +131,51 @@ else:
         Give an accessor its own specifier by stacking ``@method(PRIVATE)``
         under the decorator. A property without a setter is read-only.
         """
+
+
+def super_set(base: super, name: str, value: Any) -> None:
+    """``SUPER^.name := value``: write the base block's PROPERTY ``name`` (its Set accessor).
+
+    Python's ``super()`` reads (``super().gear``) but refuses attribute writes,
+    so the write is ``super_set(super(), "gear", 3)`` inside a method or body.
+    A variable is not virtual: ``SUPER^.nCount`` is ``THIS^.nCount``, plain
+    ``self.count = ...``.
+
+    >>> from iecoop import INT, VAR, FunctionBlock, prop
+    >>> class Axis(FunctionBlock):
+    ...     _gear: INT = VAR(0)
+    ...     @prop
+    ...     def gear(self) -> INT:
+    ...         return self._gear
+    ...     @gear.setter
+    ...     def gear(self, value: INT) -> None:
+    ...         self._gear = value
+    >>> class LimitedAxis(Axis):
+    ...     @prop
+    ...     def gear(self) -> INT:
+    ...         return self._gear
+    ...     @gear.setter
+    ...     def gear(self, value: INT) -> None:
+    ...         super_set(super(), "gear", min(value, 3))   # SUPER^.Gear := MIN(Gear, 3);
+    >>> axis = LimitedAxis()
+    >>> axis.gear = 5
+    >>> axis.gear
+    3
+    """
+    if not isinstance(base, super) or base.__self__ is None:
+        raise TypeError(f"SUPER^.{name} :=: the first argument is super() inside a method, got {base!r}")
+    obj = base.__self__
+    mro = type(obj).__mro__
+    for cls in mro[mro.index(base.__thisclass__) + 1 :]:
+        member = cls.__dict__.get(name)
+        if member is None:
+            continue
+        setter = getattr(type(member), "__set__", None)
+        if isinstance(member, property) and member.fset is None or setter is None:
+            raise AccessError(f"SUPER^.{name} := ...: {cls.__name__}.{name} has no Set accessor (rule: a PROPERTY without Set is read-only)")
+        setter(member, obj, value)
+        return
+    raise AccessError(f"SUPER^.{name} := ...: no base of {base.__thisclass__.__name__} declares {name}")
 
 
 def flags_of(func: Any) -> Access:

@@ -145,6 +145,8 @@ class Ex:
     compound: bool = False
     #: Python precedence of the outermost operator (see PRECEDENCE); 0 for other compound code
     prec: int = 100
+    #: ``super().Prop`` as the target of an assignment: written with super_set
+    super_property: bool = False
 
     def __post_init__(self) -> None:
         if self.compound and self.prec == 100:
@@ -1406,6 +1408,10 @@ class Translator:
             self.emit(f"{holder} = set_bit({holder}, {index}, {value.code})", level)
             return
         lhs = self.expr(target, scope, store=True)
+        if lhs.super_property:  # SUPER^.Prop := value: Python's super() refuses attribute writes
+            name = lhs.code.split(".", 1)[1]
+            self.emit(f'super_set(super(), "{name}", {self.store_value(lhs.type, value, False)})', level)
+            return
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
@@ -1847,7 +1853,9 @@ class Translator:
             assert isinstance(member, Member)
             return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
         if base.code == "super()" and store:
-            raise self.fail(f"writing the base's PROPERTY through SUPER^.{field} is not supported yet (iecoop has no form for it)", node)
+            assert isinstance(member, Member)
+            self.need("iecoop", "super_set")
+            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
         if kind == "method":
             return Ex(f"{base.p()}.{member.name}", None)
         assert isinstance(member, Member)

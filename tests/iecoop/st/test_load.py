@@ -396,8 +396,20 @@ END_FUNCTION_BLOCK
 """
 
 
+def test_super_property_write_runs_the_base_setter() -> None:
+    module = st.load(SUPER_PROPERTY.replace("SUPER^.N := 1;", "SUPER^.N := SUPER^.N + 5;").replace(
+        "FUNCTION_BLOCK FB_B EXTENDS FB_A\n", "FUNCTION_BLOCK FB_B EXTENDS FB_A\nVAR nSets : INT; END_VAR\n")
+        + "PROPERTY N.Set : INT\nnSets := nSets + 1;\nSUPER^.N := N * 2;\nEND_PROPERTY\n"
+        + "PROPERTY N.Get : INT\nN := SUPER^.N;\nEND_PROPERTY\n")
+    block = module.FB_B()
+    block(); block()
+    assert (block._n, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
+    block.N = 4
+    assert (block._n, block.nSets, block.N) == (8, 1, 8)
+    assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
+
+
 @pytest.mark.parametrize("source, construct", [
-    (SUPER_PROPERTY, r"<st>:12: writing the base's PROPERTY through SUPER\^.N"),
     (prog("x : INT;", "lbl: x := 1;"), "label"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n", "VAR_OUTPUT in a method"),
