@@ -162,20 +162,21 @@ def super_set(base: super, name: str, value: Any) -> None:
     >>> axis.gear
     3
     """
-    if not isinstance(base, super) or base.__self__ is None:
+    # super's __self__ / __thisclass__ are documented attributes that typeshed does not declare
+    obj, this = getattr(base, "__self__", None), getattr(base, "__thisclass__", None)
+    if not isinstance(base, super) or obj is None or this is None:
         raise TypeError(f"SUPER^.{name} :=: the first argument is super() inside a method, got {base!r}")
-    obj = base.__self__
     mro = type(obj).__mro__
-    for cls in mro[mro.index(base.__thisclass__) + 1 :]:
+    for cls in mro[mro.index(this) + 1 :]:
         member = cls.__dict__.get(name)
         if member is None:
             continue
         setter = getattr(type(member), "__set__", None)
-        if isinstance(member, property) and member.fset is None or setter is None:
-            raise AccessError(f"SUPER^.{name} := ...: {cls.__name__}.{name} has no Set accessor (rule: a PROPERTY without Set is read-only)")
+        if setter is None:
+            raise AccessError(f"SUPER^.{name} := ...: {cls.__name__}.{name} is a METHOD, not a variable or PROPERTY")
         setter(member, obj, value)
         return
-    raise AccessError(f"SUPER^.{name} := ...: no base of {base.__thisclass__.__name__} declares {name}")
+    raise AccessError(f"SUPER^.{name} := ...: no base of {this.__name__} declares {name}")
 
 
 def flags_of(func: Any) -> Access:
