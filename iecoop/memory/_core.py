@@ -1545,6 +1545,12 @@ def resolve_type(
             raise DefinitionError(
                 f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
             )
+        if getattr(annotation, "_iec_kind_", None) == "program":
+            name = annotation.__name__
+            raise DefinitionError(
+                f"{where}: PROGRAM {name} is not a data type (a program has one instance, no variable holds one); "
+                f"read its variables through that instance, as ST reads {name}.x"
+            )
     raise DefinitionError(f"{where}: {_annotation_name(annotation)} is not an IEC type")
 
 

@@ -1357,3 +1357,29 @@ def test_super_set_writes_the_base_property_and_names_what_is_missing() -> None:
         block.write_missing()
     with pytest.raises(TypeError, match=r"the first argument is super\(\) inside a method"):
         super_set(block, "n", 1)  # type: ignore[arg-type]
+
+
+def test_a_program_is_read_through_its_instance_and_is_not_a_member_type() -> None:
+    from iecoop import INT, REFERENCE_TO, VAR, DefinitionError, Program
+
+    class P_Count(Program):
+        counter: INT = VAR(0)
+
+        def body(self) -> None:
+            self.counter += 1
+
+    p_count = P_Count()
+
+    class P_Main(Program):
+        seen: INT = VAR(0)
+
+        def body(self) -> None:
+            self.seen = p_count.counter * 10  # ST: nSeen := P_Count.counter * 10;
+
+    main = P_Main()
+    p_count(); main(); p_count(); main()
+    assert main.seen == 20
+    for annotation in ("P_Count", "REFERENCE_TO[P_Count]"):
+        with pytest.raises(DefinitionError, match=r"Holder\.other: PROGRAM P_Count is not a data type .* as ST reads P_Count\.x"):
+            exec(f"class Holder(Program):\n    other: {annotation} = VAR()\n",
+                 {"Program": Program, "VAR": VAR, "REFERENCE_TO": REFERENCE_TO, "P_Count": P_Count})

@@ -12,6 +12,7 @@ from hypothesis import strategies
 from iecoop import PlcException, T
 from iecoop.runtime import Runtime, Task
 from iecoop import st
+from tests import checked_only
 
 
 def run(source: str, cycles: int = 1, program: str = "MAIN") -> Any:
@@ -596,3 +597,34 @@ def test_generated_python_calls_the_standard_functions() -> None:
     for form in ("set_bit(self.w, 3, True)", "get_bit(self.w, 3)", "ROL(self.w, 2, WORD)",
                  'FIND(self.s, "x")', "MID(self.s, 2, 1)", "from iecoop.functions import"):
         assert form in code, form
+
+
+TWO_PROGRAMS = """
+PROGRAM P_Count
+VAR_INPUT nStep : INT := 1; END_VAR
+VAR counter : INT; END_VAR
+counter := counter + nStep;
+END_PROGRAM
+PROGRAM MAIN
+VAR seen : INT; END_VAR
+seen := P_Count.counter * 10;
+P_Count.nStep := 5;
+END_PROGRAM
+"""
+
+
+def test_a_program_reads_another_programs_variables_through_its_instance() -> None:
+    module = st.load(TWO_PROGRAMS)
+    module.P_Count(); module.MAIN(); module.P_Count(); module.MAIN()
+    assert (module.P_Count.counter, module.MAIN.seen) == (6, 60)
+    code = st.to_python(TWO_PROGRAMS)
+    assert "self.seen = P_Count.counter * 10" in code and code.rstrip().endswith("P_Count = P_Count()")
+
+
+@checked_only
+def test_writing_another_programs_local_variable_is_refused_at_the_write() -> None:
+    from iecoop import AccessError
+
+    module = st.load(TWO_PROGRAMS.replace("P_Count.nStep := 5;", "P_Count.counter := 0;"))
+    with pytest.raises(AccessError, match=r"VAR P_Count\.counter cannot be written from MAIN\.body"):
+        module.MAIN()
