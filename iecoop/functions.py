@@ -308,13 +308,13 @@ def MID(text: str, length: int, pos: int) -> str:
     return text[start : start + max(length, 0)]
 
 
-def CONCAT(first: str, second: str) -> str:
-    """``CONCAT(STR1, STR2)``: STR1 followed by STR2.
+def CONCAT(first: str, second: str, *more: str) -> str:
+    """``CONCAT(STR1, STR2, ...)``: the strings one after the other (IEC 61131-3 makes CONCAT extensible).
 
-    >>> CONCAT("SUSI", "WILLI")
-    'SUSIWILLI'
+    >>> CONCAT("SUSI", "WILLI"), CONCAT("a", "b", "c")
+    ('SUSIWILLI', 'abc')
     """
-    return first + second
+    return first + second + "".join(more)
 
 
 def INSERT(text: str, insert: str, pos: int) -> str:

@@ -54,6 +54,7 @@ __all__ = [
     "call_after_init",
     "method",
     "prop",
+    "super_set",
 ]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
@@ -130,6 +131,52 @@ else:
         Give an accessor its own specifier by stacking ``@method(PRIVATE)``
         under the decorator. A property without a setter is read-only.
         """
+
+
+def super_set(base: super, name: str, value: Any) -> None:
+    """``SUPER^.name := value``: write the base block's PROPERTY ``name`` (its Set accessor).
+
+    Python's ``super()`` reads (``super().gear``) but refuses attribute writes,
+    so the write is ``super_set(super(), "gear", 3)`` inside a method or body.
+    A variable is not virtual: ``SUPER^.nCount`` is ``THIS^.nCount``, plain
+    ``self.count = ...``.
+
+    >>> from iecoop import INT, VAR, FunctionBlock, prop
+    >>> class Axis(FunctionBlock):
+    ...     _gear: INT = VAR(0)
+    ...     @prop
+    ...     def gear(self) -> INT:
+    ...         return self._gear
+    ...     @gear.setter
+    ...     def gear(self, value: INT) -> None:
+    ...         self._gear = value
+    >>> class LimitedAxis(Axis):
+    ...     @prop
+    ...     def gear(self) -> INT:
+    ...         return self._gear
+    ...     @gear.setter
+    ...     def gear(self, value: INT) -> None:
+    ...         super_set(super(), "gear", min(value, 3))   # SUPER^.Gear := MIN(Gear, 3);
+    >>> axis = LimitedAxis()
+    >>> axis.gear = 5
+    >>> axis.gear
+    3
+    """
+    # super's __self__ / __thisclass__ are documented attributes that typeshed does not declare
+    obj, this = getattr(base, "__self__", None), getattr(base, "__thisclass__", None)
+    if not isinstance(base, super) or obj is None or this is None:
+        raise TypeError(f"SUPER^.{name} :=: the first argument is super() inside a method, got {base!r}")
+    mro = type(obj).__mro__
+    for cls in mro[mro.index(this) + 1 :]:
+        member = cls.__dict__.get(name)
+        if member is None:
+            continue
+        setter = getattr(type(member), "__set__", None)
+        if setter is None:
+            raise AccessError(f"SUPER^.{name} := ...: {cls.__name__}.{name} is a METHOD, not a variable or PROPERTY")
+        setter(member, obj, value)
+        return
+    raise AccessError(f"SUPER^.{name} := ...: no base of {this.__name__} declares {name}")
 
 
 def flags_of(func: Any) -> Access:

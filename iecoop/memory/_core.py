@@ -459,10 +459,12 @@ def _kind_error(where: str, expected: str, value: object) -> TypeError:
 class ElementaryInfo(TypeInfo):
     """BOOL, integers, bit strings, REAL/LREAL, TIME and dates: ctypes stores and wraps them."""
 
-    def __init__(self, record: ElementaryType, name: str | None = None) -> None:
+    def __init__(self, record: ElementaryType, name: str | None = None, initial: Any = None) -> None:
         self.record = record
         self.name = name or record.name
         self.ctype = record.ctype
+        #: An alias's own initial value (``TYPE T_Index : DINT := -1;``), None for none.
+        self.initial = initial
 
     def load(self, root: Any, offset: int) -> Any:
         return self.ctype.from_buffer(root, offset).value
@@ -905,6 +907,30 @@ class Pointer(Generic[_T]):
     def __hash__(self) -> int:
         return hash(self._handle)
 
+    # ``p < q`` compares addresses, as CODESYS and TwinCAT compile it. Within one block that is
+    # the byte offset; 0 (NULL) is below every address; two blocks compare in the order they
+    # were allocated (a real PLC orders them by where the linker put them, as fixed).
+    @staticmethod
+    def _address_key(value: object, op: str) -> tuple[int, int]:
+        if isinstance(value, Pointer):
+            handle = value._handle
+            return (handle >> 32, signed_offset(handle)) if handle else (0, 0)
+        if value is None or (type(value) is int and value == 0):
+            return (0, 0)
+        raise TypeError(f"POINTER {op}: a pointer compares with a pointer or with 0 (NULL), got {value!r}")
+
+    def __lt__(self, other: object) -> bool:
+        return self._address_key(self, "<") < self._address_key(other, "<")
+
+    def __le__(self, other: object) -> bool:
+        return self._address_key(self, "<=") <= self._address_key(other, "<=")
+
+    def __gt__(self, other: object) -> bool:
+        return self._address_key(self, ">") > self._address_key(other, ">")
+
+    def __ge__(self, other: object) -> bool:
+        return self._address_key(self, ">=") >= self._address_key(other, ">=")
+
     def __repr__(self) -> str:
         target = self._target.name if self._target is not None else "PVOID"
         if self._handle == 0:
@@ -993,16 +1019,21 @@ class Alias:
     """Metadata naming a type alias: ``T_Speed = Annotated[REAL, Alias("T_Speed")]``.
 
     ST: ``TYPE T_Speed : REAL; END_TYPE``. Values behave as the base type; the
-    alias name shows in ``var_info`` and diagrams.
+    alias name shows in ``var_info`` and diagrams. ``initial=`` is the alias's
+    own initial value (``TYPE T_Index : DINT := -1; END_TYPE`` is
+    ``Annotated[DINT, Alias("T_Index", initial=-1)]``): a variable of the alias
+    type starts with it unless its declaration gives one, and so does each
+    element of an ARRAY OF the alias.
     """
 
-    __slots__ = ("name",)
+    __slots__ = ("name", "initial")
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, initial: Any = None) -> None:
         self.name = name
+        self.initial = initial
 
     def __repr__(self) -> str:
-        return f"Alias({self.name!r})"
+        return f"Alias({self.name!r})" if self.initial is None else f"Alias({self.name!r}, initial={self.initial!r})"
 
 
 class _ReferenceMarker:
@@ -1283,7 +1314,8 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
         "bounds": bounds,
         "_flat": flat,
     }
-    if elem.direct:
+    # An element ARRAY (ARRAY OF ARRAY) is a view, written through its info so a list can be stored.
+    if elem.direct and not isinstance(elem, ArrayInfo):
 
         def getitem(self: Any, index: Any) -> Any:
             if type(index) is int and lo0 <= index <= hi0 and one_dim:
@@ -1446,7 +1478,8 @@ def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
     if isinstance(info, ReferenceInfo):
         check_value(info.target, value, where)
     elif isinstance(info, ArrayInfo) and isinstance(value, (list, tuple)):
-        items = list(_flatten(value))
+        # ARRAY OF ARRAY takes one list per element array; a multi-dimensional ARRAY any nesting, row-major
+        items = list(value) if isinstance(info.elem, ArrayInfo) else list(_flatten(value))
         if len(items) > info.count:
             raise TypeError(f"{where}: {len(items)} values for {info.name}, which has {info.count} elements")
         for i, item in enumerate(items):
@@ -1575,64 +1608,11 @@ def resolve_type(
         annotation = resolver(annotation)
     origin = typing.get_origin(annotation)
     if origin is Annotated:
-        metadata = annotation.__metadata__
-        if any(m is REFERENCE for m in metadata):
-            rest = tuple(m for m in metadata if m is not REFERENCE)
-            inner = annotation.__origin__
-            target_annotation = Annotated[(inner, *rest)] if rest else inner
-            # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
-            target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
-            if isinstance(target, (InterfaceInfo, ReferenceInfo)):
-                raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
-            return ReferenceInfo(target)
-        record = elementary_type(annotation)
-        if isinstance(record, StringType):
-            n = record.default_length if length is None else length
-            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STRING_LENGTH:
-                raise DefinitionError(
-                    f"{where}: {record.name} length must be an integer 1..{MAX_STRING_LENGTH}, got {n!r}"
-                )
-            _check_no_bounds(bounds, where, record.name)
-            return string_info(record, n)
-        if isinstance(record, ElementaryType):
-            _check_plain(length, bounds, where, record.name)
-            alias = next((m for m in metadata if isinstance(m, Alias)), None)
-            if alias is not None:
-                return ElementaryInfo(record, alias.name)
-            return elementary_info(record)
-        return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
+        return _resolve_annotated(annotation, where, length, bounds, resolver)
     if origin is ARRAY:
-        (elem_annotation,) = typing.get_args(annotation)
-        if bounds is None:
-            raise DefinitionError(f"{where}: ARRAY needs bounds, e.g. VAR(bounds=(1, 10))")
-        pairs = normalise_bounds(bounds, where)
-        elem = resolve_type(elem_annotation, where, length=length, resolver=resolver)
-        if isinstance(elem, ReferenceInfo):
-            raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
-        if isinstance(elem, ArrayInfo):
-            raise DefinitionError(f"{where}: write a multi-dimensional ARRAY with several bound pairs")
-        count = 1
-        for lo, hi in pairs:
-            count *= hi - lo + 1
-        check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
-        return array_info(elem, pairs)
-    if origin is Pointer:
-        (target_annotation,) = typing.get_args(annotation) or (None,)
-        to_array = typing.get_origin(target_annotation) is ARRAY
-        if not to_array:
-            _check_plain(None, bounds, where, "POINTER")
-
-        def thunk() -> TypeInfo | None:
-            if target_annotation is None or target_annotation is Any:
-                return None
-            # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
-            return resolve_type(
-                target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver
-            )
-
-        return PointerInfo(thunk, _annotation_name(target_annotation))
-    if annotation is Pointer:
-        return PointerInfo(lambda: None, "PVOID")
+        return _resolve_array(annotation, where, length, bounds, resolver)
+    if origin is Pointer or annotation is Pointer:
+        return _resolve_pointer(annotation, where, length, bounds, resolver)
     if isinstance(annotation, type):
         info = class_info(annotation)
         if info is not None:
@@ -1642,7 +1622,110 @@ def resolve_type(
             raise DefinitionError(
                 f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
             )
+        if getattr(annotation, "_iec_kind_", None) == "program":
+            name = annotation.__name__
+            raise DefinitionError(
+                f"{where}: PROGRAM {name} is not a data type (a program has one instance, no variable holds one); "
+                f"read its variables through that instance, as ST reads {name}.x"
+            )
     raise DefinitionError(f"{where}: {_annotation_name(annotation)} is not an IEC type")
+
+
+_Resolver = Callable[[Any], Any] | None
+
+
+def _resolve_annotated(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``Annotated[...]``: a REFERENCE_TO, a STRING(n), an alias of an elementary type, or metadata to look through."""
+    metadata = annotation.__metadata__
+    if any(m is REFERENCE for m in metadata):
+        rest = tuple(m for m in metadata if m is not REFERENCE)
+        inner = annotation.__origin__
+        target_annotation = Annotated[(inner, *rest)] if rest else inner
+        # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
+        target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
+        if isinstance(target, (InterfaceInfo, ReferenceInfo)):
+            raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
+        return ReferenceInfo(target)
+    record = elementary_type(annotation)
+    if isinstance(record, StringType):
+        n = record.default_length if length is None else length
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STRING_LENGTH:
+            raise DefinitionError(f"{where}: {record.name} length must be an integer 1..{MAX_STRING_LENGTH}, got {n!r}")
+        _check_no_bounds(bounds, where, record.name)
+        return string_info(record, n)
+    if isinstance(record, ElementaryType):
+        _check_plain(length, bounds, where, record.name)
+        alias = next((m for m in metadata if isinstance(m, Alias)), None)
+        if alias is not None:
+            return ElementaryInfo(record, alias.name, alias.initial)
+        return elementary_info(record)
+    return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
+
+
+def _array_depth(annotation: Any) -> int:
+    """How many ARRAY levels ``ARRAY[ARRAY[...]]`` nests (1 for a plain ARRAY)."""
+    depth = 0
+    while typing.get_origin(annotation) is ARRAY:
+        depth += 1
+        (annotation,) = typing.get_args(annotation)
+    return depth
+
+
+def _resolve_array(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``ARRAY[T]`` with ``bounds=``; ``ARRAY[ARRAY[T]]`` takes one bounds entry per level, outermost first."""
+    (elem_annotation,) = typing.get_args(annotation)
+    depth = _array_depth(annotation)
+    if bounds is None:
+        example = "bounds=(1, 10)" if depth == 1 else "bounds=((0, 4), (0, 9)), one (lo, hi) per ARRAY level"
+        raise DefinitionError(f"{where}: ARRAY needs bounds=, e.g. VAR({example})")
+    if depth > 1:
+        if not isinstance(bounds, tuple) or len(bounds) != depth or not all(isinstance(b, tuple) for b in bounds):
+            raise DefinitionError(
+                f"{where}: an ARRAY of ARRAY nests {depth} levels and takes one bounds entry per level, "
+                f"outermost first, e.g. bounds=((0, 4), (0, 9)); got {bounds!r}"
+            )
+        level_bounds, inner_bounds = bounds[0], bounds[1:] if depth > 2 else bounds[1]
+    else:
+        level_bounds, inner_bounds = bounds, None
+    pairs = normalise_bounds(level_bounds, where)
+    elem = resolve_type(elem_annotation, where, length=length, bounds=inner_bounds, resolver=resolver)
+    if isinstance(elem, ReferenceInfo):
+        raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
+    leaf = _array_leaf(elem)
+    if leaf is not elem and isinstance(leaf, AggregateInfo) and getattr(leaf.cls, "_iec_kind_", "") in ("fb", "program"):
+        raise DefinitionError(
+            f"{where}: ARRAY OF ARRAY OF a function block is not supported; write ARRAY[a..b, c..d] OF the block"
+        )
+    count = 1
+    for lo, hi in pairs:
+        count *= hi - lo + 1
+    check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
+    return array_info(elem, pairs)
+
+
+def _array_leaf(info: TypeInfo) -> TypeInfo:
+    """The innermost element type of a (nested) ARRAY."""
+    while isinstance(info, ArrayInfo):
+        info = info.elem
+    return info
+
+
+def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
+    """``POINTER_TO[T]`` (its target resolved lazily, so a block may point to itself), or ``Pointer``: PVOID."""
+    if annotation is Pointer:
+        return PointerInfo(lambda: None, "PVOID")
+    (target_annotation,) = typing.get_args(annotation) or (None,)
+    to_array = typing.get_origin(target_annotation) is ARRAY
+    if not to_array:
+        _check_plain(None, bounds, where, "POINTER")
+
+    def thunk() -> TypeInfo | None:
+        if target_annotation is None or target_annotation is Any:
+            return None
+        # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
+        return resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
+
+    return PointerInfo(thunk, _annotation_name(target_annotation))
 
 
 def _annotation_name(annotation: Any) -> str:

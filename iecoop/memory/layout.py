@@ -10,6 +10,7 @@ Nothing of this runs on a variable read.
 
 from __future__ import annotations
 
+import copy
 import ctypes
 import dataclasses
 import os
@@ -326,6 +327,7 @@ class LayoutBuilder:
             info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
             if self.adjust is not None:
                 info = self.adjust(info, spec, where)
+            spec = _with_alias_initial(spec, info)
             check_initial(info, spec.initial, where)
             self.pending.append((field, info, spec))
             taken[field] = name
@@ -351,10 +353,35 @@ class LayoutBuilder:
                     setattr(cls, alias, descriptor.cached)
             own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
         all_fields = tuple(self.inherited) + tuple(own)
-        init_ops = tuple(op for record in all_fields if (op := init_op(record)) is not None)
-        layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, init_ops)
+        layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, ())
+        for record in own:
+            if isinstance(record.spec.initial, AddressOf):
+                record.spec.initial.check(record, layout)
+        # the addresses of siblings last: after every value, as a vendor's init code sets them
+        last = [record for record in all_fields if isinstance(record.spec.initial, AddressOf)]
+        first = [record for record in all_fields if not isinstance(record.spec.initial, AddressOf)]
+        ops = tuple(op for record in first + last if (op := init_op(record)) is not None)
+        layout = ClassLayout(all_fields, tuple(own), layout.by_name, ops)
         cls._iec_layout_ = layout
         return layout
+
+
+def _with_alias_initial(spec: FieldSpec, info: TypeInfo) -> FieldSpec:
+    """The declaration, with the initial value of its alias type (or ARRAY OF it) where it gives none."""
+    initial: Any = spec.initial
+    if isinstance(info, ElementaryInfo) and info.initial is not None and initial is MISSING:
+        initial = info.initial
+    elif isinstance(info, ArrayInfo) and isinstance(info.elem, ElementaryInfo) and info.elem.initial is not None:
+        # the elements the list does not give start with the alias's value, as ST's do
+        given = [] if initial is MISSING else list(initial) if isinstance(initial, (list, tuple)) else None
+        if given is None or len(given) >= info.count:
+            return spec
+        initial = given + [info.elem.initial] * (info.count - len(given))
+    else:
+        return spec
+    spec = copy.copy(spec)  # the VAR(...) object is the caller's
+    spec.initial = initial
+    return spec
 
 
 def check_unannotated(title: str, namespace: Mapping[str, Any], annotations: Mapping[str, Any]) -> None:
@@ -468,9 +495,12 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
                 if getattr(info.cls, "_iec_kind_", "") == "fb" and record.section not in ("VAR_INPUT",):
                     raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
                 check_initial(record.info, value, f"{where}.{member}")
+        elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, AddressOf):
+            return  # checked once the class has all its fields (AddressOf.check)
         elif isinstance(info, (PointerInfo, InterfaceInfo, ReferenceInfo)):
             if initial not in (None, 0):
-                raise TypeError(f"{info.name} starts as 0; bind it at run time")
+                or_sibling = "" if isinstance(info, InterfaceInfo) else ", or as adr_of(member) of a variable beside it"
+                raise TypeError(f"{info.name} starts as 0{or_sibling}; bind it to anything else at run time")
         else:
             info.validate(initial, where)
     except DefinitionError:
@@ -499,9 +529,55 @@ def _assign_members(view: Any, values: dict[str, Any]) -> None:
         assign(view, record, value)
 
 
+class AddressOf:
+    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+
+    __slots__ = ("member", "index")
+
+    def __init__(self, member: str, index: int | tuple[int, ...] | None = None) -> None:
+        if not isinstance(member, str):
+            raise TypeError(f"adr_of: the member is a variable name (a str), got {member!r}")
+        self.member = member
+        self.index = index
+
+    def __repr__(self) -> str:
+        return f"adr_of({self.member!r})" if self.index is None else f"adr_of({self.member!r}, {self.index!r})"
+
+    def check(self, record: FieldRecord, layout: ClassLayout) -> None:
+        """Refuse, at definition, a member that is not there or whose type the pointer does not point to."""
+        target = layout.by_name.get(self.member)
+        if target is None:
+            raise DefinitionError(f"{record.where}: adr_of({self.member!r}) names no variable of {record.owner}")
+        assert isinstance(record.info, (PointerInfo, ReferenceInfo))
+        points_to = record.info.target
+        designated = target.info
+        if self.index is not None:
+            if not isinstance(designated, ArrayInfo):
+                raise DefinitionError(f"{record.where}: adr_of({self.member!r}, {self.index!r}) needs an ARRAY, {self.member} is {designated.name}")
+            designated = designated.elem
+        if isinstance(designated, ReferenceInfo):
+            designated = designated.target
+        if points_to is not None and points_to.signature != designated.signature:
+            raise DefinitionError(
+                f"{record.where}: {record.info.name} cannot be initialised with the address of {self.member} "
+                f"({designated.name}): the types must match"
+            )
+
+    def op(self, record: FieldRecord) -> Callable[[Any], None]:
+        from iecoop.memory.operators import adr, ref_assign
+
+        member, index, field, offset, where = self.member, self.index, record.name, record.offset, record.where
+        if isinstance(record.info, ReferenceInfo):
+            return lambda obj: ref_assign(obj, field, adr(obj, member, index))
+        store = record.info.store
+        return lambda obj: store(obj, offset, adr(obj, member, index), where)
+
+
 def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
     """The operation that writes ``record``'s initial value into a zeroed instance, or None."""
     info, initial, raw = record.info, record.spec.initial, record.raw
+    if isinstance(initial, AddressOf):
+        return initial.op(record)
     if isinstance(info, (ElementaryInfo, EnumInfo)):
         if initial is MISSING or not initial:
             return None
@@ -577,6 +653,8 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
                         _assign_members(view, item)
 
         return op
+    if isinstance(elem, ArrayInfo):
+        return _nested_array_op(info, get, initial)
     if initial is MISSING or not initial:
         return None
     values = list(initial)
@@ -599,6 +677,29 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
             raw_set(array, i, value)
 
     return op_values
+
+
+def _nested_array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Callable[[Any], None] | None:
+    """ARRAY OF ARRAY: each element array initialised as a field of its own (its item of ``initial``, a list)."""
+    raw_get = info.ctype.__mro__[1].__getitem__
+    items = list(initial) if initial is not MISSING else []
+    ops: list[Callable[[Any], None]] = []
+    for i in range(info.count):
+
+        def element(obj: Any, i: int = i) -> Any:
+            return raw_get(get(obj), i)
+
+        op = _array_op(typing.cast(ArrayInfo, info.elem), element, items[i] if i < len(items) else MISSING)
+        if op is not None:
+            ops.append(op)
+    if not ops:
+        return None
+
+    def op_all(obj: Any) -> None:
+        for op in ops:
+            op(obj)
+
+    return op_all
 
 
 # ---------------------------------------------------------------------------

@@ -43,12 +43,13 @@ from iecoop.memory._core import (
     table_lock,
     target_root,
 )
-from iecoop.memory.layout import ClassLayout, FieldRecord
+from iecoop.memory.layout import AddressOf, ClassLayout, FieldRecord
 
 __all__ = [
     "TYPE_CLASS",
     "VarInfo",
     "adr",
+    "adr_of",
     "is_valid_ref",
     "memcmp",
     "memcpy",
@@ -73,6 +74,17 @@ def _record(obj: Any, field: str, op: str) -> FieldRecord:
     record = _layout(obj, op).by_name.get(field)
     if record is None:
         raise AttributeError(f"{op}: {type(obj).__name__} has no variable {field!r}")
+    return record
+
+
+def _class_record(cls: type, field: str, op: str) -> FieldRecord:
+    """The field record of a class (``SIZEOF(ST_Recipe.nSteps)`` needs no instance)."""
+    layout = getattr(cls, "_iec_layout_", None)
+    if not isinstance(layout, ClassLayout):
+        raise TypeError(f"{op}: {cls.__name__} is not a struct, union or POU class with a layout")
+    record = layout.by_name.get(field)
+    if record is None:
+        raise AttributeError(f"{op}: {cls.__name__} has no variable {field!r}")
     return record
 
 
@@ -131,6 +143,27 @@ def adr(obj: Any, member: str | int | tuple[int, ...] | None = None, index: int 
     return _pointer_into(obj, position * info.elem.size, info.elem)
 
 
+def adr_of(member: str, index: int | tuple[int, ...] | None = None) -> Any:
+    """The initial value ``ADR(member)`` of a POINTER, or ``REF= member`` of a REFERENCE, declared beside it.
+
+    ST: ``pValue : POINTER TO INT := ADR(nValue);`` is
+    ``value_ptr: POINTER_TO[INT] = VAR(adr_of("value"))``;
+    ``adr_of("values", 3)`` is ``ADR(aValues[3])``. Each instance binds it to
+    its own member when it is created, after the other initial values and
+    before FB_init. The member must exist and have the pointed-to type.
+
+    >>> from iecoop import INT, POINTER_TO, REFERENCE_TO, Struct, VAR
+    >>> class Counter(Struct):
+    ...     value: INT = 5
+    ...     value_ptr: POINTER_TO[INT] = VAR(adr_of("value"))
+    ...     value_ref: REFERENCE_TO[INT] = VAR(adr_of("value"))
+    >>> counter = Counter()
+    >>> counter.value_ptr.deref, counter.value_ref
+    (5, 5)
+    """
+    return AddressOf(member, index)
+
+
 def _pointer_into(obj: Any, extra: int, target: TypeInfo) -> Pointer[Any]:
     # The pointer holds the block, so ADR of an object only Python refers to stays valid.
     alloc, offset = allocation_of(obj)
@@ -141,9 +174,12 @@ def sizeof(x: Any, member: str | None = None) -> int:
     """``SIZEOF(x)``: bytes of a type (``sizeof(INT)``, ``sizeof(Recipe)``) or of a variable.
 
     ``sizeof(STRING)`` is 81 (STRING(80) plus its terminator). For a declared
-    variable of non-default length use ``sizeof(obj, "name")``.
+    variable of non-default length use ``sizeof(obj, "name")`` or, without an
+    instance, ``sizeof(Recipe, "name")``.
     """
     if member is not None:
+        if isinstance(x, type):
+            return _class_record(x, member, "SIZEOF").info.size
         return _record(x, member, "SIZEOF").info.size
     if isinstance(x, Pointer):
         return 8

@@ -155,7 +155,7 @@ def load(
                 else:
                     namespace[key] = bound
         for kind, name in names:
-            if kind == "program":
+            if kind == "program" and isinstance(namespace[name], type):  # not yet made by the module itself
                 namespace[name] = namespace[name]()
     if unbound:
         del sys.modules[module_name]

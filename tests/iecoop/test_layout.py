@@ -12,13 +12,16 @@ as its largest member, rounded up to the largest alignment.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Annotated
 
 import pytest
 
+from tests import checked_only
+
 from iecoop import (
     ARRAY, BOOL, BYTE, DATE, DINT, DT, DWORD, INT, LINT, LREAL, LTIME, LWORD, POINTER_TO, REAL, REFERENCE_TO, SINT,
-    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, DefinitionError, FunctionBlock, IecEnum, Struct,
-    Union, sizeof, var_info,
+    STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, Alias, DefinitionError, FunctionBlock, IecEnum, Struct,
+    PlcException, Union, sizeof, var_info,
 )
 
 
@@ -269,6 +272,19 @@ def test_sizeof_declared_variables() -> None:
     assert sizeof(DintGridBool(), "grid") == 24
     assert sizeof(StringArrayDint(), "names") == 15
     assert sizeof(OuterAligned8(), "inner") == 16
+
+
+def test_sizeof_a_declared_variable_of_a_class_needs_no_instance() -> None:
+    for cls, field, size in [(BoolString10Dint, "text", 11), (BoolWString5, "text", 12), (DintGridBool, "grid", 24),
+                             (StringArrayDint, "names", 15), (OuterAligned8, "inner", 16), (Grid, "b", 12)]:
+        assert sizeof(cls, field) == sizeof(cls(), field) == size
+
+
+def test_sizeof_of_a_class_names_the_class_and_the_missing_variable() -> None:
+    with pytest.raises(AttributeError, match=r"SIZEOF: BoolString10Dint has no variable 'txt'"):
+        sizeof(BoolString10Dint, "txt")
+    with pytest.raises(TypeError, match=r"SIZEOF: int is not a struct, union or POU class with a layout"):
+        sizeof(int, "real")
 
 
 def test_union_members_share_their_bytes() -> None:
@@ -572,3 +588,95 @@ def test_references_and_pointers_to_arrays_take_the_arrays_bounds() -> None:
     ref_assign(user, "table", adr(owner, "points"))
     user.use(adr(owner, "counts"))
     assert (user.second(), user.last_count()) == (2.0, 7)
+
+
+class Grid(Struct):
+    """ST: ``a : ARRAY[0..4] OF ARRAY[0..2] OF INT; b : ARRAY[1..2] OF ARRAY[1..2, 1..3] OF BYTE``."""
+
+    flag: BOOL = False
+    a: ARRAY[ARRAY[INT]] = VAR(bounds=((0, 4), (0, 2)))
+    b: ARRAY[ARRAY[BYTE]] = VAR([[1, 2, 3, 4, 5, 6], [7]], bounds=((1, 2), ((1, 2), (1, 3))))
+
+
+def test_an_array_of_arrays_has_one_bounds_entry_per_level_and_is_laid_out_row_by_row() -> None:
+    grid = Grid()
+    assert sizeof(Grid) == 2 + 5 * 3 * 2 + 2 * 6
+    assert var_info(grid, "a").TypeName == "ARRAY[0..4] OF ARRAY[0..2] OF INT"
+    grid.a[4][2] = 42
+    assert list(grid.a[4]) == [0, 0, 42]
+    assert grid.b[1][2, 3] == 6 and grid.b[2][1, 1] == 7 and grid.b[2][2, 3] == 0
+
+
+def test_an_element_array_is_a_view_that_takes_an_array_or_a_list() -> None:
+    grid = Grid()
+    row = grid.a[1]
+    row[0] = 5
+    assert grid.a[1][0] == 5
+    grid.a[2] = row
+    grid.a[3] = [7, 8]  # type: ignore[assignment]  # a list stores element by element
+    assert [list(r) for r in grid.a] == [[0, 0, 0], [5, 0, 0], [5, 0, 0], [7, 8, 0], [0, 0, 0]]
+    with pytest.raises(PlcException, match="RTSEXCPT_ARRAYBOUNDS"):
+        grid.a[5][0] = 1
+    with pytest.raises(PlcException, match="RTSEXCPT_ARRAYBOUNDS"):
+        grid.a[0][3] = 1
+
+
+@pytest.mark.parametrize("bounds, message", [
+    (None, r"Nested\.a: ARRAY needs bounds=, e\.g\. VAR\(bounds=\(\(0, 4\), \(0, 9\)\), one \(lo, hi\) per ARRAY level\)"),
+    ((0, 4), r"Nested\.a: an ARRAY of ARRAY nests 2 levels and takes one bounds entry per level"),
+    (((0, 4), (0, 4), (0, 4)), r"Nested\.a: an ARRAY of ARRAY nests 2 levels"),
+    (((0, 4), (4, 0)), r"Nested\.a: ARRAY\[4\.\.0\] is empty"),
+])
+def test_an_array_of_arrays_names_what_is_wrong_with_its_bounds(bounds: object, message: str) -> None:
+    with pytest.raises(DefinitionError, match=message):
+        class Nested(Struct):
+            a: ARRAY[ARRAY[INT]] = VAR(bounds=bounds)
+
+
+def test_an_array_of_arrays_of_blocks_is_refused_with_the_multi_dimensional_form() -> None:
+    class FB_Cell(FunctionBlock):
+        n: INT = VAR()
+
+    with pytest.raises(DefinitionError, match=r"Board\.cells: ARRAY OF ARRAY OF a function block .* ARRAY\[a\.\.b, c\.\.d\]"):
+        class Board(Struct):
+            cells: ARRAY[ARRAY[FB_Cell]] = VAR(bounds=((0, 1), (0, 1)))
+
+
+@checked_only
+def test_an_array_of_arrays_takes_a_list_of_lists_all_or_nothing() -> None:
+    grid = Grid()
+    grid.a = [[1], [2, 3]]  # type: ignore[assignment]
+    assert [list(r) for r in grid.a][:2] == [[1, 0, 0], [2, 3, 0]]
+    with pytest.raises(TypeError, match=r"Grid\.a\[1\]: 4 values for ARRAY\[0\.\.2\] OF INT, which has 3 elements"):
+        grid.a = [[9], [1, 2, 3, 4]]  # type: ignore[assignment]
+    assert grid.a[0][0] == 1
+
+
+Index = Annotated[DINT, Alias("T_Index", initial=-1)]
+
+
+class Cursor(Struct):
+    """ST: ``TYPE T_Index : DINT := -1; END_TYPE`` and fields of that type."""
+
+    unset: Index = VAR()
+    given: Index = 4
+    many: ARRAY[Index] = VAR([7], bounds=(1, 3))
+    plain: DINT = VAR()
+
+
+class FB_Cursor(FunctionBlock):
+    at: Index = VAR_INPUT()
+
+
+def test_a_field_of_an_alias_type_starts_with_the_alias_initial_value_unless_it_gives_its_own() -> None:
+    cursor = Cursor()
+    assert (cursor.unset, cursor.given, list(cursor.many), cursor.plain) == (-1, 4, [7, -1, -1], 0)
+    assert FB_Cursor().at == -1
+    assert var_info(cursor, "unset").TypeName == "T_Index"
+    assert repr(Alias("T_Index", initial=-1)) == "Alias('T_Index', initial=-1)"
+
+
+def test_an_alias_initial_value_of_the_wrong_type_names_the_field() -> None:
+    with pytest.raises(DefinitionError, match=r"Bad\.flag: initial value of the wrong type: cannot store str 'x' in BOOL"):
+        class Bad(Struct):
+            flag: Annotated[BOOL, Alias("T_Flag", initial="x")] = VAR()

@@ -1318,3 +1318,68 @@ def test_members_and_elements_of_a_blocks_locals_are_written_only_by_its_code() 
     assert editor.working.speed == 70.0 and list(editor.LIMITS) == [1, 2, 3]
     editor.request.speed = 3.0  # an input's members are the caller's to set
     assert editor.request.speed == 3.0
+
+
+def test_super_set_writes_the_base_property_and_names_what_is_missing() -> None:
+    from iecoop import AccessError, INT, VAR, FunctionBlock, prop, super_set
+
+    class FB_Base(FunctionBlock):
+        _n: INT = VAR(0)
+
+        @prop
+        def n(self) -> INT:
+            return self._n
+
+        @n.setter
+        def n(self, value: INT) -> None:
+            self._n = value
+
+        @prop
+        def fixed(self) -> INT:
+            return 1
+
+    class FB_Derived(FB_Base):
+        def body(self) -> None:
+            super_set(super(), "n", self._n + 2)  # SUPER^.n := SUPER^.n + 2;
+
+        def write_fixed(self) -> None:
+            super_set(super(), "fixed", 2)
+
+        def write_missing(self) -> None:
+            super_set(super(), "nothing", 2)
+
+    block = FB_Derived()
+    block(); block()
+    assert block.n == 4
+    with pytest.raises(AttributeError, match=r"PROPERTY FB_Base\.fixed has no Set accessor: it is read-only"):
+        block.write_fixed()
+    with pytest.raises(AccessError, match=r"SUPER\^\.nothing := \.\.\.: no base of FB_Derived declares nothing"):
+        block.write_missing()
+    with pytest.raises(TypeError, match=r"the first argument is super\(\) inside a method"):
+        super_set(block, "n", 1)  # type: ignore[arg-type]
+
+
+def test_a_program_is_read_through_its_instance_and_is_not_a_member_type() -> None:
+    from iecoop import INT, REFERENCE_TO, VAR, DefinitionError, Program
+
+    class P_Count(Program):
+        counter: INT = VAR(0)
+
+        def body(self) -> None:
+            self.counter += 1
+
+    p_count = P_Count()
+
+    class P_Main(Program):
+        seen: INT = VAR(0)
+
+        def body(self) -> None:
+            self.seen = p_count.counter * 10  # ST: nSeen := P_Count.counter * 10;
+
+    main = P_Main()
+    p_count(); main(); p_count(); main()
+    assert main.seen == 20
+    for annotation in ("P_Count", "REFERENCE_TO[P_Count]"):
+        with pytest.raises(DefinitionError, match=r"Holder\.other: PROGRAM P_Count is not a data type .* as ST reads P_Count\.x"):
+            exec(f"class Holder(Program):\n    other: {annotation} = VAR()\n",
+                 {"Program": Program, "VAR": VAR, "REFERENCE_TO": REFERENCE_TO, "P_Count": P_Count})

@@ -18,13 +18,13 @@ from contextlib import contextmanager
 from typing import Any, cast
 
 import pytest
-from hypothesis import HealthCheck, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, MultipleResults, RuleBasedStateMachine, initialize, invariant, multiple, rule
 
 from iecoop import (
-    ARRAY, DINT, INT, LREAL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
-    Pointer, Struct, adr, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
+    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
+    DefinitionError, Pointer, Struct, adr, adr_of, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
 )
 from iecoop.memory._core import allocation_of, free
 from iecoop.testing.strategies import ANY_INTS, LATIN_1
@@ -1093,3 +1093,88 @@ def test_a_derived_block_copied_into_a_base_variable_stays_the_base_type() -> No
     assert type(cell.spare) is Motor and cell.spare.speed == 5 and cell.spare.kind() == "motor"
     pointer = adr(cell, "spare")
     assert type(pointer.deref) is Motor  # the type tag still says Motor
+
+
+class Samples(Struct):
+    values: ARRAY[INT] = VAR(bounds=(0, 9))
+
+
+@given(st.integers(-4, 30), st.integers(-4, 30))
+def test_pointers_into_one_block_compare_by_offset(i: int, j: int) -> None:
+    samples = Samples()
+    p, q = adr(samples) + i, adr(samples) + j
+    assert (p < q, p <= q, p > q, p >= q, p == q) == (i < j, i <= j, i > j, i >= j, i == j)
+
+
+def test_null_is_below_every_address_and_blocks_compare_in_allocation_order() -> None:
+    first, second = Samples(), Samples()
+    p, q = adr(first, "values", 9), adr(second, "values", 0)
+    assert p > 0 and 0 < p and p > NULL and not p <= 0 and Pointer() <= 0 and Pointer() < p
+    assert p < q and q > p and not q <= p  # first allocated, first in order, whatever the offsets
+    assert sorted([q, p, Pointer()]) == [Pointer(), p, q]
+
+
+def test_a_pointer_compares_with_a_pointer_or_with_0_only() -> None:
+    p = adr(Samples())
+    for value in (5, 1.5, "x", True):
+        with pytest.raises(TypeError, match=r"POINTER <: a pointer compares with a pointer or with 0 \(NULL\)"):
+            p < value  # noqa: B015 - the comparison is the test
+
+
+class SelfPointing(Struct):
+    """ST: ``pValue : POINTER TO INT := ADR(nValue); refValue : REFERENCE TO INT := nValue;`` in a STRUCT."""
+
+    value: INT = 5
+    values: ARRAY[INT] = VAR([1, 2, 3], bounds=(1, 3))
+    value_ptr: POINTER_TO[INT] = VAR(adr_of("value"))
+    third: POINTER_TO[INT] = VAR(adr_of("values", 3))
+    value_ref: REFERENCE_TO[INT] = VAR(adr_of("value"))
+
+
+def test_a_pointer_or_reference_initialised_with_a_sibling_address_is_bound_in_each_instance() -> None:
+    first, second = SelfPointing(), SelfPointing()
+    assert (first.value_ptr.deref, first.third.deref, first.value_ref) == (5, 3, 5)
+    first.value_ref = 9
+    first.third.deref = 30
+    assert (first.value, first.values[3], second.value, second.values[3]) == (9, 30, 5, 3)
+    assert first.value_ptr == adr(first, "value") and second.value_ptr == adr(second, "value")
+    assert is_valid_ref(second, "value_ref")
+
+
+def test_a_block_pointer_to_its_own_variable_is_bound_before_fb_init_and_survives_cycles() -> None:
+    from iecoop import FunctionBlock
+
+    seen: list[int] = []
+
+    class FB_Count(FunctionBlock):
+        n: INT = VAR(10)
+        p: POINTER_TO[INT] = VAR(adr_of("n"))
+
+        def fb_init(self, init_retains: bool, in_copy_code: bool) -> bool:
+            seen.append(self.p.deref)
+            return True
+
+        def body(self) -> None:
+            self.p.deref += 1
+
+    block = FB_Count()
+    block(); block()
+    assert (seen, block.n) == ([10], 12)
+
+
+def test_an_instance_whose_pointer_points_into_itself_is_collected() -> None:
+    cell = weakref.ref(SelfPointing())
+    gc.collect()
+    assert cell() is None
+
+
+@pytest.mark.parametrize("declaration, message", [
+    ('x: POINTER_TO[LREAL] = VAR(adr_of("value"))', r"Bad\.x: POINTER TO LREAL cannot be initialised with the address of value \(INT\): the types must match"),
+    ('x: POINTER_TO[INT] = VAR(adr_of("nope"))', r"Bad\.x: adr_of\('nope'\) names no variable of Bad"),
+    ('x: POINTER_TO[INT] = VAR(adr_of("value", 1))', r"Bad\.x: adr_of\('value', 1\) needs an ARRAY, value is INT"),
+    ('x: REFERENCE_TO[LREAL] = VAR(adr_of("value"))', r"Bad\.x: REFERENCE TO LREAL cannot be initialised with the address of value"),
+    ('x: POINTER_TO[INT] = VAR(adr(SelfPointing(), "value"))', r"Bad\.x: .*POINTER TO INT starts as 0, or as adr_of\(member\)"),
+])
+def test_a_sibling_address_initial_value_is_checked_at_definition(declaration: str, message: str) -> None:
+    with pytest.raises(DefinitionError, match=message):
+        exec(f"class Bad(Struct):\n    value: INT = 0\n    {declaration}\n", globals())

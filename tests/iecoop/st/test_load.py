@@ -12,6 +12,7 @@ from hypothesis import strategies
 from iecoop import PlcException, T
 from iecoop.runtime import Runtime, Task
 from iecoop import st
+from tests import checked_only
 
 
 def run(source: str, cycles: int = 1, program: str = "MAIN") -> Any:
@@ -80,6 +81,12 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("array-2d", prog("a : ARRAY[0..1, 0..2] OF INT; i : INT; j : INT;",
                       "FOR i := 0 TO 1 DO FOR j := 0 TO 2 DO a[i, j] := i * 10 + j; END_FOR END_FOR"), 1,
      lambda m: (m.a[1, 2], m.a[0, 1]), (12, 1)),
+    ("array-of-array", prog("a : ARRAY[0..4] OF ARRAY[0..2] OF INT; i : INT; j : INT; s : INT;",
+                            "FOR i := 0 TO 4 DO FOR j := 0 TO 2 DO a[i][j] := i * 10 + j; END_FOR END_FOR s := a[3][2] + a[4][1];"), 1,
+     lambda m: (m.s, list(m.a[2])), (73, [20, 21, 22])),
+    ("alias-initial-value", "TYPE T_Index : DINT := -1; END_TYPE\n"
+     + prog("a : T_Index; b : T_Index := 3; c : ARRAY[1..3] OF T_Index := [7]; n : INT;", "n := n + 1;"), 1,
+     lambda m: (m.a, m.b, list(m.c)), (-1, 3, [7, -1, -1])),
     ("constant-bounds", "VAR_GLOBAL CONSTANT cMaxCb : INT := 4; END_VAR\n"
      + prog("a : ARRAY[1..cMaxCb * 2] OF INT; n : INT;", "n := UPPER_BOUND_FAKE;").replace("n := UPPER_BOUND_FAKE;", "a[8] := 3; n := a[8];"), 1,
      lambda m: m.n, 3),
@@ -91,6 +98,16 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      lambda m: (m.bQ, m.tEt), (False, 0)),
     ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
      lambda m: (m.n, m.m2), (6, 6)),
+    ("pointer-compare", prog("a : ARRAY[0..4] OF INT := [1, 2, 3, 4, 5]; p : POINTER TO INT; pEnd : POINTER TO INT; s : INT; lt : BOOL;",
+                             "p := ADR(a[0]); pEnd := ADR(a[4]); lt := p < pEnd AND pEnd >= p AND p > 0; "
+                             "WHILE p <= pEnd DO s := s + p^; p := p + SIZEOF(INT); END_WHILE"), 1,
+     lambda m: (m.s, m.lt), (15, True)),
+    ("pointer-reference-initialised-with-a-sibling",
+     "TYPE ST_C : STRUCT n : INT := 5; a : ARRAY[1..3] OF INT := [1, 2, 3]; p : POINTER TO INT := ADR(n); "
+     "pa : POINTER TO INT := ADR(a[2]); END_STRUCT END_TYPE\n"
+     + prog("c : ST_C; x : INT := 3; px : POINTER TO INT := ADR(x); r : REFERENCE TO INT := x;",
+            "r := r + 1; px^ := px^ * 10; c.p^ := c.pa^;"), 2,
+     lambda m: (m.x, m.c.n), (410, 2)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
     ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
@@ -380,8 +397,20 @@ END_FUNCTION_BLOCK
 """
 
 
+def test_super_property_write_runs_the_base_setter() -> None:
+    module = st.load(SUPER_PROPERTY.replace("SUPER^.N := 1;", "SUPER^.N := SUPER^.N + 5;").replace(
+        "FUNCTION_BLOCK FB_B EXTENDS FB_A\n", "FUNCTION_BLOCK FB_B EXTENDS FB_A\nVAR nSets : INT; END_VAR\n")
+        + "PROPERTY N.Set : INT\nnSets := nSets + 1;\nSUPER^.N := N * 2;\nEND_PROPERTY\n"
+        + "PROPERTY N.Get : INT\nN := SUPER^.N;\nEND_PROPERTY\n")
+    block = module.FB_B()
+    block(); block()
+    assert (block._n, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
+    block.N = 4
+    assert (block._n, block.nSets, block.N) == (8, 1, 8)
+    assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
+
+
 @pytest.mark.parametrize("source, construct", [
-    (SUPER_PROPERTY, r"<st>:12: writing the base's PROPERTY through SUPER\^.N"),
     (prog("x : INT;", "lbl: x := 1;"), "label"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n", "VAR_OUTPUT in a method"),
@@ -493,3 +522,109 @@ def test_real_locals_are_32_bit() -> None:
     module = st.load("FUNCTION F_Tenth : REAL\nVAR r : REAL; END_VAR\nr := 0.1;\nF_Tenth := r * 3;\nEND_FUNCTION\n")
     tenth = struct.unpack("<f", struct.pack("<f", 0.1))[0]
     assert module.F_Tenth() == struct.unpack("<f", struct.pack("<f", tenth * 3))[0] != 0.1 * 3
+
+
+STANDARD = st.load("""
+FUNCTION F_Strings : STRING(80)
+VAR_INPUT s : STRING(40); t : STRING(40); n : INT; p : INT; END_VAR
+F_Strings := CONCAT(CONCAT(MID(s, n, p), '|'), CONCAT(LEFT(s, n), '|'));
+F_Strings := CONCAT(F_Strings, CONCAT(CONCAT(RIGHT(s, n), '|'), CONCAT(DELETE(s, n, p), '|')));
+F_Strings := CONCAT(F_Strings, CONCAT(CONCAT(INSERT(s, t, p), '|'), REPLACE(s, t, n, p)));
+END_FUNCTION
+FUNCTION F_Find : INT
+VAR_INPUT s : STRING(40); t : STRING(40); END_VAR
+F_Find := FIND(s, t) * 100 + LEN(t);
+END_FUNCTION
+FUNCTION F_Shifts : LWORD
+VAR_INPUT i : INT; n : INT; END_VAR
+VAR w : WORD; END_VAR
+w := i;
+F_Shifts := SHL(i, n) * 16#1000000000000 + SHR(i, n) * 16#100000000 + ROL(w, n) * 16#10000 + ROR(w, n);
+END_FUNCTION
+FUNCTION F_Bits : WORD
+VAR_INPUT w : WORD; n : INT; b : BOOL; END_VAR
+CASE n OF
+0: w.0 := b; 5: w.5 := b; 15: w.15 := b;
+END_CASE
+F_Bits := w;
+IF w.15 THEN F_Bits := F_Bits OR 16#1; END_IF
+END_FUNCTION
+""")
+
+_TEXT = strategies.text("ab", max_size=6)
+
+
+@given(_TEXT, _TEXT, strategies.integers(-2, 8), strategies.integers(-2, 8))
+def test_string_functions_match_the_python_forms(s: str, t: str, n: int, p: int) -> None:
+    from iecoop.functions import DELETE, FIND, INSERT, LEFT, LEN, MID, REPLACE, RIGHT
+
+    expected = "|".join([MID(s, n, p), LEFT(s, n), RIGHT(s, n), DELETE(s, n, p), INSERT(s, t, p), REPLACE(s, t, n, p)])
+    assert STANDARD.F_Strings(s=s, t=t, n=n, p=p) == expected
+    assert STANDARD.F_Find(s=s, t=t) == FIND(s, t) * 100 + LEN(t)
+
+
+def test_string_function_edges_follow_iec() -> None:
+    # FIND of an empty string is 0; MID from a position below 1 starts at the first character
+    assert STANDARD.F_Find(s="abc", t="") == 0
+    assert STANDARD.F_Strings(s="abc", t="", n=2, p=0).split("|")[0] == "ab"
+
+
+@given(strategies.integers(-32768, 32767), strategies.integers(0, 20))
+def test_shifts_match_the_python_forms(i: int, n: int) -> None:
+    from iecoop import INT, WORD
+    from iecoop.functions import ROL, ROR, SHL, SHR
+
+    w = i & 0xFFFF
+    expected = (SHL(i, n, INT) << 48) + (SHR(i, n, INT) << 32) + (ROL(w, n, WORD) << 16) + ROR(w, n, WORD)
+    assert STANDARD.F_Shifts(i=i, n=n) == expected
+
+
+def test_shr_of_a_negative_int_shifts_in_zeros() -> None:
+    assert STANDARD.F_Shifts(i=-1, n=4) >> 32 & 0xFFFF == 0x0FFF
+
+
+@given(strategies.integers(0, 0xFFFF), strategies.sampled_from([0, 5, 15]), strategies.booleans())
+def test_bit_access_matches_get_bit_and_set_bit(w: int, n: int, b: bool) -> None:
+    from iecoop.functions import get_bit, set_bit
+
+    written = set_bit(w, n, b)
+    assert STANDARD.F_Bits(w=w, n=n, b=b) == (written | 1 if get_bit(written, 15) else written)
+
+
+def test_generated_python_calls_the_standard_functions() -> None:
+    code = st.to_python(prog("w : WORD; b : BOOL; s : STRING; n : INT;",
+                             "w.3 := TRUE; b := w.3; w := ROL(w, 2); n := FIND(s, 'x'); s := MID(s, 2, 1);"))
+    for form in ("set_bit(self.w, 3, True)", "get_bit(self.w, 3)", "ROL(self.w, 2, WORD)",
+                 'FIND(self.s, "x")', "MID(self.s, 2, 1)", "from iecoop.functions import"):
+        assert form in code, form
+
+
+TWO_PROGRAMS = """
+PROGRAM P_Count
+VAR_INPUT nStep : INT := 1; END_VAR
+VAR counter : INT; END_VAR
+counter := counter + nStep;
+END_PROGRAM
+PROGRAM MAIN
+VAR seen : INT; END_VAR
+seen := P_Count.counter * 10;
+P_Count.nStep := 5;
+END_PROGRAM
+"""
+
+
+def test_a_program_reads_another_programs_variables_through_its_instance() -> None:
+    module = st.load(TWO_PROGRAMS)
+    module.P_Count(); module.MAIN(); module.P_Count(); module.MAIN()
+    assert (module.P_Count.counter, module.MAIN.seen) == (6, 60)
+    code = st.to_python(TWO_PROGRAMS)
+    assert "self.seen = P_Count.counter * 10" in code and code.rstrip().endswith("P_Count = P_Count()")
+
+
+@checked_only
+def test_writing_another_programs_local_variable_is_refused_at_the_write() -> None:
+    from iecoop import AccessError
+
+    module = st.load(TWO_PROGRAMS.replace("P_Count.nStep := 5;", "P_Count.counter := 0;"))
+    with pytest.raises(AccessError, match=r"VAR P_Count\.counter cannot be written from MAIN\.body"):
+        module.MAIN()
