@@ -185,8 +185,22 @@ def _details(summary: str, body: list[str]) -> list[str]:
     ]
 
 
-def _code(text: str) -> list[str]:
-    return [".. code-block:: text", "", *_indented(text), ""]
+def _code(text: str, language: str = "text") -> list[str]:
+    return [f".. code-block:: {language}", "", *_indented(text), ""]
+
+
+def _st_section(module: types.ModuleType) -> list[str]:
+    """The module written out by ``iecoop.st.dump``: the ST a TwinCAT or CODESYS user would type."""
+    from iecoop.st import dump
+
+    return [
+        *_heading("Structured Text", "-"),
+        "The same design as Structured Text, written by :func:`iecoop.st.export.dump` from the classes "
+        "above (``iecoop export NAME`` writes it as TwinCAT files, ``--format plcopen`` as PLCopen XML). "
+        "A Python statement with no ST form is kept as a comment that says so.",
+        "",
+        *_details("The module as Structured Text", _code(dump(module, lenient=True), "iecst")),
+    ]
 
 
 def _figure(path: str, alt: str, caption: str) -> list[str]:
@@ -445,6 +459,7 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
             f".. autofunction:: {name}.main",
             "",
         ]
+    lines += _st_section(module)
     members = [m for m in _documented_members(module) if m != "main"]
     if members:
         lines += _heading("Declarations", "-")
