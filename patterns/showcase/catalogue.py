@@ -22,6 +22,7 @@ and its first elementary outputs.
 
 from __future__ import annotations
 
+import difflib
 import dataclasses
 import enum
 import importlib
@@ -57,6 +58,7 @@ __all__ = [
     "entries",
     "find",
     "plc_task",
+    "unknown_name",
     "press",
     "read",
     "show",
@@ -373,6 +375,16 @@ def names() -> list[str]:
 def normalise(name: str) -> str:
     """``Factory_Method`` -> ``factory-method``."""
     return name.strip().lower().replace("_", "-")
+
+
+def unknown_name(name: str, command: str) -> str:
+    """The message for a name no entry has, with the closest names: ``iecoop: unknown name 'stat'. Did you mean ...``."""
+    names = [entry.name for entry in entries()]
+    wanted = normalise(name)
+    close = difflib.get_close_matches(wanted, names, n=4, cutoff=0.6)
+    close += [n for n in names if wanted and wanted in n and n not in close]
+    hint = f" Did you mean: {', '.join(close[:5])}?" if close else ""
+    return f"{command}: unknown name {name!r}.{hint} 'iecoop list' shows every name.\n"
 
 
 def find(name: str) -> Entry:

@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import difflib
 import inspect
 import os
 import re
@@ -50,7 +49,7 @@ from types import ModuleType
 from typing import TextIO
 
 from iecoop import PlcException
-from patterns.showcase.catalogue import CATEGORIES, Entry, build, entries, find, normalise, read, show
+from patterns.showcase.catalogue import CATEGORIES, Entry, build, entries, find, read, show, unknown_name
 from patterns.showcase.text import render_rst
 from patterns.showcase import export_cli, serve, st_cli
 
@@ -271,21 +270,11 @@ def _expected(entry: Entry) -> list[str]:
     return [f"expected: {what} (part of the scenario: {why})" for what, why in entry.expected]
 
 
-def _unknown(name: str, out: TextIO) -> int:
-    names = [entry.name for entry in entries()]
-    wanted = normalise(name)
-    close = difflib.get_close_matches(wanted, names, n=4, cutoff=0.6)
-    close += [n for n in names if wanted and wanted in n and n not in close]
-    hint = f" Did you mean: {', '.join(close[:5])}?" if close else ""
-    out.write(f"iecoop: unknown name {name!r}.{hint} 'iecoop list' shows every name.\n")
-    return 2
-
-
 def _lookup(name: str, err: TextIO) -> Entry | None:
     try:
         return find(name)
     except KeyError:
-        _unknown(name, err)
+        err.write(unknown_name(name, "iecoop"))
         return None
 
 

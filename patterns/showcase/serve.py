@@ -25,7 +25,7 @@ from collections.abc import Sequence
 from typing import TextIO
 
 from iecoop import PlcException, T
-from patterns.showcase.catalogue import Entry, build, entries, find, normalise
+from patterns.showcase.catalogue import Entry, build, find, unknown_name
 
 __all__ = ["add_arguments", "run", "serve"]
 
@@ -69,9 +69,7 @@ def _entry(name: str, err: TextIO) -> Entry | None:
     try:
         entry = find(name)
     except KeyError:
-        names = [e.name for e in entries() if normalise(name) in e.name]
-        hint = f" Did you mean: {', '.join(names[:5])}?" if names else ""
-        err.write(f"iecoop serve: unknown name {name!r}.{hint} 'iecoop list' shows every name.\n")
+        err.write(unknown_name(name, "iecoop serve"))
         return None
     if entry.problem or entry.demo:
         err.write(f"iecoop serve: {entry.name} cannot be served: {entry.problem or 'it has no Program'}\n")
