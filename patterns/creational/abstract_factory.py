@@ -121,11 +121,9 @@ from iecoop import (
     VAR_OUTPUT,
     VAR_STAT,
     WORD,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -223,6 +221,8 @@ class IoModule(FunctionBlock, abstract=True, internal=True):
 
     image: POINTER_TO[BusImage] = VAR()
     word: INT = VAR(-1)
+    #: ``aChannelBit : ARRAY[0..CHANNELS - 1] OF WORD``: a channel outside it is the runtime's ARRAYBOUNDS fault.
+    CHANNEL_BIT: ARRAY[WORD] = VAR([1 << n for n in range(CHANNELS)], bounds=(0, CHANNELS - 1), constant=True)
 
     @method(INTERNAL)
     def bind(self, image: POINTER_TO[BusImage], word: INT) -> None:
@@ -236,17 +236,18 @@ class IoModule(FunctionBlock, abstract=True, internal=True):
 
     @method(PROTECTED)
     def mask(self, channel: INT, big_endian: BOOL) -> WORD:
-        """The bit of ``channel`` in a WORD of the image (a byte module sits in the low byte)."""
-        if not 0 <= channel < CHANNELS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"channel {channel} outside 0..{CHANNELS - 1} of {type(self).__name__}"
-            )
-        return 1 << (channel + 8 if big_endian else channel)
+        """The bit of ``channel`` in a WORD of the image (a byte module sits in the low byte, big-endian in the high)."""
+        if big_endian:
+            return self.CHANNEL_BIT[channel] << 8
+        return self.CHANNEL_BIT[channel]
 
     @method(PROTECTED)
     def set_output(self, bit: WORD, value: BOOL) -> None:
-        outputs = self.image.deref.outputs
-        outputs[self.word] = outputs[self.word] | bit if value else outputs[self.word] & ~bit & 0xFFFF
+        bus = self.image.deref
+        if value:
+            bus.outputs[self.word] = bus.outputs[self.word] | bit
+        else:
+            bus.outputs[self.word] = bus.outputs[self.word] & ~bit & 0xFFFF
 
 
 class EcDigitalInput(IoModule, IDigitalInput, internal=True, final=True):

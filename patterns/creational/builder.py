@@ -127,6 +127,7 @@ from iecoop import (
     T,
     adr,
     memcpy,
+    memset,
     method,
     prop,
     sizeof,
@@ -248,7 +249,8 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
     @method
     def begin(self, name: STRING) -> IProfileBuilder:
         """Start a new profile at standstill; clears a latched error."""
-        self.draft = MotionProfile(name=name)
+        memset(adr(self, "draft"), 0, sizeof(MotionProfile))
+        self.draft.name = name
         self.error = ProfileError.NONE
         self.error_step = 0
         self.velocity = 0.0
@@ -339,7 +341,9 @@ class ProfileBuilder(FunctionBlock, IProfileBuilder, final=True):
         if self.draft.count >= MAX_SEGMENTS:
             return self.reject(ProfileError.TOO_MANY_SEGMENTS)
         self.draft.count += 1
-        self.draft.segments[self.draft.count] = MotionSegment(kind=kind, velocity=velocity, duration=duration)
+        self.draft.segments[self.draft.count].kind = kind
+        self.draft.segments[self.draft.count].velocity = velocity
+        self.draft.segments[self.draft.count].duration = duration
         self.distance += (self.velocity + velocity) / 2 * duration / 1000
         self.velocity = velocity
         return self

@@ -64,7 +64,7 @@ IEC 61131-3 mapping
 
     INTERFACE I_Logger
         METHOD Log     VAR_INPUT eSeverity : E_Severity; sSource, sText : STRING; END_VAR
-        METHOD Newest : ST_Event  VAR_INPUT nAge : UINT; END_VAR
+        METHOD Newest : BOOL      VAR_INPUT nAge : UINT; stEvent : REFERENCE TO ST_Event; END_VAR
         PROPERTY Count : UDINT    PROPERTY Held : UINT
 
     FUNCTION_BLOCK FINAL FB_PlantLog IMPLEMENTS I_Logger
@@ -112,6 +112,7 @@ from iecoop import (
     ARRAY,
     BOOL,
     FINAL,
+    REFERENCE_TO,
     STRING,
     TIME,
     UDINT,
@@ -121,12 +122,10 @@ from iecoop import (
     VAR_INPUT,
     VAR_OUTPUT,
     VAR_STAT,
-    ExceptionCode,
     FunctionBlock,
     GlobalVariables,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -150,7 +149,7 @@ __all__ = [
     "Pump",
     "RingLogger",
     "Severity",
-    "log_newest",
+    "log_copy",
     "log_push",
     "main",
 ]
@@ -185,8 +184,12 @@ class LogBuffer(Struct):
     total: UDINT = 0
 
 
-def log_push(buffer: LogBuffer, severity: Severity, source: STRING, text: STRING) -> None:
-    """``FUNCTION F_LogPush`` (``VAR_IN_OUT stBuffer : ST_LogBuffer``): store one event, stamped with the task clock."""
+def log_push(buffer: REFERENCE_TO[LogBuffer], severity: Severity, source: STRING, text: STRING) -> BOOL:
+    """``FUNCTION F_LogPush : BOOL``: store one event, stamped with the task clock.
+
+    TRUE when the buffer was full and the oldest event was overwritten.
+    """
+    overwritten = buffer.held >= CAPACITY
     buffer.head = buffer.head % CAPACITY + 1
     slot = buffer.events[buffer.head]
     slot.stamp = now_ms()
@@ -195,17 +198,24 @@ def log_push(buffer: LogBuffer, severity: Severity, source: STRING, text: STRING
     slot.text = text
     buffer.held = min(buffer.held + 1, CAPACITY)
     buffer.total += 1
+    return overwritten
 
 
-def log_newest(buffer: LogBuffer, age: UINT, where: str) -> Event:
-    """``FUNCTION F_LogNewest : ST_Event``: a copy of the event ``age`` places before the newest (0 = newest)."""
+def log_copy(buffer: REFERENCE_TO[LogBuffer], age: UINT, event: REFERENCE_TO[Event]) -> BOOL:
+    """``FUNCTION F_LogCopy : BOOL``: copy the event ``age`` places before the newest (0 = newest) into ``event``.
+
+    FALSE, and ``event`` left as it was, when ``age`` is not below the number
+    of events held: the caller checks the result, as it would a PLCopen
+    block's ``Error``.
+    """
     if age >= buffer.held:
-        raise PlcException(
-            ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-            f"{where}.newest: age {age} is outside the {buffer.held} events held",
-        )
+        return False
     slot = buffer.events[(buffer.head - 1 - age) % CAPACITY + 1]
-    return Event(stamp=slot.stamp, severity=slot.severity, source=slot.source, text=slot.text)
+    event.stamp = slot.stamp
+    event.severity = slot.severity
+    event.source = slot.source
+    event.text = slot.text
+    return True
 
 
 class ILogger(Interface):
@@ -215,7 +225,8 @@ class ILogger(Interface):
     def log(self, severity: Severity, source: STRING, text: STRING) -> None: ...
 
     @method
-    def newest(self, age: UINT) -> Event:
+    def newest(self, age: UINT, event: REFERENCE_TO[Event]) -> BOOL:
+        """Copy the event ``age`` places before the newest (0 = newest); FALSE when there is none."""
         raise NotImplementedError
 
     @prop
@@ -244,8 +255,8 @@ class PlantLog(FunctionBlock, ILogger, final=True):
         log_push(self.buffer, severity, source, text)
 
     @method
-    def newest(self, age: UINT) -> Event:
-        return log_newest(self.buffer, age, "PlantLog")
+    def newest(self, age: UINT, event: REFERENCE_TO[Event]) -> BOOL:
+        return log_copy(self.buffer, age, event)
 
     @prop
     def count(self) -> UDINT:
@@ -280,8 +291,8 @@ class RingLogger(FunctionBlock, ILogger, final=True):
         log_push(self.buffer, severity, source, text)
 
     @method
-    def newest(self, age: UINT) -> Event:
-        return log_newest(self.buffer, age, "RingLogger")
+    def newest(self, age: UINT, event: REFERENCE_TO[Event]) -> BOOL:
+        return log_copy(self.buffer, age, event)
 
     @prop
     def count(self) -> UDINT:
@@ -426,8 +437,9 @@ def main() -> None:
     rt.run(cycles=4)
     line.cmd_run = False
     rt.run(cycles=3)
+    event = Event()
     for age in reversed(range(log.held)):
-        event = log.newest(age)
+        log.newest(age, event)
         print(f"t={event.stamp:4d} ms  {event.severity.name:<8} {event.source:<6} {event.text}")
     print(f"logged {log.count}, held {log.held} of {CAPACITY}, one log: {PlantLog().count == log.count}")
 
@@ -437,10 +449,9 @@ def _clear_log(scenario: Scenario) -> None:
 
 
 def _newest_event(prog: Any) -> object:
-    log = GVL_PlantEvents.plant_events
-    if not log.held:
+    event = Event()
+    if not GVL_PlantEvents.plant_events.newest(0, event):
         return ""
-    event = log.newest(0)
     return f"{event.source} {event.text}"
 
 

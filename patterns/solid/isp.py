@@ -103,6 +103,7 @@ from iecoop import (
     ARRAY,
     BOOL,
     INT,
+    PRIVATE,
     REAL,
     STRING,
     TIME,
@@ -110,10 +111,8 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IQueryInterface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -131,11 +130,6 @@ SLOTS = 8
 WIRE_BREAK_RAW = 32500
 #: ``ERR_WIRE_BREAK : UDINT := 16#A001``.
 ERR_WIRE_BREAK = 0xA001
-
-
-def _check_slot(owner: str, count: int) -> None:
-    if count >= SLOTS:
-        raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"{owner}.register: all {SLOTS} slots are in use")
 
 
 # ---------------------------------------------------------------------------
@@ -291,7 +285,7 @@ class FatStartSequencer(FunctionBlock):
 
     @method
     def register(self, device: IFieldDevice) -> INT:
-        _check_slot("FatStartSequencer", self.count)
+        """Put ``device`` in the next slot; a device past ``SLOTS`` faults (ARRAYBOUNDS) before the count moves."""
         self.devices[self.count + 1] = device
         self.count += 1
         return self.count
@@ -327,7 +321,7 @@ class FatDiagnosticScanner(FunctionBlock):
 
     @method
     def register(self, device: IFieldDevice) -> INT:
-        _check_slot("FatDiagnosticScanner", self.count)
+        """Put ``device`` in the next slot; a device past ``SLOTS`` faults (ARRAYBOUNDS) before the count moves."""
         self.devices[self.count + 1] = device
         self.count += 1
         return self.count
@@ -478,7 +472,7 @@ class StartSequencer(FunctionBlock):
 
     @method
     def register(self, device: IStartable) -> INT:
-        _check_slot("StartSequencer", self.count)
+        """Put ``device`` in the next slot; a device past ``SLOTS`` faults (ARRAYBOUNDS) before the count moves."""
         self.devices[self.count + 1] = device
         self.count += 1
         return self.count
@@ -515,7 +509,7 @@ class DiagnosticScanner(FunctionBlock):
 
     @method
     def register(self, device: IDiagnosable) -> INT:
-        _check_slot("DiagnosticScanner", self.count)
+        """Put ``device`` in the next slot; a device past ``SLOTS`` faults (ARRAYBOUNDS) before the count moves."""
         self.devices[self.count + 1] = device
         self.count += 1
         return self.count
@@ -550,24 +544,20 @@ class ParameterDownload(FunctionBlock):
 
     @method
     def register(self, device: IParameterisable) -> INT:
-        _check_slot("ParameterDownload", self.count)
+        """Put ``device`` in the next slot; a device past ``SLOTS`` faults (ARRAYBOUNDS) before the count moves."""
         self.devices[self.count + 1] = device
         self.count += 1
         return self.count
 
     @method
     def add_row(self, slot: INT, index: INT, value: REAL) -> INT:
-        """Append a row to the table; return its row number."""
-        if not 1 <= slot <= self.count:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"ParameterDownload.add_row: slot {slot} is outside 1..{self.count}"
-            )
-        if self.rows >= SLOTS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"ParameterDownload.add_row: all {SLOTS} rows are in use"
-            )
-        self.table[self.rows + 1] = ParameterEntry(slot=slot, index=index, value=value)
+        """Append a row to the table; return its row number, 0 for a slot with no device or a full table."""
+        if slot < 1 or slot > self.count or self.rows >= SLOTS:
+            return 0
         self.rows += 1
+        self.table[self.rows].slot = slot
+        self.table[self.rows].index = index
+        self.table[self.rows].value = value
         return self.rows
 
     @method
@@ -600,20 +590,29 @@ class IspCell(Program):
     download: ParameterDownload = VAR()
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
-        for fat in (self.fat_pump, self.fat_transmitter, self.fat_fan):
-            self.fat_sequencer.register(fat)
-            self.fat_scanner.register(fat)
-        for device in (self.pump, self.transmitter, self.fan):
-            startable = query_interface(device, IStartable)
-            if startable is not None:
-                self.sequencer.register(startable)
-            diagnosable = query_interface(device, IDiagnosable)
-            if diagnosable is not None:
-                self.scanner.register(diagnosable)
-            parameterisable = query_interface(device, IParameterisable)
-            if parameterisable is not None:
-                self.download.register(parameterisable)
+        self.fat_sequencer.register(self.fat_pump)
+        self.fat_sequencer.register(self.fat_transmitter)
+        self.fat_sequencer.register(self.fat_fan)
+        self.fat_scanner.register(self.fat_pump)
+        self.fat_scanner.register(self.fat_transmitter)
+        self.fat_scanner.register(self.fat_fan)
+        self.connect(self.pump)
+        self.connect(self.transmitter)
+        self.connect(self.fan)
         return True
+
+    @method(PRIVATE)
+    def connect(self, device: IQueryInterface) -> None:
+        """Give ``device`` to each client whose interface it implements (``__QUERYINTERFACE``)."""
+        startable = query_interface(device, IStartable)
+        if startable is not None:
+            self.sequencer.register(startable)
+        diagnosable = query_interface(device, IDiagnosable)
+        if diagnosable is not None:
+            self.scanner.register(diagnosable)
+        parameterisable = query_interface(device, IParameterisable)
+        if parameterisable is not None:
+            self.download.register(parameterisable)
 
     def body(self) -> None:
         self.fat_sequencer(request=self.start_request)

@@ -109,11 +109,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     IQueryInterface,
-    PlcException,
     Program,
     T,
     method,
@@ -315,22 +313,19 @@ class ValveManifold(FunctionBlock):
 
     @method
     def add(self, valve: IValve) -> INT:
-        """Put ``valve`` in the next free slot and return the slot number."""
+        """Put ``valve`` in the next free slot and return the slot number; 0 when it is already in or all are used."""
         for slot in range(1, self.count + 1):
             if self.valves[slot] == valve:
-                raise ValueError(f"ValveManifold.add: this valve is already in slot {slot}")
+                return 0
         if self.count >= SLOTS:
-            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"ValveManifold.add: all {SLOTS} slots are in use")
+            return 0
         self.valves[self.count + 1] = valve  # fails on a non-valve before the count moves
         self.count += 1
         return self.count
 
     @method
     def valve(self, slot: INT) -> IValve:
-        if not 1 <= slot <= self.count:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"ValveManifold.valve: slot {slot} is outside 1..{self.count}"
-            )
+        """The valve in ``slot``: 0 for a free slot; a slot outside 1..SLOTS faults with RTSEXCPT_ARRAYBOUNDS."""
         return self.valves[slot]
 
     @method
@@ -345,11 +340,19 @@ class ValveManifold(FunctionBlock):
 
     @prop
     def all_open(self) -> BOOL:
-        return self.count > 0 and all(self.valves[slot].is_open for slot in range(1, self.count + 1))
+        if self.count == 0:
+            return False
+        for slot in range(1, self.count + 1):
+            if not self.valves[slot].is_open:
+                return False
+        return True
 
     @prop
     def all_closed(self) -> BOOL:
-        return all(self.valves[slot].is_closed for slot in range(1, self.count + 1))
+        for slot in range(1, self.count + 1):
+            if not self.valves[slot].is_closed:
+                return False
+        return True
 
     def body(self) -> None:
         for slot in range(1, self.count + 1):
@@ -369,8 +372,9 @@ class ValveCell(Program):
     manifold: ValveManifold = VAR()
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
-        for valve in (self.solenoid, self.motorised, self.proportional):
-            self.manifold.add(valve)
+        self.manifold.add(self.solenoid)
+        self.manifold.add(self.motorised)
+        self.manifold.add(self.proportional)
         return True
 
     def body(self) -> None:

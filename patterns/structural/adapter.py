@@ -524,11 +524,17 @@ class DriveLine(Program):
 
     @prop
     def all_running(self) -> BOOL:
-        return all(self.drives[i].running for i in range(1, 4))
+        for i in range(1, 4):
+            if not self.drives[i].running:
+                return False
+        return True
 
     @prop
     def any_fault(self) -> BOOL:
-        return any(self.drives[i].fault for i in range(1, 4))
+        for i in range(1, 4):
+            if self.drives[i].fault:
+                return True
+        return False
 
 
 NAMES = ("VFD", "AXIS", "DOL")

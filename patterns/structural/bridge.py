@@ -112,10 +112,8 @@ from iecoop import (
     VAR_IN_OUT,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -319,8 +317,9 @@ class Device(FunctionBlock, IDevice, abstract=True):
     """The abstraction: ``FUNCTION_BLOCK ABSTRACT FB_Device IMPLEMENTS I_Device``.
 
     Holds the channel and the point it uses on it. ``Cyclic`` is FINAL: it
-    checks that a channel was injected, records its health, then calls the
-    device's own ``Update``.
+    records the channel's health, then calls the device's own ``Update``. A
+    device given no channel faults there with RTSEXCPT_ACCESS_VIOLATION, the
+    PLC's own fault for a call through a null interface.
     """
 
     channel_ref: IChannel = VAR()
@@ -356,12 +355,7 @@ class Device(FunctionBlock, IDevice, abstract=True):
 
     @method(FINAL)
     def cyclic(self) -> None:
-        if not self.channel_ref:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                f"{type(self).__name__} {self.tag_name!r}: no I_Channel injected "
-                "(give FB_init channel := ..., or set the Channel property)",
-            )
+        # No check for 0: a device given no channel faults here with RTSEXCPT_ACCESS_VIOLATION, as on the PLC.
         self.comm_ok = self.channel_ref.healthy
         self.update()
 
@@ -484,35 +478,36 @@ class SkidMain(Program):
         self.channels[1] = self.local
         self.channels[2] = self.modbus
         self.channels[3] = self.sim
-        for pump, valve, channel in (
-            (self.p_loc, self.v_loc, self.local),
-            (self.p_mb, self.v_mb, self.modbus),
-            (self.p_sim, self.v_sim, self.sim),
-        ):
-            pump.channel = channel
-            valve.channel = channel
-        for k, device in enumerate((self.p_loc, self.v_loc, self.p_mb, self.v_mb, self.p_sim, self.v_sim), 1):
-            self.devices[k] = device
-
-    @property
-    def pumps(self) -> tuple[Pump, Pump, Pump]:
-        """The pumps, one per channel: a Python view for the HMI and tests, not PLC data."""
-        return (self.p_loc, self.p_mb, self.p_sim)
-
-    @property
-    def valves(self) -> tuple[Valve, Valve, Valve]:
-        return (self.v_loc, self.v_mb, self.v_sim)
+        self.p_loc.channel = self.local
+        self.v_loc.channel = self.local
+        self.p_mb.channel = self.modbus
+        self.v_mb.channel = self.modbus
+        self.p_sim.channel = self.sim
+        self.v_sim.channel = self.sim
+        self.devices[1] = self.p_loc
+        self.devices[2] = self.v_loc
+        self.devices[3] = self.p_mb
+        self.devices[4] = self.v_mb
+        self.devices[5] = self.p_sim
+        self.devices[6] = self.v_sim
 
     def body(self) -> None:
         for k in range(1, 4):
             self.channels[k].cyclic()
-        for pump, valve in zip(self.pumps, self.valves):
-            if self.cmd_run:
-                pump.start(self.speed)
-                valve.open()
-            else:
-                pump.stop()
-                valve.close()
+        if self.cmd_run:
+            self.p_loc.start(self.speed)
+            self.v_loc.open()
+            self.p_mb.start(self.speed)
+            self.v_mb.open()
+            self.p_sim.start(self.speed)
+            self.v_sim.open()
+        else:
+            self.p_loc.stop()
+            self.v_loc.close()
+            self.p_mb.stop()
+            self.v_mb.close()
+            self.p_sim.stop()
+            self.v_sim.close()
         for k in range(1, 7):
             self.devices[k].cyclic()
         # The field behind the real channels (the simulated one carries its own).
@@ -543,7 +538,7 @@ def main() -> None:
     for _ in range(40):
         t = rt.time_ms
         rt.run(cycles=1)
-        for pump, valve in zip(skid.pumps, skid.valves):
+        for pump, valve in ((skid.p_loc, skid.v_loc), (skid.p_mb, skid.v_mb), (skid.p_sim, skid.v_sim)):
             kind = pump.channel.kind
             for name, done, what in ((pump.tag, pump.at_speed, "at speed"), (valve.tag, valve.is_open, "open")):
                 if done and name not in reported:

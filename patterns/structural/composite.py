@@ -96,6 +96,7 @@ from iecoop import (
     BOOL,
     INT,
     LREAL,
+    PRIVATE,
     STRING,
     TIME,
     VAR,
@@ -375,12 +376,18 @@ class ConveyorGroup(ConveyorElement, IConveyorGroup):
         """AND of the children; an empty group is not running."""
         if self.child_count == 0:
             return False
-        return all(self.children[i].is_running for i in range(1, self.child_count + 1))
+        for i in range(1, self.child_count + 1):
+            if not self.children[i].is_running:
+                return False
+        return True
 
     @prop
     def is_faulted(self) -> BOOL:
         """OR of the children."""
-        return any(self.children[i].is_faulted for i in range(1, self.child_count + 1))
+        for i in range(1, self.child_count + 1):
+            if self.children[i].is_faulted:
+                return True
+        return False
 
     @prop
     def power_kw(self) -> LREAL:
@@ -431,16 +438,20 @@ class ConveyorMain(Program):
     @call_after_init
     def wire(self) -> None:
         """Build the tree once; ``wired`` tells the HMI every element was accepted."""
-        results = [
-            self.infeed.add(self.s1),
-            self.infeed.add(self.s2),
-            self.transfer.add(self.s3),
-            self.transfer.add(self.s4),
-            self.transfer.add(self.s5),
-            self.line.add(self.infeed),
-            self.line.add(self.transfer),
-        ]
-        self.wired = all(result == AddResult.ADDED for result in results)
+        self.wired = True
+        self.accept(self.infeed.add(self.s1))
+        self.accept(self.infeed.add(self.s2))
+        self.accept(self.transfer.add(self.s3))
+        self.accept(self.transfer.add(self.s4))
+        self.accept(self.transfer.add(self.s5))
+        self.accept(self.line.add(self.infeed))
+        self.accept(self.line.add(self.transfer))
+
+    @method(PRIVATE)
+    def accept(self, result: AddResult) -> None:
+        """``wired`` stays TRUE only while every element is ADDED; every add runs either way."""
+        if result != AddResult.ADDED:
+            self.wired = False
 
     def body(self) -> None:
         self.start_edge(CLK=self.cmd_start)

@@ -148,9 +148,10 @@ def test_pool_and_image_exhaustion_are_reported() -> None:
 
 def test_a_channel_outside_the_module_is_an_array_bounds_fault() -> None:
     farm, _rt = running_farm()
-    with pytest.raises(PlcException, match=r"channel 8 outside 0\.\.7 of EcDigitalInput") as info:
-        farm.tank_a.high_switch.read(8)
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+    for channel in (8, -1):
+        with pytest.raises(PlcException, match=rf"index {channel} outside ARRAY\[0\.\.7\] OF WORD") as info:
+            farm.tank_a.high_switch.read(channel)
+        assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
 
 
 @settings(max_examples=100, deadline=None)

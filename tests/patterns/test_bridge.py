@@ -114,9 +114,9 @@ def test_a_device_gets_its_channel_and_point_through_fb_init() -> None:
     assert pump.at_speed and pump.channel == channel
 
 
-def test_a_device_without_a_channel_refuses_to_run_and_says_why() -> None:
+def test_a_device_without_a_channel_faults_with_an_access_violation() -> None:
     pump = Pump(tag="P9")
-    message = r"Pump 'P9': no I_Channel injected \(give FB_init channel := \.\.\., or set the Channel property\)"
+    message = r"Device\.channel_ref: IChannel\.healthy called through a null interface"
     with pytest.raises(PlcException, match=message) as info:
         pump.cyclic()
     assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
@@ -135,7 +135,7 @@ class Unwired(Program):
 def test_a_forgotten_injection_stops_the_task_in_its_first_cycle() -> None:
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), Unwired())
-    with pytest.raises(PlcException, match=r"cycle 0: .*Valve 'V9': no I_Channel injected"):
+    with pytest.raises(PlcException, match=r"cycle 0: .*IChannel\.healthy called through a null interface"):
         rt.run(cycles=3)
     assert rt.fault is not None and rt.fault.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 

@@ -233,18 +233,21 @@ def test_the_manifold_pool_is_bounded_and_refuses_duplicates() -> None:
     manifold = ValveManifold()
     valves = [SolenoidValve() for _ in range(SLOTS + 1)]
     assert [manifold.add(v) for v in valves[:SLOTS]] == list(range(1, SLOTS + 1))
-    with pytest.raises(PlcException, match=r"ValveManifold\.add: all 8 slots are in use") as info:
-        manifold.add(valves[SLOTS])
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
-    assert manifold.count == SLOTS
+    assert manifold.add(valves[SLOTS]) == 0  # refused: the caller checks for 0
+    assert manifold.count == SLOTS and not manifold.valve(SLOTS).is_open
     other = ValveManifold()
-    other.add(valves[0])
-    with pytest.raises(ValueError, match=r"ValveManifold\.add: this valve is already in slot 1"):
-        other.add(valves[0])
-    with pytest.raises(PlcException, match=r"ValveManifold\.valve: slot 2 is outside 1\.\.1"):
-        other.valve(2)
-    with pytest.raises(PlcException, match=r"slot 0 is outside"):
-        other.valve(0)
+    assert other.add(valves[0]) == 1
+    assert (other.add(valves[0]), other.count) == (0, 1)  # already in slot 1
+    assert other.valve(1) == valves[0]
+    free = other.valve(2)
+    assert not free  # a free slot holds the null interface; calling through it is the PLC's own fault
+    with pytest.raises(PlcException, match=r"IValve\.open called through a null interface") as info:
+        free.open()
+    assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+    for slot in (0, SLOTS + 1):
+        with pytest.raises(PlcException, match=rf"index {slot} outside ARRAY\[1\.\.8\] OF IValve") as info:
+            other.valve(slot)
+        assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
 
 
 def test_the_manifold_takes_only_valves() -> None:

@@ -13,12 +13,16 @@ from iecoop.runtime import Runtime, Task
 from patterns.creational.singleton import (
     CAPACITY,
     Conveyor,
+    Event,
     GVL_PlantEvents,
     LineMain,
+    LogBuffer,
     PlantLog,
     Pump,
     RingLogger,
     Severity,
+    log_copy,
+    log_push,
 )
 from tests import checked_only
 
@@ -37,11 +41,18 @@ def _runtime(program: Program) -> Runtime:
     return rt
 
 
+def _newest(log: PlantLog | RingLogger, age: int) -> Event:
+    """The event ``age`` places before the newest, as a caller on the PLC reads it: into its own ST_Event."""
+    event = Event()
+    assert log.newest(age, event) is True
+    return event
+
+
 def _texts(log: PlantLog | RingLogger) -> list[str]:
     """Held events, oldest first, as 'SOURCE text'."""
     out = []
     for age in reversed(range(log.held)):
-        event = log.newest(age)
+        event = _newest(log, age)
         out.append(f"{event.source} {event.text}")
     return out
 
@@ -70,12 +81,12 @@ def test_conveyors_in_any_program_write_into_the_global_log_stamped_with_the_tas
     assert rt.time_ms == 50
     log = GVL_PlantEvents.plant_events
     assert _texts(log) == ["CV101 started", "CV102 started", "P101 started"]
-    assert [log.newest(age).stamp for age in range(3)] == [30, 30, 30]
+    assert [_newest(log, age).stamp for age in range(3)] == [30, 30, 30]
     line.overload_cv102 = True
     rt.run(cycles=4)
     assert _texts(log)[-2:] == ["CV102 overload trip", "CV102 stopped"]
-    assert log.newest(1).severity == Severity.ALARM
-    assert log.newest(0).stamp == 50
+    assert _newest(log, 1).severity == Severity.ALARM
+    assert _newest(log, 0).stamp == 50
 
 
 def test_two_separate_lines_cannot_have_separate_logs() -> None:
@@ -94,11 +105,31 @@ def test_the_shared_buffer_is_a_ring_that_overwrites_the_oldest() -> None:
     for n in range(1, CAPACITY + 4):
         log.log(Severity.INFO, "T", f"event {n}")
     assert (log.count, log.held) == (CAPACITY + 3, CAPACITY)
-    assert log.newest(0).text == f"event {CAPACITY + 3}"
-    assert log.newest(CAPACITY - 1).text == "event 4"
-    with pytest.raises(PlcException, match=r"PlantLog\.newest: age 8 is outside the 8 events held") as info:
-        log.newest(CAPACITY)
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+    assert _newest(log, 0).text == f"event {CAPACITY + 3}"
+    assert _newest(log, CAPACITY - 1).text == "event 4"
+
+
+def test_an_age_past_the_events_held_is_refused_and_leaves_the_callers_event_alone() -> None:
+    log = RingLogger()
+    kept = Event(source="HMI", text="kept")
+    assert log.newest(0, kept) is False  # an empty log holds no newest event
+    log.log(Severity.WARNING, "P1", "dry running")
+    assert log.newest(1, kept) is False and (kept.source, kept.text) == ("HMI", "kept")
+    assert log.newest(0, kept) is True and (kept.severity, kept.source, kept.text) == (
+        Severity.WARNING, "P1", "dry running"
+    )
+    kept.text = "changed"  # a copy: the log is not written through the caller's event
+    assert _newest(log, 0).text == "dry running"
+
+
+def test_log_push_reports_when_the_oldest_event_is_overwritten() -> None:
+    buffer, event = LogBuffer(), Event()
+    assert [log_push(buffer, Severity.INFO, "T", f"e{n}") for n in range(CAPACITY + 2)] == (
+        [False] * CAPACITY + [True, True]
+    )
+    assert (buffer.held, buffer.total) == (CAPACITY, CAPACITY + 2)
+    assert log_copy(buffer, CAPACITY - 1, event) and event.text == "e2"
+    assert not log_copy(buffer, CAPACITY, event) and event.text == "e2"
 
 
 @checked_only
@@ -142,8 +173,8 @@ def test_an_injected_logger_is_fresh_and_private_to_each_test() -> None:
     rig.dry = True
     rt.run(cycles=1)
     assert _texts(logger) == ["P1 started", "P1 dry running", "P1 stopped"]
-    assert logger.newest(1).severity == Severity.WARNING
-    assert logger.newest(0).stamp == 20
+    assert _newest(logger, 1).severity == Severity.WARNING
+    assert _newest(logger, 0).stamp == 20
     assert GVL_PlantEvents.plant_events.count == 0  # nothing leaked into the plant log
 
 
@@ -191,6 +222,5 @@ def test_ring_logger_holds_the_newest_events_in_order(texts: list[str]) -> None:
         logger.log(Severity.INFO, "X", text)
     assert logger.count == len(texts)
     assert logger.held == min(len(texts), CAPACITY)
-    assert [logger.newest(age).text for age in range(logger.held)] == texts[::-1][:CAPACITY]
-    with pytest.raises(PlcException, match="outside"):
-        logger.newest(logger.held)
+    assert [_newest(logger, age).text for age in range(logger.held)] == texts[::-1][:CAPACITY]
+    assert logger.newest(logger.held, Event()) is False
