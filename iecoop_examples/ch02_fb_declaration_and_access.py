@@ -165,7 +165,10 @@ class Pump(FunctionBlock, final=True):
             self.running = False
         if self.running:
             self.run_cycles += 1
-        self.status = f"{self.tag} {'running' if self.running else 'stopped'}"
+        if self.running:
+            self.status = f"{self.tag} running"
+        else:
+            self.status = f"{self.tag} stopped"
 
 
 class Main(Program):
@@ -201,20 +204,38 @@ class Access(FunctionBlock):
         return 4
 
     @method
-    def call_inside(self, name: str) -> INT:
-        """Call the member ``name`` from FB_Access's own code."""
-        member: Callable[[], INT] = getattr(self, name)
-        return member()
+    def call_inside(self, name: STRING) -> INT:
+        """Call the member ``name`` from FB_Access's own code (0 for a name it has not)."""
+        if name == "m_public":
+            return self.m_public()
+        if name == "m_private":
+            return self.m_private()
+        if name == "m_protected":
+            return self.m_protected()
+        if name == "m_internal":
+            return self.m_internal()
+        return 0
 
 
 class AccessChild(Access):
     """``FUNCTION_BLOCK FB_AccessChild EXTENDS FB_Access``."""
 
     @method
-    def call_derived(self, name: str) -> INT:
-        """Call the inherited member ``name`` from the derived block's code."""
-        member: Callable[[], INT] = getattr(self, name)
-        return member()
+    def call_derived(self, name: STRING) -> INT:
+        """Call the inherited member ``name`` from the derived block's code (0 for a name it has not).
+
+        TwinCAT and CODESYS reject the PRIVATE call at compile time; iecoop
+        raises AccessError at the call, so the table can show the row.
+        """
+        if name == "m_public":
+            return self.m_public()
+        if name == "m_private":
+            return self.m_private()
+        if name == "m_protected":
+            return self.m_protected()
+        if name == "m_internal":
+            return self.m_internal()
+        return 0
 
 
 #: The member of FB_Access for each access specifier.

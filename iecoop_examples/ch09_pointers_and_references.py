@@ -23,11 +23,13 @@ ST::
     VAR_INPUT fASide : REAL; fBSide : REAL; END_VAR
     F_AreaCalcVal := fASide * fBSide;
 
-    FUNCTION F_AreaCalcPointer                        // by pointer: the area is written back
+    FUNCTION F_AreaCalcPointer : BOOL                 // by pointer: the area is written back
     VAR_INPUT pRect : POINTER TO ST_Rectangle; END_VAR
-    IF pRect <> 0 THEN
-        pRect^.fArea := pRect^.fASide * pRect^.fBSide;
+    IF pRect = 0 THEN
+        RETURN;                                       // FALSE: nothing to write to
     END_IF
+    pRect^.fArea := pRect^.fASide * pRect^.fBSide;
+    F_AreaCalcPointer := TRUE;
 
     FUNCTION F_AreaCalcRef : REAL                     // by reference: no ^, no check for 0
     VAR_INPUT rRect : REFERENCE TO ST_Rectangle; END_VAR
@@ -95,10 +97,9 @@ ST::
 
 from __future__ import annotations
 
-import math
-
 from iecoop import (
     ARRAY,
+    BOOL,
     DINT,
     INT,
     POINTER_TO,
@@ -112,6 +113,7 @@ from iecoop import (
     ref_assign,
     sizeof,
 )
+from iecoop.functions import SIN
 from iecoop.runtime import Runtime, Task
 from patterns.showcase.entry import Column, Showcase
 
@@ -142,10 +144,12 @@ def area_calc_val(a_side: REAL, b_side: REAL) -> REAL:
     return a_side * b_side
 
 
-def area_calc_pointer(rect: POINTER_TO[Rectangle]) -> None:
-    """``FUNCTION F_AreaCalcPointer``: writes ``pRect^.fArea``; does nothing for a null pointer."""
-    if rect:
-        rect.deref.area = rect.deref.a_side * rect.deref.b_side
+def area_calc_pointer(rect: POINTER_TO[Rectangle]) -> BOOL:
+    """``FUNCTION F_AreaCalcPointer : BOOL``: writes ``pRect^.fArea``; FALSE, and nothing written, for a null pointer."""
+    if not rect:
+        return False
+    rect.deref.area = rect.deref.a_side * rect.deref.b_side
+    return True
 
 
 def area_calc_ref(rect: REFERENCE_TO[Rectangle]) -> REAL:
@@ -227,7 +231,7 @@ class SrAverage(Program):
     def body(self) -> None:
         self.angle = 0.0
         for i in range(1, 21):
-            self.fifo[i] = 124.0 + math.sin(self.angle) * 6
+            self.fifo[i] = 124.0 + SIN(self.angle) * 6
             self.angle += 2 * 3.14159 / 20.0
         f = self.fifo
         self.avg_values = average_values(

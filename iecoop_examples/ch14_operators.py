@@ -234,7 +234,8 @@ class MainOperators(Program):
         self.query_diag = diag is not None
         if diag is not None:
             self.itf_diag = diag
-        self.query_printer = query_interface(self.itf_drive, IPrinter) is not None
+        printer = query_interface(self.itf_drive, IPrinter)
+        self.query_printer = printer is not None
         self.p_any = query_pointer(self.itf_drive)
         self.pointer_is_motor = self.p_any == adr(self, "motor")
         # __VARINFO

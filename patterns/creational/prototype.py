@@ -258,7 +258,7 @@ class ParameterSet(FunctionBlock, IAxisPrototype):
             return 0.0
         table = self.tuned.comp.deref.error_um
         span = max(0.0, min(position, POINT_SPACING * (table.high - table.low)))
-        point = min(int(span // POINT_SPACING) + table.low, table.high - 1)
+        point: INT = min(int(span / POINT_SPACING) + table.low, table.high - 1)
         fraction = span / POINT_SPACING - (point - table.low)
         return (table[point] + (table[point + 1] - table[point]) * fraction) / 1000.0
 

@@ -110,11 +110,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     IQueryInterface,
-    PlcException,
     Program,
     T,
     method,
@@ -136,6 +134,15 @@ class DriveState(IecEnum):
     STOPPED = 0
     RUNNING = 1
     TRIPPED = 2
+
+
+def state_word(state: DriveState) -> STRING:
+    """``FUNCTION F_StateWord : STRING``: the four-letter word the operator's status line shows."""
+    if state == DriveState.RUNNING:
+        return "RUN "
+    if state == DriveState.TRIPPED:
+        return "TRIP"
+    return "STOP"
 
 
 # ---------------------------------------------------------------------------
@@ -190,12 +197,14 @@ class DriveWithHmi(FunctionBlock):
     @method(PROTECTED)
     def compose(self) -> STRING:
         """The HMI wording, owned by the drive: a new wording is a new drive block."""
-        return f"{self.name} {_WORDS[self.current]} {self.speed_ref:5.1f} %"
+        return f"{self.name} {state_word(self.current)} {self.speed_ref:5.1f} %"
 
     @method
     def event(self, age: INT) -> STRING:
-        """The event ``age`` changes ago (0 = newest)."""
-        return _event(self.events, self.event_total, age, "DriveWithHmi")
+        """The event ``age`` changes ago (0 = newest); an empty STRING when fewer changes are kept."""
+        if age < 0 or age >= min(self.event_total, EVENTS):
+            return ""
+        return self.events[(self.event_total - 1 - age) % EVENTS + 1]
 
     def body(self) -> None:
         if self.overload:
@@ -335,8 +344,10 @@ class DriveEventLog(FunctionBlock):
 
     @method
     def event(self, age: INT) -> STRING:
-        """The event ``age`` changes ago (0 = newest)."""
-        return _event(self.events, self.event_total, age, "DriveEventLog")
+        """The event ``age`` changes ago (0 = newest); an empty STRING when fewer changes are kept."""
+        if age < 0 or age >= min(self.event_total, EVENTS):
+            return ""
+        return self.events[(self.event_total - 1 - age) % EVENTS + 1]
 
     def body(self) -> None:
         state = self.source.state
@@ -360,7 +371,7 @@ class DriveHmiFormatter(FunctionBlock):
 
     @method(PROTECTED)
     def compose(self) -> STRING:
-        return f"{self.name} {_WORDS[self.source.state]} {self.source.speed:5.1f} %"
+        return f"{self.name} {state_word(self.source.state)} {self.source.speed:5.1f} %"
 
     def body(self) -> None:
         self.status_text = self.compose()
@@ -405,19 +416,6 @@ class HmiMain(Program):
 
     def body(self) -> None:
         self.formatter(source=self.drive)
-
-
-_WORDS = {DriveState.STOPPED: "STOP", DriveState.RUNNING: "RUN ", DriveState.TRIPPED: "TRIP"}
-
-
-def _event(events: ARRAY[STRING], total: int, age: INT, owner: str) -> STRING:
-    kept = min(total, EVENTS)
-    if not 0 <= age < kept:
-        raise PlcException(
-            ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-            f"{owner}.event: age {age} is outside 0..{kept - 1} ({kept} events kept)",
-        )
-    return str(events[(total - 1 - age) % EVENTS + 1])
 
 
 def main() -> None:

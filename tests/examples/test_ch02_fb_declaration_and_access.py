@@ -170,6 +170,11 @@ def test_private_stays_private_in_the_derived_block() -> None:
         AccessChild().call_derived("m_private")
 
 
+def test_a_name_the_block_has_not_calls_nothing_and_gives_0() -> None:
+    assert (Access().call_inside("m_missing"), AccessChild().call_derived("")) == (0, 0)
+    assert [Access().call_inside(name) for name in MEMBERS.values()] == [1, 2, 3, 4]
+
+
 _OTHER_NAMESPACE = '''
 from iecoop import method
 

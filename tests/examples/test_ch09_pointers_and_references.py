@@ -68,13 +68,13 @@ def test_the_area_is_50_by_value_pointer_and_reference_every_cycle() -> None:
 def test_the_three_ways_agree_for_any_rectangle(a_side: float, b_side: float) -> None:
     by_value, by_pointer, by_reference = (Rectangle(a_side=a_side, b_side=b_side) for _ in range(3))
     by_value.area = area_calc_val(by_value.a_side, by_value.b_side)
-    area_calc_pointer(adr(by_pointer))
+    assert area_calc_pointer(adr(by_pointer)) is True
     returned = area_calc_ref(by_reference)
     assert by_value.area == by_pointer.area == by_reference.area == returned
 
 
 def test_a_null_pointer_is_checked_a_reference_cannot_be() -> None:
-    area_calc_pointer(Pointer())  # IF pRect <> 0: nothing happens
+    assert area_calc_pointer(Pointer()) is False  # IF pRect = 0: RETURN, nothing written
     holder = Holder()
     with pytest.raises(PlcException, match=r"RTSEXCPT_ACCESS_VIOLATION.*reference is not bound") as info:
         area_calc_ref(holder.rect)

@@ -19,6 +19,7 @@ from patterns.solid.srp import (
     IDriveStatus,
     MotionMain,
     ViolatingCell,
+    state_word,
 )
 
 
@@ -202,11 +203,13 @@ def test_the_event_log_keeps_the_newest_eight_changes() -> None:
         motion.stop_button = False
     assert motion.log.event_total == 10
     assert [motion.log.event(age) for age in range(EVENTS)] == ["M1 STOPPED", "M1 RUNNING"] * 4
-    with pytest.raises(PlcException, match=r"DriveEventLog\.event: age 8 is outside 0\.\.7 \(8 events kept\)") as info:
-        motion.log.event(EVENTS)
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
-    with pytest.raises(PlcException, match=r"age 0 is outside 0\.\.-1 \(0 events kept\)"):
-        DriveEventLog().event(0)
+    # An age past the changes kept reads as an empty row, as an HMI event list shows it.
+    assert (motion.log.event(EVENTS), motion.log.event(-1)) == ("", "")
+    assert DriveEventLog().event(0) == ""
+
+
+def test_the_status_word_of_each_state() -> None:
+    assert [state_word(s) for s in DriveState] == ["STOP", "RUN ", "TRIP"]
 
 
 def test_an_hmi_program_without_a_drive_faults_with_an_access_violation() -> None:
