@@ -120,6 +120,7 @@ from iecoop import (
     gvl,
     method,
 )
+from iecoop.functions import CONCAT, SEL
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Showcase, press, steps
@@ -165,10 +166,7 @@ class Pump(FunctionBlock, final=True):
             self.running = False
         if self.running:
             self.run_cycles += 1
-        if self.running:
-            self.status = f"{self.tag} running"
-        else:
-            self.status = f"{self.tag} stopped"
+        self.status = CONCAT(self.tag, SEL(self.running, " stopped", " running"))
 
 
 class Main(Program):

@@ -37,7 +37,7 @@ import subprocess
 import sys
 import time
 import types
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -470,16 +470,23 @@ def _pattern_page(module: types.ModuleType, category: Category, folder: Path, wr
     return "\n".join(lines)
 
 
-def _category_index(category: Category, modules: Sequence[types.ModuleType]) -> str:
-    lines = [_GENERATED, "", *_heading(category.title, "="), category.intro, ""]
+def _page_list(modules: Sequence[types.ModuleType], title: Callable[[types.ModuleType], str]) -> list[str]:
+    """A bullet per module (its title linked to its page, then its summary) and the hidden toctree of those pages."""
+    lines = []
     for module in modules:
         stem = module.__name__.rsplit(".", 1)[1]
         summary = _summary(module)
         rest = summary.split(":", 1)[1].strip() if ":" in summary else summary
-        lines.append(f"- :doc:`{_title(module, category.package)} <{stem}>`: {rest}")
+        lines.append(f"- :doc:`{title(module)} <{stem}>`: {rest}")
     lines += ["", ".. toctree::", "   :hidden:", ""]
     lines += [f"   {module.__name__.rsplit('.', 1)[1]}" for module in modules]
     lines.append("")
+    return lines
+
+
+def _category_index(category: Category, modules: Sequence[types.ModuleType]) -> str:
+    lines = [_GENERATED, "", *_heading(category.title, "="), category.intro, ""]
+    lines += _page_list(modules, lambda module: _title(module, category.package))
     return "\n".join(lines)
 
 
@@ -533,14 +540,7 @@ def _examples_page(modules: Sequence[types.ModuleType]) -> str:
     ]
     if not modules:
         lines += ["The ``iecoop_examples`` package holds no chapter module in this build.", ""]
-    for module in modules:
-        stem = module.__name__.rsplit(".", 1)[1]
-        summary = _summary(module)
-        rest = summary.split(":", 1)[1].strip() if ":" in summary else summary
-        lines.append(f"- :doc:`{_chapter_heading(module)} <{stem}>`: {rest}")
-    lines += ["", ".. toctree::", "   :hidden:", ""]
-    lines += [f"   {module.__name__.rsplit('.', 1)[1]}" for module in modules]
-    lines.append("")
+    lines += _page_list(modules, _chapter_heading)
     return "\n".join(lines)
 
 

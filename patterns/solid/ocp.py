@@ -78,7 +78,7 @@ IEC 61131-3 mapping
         VAR_OUTPUT rAnalogOut : REAL; END_VAR
     FUNCTION_BLOCK FB_ValveManifold
         VAR aValves : ARRAY[1..8] OF I_Valve; nCount : INT; END_VAR
-        METHOD Add : INT  VAR_INPUT itfValve : I_Valve; END_VAR
+        METHOD Add : INT  VAR_INPUT itfValve : I_Valve; END_VAR   // the slot; 0: already in, or full
 
 References
 ----------

@@ -22,7 +22,8 @@ values: "write 60 % to point 1", "read point 1". A channel (the
 implementation) knows how a value reaches the field: directly through the
 process image, through Modbus registers with a few cycles of latency and a
 link that can fail, or through a plant model. Any device runs on any channel;
-a device that was never given one refuses to run with a message that says so.
+a device that was never given one stops the task at its first call with
+RTSEXCPT_ACCESS_VIOLATION, the PLC's fault for a call through a null interface.
 
 Roles
 -----
@@ -55,7 +56,7 @@ IEC 61131-3 mapping
         METHOD FB_init : BOOL
             VAR_INPUT bInitRetains, bInCopyCode : BOOL;
                       sTag : STRING; iChannel : I_Channel; nPoint : USINT; END_VAR
-        METHOD FINAL Cyclic                       // checks the injection, then Update()
+        METHOD FINAL Cyclic                       // the channel's health, then Update()
         METHOD PROTECTED ABSTRACT Update
 
     FUNCTION_BLOCK FB_Pump EXTENDS FB_Device      // Start(fSpeed), Stop, Running, Speed

@@ -114,3 +114,22 @@ def test_text_px_on_page_shrinks_wide_pictures_only(pages: ModuleType) -> None:
     narrow = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 368 100"><text font-size="12">a</text></svg>'
     wide = narrow.replace("368", "1472")
     assert pages.text_px_on_page(narrow) == 12 and pages.text_px_on_page(wide) == 6
+
+
+def test_every_course_chapter_has_a_page_with_the_st_written_from_its_code(generated: Path) -> None:
+    from iecoop.st import dump
+
+    chapters = sorted(p for p in generated.glob("examples/ch*.rst"))
+    assert len(chapters) == 15
+    index = (generated / "examples" / "index.rst").read_text(encoding="utf-8")
+    for page in chapters:
+        text = page.read_text(encoding="utf-8")
+        assert f"<{page.stem}>`" in index and f"   {page.stem}\n" in index, page.stem
+        assert text.count(".. code-block:: iecst") >= 1 and "iecoop.st.export.dump" in text, page.stem
+    # The text shown is the writer's own output for the module, not a copy kept by hand.
+    import iecoop_examples.ch12_fluent_interface as chapter
+
+    shown = (generated / "examples" / "ch12_fluent_interface.rst").read_text(encoding="utf-8")
+    assert "\n".join(f"   {line}" if line else "" for line in dump(chapter, lenient=True).splitlines()) in shown
+    package = (generated / "examples" / "ch11_abstract_fb_vs_interface.rst").read_text(encoding="utf-8")
+    assert package.count(".. code-block:: iecst") == 3  # one per solution of the chapter package
