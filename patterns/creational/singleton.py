@@ -210,7 +210,8 @@ def log_copy(buffer: REFERENCE_TO[LogBuffer], age: UINT, event: REFERENCE_TO[Eve
     """
     if age >= buffer.held:
         return False
-    slot = buffer.events[(buffer.head - 1 - age) % CAPACITY + 1]
+    # head + CAPACITY - 1 - age is never negative: ST's MOD keeps the sign of its left operand, Python's % does not.
+    slot = buffer.events[(buffer.head + CAPACITY - 1 - age) % CAPACITY + 1]
     event.stamp = slot.stamp
     event.severity = slot.severity
     event.source = slot.source
