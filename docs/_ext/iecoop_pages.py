@@ -476,8 +476,8 @@ def _page_list(modules: Sequence[types.ModuleType], title: Callable[[types.Modul
     for module in modules:
         stem = module.__name__.rsplit(".", 1)[1]
         summary = _summary(module)
-        rest = summary.split(":", 1)[1].strip() if ":" in summary else summary
-        lines.append(f"- :doc:`{title(module)} <{stem}>`: {rest}")
+        rest = summary.split(":", 1)[1].strip() if ":" in summary else ""  # no colon: the title is the summary
+        lines.append(f"- :doc:`{title(module)} <{stem}>`" + (f": {rest}" if rest else ""))
     lines += ["", ".. toctree::", "   :hidden:", ""]
     lines += [f"   {module.__name__.rsplit('.', 1)[1]}" for module in modules]
     lines.append("")
