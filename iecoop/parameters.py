@@ -59,7 +59,7 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import AggregateInfo, Pointer, PointerInfo, TypeInfo, handle_of, resolve_type
+from iecoop.memory._core import access_violation, AggregateInfo, Pointer, PointerInfo, TypeInfo, handle_of, resolve_type
 from iecoop.memory.layout import MISSING, FieldSpec
 
 __all__ = ["function", "parameter_sections", "with_parameters", "wrap_parameters"]
@@ -246,7 +246,7 @@ def _generate(
     """One wrapper in one generated script (registered in linecache, so tracebacks show its lines)."""
     globs: dict[str, Any] = {
         "_M": _NOT_GIVEN, "_func": func, "_Pointer": Pointer, "_unbound": _unbound, "_not_a_variable": _not_a_variable,
-        "_unknown": _unknown, "_label": label,
+        "_unknown": _unknown, "_null": _null, "_label": label,
     }
     signature: list[str] = []
     passed: list[str] = []
@@ -282,6 +282,7 @@ def _generate(
         if spec.section == "VAR_IN_OUT":
             entry.append(f"    if {name} is _M: _unbound(_label, {name!r})")
             entry.append(f"    if not isinstance({name}, _Pointer): _not_a_variable(_label, 'VAR_IN_OUT', {name!r}, {name})")
+            entry.append(f"    if not {name}: _null(_label, {name!r})")
             passed.append(f"{name}={name}" if param.kind is param.KEYWORD_ONLY else name)
             continue
         globs[f"_cell{i}"] = _Cell(param.annotation, spec, where, resolve)
@@ -313,6 +314,10 @@ def _generate(
 
 def _unbound(label: str, name: str) -> None:
     raise TypeError(f"{label}: VAR_IN_OUT {name!r} must be assigned at every call ({name}=adr(...))")
+
+
+def _null(label: str, name: str) -> None:
+    raise access_violation(f"{label}: VAR_IN_OUT {name!r} is bound to 0 (NULL); pass adr() of a variable")
 
 
 def _not_a_variable(label: str, section: str, name: str, value: Any) -> None:
