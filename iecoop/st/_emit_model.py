@@ -204,6 +204,7 @@ def annotation_info(annotation: Any, func: Any, where: str, owner: Any = None) -
     if annotation is None or annotation is type(None) or annotation == "None" or annotation is inspect.Signature.empty:
         return None
     if isinstance(annotation, str):
+        func = inspect.unwrap(func)  # a generated wrapper's globals are not the module's
         namespace: dict[str, Any] = {}
         if owner is not None:
             namespace[owner.__name__] = owner
