@@ -143,3 +143,40 @@ def test_a_python_class_with_outputs_dumps_to_st_and_loads_back_the_same() -> No
         assert (plc.counter.total, plc.counter.last, plc.counter.seen, plc.low, plc.cut) == (
             python.counter.total, python.counter.last, python.counter.seen, python.low, python.cut)
     assert (python.counter.total, python.counter.last, python.counter.seen, python.low, python.cut) == (16, 12, True, 5, True)
+
+
+INTERFACE = """
+INTERFACE I_Split
+END_INTERFACE
+METHOD Split : BOOL
+VAR_INPUT nValue : INT; END_VAR
+VAR_OUTPUT nDouble : INT; sName : STRING(4); END_VAR
+END_METHOD
+
+FUNCTION_BLOCK FB_A IMPLEMENTS I_Split
+END_FUNCTION_BLOCK
+METHOD Split : BOOL
+VAR_INPUT nValue : INT; END_VAR
+VAR_OUTPUT nDouble : INT; sName : STRING(4); END_VAR
+nDouble := nValue * 2;
+sName := 'conveyor';
+Split := TRUE;
+END_METHOD
+
+PROGRAM MAIN
+VAR fbA : FB_A; itf : I_Split; n : INT; s : STRING; ok : BOOL; END_VAR
+itf := fbA;
+ok := itf.Split(21, nDouble => n, sName => s);
+END_PROGRAM
+"""
+
+
+def test_outputs_through_an_interface_keep_their_string_length_both_ways() -> None:
+    module = st.load(INTERFACE)
+    module.MAIN()
+    assert (module.MAIN.n, module.MAIN.s, module.MAIN.ok) == (42, "conv", True)  # STRING(4) cuts 'conveyor'
+    text = st.dump([module.I_Split, module.FB_A, type(module.MAIN)])
+    assert text.count("sName : STRING(4);") == 2 and "Split(nValue := 21, nDouble => n, sName => s)" in text
+    again = st.load(text)
+    again.MAIN()
+    assert (again.MAIN.n, again.MAIN.s, again.MAIN.ok) == (42, "conv", True)
