@@ -219,6 +219,24 @@ def test_bad_declarations_are_refused_at_class_definition() -> None:
         def spread(*more: INT, out: POINTER_TO[INT] = VAR_OUTPUT()) -> None: ...
 
 
+def test_an_output_does_not_implement_or_override_an_input_of_the_same_type() -> None:
+    class ISeen(Interface):
+        @method
+        def count(self, seen: POINTER_TO[INT] = VAR_OUTPUT()) -> None: ...
+
+    with pytest.raises(DefinitionError, match=r"count.*\(seen: POINTER_TO\[INT\] = VAR_OUTPUT\(\)\) -> None"):
+
+        class Plain(FunctionBlock, ISeen):
+            @method
+            def count(self, seen: POINTER_TO[INT] = POINTER_TO[INT]()) -> None: ...
+
+    with pytest.raises(DefinitionError, match=r"C0094.*base \(seen: POINTER_TO\[INT\] = VAR_OUTPUT\(\)\)"):
+
+        class InOut(Word):
+            @method
+            def count(self, seen: POINTER_TO[INT] = VAR_IN_OUT()) -> None: ...
+
+
 def test_only_methods_with_outputs_or_in_outs_get_a_wrapper() -> None:
     assert Word.__dict__["plain"].__code__.co_filename == __file__
     assert Word.__dict__["split"].__code__.co_filename.startswith("<iecoop generated METHOD Word.split")
