@@ -239,6 +239,16 @@ def _parameter_lines(params: Sequence[tuple[str, TypeInfo, Any]], owner: str, re
     return lines
 
 
+def parameter_groups(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, list[tuple[str, TypeInfo, Any]]]:
+    """The parameters by section (VAR_INPUT, VAR_OUTPUT, VAR_IN_OUT), each with its variable's type and initial value."""
+    by_reference = _by_reference(params)
+    groups: dict[str, list[tuple[str, TypeInfo, Any]]] = {"VAR_INPUT": [], "VAR_OUTPUT": [], "VAR_IN_OUT": []}
+    for name, info, default in params:
+        section, target, initial = by_reference.get(name, ("VAR_INPUT", info, default))
+        groups[section].append((name, target, initial))
+    return groups
+
+
 def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
     """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
     by_reference = _by_reference(params)
@@ -277,8 +287,7 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        plain = tuple(p for p in inputs if p[0] not in _by_reference(inputs))
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, plain)
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(inputs))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -392,7 +401,7 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_parameter_lines(inputs, name, {}), *_local_lines(body)]
     return Unit(
         "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
-        signature=(result, tuple(p for p in inputs if p[0] not in by_reference), dict(body.locals)),
+        signature=(result, tuple(inputs), dict(body.locals)),
     )
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pathlib
+from xml.etree import ElementTree
 
 import pytest
 
@@ -180,3 +181,20 @@ def test_outputs_through_an_interface_keep_their_string_length_both_ways() -> No
     again = st.load(text)
     again.MAIN()
     assert (again.MAIN.n, again.MAIN.s, again.MAIN.ok) == (42, "conv", True)
+
+
+def test_twincat_and_plcopen_files_carry_the_outputs_and_in_outs(tmp_path: pathlib.Path) -> None:
+    from tests.iecoop.st.test_export import validate_plcopen
+
+    files = st.export([Counter, Main], tmp_path / "twincat", format="twincat")
+    counter = next(p for p in files if p.name == "Counter.TcPOU").read_text()
+    assert "VAR_OUTPUT\n    before : INT;\nEND_VAR\nVAR_IN_OUT\n    total : DINT;\nEND_VAR" in counter
+    (project,) = st.export([Counter, Main], tmp_path / "plcopen", format="plcopen")
+    parsed = validate_plcopen(project)
+    assert {pou.name for pou in parsed.types.pous.pou} >= {"Counter", "Main", "clamp"}
+    tree = ElementTree.parse(project)
+    step = next(e for e in tree.iter() if e.tag.endswith("Method") and e.get("name") == "step")
+    interface = step.find("{*}interface")
+    assert interface is not None
+    sections = {child.tag.rsplit("}", 1)[-1]: [v.get("name") for v in child] for child in interface}
+    assert (sections["inputVars"], sections["outputVars"], sections["inOutVars"]) == (["amount"], ["before"], ["total"])
