@@ -184,7 +184,7 @@ def test_wrong_names_and_wrong_arguments_name_the_class_the_member_and_the_rule(
     with pytest.raises(TypeError, match=r"METHOD Word\.split has no VAR_INPUT, VAR_OUTPUT or VAR_IN_OUT 'hgh'"):
         word.split(1, hgh=adr(word, "hi"), calls=adr(word, "calls"))  # type: ignore[call-arg]
     with pytest.raises(TypeError, match=r"METHOD Word\.split: VAR_IN_OUT 'calls' must be assigned at every call"):
-        word.split(1, high=adr(word, "hi"))
+        word.split(1, high=adr(word, "hi"))  # type: ignore[call-arg]
     with pytest.raises(TypeError, match=r"METHOD Word\.split: VAR_OUTPUT 'high' is bound to a variable of the caller .*high=adr"):
         word.split(1, high=5, calls=adr(word, "calls"))  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"VAR_IN_OUT 'calls' is bound to a variable of the caller"):
@@ -265,7 +265,7 @@ def test_a_function_with_an_output_and_an_in_out() -> None:
     assert [divide(a, 4, rest=adr(r, "rest"), calls=adr(r, "calls")) for a in (9, 10, 3)] == [2, 2, 0]
     assert (r.rest, r.calls) == (3, 3)
     with pytest.raises(TypeError, match=r"FUNCTION divide: VAR_IN_OUT 'calls' must be assigned at every call"):
-        divide(1, 1, rest=adr(r, "rest"))
+        divide(1, 1, rest=adr(r, "rest"))  # type: ignore[call-arg]
 
 
 @given(st.integers(min_value=0, max_value=65535))
