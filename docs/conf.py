@@ -51,6 +51,7 @@ nitpick_ignore = [
     ("py:class", "iecoop.lifecycle._T"),
     ("py:class", "iecoop.members._F"),
     ("py:class", "iecoop.memory._core._T"),
+    ("py:class", "iecoop.parameters._F"),
     ("py:class", "iecoop.testing._P"),
 ]
 

@@ -4,6 +4,7 @@ from iecoop.declarations import VAR, VAR_EXTERNAL, VAR_IN_OUT, VAR_INPUT, VAR_IN
 from iecoop.gvl import GlobalVariables, gvl
 from iecoop.interfaces import NULL, Interface, IQueryInterface, null, query_interface, query_pointer
 from iecoop.lifecycle import delete, new
+from iecoop.parameters import function
 from iecoop.members import ABSTRACT, FINAL, INTERNAL, PRIVATE, PROTECTED, PUBLIC, Access, call_after_init, method, prop, super_set
 from iecoop.pou import FunctionBlock, Program
 from iecoop.stdlib import CriticalSection, test_and_set
@@ -21,7 +22,7 @@ from iecoop.types import (
 
 __all__ = [
     "ABSTRACT", "Access", "FINAL", "NULL", "FunctionBlock", "GlobalVariables", "INTERNAL", "IQueryInterface", "Interface",
-    "PRIVATE", "PROTECTED", "PUBLIC", "Program", "call_after_init", "delete", "gvl", "method", "new", "prop",
+    "PRIVATE", "PROTECTED", "PUBLIC", "Program", "call_after_init", "delete", "function", "gvl", "method", "new", "prop",
     "null", "query_interface", "query_pointer", "super_set", "CriticalSection", "test_and_set",
     "ARRAY", "Alias", "D", "IecEnum", "NullInterface", "POINTER_TO", "Pointer", "REFERENCE_TO", "Struct", "T",
     "TYPE_CLASS", "Union", "VAR", "VAR_EXTERNAL", "VAR_INPUT", "VAR_INST", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_STAT",

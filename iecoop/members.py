@@ -324,7 +324,10 @@ def signature_of(func: Callable[..., Any], resolve: Callable[[str], Any]) -> tup
     for i, param in enumerate(sig.parameters.values()):
         if i == 0:
             continue
-        items.append((param.name, param.kind, _resolved(param.annotation, resolve)))
+        # a VAR_OUTPUT / VAR_IN_OUT parameter (its default is the specifier) differs from an input of the same type
+        section = getattr(param.default, "section", None)
+        kind = section if section in ("VAR_OUTPUT", "VAR_IN_OUT") else param.kind
+        items.append((param.name, kind, _resolved(param.annotation, resolve)))
     items.append(("return", None, _resolved(sig.return_annotation, resolve)))
     return tuple(items)
 
@@ -387,9 +390,15 @@ def format_signature(signature: tuple[Any, ...]) -> str:
         from iecoop.types import elementary_type
 
         record = elementary_type(annotation)
-        return record.name if record is not None else str(annotation)
+        if record is not None:
+            return record.name
+        origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+        if isinstance(origin, type) and args:  # POINTER_TO[INT], ARRAY[REAL]
+            shown = "POINTER_TO" if origin.__name__ == "Pointer" else origin.__name__
+            return f"{shown}[{', '.join(name(a) for a in args)}]"
+        return str(annotation)
 
-    params = ", ".join(f"{n}: {name(a)}" for n, _k, a in signature[:-1])
+    params = ", ".join(f"{n}: {name(a)}" + (f" = {k}()" if isinstance(k, str) else "") for n, k, a in signature[:-1])
     return f"({params}) -> {name(signature[-1][2])}"
 
 

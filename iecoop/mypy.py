@@ -20,6 +20,10 @@ instance itself); a VAR_IN_OUT CONSTANT also takes a plain value. Inherited
 inputs count, for FUNCTION_BLOCKs and PROGRAMs. A call through a variable
 typed ``FunctionBlock`` or ``Program`` itself stays open (generic code).
 
+A METHOD's or FUNCTION's VAR_IN_OUT parameter (``calls: POINTER_TO[DINT] =
+VAR_IN_OUT()``) is required at every call, as in ST, although its default
+would let Python leave it out.
+
 The plugin also accepts the prototype form ``def healthy(self) -> BOOL: ...``
 of an INTERFACE member and of an ``@method(ABSTRACT)`` under ``--strict``
 (mypy's ``empty-body`` check): those members have no body by definition.
@@ -34,6 +38,8 @@ from collections.abc import Callable
 from mypy.nodes import (
     ARG_NAMED,
     ARG_NAMED_OPT,
+    ARG_OPT,
+    ARG_POS,
     AssignmentStmt,
     CallExpr,
     Decorator,
@@ -48,7 +54,7 @@ from mypy.nodes import (
     TypeInfo,
     Var,
 )
-from mypy.plugin import ClassDefContext, MethodSigContext, Plugin, SemanticAnalyzerPluginInterface
+from mypy.plugin import ClassDefContext, FunctionSigContext, MethodSigContext, Plugin, SemanticAnalyzerPluginInterface
 from mypy.semanal import is_trivial_body
 from mypy.types import (
     AnyType,
@@ -73,6 +79,7 @@ _POINTER = "iecoop.memory._core.Pointer"
 _REFERENCE_TO = "iecoop.memory._core.REFERENCE_TO"
 _SECTIONS = {"iecoop.declarations.VAR_INPUT": "VAR_INPUT", "iecoop.declarations.VAR_IN_OUT": "VAR_IN_OUT"}
 _METHOD = "iecoop.members.method"
+_VAR_IN_OUT = "iecoop.declarations.VAR_IN_OUT"
 _ABSTRACT = ("iecoop.members.ABSTRACT", "iecoop.members.Access.ABSTRACT")
 #: Key of the per-class record in mypy's TypeInfo metadata (kept in mypy's cache).
 _KEY = "iecoop"
@@ -92,7 +99,10 @@ class IecoopPlugin(Plugin):
         return None
 
     def get_method_signature_hook(self, fullname: str) -> Callable[[MethodSigContext], CallableType] | None:
-        return self._call_signature if fullname.endswith(".__call__") else None
+        return self._call_signature if fullname.endswith(".__call__") else _in_out_required
+
+    def get_function_signature_hook(self, fullname: str) -> Callable[[FunctionSigContext], CallableType] | None:
+        return _in_out_required
 
     def _call_signature(self, ctx: MethodSigContext) -> CallableType:
         pointer = self.lookup_fully_qualified(_POINTER)
@@ -221,6 +231,35 @@ def _call_signature(ctx: MethodSigContext, pointer: Instance) -> CallableType:
     return ctx.default_signature.copy_modified(
         arg_types=types, arg_kinds=kinds, arg_names=names, name=info.name, definition=None
     )
+
+
+def _in_out_required(ctx: MethodSigContext | FunctionSigContext) -> CallableType:
+    """A METHOD's / FUNCTION's VAR_IN_OUT (``x: POINTER_TO[T] = VAR_IN_OUT()``) must be given at every call.
+
+    The default makes Python accept the call without it, so the plugin makes it
+    required again: leaving it out is a mypy error, as it is a compile error in ST.
+    (A module mypy reads from its cache has no defaults to look at; its calls stay as declared.)
+    """
+    signature = ctx.default_signature
+    definition = signature.definition
+    if isinstance(definition, Decorator):  # @method, @function
+        definition = definition.func
+    # A function read from a cache or a stub has no arguments (nor defaults) to look at.
+    arguments = getattr(definition, "arguments", None) if isinstance(definition, FuncDef) else None
+    if not arguments:
+        return signature
+    required = {
+        arg.variable.name for arg in arguments
+        if isinstance(arg.initializer, CallExpr) and isinstance(arg.initializer.callee, RefExpr)
+        and arg.initializer.callee.fullname == _VAR_IN_OUT
+    }
+    if not required:
+        return signature
+    kinds = [
+        (ARG_NAMED if kind == ARG_NAMED_OPT else ARG_POS if kind == ARG_OPT else kind) if name in required else kind
+        for name, kind in zip(signature.arg_names, signature.arg_kinds)
+    ]
+    return signature.copy_modified(arg_kinds=kinds)
 
 
 def _accepted(declared: Type, record: _Input, ctx: MethodSigContext, pointer: Instance) -> Type:

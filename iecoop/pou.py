@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.interfaces import Interface, interface_members
+from iecoop.parameters import wrap_parameters
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -286,6 +287,7 @@ class _PouBuilder:
         }
         self.outside_specs = {f: namespace.pop(f) for f in self.outside}
         inside = {f: a for f, a in annotations.items() if f not in self.outside}
+        wrap_parameters(self.title, namespace, self.scope.eval)
         self.original_namespace = dict(namespace)
         guard_namespace(self.owner_ref, self.name, namespace)
         namespace["_iec_kind_"] = self.kind

@@ -20,6 +20,7 @@ from typing import Any
 
 from iecoop.exceptions import ExceptionCode
 from iecoop.literals import D, T, format_date, format_ltime, format_time, parse_ltime
+from iecoop.parameters import parameter_sections
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -190,9 +191,13 @@ class BodyWriter:
         params: dict[str, TypeInfo] | None = None,
         rename: dict[str, str] | None = None,
         lenient: bool = False,
+        by_reference: set[str] | None = None,
     ) -> None:
+        func = inspect.unwrap(func)
         self.scope = scope
         self.func = func
+        #: VAR_OUTPUT / VAR_IN_OUT parameters: ``x.deref`` in Python is ``x`` in ST
+        self.by_reference = set(by_reference or ())
         self.st_name = st_name
         self.result = result
         self.params = dict(params or {})
@@ -631,6 +636,8 @@ class BodyWriter:
             if attr in self.locals or attr in self.params or attr in self.rename.values() or attr == self.st_name:
                 return f"THIS^.{ident(attr)}"
             return ident(attr)
+        if attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
+            return ident(base.id)
         if attr == "deref":
             return f"{self.expr(base, _ATOM)[0]}^"
         if isinstance(base, ast.Name) and base.id in self.catch_vars and attr == "code":
@@ -723,12 +730,66 @@ class BodyWriter:
         return f"{callee}({self.arguments(node)})", _ATOM
 
     def arguments(self, node: ast.Call) -> str:
+        callee = self.callee(node)
+        sections = parameter_sections(callee) if callee is not None else {}
+        if sections:
+            return self.formal_arguments(node, callee, sections)
         parts = [self.expr(a)[0] for a in node.args]
         for kw in node.keywords:
             if kw.arg is None:
                 self.fail(node, "**arguments")
             parts.append(f"{ident(kw.arg)} := {self.expr(kw.value)[0]}")
         return ", ".join(parts)
+
+    def callee(self, node: ast.Call) -> Any:
+        """The METHOD or FUNCTION a call runs, when the writer can tell (its VAR_OUTPUTs need ``=>``)."""
+        func = node.func
+        if isinstance(func, ast.Name):
+            return self.globals.get(func.id) if func.id not in self.locals and func.id not in self.params else None
+        if not isinstance(func, ast.Attribute):
+            return None
+        base = func.value
+        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            cls = self.scope.cls.__mro__[1]
+        elif isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
+            cls = self.scope.cls
+        else:
+            cls = _class_of(self.typeof(base))
+        found = _member_function(cls, func.attr) if cls is not None else None
+        return found[0] if found is not None else None
+
+    def formal_arguments(self, node: ast.Call, callee: Any, sections: dict[str, Any]) -> str:
+        """Every argument by name, outputs with ``=>``: ``Split(nValue := 1000, nHigh => nHi, nCount := nCalls)``."""
+        names = [p.name for p in inspect.signature(callee).parameters.values()]
+        if names and names[0] == "self" and isinstance(node.func, ast.Attribute):
+            names = names[1:]
+        if len(node.args) > len(names):
+            self.fail(node, "more positional arguments than the callee declares")
+        given = list(zip(names, node.args))
+        for kw in node.keywords:
+            if kw.arg is None:
+                self.fail(node, "**arguments")
+            given.append((kw.arg, kw.value))
+        parts = []
+        for name, value in given:
+            spec = sections.get(name)
+            if spec is None:
+                parts.append(f"{ident(name)} := {self.expr(value)[0]}")
+            else:
+                arrow = "=>" if spec.section == "VAR_OUTPUT" else ":="
+                parts.append(f"{ident(name)} {arrow} {self.variable_argument(value)}")
+        return ", ".join(parts)
+
+    def variable_argument(self, node: ast.expr) -> str:
+        """The caller's variable an output / in-out is bound to: ``adr(self, "x")`` is ``x``."""
+        if isinstance(node, ast.Call) and self.resolves_to(node.func, "adr"):
+            return self.address_operand(node)
+        if isinstance(node, ast.Name) and node.id in self.by_reference:
+            return ident(node.id)  # an output / in-out of this METHOD passed on
+        info = self.typeof(node)
+        if isinstance(info, PointerInfo):
+            return f"{self.expr(node, _ATOM)[0]}^"
+        self.fail(node, "an output or in-out bound to something that is not adr(...) of a variable")
 
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
         value = self.globals.get(name)
@@ -860,6 +921,8 @@ class BodyWriter:
             owner = self.constant_object(base)
             if isinstance(owner, type) and issubclass(owner, enum.Enum):
                 return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
+            if node.attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
+                return self.params.get(base.id)
             inner = self._typeof(base)
             if node.attr == "deref" and isinstance(inner, PointerInfo):
                 return inner.target

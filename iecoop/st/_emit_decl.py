@@ -14,8 +14,8 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access
-from iecoop.memory._core import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
-from iecoop.memory.layout import MISSING
+from iecoop.memory._core import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.st._emit_body import BodyWriter, Scope, literal
 from iecoop.st._emit_model import (
     LIFECYCLE,
@@ -214,6 +214,47 @@ def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, renam
     return lines
 
 
+def _by_reference(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, tuple[str, TypeInfo, Any]]:
+    """The VAR_OUTPUT / VAR_IN_OUT parameters: name -> (section, the variable's type, initial value)."""
+    found: dict[str, tuple[str, TypeInfo, Any]] = {}
+    for name, info, default in params:
+        if isinstance(default, FieldSpec) and default.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+            target = info.target if isinstance(info, PointerInfo) else None
+            if target is None:
+                raise StExportError(f"{default.section} {name}: annotate it POINTER_TO[<type>]")
+            found[name] = (default.section, target, default.initial if default.section == "VAR_OUTPUT" else MISSING)
+    return found
+
+
+def _parameter_lines(params: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
+    """VAR_INPUT, VAR_OUTPUT and VAR_IN_OUT of a METHOD or FUNCTION (outputs and in-outs are POINTER_TO parameters in Python)."""
+    by_reference = _by_reference(params)
+    lines = _inputs_lines([p for p in params if p[0] not in by_reference], owner, rename)
+    for section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+        chosen = [(n, info, initial) for n, (sec, info, initial) in by_reference.items() if sec == section]
+        if chosen:
+            lines.append(section)
+            lines += ["    " + variable_line(n, info, initial, f"{owner}.{n}") for n, info, initial in chosen]
+            lines.append("END_VAR")
+    return lines
+
+
+def parameter_groups(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, list[tuple[str, TypeInfo, Any]]]:
+    """The parameters by section (VAR_INPUT, VAR_OUTPUT, VAR_IN_OUT), each with its variable's type and initial value."""
+    by_reference = _by_reference(params)
+    groups: dict[str, list[tuple[str, TypeInfo, Any]]] = {"VAR_INPUT": [], "VAR_OUTPUT": [], "VAR_IN_OUT": []}
+    for name, info, default in params:
+        section, target, initial = by_reference.get(name, ("VAR_INPUT", info, default))
+        groups[section].append((name, target, initial))
+    return groups
+
+
+def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
+    """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
+    by_reference = _by_reference(params)
+    return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
+
+
 class _Writer:
     def __init__(self, scope: Scope, lenient: bool, untranslated: list[str]) -> None:
         self.scope = scope
@@ -236,10 +277,12 @@ class _Writer:
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
-        decl = _inputs_lines(inputs, where, {})
+        decl = _parameter_lines(inputs, where, {})
         implementation = ""
         if not interface and not member.flags & Access.ABSTRACT:
-            writer = self.body(func, st_name=member.name, result=result, params={n: i for n, i, _ in inputs})
+            writer = self.body(
+                func, st_name=member.name, result=result, params=_body_params(inputs), by_reference=set(_by_reference(inputs)),
+            )
             decl += _local_lines(writer)
             implementation = "\n".join(writer.lines)
         if inst:
@@ -353,8 +396,9 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     inputs = function_parameters(func, name)
     result = return_info(func, name, None)
     assert result is not None
-    body = writer.body(func, st_name=ident(name), result=result, params={n: i for n, i, _ in inputs})
-    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(inputs, name, {}), *_local_lines(body)]
+    by_reference = _by_reference(inputs)
+    body = writer.body(func, st_name=ident(name), result=result, params=_body_params(inputs), by_reference=set(by_reference))
+    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_parameter_lines(inputs, name, {}), *_local_lines(body)]
     return Unit(
         "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
         signature=(result, tuple(inputs), dict(body.locals)),

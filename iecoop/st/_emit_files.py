@@ -28,7 +28,7 @@ from iecoop.memory._core import (
     TypeInfo,
 )
 from iecoop.memory.layout import MISSING
-from iecoop.st._emit_decl import Part, Unit, initial_text
+from iecoop.st._emit_decl import Part, Unit, initial_text, parameter_groups
 from iecoop.st._emit_model import FieldDecl, enum_base, enum_members, type_text
 
 __all__ = ["guid", "plcopen_project", "twincat_file"]
@@ -210,10 +210,16 @@ def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
     interface = _sub(parent, "interface")
     if part.result is not None:
         _type(_sub(interface, "returnType"), part.result)
-    if part.inputs:
-        block = _sub(interface, "inputVars")
-        for name, info, default in part.inputs:
-            _variable(block, name, info, default, f"{where}.{name}")
+    _parameter_vars(interface, part.inputs, where)
+
+
+def _parameter_vars(interface: ET.Element, params: Sequence[tuple[str, TypeInfo, Any]], where: str) -> None:
+    """inputVars, outputVars and inOutVars of a METHOD or FUNCTION."""
+    for section, group in parameter_groups(params).items():
+        if group:
+            block = _sub(interface, _SECTION_TAGS[section])
+            for name, info, default in group:
+                _variable(block, name, info, default, f"{where}.{name}")
 
 
 def _members(pou: ET.Element, unit: Unit, with_bodies: bool) -> None:
@@ -300,10 +306,7 @@ def _function_interface(interface: ET.Element, unit: Unit) -> None:
     assert unit.signature is not None
     result, inputs, temps = unit.signature
     _type(_sub(interface, "returnType"), result)
-    if inputs:
-        block = _sub(interface, "inputVars")
-        for name, info, default in inputs:
-            _variable(block, name, info, default, f"{unit.name}.{name}")
+    _parameter_vars(interface, inputs, unit.name)
     if temps:
         block = _sub(interface, "tempVars")
         for name, local in temps.items():

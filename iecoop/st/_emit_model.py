@@ -199,11 +199,14 @@ def type_text(info: TypeInfo) -> str:
     return info.name
 
 
-def annotation_info(annotation: Any, func: Any, where: str, owner: Any = None) -> TypeInfo | None:
+def annotation_info(
+    annotation: Any, func: Any, where: str, owner: Any = None, *, length: int | None = None, bounds: object = None,
+) -> TypeInfo | None:
     """The TypeInfo of a parameter / return annotation of ``func`` (None for ``-> None``)."""
     if annotation is None or annotation is type(None) or annotation == "None" or annotation is inspect.Signature.empty:
         return None
     if isinstance(annotation, str):
+        func = inspect.unwrap(func)  # a generated wrapper's globals are not the module's
         namespace: dict[str, Any] = {}
         if owner is not None:
             namespace[owner.__name__] = owner
@@ -220,7 +223,7 @@ def annotation_info(annotation: Any, func: Any, where: str, owner: Any = None) -
             annotation = options[0]
     annotation = _PLAIN.get(annotation, annotation)
     try:
-        return resolve_type(annotation, where)
+        return resolve_type(annotation, where, length=length, bounds=bounds)
     except DefinitionError as exc:
         raise StExportError(str(exc) if str(exc).startswith(where) else f"{where}: {exc}") from None
 
@@ -258,10 +261,12 @@ def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, A
             continue
         if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
             raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
-        info = annotation_info(param.annotation, func, f"{where}.{param.name}", owner)
+        default = MISSING if param.default is inspect.Parameter.empty else param.default
+        # a VAR_OUTPUT(length=20) parameter: the STRING(20) it points to
+        shape = (default.length, default.bounds) if isinstance(default, FieldSpec) else (None, None)
+        info = annotation_info(param.annotation, func, f"{where}.{param.name}", owner, length=shape[0], bounds=shape[1])
         if info is None:
             raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
-        default = MISSING if param.default is inspect.Parameter.empty else param.default
         found.append((param.name, info, default))
     return found
 
@@ -272,10 +277,12 @@ def function_parameters(func: Any, where: str) -> list[tuple[str, TypeInfo, Any]
     for param in inspect.signature(func).parameters.values():
         if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
             raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
-        info = annotation_info(param.annotation, func, f"{where}.{param.name}")
+        default = MISSING if param.default is inspect.Parameter.empty else param.default
+        shape = (default.length, default.bounds) if isinstance(default, FieldSpec) else (None, None)
+        info = annotation_info(param.annotation, func, f"{where}.{param.name}", length=shape[0], bounds=shape[1])
         if info is None:
             raise StExportError(f"{where}: input {param.name} has no IEC type annotation")
-        found.append((param.name, info, MISSING if param.default is inspect.Parameter.empty else param.default))
+        found.append((param.name, info, default))
     return found
 
 

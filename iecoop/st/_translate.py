@@ -174,6 +174,8 @@ class Scope:
         self.locals: dict[str, Member] = {}
         self.return_name = return_name
         self.counter = 0
+        #: ``x.deref = value`` for each VAR_OUTPUT with an initial value (a METHOD / FUNCTION)
+        self.output_inits: list[str] = []
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -321,7 +323,7 @@ class Translator:
                 decl.alias_of = self._alias_target(decl.node)
             for node in decl.method_nodes:
                 name = str(node.name)
-                params = [m for block in node.declarations for m in self._block_members(block) if m.section == "VAR_INPUT"]
+                params = _signature([m for block in node.declarations for m in self._block_members(block)])
                 returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
                 decl.methods[name.lower()] = Callable_(name, returns, params)
             for node in decl.prop_nodes:
@@ -329,7 +331,7 @@ class Translator:
                 decl.props[name.lower()] = Member(name, self._spec_type(node.return_type.spec, node), "PROPERTY")
             if decl.kind == "function":
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
-                params = [m for m in decl.members.values() if m.section == "VAR_INPUT"]
+                params = _signature(list(decl.members.values()))
                 decl.methods["()"] = Callable_(decl.name, returns, params)
 
     def _alias_target(self, node: Any) -> TypeRef:
@@ -1066,7 +1068,7 @@ class Translator:
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
         inits: dict[str, Any] = {}
         for block in blocks:
-            if isinstance(block, tf.InputDeclarations):
+            if isinstance(block, (tf.InputDeclarations, tf.OutputDeclarations)):
                 for item in block.items:
                     for var in getattr(item, "variables", []):
                         name = str(var.variable.name if hasattr(var, "variable") else var)
@@ -1076,6 +1078,11 @@ class Translator:
         for index, param in enumerate(params):
             assert param.type is not None
             self._need_type(param.type)
+            if param.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+                if index < last_reference:
+                    raise self.fail(f"{param.section} {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+                parts.append(self._by_reference_param(param, inits.get(param.name.lower()), scope))
+                continue
             if index <= last_reference:
                 # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python
                 if param.type.kind != "reference" and index < last_reference:
@@ -1091,6 +1098,23 @@ class Translator:
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
         return "".join(f", {p}" for p in parts)
+
+    def _by_reference_param(self, param: Member, init: Any, scope: Scope) -> str:
+        """``nHigh : BYTE`` of VAR_OUTPUT / VAR_IN_OUT: ``nHigh: POINTER_TO[BYTE] = VAR_OUTPUT()``, reached as ``nHigh.deref``."""
+        assert param.type is not None
+        if param.type.kind == "reference":
+            raise self.fail(f"{param.section} {param.name} of a REFERENCE TO type is not supported")
+        length = f"length={param.type.length}" if param.type.kind == "string" and param.type.length not in (None, "80") else ""
+        line = self.field_line(Member(param.name, TypeRef("pointer", "POINTER", of=param.type), param.section), None, scope, extra=length)
+        if init is not None:
+            if param.section == "VAR_IN_OUT":
+                raise self.fail(f"an initial value for VAR_IN_OUT {param.name}")
+            # outputs start at their initial value at every call: the first statement of the body sets it
+            value = self.initial_value(param.type, init, scope)
+            if value is not None:
+                scope.output_inits.append(f"{param.name}.deref = {value}")
+        scope.locals[param.name.lower()] = param
+        return line
 
     def zero(self, type_: TypeRef) -> str:
         if type_.is_bool:
@@ -1133,7 +1157,9 @@ class Translator:
             if section in ("VAR_INPUT", "VAR_INST"):
                 continue
             if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-                raise self.fail(f"{section} in a {scope.kind} is not supported yet (iecoop has no form for it)", block)
+                if scope.kind in ("method", "function"):
+                    continue  # parameters (see _by_reference_param)
+                raise self.fail(f"{section} in a {scope.kind} is not supported", block)
             if section == "VAR_STAT":
                 raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
@@ -1235,11 +1261,13 @@ class Translator:
             scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
             self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
         self._local_blocks(node.declarations, scope, level)
+        for line in scope.output_inits:
+            self.emit(line, level)
         statements = statements_of(node.body)
         self._emit_statements(statements, scope, level)
         if returns is not None and scope.return_name is not None:
             self.emit(f"return {scope.return_name}", level)
-        elif not statements and not any(isinstance(b, (tf.VariableDeclarations, tf.FunctionVariableDeclarations, tf.TemporaryVariableDeclarations)) for b in node.declarations):
+        elif not statements and not scope.output_inits and not any(isinstance(b, (tf.VariableDeclarations, tf.FunctionVariableDeclarations, tf.TemporaryVariableDeclarations)) for b in node.declarations):
             self.emit("pass", level)
 
     def _emit_properties(self, decl: Decl) -> None:
@@ -1363,6 +1391,9 @@ class Translator:
             self.emit(f'"""FUNCTION {decl.name}: bound to a Python callable at load time."""', 1)
             self.emit(f'raise NotImplementedError("FUNCTION {decl.name} has no body: pass externals={{\'{decl.name}\': ...}}")', 1)
             return
+        if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") for p in info.params):
+            self.need("iecoop", "function")
+            self.emit("@function", 0)
         self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
         self.emit(f'"""FUNCTION {decl.name}."""', 1)
         self._emit_callable_body(node, scope, info.returns, 1)
@@ -1421,7 +1452,8 @@ class Translator:
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
-        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
+        by_reference = local is not None and local.section in ("VAR_OUTPUT", "VAR_IN_OUT")
+        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None and not by_reference)}", level)
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
         if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
@@ -1808,6 +1840,8 @@ class Translator:
             return Ex("super()", TypeRef("user", scope.owner.bases[0]) if scope.owner and scope.owner.bases else None)
         local = scope.locals.get(key)
         if local is not None:
+            if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+                return Ex(f"{local.name}.deref", local.type)
             return Ex(local.name, local.type)
         if scope.owner is not None and scope.owner.kind in ("fb", "program", "interface", "struct", "union"):
             found = self.find_member(scope.owner, name)
@@ -1930,6 +1964,8 @@ class Translator:
             return "adr(self)"
         if isinstance(node, tf.SimpleVariable) and str(node.name).lower() in scope.locals:
             local = scope.locals[str(node.name).lower()]
+            if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+                return local.name  # ADR(nHigh) of an output / in-out: the pointer the call got
             decl = self.decl_of(local.type)
             if decl is not None and decl.kind in ("struct", "union", "fb"):
                 return f"adr({local.name})"
@@ -1962,21 +1998,47 @@ class Translator:
         args = []
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
-                raise self.fail("an output (=>) in a method or function call is not supported yet", node)
+                name = str(param.name.name)
+                match = next((p for p in declared or [] if p.name.lower() == name.lower()), None)
+                if match is None or match.section != "VAR_OUTPUT":
+                    raise self.fail(f"call has no output {name!r}", node)
+                if param.inverted:
+                    raise self.fail("an inverted output (=> NOT) is not supported", node)
+                if param.value is not None:  # `nLow =>` with no variable: the output is dropped
+                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, '=>')}")
+                continue
             expected = None
             if param.name is not None:
                 name = str(param.name.name)
                 match = next((p for p in declared or [] if p.name.lower() == name.lower()), None)
                 if declared is not None and match is None:
                     raise self.fail(f"call has no input {name!r}", node)
+                if match is not None and match.section == "VAR_OUTPUT":
+                    raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
+                if match is not None and match.section == "VAR_IN_OUT":
+                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}")
+                    continue
                 value = self.expr(param.value, scope)
                 expected = match.type if match is not None else None
                 args.append(f"{match.name if match else name}={self.coerce(value, expected).code}")
             else:
                 if declared is not None and index < len(declared):
+                    if declared[index].section == "VAR_IN_OUT":
+                        args.append(self.by_reference_argument(param.value, scope, ":="))
+                        continue
                     expected = declared[index].type
                 args.append(self.coerce(self.expr(param.value, scope), expected).code)
         return args
+
+    def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:
+        """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""
+        if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
+            local = scope.locals.get(str(value.name).lower())
+            if local is not None and local.section not in ("VAR_OUTPUT", "VAR_IN_OUT") and self.decl_of(local.type) is None:
+                raise self.fail(
+                    f"{arrow} {value.name}: a local variable of a METHOD or FUNCTION has no address here; "
+                    "declare it in the block, or pass it through the block's own variable", value)
+        return self.address_of(value, scope)
 
     def call(self, node: Any, scope: Scope, level: int | None) -> Ex | None:
         target = node.name
@@ -2218,6 +2280,12 @@ def _exact_real(code: str) -> bool:
     except ValueError:
         return False
     return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+def _signature(members: Sequence[Member]) -> list[Member]:
+    """A METHOD's / FUNCTION's parameters: inputs and in-outs in declaration order, then the outputs."""
+    inputs = [m for m in members if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
+    return inputs + [m for m in members if m.section == "VAR_OUTPUT"]
 
 
 def statements_of(body: Any) -> list[Any]:
