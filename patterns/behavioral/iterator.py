@@ -194,7 +194,7 @@ class AlarmHistory(FunctionBlock):
     def push(self, code: UINT, severity: Severity, text: STRING) -> UDINT:
         """Record an alarm with the task-clock time; return its sequence number."""
         self.total += 1
-        entry: AlarmEntry = self.ring[(self.total - 1) % ALARM_CAPACITY + 1]
+        entry = self.ring[(self.total - 1) % ALARM_CAPACITY + 1]
         entry.sequence, entry.code, entry.severity = self.total, code, severity
         entry.raised_at, entry.text = now_ms(), text
         return self.total

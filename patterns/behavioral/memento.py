@@ -355,16 +355,16 @@ class RecipeSnapshots(FunctionBlock):
         """The label of snapshot ``slot``; '' for a slot not in use."""
         if not self.in_use(slot):
             return ""
-        memento: RecipeMemento = self.slots[slot]
-        return memento.label
+        label: STRING = self.slots[slot].label
+        return label
 
     @method
     def taken_at(self, slot: INT) -> TIME:
         """When snapshot ``slot`` was taken; T#0s for a slot not in use."""
         if not self.in_use(slot):
             return T("0s")
-        memento: RecipeMemento = self.slots[slot]
-        return memento.taken_at
+        taken_at: TIME = self.slots[slot].taken_at
+        return taken_at
 
     @method
     def drop_newest(self) -> BOOL:
