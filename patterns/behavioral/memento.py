@@ -138,6 +138,7 @@ from iecoop import (
     sizeof,
 )
 from iecoop.conversions import TIME_TO_DINT
+from iecoop.functions import MID
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -266,10 +267,14 @@ class RecipeEditor(FunctionBlock, IRecipeEditor):
 
     @method
     def rename(self, name: STRING) -> BOOL:
-        if not name.strip() or len(name) > 20:
+        """FALSE for a name longer than STRING(20) or one of blanks only."""
+        if len(name) > 20:
             return False
-        self.working.name = name
-        return True
+        for i in range(1, len(name) + 1):
+            if MID(name, 1, i) != " ":
+                self.working.name = name
+                return True
+        return False
 
     @method
     def set_dose(self, litres: REAL) -> BOOL:
