@@ -152,6 +152,7 @@ from iecoop import (
     ref_assign,
 )
 from iecoop.conversions import LREAL_TO_DINT
+from iecoop.functions import CONCAT
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Showcase, steps
@@ -300,10 +301,14 @@ class CommandError(IecEnum):
 
 def speed_text(percent: REAL) -> STRING:
     """``FUNCTION F_SpeedText : STRING``: a speed to a tenth, without a trailing ``.0`` (``'60'``, ``'12.5'``)."""
-    tenths: DINT = LREAL_TO_DINT(percent * 10.0)
-    if tenths % 10 == 0:
-        return f"{tenths // 10}"
-    return f"{tenths // 10}.{abs(tenths % 10)}"
+    # On the magnitude: ST's / and MOD truncate toward zero where Python's // and % floor.
+    tenths: DINT = LREAL_TO_DINT(abs(percent) * 10.0)
+    text: STRING = f"{tenths // 10}"
+    if tenths % 10 != 0:
+        text = f"{tenths // 10}.{tenths % 10}"
+    if percent < 0.0 and tenths > 0:
+        return CONCAT("-", text)
+    return text
 
 
 class ICommand(Interface):
@@ -647,7 +652,8 @@ class CommandHistory(FunctionBlock):
     def oldest(self) -> ICommand:
         found: ICommand = NULL
         if self.count > 0:
-            found = self.entries[(self.top - self.count) % HISTORY_DEPTH + 1]
+            # + HISTORY_DEPTH: ST's MOD keeps the sign of a negative operand, Python's % does not.
+            found = self.entries[(self.top - self.count + HISTORY_DEPTH) % HISTORY_DEPTH + 1]
         return found
 
     @method
@@ -680,7 +686,7 @@ class CommandHistory(FunctionBlock):
         if self.count == 0:
             return False
         undone = self.entries[self.top].undo(self.records[self.top])
-        self.top = (self.top - 2) % HISTORY_DEPTH + 1
+        self.top = (self.top + HISTORY_DEPTH - 2) % HISTORY_DEPTH + 1
         self.count -= 1
         return undone
 
@@ -727,7 +733,7 @@ class AuditTrail(FunctionBlock):
         """A copy of line ``index``: 1 is the oldest line kept, ``count`` the newest; an empty line outside them."""
         if not 1 <= index <= self.count:
             return self.no_line
-        line: AuditEntry = self.lines[(self.newest - self.count + index - 1) % AUDIT_DEPTH + 1]
+        line: AuditEntry = self.lines[(self.newest - self.count + index - 1 + AUDIT_DEPTH) % AUDIT_DEPTH + 1]
         return line
 
 

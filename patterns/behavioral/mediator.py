@@ -505,7 +505,11 @@ class CellMain(Program):
 
     def body(self) -> None:
         bottle = self.capper.bottle
-        self.capper.torque_ok = self.bad_cap_every <= 0 or bottle % self.bad_cap_every != 0
+        # Not one OR: ST evaluates both sides, and MOD 0 faults.
+        if self.bad_cap_every > 0:
+            self.capper.torque_ok = bottle % self.bad_cap_every != 0
+        else:
+            self.capper.torque_ok = True
         self.cell()
 
 

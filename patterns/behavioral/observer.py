@@ -350,7 +350,8 @@ class TrendBuffer(FunctionBlock, IObserver):
         """The sample ``age`` updates back (0 = newest); 0.0 past the ``stored`` samples."""
         if not 0 <= age < self.stored:
             return 0.0
-        value: REAL = self.samples[(self.head - 1 - age) % TREND_SIZE].value
+        # + TREND_SIZE: ST's MOD keeps the sign of a negative operand, Python's % does not.
+        value: REAL = self.samples[(self.head - 1 - age + TREND_SIZE) % TREND_SIZE].value
         return value
 
 

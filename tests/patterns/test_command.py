@@ -377,7 +377,7 @@ def test_the_audit_trail_keeps_the_newest_lines() -> None:
         assert (trail.entry(index).command, trail.entry(index).at) == ("", 0)
 
 
-@pytest.mark.parametrize(("percent", "text"), [(60.0, "60"), (25.0, "25"), (12.5, "12.5"), (0.0, "0"), (99.94, "99.9")])
+@pytest.mark.parametrize(("percent", "text"), [(60.0, "60"), (25.0, "25"), (12.5, "12.5"), (0.0, "0"), (99.94, "99.9"), (-7.5, "-7.5"), (-0.04, "0")])
 def test_speed_text_prints_like_the_hmi(percent: float, text: str) -> None:
     assert speed_text(percent) == text
 
