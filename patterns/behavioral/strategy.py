@@ -112,7 +112,7 @@ from iecoop import (
     method,
     prop,
 )
-from iecoop.conversions import TO_TIME
+from iecoop.conversions import DINT_TO_TIME, TIME_TO_DINT, TO_TIME, TRUNC
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import TON, TP
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -250,7 +250,7 @@ class PidControl(FunctionBlock, IControlStrategy):
 
     @method
     def execute(self, setpoint: REAL, actual: REAL, cycle_time: TIME) -> REAL:
-        dt = cycle_time / 1000.0
+        dt = TIME_TO_DINT(cycle_time) / 1000.0   # TIME / REAL would be a TIME in ST
         error = setpoint - actual
         if not self.primed:
             self.last_actual = actual
@@ -330,7 +330,7 @@ class PwmControl(FunctionBlock, IControlStrategy):
             self.periods += 1
             self.period_timer(IN=False)
             self.period_timer(IN=True, PT=self.period)
-            self.on_time = int(duty / 100.0 * self.period + 0.5)
+            self.on_time = DINT_TO_TIME(TRUNC(duty / 100.0 * TIME_TO_DINT(self.period) + 0.5))
             self.pulse(IN=False)
             self.pulse(IN=self.on_time > 0, PT=self.on_time)
         else:
@@ -372,7 +372,7 @@ class ThermalProcess(FunctionBlock):
         return True
 
     def body(self) -> None:
-        dt = self.cycle_time / 1000.0
+        dt = TIME_TO_DINT(self.cycle_time) / 1000.0
         target = self.ambient + self.gain * limit(self.power)
         self.temperature = self.temperature + dt / self.tau * (target - self.temperature)
 

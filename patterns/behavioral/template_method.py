@@ -276,7 +276,7 @@ class SimAxis(FunctionBlock, IAxis):
         if not self.enable:
             self.velocity = 0.0
         before = self.mechanical
-        self.mechanical = before + self.velocity * self.cycle_time / 1000.0
+        self.mechanical = before + self.velocity * TIME_TO_DINT(self.cycle_time) / 1000.0
         if self.latch_armed and not self.latched:
             mark_before: DINT = floor_dint(before / self.index_pitch)
             mark_after: DINT = floor_dint(self.mechanical / self.index_pitch)

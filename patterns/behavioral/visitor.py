@@ -135,7 +135,7 @@ from iecoop import (
     method,
     prop,
 )
-from iecoop.conversions import LREAL_TO_DINT, TO_TIME
+from iecoop.conversions import LREAL_TO_DINT, TIME_TO_DINT, TO_TIME
 from iecoop.functions import CONCAT
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import R_TRIG, TON
@@ -403,7 +403,7 @@ class Motor(Device, IMotor):
         if self.start_edge.Q:
             self.start_count += 1
         if self.running:
-            self.seconds += self.cycle_time / 1000.0
+            self.seconds += TIME_TO_DINT(self.cycle_time) / 1000.0
 
     @method
     def accept(self, visitor: IDeviceVisitor) -> None:
