@@ -19,11 +19,11 @@ transmitter. With Observer the transmitter owns a bounded array of
 once per scan; consumers attach and detach at run time (the trend detaches
 when the HMI screen closes) and the transmitter never changes.
 
-Wiring mistakes follow the PLC's own faults: attaching a null reference
-raises RTSEXCPT_ACCESS_VIOLATION and attaching past the end of the array
-raises RTSEXCPT_ARRAYBOUNDS, each with a message naming the rule. Attaching
-an observer twice, or detaching one that is not attached, is refused with
-FALSE and changes nothing.
+Wiring mistakes never stop the PLC: attaching a null reference, an
+observer that is already attached, or one more than the array holds is
+refused with FALSE and changes nothing, and ``refusal`` (``E_AttachRefusal``)
+says which rule was broken; detaching one that is not attached answers
+FALSE as well.
 
 Roles
 -----
