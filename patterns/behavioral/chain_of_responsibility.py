@@ -29,8 +29,12 @@ The HMI shows "start blocked: guard door open" instead of a bare FALSE.
 Both chains refuse a link that would close a loop or make the chain longer
 than ``MAX_CHAIN_LENGTH``: ``SetNext`` asks the candidate to walk its own
 tail with a depth counter (a bounded recursion, no allocation) while the
-linking stage is marked, and raises RTSEXCPT_STACK_OVERFLOW, the fault an
-endless chain would end in, with a message saying which rule was broken.
+linking stage is marked, and answers FALSE with the verdict in
+``linkStatus`` (``LOOP``, ``TOO_LONG``, ``NULL_LINK``) instead of making a
+link that would end in a stack overflow. A chain that grows at its tail
+after its head was checked is stopped at run time: the stage that would
+pass the signal on beyond ``MAX_CHAIN_LENGTH`` marks it BAD with status
+``CHAIN_TOO_LONG``.
 
 Roles
 -----
@@ -62,18 +66,20 @@ IEC 61131-3 mapping
     INTERFACE I_ChainLink
         METHOD CheckChain : E_ChainCheck   VAR_INPUT depth : INT; END_VAR
     INTERFACE I_SignalStage EXTENDS I_ChainLink
-        METHOD SetNext  VAR_INPUT stage : I_SignalStage; END_VAR
+        METHOD SetNext : BOOL   VAR_INPUT stage : I_SignalStage; END_VAR
         METHOD Handle   VAR_IN_OUT signal : ST_AnalogSignal; END_VAR
 
     FUNCTION_BLOCK ABSTRACT FB_ChainLink IMPLEMENTS I_ChainLink
+    VAR_OUTPUT linkStatus : E_ChainCheck; END_VAR   // the verdict on the last SetNext
     VAR marked : BOOL; END_VAR
         METHOD PROTECTED ABSTRACT NextLink : I_ChainLink
-        METHOD PROTECTED FINAL CheckLink   VAR_INPUT candidate : I_ChainLink; END_VAR
+        METHOD PROTECTED FINAL CheckLink : E_ChainCheck
+        VAR_INPUT candidate : I_ChainLink; END_VAR
 
     FUNCTION_BLOCK ABSTRACT FB_SignalStage EXTENDS FB_ChainLink
         IMPLEMENTS I_SignalStage
     VAR nextStage : I_SignalStage; END_VAR
-        METHOD FINAL SetNext   VAR_INPUT stage : I_SignalStage; END_VAR
+        METHOD FINAL SetNext : BOOL   VAR_INPUT stage : I_SignalStage; END_VAR
         METHOD Handle   // IF nextStage <> 0 THEN nextStage.Handle(signal); END_IF
 
     FUNCTION_BLOCK FB_SpikeFilter EXTENDS FB_SignalStage
@@ -82,7 +88,7 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_AnalogInput
     VAR_INPUT rawMa : REAL; END_VAR
-    VAR_OUTPUT signal : ST_AnalogSignal; END_VAR
+    VAR_OUTPUT signal : ST_AnalogSignal; chainStatus : E_ChainCheck; END_VAR
     VAR first : I_SignalStage; END_VAR
         METHOD FB_init : BOOL   VAR_INPUT chain : I_SignalStage; END_VAR
         PROPERTY Chain : I_SignalStage
@@ -127,11 +133,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -186,14 +190,16 @@ class SignalStatus(IecEnum, base=USINT):
     UNDER_RANGE = 3
     OVER_RANGE = 4
     SPIKE_HELD = 5
+    CHAIN_TOO_LONG = 6
 
 
 class ChainCheck(IecEnum, base=USINT):
-    """``TYPE E_ChainCheck : (OK, LOOP, TOO_LONG) USINT; END_TYPE``."""
+    """``TYPE E_ChainCheck : (OK, LOOP, TOO_LONG, NULL_LINK) USINT; END_TYPE``: the verdict on a link."""
 
     OK = 0
     LOOP = 1
     TOO_LONG = 2
+    NULL_LINK = 3
 
 
 class AnalogSignal(Struct):
@@ -221,7 +227,8 @@ class ISignalStage(IChainLink):
     """``INTERFACE I_SignalStage EXTENDS I_ChainLink``: one conditioning step."""
 
     @method
-    def set_next(self, stage: ISignalStage) -> None: ...
+    def set_next(self, stage: ISignalStage) -> BOOL:
+        raise NotImplementedError
 
     @method
     def handle(self, signal: AnalogSignal) -> None: ...
@@ -231,7 +238,8 @@ class IPermissive(IChainLink):
     """``INTERFACE I_Permissive EXTENDS I_ChainLink``: one start condition."""
 
     @method
-    def set_next(self, check: IPermissive) -> None: ...
+    def set_next(self, check: IPermissive) -> BOOL:
+        raise NotImplementedError
 
     @method
     def first_failing(self) -> STRING:
@@ -241,6 +249,7 @@ class IPermissive(IChainLink):
 class ChainLink(FunctionBlock, IChainLink, abstract=True):
     """``FUNCTION_BLOCK ABSTRACT FB_ChainLink IMPLEMENTS I_ChainLink``: the no-loop, bounded-length rule."""
 
+    link_status: ChainCheck = VAR_OUTPUT(ChainCheck.OK)
     marked: BOOL = VAR(False)
 
     @method(PROTECTED | ABSTRACT)
@@ -261,27 +270,15 @@ class ChainLink(FunctionBlock, IChainLink, abstract=True):
         return following.check_chain(depth + 1)
 
     @method(PROTECTED | FINAL)
-    def check_link(self, candidate: IChainLink) -> None:
-        """Raise unless linking ``candidate`` after this stage keeps the chain loop-free and short."""
+    def check_link(self, candidate: IChainLink) -> ChainCheck:
+        """Whether linking ``candidate`` after this stage keeps the chain loop-free and short; kept in ``link_status``."""
         if not candidate:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                f"{type(self).__name__}.set_next: the next stage is a null interface reference",
-            )
-        self.marked = True
-        verdict = candidate.check_chain(2)
-        self.marked = False
-        if verdict == ChainCheck.LOOP:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_STACK_OVERFLOW,
-                f"{type(self).__name__}.set_next: the link would close a loop back to this stage",
-            )
-        if verdict == ChainCheck.TOO_LONG:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_STACK_OVERFLOW,
-                f"{type(self).__name__}.set_next: the chain would be longer than "
-                f"MAX_CHAIN_LENGTH = {MAX_CHAIN_LENGTH}",
-            )
+            self.link_status = ChainCheck.NULL_LINK
+        else:
+            self.marked = True
+            self.link_status = candidate.check_chain(2)
+            self.marked = False
+        return self.link_status
 
 
 class SignalStage(ChainLink, ISignalStage, abstract=True):
@@ -294,10 +291,12 @@ class SignalStage(ChainLink, ISignalStage, abstract=True):
     next_stage: ISignalStage = VAR()
 
     @method(FINAL)
-    def set_next(self, stage: ISignalStage) -> None:
-        """Link ``stage`` after this one; a loop or an over-long chain is refused."""
-        self.check_link(stage)
+    def set_next(self, stage: ISignalStage) -> BOOL:
+        """Link ``stage`` after this one; FALSE, and the link stays as it was, for a refused one (see ``link_status``)."""
+        if self.check_link(stage) != ChainCheck.OK:
+            return False
         self.next_stage = stage
+        return True
 
     @method(PROTECTED)
     def next_link(self) -> IChainLink:
@@ -309,11 +308,8 @@ class SignalStage(ChainLink, ISignalStage, abstract=True):
             return
         if signal.hops >= MAX_CHAIN_LENGTH:
             # A chain grown at its tail after its head was checked: stop before the stack does.
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_STACK_OVERFLOW,
-                f"{type(self).__name__}.handle: the signal would pass more than MAX_CHAIN_LENGTH = "
-                f"{MAX_CHAIN_LENGTH} stages",
-            )
+            self.degrade(signal, Quality.BAD, SignalStatus.CHAIN_TOO_LONG)
+            return
         signal.hops += 1
         self.next_stage.handle(signal)
 
@@ -432,11 +428,14 @@ class AnalogInput(FunctionBlock):
 
     The chain comes through FB_init (``AnalogInput(chain=head)``) or, for a
     nested instance wired to its siblings, through the ``chain`` property,
-    which checks the whole chain before taking it.
+    which checks the whole chain before taking it: a chain longer than
+    ``MAX_CHAIN_LENGTH`` is refused, the old one kept, and ``chain_status``
+    says why.
     """
 
     raw_ma: REAL = VAR_INPUT(0.0)
     signal: AnalogSignal = VAR_OUTPUT()
+    chain_status: ChainCheck = VAR_OUTPUT(ChainCheck.OK)
     first: ISignalStage = VAR()
 
     def fb_init(self, init_retains: bool, in_copy_code: bool, chain: ISignalStage | None = None) -> None:
@@ -449,11 +448,12 @@ class AnalogInput(FunctionBlock):
 
     @chain.setter
     def chain(self, head: ISignalStage) -> None:
-        if head and head.check_chain(1) != ChainCheck.OK:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_STACK_OVERFLOW,
-                f"AnalogInput.chain: the chain is longer than MAX_CHAIN_LENGTH = {MAX_CHAIN_LENGTH}",
-            )
+        if head:
+            self.chain_status = head.check_chain(1)
+            if self.chain_status != ChainCheck.OK:
+                return
+        else:
+            self.chain_status = ChainCheck.NULL_LINK
         self.first = head
 
     def body(self) -> None:
@@ -473,10 +473,12 @@ class Permissive(ChainLink, IPermissive, abstract=True):
     next_check: IPermissive = VAR()
 
     @method(FINAL)
-    def set_next(self, check: IPermissive) -> None:
-        """Link ``check`` after this one; a loop or an over-long chain is refused."""
-        self.check_link(check)
+    def set_next(self, check: IPermissive) -> BOOL:
+        """Link ``check`` after this one; FALSE, and the link stays as it was, for a refused one (see ``link_status``)."""
+        if self.check_link(check) != ChainCheck.OK:
+            return False
         self.next_check = check
+        return True
 
     @method(PROTECTED)
     def next_link(self) -> IChainLink:

@@ -17,8 +17,10 @@ button. Each button is a BOOL the HMI holds TRUE for as long as the finger is
 on the screen, so every request must fire on the rising edge only (one
 ``R_TRIG`` per button). The operator may undo the last requests in reverse
 order, a "prime skid" button runs several requests as one step and is undone
-as one step, and every executed or undone request is written to an audit trail
-with the task-clock time.
+as one step, and every executed, undone or refused request is written to an
+audit trail with the task-clock time. Nothing the operator does faults the
+PLC: a request that cannot run (its device is gone, a macro would not fit
+the undo record) answers FALSE, changes nothing and is logged as REFUSED.
 
 The undo history is a ring buffer of ``HISTORY_DEPTH`` entries: when it is full
 the **oldest entry is dropped** (and the drop is written to the audit trail),
@@ -32,7 +34,9 @@ Roles
 -----
 
 - Command → ``ICommand`` (``I_Command``): ``execute`` / ``undo`` with the
-  entry's ``UndoRecord`` (``ST_UndoRecord``), ``name`` and ``undo_steps``.
+  entry's ``UndoRecord`` (``ST_UndoRecord``), ``name`` and ``undo_steps``;
+  a refusal answers FALSE and names its reason (``CommandError``,
+  ``E_CommandError``) in the command's ``error`` output.
 - Concrete commands → ``OpenValveCommand`` (``FB_OpenValveCommand``),
   ``SetPumpSpeedCommand`` (``FB_SetPumpSpeedCommand``),
   ``StartMixerCommand`` (``FB_StartMixerCommand``), on the abstract base
@@ -56,12 +60,16 @@ IEC 61131-3 mapping
     INTERFACE I_Command
         PROPERTY Name : STRING(24)
         PROPERTY UndoSteps : INT
-        METHOD Execute  VAR_IN_OUT undo : ST_UndoRecord; END_VAR
-        METHOD Undo     VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+        METHOD Execute : BOOL   VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+        METHOD Undo    : BOOL   VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+        // FALSE: refused, nothing changed; the command's eError says why
 
     FUNCTION_BLOCK ABSTRACT FB_ReceiverCommand IMPLEMENTS I_Command
-        METHOD PROTECTED PushStep : REFERENCE TO ST_UndoStep
-        METHOD PROTECTED PopStep  : REFERENCE TO ST_UndoStep
+        VAR_OUTPUT eError : E_CommandError; END_VAR
+        METHOD PROTECTED ABSTRACT HasReceiver : BOOL   // __ISVALIDREF(rValve)
+        METHOD PROTECTED CanExecute : BOOL
+        METHOD PROTECTED PushStep   VAR_INPUT bFlag : BOOL; rValue : REAL; END_VAR
+        METHOD PROTECTED PopStep : ST_UndoStep
 
     FUNCTION_BLOCK FB_OpenValveCommand EXTENDS FB_ReceiverCommand
         VAR rValve : REFERENCE TO FB_DosingValve; END_VAR
@@ -71,8 +79,9 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_MacroCommand IMPLEMENTS I_Command
         VAR aCommands : ARRAY[1..MACRO_CAPACITY] OF I_Command;
-            nCount : INT; END_VAR
-        METHOD Add  VAR_INPUT iCommand : I_Command; END_VAR
+            nCount : INT; bBusy : BOOL; END_VAR
+        VAR_OUTPUT eError : E_CommandError; END_VAR
+        METHOD Add : BOOL   VAR_INPUT iCommand : I_Command; END_VAR
 
     FUNCTION_BLOCK FB_CommandHistory
         VAR aEntries : ARRAY[1..HISTORY_DEPTH] OF I_Command;
@@ -86,7 +95,7 @@ IEC 61131-3 mapping
         VAR aEdges : ARRAY[1..BUTTONS] OF R_TRIG;
             aCommands : ARRAY[1..BUTTONS] OF I_Command;
             fbHistory : FB_CommandHistory; fbAudit : FB_AuditTrail; END_VAR
-        METHOD Assign  VAR_INPUT nButton : INT; iCommand : I_Command; END_VAR
+        METHOD Assign : BOOL   VAR_INPUT nButton : INT; iCommand : I_Command; END_VAR
 
 When not to use it on a PLC
 ---------------------------
@@ -119,7 +128,9 @@ from iecoop import (
     ABSTRACT,
     ARRAY,
     BOOL,
+    DINT,
     INT,
+    NULL,
     PROTECTED,
     REAL,
     REFERENCE_TO,
@@ -129,11 +140,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -142,6 +151,8 @@ from iecoop import (
     prop,
     ref_assign,
 )
+from iecoop.conversions import LREAL_TO_DINT
+from iecoop.functions import CONCAT
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Showcase, steps
@@ -155,6 +166,7 @@ __all__ = [
     "AuditAction",
     "AuditEntry",
     "AuditTrail",
+    "CommandError",
     "CommandHistory",
     "CommandPanel",
     "DosingPump",
@@ -171,6 +183,7 @@ __all__ = [
     "UndoStep",
     "main",
     "skid_state",
+    "speed_text",
 ]
 
 #: Entries the undo history keeps; the oldest is dropped when a new one arrives.
@@ -271,8 +284,39 @@ class UndoRecord(Struct):
     steps: ARRAY[UndoStep] = VAR(bounds=(1, UNDO_STEPS))
 
 
+class CommandError(IecEnum):
+    """Why a command, a macro or the panel said FALSE. ST: ``TYPE E_CommandError : (...) INT``."""
+
+    NONE = 0
+    NO_RECEIVER = 1        # not injected, or deleted since
+    RECORD_FULL = 2        # the undo record has no room for the steps
+    NOTHING_TO_UNDO = 3    # undo without a matching execute
+    NULL_COMMAND = 4
+    MACRO_FULL = 5         # MACRO_CAPACITY commands already
+    TOO_MANY_STEPS = 6     # more undo steps than one history entry holds
+    CONTAINS_ITSELF = 7    # directly or through another macro
+    STEP_REFUSED = 8       # a command of the macro refused; the ones before were taken back
+    NO_BUTTON = 9          # a button number outside 1..BUTTONS
+
+
+def speed_text(percent: REAL) -> STRING:
+    """``FUNCTION F_SpeedText : STRING``: a speed to a tenth, without a trailing ``.0`` (``'60'``, ``'12.5'``)."""
+    # On the magnitude: ST's / and MOD truncate toward zero where Python's // and % floor.
+    tenths: DINT = LREAL_TO_DINT(abs(percent) * 10.0)
+    text: STRING = f"{tenths // 10}"
+    if tenths % 10 != 0:
+        text = f"{tenths // 10}.{tenths % 10}"
+    if percent < 0.0 and tenths > 0:
+        return CONCAT("-", text)
+    return text
+
+
 class ICommand(Interface):
-    """An operator request that can be executed and undone. ST: ``INTERFACE I_Command``."""
+    """An operator request that can be executed and undone. ST: ``INTERFACE I_Command``.
+
+    ``execute`` and ``undo`` answer FALSE when they refuse, having changed
+    nothing; the command's ``error`` output says why.
+    """
 
     @prop
     def name(self) -> STRING:
@@ -283,54 +327,66 @@ class ICommand(Interface):
         raise NotImplementedError
 
     @method
-    def execute(self, undo: UndoRecord) -> None: ...
+    def execute(self, undo: UndoRecord) -> BOOL:
+        raise NotImplementedError
 
     @method
-    def undo(self, undo: UndoRecord) -> None: ...
+    def undo(self, undo: UndoRecord) -> BOOL:
+        raise NotImplementedError
 
 
 class ReceiverCommand(FunctionBlock, ICommand, abstract=True):
     """A command acting on one receiver; it pushes one undo step.
 
     ST: ``FUNCTION_BLOCK ABSTRACT FB_ReceiverCommand IMPLEMENTS I_Command``.
+    ``can_execute`` / ``can_undo`` check the receiver (``__ISVALIDREF``) and
+    the record before anything is touched; a refusal leaves its reason in
+    ``error``.
     """
+
+    error: CommandError = VAR_OUTPUT(CommandError.NONE)
 
     @prop
     def undo_steps(self) -> INT:
         return 1
 
+    @method(PROTECTED | ABSTRACT)
+    def has_receiver(self) -> BOOL:
+        """TRUE while the receiver is injected and alive."""
+        raise NotImplementedError
+
     @method(PROTECTED)
-    def push_step(self, undo: UndoRecord) -> UndoStep:
-        if undo.used >= UNDO_STEPS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"{self.name}: the undo record is full ({UNDO_STEPS} steps)"
-            )
+    def can_execute(self, undo: UndoRecord) -> BOOL:
+        if not self.has_receiver():
+            self.error = CommandError.NO_RECEIVER
+        elif undo.used >= UNDO_STEPS:
+            self.error = CommandError.RECORD_FULL
+        else:
+            self.error = CommandError.NONE
+        return self.error == CommandError.NONE
+
+    @method(PROTECTED)
+    def can_undo(self, undo: UndoRecord) -> BOOL:
+        if not self.has_receiver():
+            self.error = CommandError.NO_RECEIVER
+        elif undo.used <= 0:
+            self.error = CommandError.NOTHING_TO_UNDO
+        else:
+            self.error = CommandError.NONE
+        return self.error == CommandError.NONE
+
+    @method(PROTECTED)
+    def push_step(self, undo: UndoRecord, flag: BOOL, value: REAL) -> None:
+        """Keep the replaced state; past ``UNDO_STEPS`` the index faults (``can_execute`` checks first)."""
+        undo.steps[undo.used + 1].flag = flag
+        undo.steps[undo.used + 1].value = value
         undo.used += 1
-        step: UndoStep = undo.steps[undo.used]
-        step.flag, step.value = False, 0.0
-        return step
 
     @method(PROTECTED)
     def pop_step(self, undo: UndoRecord) -> UndoStep:
-        if undo.used <= 0:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"{self.name}: undo() without a matching execute()"
-            )
         step: UndoStep = undo.steps[undo.used]
         undo.used -= 1
         return step
-
-    @method(PROTECTED | ABSTRACT)
-    def require_receiver(self) -> None:
-        """Fault (RTSEXCPT_ACCESS_VIOLATION) before touching anything when no receiver was injected."""
-
-    @method(PROTECTED)
-    def missing(self, what: str) -> PlcException:
-        return PlcException(
-            ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-            f"{type(self).__name__}: no live {what} (not injected, or deleted); "
-            f"pass it to FB_init ({what}=...) or bind()",
-        )
 
 
 class OpenValveCommand(ReceiverCommand):
@@ -347,25 +403,31 @@ class OpenValveCommand(ReceiverCommand):
         ref_assign(self, "valve", valve)
 
     @method(PROTECTED)
-    def require_receiver(self) -> None:
-        if not is_valid_ref(self, "valve"):
-            raise self.missing("valve")
+    def has_receiver(self) -> BOOL:
+        return is_valid_ref(self, "valve")
 
     @prop
     def name(self) -> STRING:
-        return f"open {self.valve.tag}" if is_valid_ref(self, "valve") else "open valve"
+        if not self.has_receiver():
+            return "open valve"
+        return f"open {self.valve.tag}"
 
     @method
-    def execute(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        self.push_step(undo).flag = self.valve.is_open
+    def execute(self, undo: UndoRecord) -> BOOL:
+        if not self.can_execute(undo):
+            return False
+        self.push_step(undo, self.valve.is_open, 0.0)
         self.valve.open()
+        return True
 
     @method
-    def undo(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        if not self.pop_step(undo).flag:
+    def undo(self, undo: UndoRecord) -> BOOL:
+        if not self.can_undo(undo):
+            return False
+        step: UndoStep = self.pop_step(undo)
+        if not step.flag:
             self.valve.close()
+        return True
 
 
 class SetPumpSpeedCommand(ReceiverCommand):
@@ -386,25 +448,30 @@ class SetPumpSpeedCommand(ReceiverCommand):
         ref_assign(self, "pump", pump)
 
     @method(PROTECTED)
-    def require_receiver(self) -> None:
-        if not is_valid_ref(self, "pump"):
-            raise self.missing("pump")
+    def has_receiver(self) -> BOOL:
+        return is_valid_ref(self, "pump")
 
     @prop
     def name(self) -> STRING:
-        tag = self.pump.tag if is_valid_ref(self, "pump") else "pump"
-        return f"{tag} to {self.speed:g} %"
+        if not self.has_receiver():
+            return f"pump to {speed_text(self.speed)} %"
+        return f"{self.pump.tag} to {speed_text(self.speed)} %"
 
     @method
-    def execute(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        self.push_step(undo).value = self.pump.speed
+    def execute(self, undo: UndoRecord) -> BOOL:
+        if not self.can_execute(undo):
+            return False
+        self.push_step(undo, False, self.pump.speed)
         self.pump.set_speed(self.speed)
+        return True
 
     @method
-    def undo(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        self.pump.set_speed(self.pop_step(undo).value)
+    def undo(self, undo: UndoRecord) -> BOOL:
+        if not self.can_undo(undo):
+            return False
+        step: UndoStep = self.pop_step(undo)
+        self.pump.set_speed(step.value)
+        return True
 
 
 class StartMixerCommand(ReceiverCommand):
@@ -421,39 +488,50 @@ class StartMixerCommand(ReceiverCommand):
         ref_assign(self, "mixer", mixer)
 
     @method(PROTECTED)
-    def require_receiver(self) -> None:
-        if not is_valid_ref(self, "mixer"):
-            raise self.missing("mixer")
+    def has_receiver(self) -> BOOL:
+        return is_valid_ref(self, "mixer")
 
     @prop
     def name(self) -> STRING:
-        return f"start {self.mixer.tag}" if is_valid_ref(self, "mixer") else "start mixer"
+        if not self.has_receiver():
+            return "start mixer"
+        return f"start {self.mixer.tag}"
 
     @method
-    def execute(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        self.push_step(undo).flag = self.mixer.running
+    def execute(self, undo: UndoRecord) -> BOOL:
+        if not self.can_execute(undo):
+            return False
+        self.push_step(undo, self.mixer.running, 0.0)
         self.mixer.start()
+        return True
 
     @method
-    def undo(self, undo: UndoRecord) -> None:
-        self.require_receiver()
-        if not self.pop_step(undo).flag:
+    def undo(self, undo: UndoRecord) -> BOOL:
+        if not self.can_undo(undo):
+            return False
+        step: UndoStep = self.pop_step(undo)
+        if not step.flag:
             self.mixer.stop()
+        return True
 
 
 class MacroCommand(FunctionBlock, ICommand):
     """Several commands as one: executed in order, undone in reverse order.
 
     ST: ``FUNCTION_BLOCK FB_MacroCommand IMPLEMENTS I_Command``. A macro may
-    hold other macros; ``busy`` guards against a macro that (through others)
-    contains itself, which would otherwise recurse until the stack overflows.
+    hold other macros; ``busy`` marks the macro while it walks its commands,
+    so a macro that (through others) contains itself is noticed when it is
+    re-entered instead of recursing until the stack overflows. ``add``
+    refuses such a link; ``execute`` is all or nothing: when one command
+    refuses, the ones before it are taken back.
     """
 
     label: STRING = VAR("macro", length=24)
     children: ARRAY[ICommand] = VAR(bounds=(1, MACRO_CAPACITY))
     count: INT = VAR_OUTPUT(0)
+    error: CommandError = VAR_OUTPUT(CommandError.NONE)
     busy: BOOL = VAR(False)
+    looped: BOOL = VAR(False)
 
     def fb_init(self, init_retains: bool, in_copy_code: bool, label: STRING = "macro") -> None:
         self.label = label
@@ -464,70 +542,78 @@ class MacroCommand(FunctionBlock, ICommand):
 
     @prop
     def undo_steps(self) -> INT:
-        self.enter("undo_steps")
-        try:
-            return sum(self.children[i].undo_steps for i in range(1, self.count + 1))
-        finally:
-            self.busy = False
+        if self.busy:
+            # Re-entered while walking its commands: this macro contains itself.
+            self.looped = True
+            return 0
+        self.busy = True
+        total: INT = 0
+        for i in range(1, self.count + 1):
+            total += self.children[i].undo_steps
+        self.busy = False
+        return total
 
     @method
-    def add(self, command: ICommand) -> None:
-        """Append ``command``; refuse a null one, one that contains this macro, a full macro, too many undo steps."""
+    def add(self, command: ICommand) -> BOOL:
+        """Append ``command``; FALSE for a null one, a full macro, one that contains this macro, too many undo steps."""
         if not command:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"macro {self.label!r}: cannot add a null command"
-            )
-        if command == self:
-            raise PlcException(ExceptionCode.RTSEXCPT_STACK_OVERFLOW, f"macro {self.label!r} cannot contain itself")
+            self.error = CommandError.NULL_COMMAND
+            return False
         if self.count >= MACRO_CAPACITY:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"macro {self.label!r} is full ({MACRO_CAPACITY} commands)"
-            )
+            self.error = CommandError.MACRO_FULL
+            return False
         needed = self.undo_steps
-        self.enter("add")  # a macro that contains this one re-enters here: refused before it is added
-        try:
-            needed += command.undo_steps
-        finally:
-            self.busy = False
+        self.looped = False
+        self.busy = True  # a command that contains this macro re-enters undo_steps and sets looped
+        needed += command.undo_steps
+        self.busy = False
+        if self.looped:
+            self.error = CommandError.CONTAINS_ITSELF
+            return False
         if needed > UNDO_STEPS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"macro {self.label!r} would need {needed} undo steps; a history entry holds {UNDO_STEPS}",
-            )
+            self.error = CommandError.TOO_MANY_STEPS
+            return False
+        self.error = CommandError.NONE
         self.count += 1
         self.children[self.count] = command
+        return True
 
     @method
-    def execute(self, undo: UndoRecord) -> None:
-        needed = self.undo_steps
-        if undo.used + needed > UNDO_STEPS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"macro {self.label!r} needs {needed} undo steps, the record has {UNDO_STEPS - undo.used} free",
-            )
-        self.enter("execute")
-        try:
-            for i in range(1, self.count + 1):
-                self.children[i].execute(undo)
-        finally:
-            self.busy = False
-
-    @method
-    def undo(self, undo: UndoRecord) -> None:
-        self.enter("undo")
-        try:
-            for i in range(self.count, 0, -1):
-                self.children[i].undo(undo)
-        finally:
-            self.busy = False
-
-    @method(PROTECTED)
-    def enter(self, what: str) -> None:
+    def execute(self, undo: UndoRecord) -> BOOL:
         if self.busy:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_STACK_OVERFLOW, f"macro {self.label!r} contains itself ({what} re-entered)"
-            )
+            self.error = CommandError.CONTAINS_ITSELF
+            return False
+        if undo.used + self.undo_steps > UNDO_STEPS:
+            self.error = CommandError.RECORD_FULL
+            return False
         self.busy = True
+        done: INT = 0
+        while done < self.count:
+            if not self.children[done + 1].execute(undo):
+                break
+            done += 1
+        if done < self.count:
+            # All or nothing: take back the commands that ran, newest first.
+            for i in range(done, 0, -1):
+                self.children[i].undo(undo)
+            self.error = CommandError.STEP_REFUSED
+        else:
+            self.error = CommandError.NONE
+        self.busy = False
+        return self.error == CommandError.NONE
+
+    @method
+    def undo(self, undo: UndoRecord) -> BOOL:
+        if self.busy:
+            self.error = CommandError.CONTAINS_ITSELF
+            return False
+        self.busy = True
+        self.error = CommandError.NONE
+        for i in range(self.count, 0, -1):
+            if not self.children[i].undo(undo):
+                self.error = CommandError.STEP_REFUSED
+        self.busy = False
+        return self.error == CommandError.NONE
 
 
 # ---------------------------------------------------------------------------
@@ -540,7 +626,8 @@ class CommandHistory(FunctionBlock):
 
     ST: ``FUNCTION_BLOCK FB_CommandHistory``. When all ``HISTORY_DEPTH``
     entries are used, ``execute`` overwrites the oldest one (its undo is
-    lost) and returns TRUE; ``dropped`` counts those losses.
+    lost); ``dropped`` counts those losses. ``newest`` and ``oldest`` are
+    the null reference while the history is empty.
     """
 
     entries: ARRAY[ICommand] = VAR(bounds=(1, HISTORY_DEPTH))
@@ -556,47 +643,52 @@ class CommandHistory(FunctionBlock):
 
     @prop
     def newest(self) -> ICommand:
-        self.require_entries("newest")
-        return self.entries[self.top]
+        found: ICommand = NULL
+        if self.count > 0:
+            found = self.entries[self.top]
+        return found
 
     @prop
     def oldest(self) -> ICommand:
-        self.require_entries("oldest")
-        return self.entries[(self.top - self.count) % HISTORY_DEPTH + 1]
+        found: ICommand = NULL
+        if self.count > 0:
+            # + HISTORY_DEPTH: ST's MOD keeps the sign of a negative operand, Python's % does not.
+            found = self.entries[(self.top - self.count + HISTORY_DEPTH) % HISTORY_DEPTH + 1]
+        return found
 
     @method
     def execute(self, command: ICommand) -> BOOL:
-        """Execute ``command`` and record it; TRUE when the oldest entry had to be dropped.
+        """Execute ``command`` and record it; FALSE, the history unchanged, when the command refuses.
 
-        The command runs on a scratch record first, so a command that faults
-        leaves the history as it was.
+        The command runs on a scratch record first, so a refused command
+        leaves no trace in the history.
         """
         self.scratch.used = 0
-        command.execute(self.scratch)
+        if not command.execute(self.scratch):
+            return False
         slot = self.top % HISTORY_DEPTH + 1
         self.records[slot] = self.scratch
         self.entries[slot] = command
         self.top = slot
         if self.count == HISTORY_DEPTH:
             self.dropped += 1
-            return True
-        self.count += 1
-        return False
+        else:
+            self.count += 1
+        return True
 
     @method
     def undo_last(self) -> BOOL:
-        """Undo the newest entry; FALSE when there is nothing to undo."""
+        """Undo the newest entry; FALSE when there is nothing to undo or the command refuses.
+
+        A refused undo (its receiver is gone) leaves the history all the same:
+        it could never succeed, and the entries before it stay reachable.
+        """
         if self.count == 0:
             return False
-        self.entries[self.top].undo(self.records[self.top])
-        self.top = (self.top - 2) % HISTORY_DEPTH + 1
+        undone = self.entries[self.top].undo(self.records[self.top])
+        self.top = (self.top + HISTORY_DEPTH - 2) % HISTORY_DEPTH + 1
         self.count -= 1
-        return True
-
-    @method(PROTECTED)
-    def require_entries(self, what: str) -> None:
-        if self.count == 0:
-            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"CommandHistory.{what}: the history is empty")
+        return undone
 
 
 class AuditAction(IecEnum):
@@ -623,6 +715,7 @@ class AuditTrail(FunctionBlock):
     """
 
     lines: ARRAY[AuditEntry] = VAR(bounds=(1, AUDIT_DEPTH))
+    no_line: AuditEntry = VAR()
     newest: INT = VAR(0)
     count: INT = VAR_OUTPUT(0)
     total: UDINT = VAR_OUTPUT(0)
@@ -630,31 +723,32 @@ class AuditTrail(FunctionBlock):
     @method
     def log(self, action: AuditAction, command: STRING) -> None:
         self.newest = self.newest % AUDIT_DEPTH + 1
-        line: AuditEntry = self.lines[self.newest]
+        line = self.lines[self.newest]
         line.at, line.action, line.command = now_ms(), action, command
         self.count = min(self.count + 1, AUDIT_DEPTH)
         self.total += 1
 
     @method
     def entry(self, index: INT) -> AuditEntry:
-        """A copy of line ``index``: 1 is the oldest line kept, ``count`` the newest."""
+        """A copy of line ``index``: 1 is the oldest line kept, ``count`` the newest; an empty line outside them."""
         if not 1 <= index <= self.count:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"AuditTrail.entry({index}): the trail holds lines 1..{self.count}"
-            )
-        line: AuditEntry = self.lines[(self.newest - self.count + index - 1) % AUDIT_DEPTH + 1]
-        return AuditEntry(at=line.at, action=line.action, command=line.command)
+            return self.no_line
+        line: AuditEntry = self.lines[(self.newest - self.count + index - 1 + AUDIT_DEPTH) % AUDIT_DEPTH + 1]
+        return line
 
 
 class CommandPanel(FunctionBlock):
     """The HMI panel: one R_TRIG per button, so a held button executes once.
 
-    ST: ``FUNCTION_BLOCK FB_CommandPanel``. A button without a command and an
-    UNDO with an empty history are refused and logged, never a fault.
+    ST: ``FUNCTION_BLOCK FB_CommandPanel``. A button without a command, a
+    command that refuses and an UNDO with an empty history are refused and
+    logged, never a fault. ``assign`` answers FALSE (``error``) for a button
+    number outside ``1..BUTTONS`` or a null command.
     """
 
     buttons: ARRAY[BOOL] = VAR_INPUT(bounds=(1, BUTTONS))
     undo_button: BOOL = VAR_INPUT(False)
+    error: CommandError = VAR_OUTPUT(CommandError.NONE)
     edges: ARRAY[R_TRIG] = VAR(bounds=(1, BUTTONS))
     undo_edge: R_TRIG = VAR()
     commands: ARRAY[ICommand] = VAR(bounds=(1, BUTTONS))
@@ -662,22 +756,20 @@ class CommandPanel(FunctionBlock):
     audit: AuditTrail = VAR()
 
     @method
-    def assign(self, button: INT, command: ICommand) -> None:
+    def assign(self, button: INT, command: ICommand) -> BOOL:
         if not 1 <= button <= BUTTONS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"CommandPanel.assign: no button {button} (1..{BUTTONS})"
-            )
-        if not command:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"CommandPanel.assign: button {button} got a null command"
-            )
-        self.commands[button] = command
+            self.error = CommandError.NO_BUTTON
+        elif not command:
+            self.error = CommandError.NULL_COMMAND
+        else:
+            self.error = CommandError.NONE
+            self.commands[button] = command
+        return self.error == CommandError.NONE
 
     def body(self) -> None:
         for i in range(1, BUTTONS + 1):
-            edge: R_TRIG = self.edges[i]
-            edge(CLK=self.buttons[i])
-            if edge.Q:
+            self.edges[i](CLK=self.buttons[i])
+            if self.edges[i].Q:
                 self.press(i)
         self.undo_edge(CLK=self.undo_button)
         if self.undo_edge.Q:
@@ -689,9 +781,15 @@ class CommandPanel(FunctionBlock):
         if not command:
             self.audit.log(AuditAction.REFUSED, f"button {button} unassigned")
             return
-        if self.history.full:
-            self.audit.log(AuditAction.DROPPED, self.history.oldest.name)
-        self.history.execute(command)
+        dropping = self.history.full
+        oldest: STRING = ""
+        if dropping:
+            oldest = self.history.oldest.name   # read before the new entry overwrites it
+        if not self.history.execute(command):
+            self.audit.log(AuditAction.REFUSED, command.name)
+            return
+        if dropping:
+            self.audit.log(AuditAction.DROPPED, oldest)
         self.audit.log(AuditAction.EXECUTED, command.name)
 
     @method(PROTECTED)
@@ -700,8 +798,10 @@ class CommandPanel(FunctionBlock):
             self.audit.log(AuditAction.REFUSED, "undo: history empty")
             return
         name = self.history.newest.name
-        self.history.undo_last()
-        self.audit.log(AuditAction.UNDONE, name)
+        if self.history.undo_last():
+            self.audit.log(AuditAction.UNDONE, name)
+        else:
+            self.audit.log(AuditAction.REFUSED, name)
 
 
 # ---------------------------------------------------------------------------

@@ -20,9 +20,11 @@ condition as text::
     TT101 > 80 AND NOT LS3 AND (PT102 < 2.5 OR BYPASS)
 
 At configuration time (recipe download, not every scan) a tokenizer and a
-recursive-descent parser check it against the tag table (unknown tags, type
-errors such as ``LS3 > 5`` on a BOOL, unbalanced parentheses) and build an
-expression tree from a static pool of node FBs. Every scan the interlock FB
+recursive-descent parser, written in ST with LEN, MID, FIND and CONCAT,
+check it against the tag table (unknown tags, type errors such as
+``LS3 > 5`` on a BOOL, unbalanced parentheses) and build an expression tree
+from a static pool of node FBs. A refused text is answered with the reason
+and the column, for the HMI to point at, and the running expression stays. Every scan the interlock FB
 evaluates that tree: each node once, no allocation, a depth and a node count
 fixed when the text was accepted, so the scan time is bounded.
 
@@ -51,8 +53,11 @@ Roles
 - Context → ``TagTable`` (``FB_TagTable``) behind ``ISymbolTable``
   (``I_SymbolTable``), the REAL / BOOL tags the nodes read
 - Node pool → ``NodePool`` (``FB_NodePool``): fixed arrays of each node kind
-- Client → ``Interlock`` (``FB_Interlock``), with ``compile`` (tokenizer +
-  parser, Python, run once) and the scan-time evaluation in its body;
+- Parser → ``ExpressionParser`` (``FB_ExpressionParser``): the tokens and
+  the checked parse tree in bounded arrays of ``Token`` / ``ParseNode``
+  (``ST_Token``, ``ST_ParseNode``), one method per grammar rule
+- Client → ``Interlock`` (``FB_Interlock``), with ``compile`` (parse, check
+  the pool, build; run once) and the scan-time evaluation in its body;
   ``TransferMain`` (``PRG_TransferMain``) wires a recipe step's permissive
 
 IEC 61131-3 mapping
@@ -79,11 +84,20 @@ IEC 61131-3 mapping
     FUNCTION_BLOCK FB_NodePool
         VAR compares : ARRAY[1..POOL_SIZE] OF FB_CompareNode; ... END_VAR
 
+    FUNCTION_BLOCK FB_ExpressionParser
+        VAR_OUTPUT tokens : ARRAY[1..MAX_TOKENS] OF ST_Token;
+                   nodes : ARRAY[1..MAX_TEXT] OF ST_ParseNode; root : INT;
+                   error : BOOL; errorText : STRING(120); errorColumn : INT; END_VAR
+        METHOD Parse : BOOL   VAR_INPUT text : STRING; symbols : I_SymbolTable; END_VAR
+        METHOD PRIVATE Expression : INT    // OR, calls XorTerm, AndTerm, Unary ...
+
     FUNCTION_BLOCK FB_Interlock
-        VAR_OUTPUT permissive : BOOL; valid : BOOL; END_VAR
-        VAR pool : FB_NodePool; root : I_Expression; END_VAR
+        VAR_OUTPUT permissive : BOOL; valid : BOOL;
+                   error : BOOL; errorText : STRING(120); errorColumn : INT; END_VAR
+        VAR parser : FB_ExpressionParser; pool : FB_NodePool; root : I_Expression; END_VAR
+        METHOD Compile : BOOL   VAR_INPUT text : STRING; symbols : I_SymbolTable; END_VAR
         METHOD Disable                     // valid := FALSE; root := 0;
-        permissive := valid AND_THEN root.EvaluateBool();
+        IF valid THEN permissive := root.EvaluateBool(); ELSE permissive := FALSE; END_IF
 
 When not to use it on a PLC
 ---------------------------
@@ -91,7 +105,9 @@ When not to use it on a PLC
 When the conditions are fixed at design time, write them in ST: the
 compiler checks them, the online view shows them, and nobody needs to learn
 a second language. An interpreter also moves errors from compile time to
-recipe-download time, so it needs the careful error messages this one has.
+recipe-download time, so it needs the careful error messages this one has,
+and its parser costs PLC memory (the token and node arrays) and a burst of
+scan time when a recipe arrives.
 And never put safety interlocks into a recipe language: those belong in the
 safety PLC, fixed and validated.
 
@@ -114,16 +130,13 @@ References
 
 from __future__ import annotations
 
-import re
-from collections.abc import Callable
-from dataclasses import dataclass, field
-
 from iecoop import (
     ABSTRACT,
     ARRAY,
     BOOL,
     INT,
     INTERNAL,
+    LREAL,
     NULL,
     PRIVATE,
     REAL,
@@ -136,10 +149,12 @@ from iecoop import (
     IecEnum,
     Interface,
     Program,
+    Struct,
     T,
     method,
     prop,
 )
+from iecoop.functions import CONCAT, FIND, MID
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Scenario, Showcase, flag
@@ -148,27 +163,30 @@ __all__ = [
     "MAX_DEPTH",
     "MAX_TAGS",
     "MAX_TEXT",
+    "MAX_TOKENS",
     "POOL_SIZE",
     "CompareNode",
     "ConstantNode",
-    "ExpressionError",
+    "ExpressionParser",
     "IExpression",
     "ISymbolTable",
     "Interlock",
     "LogicNode",
-    "Node",
+    "NodeKind",
     "NodePool",
     "NotNode",
     "Operator",
+    "ParseNode",
     "TagNode",
+    "TagRefusal",
     "TagTable",
     "Token",
+    "TokenKind",
     "TransferMain",
     "ValueType",
-    "count_nodes",
+    "caret",
     "main",
-    "parse",
-    "tokenize",
+    "upper_text",
 ]
 
 POOL_SIZE = 12
@@ -176,6 +194,9 @@ MAX_DEPTH = 16
 MAX_TAGS = 16
 MAX_TEXT = 200
 TAG_LENGTH = 16
+#: Tokens of the longest text: at most one per character, and the end.
+MAX_TOKENS = MAX_TEXT + 1
+ERROR_LENGTH = 120
 
 
 class ValueType(IecEnum):
@@ -199,7 +220,117 @@ class Operator(IecEnum):
     XOR_ = 9
 
 
-TYPE_NAMES = {ValueType.BOOL_VALUE: "BOOL", ValueType.REAL_VALUE: "REAL"}
+class TagRefusal(IecEnum):
+    """``TYPE E_TagRefusal : (NONE, BAD_NAME, KEYWORD, DUPLICATE, TABLE_FULL) INT``: why ``Declare`` gave 0."""
+
+    NONE = 0
+    BAD_NAME = 1      # not an ST identifier of at most TAG_LENGTH characters
+    KEYWORD = 2       # a word of the interlock language
+    DUPLICATE = 3     # declared before (names are case-insensitive)
+    TABLE_FULL = 4    # MAX_TAGS tags already
+
+
+class TokenKind(IecEnum):
+    """``TYPE E_TokenKind : (END_, NUMBER, WORD, KEYWORD, SYMBOL) INT; END_TYPE``."""
+
+    END_ = 0
+    NUMBER = 1
+    WORD = 2
+    KEYWORD = 3
+    SYMBOL = 4
+
+
+class NodeKind(IecEnum):
+    """``TYPE E_NodeKind : (CONST := 1, TAG, COMPARE, LOGIC, NOT_) INT``: also the node pool's array number."""
+
+    CONST = 1
+    TAG = 2
+    COMPARE = 3
+    LOGIC = 4
+    NOT_ = 5
+
+
+# ---------------------------------------------------------------------------
+# Text helpers: ST string functions only (LEN, MID, FIND, CONCAT)
+# ---------------------------------------------------------------------------
+
+
+def char_in(ch: STRING, chars: STRING) -> BOOL:
+    """``FUNCTION F_CharIn : BOOL``: ``ch`` is one of ``chars`` (FALSE for the empty string past the end)."""
+    return len(ch) == 1 and FIND(chars, ch) > 0
+
+
+def upper_text(text: STRING) -> STRING:
+    """``FUNCTION F_UpperText : STRING``: the text with a..z as A..Z (ST identifiers are case-insensitive)."""
+    result: STRING = ""
+    for i in range(1, len(text) + 1):
+        ch: STRING = MID(text, 1, i)
+        letter: INT = FIND("abcdefghijklmnopqrstuvwxyz", ch)
+        if letter > 0:
+            ch = MID("ABCDEFGHIJKLMNOPQRSTUVWXYZ", 1, letter)
+        result = CONCAT(result, ch)
+    return result
+
+
+def is_keyword(word: STRING) -> BOOL:
+    """``FUNCTION F_IsKeyword : BOOL``: ``word`` (upper case) is a word of the interlock language."""
+    return word in ("AND", "OR", "XOR", "NOT", "TRUE", "FALSE")
+
+
+def is_identifier(name: STRING) -> BOOL:
+    """``FUNCTION F_IsIdentifier : BOOL``: an ST identifier of at most ``TAG_LENGTH`` characters."""
+    if len(name) == 0 or len(name) > TAG_LENGTH or not char_in(MID(name, 1, 1), LETTERS):
+        return False
+    for i in range(2, len(name) + 1):
+        if not char_in(MID(name, 1, i), LETTERS) and not char_in(MID(name, 1, i), DIGITS):
+            return False
+    return True
+
+
+def type_name(kind: ValueType) -> STRING:
+    """``FUNCTION F_TypeName : STRING``: ``'BOOL'`` or ``'REAL'``, for the error texts."""
+    if kind == ValueType.BOOL_VALUE:
+        return "BOOL"
+    return "REAL"
+
+
+def pool_name(kind: INT) -> STRING:
+    """``FUNCTION F_PoolName : STRING``: the node array a ``NodeKind`` is taken from, for the error texts."""
+    if kind == NodeKind.CONST:
+        return "constant"
+    if kind == NodeKind.TAG:
+        return "tag"
+    if kind == NodeKind.COMPARE:
+        return "comparison"
+    if kind == NodeKind.LOGIC:
+        return "AND/OR/XOR"
+    return "NOT"
+
+
+def relation_of(symbol: STRING) -> Operator:
+    """``FUNCTION F_RelationOf : E_Operator``: the operator of ``> >= < <= = <>``."""
+    if symbol == ">":
+        return Operator.GT
+    if symbol == ">=":
+        return Operator.GE
+    if symbol == "<":
+        return Operator.LT
+    if symbol == "<=":
+        return Operator.LE
+    if symbol == "=":
+        return Operator.EQ
+    return Operator.NE
+
+
+def caret(text: str, column: int, reason: str) -> str:
+    """The text with a ``^`` under ``column``, as an HMI or a log shows a refused expression."""
+    return f"{text}\n{' ' * (column - 1)}^ {reason}" if column else reason
+
+#: The characters of the language, for FIND.
+LETTERS = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_"
+DIGITS = "0123456789"
+SYMBOLS = "<>=()-"
+WHITESPACE = " \t\r\n"
 
 
 # ---------------------------------------------------------------------------
@@ -231,8 +362,10 @@ class TagTable(FunctionBlock, ISymbolTable):
     """``FUNCTION_BLOCK FB_TagTable IMPLEMENTS I_SymbolTable``: up to MAX_TAGS REAL / BOOL tags.
 
     Names follow ST identifiers and are case-insensitive. ``declare`` returns
-    the tag's index (resolved once); the program writes the I/O image into
-    the table every scan with ``set_real`` / ``set_bool`` by index.
+    the tag's index (resolved once), or 0 with the reason in ``refusal``; the
+    program writes the I/O image into the table every scan with ``set_real``
+    / ``set_bool`` by index, which answer FALSE for a tag of the other type
+    or an index that was never declared.
     """
 
     names: ARRAY[STRING] = VAR(bounds=(1, MAX_TAGS), length=TAG_LENGTH)
@@ -240,27 +373,29 @@ class TagTable(FunctionBlock, ISymbolTable):
     reals: ARRAY[REAL] = VAR(bounds=(1, MAX_TAGS))
     bools: ARRAY[BOOL] = VAR(bounds=(1, MAX_TAGS))
     count: INT = VAR_OUTPUT(0)
+    refusal: TagRefusal = VAR_OUTPUT(TagRefusal.NONE)
 
     @method
     def declare(self, name: STRING, kind: ValueType) -> INT:
-        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) or len(name) > TAG_LENGTH:
-            raise ValueError(
-                f"TagTable: {name!r} is not a tag name (an ST identifier of at most {TAG_LENGTH} characters)"
-            )
-        if name.upper() in KEYWORDS:
-            raise ValueError(f"TagTable: {name!r} is a keyword of the interlock language")
-        if self.find(name):
-            raise ValueError(f"TagTable: tag {name!r} is already declared")
-        if self.count >= MAX_TAGS:
-            raise ValueError(f"TagTable is full: {MAX_TAGS} tags (ARRAY[1..{MAX_TAGS}])")
-        self.count += 1
-        self.names[self.count] = name.upper()
-        self.kinds[self.count] = kind
-        return self.count
+        if not is_identifier(name):
+            self.refusal = TagRefusal.BAD_NAME
+        elif is_keyword(upper_text(name)):
+            self.refusal = TagRefusal.KEYWORD
+        elif self.find(name) > 0:
+            self.refusal = TagRefusal.DUPLICATE
+        elif self.count >= MAX_TAGS:
+            self.refusal = TagRefusal.TABLE_FULL
+        else:
+            self.refusal = TagRefusal.NONE
+            self.count += 1
+            self.names[self.count] = upper_text(name)
+            self.kinds[self.count] = kind
+            return self.count
+        return 0
 
     @method
     def find(self, name: STRING) -> INT:
-        wanted = name.upper()
+        wanted = upper_text(name)
         for i in range(1, self.count + 1):
             if self.names[i] == wanted:
                 return i
@@ -268,35 +403,40 @@ class TagTable(FunctionBlock, ISymbolTable):
 
     @method
     def kind_of(self, index: INT) -> ValueType:
-        self.check(index)
-        return ValueType(self.kinds[index])
+        kind: ValueType = self.kinds[index]
+        return kind
 
+    # The nodes read the tags the parser checked: by index, of the right type, without a check per scan.
     @method
     def get_real(self, index: INT) -> REAL:
-        self.check(index, ValueType.REAL_VALUE)
-        return self.reals[index]
+        value: REAL = self.reals[index]
+        return value
 
     @method
     def get_bool(self, index: INT) -> BOOL:
-        self.check(index, ValueType.BOOL_VALUE)
-        return self.bools[index]
+        value: BOOL = self.bools[index]
+        return value
 
     @method
-    def set_real(self, index: INT, value: REAL) -> None:
-        self.check(index, ValueType.REAL_VALUE)
+    def set_real(self, index: INT, value: REAL) -> BOOL:
+        if not self.holds(index, ValueType.REAL_VALUE):
+            return False
         self.reals[index] = value
+        return True
 
     @method
-    def set_bool(self, index: INT, value: BOOL) -> None:
-        self.check(index, ValueType.BOOL_VALUE)
+    def set_bool(self, index: INT, value: BOOL) -> BOOL:
+        if not self.holds(index, ValueType.BOOL_VALUE):
+            return False
         self.bools[index] = value
+        return True
 
     @method(PRIVATE)
-    def check(self, index: INT, kind: ValueType | None = None) -> None:
-        if not 1 <= index <= self.count:
-            raise ValueError(f"TagTable: no tag {index} (1..{self.count} are declared)")
-        if kind is not None and self.kinds[index] != kind:
-            raise ValueError(f"TagTable: tag {self.names[index]} is {TYPE_NAMES[ValueType(self.kinds[index])]}")
+    def holds(self, index: INT, kind: ValueType) -> BOOL:
+        """TRUE when tag ``index`` is declared and of type ``kind``."""
+        if index < 1 or index > self.count:
+            return False
+        return self.kinds[index] == kind
 
 
 # ---------------------------------------------------------------------------
@@ -333,7 +473,7 @@ class ExpressionNode(FunctionBlock, IExpression, abstract=True):
 
     @prop
     def value_type(self) -> ValueType:
-        return ValueType(self.kind)
+        return self.kind
 
     @method(ABSTRACT)
     def evaluate_bool(self) -> BOOL:
@@ -341,7 +481,8 @@ class ExpressionNode(FunctionBlock, IExpression, abstract=True):
 
     @method
     def evaluate_real(self) -> REAL:
-        raise ValueError(f"{type(self).__name__}: a BOOL node has no REAL value")
+        # Never asked: the parser lets only REAL nodes into a comparison of REALs.
+        return 0.0
 
 
 class ConstantNode(ExpressionNode):
@@ -408,9 +549,13 @@ class CompareNode(ExpressionNode):
         self.evaluations += 1
         op = self.op
         if self.operand_type == ValueType.BOOL_VALUE:
-            a, b = self.left.evaluate_bool(), self.right.evaluate_bool()
-            return a == b if op == Operator.EQ else a != b
-        x, y = self.left.evaluate_real(), self.right.evaluate_real()
+            a: BOOL = self.left.evaluate_bool()
+            b: BOOL = self.right.evaluate_bool()
+            if op == Operator.EQ:
+                return a == b
+            return a != b
+        x: REAL = self.left.evaluate_real()
+        y: REAL = self.right.evaluate_real()
         if op == Operator.GT:
             return x > y
         if op == Operator.GE:
@@ -444,7 +589,8 @@ class LogicNode(ExpressionNode):
     @method
     def evaluate_bool(self) -> BOOL:
         self.evaluations += 1
-        a, b = self.left.evaluate_bool(), self.right.evaluate_bool()
+        a: BOOL = self.left.evaluate_bool()
+        b: BOOL = self.right.evaluate_bool()
         if self.op == Operator.AND_:
             return a and b
         if self.op == Operator.OR_:
@@ -473,8 +619,9 @@ class NodePool(FunctionBlock):
     """``FUNCTION_BLOCK FB_NodePool``: ``ARRAY[1..POOL_SIZE]`` of each node kind, handed out in order.
 
     Nothing is allocated at run time; ``clear`` makes the whole pool free
-    again (its nodes are only reused by the next ``compile``). Asking a full
-    array for a node is an error naming the array.
+    again (its nodes are only reused by the next ``compile``). ``compile``
+    checks the counts first: asking a full array for one more node would
+    fault on its bound (RTSEXCPT_ARRAYBOUNDS).
     """
 
     constants: ARRAY[ConstantNode] = VAR(bounds=(1, POOL_SIZE))
@@ -482,297 +629,418 @@ class NodePool(FunctionBlock):
     compares: ARRAY[CompareNode] = VAR(bounds=(1, POOL_SIZE))
     logics: ARRAY[LogicNode] = VAR(bounds=(1, POOL_SIZE))
     nots: ARRAY[NotNode] = VAR(bounds=(1, POOL_SIZE))
-    used: ARRAY[INT] = VAR_OUTPUT(bounds=(1, 5))
+    used: ARRAY[INT] = VAR_OUTPUT(bounds=(NodeKind.CONST, NodeKind.NOT_))
 
     @method
     def clear(self) -> None:
-        for i in range(1, 6):
-            self.used[i] = 0
+        for kind in range(NodeKind.CONST, NodeKind.NOT_ + 1):
+            self.used[kind] = 0
 
     @method(INTERNAL)
-    def take(self, slot: INT, what: STRING) -> INT:
-        if self.used[slot] >= POOL_SIZE:
-            raise ExpressionError(f"node pool full: more than {POOL_SIZE} {what} nodes (ARRAY[1..{POOL_SIZE}])")
-        self.used[slot] += 1
-        return self.used[slot]
+    def take(self, kind: NodeKind) -> INT:
+        self.used[kind] += 1
+        return self.used[kind]
 
     @method(INTERNAL)
     def constant(self, kind: ValueType, real_value: REAL, bool_value: BOOL) -> IExpression:
-        node = self.constants[self.take(1, "constant")]
+        node = self.constants[self.take(NodeKind.CONST)]
         node.configure(kind, real_value, bool_value)
         return node
 
     @method(INTERNAL)
     def tag(self, symbols: ISymbolTable, index: INT) -> IExpression:
-        node = self.tags[self.take(2, "tag")]
+        node = self.tags[self.take(NodeKind.TAG)]
         node.configure(symbols, index)
         return node
 
     @method(INTERNAL)
     def compare(self, op: Operator, operand_type: ValueType, left: IExpression, right: IExpression) -> IExpression:
-        node = self.compares[self.take(3, "comparison")]
+        node = self.compares[self.take(NodeKind.COMPARE)]
         node.configure(op, operand_type, left, right)
         return node
 
     @method(INTERNAL)
     def logic(self, op: Operator, left: IExpression, right: IExpression) -> IExpression:
-        node = self.logics[self.take(4, "AND/OR/XOR")]
+        node = self.logics[self.take(NodeKind.LOGIC)]
         node.configure(op, left, right)
         return node
 
     @method(INTERNAL)
     def negation(self, operand: IExpression) -> IExpression:
-        node = self.nots[self.take(5, "NOT")]
+        node = self.nots[self.take(NodeKind.NOT_)]
         node.configure(operand)
         return node
 
     @prop
     def node_count(self) -> INT:
-        return sum(self.used)
+        total: INT = 0
+        for kind in range(NodeKind.CONST, NodeKind.NOT_ + 1):
+            total += self.used[kind]
+        return total
 
 
 # ---------------------------------------------------------------------------
-# Configuration time: tokenizer and recursive-descent parser (Python, run once)
+# Configuration time: tokenizer and recursive-descent parser, in ST
 # ---------------------------------------------------------------------------
 
 
-class ExpressionError(ValueError):
-    """A rejected interlock expression; ``position`` is the 1-based column (0: the expression as a whole)."""
+class Token(Struct):
+    """``TYPE ST_Token : STRUCT``: a token is ``length`` characters of the text from ``column`` (1-based)."""
 
-    def __init__(self, message: str, text: str = "", position: int = 0) -> None:
-        where = f" at column {position}" if position else ""
-        super().__init__(f"{message}{where}" + (f" in {text!r}" if text else ""))
-        self.reason, self.text, self.position = message, text, position
-
-    def caret(self) -> str:
-        """The text with a ``^`` under the column, as an HMI or a log would show it."""
-        return f"{self.text}\n{' ' * (self.position - 1)}^ {self.reason}" if self.position else self.reason
+    kind: TokenKind = TokenKind.END_
+    column: INT = 0
+    length: INT = 0
+    number: REAL = 0.0
 
 
-KEYWORDS = frozenset({"AND", "OR", "XOR", "NOT", "TRUE", "FALSE"})
-RELATIONS = {
-    ">": Operator.GT, ">=": Operator.GE, "<": Operator.LT, "<=": Operator.LE, "=": Operator.EQ, "<>": Operator.NE,
-}
-_TOKEN = re.compile(r"\s*(?:(?P<number>\d+(?:\.\d+)?)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)|(?P<symbol><>|>=|<=|[<>=()\-]))")
+class ParseNode(Struct):
+    """``TYPE ST_ParseNode : STRUCT``: one node of the checked tree, before it is built from the pool.
 
-
-@dataclass(frozen=True)
-class Token:
-    """One token: ``kind`` is ``number``, ``word``, ``keyword``, ``symbol`` or ``end``; ``column`` is 1-based."""
-
-    kind: str
-    text: str
-    column: int
-
-
-def tokenize(text: str) -> list[Token]:
-    """Split an interlock expression into tokens, ending with an ``end`` token.
-
-    >>> [t.text for t in tokenize("TT101>=80 and not(LS3)")]
-    ['TT101', '>=', '80', 'AND', 'NOT', '(', 'LS3', ')', '']
+    ``left`` / ``right`` are the children's numbers in the parser's ``nodes``
+    (0: none); a NOT has only ``left``.
     """
-    tokens: list[Token] = []
-    pos = 0
-    while True:
-        while pos < len(text) and text[pos].isspace():
-            pos += 1
-        if pos == len(text):
-            tokens.append(Token("end", "", pos + 1))
-            return tokens
-        match = _TOKEN.match(text, pos)
-        if match is None:
-            raise ExpressionError(f"unexpected character {text[pos]!r}", text, pos + 1)
-        kind = match.lastgroup or "symbol"
-        value = match.group(kind)
-        column = match.start(kind) + 1
-        if kind == "word" and value.upper() in KEYWORDS:
-            kind, value = "keyword", value.upper()
-        tokens.append(Token(kind, value, column))
-        pos = match.end()
 
-
-@dataclass
-class Node:
-    """The parse tree, before it is built from the pool: ``kind`` is const / tag / compare / logic / not."""
-
-    kind: str
-    value_type: ValueType
-    column: int
+    kind: NodeKind = NodeKind.CONST
+    value_type: ValueType = ValueType.BOOL_VALUE
+    column: INT = 0
     op: Operator = Operator.EQ
-    real_value: float = 0.0
-    bool_value: bool = False
-    index: int = 0
-    children: list[Node] = field(default_factory=list)
+    real_value: REAL = 0.0
+    bool_value: BOOL = False
+    index: INT = 0
+    left: INT = 0
+    right: INT = 0
 
 
-class _Parser:
-    """One parse: a method per grammar rule, each returning a type-checked ``Node``."""
+class ExpressionParser(FunctionBlock):
+    """``FUNCTION_BLOCK FB_ExpressionParser``: tokenizer and recursive-descent parser, one method per rule.
 
-    def __init__(self, text: str, symbols: ISymbolTable) -> None:
-        self.text, self.symbols = text, symbols
-        self.tokens = tokenize(text)
-        self.pos = 0
-        self.open_parens: list[int] = []
+    ``parse(text, symbols)`` splits the text into ``tokens``, parses and
+    type-checks it into ``nodes`` (``root`` is the top node) and counts the
+    nodes of each kind in ``counts``; nothing is built yet. FALSE on the
+    first error, with ``error_text`` and ``error_column`` (1-based, 0: the
+    expression as a whole). The recursion is bounded: parentheses nest at most
+    ``MAX_DEPTH`` deep, and the tree is checked against ``MAX_DEPTH`` levels.
+    """
 
-    @property
-    def token(self) -> Token:
-        return self.tokens[self.pos]
+    tokens: ARRAY[Token] = VAR_OUTPUT(bounds=(1, MAX_TOKENS))
+    token_count: INT = VAR_OUTPUT(0)
+    nodes: ARRAY[ParseNode] = VAR_OUTPUT(bounds=(1, MAX_TEXT))
+    node_count: INT = VAR_OUTPUT(0)
+    counts: ARRAY[INT] = VAR_OUTPUT(bounds=(NodeKind.CONST, NodeKind.NOT_))
+    root: INT = VAR_OUTPUT(0)
+    error: BOOL = VAR_OUTPUT(False)
+    error_text: STRING = VAR_OUTPUT("", length=ERROR_LENGTH)
+    error_column: INT = VAR_OUTPUT(0)
+    text: STRING = VAR("", length=MAX_TEXT)
+    symbols: ISymbolTable = VAR()
+    pos: INT = VAR(1)
+    parens: ARRAY[INT] = VAR(bounds=(1, MAX_DEPTH))
+    open_parens: INT = VAR(0)
 
-    def advance(self) -> Token:
-        token = self.tokens[self.pos]
-        self.pos += 1
-        return token
+    @method
+    def parse(self, text: STRING, symbols: ISymbolTable) -> BOOL:
+        self.error, self.error_text, self.error_column = False, "", 0
+        self.token_count, self.node_count, self.root, self.open_parens = 0, 0, 0, 0
+        for kind in range(NodeKind.CONST, NodeKind.NOT_ + 1):
+            self.counts[kind] = 0
+        if len(text) > MAX_TEXT:
+            self.fail(f"expression longer than {MAX_TEXT} characters ({len(text)})", 0)
+            return False
+        self.text = text
+        self.symbols = symbols
+        if not self.tokenize():
+            return False
+        self.pos = 1
+        if self.tokens[1].kind == TokenKind.END_:
+            self.fail("empty expression", 0)
+            return False
+        top = self.expression()
+        if self.error:
+            return False
+        if self.tokens[self.pos].kind != TokenKind.END_:
+            self.unexpected("AND, OR, XOR or the end")
+            return False
+        if self.nodes[top].value_type != ValueType.BOOL_VALUE:
+            self.fail("type error: an interlock must be BOOL, this expression is REAL", 1)
+            return False
+        too_deep = self.deeper_than(top, 1)
+        if too_deep > 0:
+            self.fail(f"expression nested deeper than {MAX_DEPTH} levels", self.nodes[too_deep].column)
+            return False
+        self.root = top
+        return True
 
-    def at(self, kind: str, *texts: str) -> bool:
-        return self.token.kind == kind and self.token.text in texts
+    @method
+    def token_text(self, number: INT) -> STRING:
+        """The text of token ``number``; a keyword in upper case."""
+        token: Token = self.tokens[number]
+        word: STRING = MID(self.text, token.length, token.column)
+        if token.kind == TokenKind.KEYWORD:
+            return upper_text(word)
+        return word
 
-    def error(self, message: str, column: int) -> ExpressionError:
-        return ExpressionError(message, self.text, column)
+    # -- the tokenizer --------------------------------------------------------
 
-    def unexpected(self, expected: str) -> ExpressionError:
-        token = self.token
-        if token.kind == "end" and self.open_parens:
-            return self.error("unbalanced parentheses: '(' is never closed", self.open_parens[-1])
-        if token.kind == "end":
-            return self.error(f"unexpected end of expression, expected {expected}", token.column)
-        if token.text == ")" and not self.open_parens:
-            return self.error("unbalanced parentheses: ')' has no '(' to close", token.column)
-        return self.error(f"unexpected {token.text!r}, expected {expected}", token.column)
+    @method(PRIVATE)
+    def tokenize(self) -> BOOL:
+        length: INT = len(self.text)
+        i: INT = 1
+        while True:
+            while i <= length and char_in(MID(self.text, 1, i), WHITESPACE):
+                i += 1
+            if i > length:
+                self.add_token(TokenKind.END_, i, 0, 0.0)
+                return True
+            start = i
+            ch: STRING = MID(self.text, 1, i)
+            if char_in(ch, DIGITS):
+                # number := digits [ '.' digits ]: the digits build the mantissa, one division places the point.
+                mantissa: LREAL = 0.0
+                scale: LREAL = 1.0
+                while char_in(MID(self.text, 1, i), DIGITS):
+                    mantissa = mantissa * 10.0 + (FIND(DIGITS, MID(self.text, 1, i)) - 1)
+                    i += 1
+                if MID(self.text, 1, i) == "." and char_in(MID(self.text, 1, i + 1), DIGITS):
+                    i += 1
+                    while char_in(MID(self.text, 1, i), DIGITS):
+                        mantissa = mantissa * 10.0 + (FIND(DIGITS, MID(self.text, 1, i)) - 1)
+                        scale = scale * 10.0
+                        i += 1
+                self.add_token(TokenKind.NUMBER, start, i - start, mantissa / scale)
+            elif char_in(ch, LETTERS):
+                while char_in(MID(self.text, 1, i), LETTERS) or char_in(MID(self.text, 1, i), DIGITS):
+                    i += 1
+                if is_keyword(upper_text(MID(self.text, i - start, start))):
+                    self.add_token(TokenKind.KEYWORD, start, i - start, 0.0)
+                else:
+                    self.add_token(TokenKind.WORD, start, i - start, 0.0)
+            elif MID(self.text, 2, i) in ("<>", ">=", "<="):
+                i += 2
+                self.add_token(TokenKind.SYMBOL, start, 2, 0.0)
+            elif char_in(ch, SYMBOLS):
+                i += 1
+                self.add_token(TokenKind.SYMBOL, start, 1, 0.0)
+            else:
+                self.fail(f"unexpected character '{ch}'", i)
+                return False
 
-    def require_bool(self, node: Node, what: str, column: int) -> None:
-        if node.value_type != ValueType.BOOL_VALUE:
-            raise self.error(f"type error: {what} needs BOOL operands, got REAL", column)
+    @method(PRIVATE)
+    def add_token(self, kind: TokenKind, column: INT, length: INT, number: LREAL) -> None:
+        self.token_count += 1
+        token = self.tokens[self.token_count]
+        token.kind, token.column, token.length, token.number = kind, column, length, number
 
-    def parse(self) -> Node:
-        if self.token.kind == "end":
-            raise self.error("empty expression", 0)
-        node = self.expression()
-        if self.token.kind != "end":
-            raise self.unexpected("AND, OR, XOR or the end")
-        if node.value_type != ValueType.BOOL_VALUE:
-            raise self.error("type error: an interlock must be BOOL, this expression is REAL", 1)
-        too_deep = _deeper_than(node, MAX_DEPTH)
-        if too_deep is not None:
-            raise self.error(f"expression nested deeper than {MAX_DEPTH} levels", too_deep.column)
-        return node
+    # -- the parser: one method per rule, lowest precedence first -------------
 
-    # One method per rule, lowest precedence first.
-
-    def expression(self) -> Node:
-        return self.logic_chain("OR", Operator.OR_, self.xor_term)
-
-    def xor_term(self) -> Node:
-        return self.logic_chain("XOR", Operator.XOR_, self.and_term)
-
-    def and_term(self) -> Node:
-        return self.logic_chain("AND", Operator.AND_, self.unary)
-
-    def logic_chain(self, keyword: str, op: Operator, operand: Callable[[], Node]) -> Node:
-        left = operand()
-        while self.at("keyword", keyword):
-            column = self.advance().column
-            right = operand()
-            self.require_bool(left, keyword, column)
-            self.require_bool(right, keyword, column)
-            left = Node("logic", ValueType.BOOL_VALUE, column, op=op, children=[left, right])
+    @method(PRIVATE)
+    def expression(self) -> INT:
+        left = self.xor_term()
+        while not self.error and self.at_keyword("OR"):
+            column = self.advance()
+            right = self.xor_term()
+            left = self.logic(Operator.OR_, "OR", left, right, column)
         return left
 
-    def unary(self) -> Node:
-        if not self.at("keyword", "NOT"):
-            return self.comparison()
-        column = self.advance().column
-        operand = self.unary()
-        self.require_bool(operand, "NOT", column)
-        return Node("not", ValueType.BOOL_VALUE, column, children=[operand])
+    @method(PRIVATE)
+    def xor_term(self) -> INT:
+        left = self.and_term()
+        while not self.error and self.at_keyword("XOR"):
+            column = self.advance()
+            right = self.and_term()
+            left = self.logic(Operator.XOR_, "XOR", left, right, column)
+        return left
 
-    def comparison(self) -> Node:
-        left = self.operand()
-        if not self.at("symbol", *RELATIONS):
-            return left
-        symbol = self.advance()
-        op = RELATIONS[symbol.text]
-        right = self.operand()
-        if self.at("symbol", *RELATIONS):
-            raise self.error(f"unexpected {self.token.text!r}: comparisons do not chain, use AND", self.token.column)
-        if left.value_type != right.value_type:
-            raise self.error(
-                f"type error: {symbol.text!r} compares {TYPE_NAMES[left.value_type]} with "
-                f"{TYPE_NAMES[right.value_type]}", symbol.column,
-            )
-        if left.value_type == ValueType.BOOL_VALUE and op not in (Operator.EQ, Operator.NE):
-            raise self.error(f"type error: {symbol.text!r} needs REAL operands, got BOOL", symbol.column)
-        return Node("compare", ValueType.BOOL_VALUE, symbol.column, op=op, children=[left, right])
+    @method(PRIVATE)
+    def and_term(self) -> INT:
+        left = self.unary()
+        while not self.error and self.at_keyword("AND"):
+            column = self.advance()
+            right = self.unary()
+            left = self.logic(Operator.AND_, "AND", left, right, column)
+        return left
 
-    def operand(self) -> Node:
-        token = self.token
-        if token.kind == "number":
-            self.advance()
-            return Node("const", ValueType.REAL_VALUE, token.column, real_value=float(token.text))
-        if self.at("symbol", "-"):
-            self.advance()
-            if self.token.kind != "number":
-                raise self.unexpected("a number after '-'")
-            return Node("const", ValueType.REAL_VALUE, token.column, real_value=-float(self.advance().text))
-        if self.at("keyword", "TRUE", "FALSE"):
-            self.advance()
-            return Node("const", ValueType.BOOL_VALUE, token.column, bool_value=token.text == "TRUE")
-        if token.kind == "word":
-            self.advance()
-            index = self.symbols.find(token.text)
-            if index == 0:
-                raise self.error(f"unknown tag {token.text!r}", token.column)
-            return Node("tag", self.symbols.kind_of(index), token.column, index=index)
-        if self.at("symbol", "("):
-            self.advance()
-            self.open_parens.append(token.column)
-            inner = self.expression()
-            if not self.at("symbol", ")"):
-                raise self.unexpected("')'")
-            self.advance()
-            self.open_parens.pop()
-            return inner
-        raise self.unexpected("a tag, a number, TRUE, FALSE, NOT or '('")
-
-
-def _deeper_than(node: Node, limit: int, depth: int = 1) -> Node | None:
-    """The first node below ``limit`` levels, or None: the evaluation's call depth is the tree's height."""
-    if depth > limit:
+    @method(PRIVATE)
+    def logic(self, op: Operator, keyword: STRING, left: INT, right: INT, column: INT) -> INT:
+        # ST's OR evaluates both sides: node 0 (after an error) must not be looked at.
+        if self.error:
+            return 0
+        if not self.require_bool(left, keyword, column) or not self.require_bool(right, keyword, column):
+            return 0
+        node = self.add_node(NodeKind.LOGIC, ValueType.BOOL_VALUE, column)
+        self.nodes[node].op = op
+        self.nodes[node].left = left
+        self.nodes[node].right = right
         return node
-    for child in node.children:
-        found = _deeper_than(child, limit, depth + 1)
-        if found is not None:
+
+    @method(PRIVATE)
+    def unary(self) -> INT:
+        if not self.at_keyword("NOT"):
+            return self.comparison()
+        column = self.advance()
+        operand = self.unary()
+        if self.error:
+            return 0
+        if not self.require_bool(operand, "NOT", column):
+            return 0
+        node = self.add_node(NodeKind.NOT_, ValueType.BOOL_VALUE, column)
+        self.nodes[node].left = operand
+        return node
+
+    @method(PRIVATE)
+    def comparison(self) -> INT:
+        left = self.operand()
+        if self.error or not self.at_relation():
+            return left
+        symbol: STRING = self.token_text(self.pos)
+        column = self.advance()
+        right = self.operand()
+        if right == 0:
+            return 0
+        if self.at_relation():
+            self.fail(
+                f"unexpected '{self.token_text(self.pos)}': comparisons do not chain, use AND",
+                self.tokens[self.pos].column,
+            )
+            return 0
+        left_type: ValueType = self.nodes[left].value_type
+        right_type: ValueType = self.nodes[right].value_type
+        if left_type != right_type:
+            self.fail(f"type error: '{symbol}' compares {type_name(left_type)} with {type_name(right_type)}", column)
+            return 0
+        op = relation_of(symbol)
+        if left_type == ValueType.BOOL_VALUE and op != Operator.EQ and op != Operator.NE:
+            self.fail(f"type error: '{symbol}' needs REAL operands, got BOOL", column)
+            return 0
+        node = self.add_node(NodeKind.COMPARE, ValueType.BOOL_VALUE, column)
+        self.nodes[node].op = op
+        self.nodes[node].left = left
+        self.nodes[node].right = right
+        return node
+
+    @method(PRIVATE)
+    def operand(self) -> INT:
+        token: Token = self.tokens[self.pos]
+        if token.kind == TokenKind.NUMBER:
+            self.advance()
+            return self.constant(ValueType.REAL_VALUE, token.number, False, token.column)
+        if self.at_symbol("-"):
+            self.advance()
+            if self.tokens[self.pos].kind != TokenKind.NUMBER:
+                self.unexpected("a number after '-'")
+                return 0
+            number: REAL = self.tokens[self.pos].number
+            self.advance()
+            return self.constant(ValueType.REAL_VALUE, -number, False, token.column)
+        if self.at_keyword("TRUE") or self.at_keyword("FALSE"):
+            literal = self.at_keyword("TRUE")
+            self.advance()
+            return self.constant(ValueType.BOOL_VALUE, 0.0, literal, token.column)
+        if token.kind == TokenKind.WORD:
+            name: STRING = self.token_text(self.pos)
+            self.advance()
+            index = self.symbols.find(name)
+            if index == 0:
+                self.fail(f"unknown tag '{name}'", token.column)
+                return 0
+            node = self.add_node(NodeKind.TAG, self.symbols.kind_of(index), token.column)
+            self.nodes[node].index = index
+            return node
+        if self.at_symbol("("):
+            if self.open_parens >= MAX_DEPTH:
+                self.fail(f"expression nested deeper than {MAX_DEPTH} levels", token.column)
+                return 0
+            self.advance()
+            self.open_parens += 1
+            self.parens[self.open_parens] = token.column
+            inner = self.expression()
+            if self.error:
+                return 0
+            if not self.at_symbol(")"):
+                self.unexpected("')'")
+                return 0
+            self.advance()
+            self.open_parens -= 1
+            return inner
+        self.unexpected("a tag, a number, TRUE, FALSE, NOT or '('")
+        return 0
+
+    # -- the parser's helpers -------------------------------------------------
+
+    @method(PRIVATE)
+    def advance(self) -> INT:
+        """Step past the current token; its column."""
+        column: INT = self.tokens[self.pos].column
+        self.pos += 1
+        return column
+
+    @method(PRIVATE)
+    def at_keyword(self, keyword: STRING) -> BOOL:
+        return self.tokens[self.pos].kind == TokenKind.KEYWORD and self.token_text(self.pos) == keyword
+
+    @method(PRIVATE)
+    def at_symbol(self, symbol: STRING) -> BOOL:
+        return self.tokens[self.pos].kind == TokenKind.SYMBOL and self.token_text(self.pos) == symbol
+
+    @method(PRIVATE)
+    def at_relation(self) -> BOOL:
+        return self.tokens[self.pos].kind == TokenKind.SYMBOL and self.token_text(self.pos) in (
+            ">", ">=", "<", "<=", "=", "<>",
+        )
+
+    @method(PRIVATE)
+    def add_node(self, kind: NodeKind, value_type: ValueType, column: INT) -> INT:
+        """A new node; the array cannot overflow, as every node takes at least one token of its own."""
+        self.node_count += 1
+        node = self.nodes[self.node_count]
+        node.kind, node.value_type, node.column, node.op = kind, value_type, column, Operator.EQ
+        node.real_value, node.bool_value, node.index, node.left, node.right = 0.0, False, 0, 0, 0
+        self.counts[kind] += 1
+        return self.node_count
+
+    @method(PRIVATE)
+    def constant(self, value_type: ValueType, real_value: REAL, bool_value: BOOL, column: INT) -> INT:
+        node = self.add_node(NodeKind.CONST, value_type, column)
+        self.nodes[node].real_value = real_value
+        self.nodes[node].bool_value = bool_value
+        return node
+
+    @method(PRIVATE)
+    def require_bool(self, node: INT, what: STRING, column: INT) -> BOOL:
+        if self.nodes[node].value_type != ValueType.BOOL_VALUE:
+            self.fail(f"type error: {what} needs BOOL operands, got REAL", column)
+            return False
+        return True
+
+    @method(PRIVATE)
+    def unexpected(self, expected: STRING) -> None:
+        token: Token = self.tokens[self.pos]
+        if token.kind == TokenKind.END_ and self.open_parens > 0:
+            self.fail("unbalanced parentheses: '(' is never closed", self.parens[self.open_parens])
+        elif token.kind == TokenKind.END_:
+            self.fail(f"unexpected end of expression, expected {expected}", token.column)
+        elif self.token_text(self.pos) == ")" and self.open_parens == 0:
+            self.fail("unbalanced parentheses: ')' has no '(' to close", token.column)
+        else:
+            self.fail(f"unexpected '{self.token_text(self.pos)}', expected {expected}", token.column)
+
+    @method(PRIVATE)
+    def fail(self, message: STRING, column: INT) -> None:
+        """Keep the first error: the rules return 0 from there on."""
+        if not self.error:
+            self.error, self.error_text, self.error_column = True, message, column
+
+    @method(PRIVATE)
+    def deeper_than(self, node: INT, depth: INT) -> INT:
+        """The first node (in text order) below ``MAX_DEPTH`` levels, or 0: the evaluation's call depth is the height."""
+        if depth > MAX_DEPTH:
+            return node
+        kind: NodeKind = self.nodes[node].kind
+        if kind == NodeKind.CONST or kind == NodeKind.TAG:
+            return 0
+        found = self.deeper_than(self.nodes[node].left, depth + 1)
+        if found > 0 or kind == NodeKind.NOT_:
             return found
-    return None
-
-
-def parse(text: str, symbols: ISymbolTable) -> Node:
-    """Parse and type-check an interlock expression against ``symbols``; nothing is built yet.
-
-    >>> tags = TagTable()
-    >>> tags.declare("TT101", ValueType.REAL_VALUE), tags.declare("LS3", ValueType.BOOL_VALUE)
-    (1, 2)
-    >>> parse("TT101 > 80 AND NOT LS3", tags).op.name
-    'AND_'
-    >>> parse("LS3 > 5", tags)
-    Traceback (most recent call last):
-    ...
-    patterns.behavioral.interpreter.ExpressionError: type error: '>' compares BOOL with REAL at column 5 in 'LS3 > 5'
-    """
-    if len(text) > MAX_TEXT:
-        raise ExpressionError(f"expression longer than {MAX_TEXT} characters ({len(text)})")
-    return _Parser(text, symbols).parse()
-
-
-def count_nodes(node: Node, counts: dict[str, int] | None = None) -> dict[str, int]:
-    """How many nodes of each kind the tree needs from the pool."""
-    counts = {} if counts is None else counts
-    counts[node.kind] = counts.get(node.kind, 0) + 1
-    for child in node.children:
-        count_nodes(child, counts)
-    return counts
-
-
-POOL_ARRAYS = {"const": "constant", "tag": "tag", "compare": "comparison", "logic": "AND/OR/XOR", "not": "NOT"}
+        return self.deeper_than(self.nodes[node].right, depth + 1)
 
 
 # ---------------------------------------------------------------------------
@@ -781,13 +1049,14 @@ POOL_ARRAYS = {"const": "constant", "tag": "tag", "compare": "comparison", "logi
 
 
 class Interlock(FunctionBlock):
-    """``FUNCTION_BLOCK FB_Interlock``: owns a node pool, evaluates its tree once per call.
+    """``FUNCTION_BLOCK FB_Interlock``: owns a parser and a node pool, evaluates its tree once per call.
 
     ``compile(text, symbols)`` runs at configuration: it parses, checks the
     pool has room, and only then rebuilds the tree, so a rejected text
-    leaves the running interlock as it was. Without an accepted expression
-    the interlock is not ``valid`` and never permissive (fail-safe);
-    ``disable`` takes an accepted one out of service again.
+    leaves the running interlock as it was; it answers FALSE with
+    ``error_text`` and ``error_column`` (0: the text as a whole). Without an
+    accepted expression the interlock is not ``valid`` and never permissive
+    (fail-safe); ``disable`` takes an accepted one out of service again.
     """
 
     permissive: BOOL = VAR_OUTPUT(False)
@@ -795,23 +1064,33 @@ class Interlock(FunctionBlock):
     node_count: INT = VAR_OUTPUT(0)
     scans: UDINT = VAR_OUTPUT(0)
     source: STRING = VAR_OUTPUT("", length=MAX_TEXT)
+    error: BOOL = VAR_OUTPUT(False)
+    error_text: STRING = VAR_OUTPUT("", length=ERROR_LENGTH)
+    error_column: INT = VAR_OUTPUT(0)
+    parser: ExpressionParser = VAR()
     pool: NodePool = VAR()
     root: IExpression = VAR()
 
     @method
-    def compile(self, text: STRING, symbols: ISymbolTable) -> None:
-        tree = parse(text, symbols)
-        for kind, needed in count_nodes(tree).items():
+    def compile(self, text: STRING, symbols: ISymbolTable) -> BOOL:
+        if not self.parser.parse(text, symbols):
+            self.refuse(self.parser.error_text, self.parser.error_column)
+            return False
+        for kind in range(NodeKind.CONST, NodeKind.NOT_ + 1):
+            needed: INT = self.parser.counts[kind]
             if needed > POOL_SIZE:
-                raise ExpressionError(
-                    f"node pool full: the expression needs {needed} {POOL_ARRAYS[kind]} nodes, "
-                    f"the pool holds {POOL_SIZE} (ARRAY[1..{POOL_SIZE}])", text,
+                self.refuse(
+                    f"node pool full: the expression needs {needed} {pool_name(kind)} nodes, "
+                    f"the pool holds {POOL_SIZE} (ARRAY[1..{POOL_SIZE}])", 0,
                 )
+                return False
         self.pool.clear()
-        self.root = self.build(tree, symbols)
+        self.root = self.build(self.parser.root, symbols)
         self.node_count = self.pool.node_count
         self.source = text
         self.valid = True
+        self.error, self.error_text, self.error_column = False, "", 0
+        return True
 
     @method
     def disable(self) -> None:
@@ -822,23 +1101,33 @@ class Interlock(FunctionBlock):
         self.node_count = 0
         self.source = ""
 
-    @method(INTERNAL)
-    def build(self, node: Node, symbols: ISymbolTable) -> IExpression:
-        pool = self.pool
-        if node.kind == "const":
-            return pool.constant(node.value_type, node.real_value, node.bool_value)
-        if node.kind == "tag":
-            return pool.tag(symbols, node.index)
-        if node.kind == "not":
-            return pool.negation(self.build(node.children[0], symbols))
-        left, right = self.build(node.children[0], symbols), self.build(node.children[1], symbols)
-        if node.kind == "compare":
-            return pool.compare(node.op, node.children[0].value_type, left, right)
-        return pool.logic(node.op, left, right)
+    @method(PRIVATE)
+    def refuse(self, reason: STRING, column: INT) -> None:
+        self.error, self.error_text, self.error_column = True, reason, column
+
+    @method(PRIVATE)
+    def build(self, number: INT, symbols: ISymbolTable) -> IExpression:
+        """The pool nodes for parse node ``number`` and its children, left before right."""
+        node: ParseNode = self.parser.nodes[number]
+        if node.kind == NodeKind.CONST:
+            return self.pool.constant(node.value_type, node.real_value, node.bool_value)
+        if node.kind == NodeKind.TAG:
+            return self.pool.tag(symbols, node.index)
+        if node.kind == NodeKind.NOT_:
+            return self.pool.negation(self.build(node.left, symbols))
+        left = self.build(node.left, symbols)
+        right = self.build(node.right, symbols)
+        if node.kind == NodeKind.COMPARE:
+            return self.pool.compare(node.op, self.parser.nodes[node.left].value_type, left, right)
+        return self.pool.logic(node.op, left, right)
 
     def body(self) -> None:
         self.scans += 1
-        self.permissive = self.valid and self.root.evaluate_bool()
+        # Not "valid AND root.EvaluateBool()": ST's AND would call through a null root.
+        if self.valid:
+            self.permissive = self.root.evaluate_bool()
+        else:
+            self.permissive = False
 
 
 # ---------------------------------------------------------------------------
@@ -931,11 +1220,10 @@ def main() -> None:
     step(10)
     program.ls3 = True
     step(10)
+    transfer = program.transfer
     for bad in ("TT101 > 80 AND NOT LS3)", "LS3 > 5 OR BYPASS"):
-        try:
-            program.transfer.compile(bad, program.tags)
-        except ExpressionError as error:
-            print(error.caret())
+        if not transfer.compile(bad, program.tags):
+            print(caret(bad, transfer.error_column, transfer.error_text))
     print(f"still active: {program.transfer.source}")
 
 

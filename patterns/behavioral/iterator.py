@@ -52,7 +52,8 @@ IEC 61131-3 mapping
 
     INTERFACE I_AlarmIterator
         METHOD HasNext : BOOL
-        METHOD Next    VAR_IN_OUT stEntry : ST_AlarmEntry; END_VAR
+        METHOD Next : BOOL   VAR_IN_OUT stEntry : ST_AlarmEntry; END_VAR
+                             // FALSE, stEntry untouched, past the last one
         METHOD Reset
 
     FUNCTION_BLOCK FB_AlarmHistory
@@ -67,6 +68,7 @@ IEC 61131-3 mapping
         VAR rHistory : REFERENCE TO FB_AlarmHistory;
             nAnchor : UDINT; nAvailable, nPosition : INT; END_VAR
         VAR_OUTPUT bOverrun : BOOL; END_VAR
+        PROPERTY Bound : BOOL   // __ISVALIDREF(rHistory): unbound, it yields nothing
 
     FUNCTION_BLOCK FB_SeverityFilter IMPLEMENTS I_AlarmIterator
         VAR iSource : I_AlarmIterator; eMinimum : E_Severity;
@@ -117,11 +119,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -140,12 +140,14 @@ from patterns.showcase.entry import Column, Showcase, press, steps
 __all__ = [
     "ALARM_CAPACITY",
     "DEMO_ALARMS",
+    "DEMO_COUNT",
     "PAGE_ROWS",
     "AlarmEntry",
     "AlarmHistory",
     "AlarmHmi",
     "AlarmIterator",
     "AlarmPager",
+    "DemoAlarm",
     "IAlarmIterator",
     "Severity",
     "SeverityFilter",
@@ -192,7 +194,7 @@ class AlarmHistory(FunctionBlock):
     def push(self, code: UINT, severity: Severity, text: STRING) -> UDINT:
         """Record an alarm with the task-clock time; return its sequence number."""
         self.total += 1
-        entry: AlarmEntry = self.ring[(self.total - 1) % ALARM_CAPACITY + 1]
+        entry = self.ring[(self.total - 1) % ALARM_CAPACITY + 1]
         entry.sequence, entry.code, entry.severity = self.total, code, severity
         entry.raised_at, entry.text = now_ms(), text
         return self.total
@@ -219,7 +221,8 @@ class IAlarmIterator(Interface):
         raise NotImplementedError
 
     @method
-    def next(self, entry: AlarmEntry) -> None: ...
+    def next(self, entry: AlarmEntry) -> BOOL:
+        raise NotImplementedError
 
     @method
     def reset(self) -> None: ...
@@ -247,18 +250,25 @@ class AlarmIterator(FunctionBlock, IAlarmIterator):
         ref_assign(self, "history", history)
         self.reset()
 
+    @prop
+    def bound(self) -> BOOL:
+        """TRUE while the iterator has a live history; without one it yields nothing."""
+        return is_valid_ref(self, "history")
+
     @method
     def reset(self) -> None:
-        self.require_history()
-        self.anchor = self.history.total
-        self.available = self.history.count
         self.position = 0
         self.overrun = False
+        if self.bound:
+            self.anchor = self.history.total
+            self.available = self.history.count
+        else:
+            self.anchor, self.available = 0, 0
 
     @method
     def has_next(self) -> BOOL:
-        self.require_history()
-        if self.position >= self.available:
+        # A history deleted while walking must not be read: __ISVALIDREF guards every access.
+        if not self.bound or self.position >= self.available:
             return False
         if self.history.total - (self.anchor - self.position) >= ALARM_CAPACITY:
             self.overrun = True  # the ring overwrote it while we were paging
@@ -266,22 +276,13 @@ class AlarmIterator(FunctionBlock, IAlarmIterator):
         return True
 
     @method
-    def next(self, entry: AlarmEntry) -> None:
+    def next(self, entry: AlarmEntry) -> BOOL:
+        """Copy the next alarm into ``entry`` and step on; FALSE, ``entry`` untouched, when there is none."""
         if not self.has_next():
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, "AlarmIterator.next: no more alarms (ask has_next() first)"
-            )
+            return False
         self.history.copy_out(self.anchor - self.position, entry)
         self.position += 1
-
-    @method(PROTECTED)
-    def require_history(self) -> None:
-        if not is_valid_ref(self, "history"):
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                "AlarmIterator: no live alarm history (not injected, or deleted); "
-                "pass it to FB_init (history=...) or bind()",
-            )
+        return True
 
 
 class SeverityFilter(FunctionBlock, IAlarmIterator):
@@ -320,19 +321,20 @@ class SeverityFilter(FunctionBlock, IAlarmIterator):
 
     @method
     def has_next(self) -> BOOL:
-        while not self.has_pending and self.source.has_next():
-            self.source.next(self.pending)
+        while not self.has_pending:
+            if not self.source.next(self.pending):
+                break
             self.has_pending = self.pending.severity >= self.minimum
         return self.has_pending
 
     @method
-    def next(self, entry: AlarmEntry) -> None:
+    def next(self, entry: AlarmEntry) -> BOOL:
+        """Copy the next alarm of at least ``minimum`` severity into ``entry``; FALSE when there is none."""
         if not self.has_next():
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, "SeverityFilter.next: no more alarms (ask has_next() first)"
-            )
+            return False
         memcpy(adr(entry), adr(self, "pending"), sizeof(AlarmEntry))
         self.has_pending = False
+        return True
 
 
 class AlarmPager(FunctionBlock):
@@ -362,9 +364,9 @@ class AlarmPager(FunctionBlock):
         self.iterator = iterator
 
     def body(self) -> None:
-        for i, button in ((1, self.first_page), (2, self.next_page), (3, self.prev_page)):
-            edge: R_TRIG = self.edges[i]
-            edge(CLK=button)
+        self.edges[1](CLK=self.first_page)
+        self.edges[2](CLK=self.next_page)
+        self.edges[3](CLK=self.prev_page)
         if self.edges[1].Q:
             self.show(1)
         if self.edges[2].Q and self.more:
@@ -374,38 +376,50 @@ class AlarmPager(FunctionBlock):
 
     @method
     def show(self, page: INT) -> INT:
-        """Load page ``page`` (1 = newest alarms) into ``rows``; return the number of rows filled."""
+        """Load page ``page`` (1 = newest alarms) into ``rows``; return the number of rows filled.
+
+        Pages start at 1: a lower number is refused, returns 0 and leaves the list as it was.
+        """
         if page < 1:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS, f"AlarmPager.show: no page {page} (pages start at 1)"
-            )
+            return 0
         self.iterator.reset()
         for _ in range((page - 1) * PAGE_ROWS):
-            if not self.iterator.has_next():
+            if not self.iterator.next(self.skipped):
                 break
-            self.iterator.next(self.skipped)
         self.row_count = 0
-        while self.row_count < PAGE_ROWS and self.iterator.has_next():
+        # ST's AND evaluates both sides: the row is only indexed while there is room for it.
+        while self.row_count < PAGE_ROWS:
+            if not self.iterator.next(self.rows[self.row_count + 1]):
+                break
             self.row_count += 1
-            self.iterator.next(self.rows[self.row_count])
         self.page = page
         self.more = self.iterator.has_next()
         return self.row_count
 
 
-#: The demo plant's alarms, raised one per cycle while ``AlarmHmi.simulate`` is TRUE.
-DEMO_ALARMS: list[tuple[int, Severity, str]] = [
-    (101, Severity.WARNING, "TT101 temperature high"),
-    (102, Severity.INFO, "P201 started"),
-    (103, Severity.ALARM, "LS3 tank level high"),
-    (104, Severity.INFO, "XV101 opened"),
-    (105, Severity.CRITICAL, "PT102 pressure high-high"),
-    (106, Severity.WARNING, "M301 motor current high"),
-    (107, Severity.INFO, "P201 stopped"),
-    (108, Severity.ALARM, "FT104 no flow"),
-    (109, Severity.INFO, "operator login"),
-    (110, Severity.ALARM, "TT101 temperature high-high"),
+class DemoAlarm(Struct):
+    """One alarm of the demo plant. ST: ``TYPE ST_DemoAlarm : STRUCT code : UINT; severity : E_Severity; text : STRING(32);``."""
+
+    code: UINT = 0
+    severity: Severity = Severity.INFO
+    text: STRING = VAR("", length=32)
+
+
+#: The demo plant's alarms, raised one per cycle while ``AlarmHmi.simulate`` is TRUE
+#: (the initial value of the program's ``VAR CONSTANT demo : ARRAY[1..DEMO_COUNT] OF ST_DemoAlarm``).
+DEMO_ALARMS: list[DemoAlarm] = [
+    DemoAlarm(code=101, severity=Severity.WARNING, text="TT101 temperature high"),
+    DemoAlarm(code=102, severity=Severity.INFO, text="P201 started"),
+    DemoAlarm(code=103, severity=Severity.ALARM, text="LS3 tank level high"),
+    DemoAlarm(code=104, severity=Severity.INFO, text="XV101 opened"),
+    DemoAlarm(code=105, severity=Severity.CRITICAL, text="PT102 pressure high-high"),
+    DemoAlarm(code=106, severity=Severity.WARNING, text="M301 motor current high"),
+    DemoAlarm(code=107, severity=Severity.INFO, text="P201 stopped"),
+    DemoAlarm(code=108, severity=Severity.ALARM, text="FT104 no flow"),
+    DemoAlarm(code=109, severity=Severity.INFO, text="operator login"),
+    DemoAlarm(code=110, severity=Severity.ALARM, text="TT101 temperature high-high"),
 ]
+DEMO_COUNT = len(DEMO_ALARMS)
 
 
 class AlarmHmi(Program):
@@ -416,7 +430,8 @@ class AlarmHmi(Program):
     """
 
     simulate: BOOL = VAR_INPUT(False)
-    next_demo: INT = VAR(0)
+    demo: ARRAY[DemoAlarm] = VAR(DEMO_ALARMS, bounds=(1, DEMO_COUNT), constant=True)
+    raised: INT = VAR(0)
     history: AlarmHistory = VAR()
     cursor: AlarmIterator = VAR()
     alarm_cursor: AlarmIterator = VAR()
@@ -432,10 +447,10 @@ class AlarmHmi(Program):
         self.alarm_pager.attach(self.alarms_only)
 
     def body(self) -> None:
-        if self.simulate and self.next_demo < len(DEMO_ALARMS):
-            code, severity, text = DEMO_ALARMS[self.next_demo]
-            self.history.push(code, severity, text)
-            self.next_demo += 1
+        if self.simulate and self.raised < DEMO_COUNT:
+            self.raised += 1
+            alarm: DemoAlarm = self.demo[self.raised]
+            self.history.push(alarm.code, alarm.severity, alarm.text)
         self.all_pager()
         self.alarm_pager()
 

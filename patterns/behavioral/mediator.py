@@ -60,10 +60,12 @@ IEC 61131-3 mapping
         METHOD Execute       // the station's cyclic part
 
     FUNCTION_BLOCK FB_FillingCell IMPLEMENTS I_CellMediator
-    VAR_OUTPUT goodCount, rejectCount : DINT; END_VAR
+    VAR_OUTPUT goodCount, rejectCount : DINT;
+               error : BOOL; missing : E_CellStation; END_VAR  // a station not registered
     VAR stations : ARRAY[E_CellStation.INFEED..E_CellStation.REJECT_GATE]
                    OF I_CellColleague; END_VAR
         METHOD Register : BOOL   VAR_INPUT colleague : I_CellColleague; END_VAR
+        // FALSE for a null colleague or a station already taken
 
     FUNCTION_BLOCK ABSTRACT FB_CellColleague IMPLEMENTS I_CellColleague
     VAR mediator : I_CellMediator; state : E_StationState; END_VAR
@@ -117,11 +119,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -134,6 +134,7 @@ from patterns.showcase.entry import Column, Showcase
 
 __all__ = [
     "LOG_SIZE",
+    "STATION_COUNT",
     "Capper",
     "CellColleague",
     "CellCommand",
@@ -153,6 +154,8 @@ __all__ = [
 
 #: ``LOG_SIZE``: a GVL's VAR_GLOBAL CONSTANT, the depth of the cell's event ring.
 LOG_SIZE = 32
+#: ``STATION_COUNT``: a VAR_GLOBAL CONSTANT too, how many stations the cell must have registered before it runs.
+STATION_COUNT = 4
 
 
 class CellStation(IecEnum, base=USINT):
@@ -404,15 +407,18 @@ class FillingCell(FunctionBlock, ICellMediator):
     cap_failed: BOOL = VAR(False)
     log: ARRAY[CellLogEntry] = VAR(bounds=(0, LOG_SIZE - 1))
     log_count: DINT = VAR(0)
+    no_entry: CellLogEntry = VAR()
+    error: BOOL = VAR_OUTPUT(False)
+    missing: CellStation = VAR_OUTPUT(CellStation.INFEED)
 
     @method
     def register(self, colleague: ICellColleague) -> BOOL:
-        """Take ``colleague`` at its station and give it this cell as its mediator; FALSE if the place is taken."""
+        """Take ``colleague`` at its station and give it this cell as its mediator.
+
+        FALSE, and nothing changes, if ``colleague`` is a null reference or its place is taken.
+        """
         if not colleague:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                "FillingCell.register: the colleague is a null interface reference",
-            )
+            return False
         station = colleague.station
         if self.stations[station]:
             return False
@@ -422,13 +428,19 @@ class FillingCell(FunctionBlock, ICellMediator):
         return True
 
     def body(self) -> None:
-        if self.registered < len(CellStation):
-            for station in CellStation:
-                if not self.stations[station]:
-                    raise PlcException(
-                        ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                        f"FillingCell: no colleague registered for station {station.name}",
-                    )
+        # With a station missing the cell does not run (calling it would fault on the
+        # null reference): ``error`` is set and ``missing`` names the first empty place.
+        self.error = self.registered < STATION_COUNT
+        if self.error:
+            if not self.stations[CellStation.REJECT_GATE]:
+                self.missing = CellStation.REJECT_GATE
+            if not self.stations[CellStation.CAPPER]:
+                self.missing = CellStation.CAPPER
+            if not self.stations[CellStation.FILLER]:
+                self.missing = CellStation.FILLER
+            if not self.stations[CellStation.INFEED]:
+                self.missing = CellStation.INFEED
+            return
         for index in range(CellStation.REJECT_GATE, CellStation.INFEED - 1, -1):
             self.stations[index].execute()
 
@@ -447,13 +459,9 @@ class FillingCell(FunctionBlock, ICellMediator):
 
     @method
     def entry(self, number: DINT) -> CellLogEntry:
-        """Log entry ``number`` (1 = the first event), if the ring still holds it."""
+        """Log entry ``number`` (1 = the first event); an empty entry (bottle 0) once the ring no longer holds it."""
         if not (number >= 1 and self.log_count - LOG_SIZE < number <= self.log_count):
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"FillingCell.entry: event {number} is not in the ring (events "
-                f"{max(1, self.log_count - LOG_SIZE + 1)}..{self.log_count})",
-            )
+            return self.no_entry
         found: CellLogEntry = self.log[(number - 1) % LOG_SIZE]
         return found
 
@@ -497,7 +505,11 @@ class CellMain(Program):
 
     def body(self) -> None:
         bottle = self.capper.bottle
-        self.capper.torque_ok = self.bad_cap_every <= 0 or bottle % self.bad_cap_every != 0
+        # Not one OR: ST evaluates both sides, and MOD 0 faults.
+        if self.bad_cap_every > 0:
+            self.capper.torque_ok = bottle % self.bad_cap_every != 0
+        else:
+            self.capper.torque_ok = True
         self.cell()
 
 

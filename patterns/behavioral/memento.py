@@ -84,9 +84,9 @@ IEC 61131-3 mapping
     FUNCTION_BLOCK FB_RecipeSnapshots
         VAR aSlots : ARRAY[1..SNAPSHOT_SLOTS] OF FB_RecipeMemento; END_VAR
         VAR_OUTPUT nUsed : INT; END_VAR
-        METHOD Take : INT
+        METHOD Take : INT       // the slot taken; 0 when all are in use
             VAR_INPUT fbEditor : REFERENCE TO FB_RecipeEditor; sLabel : STRING(20); END_VAR
-        METHOD Restore
+        METHOD Restore : BOOL   // FALSE for a slot not in use
             VAR_INPUT fbEditor : REFERENCE TO FB_RecipeEditor; nSlot : INT; END_VAR
 
 When not to use it on a PLC
@@ -117,19 +117,17 @@ from __future__ import annotations
 from iecoop import (
     ARRAY,
     BOOL,
+    DINT,
     INT,
     INTERNAL,
-    PROTECTED,
     REAL,
     STRING,
     TIME,
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -139,6 +137,8 @@ from iecoop import (
     prop,
     sizeof,
 )
+from iecoop.conversions import TIME_TO_DINT
+from iecoop.functions import MID
 from iecoop.runtime import Runtime, Task, now_ms
 from iecoop.stdlib import R_TRIG
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -267,10 +267,14 @@ class RecipeEditor(FunctionBlock, IRecipeEditor):
 
     @method
     def rename(self, name: STRING) -> BOOL:
-        if not name.strip() or len(name) > 20:
+        """FALSE for a name longer than STRING(20) or one of blanks only."""
+        if len(name) > 20:
             return False
-        self.working.name = name
-        return True
+        for i in range(1, len(name) + 1):
+            if MID(name, 1, i) != " ":
+                self.working.name = name
+                return True
+        return False
 
     @method
     def set_dose(self, litres: REAL) -> BOOL:
@@ -322,9 +326,10 @@ class RecipeEditor(FunctionBlock, IRecipeEditor):
 class RecipeSnapshots(FunctionBlock):
     """The caretaker: a fixed pool of mementos; it stores them and never looks inside.
 
-    ST: ``FUNCTION_BLOCK FB_RecipeSnapshots``. ``take`` on a full pool and a
-    slot number outside ``1..used`` fault with RTSEXCPT_ARRAYBOUNDS; an HMI
-    checks ``full`` before offering "snapshot".
+    ST: ``FUNCTION_BLOCK FB_RecipeSnapshots``. ``take`` on a full pool
+    answers 0 and keeps nothing; ``restore`` answers FALSE, and ``label`` /
+    ``taken_at`` an empty value, for a slot number outside ``1..used``. An
+    HMI checks ``full`` before offering "snapshot".
     """
 
     slots: ARRAY[RecipeMemento] = VAR(bounds=(1, SNAPSHOT_SLOTS))
@@ -336,32 +341,35 @@ class RecipeSnapshots(FunctionBlock):
 
     @method
     def take(self, editor: RecipeEditor, label: STRING) -> INT:
-        """Snapshot the editor's working recipe into the next free slot; return the slot number."""
+        """Snapshot the editor's working recipe into the next free slot; return the slot number, 0 when all are in use."""
         if self.full:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"RecipeSnapshots.take: all {SNAPSHOT_SLOTS} slots are in use; drop one first",
-            )
+            return 0
         self.used += 1
         editor.save_to(self.slots[self.used], label)
         return self.used
 
     @method
-    def restore(self, editor: RecipeEditor, slot: INT) -> None:
-        self.check(slot, "restore")
-        editor.restore_from(self.slots[slot])
+    def restore(self, editor: RecipeEditor, slot: INT) -> BOOL:
+        """Put snapshot ``slot`` back into the editor; FALSE, nothing changed, for a slot not in use."""
+        if not self.in_use(slot):
+            return False
+        return editor.restore_from(self.slots[slot])
 
     @method
     def label(self, slot: INT) -> STRING:
-        self.check(slot, "label")
-        memento: RecipeMemento = self.slots[slot]
-        return memento.label
+        """The label of snapshot ``slot``; '' for a slot not in use."""
+        if not self.in_use(slot):
+            return ""
+        label: STRING = self.slots[slot].label
+        return label
 
     @method
     def taken_at(self, slot: INT) -> TIME:
-        self.check(slot, "taken_at")
-        memento: RecipeMemento = self.slots[slot]
-        return memento.taken_at
+        """When snapshot ``slot`` was taken; T#0s for a slot not in use."""
+        if not self.in_use(slot):
+            return T("0s")
+        taken_at: TIME = self.slots[slot].taken_at
+        return taken_at
 
     @method
     def drop_newest(self) -> BOOL:
@@ -371,13 +379,10 @@ class RecipeSnapshots(FunctionBlock):
         self.used -= 1
         return True
 
-    @method(PROTECTED)
-    def check(self, slot: INT, what: str) -> None:
-        if not 1 <= slot <= self.used:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"RecipeSnapshots.{what}: slot {slot} is not in use (slots 1..{self.used} are)",
-            )
+    @method
+    def in_use(self, slot: INT) -> BOOL:
+        """TRUE when ``slot`` holds a snapshot (slots ``1..used``)."""
+        return 1 <= slot <= self.used
 
 
 class RecipeStation(Program):
@@ -386,7 +391,8 @@ class RecipeStation(Program):
     Edits go straight to the editor's methods; the snapshot, restore and
     commit buttons act on their rising edge inside the cycle, so a snapshot
     carries the task-clock time. The program checks ``full`` and the slot
-    number first and answers in ``message`` instead of faulting.
+    number through the answers of ``take`` and ``restore`` and says what
+    happened in ``message``.
     """
 
     snapshot_button: BOOL = VAR_INPUT(False)
@@ -401,18 +407,18 @@ class RecipeStation(Program):
 
     def body(self) -> None:
         self.editor()
-        for i, button in ((1, self.snapshot_button), (2, self.restore_button), (3, self.commit_button)):
-            edge: R_TRIG = self.edges[i]
-            edge(CLK=button)
+        self.edges[1](CLK=self.snapshot_button)
+        self.edges[2](CLK=self.restore_button)
+        self.edges[3](CLK=self.commit_button)
         if self.edges[1].Q:
-            if self.snapshots.full:
+            taken = self.snapshots.take(self.editor, self.label)
+            if taken == 0:
                 self.message = f"no free snapshot slot ({SNAPSHOT_SLOTS} in use)"
             else:
-                taken = self.snapshots.take(self.editor, self.label)
-                self.message = f"snapshot {taken} {self.label!r} at {self.snapshots.taken_at(taken)} ms"
+                at_ms: DINT = TIME_TO_DINT(self.snapshots.taken_at(taken))
+                self.message = f"snapshot {taken} '{self.label}' at {at_ms} ms"
         if self.edges[2].Q:
-            if 1 <= self.slot <= self.snapshots.used:
-                self.snapshots.restore(self.editor, self.slot)
+            if self.snapshots.restore(self.editor, self.slot):
                 self.message = f"restored snapshot {self.slot}"
             else:
                 self.message = f"no snapshot {self.slot}"

@@ -19,11 +19,11 @@ transmitter. With Observer the transmitter owns a bounded array of
 once per scan; consumers attach and detach at run time (the trend detaches
 when the HMI screen closes) and the transmitter never changes.
 
-Wiring mistakes follow the PLC's own faults: attaching a null reference
-raises RTSEXCPT_ACCESS_VIOLATION and attaching past the end of the array
-raises RTSEXCPT_ARRAYBOUNDS, each with a message naming the rule. Attaching
-an observer twice, or detaching one that is not attached, is refused with
-FALSE and changes nothing.
+Wiring mistakes never stop the PLC: attaching a null reference, an
+observer that is already attached, or one more than the array holds is
+refused with FALSE and changes nothing, and ``refusal`` (``E_AttachRefusal``)
+says which rule was broken; detaching one that is not attached answers
+FALSE as well.
 
 Roles
 -----
@@ -53,7 +53,8 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_TemperatureTransmitter IMPLEMENTS I_Subject
     VAR_INPUT  rawTemperature : REAL; wireBreak : BOOL; END_VAR
-    VAR_OUTPUT value : REAL; quality : E_Quality; END_VAR
+    VAR_OUTPUT value : REAL; quality : E_Quality;
+               refusal : E_AttachRefusal; END_VAR  // why the last Attach said FALSE
     VAR        observers : ARRAY[1..MAX_OBSERVERS] OF I_Observer;
                count : INT; END_VAR
         METHOD PRIVATE Notify
@@ -110,11 +111,9 @@ from iecoop import (
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
-    ExceptionCode,
     FunctionBlock,
     IecEnum,
     Interface,
-    PlcException,
     Program,
     Struct,
     T,
@@ -129,6 +128,7 @@ __all__ = [
     "LOG_SIZE",
     "MAX_OBSERVERS",
     "TREND_SIZE",
+    "AttachRefusal",
     "EventLogger",
     "HighTemperatureAlarm",
     "IObserver",
@@ -163,6 +163,15 @@ class LogReason(IecEnum, base=USINT):
     FIRST_SAMPLE = 0
     QUALITY_CHANGED = 1
     DEADBAND = 2
+
+
+class AttachRefusal(IecEnum, base=USINT):
+    """``TYPE E_AttachRefusal : (NONE, NULL_OBSERVER, ALREADY_ATTACHED, LIST_FULL) USINT; END_TYPE``: why ``Attach`` said FALSE."""
+
+    NONE = 0
+    NULL_OBSERVER = 1
+    ALREADY_ATTACHED = 2
+    LIST_FULL = 3
 
 
 class TrendSample(Struct):
@@ -218,6 +227,7 @@ class TemperatureTransmitter(FunctionBlock, ISubject):
     range_high: REAL = VAR_INPUT(250.0)
     value: REAL = VAR_OUTPUT(0.0)
     quality: Quality = VAR_OUTPUT(Quality.BAD)
+    refusal: AttachRefusal = VAR_OUTPUT(AttachRefusal.NONE)
     observers: ARRAY[IObserver] = VAR(bounds=(1, MAX_OBSERVERS))
     count: INT = VAR(0)
 
@@ -234,20 +244,17 @@ class TemperatureTransmitter(FunctionBlock, ISubject):
 
     @method
     def attach(self, observer: IObserver) -> BOOL:
-        """Add ``observer`` at the end; FALSE if it is already attached."""
+        """Add ``observer`` at the end; FALSE if refused, ``refusal`` says why."""
         if not observer:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
-                "TemperatureTransmitter.attach: the observer is a null interface reference",
-            )
+            self.refusal = AttachRefusal.NULL_OBSERVER
+            return False
         if self.index_of(observer) > 0:
+            self.refusal = AttachRefusal.ALREADY_ATTACHED
             return False
         if self.count >= MAX_OBSERVERS:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"TemperatureTransmitter.attach: the observer list is full "
-                f"({self.count} of MAX_OBSERVERS = {MAX_OBSERVERS})",
-            )
+            self.refusal = AttachRefusal.LIST_FULL
+            return False
+        self.refusal = AttachRefusal.NONE
         self.count += 1
         self.observers[self.count] = observer
         return True
@@ -340,13 +347,11 @@ class TrendBuffer(FunctionBlock, IObserver):
 
     @method
     def value_at(self, age: INT) -> REAL:
-        """The sample ``age`` updates back (0 = newest)."""
+        """The sample ``age`` updates back (0 = newest); 0.0 past the ``stored`` samples."""
         if not 0 <= age < self.stored:
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"TrendBuffer.value_at: age {age} is outside the {self.stored} stored samples",
-            )
-        value: REAL = self.samples[(self.head - 1 - age) % TREND_SIZE].value
+            return 0.0
+        # + TREND_SIZE: ST's MOD keeps the sign of a negative operand, Python's % does not.
+        value: REAL = self.samples[(self.head - 1 - age + TREND_SIZE) % TREND_SIZE].value
         return value
 
 
@@ -361,6 +366,7 @@ class EventLogger(FunctionBlock, IObserver):
     deadband: REAL = VAR_INPUT(5.0)
     total: DINT = VAR_OUTPUT(0)
     entries: ARRAY[LogEntry] = VAR(bounds=(0, LOG_SIZE - 1))
+    no_entry: LogEntry = VAR({"quality": Quality.BAD})
     last_value: REAL = VAR(0.0)
     last_quality: Quality = VAR(Quality.GOOD)
 
@@ -375,13 +381,9 @@ class EventLogger(FunctionBlock, IObserver):
 
     @method
     def entry(self, number: DINT) -> LogEntry:
-        """Entry ``number`` (1 = the first ever recorded), if still in the ring."""
+        """Entry ``number`` (1 = the first ever recorded); once out of the ring, an empty entry of quality BAD."""
         if not (self.total - LOG_SIZE < number <= self.total and number >= 1):
-            raise PlcException(
-                ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                f"EventLogger.entry: entry {number} is not in the ring (entries "
-                f"{max(1, self.total - LOG_SIZE + 1)}..{self.total})",
-            )
+            return self.no_entry
         found: LogEntry = self.entries[(number - 1) % LOG_SIZE]
         return found
 

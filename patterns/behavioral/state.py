@@ -693,14 +693,41 @@ class PackMLMachine(FunctionBlock, IPackMLUnit, IPackMLContext):
     last_refused: PackMLCommand = VAR_OUTPUT(PackMLCommand.NONE)
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
-        blocks: tuple[PackMLStateBase, ...] = (
-            self.stopped, self.resetting, self.idle, self.starting, self.execute, self.completing,
-            self.complete, self.holding, self.held, self.unholding, self.suspending, self.suspended,
-            self.unsuspending, self.stopping, self.aborting, self.aborted, self.clearing,
-        )
-        for block in blocks:
-            block.attach(self)
-            self.states[block.state] = block
+        # ST has no list of instances to loop over: each state is wired and filed by name.
+        self.stopped.attach(self)
+        self.resetting.attach(self)
+        self.idle.attach(self)
+        self.starting.attach(self)
+        self.execute.attach(self)
+        self.completing.attach(self)
+        self.complete.attach(self)
+        self.holding.attach(self)
+        self.held.attach(self)
+        self.unholding.attach(self)
+        self.suspending.attach(self)
+        self.suspended.attach(self)
+        self.unsuspending.attach(self)
+        self.stopping.attach(self)
+        self.aborting.attach(self)
+        self.aborted.attach(self)
+        self.clearing.attach(self)
+        self.states[PackMLState.STOPPED] = self.stopped
+        self.states[PackMLState.RESETTING] = self.resetting
+        self.states[PackMLState.IDLE] = self.idle
+        self.states[PackMLState.STARTING] = self.starting
+        self.states[PackMLState.EXECUTE] = self.execute
+        self.states[PackMLState.COMPLETING] = self.completing
+        self.states[PackMLState.COMPLETE] = self.complete
+        self.states[PackMLState.HOLDING] = self.holding
+        self.states[PackMLState.HELD] = self.held
+        self.states[PackMLState.UNHOLDING] = self.unholding
+        self.states[PackMLState.SUSPENDING] = self.suspending
+        self.states[PackMLState.SUSPENDED] = self.suspended
+        self.states[PackMLState.UNSUSPENDING] = self.unsuspending
+        self.states[PackMLState.STOPPING] = self.stopping
+        self.states[PackMLState.ABORTING] = self.aborting
+        self.states[PackMLState.ABORTED] = self.aborted
+        self.states[PackMLState.CLEARING] = self.clearing
         self.states[self.current].enter(self.current)
         return True
 

@@ -51,18 +51,20 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_PidControl IMPLEMENTS I_ControlStrategy
         VAR kp, ti, td, integral, lastActual : REAL; END_VAR
-        VAR_OUTPUT y : REAL; END_VAR
-        METHOD Tune        // VAR_INPUT kp, ti, td : REAL; END_VAR
+        VAR_OUTPUT y : REAL; tuneError : BOOL; END_VAR
+        METHOD Tune : BOOL // VAR_INPUT kp, ti, td : REAL; END_VAR  FALSE: gains kept
 
     FUNCTION_BLOCK FB_PwmControl IMPLEMENTS I_ControlStrategy
         VAR pid : FB_PidControl; periodTimer : TON; pulse : TP; END_VAR
-        PROPERTY Period : TIME  // Get, Set (at least T#100MS)
+        PROPERTY Period : TIME  // Get, Set (raised to T#100MS if shorter)
 
     FUNCTION_BLOCK FB_HeaterZone
         VAR_INPUT setpoint : REAL; actual : REAL; cycleTime : TIME; END_VAR
-        VAR_OUTPUT power : REAL; output : REAL; END_VAR
+        VAR_OUTPUT power : REAL; output : REAL;
+                   noStrategy : BOOL; END_VAR  // TRUE: the heater gets 0 %
         VAR activeStrategy : I_ControlStrategy; END_VAR
-        PROPERTY Strategy : I_ControlStrategy  // Set: new.Takeover(output, ...)
+        PROPERTY Strategy : I_ControlStrategy  // Set: new.Takeover(output, ...);
+                                               // a null one is ignored
 
 When not to use it on a PLC
 ---------------------------
@@ -110,6 +112,7 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import DINT_TO_TIME, TIME_TO_DINT, TO_TIME, TRUNC
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import TON, TP
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -216,6 +219,7 @@ class PidControl(FunctionBlock, IControlStrategy):
     last_actual: REAL = VAR(0.0)
     primed: BOOL = VAR(False)
     y: REAL = VAR_OUTPUT(0.0)
+    tune_error: BOOL = VAR_OUTPUT(False)
 
     def fb_init(
         self, init_retains: BOOL, in_copy_code: BOOL, kp: REAL = 12.0, ti: REAL = 6.0, td: REAL = 0.0
@@ -224,13 +228,17 @@ class PidControl(FunctionBlock, IControlStrategy):
         return True
 
     @method
-    def tune(self, kp: REAL, ti: REAL, td: REAL = 0.0) -> None:
-        """New gains: ``kp`` in % per kelvin, ``ti`` and ``td`` in seconds (0 switches the term off)."""
-        if kp <= 0.0:
-            raise ValueError(f"PidControl.tune: kp must be > 0 %/K, got {kp}")
-        if ti < 0.0 or td < 0.0:
-            raise ValueError(f"PidControl.tune: ti and td must be >= 0 s (0 switches the term off), got {ti}, {td}")
+    def tune(self, kp: REAL, ti: REAL, td: REAL = 0.0) -> BOOL:
+        """New gains: ``kp`` in % per kelvin, ``ti`` and ``td`` in seconds (0 switches the term off).
+
+        ``kp <= 0`` or a negative ``ti`` / ``td`` is refused: FALSE, the gains
+        before stay, and ``tune_error`` is set until a valid tuning.
+        """
+        self.tune_error = kp <= 0.0 or ti < 0.0 or td < 0.0
+        if self.tune_error:
+            return False
         self.kp, self.ti, self.td = kp, ti, td
+        return True
 
     @method
     def takeover(self, output: REAL, setpoint: REAL, actual: REAL) -> None:
@@ -242,7 +250,7 @@ class PidControl(FunctionBlock, IControlStrategy):
 
     @method
     def execute(self, setpoint: REAL, actual: REAL, cycle_time: TIME) -> REAL:
-        dt = cycle_time / 1000.0
+        dt = TIME_TO_DINT(cycle_time) / 1000.0   # TIME / REAL would be a TIME in ST
         error = setpoint - actual
         if not self.primed:
             self.last_actual = actual
@@ -303,9 +311,8 @@ class PwmControl(FunctionBlock, IControlStrategy):
 
     @period.setter
     def period(self, value: TIME) -> None:
-        if value < T("100ms"):
-            raise ValueError(f"PwmControl.period must be at least T#100ms, got T#{value}ms")
-        self.period_time = value
+        # Shorter than 10 scans the on-time cannot be resolved: a shorter period is raised to T#100MS.
+        self.period_time = max(value, T("100ms"))
         self.running = False
 
     @method
@@ -323,7 +330,7 @@ class PwmControl(FunctionBlock, IControlStrategy):
             self.periods += 1
             self.period_timer(IN=False)
             self.period_timer(IN=True, PT=self.period)
-            self.on_time = int(duty / 100.0 * self.period + 0.5)
+            self.on_time = DINT_TO_TIME(TRUNC(duty / 100.0 * TIME_TO_DINT(self.period) + 0.5))
             self.pulse(IN=False)
             self.pulse(IN=self.on_time > 0, PT=self.on_time)
         else:
@@ -357,14 +364,15 @@ class ThermalProcess(FunctionBlock):
     def fb_init(
         self, init_retains: BOOL, in_copy_code: BOOL, ambient: REAL = 20.0, gain: REAL = 1.0, tau: REAL = 20.0
     ) -> BOOL:
-        if tau <= 0.0:
-            raise ValueError(f"ThermalProcess: FB_init input tau must be > 0 s, got {tau}")
-        self.ambient, self.gain, self.tau = ambient, gain, tau
+        # A time constant of 0 s or less has no meaning (and would divide by zero): the default stays.
+        if tau > 0.0:
+            self.tau = tau
+        self.ambient, self.gain = ambient, gain
         self.temperature = ambient
         return True
 
     def body(self) -> None:
-        dt = self.cycle_time / 1000.0
+        dt = TIME_TO_DINT(self.cycle_time) / 1000.0
         target = self.ambient + self.gain * limit(self.power)
         self.temperature = self.temperature + dt / self.tau * (target - self.temperature)
 
@@ -387,6 +395,7 @@ class HeaterZone(FunctionBlock):
     power: REAL = VAR_OUTPUT(0.0)
     output: REAL = VAR_OUTPUT(0.0)
     swaps: UDINT = VAR_OUTPUT(0)
+    no_strategy: BOOL = VAR_OUTPUT(False)
     active_strategy: IControlStrategy = VAR()
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, strategy: IControlStrategy | None = None) -> BOOL:
@@ -400,9 +409,8 @@ class HeaterZone(FunctionBlock):
 
     @strategy.setter
     def strategy(self, value: IControlStrategy) -> None:
-        if not value:
-            raise ValueError("HeaterZone.strategy: a null I_ControlStrategy cannot control the heater")
-        if value == self.active_strategy:
+        # A null strategy cannot control the heater: it is ignored and the running one stays.
+        if not value or value == self.active_strategy:
             return
         if self.active_strategy:
             # Bumpless: the newcomer starts from what the running strategy gives now.
@@ -411,7 +419,11 @@ class HeaterZone(FunctionBlock):
         self.swaps += 1
 
     def body(self) -> None:
-        # A zone without a strategy faults here (RTSEXCPT_ACCESS_VIOLATION): a configuration error.
+        # A zone without a strategy is a configuration error: the heater stays off and it shows.
+        self.no_strategy = not self.active_strategy
+        if self.no_strategy:
+            self.power, self.output = OUTPUT_MIN, OUTPUT_MIN
+            return
         self.power = self.active_strategy.execute(self.setpoint, self.actual, self.cycle_time)
         self.output = self.active_strategy.output
 
@@ -455,7 +467,7 @@ class ZoneMain(Program):
         self.selected = mode
 
     def body(self) -> None:
-        cycle_time = current_task().CycleTime // 10_000
+        cycle_time: TIME = TO_TIME(current_task().CycleTime // 10_000)
         if self.mode != self.selected:
             self.select(self.mode)
         self.zone(setpoint=self.setpoint, actual=self.process.temperature, cycle_time=cycle_time)

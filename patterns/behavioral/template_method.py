@@ -106,13 +106,13 @@ References
 
 from __future__ import annotations
 
-import math
 from operator import attrgetter
 
 from iecoop import (
     ABSTRACT,
     ARRAY,
     BOOL,
+    DINT,
     FINAL,
     LREAL,
     PRIVATE,
@@ -130,6 +130,7 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import TIME_TO_DINT, TRUNC
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import F_TRIG, R_TRIG, TON
 from patterns.showcase.entry import Column, Showcase
@@ -159,6 +160,33 @@ class HomingStep(IecEnum):
     SET_POSITION = 5
     DONE = 6
     ERROR = 7
+
+
+def floor_dint(value: LREAL) -> DINT:
+    """``FUNCTION F_FloorDint : DINT``: the largest whole number not above ``value`` (TRUNC rounds toward zero)."""
+    whole: DINT = TRUNC(value)
+    if whole > value:
+        whole -= 1
+    return whole
+
+
+def step_name(step: HomingStep) -> STRING:
+    """``FUNCTION F_StepName : STRING``: the name of a step, for the HMI's error text."""
+    if step == HomingStep.PRECONDITIONS:
+        return "PRECONDITIONS"
+    if step == HomingStep.APPROACH:
+        return "APPROACH"
+    if step == HomingStep.EDGE:
+        return "EDGE"
+    if step == HomingStep.BACK_OFF:
+        return "BACK_OFF"
+    if step == HomingStep.SET_POSITION:
+        return "SET_POSITION"
+    if step == HomingStep.DONE:
+        return "DONE"
+    if step == HomingStep.ERROR:
+        return "ERROR"
+    return "IDLE"
 
 
 # ---------------------------------------------------------------------------
@@ -248,10 +276,10 @@ class SimAxis(FunctionBlock, IAxis):
         if not self.enable:
             self.velocity = 0.0
         before = self.mechanical
-        self.mechanical = before + self.velocity * self.cycle_time / 1000.0
+        self.mechanical = before + self.velocity * TIME_TO_DINT(self.cycle_time) / 1000.0
         if self.latch_armed and not self.latched:
-            mark_before = math.floor(before / self.index_pitch)
-            mark_after = math.floor(self.mechanical / self.index_pitch)
+            mark_before: DINT = floor_dint(before / self.index_pitch)
+            mark_after: DINT = floor_dint(self.mechanical / self.index_pitch)
             if mark_before != mark_after:
                 self.latched = True
                 self.latched_at = max(mark_before, mark_after) * self.index_pitch
@@ -387,25 +415,25 @@ class AxisHoming(FunctionBlock, IHoming, abstract=True):
         self.entry = False
         self.step_timer(IN=True, PT=self.timeout)
         step = self.current
+        # Each step names the one that follows it: the chain runs in the order of E_HomingStep.
         if step == HomingStep.PRECONDITIONS:
-            finished = self.check_preconditions(first)
+            finished, following = self.check_preconditions(first), HomingStep.APPROACH
         elif step == HomingStep.APPROACH:
-            finished = self.approach(first)
+            finished, following = self.approach(first), HomingStep.EDGE
         elif step == HomingStep.EDGE:
-            finished = self.find_edge(first)
+            finished, following = self.find_edge(first), HomingStep.BACK_OFF
         elif step == HomingStep.BACK_OFF:
-            finished = self.back_off(first)
+            finished, following = self.back_off(first), HomingStep.SET_POSITION
         else:  # SET_POSITION: the only other step while busy
-            finished = self.set_reference(first)
+            finished, following = self.set_reference(first), HomingStep.DONE
         if finished:
-            # The chain runs in the order of E_HomingStep.
-            self.enter_step(HomingStep(int(step) + 1))
+            self.enter_step(following)
             if self.current == HomingStep.DONE:
                 self.busy, self.done = False, True
         elif self.step_timer.Q:
             self.drive.halt()
             self.busy, self.error, self.error_step = False, True, step
-            self.error_text = f"{step.name} timed out after {self.timeout} ms"
+            self.error_text = f"{step_name(step)} timed out after {TIME_TO_DINT(self.timeout)} ms"
             self.current = HomingStep.ERROR
         return self.done
 

@@ -56,7 +56,7 @@ IEC 61131-3 mapping
 
     INTERFACE I_Device
         METHOD Accept  VAR_INPUT visitor : I_DeviceVisitor; END_VAR
-        METHOD Attach  VAR_INPUT parentPath : STRING; END_VAR
+        METHOD Attach : BOOL   VAR_INPUT parentPath : STRING; END_VAR
         PROPERTY InstancePath : STRING    (Get)
         PROPERTY Health : E_Health        (Get)
 
@@ -69,7 +69,8 @@ IEC 61131-3 mapping
 
     FUNCTION_BLOCK FB_Area IMPLEMENTS I_Area
         VAR devices : ARRAY[1..MAX_DEVICES] OF I_Device; count : INT; END_VAR
-        METHOD Add          VAR_INPUT device : I_Device; END_VAR
+        VAR_OUTPUT refusal : E_AddRefusal; END_VAR
+        METHOD Add : BOOL   VAR_INPUT device : I_Device; END_VAR
         METHOD INTERNAL Attach
 
     FUNCTION_BLOCK FB_Plant
@@ -114,6 +115,7 @@ from iecoop import (
     ABSTRACT,
     ARRAY,
     BOOL,
+    DINT,
     INT,
     INTERNAL,
     LREAL,
@@ -133,6 +135,8 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import LREAL_TO_DINT, TIME_TO_DINT, TO_TIME
+from iecoop.functions import CONCAT
 from iecoop.runtime import Runtime, Task, current_task
 from iecoop.stdlib import R_TRIG, TON
 from patterns.showcase.entry import Column, Showcase, press, steps
@@ -141,6 +145,7 @@ __all__ = [
     "MAX_AREAS",
     "MAX_DEVICES",
     "MAX_LINES",
+    "AddRefusal",
     "Area",
     "CsvHealthReport",
     "EnergyTotals",
@@ -156,7 +161,9 @@ __all__ = [
     "PlantMain",
     "Sensor",
     "Valve",
+    "health_text",
     "main",
+    "one_decimal",
 ]
 
 MAX_AREAS = 4
@@ -173,6 +180,38 @@ class Health(IecEnum):
     OK = 0
     WARNING = 1
     FAULT = 2
+
+
+class AddRefusal(IecEnum):
+    """``TYPE E_AddRefusal : (NONE, NULL_DEVICE, ALREADY_IN_AREA, AREA_FULL, NO_PATH) INT; END_TYPE``.
+
+    Why ``FB_Area.Add`` said FALSE; NO_PATH: the device has no name, or its
+    instance path does not fit ``STRING(PATH_LENGTH)``.
+    """
+
+    NONE = 0
+    NULL_DEVICE = 1
+    ALREADY_IN_AREA = 2
+    AREA_FULL = 3
+    NO_PATH = 4
+
+
+def health_text(health: Health) -> STRING:
+    """``FUNCTION F_HealthText : STRING``: the CSV word for a health."""
+    if health == Health.FAULT:
+        return "FAULT"
+    if health == Health.WARNING:
+        return "WARNING"
+    return "OK"
+
+
+def one_decimal(value: LREAL) -> STRING:
+    """``FUNCTION F_OneDecimal : STRING``: ``value`` rounded to tenths, ``'12.5'``, ``'-0.5'``, ``'3.0'``."""
+    tenths: DINT = LREAL_TO_DINT(abs(value) * 10.0)
+    text: STRING = f"{tenths // 10}.{tenths % 10}"
+    if value < 0.0 and tenths > 0:
+        return CONCAT("-", text)
+    return text
 
 
 # ---------------------------------------------------------------------------
@@ -279,7 +318,8 @@ class IDevice(Interface):
     def accept(self, visitor: IDeviceVisitor) -> None: ...
 
     @method
-    def attach(self, parent_path: STRING) -> None: ...
+    def attach(self, parent_path: STRING) -> BOOL:
+        raise NotImplementedError
 
     @prop
     def instance_path(self) -> STRING:
@@ -300,7 +340,9 @@ class Device(FunctionBlock, IDevice, abstract=True):
 
     ``accept`` is ABSTRACT: only the concrete kind knows which ``Visit``
     method is its own. ``attach`` composes ``parent.name`` once, when the
-    device joins an area, so the path is not rebuilt at every report.
+    device joins an area, so the path is not rebuilt at every report; it
+    answers FALSE for a device without a name (FB_init input ``name``) or a
+    path longer than ``STRING(PATH_LENGTH)``.
     """
 
     cycle_time: TIME = VAR_INPUT(T("10ms"))
@@ -308,19 +350,15 @@ class Device(FunctionBlock, IDevice, abstract=True):
     path: STRING = VAR("", length=PATH_LENGTH)
 
     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, name: STRING = "") -> BOOL:
-        if not name:
-            raise ValueError(
-                f"{type(self).__name__}: FB_init input 'name' is empty; a device needs a name for its path"
-            )
         self.name = name
         return True
 
     @method
-    def attach(self, parent_path: STRING) -> None:
-        path = f"{parent_path}.{self.name}"
-        if len(path) > PATH_LENGTH:
-            raise ValueError(f"{type(self).__name__} {path}: instance path longer than STRING({PATH_LENGTH})")
-        self.path = path
+    def attach(self, parent_path: STRING) -> BOOL:
+        if self.name == "" or len(parent_path) + 1 + len(self.name) > PATH_LENGTH:
+            return False
+        self.path = f"{parent_path}.{self.name}"
+        return True
 
     @prop
     def instance_path(self) -> STRING:
@@ -365,7 +403,7 @@ class Motor(Device, IMotor):
         if self.start_edge.Q:
             self.start_count += 1
         if self.running:
-            self.seconds += self.cycle_time / 1000.0
+            self.seconds += TIME_TO_DINT(self.cycle_time) / 1000.0
 
     @method
     def accept(self, visitor: IDeviceVisitor) -> None:
@@ -509,8 +547,9 @@ class Area(FunctionBlock, IArea):
     Areas live in their plant's static pool and are handed out by
     ``Plant.add_area``. An area is not an ``I_Device``, so it cannot be put
     into another area: the tree stays three levels deep and the walk stays
-    bounded. ``add`` refuses a full area, a null reference and a device that
-    already belongs to an area (it would be counted twice).
+    bounded. ``add`` refuses (FALSE, the reason in ``refusal``) a full area,
+    a null reference, a device that already belongs to an area (it would be
+    counted twice) and one without a path.
     """
 
     name: STRING = VAR("", length=16)
@@ -518,6 +557,7 @@ class Area(FunctionBlock, IArea):
     position: INT = VAR(0)
     devices: ARRAY[IDevice] = VAR(bounds=(1, MAX_DEVICES))
     count: INT = VAR_OUTPUT(0)
+    refusal: AddRefusal = VAR_OUTPUT(AddRefusal.NONE)
 
     @method(INTERNAL)
     def attach(self, parent_path: STRING, name: STRING, position: INT) -> None:
@@ -527,16 +567,21 @@ class Area(FunctionBlock, IArea):
         self.position = position
 
     @method
-    def add(self, device: IDevice) -> None:
+    def add(self, device: IDevice) -> BOOL:
+        """Take ``device`` into the area and give it its path; FALSE, the reason in ``refusal``, if refused."""
         if not device:
-            raise ValueError(f"Area {self.path}: cannot add a null I_Device")
-        if device.instance_path:
-            raise ValueError(f"Area {self.path}: {device.instance_path} already belongs to an area")
-        if self.count >= MAX_DEVICES:
-            raise ValueError(f"Area {self.path} is full: {MAX_DEVICES} devices (ARRAY[1..{MAX_DEVICES}])")
-        self.count += 1
-        self.devices[self.count] = device
-        device.attach(self.path)
+            self.refusal = AddRefusal.NULL_DEVICE
+        elif device.instance_path != "":
+            self.refusal = AddRefusal.ALREADY_IN_AREA
+        elif self.count >= MAX_DEVICES:
+            self.refusal = AddRefusal.AREA_FULL
+        elif not device.attach(self.path):
+            self.refusal = AddRefusal.NO_PATH
+        else:
+            self.refusal = AddRefusal.NONE
+            self.count += 1
+            self.devices[self.count] = device
+        return self.refusal == AddRefusal.NONE
 
     @method
     def accept(self, visitor: IDeviceVisitor) -> None:
@@ -557,7 +602,9 @@ class Plant(FunctionBlock):
     """``FUNCTION_BLOCK FB_Plant``: the root, owning a static pool of MAX_AREAS areas.
 
     ``Plant(name="Plant")``; ``add_area("Area1")`` hands out the next area
-    of the pool (ST: a ``REFERENCE TO FB_Area``), and a full pool is refused.
+    of the pool (ST: a ``REFERENCE TO FB_Area``). Asking a full pool for one
+    more is a configuration error: the index past ``MAX_AREAS`` faults with
+    RTSEXCPT_ARRAYBOUNDS, as any out-of-bounds access does.
     """
 
     name: STRING = VAR("", length=16)
@@ -570,10 +617,8 @@ class Plant(FunctionBlock):
 
     @method
     def add_area(self, name: STRING) -> Area:
-        if self.count >= MAX_AREAS:
-            raise ValueError(f"Plant {self.name} is full: {MAX_AREAS} areas (ARRAY[1..{MAX_AREAS}])")
+        area = self.areas[self.count + 1]   # past MAX_AREAS: RTSEXCPT_ARRAYBOUNDS, the count unchanged
         self.count += 1
-        area = self.areas[self.count]
         area.attach(self.name, name, self.count)
         return area
 
@@ -627,7 +672,7 @@ class CsvHealthReport(FunctionBlock, IDeviceVisitor):
             self.faults += 1
         elif health == Health.WARNING:
             self.warnings += 1
-        self.append(f"{path},{kind},{Health(health).name},{detail}")
+        self.append(f"{path},{kind},{health_text(health)},{detail}")
 
     @method
     def visit_area(self, area: IArea) -> None:
@@ -636,27 +681,29 @@ class CsvHealthReport(FunctionBlock, IDeviceVisitor):
     @method
     def visit_motor(self, motor: IMotor) -> None:
         health = motor.health
+        detail: STRING
         if health == Health.FAULT:
             detail = "overload trip"
         else:
-            detail = f"starts={motor.starts} run={motor.run_seconds:.1f}s"
+            detail = f"starts={motor.starts} run={one_decimal(motor.run_seconds)}s"
             if health == Health.WARNING:
-                detail += " service due"
+                detail = CONCAT(detail, " service due")
         self.row(motor.instance_path, "motor", health, detail)
 
     @method
     def visit_valve(self, valve: IValve) -> None:
         health = valve.health
-        detail = "no end position feedback" if health == Health.FAULT else f"strokes={valve.strokes}"
+        detail: STRING = "no end position feedback" if health == Health.FAULT else f"strokes={valve.strokes}"
         self.row(valve.instance_path, "valve", health, detail)
 
     @method
     def visit_sensor(self, sensor: ISensor) -> None:
         health = sensor.health
+        detail: STRING
         if health == Health.FAULT:
-            detail = f"wire break current={sensor.current:.1f}mA"
+            detail = f"wire break current={one_decimal(sensor.current)}mA"
         else:
-            detail = f"value={sensor.value:.1f} current={sensor.current:.1f}mA"
+            detail = f"value={one_decimal(sensor.value)} current={one_decimal(sensor.current)}mA"
         self.row(sensor.instance_path, "sensor", health, detail)
 
 
@@ -742,11 +789,12 @@ class PlantMain(Program):
         return True
 
     def body(self) -> None:
-        cycle_time = current_task().CycleTime // 10_000
-        for motor in (self.motor1, self.motor2, self.motor3):
-            motor(cycle_time=cycle_time)
-        for valve in (self.valve1, self.valve2):
-            valve(cycle_time=cycle_time)
+        cycle_time: TIME = TO_TIME(current_task().CycleTime // 10_000)
+        self.motor1(cycle_time=cycle_time)
+        self.motor2(cycle_time=cycle_time)
+        self.motor3(cycle_time=cycle_time)
+        self.valve1(cycle_time=cycle_time)
+        self.valve2(cycle_time=cycle_time)
         self.tt101(cycle_time=cycle_time)
         self.lt201(cycle_time=cycle_time)
         self.export_edge(CLK=self.export)

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import AccessError, ExceptionCode, PlcException, T, delete, new
+from iecoop import NULL, AccessError, T, delete, new
 from iecoop.runtime import Runtime, Task, default_clock
 from patterns.behavioral.command import (
     AUDIT_DEPTH,
@@ -17,6 +17,7 @@ from patterns.behavioral.command import (
     MACRO_CAPACITY,
     AuditAction,
     AuditTrail,
+    CommandError,
     CommandHistory,
     CommandPanel,
     DosingPump,
@@ -30,6 +31,7 @@ from patterns.behavioral.command import (
     SetPumpSpeedCommand,
     StartMixerCommand,
     UndoRecord,
+    speed_text,
 )
 
 State = tuple[bool, float, bool]
@@ -237,30 +239,49 @@ def test_the_same_command_pressed_twice_is_undone_twice() -> None:
     assert speeds == [75.0, 30.0, 0.0]
 
 
-def test_a_command_without_its_receiver_faults_before_touching_the_history() -> None:
+def test_a_command_without_its_receiver_is_refused_before_touching_the_history() -> None:
     history, pump = CommandHistory(), DosingPump()
     pump_40 = SetPumpSpeedCommand(pump=pump, speed=40.0)
-    history.execute(pump_40)
-    unbound: list[tuple[ICommand, str]] = [
-        (OpenValveCommand(), "valve"), (SetPumpSpeedCommand(speed=5.0), "pump"), (StartMixerCommand(), "mixer")
+    assert history.execute(pump_40) is True
+    unbound: list[tuple[OpenValveCommand | SetPumpSpeedCommand | StartMixerCommand, str]] = [
+        (OpenValveCommand(), "open valve"), (SetPumpSpeedCommand(speed=5.0), "pump to 5 %"),
+        (StartMixerCommand(), "start mixer"),
     ]
-    for command, what in unbound:
-        with pytest.raises(PlcException, match=rf"no live {what} \(not injected, or deleted\)") as info:
-            history.execute(command)
-        assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
-    assert (history.count, history.newest.name) == (1, "P to 40 %")
+    for command, name in unbound:
+        assert history.execute(command) is False
+        assert (command.error, command.name) == (CommandError.NO_RECEIVER, name)
+        assert command.undo(UndoRecord()) is False
+    assert (history.count, history.newest.name, pump.speed) == (1, "P to 40 %", 40.0)
 
 
-def test_a_command_whose_receiver_was_deleted_faults_instead_of_writing_freed_memory() -> None:
+def test_a_command_whose_receiver_was_deleted_refuses_instead_of_writing_freed_memory() -> None:
     p_valve = new(DosingValve, tag="XV9")
     command = OpenValveCommand(valve=p_valve.deref)
     record = UndoRecord()
-    command.execute(record)
+    assert command.execute(record) is True
+    assert (command.error, command.name) == (CommandError.NONE, "open XV9")
     delete(p_valve)
-    with pytest.raises(PlcException, match="no live valve") as info:
-        command.undo(record)
-    assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
-    assert record.used == 1
+    assert command.undo(record) is False
+    assert (command.error, command.name, record.used) == (CommandError.NO_RECEIVER, "open valve", 1)
+
+
+def test_a_deleted_receiver_is_refused_on_the_panel_and_logged() -> None:
+    panel = CommandPanel()
+    p_mixer = new(Mixer, tag="M9")
+    start = StartMixerCommand(mixer=p_mixer.deref)
+    assert panel.assign(1, start) is True
+    default_clock().set(0)
+    panel.buttons[1] = True
+    panel()
+    panel.buttons[1] = False
+    panel()
+    delete(p_mixer)
+    panel(undo_button=True)
+    panel(undo_button=False)
+    panel.buttons[1] = True
+    panel()
+    assert _actions(panel) == [("EXECUTED", "start M9"), ("REFUSED", "start mixer"), ("REFUSED", "start mixer")]
+    assert (panel.history.count, start.error) == (0, CommandError.NO_RECEIVER)
 
 
 def test_macro_add_refuses_a_full_macro_too_many_steps_nulls_and_cycles() -> None:
@@ -269,47 +290,78 @@ def test_macro_add_refuses_a_full_macro_too_many_steps_nulls_and_cycles() -> Non
     prime, outer = bench.prime, bench.outer
     full = MacroCommand(label="full")
     for command in (open_valve, slow, fast, start):
-        full.add(command)
-    with pytest.raises(PlcException, match=rf"macro 'full' is full \({MACRO_CAPACITY} commands\)") as info:
-        full.add(slow)
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+        assert full.add(command) is True
+    assert (full.add(slow), full.error) == (False, CommandError.MACRO_FULL)
     big = MacroCommand(label="big")
-    big.add(full)
-    big.add(open_valve)
-    with pytest.raises(PlcException, match=r"macro 'big' would need 8 undo steps; a history entry holds 6"):
-        big.add(prime)
-    with pytest.raises(PlcException, match="cannot add a null command"):
-        big.add(CommandPanel().commands[1])
-    with pytest.raises(PlcException, match="macro 'outer' cannot contain itself"):
-        outer.add(outer)
-    with pytest.raises(PlcException, match=r"macro 'prime' contains itself") as info:
-        prime.add(outer)
-    assert info.value.code == ExceptionCode.RTSEXCPT_STACK_OVERFLOW
+    assert big.add(full) and big.add(open_valve)
+    assert (big.add(prime), big.error) == (False, CommandError.TOO_MANY_STEPS)
+    assert (big.add(CommandPanel().commands[1]), big.error) == (False, CommandError.NULL_COMMAND)
+    assert (outer.add(outer), outer.error) == (False, CommandError.CONTAINS_ITSELF)
+    assert (prime.add(outer), prime.error) == (False, CommandError.CONTAINS_ITSELF)
     assert (full.count, big.count, prime.count, outer.count) == (4, 2, 3, 2)
+    # The refusals left no macro marked busy: they still count and run.
+    assert (prime.undo_steps, outer.undo_steps, big.undo_steps) == (3, 4, 5)
+    record = UndoRecord()
+    assert (outer.execute(record), record.used, bench.state()) == (True, 4, (True, 30.0, True))
+    assert (big.add(fast), big.error) == (True, CommandError.NONE)
+
+
+def test_a_macro_is_all_or_nothing_when_a_command_refuses() -> None:
+    pump, valve = DosingPump(), DosingValve()
+    pump.set_speed(10.0)
+    no_mixer = StartMixerCommand()
+    macro = MacroCommand(label="fill")
+    steps: list[ICommand] = [SetPumpSpeedCommand(pump=pump, speed=25.0), OpenValveCommand(valve=valve), no_mixer]
+    for step in steps:
+        assert macro.add(step) is True
+    record = UndoRecord()
+    assert macro.execute(record) is False
+    assert (macro.error, no_mixer.error) == (CommandError.STEP_REFUSED, CommandError.NO_RECEIVER)
+    # The pump and the valve were taken back, newest first; the record is empty again.
+    assert (pump.speed, valve.is_open, record.used) == (10.0, False, 0)
+    history = CommandHistory()
+    assert (history.execute(macro), history.count) == (False, 0)
+
+
+def test_a_macro_refuses_a_record_without_room_for_its_steps() -> None:
+    bench = _bench()
+    record = UndoRecord()
+    for _ in range(4):
+        assert bench.commands[0].execute(record) is True
+    prime = bench.prime
+    assert (prime.execute(record), prime.error, record.used) == (False, CommandError.RECORD_FULL, 4)
+    assert bench.state() == (True, 0.0, False)
+    for _ in range(2):
+        assert bench.commands[1].execute(record) is True
+    start = StartMixerCommand(mixer=bench.mixer)
+    assert (start.execute(record), start.error, record.used) == (False, CommandError.RECORD_FULL, 6)
+    assert bench.mixer.running is False
 
 
 def test_panel_assign_checks_the_button_number_and_the_command() -> None:
     panel = CommandPanel()
-    with pytest.raises(PlcException, match=rf"no button {BUTTONS + 1} \(1\.\.{BUTTONS}\)") as info:
-        panel.assign(BUTTONS + 1, MacroCommand())
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
-    with pytest.raises(PlcException, match="button 1 got a null command"):
-        panel.assign(1, panel.commands[2])
+    assert (panel.assign(BUTTONS + 1, MacroCommand()), panel.error) == (False, CommandError.NO_BUTTON)
+    assert (panel.assign(0, MacroCommand()), panel.error) == (False, CommandError.NO_BUTTON)
+    assert (panel.assign(1, panel.commands[2]), panel.error) == (False, CommandError.NULL_COMMAND)
+    assert not panel.commands[1]
+    assert (panel.assign(BUTTONS, MacroCommand()), panel.error) == (True, CommandError.NONE)
 
 
 def test_history_ends_and_protected_steps_are_guarded() -> None:
     history = CommandHistory()
-    with pytest.raises(PlcException, match=r"CommandHistory\.newest: the history is empty"):
-        _ = history.newest
+    assert (history.newest, history.oldest) == (NULL, NULL)
     assert history.undo_last() is False
     valve = DosingValve()
     command = OpenValveCommand(valve=valve)
     with pytest.raises(AccessError, match=r"PROTECTED METHOD ReceiverCommand\.pop_step cannot be called"):
         command.pop_step(UndoRecord())
-    with pytest.raises(PlcException, match=r"undo\(\) without a matching execute\(\)"):
-        command.undo(UndoRecord())
+    assert command.undo(UndoRecord()) is False
+    assert command.error == CommandError.NOTHING_TO_UNDO
     with pytest.raises(TypeError, match="ABSTRACT"):
         ReceiverCommand()
+    assert history.execute(command) and history.undo_last()
+    # Undone back to empty: the ends are null again, not the stale entry.
+    assert (history.count, history.newest, history.oldest) == (0, NULL, NULL)
 
 
 def test_the_audit_trail_keeps_the_newest_lines() -> None:
@@ -321,8 +373,13 @@ def test_the_audit_trail_keeps_the_newest_lines() -> None:
     assert (trail.count, trail.total) == (AUDIT_DEPTH, AUDIT_DEPTH + 5)
     assert (trail.entry(1).command, trail.entry(1).at) == ("request 5", 5)
     assert trail.entry(AUDIT_DEPTH).command == f"request {AUDIT_DEPTH + 4}"
-    with pytest.raises(PlcException, match=rf"entry\(0\): the trail holds lines 1\.\.{AUDIT_DEPTH}"):
-        trail.entry(0)
+    for index in (0, -1, AUDIT_DEPTH + 1):
+        assert (trail.entry(index).command, trail.entry(index).at) == ("", 0)
+
+
+@pytest.mark.parametrize(("percent", "text"), [(60.0, "60"), (25.0, "25"), (12.5, "12.5"), (0.0, "0"), (99.94, "99.9"), (-7.5, "-7.5"), (-0.04, "0")])
+def test_speed_text_prints_like_the_hmi(percent: float, text: str) -> None:
+    assert speed_text(percent) == text
 
 
 # ---------------------------------------------------------------------------

@@ -7,7 +7,18 @@ from pathlib import Path
 
 import pytest
 
+from iecoop import BOOL, VAR_INPUT, FunctionBlock
 from patterns.showcase.export_cli import export_command, st_text
+
+
+class Refusing(FunctionBlock):
+    """An FB whose body throws, which a PLC cannot: the strict export must refuse it."""
+
+    go: BOOL = VAR_INPUT(False)
+
+    def body(self) -> None:
+        if self.go:
+            raise ValueError("no PLC form")
 
 
 def test_export_writes_twincat_files(tmp_path: Path) -> None:
@@ -24,8 +35,9 @@ def test_export_by_module_name_as_plcopen(tmp_path: Path) -> None:
 
 
 def test_strict_export_fails_on_a_statement_with_no_st_form(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert export_command(["observer", "--strict", "-o", str(tmp_path)], io.StringIO()) == 1
-    assert "raise has no Structured Text form" in capsys.readouterr().err
+    assert export_command([__name__, "--strict", "-o", str(tmp_path)], io.StringIO()) == 1
+    assert "raise has no Structured Text form (in Refusing.body)" in capsys.readouterr().err
+    assert export_command(["observer", "--strict", "-o", str(tmp_path)], io.StringIO()) == 0
 
 
 def test_unknown_name(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

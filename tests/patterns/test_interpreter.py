@@ -16,14 +16,17 @@ from patterns.behavioral.interpreter import (
     MAX_TAGS,
     MAX_TEXT,
     POOL_SIZE,
-    ExpressionError,
+    ExpressionParser,
     Interlock,
+    NodeKind,
     Operator,
+    TagRefusal,
     TagTable,
+    TokenKind,
     TransferMain,
     ValueType,
-    parse,
-    tokenize,
+    caret,
+    upper_text,
 )
 
 
@@ -130,8 +133,9 @@ def pumping() -> tuple[TransferMain, Runtime]:
 
 def test_a_rejected_text_leaves_the_running_expression_in_place() -> None:
     program, rt = pumping()
-    with pytest.raises(ExpressionError, match="unknown tag 'TT999'"):
-        program.transfer.compile("TT999 > 1 AND NOT LS3 AND LS3 AND LS3", program.tags)
+    transfer = program.transfer
+    assert transfer.compile("TT999 > 1 AND NOT LS3 AND LS3 AND LS3", program.tags) is False
+    assert (transfer.error, transfer.error_text, transfer.error_column) == (True, "unknown tag 'TT999'", 1)
     rt.run(cycles=1)
     assert program.pump_on is True
     assert program.transfer.source == "TT101 > 80 AND NOT LS3 AND (PT102 < 2.5 OR BYPASS)"
@@ -145,7 +149,8 @@ def test_disable_takes_the_expression_out_of_service_until_the_next_compile() ->
     transfer = program.transfer
     assert (program.pump_on, transfer.valid, transfer.root == NULL) == (False, False, True)
     assert (transfer.node_count, transfer.pool.node_count, transfer.source) == (0, 0, "")
-    transfer.compile("NOT LS3", program.tags)
+    assert transfer.compile("NOT LS3", program.tags) is True
+    assert (transfer.error, transfer.error_text, transfer.error_column) == (False, "", 0)
     rt.run(cycles=1)
     assert program.pump_on is True and program.pump_starts == 2
 
@@ -191,19 +196,35 @@ def test_expressions_evaluate_like_st(text: str, values: dict[str, float | bool]
 
 
 def test_the_tokenizer_reports_kinds_and_columns() -> None:
-    tokens = tokenize("  NOT(TT101<>-5)")
-    assert [(t.kind, t.text, t.column) for t in tokens] == [
-        ("keyword", "NOT", 3), ("symbol", "(", 6), ("word", "TT101", 7), ("symbol", "<>", 12),
-        ("symbol", "-", 14), ("number", "5", 15), ("symbol", ")", 16), ("end", "", 17),
+    parser = ExpressionParser()
+    assert parser.parse("  NOT(TT101<>-5)", plant_tags()) is True
+    tokens = [parser.tokens[i] for i in range(1, parser.token_count + 1)]
+    assert [(t.kind, parser.token_text(i), t.column) for i, t in enumerate(tokens, 1)] == [
+        (TokenKind.KEYWORD, "NOT", 3), (TokenKind.SYMBOL, "(", 6), (TokenKind.WORD, "TT101", 7),
+        (TokenKind.SYMBOL, "<>", 12), (TokenKind.SYMBOL, "-", 14), (TokenKind.NUMBER, "5", 15),
+        (TokenKind.SYMBOL, ")", 16), (TokenKind.END_, "", 17),
     ]
+    assert tokens[5].number == 5.0
+
+
+@pytest.mark.parametrize(("text", "value"), [("80", 80.0), ("2.5", 2.5), ("0.1", 0.1), ("007.250", 7.25), ("123456.789", 123456.789)])
+def test_numbers_are_read_as_the_nearest_real(text: str, value: float) -> None:
+    parser = ExpressionParser()
+    assert parser.parse(f"TT101 > {text}", plant_tags()) is True
+    assert parser.tokens[3].number == _float32(value)
 
 
 def test_parse_builds_a_typed_tree_without_touching_any_pool() -> None:
-    tree = parse("TT101 > 80 AND NOT LS3", plant_tags())
-    assert (tree.kind, tree.op, tree.column) == ("logic", Operator.AND_, 12)
-    compare, negation = tree.children
-    assert (compare.kind, compare.op, compare.children[1].real_value) == ("compare", Operator.GT, 80.0)
-    assert (negation.kind, negation.children[0].kind, negation.children[0].index) == ("not", "tag", 2)
+    parser = ExpressionParser()
+    assert parser.parse("TT101 > 80 AND NOT LS3", plant_tags()) is True
+    top = parser.nodes[parser.root]
+    assert (top.kind, top.op, top.column, top.value_type) == (NodeKind.LOGIC, Operator.AND_, 12, ValueType.BOOL_VALUE)
+    compare, negation = parser.nodes[top.left], parser.nodes[top.right]
+    assert (compare.kind, compare.op, parser.nodes[compare.right].real_value) == (NodeKind.COMPARE, Operator.GT, 80.0)
+    assert (negation.kind, parser.nodes[negation.left].kind, parser.nodes[negation.left].index) == (
+        NodeKind.NOT_, NodeKind.TAG, 2,
+    )
+    assert [parser.counts[k] for k in NodeKind] == [1, 2, 1, 1, 1]
 
 
 # ---------------------------------------------------------------------------
@@ -211,92 +232,109 @@ def test_parse_builds_a_typed_tree_without_touching_any_pool() -> None:
 # ---------------------------------------------------------------------------
 
 
+def refused(text: str) -> tuple[str, int]:
+    """Compile ``text`` on a fresh interlock, which must refuse it: the reason and the column."""
+    interlock = Interlock()
+    assert interlock.compile(text, plant_tags()) is False
+    assert (interlock.error, interlock.valid, interlock.source) == (True, False, "")
+    return interlock.error_text, interlock.error_column
+
+
 @pytest.mark.parametrize(
     ("text", "message", "column"),
     [
-        ("TT999 > 80", r"unknown tag 'TT999' at column 1", 1),
-        ("TT101 > 80 AND (NOT LS3", r"unbalanced parentheses: '\(' is never closed at column 16", 16),
-        ("TT101 > 80 AND NOT LS3)", r"unbalanced parentheses: '\)' has no '\(' to close at column 23", 23),
-        ("((LS3)", r"'\(' is never closed at column 1", 1),
-        (
-            "TT101 > 80 AND AND LS3",
-            r"unexpected 'AND', expected a tag, a number, TRUE, FALSE, NOT or '\(' at column 16",
-            16,
-        ),
-        ("TT101 > 80 LS3", r"unexpected 'LS3', expected AND, OR, XOR or the end at column 12", 12),
-        ("TT101 >", r"unexpected end of expression, expected a tag.* at column 8", 8),
-        ("LS3 > 5", r"type error: '>' compares BOOL with REAL at column 5", 5),
-        ("LS3 < BYPASS", r"type error: '<' needs REAL operands, got BOOL at column 5", 5),
-        ("TT101 AND LS3", r"type error: AND needs BOOL operands, got REAL at column 7", 7),
-        ("LS3 OR PT102", r"type error: OR needs BOOL operands, got REAL at column 5", 5),
-        ("NOT TT101", r"type error: NOT needs BOOL operands, got REAL at column 1", 1),
-        ("TT101", r"type error: an interlock must be BOOL, this expression is REAL at column 1", 1),
-        ("0 < TT101 < 100", r"unexpected '<': comparisons do not chain, use AND at column 11", 11),
-        ("TT101 > 8O0", r"unexpected 'O0', expected AND, OR, XOR or the end at column 10", 10),
-        ("TT101 > 80 & LS3", r"unexpected character '&' at column 12", 12),
-        ("TT101 > - LS3", r"unexpected 'LS3', expected a number after '-' at column 11", 11),
-        ("   ", r"empty expression", 0),
+        ("TT999 > 80", "unknown tag 'TT999'", 1),
+        ("TT101 > 80 AND (NOT LS3", "unbalanced parentheses: '(' is never closed", 16),
+        ("TT101 > 80 AND NOT LS3)", "unbalanced parentheses: ')' has no '(' to close", 23),
+        ("((LS3)", "unbalanced parentheses: '(' is never closed", 1),
+        ("TT101 > 80 AND AND LS3", "unexpected 'AND', expected a tag, a number, TRUE, FALSE, NOT or '('", 16),
+        ("TT101 > 80 LS3", "unexpected 'LS3', expected AND, OR, XOR or the end", 12),
+        ("TT101 >", "unexpected end of expression, expected a tag, a number, TRUE, FALSE, NOT or '('", 8),
+        ("LS3 > 5", "type error: '>' compares BOOL with REAL", 5),
+        ("LS3 < BYPASS", "type error: '<' needs REAL operands, got BOOL", 5),
+        ("TT101 AND LS3", "type error: AND needs BOOL operands, got REAL", 7),
+        ("LS3 OR PT102", "type error: OR needs BOOL operands, got REAL", 5),
+        ("NOT TT101", "type error: NOT needs BOOL operands, got REAL", 1),
+        ("TT101", "type error: an interlock must be BOOL, this expression is REAL", 1),
+        ("0 < TT101 < 100", "unexpected '<': comparisons do not chain, use AND", 11),
+        ("TT101 > 8O0", "unexpected 'O0', expected AND, OR, XOR or the end", 10),
+        ("TT101 > 80 & LS3", "unexpected character '&'", 12),
+        ("TT999 > 1.5.", "unexpected character '.'", 12),
+        ("TT101 > - LS3", "unexpected 'LS3', expected a number after '-'", 11),
+        ("   ", "empty expression", 0),
+        ("", "empty expression", 0),
     ],
 )
 def test_bad_expressions_are_rejected_with_reason_and_column(text: str, message: str, column: int) -> None:
-    with pytest.raises(ExpressionError, match=message) as info:
-        parse(text, plant_tags())
-    assert info.value.position == column
-    assert info.value.text == text
-    assert isinstance(info.value, ValueError)
+    assert refused(text) == (message, column)
 
 
 def test_the_caret_points_at_the_column() -> None:
-    with pytest.raises(ExpressionError) as info:
-        parse("TT101 > 80 AND LS3 > 5", plant_tags())
-    assert info.value.caret() == "TT101 > 80 AND LS3 > 5\n                   ^ type error: '>' compares BOOL with REAL"
+    text = "TT101 > 80 AND LS3 > 5"
+    reason, column = refused(text)
+    assert caret(text, column, reason) == "TT101 > 80 AND LS3 > 5\n                   ^ type error: '>' compares BOOL with REAL"
+    assert caret("   ", 0, "empty expression") == "empty expression"
 
 
 def test_too_many_nodes_of_one_kind_is_a_clear_error_and_changes_nothing() -> None:
     tags = plant_tags()
     interlock = Interlock()
-    interlock.compile("LS3", tags)
+    assert interlock.compile("LS3", tags) is True
     fits = " AND ".join(["LS3"] * POOL_SIZE)
-    interlock.compile(fits, tags)
+    assert interlock.compile(fits, tags) is True
     assert interlock.node_count == 2 * POOL_SIZE - 1
-    too_many = " AND ".join(["TT101 > 1"] * (POOL_SIZE + 1))
-    needs = rf"node pool full: the expression needs {POOL_SIZE + 1} comparison nodes, the pool holds {POOL_SIZE}"
-    with pytest.raises(ExpressionError, match=needs):
-        interlock.compile(too_many, tags)
-    assert interlock.source == fits
+    too_many = " AND ".join(["LS3=BYPASS"] * (POOL_SIZE + 1))
+    assert interlock.compile(too_many, tags) is False
+    assert (interlock.error_text, interlock.error_column) == (
+        f"node pool full: the expression needs {2 * POOL_SIZE + 2} tag nodes, "
+        f"the pool holds {POOL_SIZE} (ARRAY[1..{POOL_SIZE}])", 0,
+    )
+    assert (interlock.source, interlock.valid, interlock.node_count) == (fits, True, 2 * POOL_SIZE - 1)
 
 
 def test_nesting_deeper_than_the_limit_is_refused() -> None:
-    tags = plant_tags()
-    chain = "NOT " * (MAX_DEPTH - 1) + "LS3"
-    assert parse(chain, tags).kind == "not"
-    with pytest.raises(ExpressionError, match=rf"nested deeper than {MAX_DEPTH} levels at column {4 * MAX_DEPTH + 1}"):
-        parse("NOT " * MAX_DEPTH + "LS3", tags)
+    parser, tags = ExpressionParser(), plant_tags()
+    assert parser.parse("NOT " * (MAX_DEPTH - 1) + "LS3", tags) is True
+    assert parser.nodes[parser.root].kind == NodeKind.NOT_
+    assert refused("NOT " * MAX_DEPTH + "LS3") == (f"expression nested deeper than {MAX_DEPTH} levels", 4 * MAX_DEPTH + 1)
+    # Parentheses add no node but a level of the parser's recursion: bounded as well.
+    assert parser.parse("(" * MAX_DEPTH + "LS3" + ")" * MAX_DEPTH, tags) is True
+    assert refused("(" * (MAX_DEPTH + 1) + "LS3" + ")" * (MAX_DEPTH + 1)) == (
+        f"expression nested deeper than {MAX_DEPTH} levels", MAX_DEPTH + 1,
+    )
 
 
 def test_text_longer_than_the_source_string_is_refused() -> None:
     text = "LS3" + " OR LS3" * 40
     assert len(text) > MAX_TEXT
-    with pytest.raises(ExpressionError, match=rf"expression longer than {MAX_TEXT} characters"):
-        parse(text, plant_tags())
+    assert refused(text) == (f"expression longer than {MAX_TEXT} characters ({len(text)})", 0)
 
 
 def test_the_tag_table_refuses_bad_names_duplicates_and_overflow() -> None:
     tags = plant_tags()
-    with pytest.raises(ValueError, match=r"tag 'tt101' is already declared"):
-        tags.declare("tt101", ValueType.REAL_VALUE)
-    with pytest.raises(ValueError, match=r"'Xor' is a keyword"):
-        tags.declare("Xor", ValueType.BOOL_VALUE)
-    with pytest.raises(ValueError, match=r"'1TT' is not a tag name"):
-        tags.declare("1TT", ValueType.BOOL_VALUE)
-    with pytest.raises(ValueError, match=r"tag LS3 is BOOL"):
-        tags.get_real(tags.find("LS3"))
-    with pytest.raises(ValueError, match=r"no tag 9 \(1\.\.4 are declared\)"):
-        tags.set_bool(9, True)
+    for name, refusal in (
+        ("tt101", TagRefusal.DUPLICATE), ("Xor", TagRefusal.KEYWORD), ("1TT", TagRefusal.BAD_NAME),
+        ("", TagRefusal.BAD_NAME), ("A-B", TagRefusal.BAD_NAME), ("X" * 17, TagRefusal.BAD_NAME),
+    ):
+        assert (tags.declare(name, ValueType.BOOL_VALUE), tags.refusal) == (0, refusal), name
+    assert tags.count == 4
+    assert tags.declare("_x" + "9" * 14, ValueType.REAL_VALUE) == 5
+    assert (tags.refusal, tags.find("_X99999999999999")) == (TagRefusal.NONE, 5)
+    # Setters refuse an index never declared and a tag of the other type; nothing is written.
+    ls3 = tags.find("LS3")
+    assert (tags.set_real(ls3, 1.0), tags.set_bool(9, True), tags.set_bool(0, True)) == (False, False, False)
+    assert (tags.get_real(ls3), tags.get_bool(9)) == (0.0, False)
+    assert tags.set_bool(ls3, True) and tags.get_bool(ls3)
     for i in range(tags.count + 1, MAX_TAGS + 1):
-        tags.declare(f"T{i}", ValueType.BOOL_VALUE)
-    with pytest.raises(ValueError, match=rf"TagTable is full: {MAX_TAGS} tags"):
-        tags.declare("ONE_MORE", ValueType.BOOL_VALUE)
+        assert tags.declare(f"T{i}", ValueType.BOOL_VALUE) == i
+    assert (tags.declare("ONE_MORE", ValueType.BOOL_VALUE), tags.refusal, tags.count) == (
+        0, TagRefusal.TABLE_FULL, MAX_TAGS,
+    )
+
+
+def test_upper_text_changes_only_the_letters() -> None:
+    assert upper_text("tt101_a Zz-9") == "TT101_A ZZ-9"
+    assert upper_text("") == ""
 
 
 def test_only_the_interlock_builds_nodes_from_its_pool() -> None:

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import BOOL, AccessError, ExceptionCode, PlcException, Program, T, VAR
+from iecoop import BOOL, AccessError, Program, T, VAR
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.memento import (
     SNAPSHOT_SLOTS,
@@ -105,21 +105,28 @@ def test_a_recipe_without_a_name_cannot_be_committed() -> None:
     assert _fields(station.editor.last_good)[0] == "Base"
 
 
-def test_a_full_pool_and_unused_slots_are_answered_on_the_hmi_and_fault_in_code() -> None:
+def test_a_full_pool_and_unused_slots_are_refused_in_code_and_answered_on_the_hmi() -> None:
     station, rt = _station()
     for _ in range(SNAPSHOT_SLOTS):
         _press(rt, station, "snapshot_button", held=1)
     assert station.snapshots.full
     assert _press(rt, station, "snapshot_button") == f"no free snapshot slot ({SNAPSHOT_SLOTS} in use)"
-    with pytest.raises(PlcException, match=rf"take: all {SNAPSHOT_SLOTS} slots are in use") as info:
-        station.snapshots.take(station.editor, "one more")
-    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+    assert station.snapshots.take(station.editor, "one more") == 0
+    assert station.snapshots.used == SNAPSHOT_SLOTS
+    assert station.snapshots.label(SNAPSHOT_SLOTS) != "one more"
     assert station.snapshots.drop_newest() is True
     station.slot = SNAPSHOT_SLOTS
     assert _press(rt, station, "restore_button") == f"no snapshot {SNAPSHOT_SLOTS}"
-    with pytest.raises(PlcException, match=rf"restore: slot 0 is not in use \(slots 1\.\.{SNAPSHOT_SLOTS - 1} are\)"):
-        station.snapshots.restore(station.editor, 0)
+    station.editor.set_dose(250.0)
+    for slot in (0, -1, SNAPSHOT_SLOTS, SNAPSHOT_SLOTS + 1):
+        assert station.snapshots.in_use(slot) is False
+        assert station.snapshots.restore(station.editor, slot) is False
+        assert (station.snapshots.label(slot), station.snapshots.taken_at(slot)) == ("", 0)
+    assert station.editor.working.dose_litres == 250.0
     assert station.snapshots.used == SNAPSHOT_SLOTS - 1
+    # A freed slot takes the next snapshot.
+    assert station.snapshots.take(station.editor, "again") == SNAPSHOT_SLOTS
+    assert station.snapshots.label(SNAPSHOT_SLOTS) == "again"
 
 
 def test_the_memento_content_is_sealed_from_outside_the_library() -> None:

@@ -2,16 +2,16 @@
 
 from __future__ import annotations
 
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import BOOL, DINT, NULL, REAL, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, FunctionBlock, PlcException, Program, T, method
+from iecoop import BOOL, DINT, NULL, REAL, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, Program, T, method
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.observer import (
     LOG_SIZE,
     MAX_OBSERVERS,
     TREND_SIZE,
+    AttachRefusal,
     EventLogger,
     HighTemperatureAlarm,
     IObserver,
@@ -230,13 +230,14 @@ def test_the_trend_keeps_the_newest_samples_and_decimates() -> None:
     assert [bench.trend.value_at(age) for age in range(3)] == [30.0, 25.0, 20.0]
 
 
-def test_reading_the_trend_past_its_stored_samples_is_an_array_bounds_fault() -> None:
+def test_reading_the_trend_past_its_stored_samples_gives_zero() -> None:
     bench = Bench()
     rt = _runtime(bench)
     _feed(rt, bench, [1.0, 2.0])
-    with pytest.raises(PlcException, match=r"TrendBuffer\.value_at: age 2 is outside the 2 stored samples") as exc:
-        bench.trend.value_at(2)
-    assert exc.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+    assert [bench.trend.value_at(age) for age in (-1, 0, 1, 2, TREND_SIZE)] == [0.0, 2.0, 1.0, 0.0, 0.0]
+    _feed(rt, bench, [float(n) for n in range(3, 3 + TREND_SIZE)])
+    # Full: the oldest sample is the last one readable, the ring does not wrap round to the newest.
+    assert (bench.trend.value_at(TREND_SIZE - 1), bench.trend.value_at(TREND_SIZE)) == (3.0, 0.0)
 
 
 def test_the_logger_records_first_sample_deadband_moves_and_quality_changes_with_task_time() -> None:
@@ -267,8 +268,10 @@ def test_logger_entries_overwritten_by_the_ring_are_refused() -> None:
     _feed(rt, bench, [float(n * 2) for n in range(LOG_SIZE + 3)])
     assert bench.logger.total == LOG_SIZE + 3
     assert bench.logger.entry(4).value == 6.0
-    with pytest.raises(PlcException, match=r"EventLogger\.entry: entry 3 is not in the ring \(entries 4\.\.19\)"):
-        bench.logger.entry(3)
+    for number in (3, 0, LOG_SIZE + 4):
+        gone = bench.logger.entry(number)
+        assert (gone.time_ms, gone.value, gone.quality) == (0, 0.0, Quality.BAD)
+    assert bench.logger.entry(LOG_SIZE + 3).quality == Quality.GOOD
 
 
 # ---------------------------------------------------------------------------
@@ -309,31 +312,43 @@ def test_detach_at_run_time_compacts_the_array_and_keeps_the_order() -> None:
     assert (subs.a.updates, subs.e.updates) == (10, 2)
 
 
-def test_attaching_past_max_observers_faults_the_cycle_with_array_bounds() -> None:
+def test_attaching_past_max_observers_is_refused_as_list_full() -> None:
     subs = Subscribers()
     for observer in (subs.a, subs.b, subs.c, subs.d):
-        subs.tt.attach(observer)
-    assert subs.tt.observer_count == MAX_OBSERVERS
+        assert subs.tt.attach(observer) is True
+    assert (subs.tt.observer_count, subs.tt.refusal) == (MAX_OBSERVERS, AttachRefusal.NONE)
     rt = _runtime(subs)
     rt.run(cycles=2)
     subs.attach_e = True
-    with pytest.raises(PlcException, match=r"observer list is full \(4 of MAX_OBSERVERS = 4\)") as exc:
-        rt.run(cycles=1)
-    assert exc.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+    rt.run(cycles=3)
+    assert (subs.last_result, subs.tt.refusal) == (False, AttachRefusal.LIST_FULL)
     assert subs.tt.observer_count == MAX_OBSERVERS
-    assert subs.e.updates == 0
+    assert (subs.a.updates, subs.e.updates) == (5, 0)
+    # Detaching one makes room; the next attach is accepted and clears the refusal.
+    subs.detach_b = True
+    subs.attach_e = True
+    rt.run(cycles=1)
+    assert (subs.last_result, subs.tt.refusal, subs.tt.observer_count) == (True, AttachRefusal.NONE, MAX_OBSERVERS)
+    assert subs.e.updates == 1
 
 
-def test_attaching_a_null_observer_is_an_access_violation() -> None:
+def test_a_duplicate_attach_is_refused_as_already_attached() -> None:
     subs = Subscribers()
-    with pytest.raises(PlcException, match=r"TemperatureTransmitter\.attach: the observer is a null interface") as exc:
-        subs.tt.attach(subs.spare)
-    assert exc.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+    subs.tt.attach(subs.a)
+    assert subs.tt.attach(subs.a) is False
+    assert (subs.tt.refusal, subs.tt.observer_count) == (AttachRefusal.ALREADY_ATTACHED, 1)
+
+
+def test_attaching_a_null_observer_is_refused_and_the_scan_goes_on() -> None:
+    subs = Subscribers()
+    assert subs.tt.attach(subs.spare) is False
+    assert subs.tt.refusal == AttachRefusal.NULL_OBSERVER
+    subs.tt.attach(subs.a)
     rt = _runtime(subs)
     subs.attach_spare = True
-    with pytest.raises(PlcException, match="null interface reference"):
-        rt.run(cycles=1)
-    assert subs.tt.observer_count == 0
+    rt.run(cycles=2)
+    assert (subs.last_result, subs.tt.refusal) == (False, AttachRefusal.NULL_OBSERVER)
+    assert (subs.tt.observer_count, subs.a.updates) == (1, 2)
 
 
 # ---------------------------------------------------------------------------

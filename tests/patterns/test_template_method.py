@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -17,6 +19,8 @@ from patterns.behavioral.template_method import (
     HomingStep,
     IHoming,
     SimAxis,
+    floor_dint,
+    step_name,
 )
 
 CHAIN = [
@@ -184,6 +188,16 @@ def test_an_unpowered_drive_fails_the_preconditions_and_a_new_start_recovers() -
     rig.homing.timeout = T("5s")
     home(rt, rig)
     assert (rig.homing.done, rig.homing.error, rig.homing.error_text) == (True, False, "")
+
+
+@given(st.floats(min_value=-1e6, max_value=1e6, allow_nan=False))
+def test_floor_dint_is_the_floor_for_both_signs(value: float) -> None:
+    assert floor_dint(value) == math.floor(value)
+
+
+def test_the_step_names_of_the_error_text_are_the_enum_names() -> None:
+    assert [step_name(step) for step in HomingStep] == [step.name for step in HomingStep]
+    assert (floor_dint(-0.5), floor_dint(-10.0), floor_dint(9.99)) == (-1, -10, 9)
 
 
 def test_an_invalid_absolute_encoder_fails_the_variants_extra_precondition() -> None:

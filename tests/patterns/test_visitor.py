@@ -6,12 +6,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import ARRAY, INT, STRING, VAR, VAR_OUTPUT, AccessError, FunctionBlock, Program, T, method
+from iecoop import ARRAY, INT, STRING, VAR, VAR_OUTPUT, AccessError, ExceptionCode, FunctionBlock, PlcException, Program, T, method
 from iecoop.runtime import Runtime, Task
 from patterns.behavioral.visitor import (
     MAX_AREAS,
     MAX_DEVICES,
     MAX_LINES,
+    AddRefusal,
     CsvHealthReport,
     EnergyTotals,
     Health,
@@ -25,6 +26,8 @@ from patterns.behavioral.visitor import (
     PlantMain,
     Sensor,
     Valve,
+    health_text,
+    one_decimal,
 )
 
 
@@ -294,40 +297,58 @@ def test_a_full_area_refuses_the_next_device() -> None:
     area = plant.add_area("Area1")
     motors = [Motor(name=f"M{i}") for i in range(MAX_DEVICES + 1)]
     for motor in motors[:MAX_DEVICES]:
-        area.add(motor)
-    with pytest.raises(ValueError, match=rf"Area Plant\.Area1 is full: {MAX_DEVICES} devices"):
-        area.add(motors[-1])
-    assert area.count == MAX_DEVICES
+        assert area.add(motor) is True
+    assert area.refusal == AddRefusal.NONE
+    assert (area.add(motors[-1]), area.refusal, area.count) == (False, AddRefusal.AREA_FULL, MAX_DEVICES)
     assert motors[-1].instance_path == ""
 
 
-def test_a_full_plant_refuses_the_next_area() -> None:
+def test_a_full_plant_faults_on_the_next_area_with_array_bounds() -> None:
     plant = Plant(name="Plant")
     for i in range(MAX_AREAS):
         plant.add_area(f"A{i}")
-    with pytest.raises(ValueError, match=rf"Plant Plant is full: {MAX_AREAS} areas"):
+    with pytest.raises(PlcException, match=r"index 5 .*1\.\.4") as info:
         plant.add_area("Extra")
+    assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
     assert plant.count == MAX_AREAS
+    assert [plant.areas[i].instance_path for i in range(1, MAX_AREAS + 1)] == [f"Plant.A{i}" for i in range(MAX_AREAS)]
 
 
 def test_a_device_belongs_to_one_area_only_and_null_is_refused() -> None:
     program = PlantMain()
     area2 = program.plant.areas[2]
-    with pytest.raises(ValueError, match=r"Plant\.Area1\.Motor1 already belongs to an area"):
-        area2.add(program.motor1)
-    with pytest.raises(ValueError, match=r"cannot add a null I_Device"):
-        area2.add(area2.devices[MAX_DEVICES])
+    assert (area2.add(program.motor1), area2.refusal) == (False, AddRefusal.ALREADY_IN_AREA)
+    assert program.motor1.instance_path == "Plant.Area1.Motor1"
+    assert (area2.add(area2.devices[MAX_DEVICES]), area2.refusal) == (False, AddRefusal.NULL_DEVICE)
     assert area2.count == 3
+    spare = Valve(name="Valve9")
+    assert (area2.add(spare), area2.refusal, area2.count) == (True, AddRefusal.NONE, 4)
+    assert spare.instance_path == "Plant.Area2.Valve9"
 
 
 def test_devices_need_a_name_and_paths_must_fit_their_string() -> None:
-    with pytest.raises(ValueError, match=r"Valve: FB_init input 'name' is empty"):
-        Valve()
     plant = Plant(name="Plant")
     area = plant.add_area("AreaWithAVeryLongName")
+    nameless = Valve()
+    assert (area.add(nameless), area.refusal, nameless.instance_path) == (False, AddRefusal.NO_PATH, "")
     sensor = Sensor(name="TransmitterTT101")
-    with pytest.raises(ValueError, match=r"instance path longer than STRING\(40\)"):
-        area.add(sensor)
+    assert (area.add(sensor), area.refusal, sensor.instance_path) == (False, AddRefusal.NO_PATH, "")
+    # 40 characters exactly fit STRING(40): "Plant.AreaWithAVeryLongName" + "." + 12.
+    fits = Sensor(name="Transmitter1")
+    assert area.add(fits) is True
+    assert (fits.instance_path, len(fits.instance_path), area.count) == ("Plant.AreaWithAVeryLongName.Transmitter1", 40, 1)
+
+
+def test_one_decimal_and_health_text_give_the_csv_words() -> None:
+    # Away from the halves, tenths as Python prints them; -0.04 has no sign, as it rounds to 0.
+    for value in (0.0, 0.04, 0.06, 2.1, 12.0, 75.0, 19.94, 143.24, -0.5, -0.04, -12.34):
+        assert one_decimal(value) == f"{value:.1f}".replace("-0.0", "0.0"), value
+    assert [health_text(h) for h in Health] == [h.name for h in Health]
+
+
+@given(st.floats(min_value=-1e6, max_value=1e6, allow_nan=False))
+def test_one_decimal_reads_back_within_a_twentieth(value: float) -> None:
+    assert abs(float(one_decimal(value)) - value) <= 0.05 + 1e-9
 
 
 def test_only_the_plant_attaches_an_area() -> None:
