@@ -174,6 +174,10 @@ class Scope:
         self.locals: dict[str, Member] = {}
         self.return_name = return_name
         self.counter = 0
+        #: ``FB_X.Method`` or ``F_Name`` for a METHOD or FUNCTION: names its helper classes
+        self.pou = ""
+        #: the ARRAY and structured inputs passed by value, with their initialisers: copied at the call
+        self.by_value: list[tuple[Member, Any]] = []
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -622,6 +626,9 @@ class Translator:
             members = [m.type for m in decl.members.values()]
             members += [p.type for p in decl.props.values()] + [m.returns for m in decl.methods.values()]
             members += [p.type for m in decl.methods.values() for p in m.params]
+            # a method's ARRAY and VAR_STAT locals live in classes made before the block's
+            members += [m.type for node in decl.method_nodes for block in node.declarations
+                        if isinstance(block, (tf.VariableDeclarations, tf.StaticDeclarations)) for m in self._block_members(block)]
             for type_ in members:
                 while type_ is not None and type_.kind in ("array", "pointer", "reference"):
                     type_ = type_.of
@@ -654,9 +661,10 @@ class Translator:
         for decl in self.ordered():
             self.unit = decl.unit
             self.out = []
+            self.preamble: list[str] = []
             self.enter(decl.item)
             getattr(self, f"_emit_{decl.kind}")(decl)
-            body.extend(["", ""] + self.out)
+            body.extend(self.preamble + ["", ""] + self.out)
         if self.named_programs:
             # P_Count.counter from another POU names the program's instance, as in ST: one per PROGRAM
             body.extend(["", "", "# The PROGRAM instances other POUs read (P_Count.counter): the name is the instance."])
@@ -1083,14 +1091,34 @@ class Translator:
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.name.lower()] = param
                 continue
-            if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
-                raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
-            if param.type.kind == "array":
-                raise self.fail(f"ARRAY input {param.name} passed by value is not supported")
+            if self._aggregate(param.type):
+                if not scope.pou:
+                    raise self.fail(f"input {param.name} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
+                # passed by value: the callee works on a copy (made at the call, see _copy_in); None is "not given"
+                scope.by_value.append((param, inits.get(param.name.lower())))
+                parts.append(f"{param.name}: {param.type.annotation()} | None = None")
+                scope.locals[param.name.lower()] = param
+                continue
             default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
         return "".join(f", {p}" for p in parts)
+
+    def _aggregate(self, type_: TypeRef) -> bool:
+        """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
+        decl = self.decl_of(type_) if type_.kind == "user" else None
+        return type_.kind == "array" or decl is not None and decl.kind in ("struct", "union")
+
+    def _holder(self, scope: Scope, suffix: str, fields: Sequence[tuple[Member, Any]], doc: str) -> str:
+        """A module-level STRUCT that holds ``fields`` of the METHOD or FUNCTION ``scope``, written before its POU."""
+        name = "_" + scope.pou.replace(".", "_") + suffix
+        self.need("iecoop", "Struct")
+        lines = ["", "", f"class {name}(Struct):", f'    """{doc}"""']
+        const = Scope(None, "const")
+        for member, init in fields:
+            lines.append("    " + self.field_line(Member(member.name, member.type, "VAR"), init, const))
+        self.preamble.extend(lines)
+        return name
 
     def zero(self, type_: TypeRef) -> str:
         if type_.is_bool:
@@ -1128,6 +1156,48 @@ class Translator:
         return f"@method({' | '.join(flags)})" if flags else "@method"
 
     def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
+        arrays: list[tuple[Member, Any]] = []
+        statics: list[tuple[Any, str, TypeRef | None]] = []
+        self._locals_of_blocks(blocks, scope, level, arrays, statics)
+        if statics:
+            self._statics(scope, statics)
+        held = scope.by_value + arrays
+        if held:
+            # ARRAY and structured locals, and the copies of such inputs passed by value, live in a STRUCT
+            # made at each call: initialised as declared, and the caller's variables never written
+            holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}: new at every call.")
+            self.emit(f"_var = {holder}()", level)
+            for member, _ in scope.by_value:
+                self.emit(f"if {member.name} is not None:", level)
+                self.emit(f"_var.{member.name} = {member.name}  # passed by value: a copy", level + 1)
+            for member, _ in held:
+                assert member.type is not None
+                self._need_type(member.type)
+                annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
+                self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
+
+    def _statics(self, scope: Scope, statics: Sequence[tuple[Any, str, TypeRef | None]]) -> None:
+        """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
+        owner = scope.owner
+        if owner is not None:
+            method = scope.pou.split(".", 1)[1]
+            for item, name, type_ in statics:  # a VAR_STAT of the block, named after the method
+                self.need("iecoop", "VAR_STAT")
+                field = Member(f"{method}_{name}", type_, "VAR_STAT")
+                if self.find_member(owner, field.name) is not None:
+                    raise self.fail(f"VAR_STAT {name} of METHOD {scope.pou} clashes with the member {field.name}", item)
+                self.out.insert(self._field_insert_point(), "    " + self.field_line(field, getattr(item, "init", None), Scope(None, "const")))
+                scope.locals[name.lower()] = Member(f"self.{field.name}", type_, "STAT")
+            return
+        holder = self._holder(scope, "_VAR_STAT", [(Member(name, type_, "VAR"), getattr(item, "init", None)) for item, name, type_ in statics],
+                              f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
+        instance = f"_{scope.pou}_static"
+        self.preamble.extend(["", "", f"{instance} = {holder}()"])
+        for _, name, type_ in statics:
+            scope.locals[name.lower()] = Member(f"{instance}.{name}", type_, "STAT")
+
+    def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
+                          statics: list[tuple[Any, str, TypeRef | None]]) -> None:
         for block in blocks:
             section = _SECTION_OF.get(type(block))
             if section in ("VAR_INPUT", "VAR_INST"):
@@ -1135,7 +1205,10 @@ class Translator:
             if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
                 raise self.fail(f"{section} in a {scope.kind} is not supported yet (iecoop has no form for it)", block)
             if section == "VAR_STAT":
-                raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+                if not scope.pou:
+                    raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+                statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
+                continue
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
@@ -1144,7 +1217,11 @@ class Translator:
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
                     if type_.kind == "array":
-                        raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                        if not scope.pou:
+                            raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                        arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
+                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+                        continue
                     self._need_type(type_)
                     init = getattr(item, "init", None)
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
@@ -1162,6 +1239,7 @@ class Translator:
         info = decl.methods[name.lower()]
         lifecycle = _LIFECYCLE.get(name.lower())
         scope = Scope(decl, "method", return_name=name if info.returns is not None else None)
+        scope.pou = f"{decl.name}.{name}"
         self.emit("", 0)
         self.comments(node, 1)
         decorators = []
@@ -1349,6 +1427,7 @@ class Translator:
         self.line = node.meta.line if node.meta else None
         info = decl.methods["()"]
         scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
+        scope.pou = decl.name
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)[2:]
         self._need_type(info.returns)
@@ -1540,8 +1619,22 @@ class Translator:
             header = f"range({start.code}, {stop.p()} {sign}, {step.code})"
         else:
             header = f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
+        # A loop that ends by its test leaves the variable at the first value that failed it (ST:
+        # FOR i := 1 TO 10 leaves 11); after EXIT it keeps the value it had. Python's for ... else.
+        literal = [int(ex.code) if re.fullmatch(r"-?\d+", ex.code) else None for ex in (start, stop, step or Ex("1"))]
+        if None not in literal:
+            first, last, by = (n for n in literal if n is not None)
+            past = first + by * len(range(first, last + (1 if by > 0 else -1), by))
+            after = Ex(str(past), start.type)
+        else:
+            loop = scope.temp("for")
+            self.emit(f"{loop} = {header}", level)
+            header = loop
+            after = Ex(f"{loop}.start + {loop}.step * len({loop})", start.type or stop.type, True, PRECEDENCE["+"])
         self.emit(f"for {control.code} in {header}:", level)
         self._emit_statements(node.statements.statements, scope, level + 1)
+        self.emit("else:  # the first value past the end, as ST leaves it", level)
+        self.assign(node.control, after, scope, level + 1)
 
     def _st_WhileStatement(self, node: Any, scope: Scope, level: int) -> None:
         self.emit(f"while {self.condition(node.expression, scope)}:", level)
@@ -1741,6 +1834,12 @@ class Translator:
             return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
+            if op in ("AND", "&", "OR") and logical and _has_call(node.right):
+                # ST evaluates both operands of AND / OR (only AND_THEN / OR_ELSE stop early): a call on
+                # the right runs even when the left decides, so the operands are combined with & / |
+                symbol = "&" if op != "OR" else "|"
+                level = PRECEDENCE[symbol]
+                return Ex(f"{self._as_bool(left).wrap(level)} {symbol} {self._as_bool(right).wrap(level + 1)}", BOOL, True, level)
             if op in ("AND_THEN", "OR_ELSE") or logical:
                 word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or", "XOR": "!="}[op]
                 level = PRECEDENCE[word] if word != "!=" else PRECEDENCE["compare"]
@@ -1766,6 +1865,12 @@ class Translator:
             level = PRECEDENCE["**"]
             return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
         raise self.fail(f"operator {op}", node)
+
+    def _as_bool(self, operand: Ex) -> Ex:
+        """``operand`` as a Python bool, for ``&`` / ``|``: a call whose type is not known is wrapped in ``bool()``."""
+        if operand.type is not None and operand.type.deref().is_bool:
+            return operand
+        return Ex(f"bool({operand.code})", BOOL)
 
     def _is_handle(self, type_: TypeRef) -> bool:
         if type_.kind == "pointer":
@@ -2218,6 +2323,17 @@ def _exact_real(code: str) -> bool:
     except ValueError:
         return False
     return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+def _has_call(node: Any) -> bool:
+    """Whether the expression ``node`` calls a function, method or block (something that may have a side effect)."""
+    if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
+        return True
+    if dataclasses.is_dataclass(node):
+        return any(_has_call(getattr(node, field.name)) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(_has_call(item) for item in node)
+    return False
 
 
 def statements_of(body: Any) -> list[Any]:

@@ -1,0 +1,131 @@
+"""st.load: IEC evaluation rules the reader keeps (AND / OR evaluate both operands, the FOR variable after
+the loop, values passed by value, method and function locals), one small ST program each, worked out by hand."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+
+from iecoop import st
+from tests.iecoop.st.test_load import prog, run
+
+COUNTER = """
+FUNCTION_BLOCK FB_Probe
+VAR_OUTPUT nCalls : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Hit : BOOL
+VAR_INPUT bResult : BOOL; END_VAR
+nCalls := nCalls + 1;
+Hit := bResult;
+END_METHOD
+FUNCTION F_Tick : BOOL
+VAR_INPUT bResult : BOOL; END_VAR
+VAR_STAT nTicks : INT; END_VAR
+nTicks := nTicks + 1;
+F_Tick := bResult;
+END_FUNCTION
+"""
+
+STRUCTS = """
+TYPE ST_P : STRUCT x : INT; y : INT := 2; END_STRUCT END_TYPE
+FUNCTION F_Sum : INT
+VAR_INPUT a : ARRAY[1..3] OF INT; p : ST_P; END_VAR
+VAR i : INT; t : ARRAY[0..1] OF INT := [10, 20]; END_VAR
+FOR i := 1 TO 3 DO F_Sum := F_Sum + a[i]; a[i] := 0; END_FOR
+F_Sum := F_Sum + p.x + p.y + t[0] + t[1];
+p.x := 100; t[0] := 99;
+END_FUNCTION
+FUNCTION_BLOCK FB_Bump
+VAR_INPUT pIn : ST_P; aIn : ARRAY[1..2] OF INT; END_VAR
+VAR_OUTPUT nSeen : INT; END_VAR
+pIn.x := pIn.x + 1; aIn[1] := aIn[1] + 1;
+nSeen := pIn.x * 100 + aIn[1];
+END_FUNCTION_BLOCK
+METHOD Bump : INT
+VAR_INPUT p : ST_P; END_VAR
+VAR_STAT nShared : INT; END_VAR
+VAR buf : ARRAY[1..2] OF ST_P; END_VAR
+nShared := nShared + 1;
+p.x := p.x + 1;
+buf[1] := p;
+Bump := buf[1].x * 100 + nShared;
+END_METHOD
+"""
+
+# (id, ST source, cycles, what to read from MAIN, expected)
+CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
+    ("and-or-evaluate-both-operands", COUNTER + prog(
+        "fb : FB_Probe; bF : BOOL; bT : BOOL := TRUE; a : BOOL; b : BOOL; c : BOOL; d : BOOL; e : BOOL; f : BOOL;",
+        "a := bF AND fb.Hit(TRUE); b := bT OR fb.Hit(FALSE); c := bF AND (fb.Hit(TRUE) OR bF); "
+        "d := bF AND F_Tick(TRUE) AND F_Tick(TRUE); e := (bT OR F_Tick(FALSE)) AND NOT F_Tick(FALSE);"
+        "f := bT AND fb.Hit(TRUE) OR bF;"), 1,
+     # 4 calls of Hit, 3 of F_Tick, each result as IEC combines the values
+     lambda m: (m.fb.nCalls, m.a, m.b, m.c, m.d, m.e, m.f), (4, False, True, False, False, True, True)),
+    ("and-then-or-else-stop-early", COUNTER + prog(
+        "fb : FB_Probe; bF : BOOL; bT : BOOL := TRUE; a : BOOL; b : BOOL; c : BOOL;",
+        "a := bF AND_THEN fb.Hit(TRUE); b := bT OR_ELSE fb.Hit(FALSE); c := bT AND_THEN fb.Hit(TRUE);"), 1,
+     lambda m: (m.fb.nCalls, m.a, m.b, m.c), (1, False, True, True)),
+    ("and-or-on-words-stay-bitwise", COUNTER + "FUNCTION F_Word : WORD\nF_Word := 16#00FF;\nEND_FUNCTION\n"
+     + prog("w : WORD := 16#0F0F; v : WORD; x : WORD;", "v := w AND F_Word(); x := w OR F_Word() XOR 16#0001;"), 1,
+     lambda m: (m.v, m.x), (0x000F, 0x0FFF)),  # XOR binds tighter than OR: 0F0F OR (00FF XOR 0001)
+    ("for-variable-after-the-loop", prog(
+        "i : INT; j : SINT; k : INT; m : INT; n : INT := 3; s : INT; nStep : INT := -2; q : INT; ",
+        "FOR i := 1 TO 10 DO s := s + 1; END_FOR FOR j := 10 TO 1 BY -2 DO s := s + 1; END_FOR "
+        "FOR m := 5 TO 1 DO s := s + 100; END_FOR FOR k := 1 TO 10 DO IF k = 4 THEN EXIT; END_IF END_FOR "
+        "FOR q := n * 3 TO n BY nStep DO s := s + 1; END_FOR"), 1,
+     # 10 + 5 + 0 + 4 (9, 7, 5, 3) runs; 1..10 leaves 11, 10..1 BY -2 leaves 0, 5 TO 1 never runs, EXIT at 4, 9..3 BY -2 leaves 1
+     lambda m: (m.i, m.j, m.m, m.k, m.q, m.s), (11, 0, 5, 4, 1, 19)),
+    ("for-in-a-function-leaves-the-local", "FUNCTION F_Last : INT\nVAR i : INT; END_VAR\n"
+     "FOR i := 0 TO 20 BY 5 DO ; END_FOR\nF_Last := i;\nEND_FUNCTION\n" + prog("n : INT;", "n := F_Last();"), 1,
+     lambda m: m.n, 25),
+    ("function-inputs-by-value", STRUCTS + prog(
+        "a : ARRAY[1..3] OF INT := [1, 2, 3]; p : ST_P := (x := 5); r1 : INT; r2 : INT;",
+        "r1 := F_Sum(a, p); r2 := F_Sum(a := a, p := p);"), 1,
+     # 1 + 2 + 3 + 5 + 2 + 10 + 20 both times: the function's writes reach neither the caller nor the next call
+     lambda m: (m.r1, m.r2, list(m.a), m.p.x), (43, 43, [1, 2, 3], 5)),
+    ("method-input-by-value-and-var-stat", STRUCTS + prog(
+        "p : ST_P := (x := 5); fb1 : FB_Bump; fb2 : FB_Bump; b1 : INT; b2 : INT;",
+        "b1 := fb1.Bump(p); b2 := fb2.Bump(p := p);"), 2,
+     # (5 + 1) * 100 + the VAR_STAT count, shared by both instances: 1, 2, then 3, 4
+     lambda m: (m.b1, m.b2, m.p.x), (603, 604, 5)),
+    ("fb-inputs-by-value", STRUCTS + prog(
+        "p : ST_P := (x := 5); a : ARRAY[1..2] OF INT := [7, 8]; fb : FB_Bump;",
+        "fb(pIn := p, aIn := a);"), 2,
+     lambda m: (m.fb.nSeen, m.p.x, list(m.a)), (608, 5, [7, 8])),
+]
+
+
+@pytest.mark.parametrize("source, cycles, read, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expected: Any) -> None:
+    assert read(run(source, cycles)) == expected
+
+
+def test_function_var_stat_counts_every_call() -> None:
+    module = st.load(COUNTER)
+    for result in (True, False, True):
+        assert module.F_Tick(bResult=result) is result
+    assert module.F_Tick.__globals__["_F_Tick_static"].nTicks == 3
+
+
+@pytest.mark.parametrize("source, construct", [
+    ("FUNCTION_BLOCK FB_A\nVAR _n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROPERTY N : INT\nVAR a : ARRAY[1..2] OF INT; END_VAR\n"
+     "N := _n;\nEND_PROPERTY\n", "ARRAY local a"),
+    ("FUNCTION_BLOCK FB_A\nVAR _n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROPERTY N : INT\nVAR_STAT s : INT; END_VAR\n"
+     "N := _n;\nEND_PROPERTY\n", "VAR_STAT in a getter"),
+    ("FUNCTION_BLOCK FB_A\nVAR M_n : INT; END_VAR\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_STAT n : INT; END_VAR\n"
+     "n := 1;\nEND_METHOD\n", "VAR_STAT n of METHOD FB_A.M clashes with the member M_n"),
+])
+def test_unsupported_forms_raise(source: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(source)
+
+
+def test_generated_python_reads_as_the_rules() -> None:
+    code = st.to_python(COUNTER + prog("fb : FB_Probe; a : BOOL; i : INT;",
+                                       "a := a AND fb.Hit(TRUE); a := a AND_THEN fb.Hit(TRUE); a := a AND TRUE; "
+                                       "FOR i := 1 TO 3 DO ; END_FOR"))
+    assert "self.a = self.a & self.fb.Hit(True)" in code
+    assert "self.a = self.a and self.fb.Hit(True)" in code and "self.a = self.a and True" in code
+    assert "else:  # the first value past the end, as ST leaves it\n            self.i = 4" in code
