@@ -37,6 +37,7 @@ STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CT
 _MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
 _STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
+    tf.LocatedVariableDeclarations: "VAR",
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
     tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
     tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
@@ -60,6 +61,8 @@ class TypeRef:
     of: TypeRef | None = None
     length: str | None = None
     bounds: list[tuple[str, str]] | None = None
+    #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
+    limits: tuple[str, str] | None = None
 
     def annotation(self) -> str:
         if self.kind == "array":
@@ -126,6 +129,7 @@ class Decl:
     methods: dict[str, Callable_] = dataclasses.field(default_factory=dict)
     props: dict[str, Member] = dataclasses.field(default_factory=dict)
     method_nodes: list[Any] = dataclasses.field(default_factory=list)
+    action_nodes: list[Any] = dataclasses.field(default_factory=list)
     prop_nodes: list[Any] = dataclasses.field(default_factory=list)
     values: list[str] = dataclasses.field(default_factory=list)
     alias_of: TypeRef | None = None
@@ -178,6 +182,11 @@ class Scope:
         self.pou = ""
         #: the ARRAY and structured inputs passed by value, with their initialisers: copied at the call
         self.by_value: list[tuple[Member, Any]] = []
+        #: whether the top statement list (the only one that may hold labels) is being written
+        self.started = False
+        #: JMP targets of the body (lower case) and the variable that names the part to run next
+        self.labels: set[str] = set()
+        self.jump = ""
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -245,7 +254,10 @@ class Translator:
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
                     continue
                 if isinstance(item, tf.Action):
-                    raise self.fail(f"ACTION {item.name} is not supported (use a METHOD)", item)
+                    if current is None or current.kind not in ("fb", "program"):
+                        raise self.fail(f"ACTION {item.name} does not follow a FUNCTION_BLOCK or PROGRAM", item)
+                    current.action_nodes.append(item)
+                    continue
                 current = self._collect_item(unit, item)
                 if current is not None:
                     current.item = item
@@ -296,7 +308,8 @@ class Translator:
                 for value in inner.init.spec.values or []:
                     decl.values.append(str(value.name))
                     self.enum_values.setdefault(str(value.name).lower(), (decl.name, str(value.name)))
-            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration)):
+            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
+                                    tf.SubrangeTypeDeclaration)):
                 decl = self._add(Decl("alias", str(inner.name), inner, unit))
             else:
                 raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
@@ -328,6 +341,11 @@ class Translator:
                 params = [m for block in node.declarations for m in self._block_members(block) if m.section == "VAR_INPUT"]
                 returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
                 decl.methods[name.lower()] = Callable_(name, returns, params)
+            for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
+                name = str(node.name).rsplit(".", 1)[-1]
+                if name.lower() in decl.methods:
+                    raise self.fail(f"ACTION {name} of {decl.name} has the name of a METHOD", node)
+                decl.methods[name.lower()] = Callable_(name, None, [])
             for node in decl.prop_nodes:
                 name = str(node.name).split(".")[0]
                 decl.props[name.lower()] = Member(name, self._spec_type(node.return_type.spec, node), "PROPERTY")
@@ -341,6 +359,8 @@ class Translator:
             return self._spec_type(node.init.spec, node)
         if isinstance(node, tf.StringTypeDeclaration):
             return self._string_type(node.string_type)
+        if isinstance(node, tf.SubrangeTypeDeclaration):
+            return self.init_type(node.init, node)
         return self._array_type(node.init.spec, None, node)
 
     # --- types from blark nodes ---
@@ -427,21 +447,42 @@ class Translator:
                 raise self.fail("an inline enumeration in a declaration is not supported (declare a TYPE)", node)
             return self.type_named(str(init.spec.type_name), node)
         if isinstance(init, tf.SubrangeTypeInitialization):
-            raise self.fail("subrange types are not supported", node)
+            if init.indirection is not None or not isinstance(init.spec.subrange, tf.PartialSubrange):
+                raise self.fail("a subrange type needs both limits and no POINTER TO / REFERENCE TO", node)
+            base = self.type_named(str(init.spec.type_name), node)
+            if not base.is_int:
+                raise self.fail(f"a subrange of {base.name} (subranges are of integer types)", node)
+            limits = tuple(str(eval(self.const_expr(n), {})) for n in (init.spec.subrange.start, init.spec.subrange.stop))
+            return TypeRef("elem", base.name, limits=(limits[0], limits[1]))
         raise self.fail(f"declaration {type(init).__name__} is not supported", node)
 
     def _block_members(self, block: Any) -> Iterator[Member]:
         section = _SECTION_OF.get(type(block))
         if isinstance(block, tf.GlobalVariableDeclarations):
             section = "VAR_GLOBAL"
-        if isinstance(block, (tf.LocatedVariableDeclarations, tf.IncompleteLocatedVariableDeclarations)):
-            raise self.fail("located variables (AT %I / %Q / %M) are not supported", block)
+        if isinstance(block, tf.LocatedVariableDeclarations):
+            section = "VAR"
         if section is None:
             raise self.fail(f"{type(block).__name__} is not supported", block)
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(name, type_, section)
+                yield Member(name, type_, self.located_section(item, section))
+
+    def location(self, item: Any) -> str:
+        """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            return str(item.location)
+        spec = getattr(item, "spec", None)
+        if isinstance(spec, tf.GlobalVariableSpec) and spec.location is not None:
+            return str(spec.location)
+        located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
+        return located[0] if located else ""
+
+    def located_section(self, item: Any, section: str) -> str:
+        """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
+        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would."""
+        return "VAR_INPUT" if section == "VAR" and "%I" in self.location(item).upper() else section
 
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
         if isinstance(item, tf.ExternalVariableDeclaration):
@@ -468,11 +509,14 @@ class Translator:
             return
         if isinstance(item, tf.EdgeDeclaration):
             raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            if item.name is None:
+                raise self.fail(f"a located variable without a name ({item.location}) is not supported: name it", item)
+            yield str(item.name.name), self.init_type(item.init, item)
+            return
         init = getattr(item, "init", None)
         type_ = self.init_type(init, item)
         for var in item.variables:
-            if var.location is not None:
-                raise self.fail(f"located variable {var.variable.name} AT % is not supported", item)
             yield str(var.variable.name), type_
 
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
@@ -740,6 +784,8 @@ class Translator:
             if target.kind != "elem":
                 raise self.fail(f"alias {decl.name} of {target.annotation()} with an initial value is not supported", decl.node)
             initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
+        elif target.limits is not None:
+            initial = f", initial={target.limits[0]}"  # a subrange starts at its lower limit (IEC 61131-3)
         self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _need_type(self, type_: TypeRef | None) -> None:
@@ -821,10 +867,11 @@ class Translator:
         if extra:
             kwargs.append(extra)
         section = member.section if member.section != "VAR_GLOBAL" else "VAR"
+        note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""
         if plain and not kwargs and value is not None:
-            return f"{member.name}: {type_.annotation()} = {value}"
+            return f"{member.name}: {type_.annotation()} = {value}{note}"
         self.need("iecoop", section)
-        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)})"
+        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)}){note}"
 
     def fb_init_args(self, init: Any, scope: Scope) -> str:
         call: Any = None
@@ -902,7 +949,11 @@ class Translator:
             decl = self.decl_of(type_) if type_.kind == "user" else None
             if decl is not None and decl.kind == "enum" and decl.values:
                 return f"{decl.name}.{decl.values[0]}"
+            if type_.limits is not None:
+                return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
             return None
+        if self.subrange(type_) is not None:
+            return self.limit(type_, self.expr(value, scope)).code
         if isinstance(value, lark_token_type()):
             if type_.kind == "string":
                 return python_string(str(value))
@@ -1009,6 +1060,7 @@ class Translator:
         self._emit_reference_inits(decl, scope)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
+        self._emit_actions(decl)
         self._emit_properties(decl)
         statements = statements_of(node.body)
         if statements or (kind == "FUNCTION_BLOCK" and decl.bases and node.body is not None):
@@ -1046,9 +1098,9 @@ class Translator:
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(name, type_, section or "VAR")
+                    member = Member(name, type_, self.located_section(item, section or "VAR"))
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
-                self.trail(index, trailing)
+                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
     def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
         """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
@@ -1294,6 +1346,19 @@ class Translator:
             return
         self._emit_callable_body(node, scope, returns, 2)
 
+    def _emit_actions(self, decl: Decl) -> None:
+        """ACTIONs: code of the block that works on its variables; a method without inputs (``fbX.Reset()``)."""
+        for node in decl.action_nodes:
+            self.line = node.meta.line if node.meta else None
+            self.enter(node)
+            name = str(node.name).rsplit(".", 1)[-1]
+            self.emit("", 0)
+            self.comments(node, 1)
+            self.emit(self._access_decorator(None), 1)
+            self.emit(f"def {name}(self) -> None:", 1)
+            self.emit(f'"""ACTION {name}."""', 2)
+            self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
+
     def prototype(self, returns: TypeRef | None, level: int) -> None:
         """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
         self.emit("..." if returns is None else "raise NotImplementedError", level)
@@ -1420,7 +1485,7 @@ class Translator:
                 for name, type_ in self._item_types(item):
                     member = Member(name, type_, "VAR")
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
-                self.trail(index, trailing)
+                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
     def _emit_function(self, decl: Decl) -> None:
         node = decl.node
@@ -1449,6 +1514,10 @@ class Translator:
     # --- statements ---
 
     def _emit_statements(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        top, scope.started = not scope.started, True
+        if top and any(isinstance(s, tf.LabeledStatement) for s in statements):
+            self._emit_jumps(statements, scope, level)
+            return
         if not statements:
             self.emit("pass", level)
             return
@@ -1512,6 +1581,9 @@ class Translator:
         if target is None:
             return value.code
         target = target.deref()
+        limited = self.limit(target, value)
+        if limited is not value:
+            return limited.code
         if target.is_bool and value.type is not None and value.type.is_int:
             return f"bool({value.code})"
         if target.is_int and value.type is not None and value.type.is_real:
@@ -1528,6 +1600,31 @@ class Translator:
         if target.is_real and value.type is not None and value.type.is_int and is_local:
             return f"float({value.code})"
         return value.code
+
+    def subrange(self, type_: TypeRef | None) -> TypeRef | None:
+        """The subrange type behind ``type_`` (itself, or the subrange TYPE it names), or None."""
+        if type_ is None:
+            return None
+        if type_.limits is not None:
+            return type_
+        decl = self.decl_of(type_)
+        if decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.limits is not None:
+            return decl.alias_of
+        return None
+
+    def limit(self, target: TypeRef | None, value: Ex) -> Ex:
+        """``value`` stored into a subrange: a constant must lie in it (a compile error on the PLC); another
+        value is held to the limits, as TwinCAT's and CODESYS' implicit checks CheckRangeSigned / Unsigned do."""
+        subrange = self.subrange(target)
+        if subrange is None or subrange.limits is None:
+            return value
+        low, high = subrange.limits
+        if re.fullmatch(r"-?\d+", value.code):
+            if not int(low) <= int(value.code) <= int(high):
+                raise self.fail(f"{value.code} is outside the subrange {subrange.name}({low}..{high})")
+            return Ex(value.code, subrange)
+        self.need("iecoop.functions", "LIMIT")
+        return Ex(f"LIMIT({low}, {value.code}, {high})", subrange)
 
     def _fits(self, value: Ex, target: TypeRef) -> bool:
         if re.fullmatch(r"-?\d+", value.code):
@@ -1687,11 +1784,41 @@ class Translator:
             handler = final.children[0] if final.children else None
             self._emit_statements(handler.statements if handler is not None else [], scope, level + 1)
 
+    def _emit_jumps(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        """A body with labels: its parts, from one label to the next, in a loop that a JMP restarts at a label."""
+        parts: list[tuple[str, list[Any]]] = [("", [])]
+        for statement in statements:
+            if isinstance(statement, tf.LabeledStatement):
+                label = str(statement.label)
+                if label.lower() in scope.labels:
+                    raise self.fail(f"label {label} is declared twice", statement)
+                scope.labels.add(label.lower())
+                parts.append((label, [statement.statement] if statement.statement is not None else []))
+            else:
+                parts[-1][1].append(statement)
+            if _jumps_in_loop(statement):
+                raise self.fail("JMP inside a FOR, WHILE or REPEAT loop is not supported (labels and JMPs outside loops)", statement)
+        scope.jump = scope.temp("jump")
+        self.emit(f'{scope.jump} = ""  # JMP: the label the code runs from next', level)
+        self.emit("while True:", level)
+        for index, (label, body) in enumerate(parts):
+            if index == 0 and not body:
+                continue
+            self.emit(f'if {scope.jump} == "{label.lower()}":' + (f"  # {label}:" if label else ""), level + 1)
+            self._emit_statements(body, scope, level + 2)
+            if index + 1 < len(parts) and not (body and isinstance(body[-1], (tf.ReturnStatement, tf.JumpStatement))):
+                self.emit(f'{scope.jump} = "{parts[index + 1][0].lower()}"', level + 2)  # on to the next label
+        self.emit("break", level + 1)
+
     def _st_JumpStatement(self, node: Any, scope: Scope, level: int) -> None:
-        raise self.fail("JMP is not supported", node)
+        label = str(node.label)
+        if label.lower() not in scope.labels:
+            raise self.fail(f"JMP {label}: no label {label} at the top of this body (labels inside IF, CASE or loops are not supported)", node)
+        self.emit(f'{scope.jump} = "{label.lower()}"  # JMP {label}', level)
+        self.emit("continue", level)
 
     def _st_LabeledStatement(self, node: Any, scope: Scope, level: int) -> None:
-        raise self.fail("labels (JMP targets) are not supported", node)
+        raise self.fail(f"label {node.label} inside IF, CASE or a loop is not supported (labels at the top of a body)", node)
 
     # --- expressions ---
 
@@ -2149,7 +2276,7 @@ class Translator:
             if member.section == "VAR_IN_OUT":
                 value = self.address_of(param.value, scope)
             else:
-                value = self.coerce(self.expr(param.value, scope), member.type).code
+                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type)).code
             inputs.append(f"{member.name}={value}")
         code = f"{callee.code}({', '.join(inputs)})"
         if outputs:
@@ -2217,7 +2344,11 @@ class Translator:
                 return Ex(f'"TRUE" if {value.p()} else "FALSE"', result_type, True)
             raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
         if source in ("STRING", "WSTRING"):
-            raise self.fail(f"{source}_TO_{target} is not supported", node)
+            # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
+            if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
+                raise self.fail(f"{source}_TO_{target} is not supported", node)
+            self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
+            return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)
         name = f"{source}_TO_{target}" if source else f"TO_{target}"
         if source is not None and name not in conversions.__all__:
             if source == "BOOL":
@@ -2333,6 +2464,18 @@ def _has_call(node: Any) -> bool:
         return any(_has_call(getattr(node, field.name)) for field in dataclasses.fields(node))
     if isinstance(node, (list, tuple)):
         return any(_has_call(item) for item in node)
+    return False
+
+
+def _jumps_in_loop(node: Any, in_loop: bool = False) -> bool:
+    """Whether a JMP in ``node`` sits inside a FOR, WHILE or REPEAT loop (it would leave the loop)."""
+    if isinstance(node, tf.JumpStatement):
+        return in_loop
+    in_loop = in_loop or isinstance(node, (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement))
+    if dataclasses.is_dataclass(node):
+        return any(_jumps_in_loop(getattr(node, field.name), in_loop) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(_jumps_in_loop(item, in_loop) for item in node)
     return False
 
 

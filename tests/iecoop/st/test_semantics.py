@@ -90,6 +90,61 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
         "b1 := fb1.Bump(p); b2 := fb2.Bump(p := p);"), 2,
      # (5 + 1) * 100 + the VAR_STAT count, shared by both instances: 1, 2, then 3, 4
      lambda m: (m.b1, m.b2, m.p.x), (603, 604, 5)),
+    ("actions", """
+FUNCTION_BLOCK FB_Station
+VAR_OUTPUT nParts : INT; nResets : INT; END_VAR
+Count();
+END_FUNCTION_BLOCK
+ACTION Count:
+nParts := nParts + 1;
+END_ACTION
+ACTION Reset:
+nParts := 0; nResets := nResets + 1;
+END_ACTION
+""" + prog("fb : FB_Station; n : INT;", "fb(); n := n + 1; IF n = 3 THEN fb.Reset(); END_IF"), 4,
+     # parts 1, 2, 3 -> reset to 0, then 1
+     lambda m: (m.fb.nParts, m.fb.nResets), (1, 1)),
+    ("subranges", "TYPE T_Pct : INT(0..100); END_TYPE\n"
+     "FUNCTION_BLOCK FB_V\nVAR_INPUT nIn : T_Pct; END_VAR\nVAR_OUTPUT nOut : INT(-5..5) := 2; END_VAR\n"
+     "nOut := nIn - 50;\nEND_FUNCTION_BLOCK\n"
+     + prog("a : T_Pct; b : INT(5..10); c : UINT(5..10) := 7; fb : FB_V; n : INT := 150; a0 : T_Pct; b0 : INT; c0 : UINT;",
+            "a0 := a; b0 := b; c0 := c; a := n; b := b - 10; c := c + 1; fb(nIn := n * 2);"), 1,
+     # a subrange starts at its lower limit; a store is held to the limits (150 -> 100, -5 -> 5, 300 -> 100, 50 -> 5)
+     lambda m: (m.a0, m.b0, m.c0, m.a, m.b, m.c, m.fb.nIn, m.fb.nOut), (0, 5, 7, 100, 5, 8, 100, 5)),
+    ("located-variables", prog(
+        "bSensor AT %IX0.1 : BOOL; bLamp AT %Q* : BOOL; wWord AT %MW10 : WORD := 5; nCount : INT;",
+        "bLamp := bSensor; wWord := wWord + 1; IF bSensor THEN nCount := nCount + 1; END_IF"), 2,
+     lambda m: (m.bLamp, m.wWord, m.nCount), (False, 7, 0)),
+    ("string-to-conversions", prog(
+        "sNum : STRING := ' 34abc'; a : WORD; b : BYTE; c : INT; d : REAL; e : BOOL; f : TIME; g : DINT; h : INT;",
+        "a := STRING_TO_WORD(sNum); b := STRING_TO_BYTE('500'); c := STRING_TO_INT('abc34'); "
+        "d := STRING_TO_REAL('1.5E3'); e := STRING_TO_BOOL('TRUE'); f := STRING_TO_TIME('T#1s127ms'); "
+        "g := STRING_TO_DINT('16#FF'); h := STRING_TO_INT('-2_000');"), 1,
+     # text after the number is dropped, text before it gives 0, the value wraps to the type (500 -> 244)
+     lambda m: (m.a, m.b, m.c, m.d, m.e, m.f, m.g, m.h), (34, 244, 0, 1500.0, True, 1127, 255, -2000)),
+    ("jmp-and-labels", prog("x : INT; n : INT;",
+                            "x := 0;\nlbl: x := x + 1;\nIF x < 3 THEN JMP lbl; END_IF\nn := n + 1;\n"
+                            "IF n > 1 THEN JMP done; END_IF\nx := x * 2;\ndone:\nn := n + 10;"), 2,
+     # cycle 1: x counts to 3, doubled to 6, n = 11; cycle 2: x to 3, n = 12 > 1 skips the doubling, n = 22
+     lambda m: (m.x, m.n), (3, 22)),
+    ("jmp-in-a-method-and-case", """
+FUNCTION_BLOCK FB_J
+END_FUNCTION_BLOCK
+METHOD Steps : INT
+VAR_INPUT nFrom : INT; END_VAR
+VAR i : INT; END_VAR
+i := nFrom;
+again:
+CASE i OF
+    0: Steps := Steps + 1; i := 1; JMP again;
+    1: Steps := Steps + 10;
+END_CASE
+RETURN;
+never:
+Steps := -1;
+END_METHOD
+""" + prog("fb : FB_J; a : INT; b : INT;", "a := fb.Steps(0); b := fb.Steps(1);"), 1,
+     lambda m: (m.a, m.b), (11, 10)),
     ("fb-inputs-by-value", STRUCTS + prog(
         "p : ST_P := (x := 5); a : ARRAY[1..2] OF INT := [7, 8]; fb : FB_Bump;",
         "fb(pIn := p, aIn := a);"), 2,
@@ -110,6 +165,14 @@ def test_function_var_stat_counts_every_call() -> None:
 
 
 @pytest.mark.parametrize("source, construct", [
+    (prog("i : INT;", "FOR i := 1 TO 3 DO IF i = 2 THEN JMP out; END_IF END_FOR\nout: i := 0;"), "JMP inside a FOR, WHILE or REPEAT"),
+    (prog("i : INT;", "JMP nowhere;"), "JMP nowhere: no label nowhere"),
+    (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
+    (prog("i : INT(0..10);", "i := 11;"), "11 is outside the subrange INT[(]0..10[)]"),
+    (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
+    (prog("d : DATE;", "d := STRING_TO_DATE('D#2024-01-01');"), "STRING_TO_DATE is not supported"),
+    ("PROGRAM MAIN\nVAR x : INT; END_VAR\nEND_PROGRAM\nACTION A:\nx := 1;\nEND_ACTION\nACTION A2:\nEND_ACTION\n"
+     "FUNCTION F : INT\nF := 1;\nEND_FUNCTION\nACTION B:\nEND_ACTION\n", "ACTION B does not follow a FUNCTION_BLOCK or PROGRAM"),
     ("FUNCTION_BLOCK FB_A\nVAR _n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROPERTY N : INT\nVAR a : ARRAY[1..2] OF INT; END_VAR\n"
      "N := _n;\nEND_PROPERTY\n", "ARRAY local a"),
     ("FUNCTION_BLOCK FB_A\nVAR _n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROPERTY N : INT\nVAR_STAT s : INT; END_VAR\n"
@@ -129,3 +192,50 @@ def test_generated_python_reads_as_the_rules() -> None:
     assert "self.a = self.a & self.fb.Hit(True)" in code
     assert "self.a = self.a and self.fb.Hit(True)" in code and "self.a = self.a and True" in code
     assert "else:  # the first value past the end, as ST leaves it\n            self.i = 4" in code
+
+
+def test_located_inputs_are_written_from_outside_and_keep_their_address() -> None:
+    source = prog("bSensor AT %I* : BOOL;\nbLamp AT %QX0.0 : BOOL; // lamp", "bLamp := bSensor;")
+    main = st.load(source).MAIN
+    main.bSensor = True  # what the I/O image would write
+    main()
+    assert main.bLamp is True
+    code = st.to_python(source)
+    assert "bSensor: BOOL = VAR_INPUT()  # AT %I*" in code and "bLamp: BOOL = VAR()  # AT %QX0.0: lamp" in code
+
+
+def test_twincat_action_joins_its_block(tmp_path: Any) -> None:
+    (tmp_path / "FB_Act.TcPOU").write_text("""<?xml version="1.0" encoding="utf-8"?>
+<TcPlcObject Version="1.1.0.1" ProductVersion="3.1.4024.12">
+  <POU Name="FB_Act" Id="{5a0e3c57-0000-4000-8000-000000000108}" SpecialFunc="None">
+    <Declaration><![CDATA[FUNCTION_BLOCK FB_Act
+VAR_OUTPUT
+    nCount : INT;
+END_VAR
+]]></Declaration>
+    <Implementation>
+      <ST><![CDATA[Bump();]]></ST>
+    </Implementation>
+    <Action Name="Bump" Id="{5a0e3c57-0000-4000-8000-000000000109}">
+      <Implementation>
+        <ST><![CDATA[nCount := nCount + 1;
+nCount := nCount + undefined;]]></ST>
+      </Implementation>
+    </Action>
+  </POU>
+</TcPlcObject>
+""")
+    # the error names the action's own line in the file
+    with pytest.raises(st.StUnsupportedError, match=r"FB_Act\.TcPOU:\d+: unknown variable 'undefined'"):
+        st.load(tmp_path)
+    path = tmp_path / "FB_Act.TcPOU"
+    path.write_text(path.read_text().replace("nCount := nCount + undefined;", ""))
+    block = st.load(tmp_path).FB_Act()
+    block(); block.Bump()
+    assert block.nCount == 2
+
+
+def test_subrange_declarations_read_as_their_base_type() -> None:
+    code = st.to_python("TYPE T_Pct : INT(0..100); END_TYPE\n" + prog("b : INT(5..10);", "b := b + 1;"))
+    assert 'T_Pct = Annotated[INT, Alias("T_Pct", initial=0)]' in code
+    assert "b: INT = VAR(5)  # INT(5..10)" in code and "self.b = LIMIT(5, self.b + 1, 10)" in code
