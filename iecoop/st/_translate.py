@@ -1161,6 +1161,11 @@ class Translator:
         decl = self.decl_of(type_) if type_.kind == "user" else None
         return type_.kind == "array" or decl is not None and decl.kind in ("struct", "union")
 
+    def _copied(self, type_: TypeRef) -> bool:
+        """Whether an assignment of ``type_`` copies a value with members (STRUCT, UNION, ARRAY or block)."""
+        decl = self.decl_of(type_) if type_.kind == "user" else None
+        return self._aggregate(type_) or decl is not None and decl.kind in ("fb", "stdfb")
+
     def _holder(self, scope: Scope, suffix: str, fields: Sequence[tuple[Member, Any]], doc: str) -> str:
         """A module-level STRUCT that holds ``fields`` of the METHOD or FUNCTION ``scope``, written before its POU."""
         name = "_" + scope.pou.replace(".", "_") + suffix
@@ -1569,6 +1574,10 @@ class Translator:
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
+        if local is not None and "." not in local.name and lhs.type is not None and lhs.type.kind != "reference" and self._copied(lhs.type):
+            # a Python local names a view: ST's assignment of a STRUCT, ARRAY or block copies the value
+            self.need("copy", "copy")
+            value = Ex(f"copy({value.code})", value.type)
         self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
@@ -1653,6 +1662,11 @@ class Translator:
         self.emit(f'{operator}({holder}, "{field}", {condition})', level)
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
+        local = self.local_of(node.variable, scope)
+        if local is not None and local.type is not None and local.type.kind == "reference" and self.decl_of(local.type) is not None:
+            # a method's or property's own REFERENCE TO a STRUCT or block (MyProp REF= stLocal): a Python name for the view
+            self.emit(f"{local.name} = {self.expr(node.expression, scope).code}", level)
+            return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)

@@ -145,6 +145,27 @@ Steps := -1;
 END_METHOD
 """ + prog("fb : FB_J; a : INT; b : INT;", "a := fb.Steps(0); b := fb.Steps(1);"), 1,
      lambda m: (m.a, m.b), (11, 10)),
+    ("struct-and-block-locals-are-copies", STRUCTS + """
+FUNCTION_BLOCK FB_Keep
+VAR stKept : ST_P := (x := 1); fbInner : FB_Bump; END_VAR
+END_FUNCTION_BLOCK
+METHOD Copied : INT
+VAR stLocal : ST_P; fbLocal : FB_Bump; END_VAR
+stLocal := stKept; stLocal.x := 50;     // the block's stKept stays 1
+fbLocal := fbInner; fbLocal(pIn := stLocal);
+Copied := stKept.x * 1000 + fbLocal.nSeen;
+END_METHOD
+METHOD Direct : INT
+VAR_INPUT n : INT; END_VAR
+Mine.x := n;                            // through the REFERENCE TO property: the block's own struct
+Direct := stKept.x;
+END_METHOD
+PROPERTY Mine : REFERENCE TO ST_P
+Mine REF= stKept;
+END_PROPERTY
+""" + prog("fb : FB_Keep; a : INT; b : INT; c : INT;", "a := fb.Copied(); b := fb.Direct(7); c := fb.fbInner.nSeen;"), 1,
+     # 1 * 1000 + (50 + 1) * 100 + (0 + 1); the inner block was never called
+     lambda m: (m.a, m.b, m.c), (6101, 7, 0)),
     ("fb-inputs-by-value", STRUCTS + prog(
         "p : ST_P := (x := 5); a : ARRAY[1..2] OF INT := [7, 8]; fb : FB_Bump;",
         "fb(pIn := p, aIn := a);"), 2,
