@@ -1578,7 +1578,7 @@ class Translator:
             # a Python local names a view: ST's assignment of a STRUCT, ARRAY or block copies the value
             self.need("copy", "copy")
             value = Ex(f"copy({value.code})", value.type)
-        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
+        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None and local.section != 'STAT')}", level)
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
         if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
@@ -1975,7 +1975,7 @@ class Translator:
             return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
-            if op in ("AND", "&", "OR") and logical and _has_call(node.right):
+            if op in ("AND", "&", "OR") and logical and self._has_effect(node.right, scope):
                 # ST evaluates both operands of AND / OR (only AND_THEN / OR_ELSE stop early): a call on
                 # the right runs even when the left decides, so the operands are combined with & / |
                 symbol = "&" if op != "OR" else "|"
@@ -2006,6 +2006,27 @@ class Translator:
             level = PRECEDENCE["**"]
             return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
         raise self.fail(f"operator {op}", node)
+
+    def _has_effect(self, node: Any, scope: Scope) -> bool:
+        """Whether evaluating ``node`` runs code: a call, or a read of a PROPERTY (its Get accessor)."""
+        if _has_call(node):
+            return True
+        for variable in _variables(node):
+            if isinstance(variable, tf.SimpleVariable):
+                owner, name = scope.owner, str(variable.name)
+                if name.lower() in scope.locals:
+                    continue
+            elif isinstance(variable.elements[-1], tf.FieldSelector) and not str(variable.elements[-1].field).isdigit():
+                rest = tf.MultiElementVariable(variable.name, False, variable.elements[:-1]) if len(variable.elements) > 1 else variable.name
+                owner = self.decl_of(self.expr(rest, scope).type)
+                field = variable.elements[-1].field
+                name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+            else:
+                continue
+            found = self.find_member(owner, name) if owner is not None else None
+            if found is not None and found[0] == "prop":
+                return True
+        return False
 
     def _as_bool(self, operand: Ex) -> Ex:
         """``operand`` as a Python bool, for ``&`` / ``|``: a call whose type is not known is wrapped in ``bool()``."""
@@ -2468,6 +2489,24 @@ def _exact_real(code: str) -> bool:
     except ValueError:
         return False
     return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+def _variables(node: Any) -> Iterator[Any]:
+    """The variables (``x``, ``fb.Prop``) read by the expression ``node``."""
+    if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
+        yield node
+        if isinstance(node, tf.MultiElementVariable):
+            for element in node.elements:
+                if isinstance(element, tf.SubscriptList):
+                    for subscript in element.subscripts:
+                        yield from _variables(subscript)
+        return
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from _variables(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _variables(item)
 
 
 def _has_call(node: Any) -> bool:

@@ -20,6 +20,10 @@ VAR_INPUT bResult : BOOL; END_VAR
 nCalls := nCalls + 1;
 Hit := bResult;
 END_METHOD
+PROPERTY Ready : BOOL
+nCalls := nCalls + 100;
+Ready := TRUE;
+END_PROPERTY
 FUNCTION F_Tick : BOOL
 VAR_INPUT bResult : BOOL; END_VAR
 VAR_STAT nTicks : INT; END_VAR
@@ -57,12 +61,12 @@ END_METHOD
 # (id, ST source, cycles, what to read from MAIN, expected)
 CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("and-or-evaluate-both-operands", COUNTER + prog(
-        "fb : FB_Probe; bF : BOOL; bT : BOOL := TRUE; a : BOOL; b : BOOL; c : BOOL; d : BOOL; e : BOOL; f : BOOL;",
+        "fb : FB_Probe; bF : BOOL; bT : BOOL := TRUE; a : BOOL; b : BOOL; c : BOOL; d : BOOL; e : BOOL; f : BOOL; g : BOOL;",
         "a := bF AND fb.Hit(TRUE); b := bT OR fb.Hit(FALSE); c := bF AND (fb.Hit(TRUE) OR bF); "
         "d := bF AND F_Tick(TRUE) AND F_Tick(TRUE); e := (bT OR F_Tick(FALSE)) AND NOT F_Tick(FALSE);"
-        "f := bT AND fb.Hit(TRUE) OR bF;"), 1,
-     # 4 calls of Hit, 3 of F_Tick, each result as IEC combines the values
-     lambda m: (m.fb.nCalls, m.a, m.b, m.c, m.d, m.e, m.f), (4, False, True, False, False, True, True)),
+        "f := bT AND fb.Hit(TRUE) OR bF; g := bF AND fb.Ready;"), 1,
+     # 4 calls of Hit and one read of the property Ready (its Get runs), 3 of F_Tick; each result as IEC combines the values
+     lambda m: (m.fb.nCalls, m.a, m.b, m.c, m.d, m.e, m.f, m.g), (104, False, True, False, False, True, True, False)),
     ("and-then-or-else-stop-early", COUNTER + prog(
         "fb : FB_Probe; bF : BOOL; bT : BOOL := TRUE; a : BOOL; b : BOOL; c : BOOL;",
         "a := bF AND_THEN fb.Hit(TRUE); b := bT OR_ELSE fb.Hit(FALSE); c := bT AND_THEN fb.Hit(TRUE);"), 1,
