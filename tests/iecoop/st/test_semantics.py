@@ -108,6 +108,9 @@ END_ACTION
 """ + prog("fb : FB_Station; n : INT;", "fb(); n := n + 1; IF n = 3 THEN fb.Reset(); END_IF"), 4,
      # parts 1, 2, 3 -> reset to 0, then 1
      lambda m: (m.fb.nParts, m.fb.nResets), (1, 1)),
+    ("action-of-another-program", "PROGRAM P_Line\nVAR nStops : INT; END_VAR\nEND_PROGRAM\n"
+     "ACTION Halt:\nnStops := nStops + 1;\nEND_ACTION\n" + prog("n : INT;", "P_Line.Halt(); n := P_Line.nStops * 10;"), 2,
+     lambda m: m.n, 20),
     ("subranges", "TYPE T_Pct : INT(0..100); END_TYPE\n"
      "FUNCTION_BLOCK FB_V\nVAR_INPUT nIn : T_Pct; END_VAR\nVAR_OUTPUT nOut : INT(-5..5) := 2; END_VAR\n"
      "nOut := nIn - 50;\nEND_FUNCTION_BLOCK\n"
