@@ -108,9 +108,6 @@ END_ACTION
 """ + prog("fb : FB_Station; n : INT;", "fb(); n := n + 1; IF n = 3 THEN fb.Reset(); END_IF"), 4,
      # parts 1, 2, 3 -> reset to 0, then 1
      lambda m: (m.fb.nParts, m.fb.nResets), (1, 1)),
-    ("action-of-another-program", "PROGRAM P_Line\nVAR nStops : INT; END_VAR\nEND_PROGRAM\n"
-     "ACTION Halt:\nnStops := nStops + 1;\nEND_ACTION\n" + prog("n : INT;", "P_Line.Halt(); n := P_Line.nStops * 10;"), 2,
-     lambda m: m.n, 20),
     ("subranges", "TYPE T_Pct : INT(0..100); END_TYPE\n"
      "FUNCTION_BLOCK FB_V\nVAR_INPUT nIn : T_Pct; END_VAR\nVAR_OUTPUT nOut : INT(-5..5) := 2; END_VAR\n"
      "nOut := nIn - 50;\nEND_FUNCTION_BLOCK\n"
@@ -267,3 +264,10 @@ def test_subrange_declarations_read_as_their_base_type() -> None:
     code = st.to_python("TYPE T_Pct : INT(0..100); END_TYPE\n" + prog("b : INT(5..10);", "b := b + 1;"))
     assert 'T_Pct = Annotated[INT, Alias("T_Pct", initial=0)]' in code
     assert "b: INT = VAR(5)  # INT(5..10)" in code and "self.b = LIMIT(5, self.b + 1, 10)" in code
+
+
+def test_an_action_of_a_program_runs_on_its_instance() -> None:
+    module = st.load("PROGRAM P_Line\nVAR nStops : INT; END_VAR\nEND_PROGRAM\nACTION Halt:\nnStops := nStops + 1;\nEND_ACTION\n"
+                     + prog("n : INT;", "P_Line.Halt(); n := P_Line.nStops * 10;"))
+    module.MAIN(); module.MAIN()
+    assert (module.MAIN.n, module.P_Line.nStops) == (20, 2)
