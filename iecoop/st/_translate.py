@@ -467,7 +467,7 @@ class Translator:
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(name, type_, self.located_section(item, section))
+                yield Member(name, type_, section)
 
     def location(self, item: Any) -> str:
         """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
@@ -481,7 +481,8 @@ class Translator:
 
     def located_section(self, item: Any, section: str) -> str:
         """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
-        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would."""
+        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
+        METHOD's or FUNCTION's inputs stay the ones it declares)."""
         return "VAR_INPUT" if section == "VAR" and "%I" in self.location(item).upper() else section
 
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
@@ -1146,7 +1147,7 @@ class Translator:
             if self._aggregate(param.type):
                 if not scope.pou:
                     raise self.fail(f"input {param.name} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
-                # passed by value: the callee works on a copy (made at the call, see _copy_in); None is "not given"
+                # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
                 scope.by_value.append((param, inits.get(param.name.lower())))
                 parts.append(f"{param.name}: {param.type.annotation()} | None = None")
                 scope.locals[param.name.lower()] = param
@@ -1273,9 +1274,10 @@ class Translator:
                 index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
-                    if type_.kind == "array":
+                    initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
+                    if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
                         if not scope.pou:
-                            raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                            raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
                         arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
                         scope.locals[name.lower()] = Member(name, type_, "LOCAL")
                         continue

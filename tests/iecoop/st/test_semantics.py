@@ -89,6 +89,10 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
         "r1 := F_Sum(a, p); r2 := F_Sum(a := a, p := p);"), 1,
      # 1 + 2 + 3 + 5 + 2 + 10 + 20 both times: the function's writes reach neither the caller nor the next call
      lambda m: (m.r1, m.r2, list(m.a), m.p.x), (43, 43, [1, 2, 3], 5)),
+    ("initialised-struct-local", STRUCTS + "FUNCTION F_Init : INT\nVAR s : ST_P := (x := 5); t : ST_P; END_VAR\n"
+     "F_Init := s.x + s.y + t.y;\ns.x := 100;\nEND_FUNCTION\n" + prog("a : INT; b : INT;", "a := F_Init(); b := F_Init();"), 1,
+     # 5 + 2 + 2 at every call: the locals start from their declared values each time
+     lambda m: (m.a, m.b), (9, 9)),
     ("method-input-by-value-and-var-stat", STRUCTS + prog(
         "p : ST_P := (x := 5); fb1 : FB_Bump; fb2 : FB_Bump; b1 : INT; b2 : INT;",
         "b1 := fb1.Bump(p); b2 := fb2.Bump(p := p);"), 2,
