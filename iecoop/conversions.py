@@ -17,6 +17,9 @@ A source-named form (``REAL_TO_INT``, ``WORD_TO_INT``) first takes its argument
 as the source type holds it, so ``REAL_TO_INT`` sees the 32-bit value and
 ``WORD_TO_INT(65535)`` reads the WORD's bits as an INT.
 
+``STRING_TO_<type>`` is ``TO_<type>(STRING_TO_NUMBER(text, "<type>"))``: the
+literal the text starts with, stored in the target type.
+
 DIV truncates toward zero and MOD takes the sign of the dividend (C semantics,
 as the PLCs' native code); dividing by zero raises a PlcException, as TwinCAT
 does.

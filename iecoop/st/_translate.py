@@ -1720,6 +1720,10 @@ class Translator:
 
     def _st_ForStatement(self, node: Any, scope: Scope, level: int) -> None:
         control = self.expr(node.control, scope, store=True)
+        name = str(node.control.name).lower() if isinstance(node.control, tf.SimpleVariable) else None
+        if any(isinstance(t, tf.SimpleVariable) and str(t.name).lower() == name for t in _assigned(node.statements)):
+            # IEC 61131-3: the repeated statements shall not alter the control variable (a Python for would undo it)
+            raise self.fail(f"the FOR loop writes its control variable {control.code.rsplit('.', 1)[-1]}", node)
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None
@@ -2520,6 +2524,18 @@ def _has_call(node: Any) -> bool:
     if isinstance(node, (list, tuple)):
         return any(_has_call(item) for item in node)
     return False
+
+
+def _assigned(node: Any) -> Iterator[Any]:
+    """The variables the statements in ``node`` assign with ``:=`` (each target of each assignment)."""
+    if isinstance(node, tf.AssignmentStatement):
+        yield from node.variables
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from _assigned(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _assigned(item)
 
 
 def _jumps_in_loop(node: Any, in_loop: bool = False) -> bool:

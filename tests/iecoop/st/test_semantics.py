@@ -196,6 +196,7 @@ def test_function_var_stat_counts_every_call() -> None:
 @pytest.mark.parametrize("source, construct", [
     (prog("i : INT;", "FOR i := 1 TO 3 DO IF i = 2 THEN JMP out; END_IF END_FOR\nout: i := 0;"), "JMP inside a FOR, WHILE or REPEAT"),
     (prog("i : INT;", "JMP nowhere;"), "JMP nowhere: no label nowhere"),
+    (prog("i : INT;", "FOR i := 1 TO 10 DO IF i = 2 THEN i := 5; END_IF END_FOR"), "the FOR loop writes its control variable i"),
     (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
     (prog("i : INT(0..10);", "i := 11;"), "11 is outside the subrange INT[(]0..10[)]"),
     (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
