@@ -129,14 +129,17 @@ def test_st_version_gives_the_same_trace(chapter: str) -> None:
 def _staff(pointers: bool, count: int) -> tuple[Column, ...]:
     """Each employee's full name and salary, read through the staff array (its pointers, or its interfaces)."""
 
-    def employee(index: int) -> Callable[[Any], Any]:
-        return lambda p: p.staff[index].deref if pointers else p.staff[index]
+    def employee(index: int, method: str) -> Callable[[Any], object]:
+        def read(program: Any) -> object:
+            item = program.staff[index].deref if pointers else program.staff[index]
+            return getattr(item, method)()
+
+        return read
 
     columns: list[Column] = []
     for index in range(1, count + 1):
-        read = employee(index)
-        columns.append(Column(f"aStaff[{index}].GetFullName()", lambda p, read=read: read(p).get_full_name()))
-        columns.append(Column(f"aStaff[{index}].GetMonthlySalary()", lambda p, read=read: read(p).get_monthly_salary(), ".2f"))
+        columns.append(Column(f"aStaff[{index}].GetFullName()", employee(index, "get_full_name")))
+        columns.append(Column(f"aStaff[{index}].GetMonthlySalary()", employee(index, "get_monthly_salary"), ".2f"))
     return (Column("fPayroll", "payroll", ".2f"), *columns)
 
 
