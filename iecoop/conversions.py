@@ -17,6 +17,9 @@ A source-named form (``REAL_TO_INT``, ``WORD_TO_INT``) first takes its argument
 as the source type holds it, so ``REAL_TO_INT`` sees the 32-bit value and
 ``WORD_TO_INT(65535)`` reads the WORD's bits as an INT.
 
+``STRING_TO_<type>`` is ``TO_<type>(STRING_TO_NUMBER(text, "<type>"))``: the
+literal the text starts with, stored in the target type.
+
 DIV truncates toward zero and MOD takes the sign of the dividend (C semantics,
 as the PLCs' native code); dividing by zero raises a PlcException, as TwinCAT
 does.
@@ -36,6 +39,7 @@ iecoop.exceptions.PlcException: RTSEXCPT_DIVIDEBYZERO (16#102): DIV(1, 0): integ
 from __future__ import annotations
 
 import math
+import re
 from typing import Final, overload
 
 from iecoop.exceptions import ExceptionCode, PlcException
@@ -93,6 +97,7 @@ __all__ = [
     "LREAL_TO_WORD",
     "LTIME_TO_TIME",
     "MOD",
+    "STRING_TO_NUMBER",
     "REAL_TO_BOOL",
     "REAL_TO_BYTE",
     "REAL_TO_DINT",
@@ -660,3 +665,59 @@ def _require_integer(operand: object) -> None:
         raise TypeError(
             f"MOD is defined for integer types only, got {type(operand).__name__} {operand!r}"
         )
+
+
+_STRING_NUMBER: Final = {
+    "integer": re.compile(r"[+-]?(?:(?:16#[0-9A-Fa-f][0-9A-Fa-f_]*)|(?:8#[0-7][0-7_]*)|(?:2#[01][01_]*)|(?:\d[\d_]*))"),
+    "real": re.compile(r"[+-]?\d[\d_]*(?:\.\d[\d_]*)?(?:[eE][+-]?\d+)?"),
+}
+_STRING_TIME: Final = re.compile(r"(?:T|TIME|LT|LTIME)#[0-9dhmsun_.]+", re.IGNORECASE)
+
+
+def STRING_TO_NUMBER(text: str, target: str) -> Number:
+    """The value a STRING holds for ``STRING_TO_<target>`` (ST: ``STRING_TO_INT('34abc')`` is 34).
+
+    Read as TwinCAT and CODESYS read it: blanks before the value are skipped,
+    the text must start as a literal of the target type (``16#FF``,
+    ``2#1111_0000``, ``1.5E3``, ``TRUE``, ``T#127ms``; a type prefix such as
+    ``INT#`` is allowed) and anything after it is ignored; text that does not
+    start with one gives 0. Pass the result to ``TO_<target>`` to store it in
+    the target type (``TO_BYTE(STRING_TO_NUMBER('500', "BYTE"))`` is 244).
+
+    >>> STRING_TO_NUMBER(" 34abc", "WORD"), STRING_TO_NUMBER("abc34", "WORD"), STRING_TO_NUMBER("16#FF", "INT")
+    (34, 0, 255)
+    >>> STRING_TO_NUMBER("1.5E3", "REAL"), STRING_TO_NUMBER("TRUE", "BOOL"), STRING_TO_NUMBER("T#1s5ms", "TIME")
+    (1500.0, True, 1005)
+    """
+    from iecoop.literals import T, parse_ltime
+
+    text = text.lstrip()
+    target = target.upper()
+    typed = re.match(r"[A-Za-z_]+#", text)
+    if typed is not None and typed.group(0)[:-1].upper() not in ("T", "TIME", "LT", "LTIME"):
+        text = text[typed.end():]  # INT#5, BOOL#1: the type prefix names the type already given
+    if target == "BOOL":
+        word = re.match(r"(TRUE|FALSE)\b", text, re.IGNORECASE)
+        if word is not None:
+            return word.group(1).upper() == "TRUE"
+        return STRING_TO_NUMBER(text, "INT") != 0
+    if target in ("TIME", "LTIME"):
+        found = _STRING_TIME.match(text)
+        if found is None:
+            return 0
+        literal = found.group(0)
+        try:
+            return T(literal) if target == "TIME" else parse_ltime(literal)
+        except ValueError:
+            return 0
+    match = _STRING_NUMBER["real" if target in ("REAL", "LREAL") else "integer"].match(text)
+    if match is None:
+        return 0
+    number = match.group(0).replace("_", "")
+    if target in ("REAL", "LREAL"):
+        return float(number)
+    sign = -1 if number.startswith("-") else 1
+    digits = number.lstrip("+-")
+    base, _, value = digits.rpartition("#")
+    return sign * int(value, int(base) if base else 10)
+

@@ -132,6 +132,13 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
                     continue
                 code, inner = part.get_code_and_line_map(include_end=False)
                 accessor = part.identifier.split("/")[0].rsplit(".", 1)[-1].lower()
+                if part.type.name == "action":  # a TwinCAT <Action> holds only its code: the flat form names it
+                    first = min(inner.values(), default=0)
+                    add(f"ACTION {part.identifier.split('/')[0].rsplit('.', 1)[-1]}:", {1: first})
+                    add(code, inner)
+                    add("END_ACTION", {1: max(inner.values(), default=first)})
+                    index += 1
+                    continue
                 if part.type.name in ("property_get", "property_set"):
                     code = _PROPERTY_NAME.sub(lambda m: f"{m.group(1)}{m.group(2)}.{accessor.capitalize()}", code, count=1)
                 add(code, inner)

@@ -37,6 +37,7 @@ STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CT
 _MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
 _STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
+    tf.LocatedVariableDeclarations: "VAR",
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
     tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
     tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
@@ -60,6 +61,8 @@ class TypeRef:
     of: TypeRef | None = None
     length: str | None = None
     bounds: list[tuple[str, str]] | None = None
+    #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
+    limits: tuple[str, str] | None = None
 
     def annotation(self) -> str:
         if self.kind == "array":
@@ -126,6 +129,7 @@ class Decl:
     methods: dict[str, Callable_] = dataclasses.field(default_factory=dict)
     props: dict[str, Member] = dataclasses.field(default_factory=dict)
     method_nodes: list[Any] = dataclasses.field(default_factory=list)
+    action_nodes: list[Any] = dataclasses.field(default_factory=list)
     prop_nodes: list[Any] = dataclasses.field(default_factory=list)
     values: list[str] = dataclasses.field(default_factory=list)
     alias_of: TypeRef | None = None
@@ -176,6 +180,15 @@ class Scope:
         self.counter = 0
         #: ``x.deref = value`` for each VAR_OUTPUT with an initial value (a METHOD / FUNCTION)
         self.output_inits: list[str] = []
+        #: ``FB_X.Method`` or ``F_Name`` for a METHOD or FUNCTION: names its helper classes
+        self.pou = ""
+        #: the ARRAY and structured inputs passed by value, with their initialisers: copied at the call
+        self.by_value: list[tuple[Member, Any]] = []
+        #: whether the top statement list (the only one that may hold labels) is being written
+        self.started = False
+        #: JMP targets of the body (lower case) and the variable that names the part to run next
+        self.labels: set[str] = set()
+        self.jump = ""
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -243,7 +256,10 @@ class Translator:
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
                     continue
                 if isinstance(item, tf.Action):
-                    raise self.fail(f"ACTION {item.name} is not supported (use a METHOD)", item)
+                    if current is None or current.kind not in ("fb", "program"):
+                        raise self.fail(f"ACTION {item.name} does not follow a FUNCTION_BLOCK or PROGRAM", item)
+                    current.action_nodes.append(item)
+                    continue
                 current = self._collect_item(unit, item)
                 if current is not None:
                     current.item = item
@@ -294,7 +310,8 @@ class Translator:
                 for value in inner.init.spec.values or []:
                     decl.values.append(str(value.name))
                     self.enum_values.setdefault(str(value.name).lower(), (decl.name, str(value.name)))
-            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration)):
+            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
+                                    tf.SubrangeTypeDeclaration)):
                 decl = self._add(Decl("alias", str(inner.name), inner, unit))
             else:
                 raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
@@ -326,6 +343,11 @@ class Translator:
                 params = _signature([m for block in node.declarations for m in self._block_members(block)])
                 returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
                 decl.methods[name.lower()] = Callable_(name, returns, params)
+            for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
+                name = str(node.name).rsplit(".", 1)[-1]
+                if name.lower() in decl.methods:
+                    raise self.fail(f"ACTION {name} of {decl.name} has the name of a METHOD", node)
+                decl.methods[name.lower()] = Callable_(name, None, [])
             for node in decl.prop_nodes:
                 name = str(node.name).split(".")[0]
                 decl.props[name.lower()] = Member(name, self._spec_type(node.return_type.spec, node), "PROPERTY")
@@ -339,6 +361,8 @@ class Translator:
             return self._spec_type(node.init.spec, node)
         if isinstance(node, tf.StringTypeDeclaration):
             return self._string_type(node.string_type)
+        if isinstance(node, tf.SubrangeTypeDeclaration):
+            return self.init_type(node.init, node)
         return self._array_type(node.init.spec, None, node)
 
     # --- types from blark nodes ---
@@ -425,21 +449,43 @@ class Translator:
                 raise self.fail("an inline enumeration in a declaration is not supported (declare a TYPE)", node)
             return self.type_named(str(init.spec.type_name), node)
         if isinstance(init, tf.SubrangeTypeInitialization):
-            raise self.fail("subrange types are not supported", node)
+            if init.indirection is not None or not isinstance(init.spec.subrange, tf.PartialSubrange):
+                raise self.fail("a subrange type needs both limits and no POINTER TO / REFERENCE TO", node)
+            base = self.type_named(str(init.spec.type_name), node)
+            if not base.is_int:
+                raise self.fail(f"a subrange of {base.name} (subranges are of integer types)", node)
+            limits = tuple(str(eval(self.const_expr(n), {})) for n in (init.spec.subrange.start, init.spec.subrange.stop))
+            return TypeRef("elem", base.name, limits=(limits[0], limits[1]))
         raise self.fail(f"declaration {type(init).__name__} is not supported", node)
 
     def _block_members(self, block: Any) -> Iterator[Member]:
         section = _SECTION_OF.get(type(block))
         if isinstance(block, tf.GlobalVariableDeclarations):
             section = "VAR_GLOBAL"
-        if isinstance(block, (tf.LocatedVariableDeclarations, tf.IncompleteLocatedVariableDeclarations)):
-            raise self.fail("located variables (AT %I / %Q / %M) are not supported", block)
+        if isinstance(block, tf.LocatedVariableDeclarations):
+            section = "VAR"
         if section is None:
             raise self.fail(f"{type(block).__name__} is not supported", block)
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
                 yield Member(name, type_, section)
+
+    def location(self, item: Any) -> str:
+        """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            return str(item.location)
+        spec = getattr(item, "spec", None)
+        if isinstance(spec, tf.GlobalVariableSpec) and spec.location is not None:
+            return str(spec.location)
+        located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
+        return located[0] if located else ""
+
+    def located_section(self, item: Any, section: str) -> str:
+        """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
+        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
+        METHOD's or FUNCTION's inputs stay the ones it declares)."""
+        return "VAR_INPUT" if section == "VAR" and "%I" in self.location(item).upper() else section
 
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
         if isinstance(item, tf.ExternalVariableDeclaration):
@@ -466,11 +512,14 @@ class Translator:
             return
         if isinstance(item, tf.EdgeDeclaration):
             raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            if item.name is None:
+                raise self.fail(f"a located variable without a name ({item.location}) is not supported: name it", item)
+            yield str(item.name.name), self.init_type(item.init, item)
+            return
         init = getattr(item, "init", None)
         type_ = self.init_type(init, item)
         for var in item.variables:
-            if var.location is not None:
-                raise self.fail(f"located variable {var.variable.name} AT % is not supported", item)
             yield str(var.variable.name), type_
 
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
@@ -624,6 +673,9 @@ class Translator:
             members = [m.type for m in decl.members.values()]
             members += [p.type for p in decl.props.values()] + [m.returns for m in decl.methods.values()]
             members += [p.type for m in decl.methods.values() for p in m.params]
+            # a method's ARRAY and VAR_STAT locals live in classes made before the block's
+            members += [m.type for node in decl.method_nodes for block in node.declarations
+                        if isinstance(block, (tf.VariableDeclarations, tf.StaticDeclarations)) for m in self._block_members(block)]
             for type_ in members:
                 while type_ is not None and type_.kind in ("array", "pointer", "reference"):
                     type_ = type_.of
@@ -656,9 +708,10 @@ class Translator:
         for decl in self.ordered():
             self.unit = decl.unit
             self.out = []
+            self.preamble: list[str] = []
             self.enter(decl.item)
             getattr(self, f"_emit_{decl.kind}")(decl)
-            body.extend(["", ""] + self.out)
+            body.extend(self.preamble + ["", ""] + self.out)
         if self.named_programs:
             # P_Count.counter from another POU names the program's instance, as in ST: one per PROGRAM
             body.extend(["", "", "# The PROGRAM instances other POUs read (P_Count.counter): the name is the instance."])
@@ -734,6 +787,8 @@ class Translator:
             if target.kind != "elem":
                 raise self.fail(f"alias {decl.name} of {target.annotation()} with an initial value is not supported", decl.node)
             initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
+        elif target.limits is not None:
+            initial = f", initial={target.limits[0]}"  # a subrange starts at its lower limit (IEC 61131-3)
         self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _need_type(self, type_: TypeRef | None) -> None:
@@ -815,10 +870,11 @@ class Translator:
         if extra:
             kwargs.append(extra)
         section = member.section if member.section != "VAR_GLOBAL" else "VAR"
+        note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""
         if plain and not kwargs and value is not None:
-            return f"{member.name}: {type_.annotation()} = {value}"
+            return f"{member.name}: {type_.annotation()} = {value}{note}"
         self.need("iecoop", section)
-        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)})"
+        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)}){note}"
 
     def fb_init_args(self, init: Any, scope: Scope) -> str:
         call: Any = None
@@ -896,7 +952,11 @@ class Translator:
             decl = self.decl_of(type_) if type_.kind == "user" else None
             if decl is not None and decl.kind == "enum" and decl.values:
                 return f"{decl.name}.{decl.values[0]}"
+            if type_.limits is not None:
+                return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
             return None
+        if self.subrange(type_) is not None:
+            return self.limit(type_, self.expr(value, scope)).code
         if isinstance(value, lark_token_type()):
             if type_.kind == "string":
                 return python_string(str(value))
@@ -1003,6 +1063,7 @@ class Translator:
         self._emit_reference_inits(decl, scope)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
+        self._emit_actions(decl)
         self._emit_properties(decl)
         statements = statements_of(node.body)
         if statements or (kind == "FUNCTION_BLOCK" and decl.bases and node.body is not None):
@@ -1040,9 +1101,9 @@ class Translator:
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(name, type_, section or "VAR")
+                    member = Member(name, type_, self.located_section(item, section or "VAR"))
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
-                self.trail(index, trailing)
+                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
     def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
         """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
@@ -1090,10 +1151,14 @@ class Translator:
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.name.lower()] = param
                 continue
-            if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
-                raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
-            if param.type.kind == "array":
-                raise self.fail(f"ARRAY input {param.name} passed by value is not supported")
+            if self._aggregate(param.type):
+                if not scope.pou:
+                    raise self.fail(f"input {param.name} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
+                # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
+                scope.by_value.append((param, inits.get(param.name.lower())))
+                parts.append(f"{param.name}: {param.type.annotation()} | None = None")
+                scope.locals[param.name.lower()] = param
+                continue
             default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
@@ -1115,6 +1180,27 @@ class Translator:
                 scope.output_inits.append(f"{param.name}.deref = {value}")
         scope.locals[param.name.lower()] = param
         return line
+
+    def _aggregate(self, type_: TypeRef) -> bool:
+        """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
+        decl = self.decl_of(type_) if type_.kind == "user" else None
+        return type_.kind == "array" or decl is not None and decl.kind in ("struct", "union")
+
+    def _copied(self, type_: TypeRef) -> bool:
+        """Whether an assignment of ``type_`` copies a value with members (STRUCT, UNION, ARRAY or block)."""
+        decl = self.decl_of(type_) if type_.kind == "user" else None
+        return self._aggregate(type_) or decl is not None and decl.kind in ("fb", "stdfb")
+
+    def _holder(self, scope: Scope, suffix: str, fields: Sequence[tuple[Member, Any]], doc: str) -> str:
+        """A module-level STRUCT that holds ``fields`` of the METHOD or FUNCTION ``scope``, written before its POU."""
+        name = "_" + scope.pou.replace(".", "_") + suffix
+        self.need("iecoop", "Struct")
+        lines = ["", "", f"class {name}(Struct):", f'    """{doc}"""']
+        const = Scope(None, "const")
+        for member, init in fields:
+            lines.append("    " + self.field_line(Member(member.name, member.type, "VAR"), init, const))
+        self.preamble.extend(lines)
+        return name
 
     def zero(self, type_: TypeRef) -> str:
         if type_.is_bool:
@@ -1152,6 +1238,48 @@ class Translator:
         return f"@method({' | '.join(flags)})" if flags else "@method"
 
     def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
+        arrays: list[tuple[Member, Any]] = []
+        statics: list[tuple[Any, str, TypeRef | None]] = []
+        self._locals_of_blocks(blocks, scope, level, arrays, statics)
+        if statics:
+            self._statics(scope, statics)
+        held = scope.by_value + arrays
+        if held:
+            # ARRAY and structured locals, and the copies of such inputs passed by value, live in a STRUCT
+            # made at each call: initialised as declared, and the caller's variables never written
+            holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}: new at every call.")
+            self.emit(f"_var = {holder}()", level)
+            for member, _ in scope.by_value:
+                self.emit(f"if {member.name} is not None:", level)
+                self.emit(f"_var.{member.name} = {member.name}  # passed by value: a copy", level + 1)
+            for member, _ in held:
+                assert member.type is not None
+                self._need_type(member.type)
+                annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
+                self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
+
+    def _statics(self, scope: Scope, statics: Sequence[tuple[Any, str, TypeRef | None]]) -> None:
+        """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
+        owner = scope.owner
+        if owner is not None:
+            method = scope.pou.split(".", 1)[1]
+            for item, name, type_ in statics:  # a VAR_STAT of the block, named after the method
+                self.need("iecoop", "VAR_STAT")
+                field = Member(f"{method}_{name}", type_, "VAR_STAT")
+                if self.find_member(owner, field.name) is not None:
+                    raise self.fail(f"VAR_STAT {name} of METHOD {scope.pou} clashes with the member {field.name}", item)
+                self.out.insert(self._field_insert_point(), "    " + self.field_line(field, getattr(item, "init", None), Scope(None, "const")))
+                scope.locals[name.lower()] = Member(f"self.{field.name}", type_, "STAT")
+            return
+        holder = self._holder(scope, "_VAR_STAT", [(Member(name, type_, "VAR"), getattr(item, "init", None)) for item, name, type_ in statics],
+                              f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
+        instance = f"_{scope.pou}_static"
+        self.preamble.extend(["", "", f"{instance} = {holder}()"])
+        for _, name, type_ in statics:
+            scope.locals[name.lower()] = Member(f"{instance}.{name}", type_, "STAT")
+
+    def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
+                          statics: list[tuple[Any, str, TypeRef | None]]) -> None:
         for block in blocks:
             section = _SECTION_OF.get(type(block))
             if section in ("VAR_INPUT", "VAR_INST"):
@@ -1161,7 +1289,10 @@ class Translator:
                     continue  # parameters (see _by_reference_param)
                 raise self.fail(f"{section} in a {scope.kind} is not supported", block)
             if section == "VAR_STAT":
-                raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+                if not scope.pou:
+                    raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+                statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
+                continue
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
@@ -1169,8 +1300,13 @@ class Translator:
                 index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
-                    if type_.kind == "array":
-                        raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                    initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
+                    if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
+                        if not scope.pou:
+                            raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+                        arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
+                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+                        continue
                     self._need_type(type_)
                     init = getattr(item, "init", None)
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
@@ -1188,6 +1324,7 @@ class Translator:
         info = decl.methods[name.lower()]
         lifecycle = _LIFECYCLE.get(name.lower())
         scope = Scope(decl, "method", return_name=name if info.returns is not None else None)
+        scope.pou = f"{decl.name}.{name}"
         self.emit("", 0)
         self.comments(node, 1)
         decorators = []
@@ -1241,6 +1378,19 @@ class Translator:
             self.prototype(returns, 2)
             return
         self._emit_callable_body(node, scope, returns, 2)
+
+    def _emit_actions(self, decl: Decl) -> None:
+        """ACTIONs: code of the block that works on its variables; a method without inputs (``fbX.Reset()``)."""
+        for node in decl.action_nodes:
+            self.line = node.meta.line if node.meta else None
+            self.enter(node)
+            name = str(node.name).rsplit(".", 1)[-1]
+            self.emit("", 0)
+            self.comments(node, 1)
+            self.emit(self._access_decorator(None), 1)
+            self.emit(f"def {name}(self) -> None:", 1)
+            self.emit(f'"""ACTION {name}."""', 2)
+            self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
 
     def prototype(self, returns: TypeRef | None, level: int) -> None:
         """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
@@ -1370,13 +1520,14 @@ class Translator:
                 for name, type_ in self._item_types(item):
                     member = Member(name, type_, "VAR")
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
-                self.trail(index, trailing)
+                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
     def _emit_function(self, decl: Decl) -> None:
         node = decl.node
         self.line = node.meta.line if node.meta else None
         info = decl.methods["()"]
         scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
+        scope.pou = decl.name
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)[2:]
         self._need_type(info.returns)
@@ -1401,6 +1552,10 @@ class Translator:
     # --- statements ---
 
     def _emit_statements(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        top, scope.started = not scope.started, True
+        if top and any(isinstance(s, tf.LabeledStatement) for s in statements):
+            self._emit_jumps(statements, scope, level)
+            return
         if not statements:
             self.emit("pass", level)
             return
@@ -1453,7 +1608,11 @@ class Translator:
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
         by_reference = local is not None and local.section in ("VAR_OUTPUT", "VAR_IN_OUT")
-        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None and not by_reference)}", level)
+        if local is not None and not by_reference and "." not in local.name and lhs.type is not None and lhs.type.kind != "reference" and self._copied(lhs.type):
+            # a Python local names a view: ST's assignment of a STRUCT, ARRAY or block copies the value
+            self.need("copy", "copy")
+            value = Ex(f"copy({value.code})", value.type)
+        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None and not by_reference and local.section != 'STAT')}", level)
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
         if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
@@ -1465,6 +1624,9 @@ class Translator:
         if target is None:
             return value.code
         target = target.deref()
+        limited = self.limit(target, value)
+        if limited is not value:
+            return limited.code
         if target.is_bool and value.type is not None and value.type.is_int:
             return f"bool({value.code})"
         if target.is_int and value.type is not None and value.type.is_real:
@@ -1481,6 +1643,31 @@ class Translator:
         if target.is_real and value.type is not None and value.type.is_int and is_local:
             return f"float({value.code})"
         return value.code
+
+    def subrange(self, type_: TypeRef | None) -> TypeRef | None:
+        """The subrange type behind ``type_`` (itself, or the subrange TYPE it names), or None."""
+        if type_ is None:
+            return None
+        if type_.limits is not None:
+            return type_
+        decl = self.decl_of(type_)
+        if decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.limits is not None:
+            return decl.alias_of
+        return None
+
+    def limit(self, target: TypeRef | None, value: Ex) -> Ex:
+        """``value`` stored into a subrange: a constant must lie in it (a compile error on the PLC); another
+        value is held to the limits, as TwinCAT's and CODESYS' implicit checks CheckRangeSigned / Unsigned do."""
+        subrange = self.subrange(target)
+        if subrange is None or subrange.limits is None:
+            return value
+        low, high = subrange.limits
+        if re.fullmatch(r"-?\d+", value.code):
+            if not int(low) <= int(value.code) <= int(high):
+                raise self.fail(f"{value.code} is outside the subrange {subrange.name}({low}..{high})")
+            return Ex(value.code, subrange)
+        self.need("iecoop.functions", "LIMIT")
+        return Ex(f"LIMIT({low}, {value.code}, {high})", subrange)
 
     def _fits(self, value: Ex, target: TypeRef) -> bool:
         if re.fullmatch(r"-?\d+", value.code):
@@ -1509,6 +1696,11 @@ class Translator:
         self.emit(f'{operator}({holder}, "{field}", {condition})', level)
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
+        local = self.local_of(node.variable, scope)
+        if local is not None and local.type is not None and local.type.kind == "reference" and self.decl_of(local.type) is not None:
+            # a method's or property's own REFERENCE TO a STRUCT or block (MyProp REF= stLocal): a Python name for the view
+            self.emit(f"{local.name} = {self.expr(node.expression, scope).code}", level)
+            return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)
@@ -1560,6 +1752,10 @@ class Translator:
 
     def _st_ForStatement(self, node: Any, scope: Scope, level: int) -> None:
         control = self.expr(node.control, scope, store=True)
+        name = str(node.control.name).lower() if isinstance(node.control, tf.SimpleVariable) else None
+        if any(isinstance(t, tf.SimpleVariable) and str(t.name).lower() == name for t in _assigned(node.statements)):
+            # IEC 61131-3: the repeated statements shall not alter the control variable (a Python for would undo it)
+            raise self.fail(f"the FOR loop writes its control variable {control.code.rsplit('.', 1)[-1]}", node)
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None
@@ -1572,8 +1768,22 @@ class Translator:
             header = f"range({start.code}, {stop.p()} {sign}, {step.code})"
         else:
             header = f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
+        # A loop that ends by its test leaves the variable at the first value that failed it (ST:
+        # FOR i := 1 TO 10 leaves 11); after EXIT it keeps the value it had. Python's for ... else.
+        literal = [int(ex.code) if re.fullmatch(r"-?\d+", ex.code) else None for ex in (start, stop, step or Ex("1"))]
+        if None not in literal:
+            first, last, by = (n for n in literal if n is not None)
+            past = first + by * len(range(first, last + (1 if by > 0 else -1), by))
+            after = Ex(str(past), start.type)
+        else:
+            loop = scope.temp("for")
+            self.emit(f"{loop} = {header}", level)
+            header = loop
+            after = Ex(f"{loop}.start + {loop}.step * len({loop})", start.type or stop.type, True, PRECEDENCE["+"])
         self.emit(f"for {control.code} in {header}:", level)
         self._emit_statements(node.statements.statements, scope, level + 1)
+        self.emit("else:  # the first value past the end, as ST leaves it", level)
+        self.assign(node.control, after, scope, level + 1)
 
     def _st_WhileStatement(self, node: Any, scope: Scope, level: int) -> None:
         self.emit(f"while {self.condition(node.expression, scope)}:", level)
@@ -1626,11 +1836,41 @@ class Translator:
             handler = final.children[0] if final.children else None
             self._emit_statements(handler.statements if handler is not None else [], scope, level + 1)
 
+    def _emit_jumps(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        """A body with labels: its parts, from one label to the next, in a loop that a JMP restarts at a label."""
+        parts: list[tuple[str, list[Any]]] = [("", [])]
+        for statement in statements:
+            if isinstance(statement, tf.LabeledStatement):
+                label = str(statement.label)
+                if label.lower() in scope.labels:
+                    raise self.fail(f"label {label} is declared twice", statement)
+                scope.labels.add(label.lower())
+                parts.append((label, [statement.statement] if statement.statement is not None else []))
+            else:
+                parts[-1][1].append(statement)
+            if _jumps_in_loop(statement):
+                raise self.fail("JMP inside a FOR, WHILE or REPEAT loop is not supported (labels and JMPs outside loops)", statement)
+        scope.jump = scope.temp("jump")
+        self.emit(f'{scope.jump} = ""  # JMP: the label the code runs from next', level)
+        self.emit("while True:", level)
+        for index, (label, body) in enumerate(parts):
+            if index == 0 and not body:
+                continue
+            self.emit(f'if {scope.jump} == "{label.lower()}":' + (f"  # {label}:" if label else ""), level + 1)
+            self._emit_statements(body, scope, level + 2)
+            if index + 1 < len(parts) and not (body and isinstance(body[-1], (tf.ReturnStatement, tf.JumpStatement))):
+                self.emit(f'{scope.jump} = "{parts[index + 1][0].lower()}"', level + 2)  # on to the next label
+        self.emit("break", level + 1)
+
     def _st_JumpStatement(self, node: Any, scope: Scope, level: int) -> None:
-        raise self.fail("JMP is not supported", node)
+        label = str(node.label)
+        if label.lower() not in scope.labels:
+            raise self.fail(f"JMP {label}: no label {label} at the top of this body (labels inside IF, CASE or loops are not supported)", node)
+        self.emit(f'{scope.jump} = "{label.lower()}"  # JMP {label}', level)
+        self.emit("continue", level)
 
     def _st_LabeledStatement(self, node: Any, scope: Scope, level: int) -> None:
-        raise self.fail("labels (JMP targets) are not supported", node)
+        raise self.fail(f"label {node.label} inside IF, CASE or a loop is not supported (labels at the top of a body)", node)
 
     # --- expressions ---
 
@@ -1773,6 +2013,12 @@ class Translator:
             return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
+            if op in ("AND", "&", "OR") and logical and self._has_effect(node.right, scope):
+                # ST evaluates both operands of AND / OR (only AND_THEN / OR_ELSE stop early): a call on
+                # the right runs even when the left decides, so the operands are combined with & / |
+                symbol = "&" if op != "OR" else "|"
+                level = PRECEDENCE[symbol]
+                return Ex(f"{self._as_bool(left).wrap(level)} {symbol} {self._as_bool(right).wrap(level + 1)}", BOOL, True, level)
             if op in ("AND_THEN", "OR_ELSE") or logical:
                 word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or", "XOR": "!="}[op]
                 level = PRECEDENCE[word] if word != "!=" else PRECEDENCE["compare"]
@@ -1798,6 +2044,33 @@ class Translator:
             level = PRECEDENCE["**"]
             return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
         raise self.fail(f"operator {op}", node)
+
+    def _has_effect(self, node: Any, scope: Scope) -> bool:
+        """Whether evaluating ``node`` runs code: a call, or a read of a PROPERTY (its Get accessor)."""
+        if _has_call(node):
+            return True
+        for variable in _variables(node):
+            if isinstance(variable, tf.SimpleVariable):
+                owner, name = scope.owner, str(variable.name)
+                if name.lower() in scope.locals:
+                    continue
+            elif isinstance(variable.elements[-1], tf.FieldSelector) and not str(variable.elements[-1].field).isdigit():
+                rest = tf.MultiElementVariable(variable.name, False, variable.elements[:-1]) if len(variable.elements) > 1 else variable.name
+                owner = self.decl_of(self.expr(rest, scope).type)
+                field = variable.elements[-1].field
+                name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+            else:
+                continue
+            found = self.find_member(owner, name) if owner is not None else None
+            if found is not None and found[0] == "prop":
+                return True
+        return False
+
+    def _as_bool(self, operand: Ex) -> Ex:
+        """``operand`` as a Python bool, for ``&`` / ``|``: a call whose type is not known is wrapped in ``bool()``."""
+        if operand.type is not None and operand.type.deref().is_bool:
+            return operand
+        return Ex(f"bool({operand.code})", BOOL)
 
     def _is_handle(self, type_: TypeRef) -> bool:
         if type_.kind == "pointer":
@@ -1882,7 +2155,7 @@ class Translator:
                 raise self.fail(f"enumeration {decl.name} has no value {field!r}", node)
             return Ex(f"{decl.name}.{match}", TypeRef("user", decl.name))
         found = self.find_member(decl, field)
-        if decl.kind == "program" and found is not None and found[0] == "member" and base.code == decl.name:
+        if decl.kind == "program" and found is not None and found[0] in ("member", "method") and base.code == decl.name:
             self.named_programs.add(decl.name)
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
@@ -2106,7 +2379,7 @@ class Translator:
             if member.section == "VAR_IN_OUT":
                 value = self.address_of(param.value, scope)
             else:
-                value = self.coerce(self.expr(param.value, scope), member.type).code
+                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type)).code
             inputs.append(f"{member.name}={value}")
         code = f"{callee.code}({', '.join(inputs)})"
         if outputs:
@@ -2174,7 +2447,11 @@ class Translator:
                 return Ex(f'"TRUE" if {value.p()} else "FALSE"', result_type, True)
             raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
         if source in ("STRING", "WSTRING"):
-            raise self.fail(f"{source}_TO_{target} is not supported", node)
+            # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
+            if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
+                raise self.fail(f"{source}_TO_{target} is not supported", node)
+            self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
+            return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)
         name = f"{source}_TO_{target}" if source else f"TO_{target}"
         if source is not None and name not in conversions.__all__:
             if source == "BOOL":
@@ -2286,6 +2563,59 @@ def _signature(members: Sequence[Member]) -> list[Member]:
     """A METHOD's / FUNCTION's parameters: inputs and in-outs in declaration order, then the outputs."""
     inputs = [m for m in members if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
     return inputs + [m for m in members if m.section == "VAR_OUTPUT"]
+
+
+def _variables(node: Any) -> Iterator[Any]:
+    """The variables (``x``, ``fb.Prop``) read by the expression ``node``."""
+    if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
+        yield node
+        if isinstance(node, tf.MultiElementVariable):
+            for element in node.elements:
+                if isinstance(element, tf.SubscriptList):
+                    for subscript in element.subscripts:
+                        yield from _variables(subscript)
+        return
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from _variables(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _variables(item)
+
+
+def _has_call(node: Any) -> bool:
+    """Whether the expression ``node`` calls a function, method or block (something that may have a side effect)."""
+    if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
+        return True
+    if dataclasses.is_dataclass(node):
+        return any(_has_call(getattr(node, field.name)) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(_has_call(item) for item in node)
+    return False
+
+
+def _assigned(node: Any) -> Iterator[Any]:
+    """The variables the statements in ``node`` assign with ``:=`` (each target of each assignment)."""
+    if isinstance(node, tf.AssignmentStatement):
+        yield from node.variables
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from _assigned(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _assigned(item)
+
+
+def _jumps_in_loop(node: Any, in_loop: bool = False) -> bool:
+    """Whether a JMP in ``node`` sits inside a FOR, WHILE or REPEAT loop (it would leave the loop)."""
+    if isinstance(node, tf.JumpStatement):
+        return in_loop
+    in_loop = in_loop or isinstance(node, (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement))
+    if dataclasses.is_dataclass(node):
+        return any(_jumps_in_loop(getattr(node, field.name), in_loop) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(_jumps_in_loop(item, in_loop) for item in node)
+    return False
 
 
 def statements_of(body: Any) -> list[Any]:

@@ -9,14 +9,19 @@ from __future__ import annotations
 
 import dataclasses
 import pathlib
+from collections.abc import Callable
 from typing import Any
 
 import pytest
 
 from iecoop import st
 from iecoop.runtime import Runtime
+from iecoop_examples import ch03_method_return_types as ch03
+from iecoop_examples import ch06_struct_and_interface_extends as ch06
+from iecoop_examples.ch11_abstract_fb_vs_interface import solution1_abstract_fb, solution2_interface, solution3_combination
 from patterns.showcase import run_entry, table
 from patterns.showcase.catalogue import Column, Entry, find, plc_task
+from patterns.showcase.entry import Script, press, steps
 
 COURSE = pathlib.Path(__file__).parent / "data" / "course"
 
@@ -119,3 +124,97 @@ def test_st_version_gives_the_same_trace(chapter: str) -> None:
     assert python.fault is None and structured.fault is None
     assert len(python.rows) == entry.cycles
     assert table(structured) == table(python)
+
+
+def _staff(pointers: bool, count: int) -> tuple[Column, ...]:
+    """Each employee's full name and salary, read through the staff array (its pointers, or its interfaces)."""
+
+    def employee(index: int, method: str) -> Callable[[Any], object]:
+        def read(program: Any) -> object:
+            item = program.staff[index].deref if pointers else program.staff[index]
+            return getattr(item, method)()
+
+        return read
+
+    columns: list[Column] = []
+    for index in range(1, count + 1):
+        columns.append(Column(f"aStaff[{index}].GetFullName()", employee(index, "get_full_name")))
+        columns.append(Column(f"aStaff[{index}].GetMonthlySalary()", employee(index, "get_monthly_salary"), ".2f"))
+    return (Column("fPayroll", "payroll", ".2f"), *columns)
+
+
+_EMPLOYEES = {"staff": "aStaff", "payroll": "fPayroll", "get_full_name": "GetFullName",
+              "get_monthly_salary": "GetMonthlySalary"}
+
+#: The chapters whose example is a main() rather than a traced program: the trace of their MAIN is made here.
+#: name -> (chapter, ST file, Python name -> ST name, Python Program, columns, script, cycles)
+DEMOS: dict[str, tuple[str, str, dict[str, str], type, tuple[Column, ...], Script | None, int]] = {
+    "ch03": ("ch03", "ch03_method_return_types.st", {
+        "set_cmd": "bSet", "single_get": "nSingleGet", "st_get": "stGet", "st_copy": "stCopy", "fb_copy": "fbCopy",
+        "n_var": "nVar", "count_value": "nCount", "sample": "fbSample", "my_prop": "MyProp", "change_copy": "ChangeCopy"},
+        ch03.Main, (Column("bSet", "set_cmd"), Column("nSingleGet", "single_get"), Column("stGet.nVar", "st_get.n_var"),
+                    Column("stCopy.nVar", "st_copy.n_var"), Column("fbCopy.nCount", "fb_copy.count_value"),
+                    Column("fbSample.MyProp.nVar", "sample.my_prop.n_var")),
+        steps(*press("set_cmd", 4)), 6),
+    "ch06": ("ch06", "ch06_struct_and_interface_extends.st", {
+        "structure2": "stStructure2", "structure11": "stStructure11", "i_int": "iInt", "r_real": "rReal",
+        "t_time": "tTime", "b_bool2": "bBool2", "s_struct": "sStruct", "b_bool": "bBool", "motor": "fbMotor",
+        "starts": "nStarts", "speed": "Speed", "running": "bRunning", "cycle": "nCycle"},
+        ch06.Main, (Column("nCycle", "cycle"), Column("iInt", "structure2.i_int"), Column("rReal", "structure2.r_real"),
+                    Column("tTime", "structure2.t_time"), Column("bBool2", "structure2.b_bool2"),
+                    Column("sStruct.bBool", "structure11.s_struct.b_bool"), Column("nStarts", "motor.starts"),
+                    Column("Speed", "motor.speed"), Column("bRunning", "motor.running")),
+        None, 101),
+    "ch11-solution1": ("ch11", "ch11_solution1_abstract_fb.st", _EMPLOYEES, solution1_abstract_fb.Main, _staff(True, 2), None, 2),
+    "ch11-solution2": ("ch11", "ch11_solution2_interface.st", _EMPLOYEES, solution2_interface.Main, _staff(False, 2), None, 2),
+    "ch11-solution3": ("ch11", "ch11_solution3_combination.st", _EMPLOYEES, solution3_combination.Main, _staff(False, 3), None, 2),
+}
+
+
+@pytest.mark.parametrize("name", sorted(DEMOS))
+def test_st_version_of_a_demo_chapter_gives_the_same_trace(name: str) -> None:
+    chapter, file, names, program, columns, script, cycles = DEMOS[name]
+    demo = find(chapter)
+    assert demo.demo  # the chapter's own showcase runs its main(): its MAIN's trace is declared above
+    entry = dataclasses.replace(demo, demo=False, program=program, columns=columns, script=script, cycles=cycles)
+    python = run_entry(entry, cycles, every=1)
+    structured = run_entry(st_entry(entry, COURSE / file, names), cycles, every=1)
+    assert python.fault is None and structured.fault is None
+    assert len(python.rows) == cycles
+    assert table(structured) == table(python)
+
+
+def test_st_structs_of_chapter_6_have_the_python_layout() -> None:
+    from iecoop import DefinitionError, sizeof, var_info
+
+    module = st.load(COURSE / "ch06_struct_and_interface_extends.st")
+    assert [sizeof(module.ST_Base1), sizeof(module.ST_Sub1), sizeof(module.ST_Sub2)] == [
+        sizeof(ch06.StructBase1), sizeof(ch06.StructSub1), sizeof(ch06.StructSub2)] == [8, 48, 56]
+    assert var_info(module.ST_Sub2(), "bBool2").ByteOffset == var_info(ch06.StructSub2(), "b_bool2").ByteOffset == 48
+    source = (COURSE / "ch06_struct_and_interface_extends.st").read_text(encoding="utf-8")
+    # the chapter's two compile errors, in ST: a member repeated along EXTENDS, an interface method left out
+    with pytest.raises(DefinitionError, match="bBool1 is already declared in ST_Base1"):
+        st.load(source + "TYPE ST_Bad EXTENDS ST_Base1 : STRUCT bBool1 : BOOL; END_STRUCT END_TYPE\n")
+    half = source.split("PROGRAM MAIN")[0].replace("FB_Motor", "FB_HalfMotor").replace(
+        "METHOD Stop : BOOL               // TRUE if it was running\nStop := bRunning;", "METHOD Halt : BOOL\n")
+    with pytest.raises(DefinitionError, match="no implementation for method 'Stop' defined in interface 'I_Motor'"):
+        st.load(half)
+
+
+def test_st_version_of_chapter_11_refuses_an_abstract_instance() -> None:
+    from iecoop import DefinitionError
+
+    source = (COURSE / "ch11_solution3_combination.st").read_text(encoding="utf-8")
+    with pytest.raises(DefinitionError, match="ABSTRACT FB_Employee cannot be instantiated"):
+        st.load(source + "PROGRAM P_Office\nVAR fbEmployee : FB_Employee; END_VAR\nEND_PROGRAM\n")
+
+
+def test_st_version_of_chapter_3_returns_copies_as_the_python_one() -> None:
+    python, structured = ch03.Main(), Renamed(getattr(st.load(COURSE / "ch03_method_return_types.st"), "MAIN"),
+                                              DEMOS["ch03"][2])
+    for program in (python, structured):
+        for cycle in range(1, 6):
+            program.set_cmd = cycle == 4
+            program()
+        program.change_copy()  # stGet.nVar := -1 changes a copy
+    assert (structured.st_get.n_var, structured.sample.my_prop.n_var) == (python.st_get.n_var, python.sample.my_prop.n_var) == (-1, 102)

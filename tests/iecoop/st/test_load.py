@@ -411,11 +411,11 @@ def test_super_property_write_runs_the_base_setter() -> None:
 
 
 @pytest.mark.parametrize("source, construct", [
-    (prog("x : INT;", "lbl: x := 1;"), "label"),
+    (prog("x : INT;", "IF x = 0 THEN lbl: x := 1; END_IF"), "label lbl inside IF, CASE or a loop"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n"
      "METHOD N\nVAR x : INT; END_VAR\nM(o => x);\nEND_METHOD\n", "a local variable of a METHOD or FUNCTION has no address"),
-    ("PROGRAM MAIN\nVAR x AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variables"),
+    ("PROGRAM MAIN\nVAR AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variable without a name"),
 ])
 def test_unsupported_constructs_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
