@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
+from iecoop.sections import Kind, sections_of
 
 register_builder(__file__)
 
@@ -46,13 +47,12 @@ else:
     _Base = ctypes.Structure
     _MetaBase = type(ctypes.Structure)
 
-_SECTIONS = {"VAR": "VAR_GLOBAL", "VAR_GLOBAL": "VAR_GLOBAL"}
 #: Every live GVL instance by name, in definition order. Weak: a list defined in a function
 #: (a test, a notebook cell) goes when nothing holds it; a POU's VAR_EXTERNAL holds its list.
 _lists: weakref.WeakValueDictionary[str, Any] = weakref.WeakValueDictionary()
 
 
-_BUILDER = DataClassBuilder("GVL", _SECTIONS)
+_BUILDER = DataClassBuilder("GVL", sections_of(Kind.GVL))
 
 
 class _GvlMeta(_MetaBase):

@@ -71,6 +71,7 @@ from iecoop.memory.layout import (
     register_builder,
     take_over,
 )
+from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
 from iecoop.members import (
     FORWARDING_CODES,
     Access,
@@ -100,9 +101,9 @@ def static_blocks() -> list[tuple[type, Any]]:
     return list(_static_blocks.items())
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
-_POU_SECTIONS = {s: s for s in ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_TEMP", "VAR_INST", "VAR_EXTERNAL")}
+_POU_SECTIONS = sections_of(Kind.FUNCTION_BLOCK)
 #: Sections written only from inside the POU (checked mode rejects outside writes).
-_INSIDE_ONLY = frozenset({"VAR_OUTPUT", "VAR", "VAR_TEMP", "VAR_INST", "VAR_IN_OUT", "VAR_STAT"})
+_INSIDE_ONLY = frozenset(s for s, rule in SECTION_RULES.items() if rule.inside_only)
 _LIFECYCLE = frozenset({"body", "fb_init", "fb_reinit", "fb_exit"})
 
 if TYPE_CHECKING:
@@ -282,7 +283,7 @@ class _PouBuilder:
         # VAR_STAT and VAR_EXTERNAL live outside the instance block.
         self.outside = {
             f: a for f, a in annotations.items()
-            if isinstance(namespace.get(f), FieldSpec) and namespace[f].section in ("VAR_STAT", "VAR_EXTERNAL")
+            if isinstance(namespace.get(f), FieldSpec) and not SECTION_RULES[namespace[f].section].in_instance
         }
         self.outside_specs = {f: namespace.pop(f) for f in self.outside}
         inside = {f: a for f, a in annotations.items() if f not in self.outside}
@@ -301,13 +302,13 @@ class _PouBuilder:
             raise DefinitionError(
                 f"{where}: ABSTRACT {info.name} cannot be instantiated; use REFERENCE_TO, POINTER_TO or an interface"
             )
-        if spec.section == "VAR_IN_OUT":
+        if spec.section is Section.VAR_IN_OUT:
             if isinstance(info, (ReferenceInfo, InterfaceInfo)):
                 raise DefinitionError(f"{where}: VAR_IN_OUT of {info.name} is not allowed")
             return ReferenceInfo(info)
-        if spec.section == "VAR_INST" and not spec.method:
+        if spec.section is Section.VAR_INST and not spec.method:
             raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
-        if spec.section == "VAR_INST" and spec.method not in self.own:
+        if spec.section is Section.VAR_INST and spec.method not in self.own:
             raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {self.name} does not declare")
         if spec.fb_init:
             element = info.elem if isinstance(info, ArrayInfo) else info
@@ -359,7 +360,7 @@ class _PouBuilder:
         cls._iec_call_after_init_ = tuple(
             n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
         )
-        temps = [r for r in layout.fields if r.section == "VAR_TEMP"]
+        temps = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.REINITIALISED]
         cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
         cls.__call__ = _make_call(cls, layout)
         if _config.CHECKS:
@@ -507,18 +508,18 @@ def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstrac
 
 def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope) -> None:
     """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name."""
-    statics = {f: a for f, a in outside.items() if specs[f].section == "VAR_STAT"}
+    statics = {f: a for f, a in outside.items() if SECTION_RULES[specs[f].section].storage is Storage.CLASS}
     if statics:
         ns: dict[str, Any] = {"__module__": cls.__module__, "__annotations__": statics}
         for field in statics:
             spec = specs[field]
-            ns[field] = FieldSpec("VAR", spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
+            ns[field] = FieldSpec(Section.VAR, spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
 
         def create(n: dict[str, Any]) -> type:
             meta: Any = type(ctypes.Structure)
             return typing.cast(type, meta(f"{name}.VAR_STAT", (ctypes.Structure,), n))
 
-        block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections={"VAR": "VAR"}, annotations=statics)
+        block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections=(Section.VAR,), annotations=statics)
         block_cls._iec_children_ = tuple(fb_children(block_cls._iec_layout_))
         block_cls._iec_call_after_init_ = ()
         block_cls._iec_implicit_init_ = block_cls._iec_layout_.implicit_init
@@ -534,7 +535,7 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
             validate = record.info.validate if _config.CHECKS else None
             setattr(cls, record.name, _Static(raw, block, record.where, validate))
         cls._iec_static_fields_ = block_cls._iec_layout_.fields
-    externals = [f for f in outside if specs[f].section == "VAR_EXTERNAL"]
+    externals = [f for f in outside if SECTION_RULES[specs[f].section].storage is Storage.GLOBAL]
     for field in externals:
         from iecoop.gvl import find_global
 
@@ -606,8 +607,8 @@ _script_counter = [0]
 
 def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
     """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``."""
-    inputs = [r for r in layout.fields if r.section == "VAR_INPUT"]
-    in_outs = [r for r in layout.fields if r.section == "VAR_IN_OUT"]
+    inputs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.SET_IF_GIVEN]
+    in_outs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.BOUND]
     name = cls.__name__
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
@@ -689,7 +690,7 @@ def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, _WriteRule]:
         validate = record.info.validate if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)) else None
         rules[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
     for record in getattr(cls, "_iec_static_fields_", ()):
-        rules.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
+        rules.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", Section.VAR_STAT, None, record.spec.constant))
     return rules
 
 
@@ -852,7 +853,7 @@ class _PouMixin:
         shown = []
         if layout is not None:
             for record in layout.fields:
-                if record.section in ("VAR_INPUT", "VAR_OUTPUT"):
+                if record.section in (Section.VAR_INPUT, Section.VAR_OUTPUT):
                     try:
                         shown.append(f"{record.name}={getattr(self, record.name)!r}")
                     except Exception as exc:  # a dangling reference must not break repr

@@ -35,13 +35,12 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, register_builder
+from iecoop.sections import Kind, sections_of
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
 
 __all__ = ["Alias", "IecEnum", "Struct", "Union"]
-
-_STRUCT_SECTIONS = {"VAR": "member"}
 
 if TYPE_CHECKING:
     _StructBase = object
@@ -60,8 +59,8 @@ def _member_values(obj: Any) -> tuple[Any, ...]:
     return tuple(getattr(obj, f.name) for f in layout.fields)
 
 
-_STRUCT_BUILDER = DataClassBuilder("STRUCT", _STRUCT_SECTIONS)
-_UNION_BUILDER = DataClassBuilder("UNION", _STRUCT_SECTIONS)
+_STRUCT_BUILDER = DataClassBuilder("STRUCT", sections_of(Kind.STRUCT))
+_UNION_BUILDER = DataClassBuilder("UNION", sections_of(Kind.UNION))
 
 
 def _finish(cls: Any, builder: DataClassBuilder) -> None:

@@ -16,11 +16,12 @@ import dataclasses
 import os
 import sys
 import typing
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any, Final
 
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.sections import Kind, Section
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -37,7 +38,6 @@ from iecoop.memory._core import (
 
 __all__ = [
     "MISSING",
-    "SECTIONS",
     "ClassLayout",
     "DataClassBuilder",
     "FieldRecord",
@@ -57,18 +57,6 @@ class _Missing:
 
 MISSING: Final[Any] = _Missing()
 
-#: The VAR sections, in the order ST declares them.
-SECTIONS: Final = (
-    "VAR_INPUT",
-    "VAR_OUTPUT",
-    "VAR_IN_OUT",
-    "VAR",
-    "VAR_STAT",
-    "VAR_TEMP",
-    "VAR_INST",
-    "VAR_EXTERNAL",
-    "VAR_GLOBAL",
-)
 
 
 class FieldSpec:
@@ -89,7 +77,7 @@ class FieldSpec:
         method: str | None = None,
         fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
     ) -> None:
-        self.section = section
+        self.section = Section(section)
         self.initial = initial
         self.length = length
         self.bounds = bounds
@@ -138,7 +126,7 @@ class FieldRecord:
     raw: Any
 
     @property
-    def section(self) -> str:
+    def section(self) -> Section:
         return self.spec.section
 
     @property
@@ -277,8 +265,8 @@ class LayoutBuilder:
         namespace: dict[str, Any],
         *,
         kind: str,
-        allowed_sections: Mapping[str, str],
-        default_section: str = "VAR",
+        allowed_sections: Collection[Section],
+        default_section: Section = Section.VAR,
         adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
         annotations: dict[str, Any] | None = None,
         scope: DefinitionScope | None = None,
@@ -438,7 +426,7 @@ class DataClassBuilder:
     mode, the validating ``__setattr__``.
     """
 
-    def __init__(self, kind: str, allowed_sections: Mapping[str, str]) -> None:
+    def __init__(self, kind: str, allowed_sections: Collection[Section]) -> None:
         self.kind = kind
         self.allowed_sections = allowed_sections
 
@@ -492,7 +480,7 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
                 record = layout.by_name.get(member)
                 if record is None:
                     raise TypeError(f"{info.name} has no member {member!r}")
-                if getattr(info.cls, "_iec_kind_", "") == "fb" and record.section not in ("VAR_INPUT",):
+                if getattr(info.cls, "_iec_kind_", "") == Kind.FUNCTION_BLOCK and record.section is not Section.VAR_INPUT:
                     raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
                 check_initial(record.info, value, f"{where}.{member}")
         elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, AddressOf):

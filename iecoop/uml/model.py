@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access, Member, format_signature
+from iecoop.sections import SECTION_RULES, Section
 from iecoop.uml import text as _text
 
 _STEREOTYPES = {
@@ -24,17 +25,8 @@ _STEREOTYPES = {
     "enum": "ENUM",
 }
 
-# Section -> UML visibility: what code outside the block may touch.
-_SECTION_VISIBILITY = {
-    "VAR_INPUT": "+",
-    "VAR_OUTPUT": "+",
-    "VAR_IN_OUT": "+",
-    "VAR": "#",
-    "VAR_INST": "#",
-    "VAR_TEMP": "#",
-    "VAR_STAT": "#",
-    "VAR_EXTERNAL": "#",
-}
+# Section -> UML visibility: the block's interface (what code outside it may touch) is public.
+_SECTION_VISIBILITY = {section: "+" if rule.interface else "#" for section, rule in SECTION_RULES.items()}
 
 _ACCESS_SYMBOL = {Access.PUBLIC: "+", Access.PRIVATE: "-", Access.PROTECTED: "#", Access.INTERNAL: "~"}
 
@@ -204,7 +196,7 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
             fields.append(UmlField(visibility, record.name, _type_name(record.info), section))
         # VAR_STAT lives in one block per declaring class, outside the instance layout.
         for record in cls.__dict__.get("_iec_static_fields_", ()):
-            fields.append(UmlField("#", record.name, _type_name(record.info), "VAR_STAT", True))
+            fields.append(UmlField("#", record.name, _type_name(record.info), Section.VAR_STAT, True))
     operations = tuple(_operation(m) for m in _own_members(cls))
     return UmlClass(cls.__name__, stereotype, abstract, final, tuple(fields), operations)
 
