@@ -48,7 +48,6 @@ from iecoop.interfaces import Interface, interface_members
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
-    CheckedMemberField,
     InterfaceInfo,
     PointerInfo,
     ReferenceInfo,
@@ -58,7 +57,6 @@ from iecoop.memory._core import (
 )
 from iecoop.memory.layout import (
     MISSING,
-    accepted_type,
     ClassLayout,
     DefinitionScope,
     FieldRecord,
@@ -71,13 +69,10 @@ from iecoop.memory.layout import (
     register_builder,
     take_over,
 )
-from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
 from iecoop.members import (
-    FORWARDING_CODES,
     Access,
     Member,
     caller_description,
-    code_of,
     format_signature,
     own_code,
     guard_namespace,
@@ -87,6 +82,8 @@ from iecoop.members import (
     same_signature,
     visibility,
 )
+from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
+from iecoop.writes import accepted_type, check_write, pou_setattr
 
 register_builder(__file__)
 
@@ -102,8 +99,6 @@ def static_blocks() -> list[tuple[type, Any]]:
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
 _POU_SECTIONS = sections_of(Kind.FUNCTION_BLOCK)
-#: Sections written only from inside the POU (checked mode rejects outside writes).
-_INSIDE_ONLY = frozenset(s for s, rule in SECTION_RULES.items() if rule.inside_only)
 _LIFECYCLE = frozenset({"body", "fb_init", "fb_reinit", "fb_exit"})
 
 if TYPE_CHECKING:
@@ -364,7 +359,7 @@ class _PouBuilder:
         cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
         cls.__call__ = _make_call(cls, layout)
         if _config.CHECKS:
-            cls.__setattr__ = _checked_setattr(cls, layout)
+            cls.__setattr__ = pou_setattr(cls, layout)
 
 
 def _package(module: str) -> str:
@@ -673,118 +668,6 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
 
 def _call_error(name: str, field: str) -> None:
     raise TypeError(f"{name}: VAR_IN_OUT {field!r} must be assigned at every call ({name}({field}=...))")
-
-
-# ---------------------------------------------------------------------------
-# Checked mode: who may write which variable
-# ---------------------------------------------------------------------------
-
-
-#: Per field: (validator or None, "Class.field", section, VAR_INST method or None, CONSTANT).
-_WriteRule = tuple[Callable[[Any, str], None] | None, str, str, str | None, bool]
-
-
-def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, _WriteRule]:
-    rules: dict[str, _WriteRule] = {}
-    for record in layout.fields:
-        validate = record.info.validate if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)) else None
-        rules[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
-    for record in getattr(cls, "_iec_static_fields_", ()):
-        rules.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", Section.VAR_STAT, None, record.spec.constant))
-    return rules
-
-
-def _check_rule(holder: Any, rule: _WriteRule, frame: Any) -> None:
-    _validate, where, section, method_name, constant = rule
-    if constant:
-        raise AccessError(f"{where} is CONSTANT and cannot be written")
-    if section in _INSIDE_ONLY:
-        if not code_of(frame.f_code, holder):
-            raise AccessError(
-                f"{section} {where} cannot be written from {caller_description(frame)}: "
-                f"only {type(holder).__name__}'s own code writes its {section} variables"
-            )
-        if method_name is not None and frame.f_code.co_name != method_name:
-            raise AccessError(f"VAR_INST {where} belongs to METHOD {method_name} (C0576)")
-
-
-def check_write(holder: Any, field: str, frame: Any) -> None:
-    """Checked mode's write rule: raise AccessError if the code running in ``frame`` may not write it.
-
-    CONSTANT variables are never written; outputs, locals, in-outs, temps,
-    statics and VAR_INST only by the block's own code (VAR_INST only by its
-    method). Helpers that write on a caller's behalf (ExST ``S=`` / ``R=``)
-    call this with the caller's frame.
-    """
-    rule = getattr(type(holder), "_iec_write_rules_", {}).get(field)
-    if rule is not None:
-        _check_rule(holder, rule, frame)
-
-
-def _read_only_rule(rule: _WriteRule) -> Callable[[Any, Any], str | None] | None:
-    """Who may write through a view of a STRUCT / ARRAY variable: the same code that may write the variable."""
-    if not (rule[4] or rule[2] in _INSIDE_ONLY):
-        return None
-
-    def refusal(holder: Any, frame: Any) -> str | None:
-        if frame.f_code in FORWARDING_CODES:
-            frame = frame.f_back
-        try:
-            _check_rule(holder, rule, frame)
-        except AccessError as exc:
-            return str(exc)
-        return None
-
-    return refusal
-
-
-def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    rules = cls._iec_write_rules_ = _write_rules(cls, layout)
-    for record in layout.own:
-        field = cls.__dict__.get(record.name)
-        if isinstance(field, CheckedMemberField):
-            field.rule = _read_only_rule(rules[record.name])
-    getframe = sys._getframe
-    setter = object.__setattr__
-    inside_only = _INSIDE_ONLY
-    # Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
-    # VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
-    # one is written by the block's own code without the rule check. The rest takes the general path.
-    fast: dict[str, tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]] = {}
-    for record in layout.fields:
-        validate, where, section, method_name, constant = rules[record.name]
-        if validate is not None and not constant and method_name is None:
-            fast[record.name] = (accepted_type(record.info), section in inside_only, validate, where, record.raw.__set__)
-
-    def __setattr__(self: Any, field: str, value: Any) -> None:
-        spec = fast.get(field)
-        if spec is not None:
-            accepted, inside, check, where, store = spec
-            if not inside or getframe(1).f_code in type(self)._iec_codes_:
-                if value.__class__ is not accepted:
-                    check(value, where)
-                store(self, value)
-                return
-        rule = rules.get(field)
-        if rule is None:
-            if field.startswith("_iec") or not hasattr(type(self), field):
-                raise AttributeError(f"{type(self).__name__} has no variable {field!r}; declare it in a VAR section")
-            setter(self, field, value)
-            return
-        if rule[4] or rule[2] in inside_only:
-            frame = getframe(1)
-            # The usual case, the block's own code writing a plain inside variable, passes here;
-            # _check_rule decides everything else (and words the refusal).
-            if rule[4] or rule[3] is not None or frame.f_code not in type(self)._iec_codes_:
-                _check_rule(self, rule, frame)
-        validate = rule[0]
-        if validate is not None:
-            validate(value, rule[1])
-        setter(self, field, value)
-
-    __setattr__.__qualname__ = f"{cls.__name__}.__setattr__"
-    FORWARDING_CODES.add(__setattr__.__code__)
-    return __setattr__
 
 
 # ---------------------------------------------------------------------------

@@ -20,8 +20,9 @@ from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any, Final
 
 from iecoop import _config
-from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.exceptions import DefinitionError
 from iecoop.sections import Kind, Section
+from iecoop.writes import data_setattr
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -449,7 +450,7 @@ class DataClassBuilder:
         layout = builder.install()
         cls._iec_implicit_init_ = layout.implicit_init
         if CHECKS:
-            cls.__setattr__ = checked_setattr(cls.__name__, layout)
+            cls.__setattr__ = data_setattr(cls.__name__, layout)
         return layout
 
 
@@ -689,63 +690,6 @@ def _nested_array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -
 
     return op_all
 
-
-# ---------------------------------------------------------------------------
-# Checked-mode writes
-# ---------------------------------------------------------------------------
-
-
-def accepted_type(info: TypeInfo) -> type | None:
-    """The one type a write of ``info`` accepts without calling its validator (None: always validate).
-
-    Like attrs' per-field validators: an exact ``bool`` for BOOL, ``float`` for
-    REAL / LREAL, ``int`` for the other elementary types passes at once; any
-    other value goes to ``info.validate``, which accepts it or words the refusal.
-    """
-    if type(info) is not ElementaryInfo:
-        return None
-    kind = info.record.kind
-    return bool if kind == "bool" else float if kind == "real" else int
-
-
-def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    """A ``__setattr__`` that validates the value's kind and rejects unknown members."""
-    validators: dict[str, Callable[[Any, str], None]] = {}
-    wheres: dict[str, str] = {}
-    for record in layout.fields:
-        if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)):
-            validators[record.name] = record.info.validate
-            wheres[record.name] = record.where
-    constants = {record.name: record.where for record in layout.fields if record.spec.constant}
-    setter = object.__setattr__
-    # Per field: a value of the field's exact Python type is stored without a validator call.
-    fast = {
-        record.name: (accepted_type(record.info), validators[record.name], record.where, record.raw.__set__)
-        for record in layout.fields
-        if record.name in validators and record.name not in constants
-    }
-
-    def __setattr__(self: Any, name: str, value: Any) -> None:
-        refusal = self.__dict__.get("_iec_ro_")
-        if refusal is not None:  # a view of another block's local / output, or of a CONSTANT
-            raise AccessError(refusal)
-        spec = fast.get(name)
-        if spec is not None:
-            accepted, check, where, store = spec
-            if value.__class__ is not accepted:
-                check(value, where)
-            store(self, value)
-            return
-        if name in constants:
-            raise AccessError(f"{constants[name]} is CONSTANT and cannot be written")
-        validate = validators.get(name)
-        if validate is not None:
-            validate(value, wheres[name])
-        elif not hasattr(type(self), name):
-            raise AttributeError(f"{type(self).__name__} has no member {name!r}; declare it as a field")
-        setter(self, name, value)
-
-    return __setattr__
 
 
 CHECKS = _config.CHECKS
