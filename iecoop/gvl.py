@@ -32,7 +32,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
-from iecoop.sections import Kind, sections_of
+from iecoop.metadata import IecClass
+from iecoop.sections import Kind
 
 register_builder(__file__)
 
@@ -52,7 +53,7 @@ else:
 _lists: weakref.WeakValueDictionary[str, Any] = weakref.WeakValueDictionary()
 
 
-_BUILDER = DataClassBuilder("GVL", sections_of(Kind.GVL))
+_BUILDER = DataClassBuilder("GVL", Kind.GVL)
 
 
 class _GvlMeta(_MetaBase):
@@ -68,7 +69,8 @@ class GlobalVariables(_Base, metaclass=_GvlMeta):
     """Base of a global variable list; decorate the subclass with ``@gvl``."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "gvl"
+    __iec__: ClassVar[IecClass] = IecClass(Kind.GVL, root=True)
+    _iec_kind_: ClassVar[str] = Kind.GVL  # read by iecoop.st, which does not read the record yet
     _iec_layout_: ClassVar[ClassLayout | None] = None
 
     def __repr__(self) -> str:

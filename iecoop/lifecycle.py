@@ -51,6 +51,7 @@ from iecoop.memory._core import (
     table_lock,
 )
 from iecoop.members import caller_description
+from iecoop.metadata import Kind, iec_class, kind_of
 
 __all__ = ["delete", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
@@ -184,16 +185,17 @@ def new(cls: type[_T], **fb_init_args: Any) -> Pointer[_T]:
     The instance lives until ``delete(p)``; ownership is the caller's.
     """
     info = class_info(cls)
-    if info is None or getattr(cls, "_iec_kind_", "") not in ("fb", "struct", "union"):
+    record = iec_class(cls)
+    if info is None or record is None or record.kind not in (Kind.FUNCTION_BLOCK, Kind.STRUCT, Kind.UNION):
         raise TypeError(f"__NEW needs a function block or struct type, got {getattr(cls, '__name__', cls)!r}")
-    if getattr(cls, "_iec_abstract_", False):
+    if record.abstract:
         raise TypeError(f"__NEW: ABSTRACT {cls.__name__} cannot be instantiated")
-    if getattr(cls, "_iec_internal_", False):
+    if record.internal:
         frame = sys._getframe(1)
         here = str(frame.f_globals.get("__name__", "")).split(".", 1)[0]
         if here != cls.__module__.split(".", 1)[0]:
             raise AccessError(f"INTERNAL {cls.__name__} cannot be created from {caller_description(frame)}")
-    if getattr(cls, "_iec_kind_", "") == "fb":
+    if record.kind is Kind.FUNCTION_BLOCK:
         obj: Any = typing.cast(Any, cls).__new__(cls)
         alloc = register(obj)
         _heap[alloc.id] = obj
@@ -252,7 +254,7 @@ def delete(pointer: Pointer[Any]) -> None:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE of memory that new() did not create (or already deleted)")
     _exiting.add(alloc.id)
     try:
-        if getattr(type(obj), "_iec_kind_", "") == "fb":
+        if kind_of(type(obj)) is Kind.FUNCTION_BLOCK:
             finalise(obj, in_copy_code=False, static_type=static_type)
     except BaseException:
         _heap[alloc.id] = obj

@@ -51,6 +51,7 @@ from iecoop.gvl import global_lists
 from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
+from iecoop.metadata import Kind, kind_of
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
 
@@ -313,7 +314,7 @@ class _AddressSpace:
 
     def _add_members(self, cls: type, path: str, root: int, base: int, writable: bool, constant: bool) -> None:
         # The members of an FB instance follow the FB's own rules: read-only unless named writable.
-        data = getattr(cls, "_iec_kind_", "") in ("struct", "union")
+        data = kind_of(cls) in (Kind.STRUCT, Kind.UNION)
         for record in cls._iec_layout_.fields:  # type: ignore[attr-defined]
             if record.section in _HIDDEN_SECTIONS:
                 continue

@@ -82,6 +82,7 @@ from iecoop.members import (
     same_signature,
     visibility,
 )
+from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
 from iecoop.writes import accepted_type, check_write, pou_setattr
 
@@ -99,6 +100,7 @@ def static_blocks() -> list[tuple[type, Any]]:
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
 _POU_SECTIONS = sections_of(Kind.FUNCTION_BLOCK)
+_POU_KINDS = (Kind.FUNCTION_BLOCK, Kind.PROGRAM)
 _LIFECYCLE = frozenset({"body", "fb_init", "fb_reinit", "fb_exit"})
 
 if TYPE_CHECKING:
@@ -161,8 +163,8 @@ class _PouMeta(_PouMetaBase):
 
 
 def _kind_word(cls_or_kind: Any) -> str:
-    kind = cls_or_kind if isinstance(cls_or_kind, str) else getattr(cls_or_kind, "_iec_kind_", "fb")
-    return "PROGRAM" if kind == "program" else "FUNCTION_BLOCK"
+    kind = cls_or_kind if isinstance(cls_or_kind, Kind) else kind_of(cls_or_kind)
+    return Kind.PROGRAM.keyword if kind is Kind.PROGRAM else Kind.FUNCTION_BLOCK.keyword
 
 
 #: Names the block itself defines: a method may not take them, whatever their case.
@@ -188,7 +190,7 @@ class _PouBuilder:
         self.bases = bases
         self.namespace = namespace
         self.abstract, self.final, self.internal = abstract, final, internal
-        self.kind = "program" if any(getattr(b, "_iec_kind_", "") == "program" for b in bases) else "fb"
+        self.kind = Kind.PROGRAM if any(kind_of(b) is Kind.PROGRAM for b in bases) else Kind.FUNCTION_BLOCK
         self.word = _kind_word(self.kind)
         self.title = f"{self.word} {name}"
         self.parent: type | None = None
@@ -216,8 +218,8 @@ class _PouBuilder:
         name, title, bases = self.name, self.title, self.bases
         if self.abstract and self.final:
             raise DefinitionError(f"{title}: a block cannot be both ABSTRACT and FINAL")
-        pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
-        iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
+        pou_bases = [b for b in bases if kind_of(b) in _POU_KINDS]
+        iface_bases = [b for b in bases if kind_of(b) is Kind.INTERFACE]
         if Interface in bases and pou_bases:
             # `class IFoo(Interface, SomeFB)` declares an interface, not a block implementing the root Interface.
             raise DefinitionError(
@@ -229,16 +231,16 @@ class _PouBuilder:
                 f"{title}: {others[0].__name__} is neither a function block nor an interface; "
                 "EXTENDS takes one function block and IMPLEMENTS takes interfaces"
             )
-        user_bases = [b for b in pou_bases if getattr(b, "_iec_layout_", None) is not None]
+        user_bases = [b for b in pou_bases if not _record(b).root]
         if len(user_bases) > 1:
             names = ", ".join(b.__name__ for b in user_bases)
             raise DefinitionError(f"{title}: EXTENDS allows one function block, got {names}")
         parent = self.parent = user_bases[0] if user_bases else None
         if parent is not None:
-            if getattr(parent, "_iec_final_", False):
+            if _record(parent).final:
                 raise DefinitionError(f"{title} cannot EXTEND {parent.__name__}: {parent.__name__} is FINAL")
             module = self.namespace.get("__module__", "")
-            if getattr(parent, "_iec_internal_", False) and _package(module) != _package(parent.__module__):
+            if _record(parent).internal and _package(module) != _package(parent.__module__):
                 raise DefinitionError(
                     f"{title} cannot EXTEND INTERNAL {parent.__name__} outside the package {_package(parent.__module__)!r}"
                 )
@@ -268,7 +270,7 @@ class _PouBuilder:
         # Members: what this block declares and what it inherits.
         placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
         self.own = members_of_namespace(placeholder, namespace, self.scope.eval, _LIFECYCLE)
-        self.inherited = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
+        self.inherited = dict(_record(parent).members) if parent is not None else {}
         _check_name_clashes(title, parent, annotations, self.own, self.inherited)
         _check_members(title, name, self.own, self.inherited, self.abstract)
         _check_lifecycle(title, namespace, parent, self.scope)
@@ -284,7 +286,8 @@ class _PouBuilder:
         inside = {f: a for f, a in annotations.items() if f not in self.outside}
         self.original_namespace = dict(namespace)
         guard_namespace(self.owner_ref, self.name, namespace)
-        namespace["_iec_kind_"] = self.kind
+        namespace["__iec__"] = IecClass(self.kind, self.abstract, self.final, self.internal)
+        namespace["_iec_kind_"] = self.kind  # read by iecoop.st, which does not read the record yet
         self.layout_builder = LayoutBuilder(
             self.name, self.bases, namespace, kind=self.word, allowed_sections=_POU_SECTIONS, adjust=self.adjust,
             annotations=inside, scope=self.scope,
@@ -293,7 +296,7 @@ class _PouBuilder:
 
     def adjust(self, info: TypeInfo, spec: FieldSpec, where: str) -> TypeInfo:
         """The POU rules for one field's type and section."""
-        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_abstract_", False):
+        if isinstance(info, AggregateInfo) and (record := iec_class(info.cls)) is not None and record.abstract:
             raise DefinitionError(
                 f"{where}: ABSTRACT {info.name} cannot be instantiated; use REFERENCE_TO, POINTER_TO or an interface"
             )
@@ -307,7 +310,7 @@ class _PouBuilder:
             raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {self.name} does not declare")
         if spec.fb_init:
             element = info.elem if isinstance(info, ArrayInfo) else info
-            if not (isinstance(element, AggregateInfo) and getattr(element.cls, "_iec_kind_", "") == "fb"):
+            if not (isinstance(element, AggregateInfo) and kind_of(element.cls) is Kind.FUNCTION_BLOCK):
                 raise DefinitionError(f"{where}: fb_init= applies to function block members (or ARRAYs of them) only")
             if isinstance(spec.fb_init, list):
                 if not isinstance(info, ArrayInfo):
@@ -324,20 +327,19 @@ class _PouBuilder:
         assert self.layout_builder is not None
         self.layout_builder.lay_out(cls)
         layout = self.layout_builder.install()
-        self.install_members(cls)
-        _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        members = self.install_members(cls)
+        statics = _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        record = cls.__iec__ = cls.__iec__.finished(layout=layout, members=members, static_fields=statics)
+        _legacy_attributes(cls, record)
         self.install_runtime(cls, layout)
 
-    def install_members(self, cls: Any) -> None:
+    def install_members(self, cls: Any) -> dict[str, Member]:
         self.owner_ref.append(cls)
         register_code(cls, self.original_namespace)
         own_members = {m.name: _rebind(m, cls) for m in self.own.values()}
         members = {**self.inherited, **own_members}
-        cls._iec_members_ = members
-        cls._iec_abstract_ = self.abstract
-        cls._iec_final_ = self.final
-        cls._iec_internal_ = self.internal
         _check_interfaces(self.title, cls, members, self.abstract)
+        return members
 
     def install_runtime(self, cls: Any, layout: ClassLayout) -> None:
         """What an instance and a call need: type tag, implicit init, children, temps, the call."""
@@ -360,6 +362,20 @@ class _PouBuilder:
         cls.__call__ = _make_call(cls, layout)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout)
+
+
+def _record(cls: type) -> IecClass:
+    record = iec_class(cls)
+    assert record is not None, cls
+    return record
+
+
+def _legacy_attributes(cls: Any, record: IecClass) -> None:
+    """The record's fields as the attributes iecoop.st still reads (it does not read ``__iec__`` yet)."""
+    cls._iec_members_ = dict(record.members)
+    cls._iec_abstract_, cls._iec_final_, cls._iec_internal_ = record.abstract, record.final, record.internal
+    if record.static_fields:
+        cls._iec_static_fields_ = record.static_fields
 
 
 def _package(module: str) -> str:
@@ -474,7 +490,7 @@ def _base_fb_init_params(parent: type | None) -> list[str]:
 
 def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstract: bool) -> None:
     for iface in cls.__mro__:
-        if getattr(iface, "_iec_kind_", "") != "interface" or iface is Interface:
+        if kind_of(iface) is not Kind.INTERFACE or iface is Interface:
             continue
         for proto in interface_members(iface).values():
             impl = members.get(proto.name)
@@ -501,8 +517,11 @@ def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstrac
                 raise DefinitionError(f"{title}: PROPERTY {proto.name} of interface {iface.__name__} needs a Set accessor")
 
 
-def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope) -> None:
-    """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name."""
+def _install_outside(
+    cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope
+) -> tuple[FieldRecord, ...]:
+    """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name. Returns the VAR_STATs."""
+    static_fields: tuple[FieldRecord, ...] = ()
     statics = {f: a for f, a in outside.items() if SECTION_RULES[specs[f].section].storage is Storage.CLASS}
     if statics:
         ns: dict[str, Any] = {"__module__": cls.__module__, "__annotations__": statics}
@@ -529,7 +548,7 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
             raw = descriptor if record.info.direct else _BlockField(descriptor)
             validate = record.info.validate if _config.CHECKS else None
             setattr(cls, record.name, _Static(raw, block, record.where, validate))
-        cls._iec_static_fields_ = block_cls._iec_layout_.fields
+        static_fields = block_cls._iec_layout_.fields
     externals = [f for f in outside if SECTION_RULES[specs[f].section].storage is Storage.GLOBAL]
     for field in externals:
         from iecoop.gvl import find_global
@@ -539,6 +558,7 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
         raw = raw if record.info.direct else _BlockField(raw)
         validate = record.info.validate if _config.CHECKS else None
         setattr(cls, field, _Static(raw, block, f"{name}.{field}", validate))
+    return static_fields
 
 
 class _BlockField:
@@ -560,9 +580,9 @@ def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[An
     """Nested function block members (and arrays of them), in declaration order."""
     for record in layout.fields:
         info = record.info
-        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb":
+        if isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
             yield record, _single(record.raw.__get__)
-        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and getattr(info.elem.cls, "_iec_kind_", "") == "fb":
+        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and kind_of(info.elem.cls) is Kind.FUNCTION_BLOCK:
             yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
 
 
@@ -679,10 +699,7 @@ class _PouMixin:
     """What FunctionBlock and Program share: construction, body, comparison."""
 
     _iec_layout_: ClassVar[ClassLayout | None] = None
-    _iec_abstract_: ClassVar[bool] = False
-    _iec_final_: ClassVar[bool] = False
-    _iec_internal_: ClassVar[bool] = False
-    _iec_members_: ClassVar[dict[str, Member]] = {}
+    __iec__: ClassVar[IecClass]
     #: The code this class's body defined, and with its bases' (see members.own_code).
     _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
@@ -694,11 +711,12 @@ class _PouMixin:
         cls = type(self)
         if cls._iec_layout_ is None:
             raise DefinitionError(f"{cls.__name__} is a base class; declare a subclass")
-        if cls._iec_abstract_:
+        record = cls.__iec__
+        if record.abstract:
             raise DefinitionError(
                 f"ABSTRACT {_kind_word(cls)} {cls.__name__} cannot be instantiated; instantiate a derived block"
             )
-        if cls._iec_internal_:
+        if record.internal:
             frame = sys._getframe(1)
             here = _package(str(frame.f_globals.get("__name__", "")))
             if here != _package(cls.__module__):
@@ -748,7 +766,8 @@ class FunctionBlock(_PouMixin, _PouBase, metaclass=_PouMeta):
     """``FUNCTION_BLOCK``: subclass it; class keywords ``abstract``, ``final``, ``internal``."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "fb"
+    __iec__ = IecClass(Kind.FUNCTION_BLOCK, root=True)
+    _iec_kind_: ClassVar[str] = Kind.FUNCTION_BLOCK
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 
@@ -757,11 +776,13 @@ class Program(_PouMixin, _PouBase, metaclass=_PouMeta):
     """``PROGRAM``: like a function block, one instance per task entry."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "program"
+    __iec__ = IecClass(Kind.PROGRAM, root=True)
+    _iec_kind_: ClassVar[str] = Kind.PROGRAM
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 
 
 def pou_members(cls: type) -> dict[str, Member]:
     """Every METHOD and PROPERTY of a block, inherited ones included."""
-    return dict(getattr(cls, "_iec_members_", {}))
+    record = iec_class(cls)
+    return dict(record.members) if record is not None else {}

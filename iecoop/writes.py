@@ -82,7 +82,7 @@ def write_rule(record: FieldRecord) -> WriteRule:
 def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
     rules = {record.name: write_rule(record) for record in layout.fields}
     inside_only = SECTION_RULES[Section.VAR_STAT].inside_only
-    for record in getattr(cls, "_iec_static_fields_", ()):
+    for record in cls.__iec__.static_fields:
         # A VAR_STAT is a VAR of its class's static block; the block's descriptor checks the value.
         where = f"{cls.__name__}.{record.name}"
         rules.setdefault(record.name, WriteRule(None, where, Section.VAR_STAT, None, record.spec.constant, inside_only))

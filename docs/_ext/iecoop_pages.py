@@ -53,6 +53,7 @@ from sphinx.util.inspect import signature as sphinx_signature
 from sphinx.util.typing import stringify_annotation
 
 from iecoop import declarations
+from iecoop.metadata import kind_of
 from iecoop.sections import SECTION_RULES, Kind, Qualifier, Section
 from iecoop.st_lexer import IecStLexer, looks_like_st
 from iecoop.uml import module_diagram, state_diagram
@@ -601,10 +602,10 @@ def _block_signature(
 
     An INTERFACE or an enumeration is never constructed by a caller: no signature.
     """
-    kind = getattr(obj, "_iec_kind_", None) if what == "class" else None
-    if kind in ("interface", "enum"):
+    kind = kind_of(obj) if what == "class" else None
+    if kind in (Kind.INTERFACE, Kind.ENUM):
         return "", None
-    if kind not in ("fb", "program"):
+    if kind not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         return None
     params: dict[str, inspect.Parameter] = {}
     for klass in reversed(obj.__mro__):

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Generic, TypeVar
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException
 from iecoop.types import ElementaryType, StringType, elementary_type
+from iecoop.metadata import Kind, kind_of
 
 _T = TypeVar("_T")
 
@@ -751,7 +752,7 @@ class AggregateInfo(TypeInfo):
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         if isinstance(value, dict):
             # A STRUCT from its members' values (ST: stPoint := (x := 1.5, y := 2.0)).
-            if getattr(self.cls, "_iec_kind_", "") in ("fb", "program"):
+            if kind_of(self.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
                 raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
             # All or nothing: every member is checked before the first one is written.
             check_value(self, value, where)
@@ -1486,7 +1487,7 @@ def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
             check_value(info.elem, item, info.element_label(where, i))
         return items
     elif isinstance(info, AggregateInfo) and isinstance(value, dict):
-        if getattr(info.cls, "_iec_kind_", "") in ("fb", "program"):
+        if kind_of(info.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
             raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
         by_name = getattr(info.cls, "_iec_layout_").by_name
         for name, item in value.items():
@@ -1577,14 +1578,14 @@ def class_info(cls: type) -> TypeInfo | None:
     info: TypeInfo | None = cls.__dict__.get("_iec_type_info_")
     if info is not None:
         return info
-    kind = getattr(cls, "_iec_kind_", None)
-    if kind in ("struct", "union", "fb"):
+    kind = kind_of(cls)
+    if kind in (Kind.STRUCT, Kind.UNION, Kind.FUNCTION_BLOCK):
         if getattr(cls, "_iec_layout_", None) is None:
             return None
         info = AggregateInfo(cls)
-    elif kind == "interface":
+    elif kind is Kind.INTERFACE:
         info = InterfaceInfo(cls)
-    elif kind == "enum":
+    elif kind is Kind.ENUM:
         base = typing.cast(ElementaryType, getattr(cls, "_iec_base_"))
         info = EnumInfo(typing.cast(type[enum.IntEnum], cls), base)
     else:
@@ -1622,7 +1623,7 @@ def resolve_type(
             raise DefinitionError(
                 f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
             )
-        if getattr(annotation, "_iec_kind_", None) == "program":
+        if kind_of(annotation) is Kind.PROGRAM:
             name = annotation.__name__
             raise DefinitionError(
                 f"{where}: PROGRAM {name} is not a data type (a program has one instance, no variable holds one); "
@@ -1692,7 +1693,7 @@ def _resolve_array(annotation: Any, where: str, length: int | None, bounds: obje
     if isinstance(elem, ReferenceInfo):
         raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
     leaf = _array_leaf(elem)
-    if leaf is not elem and isinstance(leaf, AggregateInfo) and getattr(leaf.cls, "_iec_kind_", "") in ("fb", "program"):
+    if leaf is not elem and isinstance(leaf, AggregateInfo) and kind_of(leaf.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         raise DefinitionError(
             f"{where}: ARRAY OF ARRAY OF a function block is not supported; write ARRAY[a..b, c..d] OF the block"
         )

@@ -21,7 +21,8 @@ from typing import Any, Final
 
 from iecoop import _config
 from iecoop.exceptions import DefinitionError
-from iecoop.sections import Kind, Section
+from iecoop.metadata import IecClass, kind_of
+from iecoop.sections import Kind, Section, sections_of
 from iecoop.writes import data_setattr
 from iecoop.memory._core import (
     AggregateInfo,
@@ -427,15 +428,17 @@ class DataClassBuilder:
     mode, the validating ``__setattr__``.
     """
 
-    def __init__(self, kind: str, allowed_sections: Collection[Section]) -> None:
-        self.kind = kind
-        self.allowed_sections = allowed_sections
+    def __init__(self, word: str, kind: Kind) -> None:
+        self.kind = word
+        self.iec_kind = kind
+        self.allowed_sections = sections_of(kind)
 
     def new(self, name: str, bases: tuple[type, ...], namespace: dict[str, Any]) -> dict[str, Any]:
         """Before the class exists: collect and check the fields; return the namespace to create it from."""
         if namespace.get("_iec_base_class_"):
             namespace.setdefault("_fields_", [])
             return namespace
+        namespace["__iec__"] = IecClass(self.iec_kind)
         builder = LayoutBuilder(name, bases, namespace, kind=self.kind, allowed_sections=self.allowed_sections)
         builder.collect()
         hand_over(namespace, builder)
@@ -448,6 +451,7 @@ class DataClassBuilder:
             return None
         builder.lay_out(cls)
         layout = builder.install()
+        cls.__iec__ = cls.__iec__.finished(layout=layout)
         cls._iec_implicit_init_ = layout.implicit_init
         if CHECKS:
             cls.__setattr__ = data_setattr(cls.__name__, layout)
@@ -481,7 +485,7 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
                 record = layout.by_name.get(member)
                 if record is None:
                     raise TypeError(f"{info.name} has no member {member!r}")
-                if getattr(info.cls, "_iec_kind_", "") == Kind.FUNCTION_BLOCK and record.section is not Section.VAR_INPUT:
+                if kind_of(info.cls) is Kind.FUNCTION_BLOCK and record.section is not Section.VAR_INPUT:
                     raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
                 check_initial(record.info, value, f"{where}.{member}")
         elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, AddressOf):
@@ -604,7 +608,7 @@ def _aggregate_op(info: AggregateInfo, get: Callable[[Any], Any], initial: Any) 
 
         return op_copy
     values = dict(initial)
-    if getattr(cls, "_iec_kind_", "") == "fb":
+    if kind_of(cls) is Kind.FUNCTION_BLOCK:
         # Declaration-site inputs (fb : FB := (in := x)) are applied after FB_init by the POU layer.
         return lambda obj: implicit(get(obj))
 
@@ -625,7 +629,7 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
     if isinstance(elem, AggregateInfo):
         implicit = getattr(elem.cls, "_iec_implicit_init_")
         items = list(initial) if initial is not MISSING else []
-        if getattr(elem.cls, "_iec_kind_", "") == "fb":
+        if kind_of(elem.cls) is Kind.FUNCTION_BLOCK:
             # Declaration-site inputs of ARRAY OF FB elements are applied after their FB_init by the POU layer.
             items = [item for item in items if not isinstance(item, dict)]
 

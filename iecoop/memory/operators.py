@@ -44,6 +44,7 @@ from iecoop.memory._core import (
     target_root,
 )
 from iecoop.memory.layout import AddressOf, ClassLayout, FieldRecord
+from iecoop.metadata import Kind, kind_of
 
 __all__ = [
     "TYPE_CLASS",
@@ -96,7 +97,7 @@ def type_info_of(obj: Any) -> TypeInfo:
     from iecoop.memory._core import class_info
 
     found = class_info(type(obj))
-    if found is None and getattr(type(obj), "_iec_kind_", None) == "program" and getattr(type(obj), "_iec_layout_", None):
+    if found is None and kind_of(type(obj)) is Kind.PROGRAM and getattr(type(obj), "_iec_layout_", None):
         from iecoop.memory._core import AggregateInfo
 
         # ADR(PRG_Main): a program instance is a memory block too (it is never a member's type).

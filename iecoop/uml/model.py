@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access, Member, format_signature
+from iecoop.metadata import iec_class, kind_of
 from iecoop.sections import SECTION_RULES, Section
 from iecoop.uml import text as _text
 
@@ -107,8 +108,8 @@ class Relation:
 
 
 def _kind(cls: type) -> str | None:
-    kind = getattr(cls, "_iec_kind_", None)
-    return kind if kind in _STEREOTYPES else None
+    kind = kind_of(cls)
+    return str(kind) if kind in _STEREOTYPES else None
 
 
 def _visible(cls: type) -> bool:
@@ -145,7 +146,8 @@ def _referenced(info: Any) -> tuple[type | None, str, str]:
 
 
 def _own_members(cls: type) -> list[Member]:
-    members: dict[str, Member] = getattr(cls, "_iec_members_", {})
+    record = iec_class(cls)
+    members: Mapping[str, Member] = record.members if record is not None else {}
     return [m for m in members.values() if m.owner is cls]
 
 
@@ -176,8 +178,9 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
     kind = _kind(cls)
     assert kind is not None
     stereotype = _STEREOTYPES[kind]
-    abstract = bool(getattr(cls, "_iec_abstract_", False))
-    final = bool(getattr(cls, "_iec_final_", False))
+    meta = iec_class(cls)
+    abstract = meta is not None and meta.abstract
+    final = meta is not None and meta.final
     if not detailed:
         return UmlClass(cls.__name__, stereotype, abstract, final, detailed=False)
     fields: list[UmlField] = []
@@ -195,7 +198,7 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
             visibility = "+" if kind in ("struct", "union") else _SECTION_VISIBILITY.get(section, "#")
             fields.append(UmlField(visibility, record.name, _type_name(record.info), section))
         # VAR_STAT lives in one block per declaring class, outside the instance layout.
-        for record in cls.__dict__.get("_iec_static_fields_", ()):
+        for record in meta.static_fields if meta is not None else ():
             fields.append(UmlField("#", record.name, _type_name(record.info), Section.VAR_STAT, True))
     operations = tuple(_operation(m) for m in _own_members(cls))
     return UmlClass(cls.__name__, stereotype, abstract, final, tuple(fields), operations)
