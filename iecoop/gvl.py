@@ -31,6 +31,7 @@ import weakref
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
+from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
 from iecoop.metadata import IecClass
 from iecoop.sections import Kind
@@ -91,9 +92,6 @@ def gvl(cls: type[_G]) -> _G:
                     f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
                 )
     instance: Any = typing.cast(Any, cls).__new__(cls)
-    from iecoop.lifecycle import initialise
-    from iecoop.pou import fb_children
-
     # Function block instances in a GVL get their FB_init, as global instances do on the PLC.
     cls_any: Any = cls
     cls_any._iec_children_ = tuple(fb_children(layout))

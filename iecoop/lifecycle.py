@@ -35,11 +35,13 @@ import ctypes
 import inspect
 import sys
 import typing
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
 from iecoop.exceptions import AccessError, ExceptionCode, PlcException
 from iecoop.memory._core import (
+    AggregateInfo,
+    ArrayInfo,
     Pointer,
     allocation_for_handle,
     class_info,
@@ -50,14 +52,33 @@ from iecoop.memory._core import (
     resolve,
     table_lock,
 )
+from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
 from iecoop.metadata import Kind, iec_class, kind_of
 
-__all__ = ["delete", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
+__all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
 _T = TypeVar("_T")
 
 _EMPTY: dict[str, Any] = {}
+
+
+def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
+    """Nested function block members (and arrays of them), in declaration order."""
+    for record in layout.fields:
+        info = record.info
+        if isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
+            yield record, _single(record.raw.__get__)
+        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and kind_of(info.elem.cls) is Kind.FUNCTION_BLOCK:
+            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
+
+
+def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
+    return lambda obj: [get(obj)]
+
+
+def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
+    return lambda obj: [raw_get(get(obj), i) for i in range(count)]
 #: Instances created by new(): kept alive until delete(), as a PLC heap block is.
 _heap: dict[int, Any] = {}
 #: Instances whose FB_exit is running inside delete(): deleting one again only clears the pointer.

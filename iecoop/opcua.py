@@ -48,7 +48,7 @@ except ImportError as exc:  # pragma: no cover - exercised without the extra ins
     ) from exc
 
 from iecoop.gvl import global_lists
-from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
 from iecoop.metadata import Kind, kind_of

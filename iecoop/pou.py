@@ -44,7 +44,9 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
+from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
@@ -65,6 +67,7 @@ from iecoop.memory.layout import (
     build_layout,
     check_unannotated,
     hand_over,
+    init_op,
     read_annotations,
     register_builder,
     take_over,
@@ -88,7 +91,7 @@ from iecoop.writes import accepted_type, check_write, pou_setattr
 
 register_builder(__file__)
 
-__all__ = ["FunctionBlock", "Program", "check_write", "fb_children", "pou_members", "static_blocks"]
+__all__ = ["FunctionBlock", "Program", "check_write", "pou_members", "static_blocks"]
 
 #: The VAR_STAT block of every class that declares one (one per class, like the PLC's static data).
 _static_blocks: weakref.WeakKeyDictionary[type, Any] = weakref.WeakKeyDictionary()
@@ -538,8 +541,6 @@ def _install_outside(
         block_cls._iec_call_after_init_ = ()
         block_cls._iec_implicit_init_ = block_cls._iec_layout_.implicit_init
         block = block_cls()
-        from iecoop.lifecycle import initialise
-
         initialise(block, init_retains=True, in_copy_code=False)
         cls._iec_static_block_ = block
         _static_blocks[cls] = block
@@ -551,8 +552,6 @@ def _install_outside(
         static_fields = block_cls._iec_layout_.fields
     externals = [f for f in outside if SECTION_RULES[specs[f].section].storage is Storage.GLOBAL]
     for field in externals:
-        from iecoop.gvl import find_global
-
         block, record = find_global(field, f"{name}.{field}")
         raw = getattr(type(block), field)
         raw = raw if record.info.direct else _BlockField(raw)
@@ -576,27 +575,7 @@ class _BlockField:
         self.descriptor.__set__(obj, value)
 
 
-def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
-    """Nested function block members (and arrays of them), in declaration order."""
-    for record in layout.fields:
-        info = record.info
-        if isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
-            yield record, _single(record.raw.__get__)
-        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and kind_of(info.elem.cls) is Kind.FUNCTION_BLOCK:
-            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
-
-
-def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
-    return lambda obj: [get(obj)]
-
-
-def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
-    return lambda obj: [raw_get(get(obj), i) for i in range(count)]
-
-
 def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
-    from iecoop.memory.layout import init_op
-
     spans = [(r.offset, r.size) for r in temps]
     ops = [op for r in temps if (op := init_op(r)) is not None]
     memset = ctypes.memset
@@ -724,8 +703,6 @@ class _PouMixin:
                     f"INTERNAL {_kind_word(cls)} {cls.__name__} cannot be instantiated from {caller_description(frame)} "
                     f"(outside the package {_package(cls.__module__)!r})"
                 )
-        from iecoop.lifecycle import initialise
-
         if fb_init_args:
             # Kept for the runtime: a reset re-runs FB_init with the declaration's inputs.
             self.__dict__["_iec_init_args_"] = dict(fb_init_args)

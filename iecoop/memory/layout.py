@@ -44,6 +44,7 @@ __all__ = [
     "DataClassBuilder",
     "FieldRecord",
     "FieldSpec",
+    "LateInitial",
     "LayoutBuilder",
     "build_layout",
 ]
@@ -345,11 +346,11 @@ class LayoutBuilder:
         all_fields = tuple(self.inherited) + tuple(own)
         layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, ())
         for record in own:
-            if isinstance(record.spec.initial, AddressOf):
+            if isinstance(record.spec.initial, LateInitial):
                 record.spec.initial.check(record, layout)
         # the addresses of siblings last: after every value, as a vendor's init code sets them
-        last = [record for record in all_fields if isinstance(record.spec.initial, AddressOf)]
-        first = [record for record in all_fields if not isinstance(record.spec.initial, AddressOf)]
+        last = [record for record in all_fields if isinstance(record.spec.initial, LateInitial)]
+        first = [record for record in all_fields if not isinstance(record.spec.initial, LateInitial)]
         ops = tuple(op for record in first + last if (op := init_op(record)) is not None)
         layout = ClassLayout(all_fields, tuple(own), layout.by_name, ops)
         cls._iec_layout_ = layout
@@ -488,8 +489,8 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
                 if kind_of(info.cls) is Kind.FUNCTION_BLOCK and record.section is not Section.VAR_INPUT:
                     raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
                 check_initial(record.info, value, f"{where}.{member}")
-        elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, AddressOf):
-            return  # checked once the class has all its fields (AddressOf.check)
+        elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, LateInitial):
+            return  # checked once the class has all its fields (LateInitial.check)
         elif isinstance(info, (PointerInfo, InterfaceInfo, ReferenceInfo)):
             if initial not in (None, 0):
                 or_sibling = "" if isinstance(info, InterfaceInfo) else ", or as adr_of(member) of a variable beside it"
@@ -522,54 +523,29 @@ def _assign_members(view: Any, values: dict[str, Any]) -> None:
         assign(view, record, value)
 
 
-class AddressOf:
-    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+class LateInitial:
+    """An initial value that depends on the instance itself, as ``adr_of(member)`` does.
 
-    __slots__ = ("member", "index")
+    It is checked once the class has all its fields (``check``) and applied
+    after every other initial value (``op``), as a vendor's init code sets
+    addresses last.
+    """
 
-    def __init__(self, member: str, index: int | tuple[int, ...] | None = None) -> None:
-        if not isinstance(member, str):
-            raise TypeError(f"adr_of: the member is a variable name (a str), got {member!r}")
-        self.member = member
-        self.index = index
-
-    def __repr__(self) -> str:
-        return f"adr_of({self.member!r})" if self.index is None else f"adr_of({self.member!r}, {self.index!r})"
+    __slots__ = ()
 
     def check(self, record: FieldRecord, layout: ClassLayout) -> None:
-        """Refuse, at definition, a member that is not there or whose type the pointer does not point to."""
-        target = layout.by_name.get(self.member)
-        if target is None:
-            raise DefinitionError(f"{record.where}: adr_of({self.member!r}) names no variable of {record.owner}")
-        assert isinstance(record.info, (PointerInfo, ReferenceInfo))
-        points_to = record.info.target
-        designated = target.info
-        if self.index is not None:
-            if not isinstance(designated, ArrayInfo):
-                raise DefinitionError(f"{record.where}: adr_of({self.member!r}, {self.index!r}) needs an ARRAY, {self.member} is {designated.name}")
-            designated = designated.elem
-        if isinstance(designated, ReferenceInfo):
-            designated = designated.target
-        if points_to is not None and points_to.signature != designated.signature:
-            raise DefinitionError(
-                f"{record.where}: {record.info.name} cannot be initialised with the address of {self.member} "
-                f"({designated.name}): the types must match"
-            )
+        """Refuse, at definition, a value that cannot fit ``record`` in ``layout``."""
+        raise NotImplementedError
 
     def op(self, record: FieldRecord) -> Callable[[Any], None]:
-        from iecoop.memory.operators import adr, ref_assign
-
-        member, index, field, offset, where = self.member, self.index, record.name, record.offset, record.where
-        if isinstance(record.info, ReferenceInfo):
-            return lambda obj: ref_assign(obj, field, adr(obj, member, index))
-        store = record.info.store
-        return lambda obj: store(obj, offset, adr(obj, member, index), where)
+        """The operation that sets ``record`` in a new instance."""
+        raise NotImplementedError
 
 
 def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
     """The operation that writes ``record``'s initial value into a zeroed instance, or None."""
     info, initial, raw = record.info, record.spec.initial, record.raw
-    if isinstance(initial, AddressOf):
+    if isinstance(initial, LateInitial):
         return initial.op(record)
     if isinstance(info, (ElementaryInfo, EnumInfo)):
         if initial is MISSING or not initial:

@@ -13,6 +13,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access, Member, format_signature
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, EnumInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.metadata import iec_class, kind_of
 from iecoop.sections import SECTION_RULES, Section
 from iecoop.uml import text as _text
@@ -120,10 +121,9 @@ def _type_name(info: Any) -> str:
     return str(getattr(info, "name", info))
 
 
-def _referenced(info: Any) -> tuple[type | None, str, str]:
+def _referenced(info: TypeInfo) -> tuple[type | None, str, str]:
     """The class a field's type points at, the relation kind, and the multiplicity."""
-    kind = type(info).__name__
-    if kind == "ArrayInfo":
+    if isinstance(info, ArrayInfo):
         cls, relation, _ = _referenced(info.elem)
         if len(info.bounds) == 1:
             (lo, hi), = info.bounds
@@ -132,15 +132,15 @@ def _referenced(info: Any) -> tuple[type | None, str, str]:
         for lo, hi in info.bounds:
             count *= hi - lo + 1
         return cls, relation, str(count)
-    if kind == "AggregateInfo":
+    if isinstance(info, AggregateInfo):
         return info.cls, "composition", ""
-    if kind == "InterfaceInfo":
+    if isinstance(info, InterfaceInfo):
         return info.iface, "aggregation", ""
-    if kind in ("PointerInfo", "ReferenceInfo"):
+    if isinstance(info, (PointerInfo, ReferenceInfo)):
         target = info.target
         cls = getattr(target, "cls", None) or getattr(target, "iface", None)
         return cls, "aggregation", ""
-    if kind == "EnumInfo":
+    if isinstance(info, EnumInfo):
         return info.enum_cls, "association", ""
     return None, "", ""
 
