@@ -410,6 +410,19 @@ def dynamic_class(root: Any, offset: int, what: str) -> type:
 # ---------------------------------------------------------------------------
 
 
+class Address:
+    """A pointer value as the memory machinery sees it: a handle and the type it designates.
+
+    ``Pointer`` derives from it, so a reference can be bound to an address
+    without this module depending on the public class.
+    """
+
+    __slots__ = ()
+
+    _handle: int
+    _target: TypeInfo | None
+
+
 class TypeInfo:
     """How values of one IEC type are stored (base class)."""
 
@@ -783,7 +796,7 @@ class AggregateInfo(TypeInfo):
 # ---------------------------------------------------------------------------
 
 
-class Pointer(Generic[_T]):
+class Pointer(Address, Generic[_T]):
     """``POINTER TO T``: an address into a checked memory block.
 
     Arithmetic is in bytes, as in ST (``p + 2 * sizeof(INT)``); ``p.deref`` is
@@ -801,6 +814,9 @@ class Pointer(Generic[_T]):
     """
 
     __slots__ = ("_handle", "_target", "_origin", "_keep")
+
+    #: How ``resolve_type`` reads ``POINTER_TO[T]``.
+    _iec_resolve_: ClassVar[Callable[..., TypeInfo]]
 
     _handle: int
     _target: TypeInfo | None
@@ -1070,7 +1086,7 @@ class ReferenceInfo(TypeInfo):
 
     def bind_handle(self, target: Any, where: str) -> int:
         """The handle ``REF= target`` stores: target is a pointer or an aggregate instance."""
-        if isinstance(target, Pointer):
+        if isinstance(target, Address):
             if target._target is not None and target._target.size < self.target.size:
                 raise TypeError(f"{where}: REF= to {target._target.name} does not fit {self.name}")
             return target._handle
@@ -1087,7 +1103,7 @@ class ReferenceInfo(TypeInfo):
 
     def bind_constant(self, owner: Any, value: Any, where: str) -> int:
         """VAR_IN_OUT CONSTANT: a literal or expression is passed through a temporary the call owns."""
-        if isinstance(value, Pointer) or value is None or isinstance(self.target, AggregateInfo):
+        if isinstance(value, Address) or value is None or isinstance(self.target, AggregateInfo):
             return self.bind_handle(value, where)
         if isinstance(self.target, ArrayInfo) and type(value) is self.target.ctype:
             return handle_of(value)
@@ -1249,6 +1265,9 @@ class ARRAY(Generic[_T]):
     >>> list(fifo.items), fifo.items.low, fifo.items.high
     ([0, 0, 7], 1, 3)
     """
+
+    #: How ``resolve_type`` reads ``ARRAY[T]``.
+    _iec_resolve_: ClassVar[Callable[..., TypeInfo]]
 
     if TYPE_CHECKING:
         low: int
@@ -1610,10 +1629,10 @@ def resolve_type(
     origin = typing.get_origin(annotation)
     if origin is Annotated:
         return _resolve_annotated(annotation, where, length, bounds, resolver)
-    if origin is ARRAY:
-        return _resolve_array(annotation, where, length, bounds, resolver)
-    if origin is Pointer or annotation is Pointer:
-        return _resolve_pointer(annotation, where, length, bounds, resolver)
+    # ARRAY[T], POINTER_TO[T] and a bare POINTER_TO (PVOID): their classes know how they resolve.
+    resolve = getattr(origin if origin is not None else annotation, "_iec_resolve_", None)
+    if resolve is not None:
+        return typing.cast(TypeInfo, resolve(annotation, where, length, bounds, resolver))
     if isinstance(annotation, type):
         info = class_info(annotation)
         if info is not None:
@@ -1674,6 +1693,8 @@ def _array_depth(annotation: Any) -> int:
 
 def _resolve_array(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
     """``ARRAY[T]`` with ``bounds=``; ``ARRAY[ARRAY[T]]`` takes one bounds entry per level, outermost first."""
+    if annotation is ARRAY:
+        raise DefinitionError(f"{where}: ARRAY is not an IEC type")
     (elem_annotation,) = typing.get_args(annotation)
     depth = _array_depth(annotation)
     if bounds is None:
@@ -1704,6 +1725,9 @@ def _resolve_array(annotation: Any, where: str, length: int | None, bounds: obje
     return array_info(elem, pairs)
 
 
+ARRAY._iec_resolve_ = staticmethod(_resolve_array)
+
+
 def _array_leaf(info: TypeInfo) -> TypeInfo:
     """The innermost element type of a (nested) ARRAY."""
     while isinstance(info, ArrayInfo):
@@ -1727,6 +1751,9 @@ def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: ob
         return resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
 
     return PointerInfo(thunk, _annotation_name(target_annotation))
+
+
+Pointer._iec_resolve_ = staticmethod(_resolve_pointer)
 
 
 def _annotation_name(annotation: Any) -> str:
