@@ -31,7 +31,8 @@ import typing
 from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import NullInterface, Pointer, class_info, handle_of
+from iecoop.memory._core import NullInterface, class_info, handle_of
+from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import register_builder, DefinitionScope
 from iecoop.members import Member, has_body, members_of_namespace
 from iecoop.metadata import IecClass, iec_class, kind_of

@@ -42,7 +42,6 @@ from iecoop.exceptions import AccessError, ExceptionCode, PlcException
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
-    Pointer,
     allocation_for_handle,
     class_info,
     free,
@@ -52,6 +51,7 @@ from iecoop.memory._core import (
     resolve,
     table_lock,
 )
+from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
 from iecoop.metadata import Kind, iec_class, kind_of

@@ -51,12 +51,12 @@ from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     TypeInfo,
     new_class_tag,
     set_state_without_views,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import (
     MISSING,
     ClassLayout,

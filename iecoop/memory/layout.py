@@ -30,13 +30,13 @@ from iecoop.memory._core import (
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
     check_block_size,
     resolve_type,
 )
+from iecoop.memory.pointers import PointerInfo
 
 __all__ = [
     "MISSING",

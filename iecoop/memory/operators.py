@@ -30,8 +30,6 @@ from iecoop.memory._core import (
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    Pointer,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
@@ -46,6 +44,7 @@ from iecoop.memory._core import (
     table_lock,
     target_root,
 )
+from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.layout import ClassLayout, FieldRecord, LateInitial
 from iecoop.metadata import Kind, kind_of
 

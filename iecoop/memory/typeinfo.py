@@ -21,8 +21,9 @@ ST: ``nCount : INT;`` has an ``ElementaryInfo`` named ``INT``;
 """
 
 # The classes live with the memory machinery they drive; this module is their public name.
-from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, InterfaceInfo, PointerInfo
+from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, InterfaceInfo
 from iecoop.memory._core import ReferenceInfo, StringInfo, TypeInfo, class_info, resolve_type
+from iecoop.memory.pointers import PointerInfo
 
 __all__ = [
     "AggregateInfo",

@@ -14,8 +14,9 @@ import dataclasses
 from typing import Any
 
 from iecoop.memory._core import (
-    AggregateInfo, ArrayInfo, ElementaryInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo,
+    AggregateInfo, ArrayInfo, ElementaryInfo, InterfaceInfo, ReferenceInfo, TypeInfo,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import ClassLayout
 
 __all__ = [
