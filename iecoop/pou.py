@@ -39,7 +39,7 @@ import weakref
 import sys
 import types
 import typing
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
@@ -91,7 +91,7 @@ from iecoop.writes import accepted_type, check_write, pou_setattr
 
 register_builder(__file__)
 
-__all__ = ["FunctionBlock", "Program", "check_write", "pou_members", "static_blocks"]
+__all__ = ["FunctionBlock", "Program", "check_write", "fb_children", "pou_members", "static_blocks"]
 
 #: The VAR_STAT block of every class that declares one (one per class, like the PLC's static data).
 _static_blocks: weakref.WeakKeyDictionary[type, Any] = weakref.WeakKeyDictionary()

@@ -82,7 +82,7 @@ class Kind(enum.StrEnum):
 
     @property
     def keyword(self) -> str:
-        """The ST keyword that declares it: ``FUNCTION_BLOCK``, ``VAR_GLOBAL`` for a GVL."""
+        """The ST keyword that declares it (``FUNCTION_BLOCK``); a global variable list is a ``GVL``."""
         return _KEYWORDS[self]
 
     @property
@@ -96,7 +96,7 @@ _KEYWORDS: Final = {
     Kind.PROGRAM: "PROGRAM",
     Kind.STRUCT: "STRUCT",
     Kind.UNION: "UNION",
-    Kind.GVL: "VAR_GLOBAL",
+    Kind.GVL: "GVL",
     Kind.INTERFACE: "INTERFACE",
     Kind.ENUM: "TYPE (enum)",
 }

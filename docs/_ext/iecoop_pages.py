@@ -707,7 +707,7 @@ def section_table() -> list[str]:
         "     - Declared in",
     ]
     for section, rule in SECTION_RULES.items():
-        qualifiers = ", ".join(f"``{q.keyword}``" for q in Qualifier if q in rule.qualifiers) or "--"
+        qualifiers = ", ".join(f"``{q.keyword}``" for q in Qualifier if q in rule.qualifiers) or "none"
         kinds = ", ".join(k.keyword for k in Kind if k in rule.kinds)
         lines += [
             f"   * - ``{section}``",

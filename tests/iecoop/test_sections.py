@@ -142,8 +142,8 @@ def test_the_docs_table_is_generated_from_the_rule_table() -> None:
         "     - in the instance",
         "     - its METHOD only",
         "     - keeps its value",
-        "     - --",
+        "     - none",
         "     - FUNCTION_BLOCK, PROGRAM",
     ]
     page = (ROOT / "docs" / "concepts" / "var-sections.md").read_text(encoding="utf-8")
-    assert "```{iecoop-section-table}" in page
+    assert "```{eval-rst}\n.. iecoop-section-table::\n```" in page
