@@ -52,6 +52,8 @@ nitpick_ignore = [
     ("py:class", "iecoop.members._F"),
     ("py:class", "iecoop.memory._core._T"),
     ("py:class", "iecoop.parameters._F"),
+    ("py:class", "iecoop.memory.arrays._T"),
+    ("py:class", "iecoop.memory.pointers._T"),
     ("py:class", "iecoop.testing._P"),
 ]
 

@@ -29,7 +29,8 @@ from __future__ import annotations
 
 from typing import Any, TypeVar, overload
 
-from iecoop.memory.layout import MISSING, SECTIONS, FieldSpec
+from iecoop.memory.layout import MISSING, FieldSpec
+from iecoop.sections import SECTIONS, Section
 
 __all__ = [
     "SECTIONS",
@@ -47,7 +48,7 @@ __all__ = [
 _T = TypeVar("_T")
 
 
-def _spec(section: str, initial: Any, **options: Any) -> Any:
+def _spec(section: Section, initial: Any, **options: Any) -> Any:
     return FieldSpec(section, initial, **options)
 
 
@@ -77,7 +78,7 @@ def VAR(
     inputs at the declaration (ST: ``motor : FB_Motor := (speed := 1.5);``).
     """
     return _spec(
-        "VAR", initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant,
+        Section.VAR, initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant,
         fb_init=fb_init,
     )
 
@@ -90,7 +91,7 @@ def VAR_INPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None,
 def VAR_INPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> _T: ...
 def VAR_INPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any:
     """``VAR_INPUT``: set by the caller (``fb(IN=True)``), read-only inside by convention."""
-    return _spec("VAR_INPUT", initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
+    return _spec(Section.VAR_INPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
 
 
 @overload
@@ -101,12 +102,12 @@ def VAR_OUTPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None
 def VAR_OUTPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> _T: ...
 def VAR_OUTPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any:
     """``VAR_OUTPUT``: written by the POU, read by the caller after the call."""
-    return _spec("VAR_OUTPUT", initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
+    return _spec(Section.VAR_OUTPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
 
 
 def VAR_IN_OUT(*, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
     """``VAR_IN_OUT`` (``constant=True``: ``VAR_IN_OUT CONSTANT``): passed by reference at every call."""
-    return _spec("VAR_IN_OUT", MISSING, length=length, bounds=bounds, constant=constant)
+    return _spec(Section.VAR_IN_OUT, MISSING, length=length, bounds=bounds, constant=constant)
 
 
 @overload
@@ -117,7 +118,7 @@ def VAR_STAT(initial: list[Any] | dict[str, Any], *, length: int | None = None, 
 def VAR_STAT(initial: _T, *, length: int | None = None, bounds: object = None, constant: bool = False) -> _T: ...
 def VAR_STAT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
     """``VAR_STAT``: one variable shared by every instance of the class."""
-    return _spec("VAR_STAT", initial, length=length, bounds=bounds, constant=constant)
+    return _spec(Section.VAR_STAT, initial, length=length, bounds=bounds, constant=constant)
 
 
 @overload
@@ -128,7 +129,7 @@ def VAR_TEMP(initial: list[Any] | dict[str, Any], *, length: int | None = None, 
 def VAR_TEMP(initial: _T, *, length: int | None = None, bounds: object = None) -> _T: ...
 def VAR_TEMP(initial: Any = MISSING, *, length: int | None = None, bounds: object = None) -> Any:
     """``VAR_TEMP``: re-initialised at every call of the body."""
-    return _spec("VAR_TEMP", initial, length=length, bounds=bounds)
+    return _spec(Section.VAR_TEMP, initial, length=length, bounds=bounds)
 
 
 @overload
@@ -139,9 +140,9 @@ def VAR_INST(initial: list[Any] | dict[str, Any], *, method: str, length: int | 
 def VAR_INST(initial: _T, *, method: str, length: int | None = None, bounds: object = None) -> _T: ...
 def VAR_INST(initial: Any = MISSING, *, method: str, length: int | None = None, bounds: object = None) -> Any:
     """``VAR_INST`` inside METHOD ``method``: kept in the instance, visible to that method only."""
-    return _spec("VAR_INST", initial, length=length, bounds=bounds, method=method)
+    return _spec(Section.VAR_INST, initial, length=length, bounds=bounds, method=method)
 
 
 def VAR_EXTERNAL(*, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
     """``VAR_EXTERNAL``: refers to the global variable of the same name in a GVL."""
-    return _spec("VAR_EXTERNAL", MISSING, length=length, bounds=bounds, constant=constant)
+    return _spec(Section.VAR_EXTERNAL, MISSING, length=length, bounds=bounds, constant=constant)

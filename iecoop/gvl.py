@@ -31,7 +31,10 @@ import weakref
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
+from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, FieldRecord, register_builder
+from iecoop.metadata import IecClass
+from iecoop.sections import Kind
 
 register_builder(__file__)
 
@@ -46,13 +49,12 @@ else:
     _Base = ctypes.Structure
     _MetaBase = type(ctypes.Structure)
 
-_SECTIONS = {"VAR": "VAR_GLOBAL", "VAR_GLOBAL": "VAR_GLOBAL"}
 #: Every live GVL instance by name, in definition order. Weak: a list defined in a function
 #: (a test, a notebook cell) goes when nothing holds it; a POU's VAR_EXTERNAL holds its list.
 _lists: weakref.WeakValueDictionary[str, Any] = weakref.WeakValueDictionary()
 
 
-_BUILDER = DataClassBuilder("GVL", _SECTIONS)
+_BUILDER = DataClassBuilder("GVL", Kind.GVL)
 
 
 class _GvlMeta(_MetaBase):
@@ -68,7 +70,8 @@ class GlobalVariables(_Base, metaclass=_GvlMeta):
     """Base of a global variable list; decorate the subclass with ``@gvl``."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "gvl"
+    __iec__: ClassVar[IecClass] = IecClass(Kind.GVL, root=True)
+    _iec_kind_: ClassVar[str] = Kind.GVL  # read by iecoop.st, which does not read the record yet
     _iec_layout_: ClassVar[ClassLayout | None] = None
 
     def __repr__(self) -> str:
@@ -89,9 +92,6 @@ def gvl(cls: type[_G]) -> _G:
                     f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
                 )
     instance: Any = typing.cast(Any, cls).__new__(cls)
-    from iecoop.lifecycle import initialise
-    from iecoop.pou import fb_children
-
     # Function block instances in a GVL get their FB_init, as global instances do on the PLC.
     cls_any: Any = cls
     cls_any._iec_children_ = tuple(fb_children(layout))

@@ -31,9 +31,12 @@ import typing
 from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import NullInterface, Pointer, class_info, handle_of
+from iecoop.memory._core import NullInterface, class_info, handle_of
+from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import register_builder, DefinitionScope
 from iecoop.members import Member, has_body, members_of_namespace
+from iecoop.metadata import IecClass, iec_class, kind_of
+from iecoop.sections import Kind
 
 register_builder(__file__)
 
@@ -66,7 +69,7 @@ def null(iface: type[_I]) -> _I:
     ...
     iecoop.exceptions.PlcException: RTSEXCPT_ACCESS_VIOLATION (16#...): null(IValve): IValve.open called through a null interface reference
     """
-    if not (isinstance(iface, type) and getattr(iface, "_iec_kind_", "") == "interface"):
+    if not (isinstance(iface, type) and kind_of(iface) is Kind.INTERFACE):
         raise TypeError(f"null() takes an interface type, got {iface!r}")
     return typing.cast(_I, NullInterface(iface.__name__, f"null({iface.__name__})"))
 
@@ -78,17 +81,21 @@ class Interface:
     """Base of every INTERFACE. Subclass it with method / property prototypes only."""
 
     __slots__ = ()
-    _iec_kind_: ClassVar[str] = "interface"
-    _iec_members_: ClassVar[dict[str, Member]] = {}
+    __iec__: ClassVar[IecClass] = IecClass(Kind.INTERFACE, root=True)
+    _iec_kind_: ClassVar[str] = Kind.INTERFACE  # read by iecoop.st, which does not read the record yet
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if getattr(cls, "_iec_kind_", "") != "interface" or "_iec_pou_" in cls.__dict__:
-            return
-        _build_interface(cls)
+        own = cls.__dict__.get("__iec__")
+        if isinstance(own, IecClass) and own.kind.is_pou:
+            return  # a block that IMPLEMENTS interfaces
+        # The first base with a record decides: class IBad(Interface, Recipe) declares an interface.
+        inherited = next(b.__dict__["__iec__"].kind for b in cls.__mro__[1:] if "__iec__" in b.__dict__)
+        if inherited is Kind.INTERFACE:
+            _build_interface(cls)
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Any:
-        if getattr(cls, "_iec_kind_", "") == "interface":
+        if kind_of(cls) is Kind.INTERFACE:
             raise TypeError(f"INTERFACE {cls.__name__} cannot be instantiated; implement it in a FunctionBlock")
         return super().__new__(cls)
 
@@ -98,7 +105,7 @@ def _build_interface(cls: type) -> None:
     for base in cls.__bases__:
         if base is object or base is Interface:
             continue
-        if not (isinstance(base, type) and issubclass(base, Interface)) or getattr(base, "_iec_kind_", "") != "interface":
+        if not (isinstance(base, type) and issubclass(base, Interface)) or kind_of(base) is not Kind.INTERFACE:
             raise DefinitionError(f"INTERFACE {name}: an interface can only EXTEND interfaces, not {base.__name__}")
     namespace = dict(cls.__dict__)
     annotations = namespace.get("__annotations__", {})
@@ -123,14 +130,18 @@ def _build_interface(cls: type) -> None:
             )
     members: dict[str, Member] = {}
     for base in reversed(cls.__mro__[1:]):
-        members.update(getattr(base, "_iec_members_", {}) if base is not Interface else {})
+        record = iec_class(base)
+        if record is not None:
+            members.update(record.members)
     members.update(own)
-    type.__setattr__(cls, "_iec_members_", members)
+    type.__setattr__(cls, "__iec__", IecClass(Kind.INTERFACE).finished(members=members))
+    type.__setattr__(cls, "_iec_members_", members)  # read by iecoop.st, which does not read the record yet
 
 
 def interface_members(iface: type) -> dict[str, Member]:
     """Every method and property an interface declares, its EXTENDS included."""
-    return dict(getattr(iface, "_iec_members_", {}))
+    record = iec_class(iface)
+    return dict(record.members) if record is not None else {}
 
 
 class IQueryInterface(Interface):
@@ -138,7 +149,7 @@ class IQueryInterface(Interface):
 
 
 def _check_queryable(iface: type, op: str) -> None:
-    if not (isinstance(iface, type) and issubclass(iface, Interface)) or getattr(iface, "_iec_kind_", "") != "interface":
+    if not (isinstance(iface, type) and issubclass(iface, Interface)) or kind_of(iface) is not Kind.INTERFACE:
         raise TypeError(f"{op}: {iface!r} is not an INTERFACE")
     if not issubclass(iface, IQueryInterface):
         raise DefinitionError(f"{op}: Interface {iface.__name__} does not extend __System.IQueryInterface (C0239)")

@@ -35,12 +35,13 @@ import ctypes
 import inspect
 import sys
 import typing
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
 from iecoop.exceptions import AccessError, ExceptionCode, PlcException
 from iecoop.memory._core import (
-    Pointer,
+    AggregateInfo,
+    ArrayInfo,
     allocation_for_handle,
     class_info,
     free,
@@ -50,13 +51,34 @@ from iecoop.memory._core import (
     resolve,
     table_lock,
 )
+from iecoop.memory.pointers import Pointer
+from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
+from iecoop.metadata import Kind, iec_class, kind_of
 
-__all__ = ["delete", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
+__all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
 _T = TypeVar("_T")
 
 _EMPTY: dict[str, Any] = {}
+
+
+def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
+    """Nested function block members (and arrays of them), in declaration order."""
+    for record in layout.fields:
+        info = record.info
+        if isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
+            yield record, _single(record.raw.__get__)
+        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and kind_of(info.elem.cls) is Kind.FUNCTION_BLOCK:
+            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
+
+
+def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
+    return lambda obj: [get(obj)]
+
+
+def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
+    return lambda obj: [raw_get(get(obj), i) for i in range(count)]
 #: Instances created by new(): kept alive until delete(), as a PLC heap block is.
 _heap: dict[int, Any] = {}
 #: Instances whose FB_exit is running inside delete(): deleting one again only clears the pointer.
@@ -184,16 +206,17 @@ def new(cls: type[_T], **fb_init_args: Any) -> Pointer[_T]:
     The instance lives until ``delete(p)``; ownership is the caller's.
     """
     info = class_info(cls)
-    if info is None or getattr(cls, "_iec_kind_", "") not in ("fb", "struct", "union"):
+    record = iec_class(cls)
+    if info is None or record is None or record.kind not in (Kind.FUNCTION_BLOCK, Kind.STRUCT, Kind.UNION):
         raise TypeError(f"__NEW needs a function block or struct type, got {getattr(cls, '__name__', cls)!r}")
-    if getattr(cls, "_iec_abstract_", False):
+    if record.abstract:
         raise TypeError(f"__NEW: ABSTRACT {cls.__name__} cannot be instantiated")
-    if getattr(cls, "_iec_internal_", False):
+    if record.internal:
         frame = sys._getframe(1)
         here = str(frame.f_globals.get("__name__", "")).split(".", 1)[0]
         if here != cls.__module__.split(".", 1)[0]:
             raise AccessError(f"INTERNAL {cls.__name__} cannot be created from {caller_description(frame)}")
-    if getattr(cls, "_iec_kind_", "") == "fb":
+    if record.kind is Kind.FUNCTION_BLOCK:
         obj: Any = typing.cast(Any, cls).__new__(cls)
         alloc = register(obj)
         _heap[alloc.id] = obj
@@ -252,7 +275,7 @@ def delete(pointer: Pointer[Any]) -> None:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "__DELETE of memory that new() did not create (or already deleted)")
     _exiting.add(alloc.id)
     try:
-        if getattr(type(obj), "_iec_kind_", "") == "fb":
+        if kind_of(type(obj)) is Kind.FUNCTION_BLOCK:
             finalise(obj, in_copy_code=False, static_type=static_type)
     except BaseException:
         _heap[alloc.id] = obj

@@ -42,6 +42,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
 
 from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.metadata import Kind, kind_of
 
 __all__ = [
     "ABSTRACT",
@@ -515,7 +516,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
                 owner = owner_ref[0]
                 top = owner
                 for base in owner.__mro__[1:]:
-                    if func.__name__ in base.__dict__ and getattr(base, "_iec_kind_", None) in ("fb", "program"):
+                    if func.__name__ in base.__dict__ and kind_of(base) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
                         top = base
                 declared.append(top)
             return declared[0]

@@ -48,8 +48,10 @@ except ImportError as exc:  # pragma: no cover - exercised without the extra ins
     ) from exc
 
 from iecoop.gvl import global_lists
-from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
+from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
+from iecoop.metadata import Kind, kind_of
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
 
@@ -68,7 +70,9 @@ _EPOCH = datetime.datetime(1970, 1, 1, tzinfo=datetime.timezone.utc)
 _REAL_MAX = 3.4028234663852886e38
 _INT64_MAX = 2**63 - 1
 #: Sections that are no value of the instance between cycles (VAR_TEMP) or a reference to another one (VAR_IN_OUT).
-_HIDDEN_SECTIONS = frozenset({"VAR_TEMP", "VAR_IN_OUT"})
+_HIDDEN_SECTIONS = frozenset(
+    s for s, rule in SECTION_RULES.items() if rule.at_call is AtCall.REINITIALISED or rule.storage is Storage.CALLER
+)
 #: The images the server may fall behind by before it drops the oldest (a client far too slow for the PLC).
 _BACKLOG = 10_000
 
@@ -304,13 +308,13 @@ class _AddressSpace:
             if record.section in _HIDDEN_SECTIONS:
                 continue
             # Program inputs and GVL variables are what an HMI sets; the rest is the PLC's own.
-            writable = record.section == "VAR_INPUT" if inputs_writable else True
+            writable = record.section is Section.VAR_INPUT if inputs_writable else True
             self._add(f"{path}.{record.name}", record.name, path, record.info, root, record.offset,
                       writable, record.spec.constant)
 
     def _add_members(self, cls: type, path: str, root: int, base: int, writable: bool, constant: bool) -> None:
         # The members of an FB instance follow the FB's own rules: read-only unless named writable.
-        data = getattr(cls, "_iec_kind_", "") in ("struct", "union")
+        data = kind_of(cls) in (Kind.STRUCT, Kind.UNION)
         for record in cls._iec_layout_.fields:  # type: ignore[attr-defined]
             if record.section in _HIDDEN_SECTIONS:
                 continue

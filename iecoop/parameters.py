@@ -59,7 +59,8 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import access_violation, AggregateInfo, Pointer, PointerInfo, TypeInfo, handle_of, resolve_type
+from iecoop.memory._core import access_violation, AggregateInfo, TypeInfo, handle_of, resolve_type
+from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 
 __all__ = ["function", "parameter_sections", "with_parameters", "wrap_parameters"]

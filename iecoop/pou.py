@@ -39,27 +39,27 @@ import weakref
 import sys
 import types
 import typing
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
 from iecoop.parameters import wrap_parameters
+from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
-    CheckedMemberField,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     TypeInfo,
     new_class_tag,
     set_state_without_views,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import (
     MISSING,
-    accepted_type,
     ClassLayout,
     DefinitionScope,
     FieldRecord,
@@ -68,16 +68,15 @@ from iecoop.memory.layout import (
     build_layout,
     check_unannotated,
     hand_over,
+    init_op,
     read_annotations,
     register_builder,
     take_over,
 )
 from iecoop.members import (
-    FORWARDING_CODES,
     Access,
     Member,
     caller_description,
-    code_of,
     format_signature,
     own_code,
     guard_namespace,
@@ -87,6 +86,9 @@ from iecoop.members import (
     same_signature,
     visibility,
 )
+from iecoop.metadata import IecClass, iec_class, kind_of
+from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
+from iecoop.writes import accepted_type, check_write, pou_setattr
 
 register_builder(__file__)
 
@@ -101,9 +103,8 @@ def static_blocks() -> list[tuple[type, Any]]:
     return list(_static_blocks.items())
 
 #: Sections a FUNCTION_BLOCK or PROGRAM may declare.
-_POU_SECTIONS = {s: s for s in ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_TEMP", "VAR_INST", "VAR_EXTERNAL")}
-#: Sections written only from inside the POU (checked mode rejects outside writes).
-_INSIDE_ONLY = frozenset({"VAR_OUTPUT", "VAR", "VAR_TEMP", "VAR_INST", "VAR_IN_OUT", "VAR_STAT"})
+_POU_SECTIONS = sections_of(Kind.FUNCTION_BLOCK)
+_POU_KINDS = (Kind.FUNCTION_BLOCK, Kind.PROGRAM)
 _LIFECYCLE = frozenset({"body", "fb_init", "fb_reinit", "fb_exit"})
 
 if TYPE_CHECKING:
@@ -166,8 +167,8 @@ class _PouMeta(_PouMetaBase):
 
 
 def _kind_word(cls_or_kind: Any) -> str:
-    kind = cls_or_kind if isinstance(cls_or_kind, str) else getattr(cls_or_kind, "_iec_kind_", "fb")
-    return "PROGRAM" if kind == "program" else "FUNCTION_BLOCK"
+    kind = cls_or_kind if isinstance(cls_or_kind, Kind) else kind_of(cls_or_kind)
+    return Kind.PROGRAM.keyword if kind is Kind.PROGRAM else Kind.FUNCTION_BLOCK.keyword
 
 
 #: Names the block itself defines: a method may not take them, whatever their case.
@@ -193,7 +194,7 @@ class _PouBuilder:
         self.bases = bases
         self.namespace = namespace
         self.abstract, self.final, self.internal = abstract, final, internal
-        self.kind = "program" if any(getattr(b, "_iec_kind_", "") == "program" for b in bases) else "fb"
+        self.kind = Kind.PROGRAM if any(kind_of(b) is Kind.PROGRAM for b in bases) else Kind.FUNCTION_BLOCK
         self.word = _kind_word(self.kind)
         self.title = f"{self.word} {name}"
         self.parent: type | None = None
@@ -221,8 +222,8 @@ class _PouBuilder:
         name, title, bases = self.name, self.title, self.bases
         if self.abstract and self.final:
             raise DefinitionError(f"{title}: a block cannot be both ABSTRACT and FINAL")
-        pou_bases = [b for b in bases if getattr(b, "_iec_kind_", "") in ("fb", "program")]
-        iface_bases = [b for b in bases if getattr(b, "_iec_kind_", "") == "interface"]
+        pou_bases = [b for b in bases if kind_of(b) in _POU_KINDS]
+        iface_bases = [b for b in bases if kind_of(b) is Kind.INTERFACE]
         if Interface in bases and pou_bases:
             # `class IFoo(Interface, SomeFB)` declares an interface, not a block implementing the root Interface.
             raise DefinitionError(
@@ -234,16 +235,16 @@ class _PouBuilder:
                 f"{title}: {others[0].__name__} is neither a function block nor an interface; "
                 "EXTENDS takes one function block and IMPLEMENTS takes interfaces"
             )
-        user_bases = [b for b in pou_bases if getattr(b, "_iec_layout_", None) is not None]
+        user_bases = [b for b in pou_bases if not _record(b).root]
         if len(user_bases) > 1:
             names = ", ".join(b.__name__ for b in user_bases)
             raise DefinitionError(f"{title}: EXTENDS allows one function block, got {names}")
         parent = self.parent = user_bases[0] if user_bases else None
         if parent is not None:
-            if getattr(parent, "_iec_final_", False):
+            if _record(parent).final:
                 raise DefinitionError(f"{title} cannot EXTEND {parent.__name__}: {parent.__name__} is FINAL")
             module = self.namespace.get("__module__", "")
-            if getattr(parent, "_iec_internal_", False) and _package(module) != _package(parent.__module__):
+            if _record(parent).internal and _package(module) != _package(parent.__module__):
                 raise DefinitionError(
                     f"{title} cannot EXTEND INTERNAL {parent.__name__} outside the package {_package(parent.__module__)!r}"
                 )
@@ -273,7 +274,7 @@ class _PouBuilder:
         # Members: what this block declares and what it inherits.
         placeholder = type(name, (), {"__module__": namespace.get("__module__", "")})
         self.own = members_of_namespace(placeholder, namespace, self.scope.eval, _LIFECYCLE)
-        self.inherited = dict(getattr(parent, "_iec_members_", {})) if parent is not None else {}
+        self.inherited = dict(_record(parent).members) if parent is not None else {}
         _check_name_clashes(title, parent, annotations, self.own, self.inherited)
         _check_members(title, name, self.own, self.inherited, self.abstract)
         _check_lifecycle(title, namespace, parent, self.scope)
@@ -283,14 +284,15 @@ class _PouBuilder:
         # VAR_STAT and VAR_EXTERNAL live outside the instance block.
         self.outside = {
             f: a for f, a in annotations.items()
-            if isinstance(namespace.get(f), FieldSpec) and namespace[f].section in ("VAR_STAT", "VAR_EXTERNAL")
+            if isinstance(namespace.get(f), FieldSpec) and not SECTION_RULES[namespace[f].section].in_instance
         }
         self.outside_specs = {f: namespace.pop(f) for f in self.outside}
         inside = {f: a for f, a in annotations.items() if f not in self.outside}
         wrap_parameters(self.title, namespace, self.scope.eval)
         self.original_namespace = dict(namespace)
         guard_namespace(self.owner_ref, self.name, namespace)
-        namespace["_iec_kind_"] = self.kind
+        namespace["__iec__"] = IecClass(self.kind, self.abstract, self.final, self.internal)
+        namespace["_iec_kind_"] = self.kind  # read by iecoop.st, which does not read the record yet
         self.layout_builder = LayoutBuilder(
             self.name, self.bases, namespace, kind=self.word, allowed_sections=_POU_SECTIONS, adjust=self.adjust,
             annotations=inside, scope=self.scope,
@@ -299,21 +301,21 @@ class _PouBuilder:
 
     def adjust(self, info: TypeInfo, spec: FieldSpec, where: str) -> TypeInfo:
         """The POU rules for one field's type and section."""
-        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_abstract_", False):
+        if isinstance(info, AggregateInfo) and (record := iec_class(info.cls)) is not None and record.abstract:
             raise DefinitionError(
                 f"{where}: ABSTRACT {info.name} cannot be instantiated; use REFERENCE_TO, POINTER_TO or an interface"
             )
-        if spec.section == "VAR_IN_OUT":
+        if spec.section is Section.VAR_IN_OUT:
             if isinstance(info, (ReferenceInfo, InterfaceInfo)):
                 raise DefinitionError(f"{where}: VAR_IN_OUT of {info.name} is not allowed")
             return ReferenceInfo(info)
-        if spec.section == "VAR_INST" and not spec.method:
+        if spec.section is Section.VAR_INST and not spec.method:
             raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
-        if spec.section == "VAR_INST" and spec.method not in self.own:
+        if spec.section is Section.VAR_INST and spec.method not in self.own:
             raise DefinitionError(f"{where}: VAR_INST belongs to METHOD {spec.method!r}, which {self.name} does not declare")
         if spec.fb_init:
             element = info.elem if isinstance(info, ArrayInfo) else info
-            if not (isinstance(element, AggregateInfo) and getattr(element.cls, "_iec_kind_", "") == "fb"):
+            if not (isinstance(element, AggregateInfo) and kind_of(element.cls) is Kind.FUNCTION_BLOCK):
                 raise DefinitionError(f"{where}: fb_init= applies to function block members (or ARRAYs of them) only")
             if isinstance(spec.fb_init, list):
                 if not isinstance(info, ArrayInfo):
@@ -330,20 +332,19 @@ class _PouBuilder:
         assert self.layout_builder is not None
         self.layout_builder.lay_out(cls)
         layout = self.layout_builder.install()
-        self.install_members(cls)
-        _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        members = self.install_members(cls)
+        statics = _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        record = cls.__iec__ = cls.__iec__.finished(layout=layout, members=members, static_fields=statics)
+        _legacy_attributes(cls, record)
         self.install_runtime(cls, layout)
 
-    def install_members(self, cls: Any) -> None:
+    def install_members(self, cls: Any) -> dict[str, Member]:
         self.owner_ref.append(cls)
         register_code(cls, self.original_namespace)
         own_members = {m.name: _rebind(m, cls) for m in self.own.values()}
         members = {**self.inherited, **own_members}
-        cls._iec_members_ = members
-        cls._iec_abstract_ = self.abstract
-        cls._iec_final_ = self.final
-        cls._iec_internal_ = self.internal
         _check_interfaces(self.title, cls, members, self.abstract)
+        return members
 
     def install_runtime(self, cls: Any, layout: ClassLayout) -> None:
         """What an instance and a call need: type tag, implicit init, children, temps, the call."""
@@ -361,11 +362,25 @@ class _PouBuilder:
         cls._iec_call_after_init_ = tuple(
             n for n in dir(cls) if getattr(getattr(cls, n, None), "_iec_call_after_init_", False)
         )
-        temps = [r for r in layout.fields if r.section == "VAR_TEMP"]
+        temps = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.REINITIALISED]
         cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
         cls.__call__ = _make_call(cls, layout)
         if _config.CHECKS:
-            cls.__setattr__ = _checked_setattr(cls, layout)
+            cls.__setattr__ = pou_setattr(cls, layout)
+
+
+def _record(cls: type) -> IecClass:
+    record = iec_class(cls)
+    assert record is not None, cls
+    return record
+
+
+def _legacy_attributes(cls: Any, record: IecClass) -> None:
+    """The record's fields as the attributes iecoop.st still reads (it does not read ``__iec__`` yet)."""
+    cls._iec_members_ = dict(record.members)
+    cls._iec_abstract_, cls._iec_final_, cls._iec_internal_ = record.abstract, record.final, record.internal
+    if record.static_fields:
+        cls._iec_static_fields_ = record.static_fields
 
 
 def _package(module: str) -> str:
@@ -480,7 +495,7 @@ def _base_fb_init_params(parent: type | None) -> list[str]:
 
 def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstract: bool) -> None:
     for iface in cls.__mro__:
-        if getattr(iface, "_iec_kind_", "") != "interface" or iface is Interface:
+        if kind_of(iface) is not Kind.INTERFACE or iface is Interface:
             continue
         for proto in interface_members(iface).values():
             impl = members.get(proto.name)
@@ -507,26 +522,27 @@ def _check_interfaces(title: str, cls: type, members: dict[str, Member], abstrac
                 raise DefinitionError(f"{title}: PROPERTY {proto.name} of interface {iface.__name__} needs a Set accessor")
 
 
-def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope) -> None:
-    """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name."""
-    statics = {f: a for f, a in outside.items() if specs[f].section == "VAR_STAT"}
+def _install_outside(
+    cls: Any, name: str, outside: dict[str, Any], specs: dict[str, FieldSpec], scope: DefinitionScope
+) -> tuple[FieldRecord, ...]:
+    """VAR_STAT: one block per declaring class. VAR_EXTERNAL: the GVL variable of that name. Returns the VAR_STATs."""
+    static_fields: tuple[FieldRecord, ...] = ()
+    statics = {f: a for f, a in outside.items() if SECTION_RULES[specs[f].section].storage is Storage.CLASS}
     if statics:
         ns: dict[str, Any] = {"__module__": cls.__module__, "__annotations__": statics}
         for field in statics:
             spec = specs[field]
-            ns[field] = FieldSpec("VAR", spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
+            ns[field] = FieldSpec(Section.VAR, spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
 
         def create(n: dict[str, Any]) -> type:
             meta: Any = type(ctypes.Structure)
             return typing.cast(type, meta(f"{name}.VAR_STAT", (ctypes.Structure,), n))
 
-        block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections={"VAR": "VAR"}, annotations=statics)
+        block_cls: Any = build_layout(create, name, (), ns, kind="VAR_STAT", allowed_sections=(Section.VAR,), annotations=statics)
         block_cls._iec_children_ = tuple(fb_children(block_cls._iec_layout_))
         block_cls._iec_call_after_init_ = ()
         block_cls._iec_implicit_init_ = block_cls._iec_layout_.implicit_init
         block = block_cls()
-        from iecoop.lifecycle import initialise
-
         initialise(block, init_retains=True, in_copy_code=False)
         cls._iec_static_block_ = block
         _static_blocks[cls] = block
@@ -535,16 +551,15 @@ def _install_outside(cls: Any, name: str, outside: dict[str, Any], specs: dict[s
             raw = descriptor if record.info.direct else _BlockField(descriptor)
             validate = record.info.validate if _config.CHECKS else None
             setattr(cls, record.name, _Static(raw, block, record.where, validate))
-        cls._iec_static_fields_ = block_cls._iec_layout_.fields
-    externals = [f for f in outside if specs[f].section == "VAR_EXTERNAL"]
+        static_fields = block_cls._iec_layout_.fields
+    externals = [f for f in outside if SECTION_RULES[specs[f].section].storage is Storage.GLOBAL]
     for field in externals:
-        from iecoop.gvl import find_global
-
         block, record = find_global(field, f"{name}.{field}")
         raw = getattr(type(block), field)
         raw = raw if record.info.direct else _BlockField(raw)
         validate = record.info.validate if _config.CHECKS else None
         setattr(cls, field, _Static(raw, block, f"{name}.{field}", validate))
+    return static_fields
 
 
 class _BlockField:
@@ -562,27 +577,7 @@ class _BlockField:
         self.descriptor.__set__(obj, value)
 
 
-def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
-    """Nested function block members (and arrays of them), in declaration order."""
-    for record in layout.fields:
-        info = record.info
-        if isinstance(info, AggregateInfo) and getattr(info.cls, "_iec_kind_", "") == "fb":
-            yield record, _single(record.raw.__get__)
-        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and getattr(info.elem.cls, "_iec_kind_", "") == "fb":
-            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
-
-
-def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
-    return lambda obj: [get(obj)]
-
-
-def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
-    return lambda obj: [raw_get(get(obj), i) for i in range(count)]
-
-
 def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
-    from iecoop.memory.layout import init_op
-
     spans = [(r.offset, r.size) for r in temps]
     ops = [op for r in temps if (op := init_op(r)) is not None]
     memset = ctypes.memset
@@ -608,8 +603,8 @@ _script_counter = [0]
 
 def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
     """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``."""
-    inputs = [r for r in layout.fields if r.section == "VAR_INPUT"]
-    in_outs = [r for r in layout.fields if r.section == "VAR_IN_OUT"]
+    inputs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.SET_IF_GIVEN]
+    in_outs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.BOUND]
     name = cls.__name__
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
@@ -677,118 +672,6 @@ def _call_error(name: str, field: str) -> None:
 
 
 # ---------------------------------------------------------------------------
-# Checked mode: who may write which variable
-# ---------------------------------------------------------------------------
-
-
-#: Per field: (validator or None, "Class.field", section, VAR_INST method or None, CONSTANT).
-_WriteRule = tuple[Callable[[Any, str], None] | None, str, str, str | None, bool]
-
-
-def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, _WriteRule]:
-    rules: dict[str, _WriteRule] = {}
-    for record in layout.fields:
-        validate = record.info.validate if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)) else None
-        rules[record.name] = (validate, record.where, record.section, record.spec.method, record.spec.constant)
-    for record in getattr(cls, "_iec_static_fields_", ()):
-        rules.setdefault(record.name, (None, f"{cls.__name__}.{record.name}", "VAR_STAT", None, record.spec.constant))
-    return rules
-
-
-def _check_rule(holder: Any, rule: _WriteRule, frame: Any) -> None:
-    _validate, where, section, method_name, constant = rule
-    if constant:
-        raise AccessError(f"{where} is CONSTANT and cannot be written")
-    if section in _INSIDE_ONLY:
-        if not code_of(frame.f_code, holder):
-            raise AccessError(
-                f"{section} {where} cannot be written from {caller_description(frame)}: "
-                f"only {type(holder).__name__}'s own code writes its {section} variables"
-            )
-        if method_name is not None and frame.f_code.co_name != method_name:
-            raise AccessError(f"VAR_INST {where} belongs to METHOD {method_name} (C0576)")
-
-
-def check_write(holder: Any, field: str, frame: Any) -> None:
-    """Checked mode's write rule: raise AccessError if the code running in ``frame`` may not write it.
-
-    CONSTANT variables are never written; outputs, locals, in-outs, temps,
-    statics and VAR_INST only by the block's own code (VAR_INST only by its
-    method). Helpers that write on a caller's behalf (ExST ``S=`` / ``R=``)
-    call this with the caller's frame.
-    """
-    rule = getattr(type(holder), "_iec_write_rules_", {}).get(field)
-    if rule is not None:
-        _check_rule(holder, rule, frame)
-
-
-def _read_only_rule(rule: _WriteRule) -> Callable[[Any, Any], str | None] | None:
-    """Who may write through a view of a STRUCT / ARRAY variable: the same code that may write the variable."""
-    if not (rule[4] or rule[2] in _INSIDE_ONLY):
-        return None
-
-    def refusal(holder: Any, frame: Any) -> str | None:
-        if frame.f_code in FORWARDING_CODES:
-            frame = frame.f_back
-        try:
-            _check_rule(holder, rule, frame)
-        except AccessError as exc:
-            return str(exc)
-        return None
-
-    return refusal
-
-
-def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    rules = cls._iec_write_rules_ = _write_rules(cls, layout)
-    for record in layout.own:
-        field = cls.__dict__.get(record.name)
-        if isinstance(field, CheckedMemberField):
-            field.rule = _read_only_rule(rules[record.name])
-    getframe = sys._getframe
-    setter = object.__setattr__
-    inside_only = _INSIDE_ONLY
-    # Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
-    # VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
-    # one is written by the block's own code without the rule check. The rest takes the general path.
-    fast: dict[str, tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]] = {}
-    for record in layout.fields:
-        validate, where, section, method_name, constant = rules[record.name]
-        if validate is not None and not constant and method_name is None:
-            fast[record.name] = (accepted_type(record.info), section in inside_only, validate, where, record.raw.__set__)
-
-    def __setattr__(self: Any, field: str, value: Any) -> None:
-        spec = fast.get(field)
-        if spec is not None:
-            accepted, inside, check, where, store = spec
-            if not inside or getframe(1).f_code in type(self)._iec_codes_:
-                if value.__class__ is not accepted:
-                    check(value, where)
-                store(self, value)
-                return
-        rule = rules.get(field)
-        if rule is None:
-            if field.startswith("_iec") or not hasattr(type(self), field):
-                raise AttributeError(f"{type(self).__name__} has no variable {field!r}; declare it in a VAR section")
-            setter(self, field, value)
-            return
-        if rule[4] or rule[2] in inside_only:
-            frame = getframe(1)
-            # The usual case, the block's own code writing a plain inside variable, passes here;
-            # _check_rule decides everything else (and words the refusal).
-            if rule[4] or rule[3] is not None or frame.f_code not in type(self)._iec_codes_:
-                _check_rule(self, rule, frame)
-        validate = rule[0]
-        if validate is not None:
-            validate(value, rule[1])
-        setter(self, field, value)
-
-    __setattr__.__qualname__ = f"{cls.__name__}.__setattr__"
-    FORWARDING_CODES.add(__setattr__.__code__)
-    return __setattr__
-
-
-# ---------------------------------------------------------------------------
 # The base classes
 # ---------------------------------------------------------------------------
 
@@ -797,10 +680,7 @@ class _PouMixin:
     """What FunctionBlock and Program share: construction, body, comparison."""
 
     _iec_layout_: ClassVar[ClassLayout | None] = None
-    _iec_abstract_: ClassVar[bool] = False
-    _iec_final_: ClassVar[bool] = False
-    _iec_internal_: ClassVar[bool] = False
-    _iec_members_: ClassVar[dict[str, Member]] = {}
+    __iec__: ClassVar[IecClass]
     #: The code this class's body defined, and with its bases' (see members.own_code).
     _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
@@ -812,11 +692,12 @@ class _PouMixin:
         cls = type(self)
         if cls._iec_layout_ is None:
             raise DefinitionError(f"{cls.__name__} is a base class; declare a subclass")
-        if cls._iec_abstract_:
+        record = cls.__iec__
+        if record.abstract:
             raise DefinitionError(
                 f"ABSTRACT {_kind_word(cls)} {cls.__name__} cannot be instantiated; instantiate a derived block"
             )
-        if cls._iec_internal_:
+        if record.internal:
             frame = sys._getframe(1)
             here = _package(str(frame.f_globals.get("__name__", "")))
             if here != _package(cls.__module__):
@@ -824,8 +705,6 @@ class _PouMixin:
                     f"INTERNAL {_kind_word(cls)} {cls.__name__} cannot be instantiated from {caller_description(frame)} "
                     f"(outside the package {_package(cls.__module__)!r})"
                 )
-        from iecoop.lifecycle import initialise
-
         if fb_init_args:
             # Kept for the runtime: a reset re-runs FB_init with the declaration's inputs.
             self.__dict__["_iec_init_args_"] = dict(fb_init_args)
@@ -854,7 +733,7 @@ class _PouMixin:
         shown = []
         if layout is not None:
             for record in layout.fields:
-                if record.section in ("VAR_INPUT", "VAR_OUTPUT"):
+                if record.section in (Section.VAR_INPUT, Section.VAR_OUTPUT):
                     try:
                         shown.append(f"{record.name}={getattr(self, record.name)!r}")
                     except Exception as exc:  # a dangling reference must not break repr
@@ -866,7 +745,8 @@ class FunctionBlock(_PouMixin, _PouBase, metaclass=_PouMeta):
     """``FUNCTION_BLOCK``: subclass it; class keywords ``abstract``, ``final``, ``internal``."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "fb"
+    __iec__ = IecClass(Kind.FUNCTION_BLOCK, root=True)
+    _iec_kind_: ClassVar[str] = Kind.FUNCTION_BLOCK
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 
@@ -875,11 +755,13 @@ class Program(_PouMixin, _PouBase, metaclass=_PouMeta):
     """``PROGRAM``: like a function block, one instance per task entry."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "program"
+    __iec__ = IecClass(Kind.PROGRAM, root=True)
+    _iec_kind_: ClassVar[str] = Kind.PROGRAM
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 
 
 def pou_members(cls: type) -> dict[str, Member]:
     """Every METHOD and PROPERTY of a block, inherited ones included."""
-    return dict(getattr(cls, "_iec_members_", {}))
+    record = iec_class(cls)
+    return dict(record.members) if record is not None else {}

@@ -53,6 +53,9 @@ from sphinx.util.inspect import TypeAliasForwardRef, stringify_signature
 from sphinx.util.inspect import signature as sphinx_signature
 from sphinx.util.typing import stringify_annotation
 
+from iecoop import declarations
+from iecoop.metadata import kind_of
+from iecoop.sections import SECTION_RULES, Kind, Qualifier, Section
 from iecoop.st_lexer import IecStLexer, looks_like_st
 from iecoop.uml import module_diagram, state_diagram
 from patterns.showcase.catalogue import entries
@@ -628,10 +631,10 @@ def _block_signature(
 
     An INTERFACE or an enumeration is never constructed by a caller: no signature.
     """
-    kind = getattr(obj, "_iec_kind_", None) if what == "class" else None
-    if kind in ("interface", "enum"):
+    kind = kind_of(obj) if what == "class" else None
+    if kind in (Kind.INTERFACE, Kind.ENUM):
         return "", None
-    if kind not in ("fb", "program"):
+    if kind not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         return None
     params: dict[str, inspect.Parameter] = {}
     for klass in reversed(obj.__mro__):
@@ -685,13 +688,72 @@ def patterns_table() -> list[str]:
     return lines
 
 
-class PatternsTable(SphinxDirective):
-    """``.. iecoop-patterns-table::``: the table of every pattern and principle, for the patterns index."""
+class _GeneratedTable(SphinxDirective):
+    """A directive that parses the reStructuredText lines its ``lines`` function generates."""
+
+    lines: staticmethod[[], list[str]]
 
     def run(self) -> list[nodes.Node]:
         container = nodes.container()
-        self.state.nested_parse(StringList(patterns_table(), source=self.env.docname), self.content_offset, container)
+        self.state.nested_parse(StringList(self.lines(), source=self.env.docname), self.content_offset, container)
         return list(container.children)
+
+
+class PatternsTable(_GeneratedTable):
+    """``.. iecoop-patterns-table::``: the table of every pattern and principle, for the patterns index."""
+
+    lines = staticmethod(patterns_table)
+
+
+def _declared_with(section: Section) -> str:
+    """How a variable of ``section`` is declared in Python, read from its specifier's signature."""
+    specifier = getattr(declarations, section.value, None)
+    if specifier is None:
+        return "a variable of a ``@gvl`` class"
+    params = inspect.signature(specifier).parameters
+    args = ["initial"] if "initial" in params else []
+    args += [f"{p.name}=..." for p in params.values() if p.kind is p.KEYWORD_ONLY and p.default is p.empty]
+    call = f"``{section}({', '.join(args)})``"
+    return f"{call} or a plain default" if section is Section.VAR else call
+
+
+def section_table() -> list[str]:
+    """The VAR-sections rule table as a reStructuredText list-table, one row per row of ``SECTION_RULES``.
+
+    Every cell is read from the rule table (or, for "declared with", from the
+    specifier's signature), so the page cannot say what the code does not do.
+    """
+    lines = [
+        ".. list-table::",
+        "   :header-rows: 1",
+        "",
+        "   * - Section",
+        "     - Declared with",
+        "     - Lives",
+        "     - Written by (checked mode)",
+        "     - At a call",
+        "     - Qualifiers",
+        "     - Declared in",
+    ]
+    for section, rule in SECTION_RULES.items():
+        qualifiers = ", ".join(f"``{q.keyword}``" for q in Qualifier if q in rule.qualifiers) or "none"
+        kinds = ", ".join(k.keyword for k in Kind if k in rule.kinds)
+        lines += [
+            f"   * - ``{section}``",
+            f"     - {_declared_with(section)}",
+            f"     - {rule.storage.value}",
+            f"     - {rule.written_by.value}",
+            f"     - {rule.at_call.value}",
+            f"     - {qualifiers}",
+            f"     - {kinds}",
+        ]
+    return lines
+
+
+class SectionTable(_GeneratedTable):
+    """``.. iecoop-section-table::``: the VAR-sections rule table, generated from ``iecoop.sections``."""
+
+    lines = staticmethod(section_table)
 
 
 # ---------------------------------------------------------------------------
@@ -894,6 +956,7 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("autodoc-skip-member", _skip_storage)
     app.connect("autodoc-process-signature", _block_signature)
     app.add_directive("iecoop-patterns-table", PatternsTable)
+    app.add_directive("iecoop-section-table", SectionTable)
     for alias in ("iecst", "st"):  # "st" is Smalltalk in Pygments; on this site it is Structured Text
         app.add_lexer(alias, IecStLexer)
     app.connect("doctree-read", _st_blocks)

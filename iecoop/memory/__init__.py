@@ -6,7 +6,9 @@ variables hold checked handles, so a bad address raises
 RTSEXCPT_ACCESS_VIOLATION instead of crashing the interpreter.
 """
 
-from iecoop.memory._core import ARRAY, POINTER_TO, REFERENCE_TO, Alias, NullInterface, Pointer
+from iecoop.memory._core import REFERENCE_TO, Alias, NullInterface
+from iecoop.memory.arrays import ARRAY
+from iecoop.memory.pointers import POINTER_TO, Pointer
 from iecoop.memory.datatypes import IecEnum, Struct, Union
 from iecoop.memory.operators import (
     TYPE_CLASS,

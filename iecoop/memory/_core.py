@@ -25,11 +25,12 @@ import threading
 import typing
 import weakref
 from collections.abc import Callable, Iterator
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Generic, TypeVar
+from typing import Annotated, Any, TypeVar
 
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException
 from iecoop.types import ElementaryType, StringType, elementary_type
+from iecoop.metadata import Kind, kind_of
 
 _T = TypeVar("_T")
 
@@ -409,6 +410,19 @@ def dynamic_class(root: Any, offset: int, what: str) -> type:
 # ---------------------------------------------------------------------------
 
 
+class Address:
+    """A pointer value as the memory machinery sees it: a handle and the type it designates.
+
+    ``Pointer`` derives from it, so a reference can be bound to an address
+    without this module depending on the public class.
+    """
+
+    __slots__ = ()
+
+    _handle: int
+    _target: TypeInfo | None
+
+
 class TypeInfo:
     """How values of one IEC type are stored (base class)."""
 
@@ -751,7 +765,7 @@ class AggregateInfo(TypeInfo):
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         if isinstance(value, dict):
             # A STRUCT from its members' values (ST: stPoint := (x := 1.5, y := 2.0)).
-            if getattr(self.cls, "_iec_kind_", "") in ("fb", "program"):
+            if kind_of(self.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
                 raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
             # All or nothing: every member is checked before the first one is written.
             check_value(self, value, where)
@@ -775,239 +789,6 @@ class AggregateInfo(TypeInfo):
     def load_handle(self, handle: int, what: str) -> Any:
         root, offset = resolve(handle, self.size, what)
         return self.load_dynamic(root, offset)
-
-
-# ---------------------------------------------------------------------------
-# Pointers
-# ---------------------------------------------------------------------------
-
-
-class Pointer(Generic[_T]):
-    """``POINTER TO T``: an address into a checked memory block.
-
-    Arithmetic is in bytes, as in ST (``p + 2 * sizeof(INT)``); ``p.deref`` is
-    ``p^``. A null pointer is falsy; dereferencing it, or an address outside
-    its block or into deleted memory, raises RTSEXCPT_ACCESS_VIOLATION.
-
-    >>> from iecoop import INT, Struct, adr, sizeof
-    >>> class Pair(Struct):
-    ...     a: INT = 1
-    ...     b: INT = 2
-    >>> pair = Pair()
-    >>> p = adr(pair, "a")
-    >>> (p + sizeof(INT)).deref
-    2
-    """
-
-    __slots__ = ("_handle", "_target", "_origin", "_keep")
-
-    _handle: int
-    _target: TypeInfo | None
-    _origin: tuple[Any, Any] | None
-    #: The block the address is into, when ADR took it of an object Python owns: the pointer
-    #: keeps it alive, and so does a block the pointer is stored in.
-    _keep: Any
-
-    def __init__(
-        self, handle: int = 0, target: TypeInfo | None = None, origin: tuple[Any, Any] | None = None, keep: Any = None
-    ) -> None:
-        self._handle = handle & 0xFFFFFFFFFFFFFFFF
-        self._target = target
-        self._origin = origin
-        self._keep = keep
-
-    def _clear(self) -> None:
-        """Set the pointer to 0, and the variable it was read from (``__DELETE(p)`` does)."""
-        self._handle = 0
-        if self._origin is not None:
-            holder, raw = self._origin
-            raw.__set__(holder, 0)
-            hold(holder, raw.offset, None)
-
-    @property
-    def handle(self) -> int:
-        """The stored 8-byte value (the address as PVOID / __UXINT)."""
-        return self._handle
-
-    def _require_target(self) -> TypeInfo:
-        if self._target is None:
-            raise TypeError("an untyped pointer (PVOID) cannot be dereferenced; cast it with typed()")
-        return self._target
-
-    @property
-    def deref(self) -> _T:
-        """``p^``: the value (or a view of the struct / FB) the pointer designates."""
-        target = self._require_target()
-        return typing.cast(_T, target.load_handle(self._handle, f"POINTER TO {target.name}"))
-
-    @deref.setter
-    def deref(self, value: _T) -> None:
-        target = self._require_target()
-        target.store_handle(self._handle, value, f"POINTER TO {target.name}")
-
-    @property
-    def is_null(self) -> bool:
-        return self._handle == 0
-
-    def typed(self, target: Any) -> Pointer[Any]:
-        """The same address seen as ``POINTER TO target`` (an IEC type annotation)."""
-        return Pointer(self._handle, resolve_type(target, "pointer cast"), keep=self._keep)
-
-    def __bool__(self) -> bool:
-        return self._handle != 0
-
-    def __int__(self) -> int:
-        return self._handle
-
-    def __index__(self) -> int:
-        return self._handle
-
-    def _moved(self, delta: int) -> Pointer[_T]:
-        handle = self._handle
-        offset = signed_offset(handle)
-        if offset != WILD_OFFSET:
-            # Full width: an address moved outside the 32-bit offset range becomes wild for
-            # good, so no amount of arithmetic wraps it back into its block.
-            offset += delta
-            if not -(2**31) <= offset < WILD_OFFSET:
-                offset = WILD_OFFSET
-        return Pointer((handle & ~_HANDLE_MASK) | (offset & _HANDLE_MASK), self._target, keep=self._keep)
-
-    def __add__(self, offset: int) -> Pointer[_T]:
-        if not isinstance(offset, int):
-            return NotImplemented
-        return self._moved(offset)
-
-    __radd__ = __add__
-
-    @typing.overload
-    def __sub__(self, other: int) -> Pointer[_T]: ...
-
-    @typing.overload
-    def __sub__(self, other: Pointer[Any]) -> int: ...
-
-    def __sub__(self, other: int | Pointer[Any]) -> Pointer[_T] | int:
-        if isinstance(other, Pointer):
-            if (self._handle >> 32) != (other._handle >> 32):
-                raise access_violation("pointer difference between two different memory blocks")
-            return signed_offset(self._handle) - signed_offset(other._handle)
-        if isinstance(other, int):
-            return self._moved(-other)
-        return NotImplemented
-
-    def __eq__(self, other: object) -> bool:
-        if isinstance(other, Pointer):
-            return self._handle == other._handle
-        if isinstance(other, int) and not isinstance(other, bool):
-            return self._handle == other
-        if other is None:  # NULL
-            return self._handle == 0
-        return NotImplemented
-
-    def __hash__(self) -> int:
-        return hash(self._handle)
-
-    # ``p < q`` compares addresses, as CODESYS and TwinCAT compile it. Within one block that is
-    # the byte offset; 0 (NULL) is below every address; two blocks compare in the order they
-    # were allocated (a real PLC orders them by where the linker put them, as fixed).
-    @staticmethod
-    def _address_key(value: object, op: str) -> tuple[int, int]:
-        if isinstance(value, Pointer):
-            handle = value._handle
-            return (handle >> 32, signed_offset(handle)) if handle else (0, 0)
-        if value is None or (type(value) is int and value == 0):
-            return (0, 0)
-        raise TypeError(f"POINTER {op}: a pointer compares with a pointer or with 0 (NULL), got {value!r}")
-
-    def __lt__(self, other: object) -> bool:
-        return self._address_key(self, "<") < self._address_key(other, "<")
-
-    def __le__(self, other: object) -> bool:
-        return self._address_key(self, "<=") <= self._address_key(other, "<=")
-
-    def __gt__(self, other: object) -> bool:
-        return self._address_key(self, ">") > self._address_key(other, ">")
-
-    def __ge__(self, other: object) -> bool:
-        return self._address_key(self, ">=") >= self._address_key(other, ">=")
-
-    def __repr__(self) -> str:
-        target = self._target.name if self._target is not None else "PVOID"
-        if self._handle == 0:
-            return f"<POINTER TO {target}: 0>"
-        alloc = allocation_for_handle(self._handle)
-        where = alloc.label if alloc is not None else "freed memory"
-        return f"<POINTER TO {target}: {where}{signed_offset(self._handle):+d}>"
-
-
-#: ``POINTER TO T``; ``POINTER_TO[INT]`` in annotations.
-POINTER_TO = Pointer
-
-
-class PointerInfo(TypeInfo):
-    direct = False
-    ctype = ctypes.c_uint64
-
-    def __init__(self, target: Callable[[], TypeInfo | None], target_name: str) -> None:
-        self._target_thunk = target
-        self._target: TypeInfo | None = None
-        self.name = f"POINTER TO {target_name}"
-
-    @property
-    def target(self) -> TypeInfo | None:
-        if self._target is None:
-            self._target = self._target_thunk()
-        return self._target
-
-    def load(self, root: Any, offset: int) -> Pointer[Any]:
-        return Pointer(ctypes.c_uint64.from_buffer(root, offset).value, self.target)
-
-    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
-        handle = self.coerce(value, where)
-        ctypes.c_uint64.from_buffer(root, offset).value = handle
-        hold(root, offset, _kept_target(value, handle))
-
-    def coerce(self, value: Any, where: str) -> int:
-        if isinstance(value, Pointer):
-            return value._handle
-        if value is None or (isinstance(value, int) and not isinstance(value, bool) and value == 0):
-            return 0
-        raise _kind_error(where, self.name + " (use adr(...))", value)
-
-    def validate(self, value: Any, where: str) -> None:
-        self.coerce(value, where)
-
-
-    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
-        return _PointerField(self, raw, f"{owner}.{name}")
-
-
-class _PointerField:
-    __slots__ = ("info", "raw", "where")
-
-    def __init__(self, info: PointerInfo, raw: Any, where: str) -> None:
-        self.info, self.raw, self.where = info, raw, where
-
-    def __get__(self, obj: Any, owner: Any = None) -> Any:
-        if obj is None:
-            return self
-        return Pointer(self.raw.__get__(obj), self.info.target, (obj, self.raw))
-
-    def __set__(self, obj: Any, value: Any) -> None:
-        handle = value._handle if type(value) is Pointer else self.info.coerce(value, self.where)
-        raw = self.raw
-        # Storing the address the variable already holds (every cycle, often) changes nothing.
-        if raw.__get__(obj) != handle:
-            raw.__set__(obj, handle)
-            hold(obj, raw.offset, _kept_target(value, handle))
-
-
-def _kept_target(value: Any, handle: int) -> Any:
-    """The block a stored pointer keeps alive: the one its address is into."""
-    if not handle:
-        return None
-    keep = getattr(value, "_keep", None)
-    return keep if keep is not None else target_root(handle)
 
 
 # ---------------------------------------------------------------------------
@@ -1069,7 +850,7 @@ class ReferenceInfo(TypeInfo):
 
     def bind_handle(self, target: Any, where: str) -> int:
         """The handle ``REF= target`` stores: target is a pointer or an aggregate instance."""
-        if isinstance(target, Pointer):
+        if isinstance(target, Address):
             if target._target is not None and target._target.size < self.target.size:
                 raise TypeError(f"{where}: REF= to {target._target.name} does not fit {self.name}")
             return target._handle
@@ -1086,7 +867,7 @@ class ReferenceInfo(TypeInfo):
 
     def bind_constant(self, owner: Any, value: Any, where: str) -> int:
         """VAR_IN_OUT CONSTANT: a literal or expression is passed through a temporary the call owns."""
-        if isinstance(value, Pointer) or value is None or isinstance(self.target, AggregateInfo):
+        if isinstance(value, Address) or value is None or isinstance(self.target, AggregateInfo):
             return self.bind_handle(value, where)
         if isinstance(self.target, ArrayInfo) and type(value) is self.target.ctype:
             return handle_of(value)
@@ -1231,38 +1012,6 @@ class _InterfaceField:
 # ---------------------------------------------------------------------------
 # Arrays
 # ---------------------------------------------------------------------------
-
-
-class ARRAY(Generic[_T]):
-    """``ARRAY[lo..hi] OF T``: declared as ``ARRAY[INT]`` with ``VAR(bounds=(lo, hi))``.
-
-    Indices are the declared ones (``a[lo]`` .. ``a[hi]``); several bound pairs
-    make a multi-dimensional array indexed ``a[i, j]``. An index outside the
-    bounds raises RTSEXCPT_ARRAYBOUNDS.
-
-    >>> from iecoop import INT, Struct, VAR
-    >>> class Fifo(Struct):
-    ...     items: ARRAY[INT] = VAR(bounds=(1, 3))
-    >>> fifo = Fifo()
-    >>> fifo.items[3] = 7
-    >>> list(fifo.items), fifo.items.low, fifo.items.high
-    ([0, 0, 7], 1, 3)
-    """
-
-    if TYPE_CHECKING:
-        low: int
-        high: int
-        bounds: tuple[tuple[int, int], ...]
-
-        def __getitem__(self, index: int | tuple[int, ...]) -> _T: ...
-
-        def __setitem__(self, index: int | tuple[int, ...], value: _T) -> None: ...
-
-        def __len__(self) -> int: ...
-
-        def __iter__(self) -> Iterator[_T]: ...
-
-
 
 
 def _bounds_error(cls: Any, index: object) -> PlcException:
@@ -1486,7 +1235,7 @@ def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
             check_value(info.elem, item, info.element_label(where, i))
         return items
     elif isinstance(info, AggregateInfo) and isinstance(value, dict):
-        if getattr(info.cls, "_iec_kind_", "") in ("fb", "program"):
+        if kind_of(info.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
             raise TypeError(f"{where}: a function block is not assigned from a dict; set its inputs at the call")
         by_name = getattr(info.cls, "_iec_layout_").by_name
         for name, item in value.items():
@@ -1577,14 +1326,14 @@ def class_info(cls: type) -> TypeInfo | None:
     info: TypeInfo | None = cls.__dict__.get("_iec_type_info_")
     if info is not None:
         return info
-    kind = getattr(cls, "_iec_kind_", None)
-    if kind in ("struct", "union", "fb"):
+    kind = kind_of(cls)
+    if kind in (Kind.STRUCT, Kind.UNION, Kind.FUNCTION_BLOCK):
         if getattr(cls, "_iec_layout_", None) is None:
             return None
         info = AggregateInfo(cls)
-    elif kind == "interface":
+    elif kind is Kind.INTERFACE:
         info = InterfaceInfo(cls)
-    elif kind == "enum":
+    elif kind is Kind.ENUM:
         base = typing.cast(ElementaryType, getattr(cls, "_iec_base_"))
         info = EnumInfo(typing.cast(type[enum.IntEnum], cls), base)
     else:
@@ -1609,10 +1358,10 @@ def resolve_type(
     origin = typing.get_origin(annotation)
     if origin is Annotated:
         return _resolve_annotated(annotation, where, length, bounds, resolver)
-    if origin is ARRAY:
-        return _resolve_array(annotation, where, length, bounds, resolver)
-    if origin is Pointer or annotation is Pointer:
-        return _resolve_pointer(annotation, where, length, bounds, resolver)
+    # ARRAY[T], POINTER_TO[T] and a bare POINTER_TO (PVOID): their classes know how they resolve.
+    resolve = getattr(origin if origin is not None else annotation, "_iec_resolve_", None)
+    if resolve is not None:
+        return typing.cast(TypeInfo, resolve(annotation, where, length, bounds, resolver))
     if isinstance(annotation, type):
         info = class_info(annotation)
         if info is not None:
@@ -1622,7 +1371,7 @@ def resolve_type(
             raise DefinitionError(
                 f"{where}: plain {annotation.__name__} is not an IEC type; use INT, DINT, REAL, LREAL, BOOL or STRING"
             )
-        if getattr(annotation, "_iec_kind_", None) == "program":
+        if kind_of(annotation) is Kind.PROGRAM:
             name = annotation.__name__
             raise DefinitionError(
                 f"{where}: PROGRAM {name} is not a data type (a program has one instance, no variable holds one); "
@@ -1660,72 +1409,6 @@ def _resolve_annotated(annotation: Any, where: str, length: int | None, bounds: 
             return ElementaryInfo(record, alias.name, alias.initial)
         return elementary_info(record)
     return resolve_type(annotation.__origin__, where, length=length, bounds=bounds, resolver=resolver)
-
-
-def _array_depth(annotation: Any) -> int:
-    """How many ARRAY levels ``ARRAY[ARRAY[...]]`` nests (1 for a plain ARRAY)."""
-    depth = 0
-    while typing.get_origin(annotation) is ARRAY:
-        depth += 1
-        (annotation,) = typing.get_args(annotation)
-    return depth
-
-
-def _resolve_array(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
-    """``ARRAY[T]`` with ``bounds=``; ``ARRAY[ARRAY[T]]`` takes one bounds entry per level, outermost first."""
-    (elem_annotation,) = typing.get_args(annotation)
-    depth = _array_depth(annotation)
-    if bounds is None:
-        example = "bounds=(1, 10)" if depth == 1 else "bounds=((0, 4), (0, 9)), one (lo, hi) per ARRAY level"
-        raise DefinitionError(f"{where}: ARRAY needs bounds=, e.g. VAR({example})")
-    if depth > 1:
-        if not isinstance(bounds, tuple) or len(bounds) != depth or not all(isinstance(b, tuple) for b in bounds):
-            raise DefinitionError(
-                f"{where}: an ARRAY of ARRAY nests {depth} levels and takes one bounds entry per level, "
-                f"outermost first, e.g. bounds=((0, 4), (0, 9)); got {bounds!r}"
-            )
-        level_bounds, inner_bounds = bounds[0], bounds[1:] if depth > 2 else bounds[1]
-    else:
-        level_bounds, inner_bounds = bounds, None
-    pairs = normalise_bounds(level_bounds, where)
-    elem = resolve_type(elem_annotation, where, length=length, bounds=inner_bounds, resolver=resolver)
-    if isinstance(elem, ReferenceInfo):
-        raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
-    leaf = _array_leaf(elem)
-    if leaf is not elem and isinstance(leaf, AggregateInfo) and getattr(leaf.cls, "_iec_kind_", "") in ("fb", "program"):
-        raise DefinitionError(
-            f"{where}: ARRAY OF ARRAY OF a function block is not supported; write ARRAY[a..b, c..d] OF the block"
-        )
-    count = 1
-    for lo, hi in pairs:
-        count *= hi - lo + 1
-    check_block_size(count * elem.size, f"{where}: ARRAY of {count} {elem.name}")
-    return array_info(elem, pairs)
-
-
-def _array_leaf(info: TypeInfo) -> TypeInfo:
-    """The innermost element type of a (nested) ARRAY."""
-    while isinstance(info, ArrayInfo):
-        info = info.elem
-    return info
-
-
-def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
-    """``POINTER_TO[T]`` (its target resolved lazily, so a block may point to itself), or ``Pointer``: PVOID."""
-    if annotation is Pointer:
-        return PointerInfo(lambda: None, "PVOID")
-    (target_annotation,) = typing.get_args(annotation) or (None,)
-    to_array = typing.get_origin(target_annotation) is ARRAY
-    if not to_array:
-        _check_plain(None, bounds, where, "POINTER")
-
-    def thunk() -> TypeInfo | None:
-        if target_annotation is None or target_annotation is Any:
-            return None
-        # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
-        return resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
-
-    return PointerInfo(thunk, _annotation_name(target_annotation))
 
 
 def _annotation_name(annotation: Any) -> str:

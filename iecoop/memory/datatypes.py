@@ -35,13 +35,13 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import Alias
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, register_builder
+from iecoop.metadata import IecClass
+from iecoop.sections import Kind
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
 
 __all__ = ["Alias", "IecEnum", "Struct", "Union"]
-
-_STRUCT_SECTIONS = {"VAR": "member"}
 
 if TYPE_CHECKING:
     _StructBase = object
@@ -60,8 +60,8 @@ def _member_values(obj: Any) -> tuple[Any, ...]:
     return tuple(getattr(obj, f.name) for f in layout.fields)
 
 
-_STRUCT_BUILDER = DataClassBuilder("STRUCT", _STRUCT_SECTIONS)
-_UNION_BUILDER = DataClassBuilder("UNION", _STRUCT_SECTIONS)
+_STRUCT_BUILDER = DataClassBuilder("STRUCT", Kind.STRUCT)
+_UNION_BUILDER = DataClassBuilder("UNION", Kind.UNION)
 
 
 def _finish(cls: Any, builder: DataClassBuilder) -> None:
@@ -129,7 +129,8 @@ class Struct(_DataTypeMixin, _StructBase, metaclass=_StructMeta):
     """``STRUCT ... END_STRUCT``; subclass it and declare members with their types."""
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "struct"
+    __iec__: ClassVar[IecClass] = IecClass(Kind.STRUCT, root=True)
+    _iec_kind_: ClassVar[str] = Kind.STRUCT  # read by iecoop.st, which does not read the record yet
 
 
 class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
@@ -145,7 +146,8 @@ class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
     """
 
     _iec_base_class_: ClassVar[bool] = True
-    _iec_kind_: ClassVar[str] = "union"
+    __iec__: ClassVar[IecClass] = IecClass(Kind.UNION, root=True)
+    _iec_kind_: ClassVar[str] = Kind.UNION  # read by iecoop.st, which does not read the record yet
 
 
 class _IecEnumMeta(enum.EnumMeta):
@@ -165,7 +167,8 @@ class _IecEnumMeta(enum.EnumMeta):
                     f"enumeration {cls}: {member.name} := {value} does not fit the base type {record.name}"
                 )
         type.__setattr__(enum_cls, "_iec_base_", record)
-        type.__setattr__(enum_cls, "_iec_kind_", "enum")
+        type.__setattr__(enum_cls, "__iec__", IecClass(Kind.ENUM))
+        type.__setattr__(enum_cls, "_iec_kind_", Kind.ENUM)  # read by iecoop.st, which does not read the record yet
         return enum_cls
 
 

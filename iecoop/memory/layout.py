@@ -16,32 +16,35 @@ import dataclasses
 import os
 import sys
 import typing
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any, Final
 
 from iecoop import _config
-from iecoop.exceptions import AccessError, DefinitionError
+from iecoop.exceptions import DefinitionError
+from iecoop.metadata import IecClass, kind_of
+from iecoop.sections import Kind, Section, sections_of
+from iecoop.writes import data_setattr
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
     check_block_size,
     resolve_type,
 )
+from iecoop.memory.pointers import PointerInfo
 
 __all__ = [
     "MISSING",
-    "SECTIONS",
     "ClassLayout",
     "DataClassBuilder",
     "FieldRecord",
     "FieldSpec",
+    "LateInitial",
     "LayoutBuilder",
     "build_layout",
 ]
@@ -57,18 +60,6 @@ class _Missing:
 
 MISSING: Final[Any] = _Missing()
 
-#: The VAR sections, in the order ST declares them.
-SECTIONS: Final = (
-    "VAR_INPUT",
-    "VAR_OUTPUT",
-    "VAR_IN_OUT",
-    "VAR",
-    "VAR_STAT",
-    "VAR_TEMP",
-    "VAR_INST",
-    "VAR_EXTERNAL",
-    "VAR_GLOBAL",
-)
 
 
 class FieldSpec:
@@ -89,7 +80,7 @@ class FieldSpec:
         method: str | None = None,
         fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
     ) -> None:
-        self.section = section
+        self.section = Section(section)
         self.initial = initial
         self.length = length
         self.bounds = bounds
@@ -138,7 +129,7 @@ class FieldRecord:
     raw: Any
 
     @property
-    def section(self) -> str:
+    def section(self) -> Section:
         return self.spec.section
 
     @property
@@ -277,8 +268,8 @@ class LayoutBuilder:
         namespace: dict[str, Any],
         *,
         kind: str,
-        allowed_sections: Mapping[str, str],
-        default_section: str = "VAR",
+        allowed_sections: Collection[Section],
+        default_section: Section = Section.VAR,
         adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
         annotations: dict[str, Any] | None = None,
         scope: DefinitionScope | None = None,
@@ -355,11 +346,11 @@ class LayoutBuilder:
         all_fields = tuple(self.inherited) + tuple(own)
         layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, ())
         for record in own:
-            if isinstance(record.spec.initial, AddressOf):
+            if isinstance(record.spec.initial, LateInitial):
                 record.spec.initial.check(record, layout)
         # the addresses of siblings last: after every value, as a vendor's init code sets them
-        last = [record for record in all_fields if isinstance(record.spec.initial, AddressOf)]
-        first = [record for record in all_fields if not isinstance(record.spec.initial, AddressOf)]
+        last = [record for record in all_fields if isinstance(record.spec.initial, LateInitial)]
+        first = [record for record in all_fields if not isinstance(record.spec.initial, LateInitial)]
         ops = tuple(op for record in first + last if (op := init_op(record)) is not None)
         layout = ClassLayout(all_fields, tuple(own), layout.by_name, ops)
         cls._iec_layout_ = layout
@@ -438,15 +429,17 @@ class DataClassBuilder:
     mode, the validating ``__setattr__``.
     """
 
-    def __init__(self, kind: str, allowed_sections: Mapping[str, str]) -> None:
-        self.kind = kind
-        self.allowed_sections = allowed_sections
+    def __init__(self, word: str, kind: Kind) -> None:
+        self.kind = word
+        self.iec_kind = kind
+        self.allowed_sections = sections_of(kind)
 
     def new(self, name: str, bases: tuple[type, ...], namespace: dict[str, Any]) -> dict[str, Any]:
         """Before the class exists: collect and check the fields; return the namespace to create it from."""
         if namespace.get("_iec_base_class_"):
             namespace.setdefault("_fields_", [])
             return namespace
+        namespace["__iec__"] = IecClass(self.iec_kind)
         builder = LayoutBuilder(name, bases, namespace, kind=self.kind, allowed_sections=self.allowed_sections)
         builder.collect()
         hand_over(namespace, builder)
@@ -459,9 +452,10 @@ class DataClassBuilder:
             return None
         builder.lay_out(cls)
         layout = builder.install()
+        cls.__iec__ = cls.__iec__.finished(layout=layout)
         cls._iec_implicit_init_ = layout.implicit_init
         if CHECKS:
-            cls.__setattr__ = checked_setattr(cls.__name__, layout)
+            cls.__setattr__ = data_setattr(cls.__name__, layout)
         return layout
 
 
@@ -492,11 +486,11 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
                 record = layout.by_name.get(member)
                 if record is None:
                     raise TypeError(f"{info.name} has no member {member!r}")
-                if getattr(info.cls, "_iec_kind_", "") == "fb" and record.section not in ("VAR_INPUT",):
+                if kind_of(info.cls) is Kind.FUNCTION_BLOCK and record.section is not Section.VAR_INPUT:
                     raise TypeError(f"only inputs may be set in an instance initialiser; {member!r} is {record.section}")
                 check_initial(record.info, value, f"{where}.{member}")
-        elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, AddressOf):
-            return  # checked once the class has all its fields (AddressOf.check)
+        elif isinstance(info, (PointerInfo, ReferenceInfo)) and isinstance(initial, LateInitial):
+            return  # checked once the class has all its fields (LateInitial.check)
         elif isinstance(info, (PointerInfo, InterfaceInfo, ReferenceInfo)):
             if initial not in (None, 0):
                 or_sibling = "" if isinstance(info, InterfaceInfo) else ", or as adr_of(member) of a variable beside it"
@@ -529,54 +523,29 @@ def _assign_members(view: Any, values: dict[str, Any]) -> None:
         assign(view, record, value)
 
 
-class AddressOf:
-    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+class LateInitial:
+    """An initial value that depends on the instance itself, as ``adr_of(member)`` does.
 
-    __slots__ = ("member", "index")
+    It is checked once the class has all its fields (``check``) and applied
+    after every other initial value (``op``), as a vendor's init code sets
+    addresses last.
+    """
 
-    def __init__(self, member: str, index: int | tuple[int, ...] | None = None) -> None:
-        if not isinstance(member, str):
-            raise TypeError(f"adr_of: the member is a variable name (a str), got {member!r}")
-        self.member = member
-        self.index = index
-
-    def __repr__(self) -> str:
-        return f"adr_of({self.member!r})" if self.index is None else f"adr_of({self.member!r}, {self.index!r})"
+    __slots__ = ()
 
     def check(self, record: FieldRecord, layout: ClassLayout) -> None:
-        """Refuse, at definition, a member that is not there or whose type the pointer does not point to."""
-        target = layout.by_name.get(self.member)
-        if target is None:
-            raise DefinitionError(f"{record.where}: adr_of({self.member!r}) names no variable of {record.owner}")
-        assert isinstance(record.info, (PointerInfo, ReferenceInfo))
-        points_to = record.info.target
-        designated = target.info
-        if self.index is not None:
-            if not isinstance(designated, ArrayInfo):
-                raise DefinitionError(f"{record.where}: adr_of({self.member!r}, {self.index!r}) needs an ARRAY, {self.member} is {designated.name}")
-            designated = designated.elem
-        if isinstance(designated, ReferenceInfo):
-            designated = designated.target
-        if points_to is not None and points_to.signature != designated.signature:
-            raise DefinitionError(
-                f"{record.where}: {record.info.name} cannot be initialised with the address of {self.member} "
-                f"({designated.name}): the types must match"
-            )
+        """Refuse, at definition, a value that cannot fit ``record`` in ``layout``."""
+        raise NotImplementedError
 
     def op(self, record: FieldRecord) -> Callable[[Any], None]:
-        from iecoop.memory.operators import adr, ref_assign
-
-        member, index, field, offset, where = self.member, self.index, record.name, record.offset, record.where
-        if isinstance(record.info, ReferenceInfo):
-            return lambda obj: ref_assign(obj, field, adr(obj, member, index))
-        store = record.info.store
-        return lambda obj: store(obj, offset, adr(obj, member, index), where)
+        """The operation that sets ``record`` in a new instance."""
+        raise NotImplementedError
 
 
 def init_op(record: FieldRecord) -> Callable[[Any], None] | None:
     """The operation that writes ``record``'s initial value into a zeroed instance, or None."""
     info, initial, raw = record.info, record.spec.initial, record.raw
-    if isinstance(initial, AddressOf):
+    if isinstance(initial, LateInitial):
         return initial.op(record)
     if isinstance(info, (ElementaryInfo, EnumInfo)):
         if initial is MISSING or not initial:
@@ -615,7 +584,7 @@ def _aggregate_op(info: AggregateInfo, get: Callable[[Any], Any], initial: Any) 
 
         return op_copy
     values = dict(initial)
-    if getattr(cls, "_iec_kind_", "") == "fb":
+    if kind_of(cls) is Kind.FUNCTION_BLOCK:
         # Declaration-site inputs (fb : FB := (in := x)) are applied after FB_init by the POU layer.
         return lambda obj: implicit(get(obj))
 
@@ -636,7 +605,7 @@ def _array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -> Calla
     if isinstance(elem, AggregateInfo):
         implicit = getattr(elem.cls, "_iec_implicit_init_")
         items = list(initial) if initial is not MISSING else []
-        if getattr(elem.cls, "_iec_kind_", "") == "fb":
+        if kind_of(elem.cls) is Kind.FUNCTION_BLOCK:
             # Declaration-site inputs of ARRAY OF FB elements are applied after their FB_init by the POU layer.
             items = [item for item in items if not isinstance(item, dict)]
 
@@ -701,63 +670,6 @@ def _nested_array_op(info: ArrayInfo, get: Callable[[Any], Any], initial: Any) -
 
     return op_all
 
-
-# ---------------------------------------------------------------------------
-# Checked-mode writes
-# ---------------------------------------------------------------------------
-
-
-def accepted_type(info: TypeInfo) -> type | None:
-    """The one type a write of ``info`` accepts without calling its validator (None: always validate).
-
-    Like attrs' per-field validators: an exact ``bool`` for BOOL, ``float`` for
-    REAL / LREAL, ``int`` for the other elementary types passes at once; any
-    other value goes to ``info.validate``, which accepts it or words the refusal.
-    """
-    if type(info) is not ElementaryInfo:
-        return None
-    kind = info.record.kind
-    return bool if kind == "bool" else float if kind == "real" else int
-
-
-def checked_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    """A ``__setattr__`` that validates the value's kind and rejects unknown members."""
-    validators: dict[str, Callable[[Any, str], None]] = {}
-    wheres: dict[str, str] = {}
-    for record in layout.fields:
-        if record.info.direct and not isinstance(record.info, (AggregateInfo, ArrayInfo)):
-            validators[record.name] = record.info.validate
-            wheres[record.name] = record.where
-    constants = {record.name: record.where for record in layout.fields if record.spec.constant}
-    setter = object.__setattr__
-    # Per field: a value of the field's exact Python type is stored without a validator call.
-    fast = {
-        record.name: (accepted_type(record.info), validators[record.name], record.where, record.raw.__set__)
-        for record in layout.fields
-        if record.name in validators and record.name not in constants
-    }
-
-    def __setattr__(self: Any, name: str, value: Any) -> None:
-        refusal = self.__dict__.get("_iec_ro_")
-        if refusal is not None:  # a view of another block's local / output, or of a CONSTANT
-            raise AccessError(refusal)
-        spec = fast.get(name)
-        if spec is not None:
-            accepted, check, where, store = spec
-            if value.__class__ is not accepted:
-                check(value, where)
-            store(self, value)
-            return
-        if name in constants:
-            raise AccessError(f"{constants[name]} is CONSTANT and cannot be written")
-        validate = validators.get(name)
-        if validate is not None:
-            validate(value, wheres[name])
-        elif not hasattr(type(self), name):
-            raise AttributeError(f"{type(self).__name__} has no member {name!r}; declare it as a field")
-        setter(self, name, value)
-
-    return __setattr__
 
 
 CHECKS = _config.CHECKS

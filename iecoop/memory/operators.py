@@ -20,22 +20,23 @@ import ctypes
 import dataclasses
 import enum
 import typing
+from collections.abc import Callable
 from typing import Any, TypeVar, overload
 
+from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    Pointer,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
     access_violation,
     allocation_for_handle,
     allocation_of,
+    class_info,
     handle_of,
     hold,
     resolve,
@@ -43,7 +44,9 @@ from iecoop.memory._core import (
     table_lock,
     target_root,
 )
-from iecoop.memory.layout import AddressOf, ClassLayout, FieldRecord
+from iecoop.memory.pointers import Pointer, PointerInfo
+from iecoop.memory.layout import ClassLayout, FieldRecord, LateInitial
+from iecoop.metadata import Kind, kind_of
 
 __all__ = [
     "TYPE_CLASS",
@@ -93,12 +96,8 @@ def type_info_of(obj: Any) -> TypeInfo:
     info = getattr(type(obj), "_iec_info_", None)
     if isinstance(info, TypeInfo):
         return info
-    from iecoop.memory._core import class_info
-
     found = class_info(type(obj))
-    if found is None and getattr(type(obj), "_iec_kind_", None) == "program" and getattr(type(obj), "_iec_layout_", None):
-        from iecoop.memory._core import AggregateInfo
-
+    if found is None and kind_of(type(obj)) is Kind.PROGRAM and getattr(type(obj), "_iec_layout_", None):
         # ADR(PRG_Main): a program instance is a memory block too (it is never a member's type).
         found = AggregateInfo(type(obj))
     if found is None:
@@ -162,6 +161,48 @@ def adr_of(member: str, index: int | tuple[int, ...] | None = None) -> Any:
     (5, 5)
     """
     return AddressOf(member, index)
+
+
+class AddressOf(LateInitial):
+    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+
+    __slots__ = ("member", "index")
+
+    def __init__(self, member: str, index: int | tuple[int, ...] | None = None) -> None:
+        if not isinstance(member, str):
+            raise TypeError(f"adr_of: the member is a variable name (a str), got {member!r}")
+        self.member = member
+        self.index = index
+
+    def __repr__(self) -> str:
+        return f"adr_of({self.member!r})" if self.index is None else f"adr_of({self.member!r}, {self.index!r})"
+
+    def check(self, record: FieldRecord, layout: ClassLayout) -> None:
+        """Refuse, at definition, a member that is not there or whose type the pointer does not point to."""
+        target = layout.by_name.get(self.member)
+        if target is None:
+            raise DefinitionError(f"{record.where}: adr_of({self.member!r}) names no variable of {record.owner}")
+        assert isinstance(record.info, (PointerInfo, ReferenceInfo))
+        points_to = record.info.target
+        designated = target.info
+        if self.index is not None:
+            if not isinstance(designated, ArrayInfo):
+                raise DefinitionError(f"{record.where}: adr_of({self.member!r}, {self.index!r}) needs an ARRAY, {self.member} is {designated.name}")
+            designated = designated.elem
+        if isinstance(designated, ReferenceInfo):
+            designated = designated.target
+        if points_to is not None and points_to.signature != designated.signature:
+            raise DefinitionError(
+                f"{record.where}: {record.info.name} cannot be initialised with the address of {self.member} "
+                f"({designated.name}): the types must match"
+            )
+
+    def op(self, record: FieldRecord) -> Callable[[Any], None]:
+        member, index, field, offset, where = self.member, self.index, record.name, record.offset, record.where
+        if isinstance(record.info, ReferenceInfo):
+            return lambda obj: ref_assign(obj, field, adr(obj, member, index))
+        store = record.info.store
+        return lambda obj: store(obj, offset, adr(obj, member, index), where)
 
 
 def _pointer_into(obj: Any, extra: int, target: TypeInfo) -> Pointer[Any]:

@@ -54,6 +54,7 @@ from iecoop.runtime.variables import (
     PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
     translate_offset,
 )
+from iecoop.metadata import Kind, kind_of
 
 __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
 
@@ -240,7 +241,7 @@ class Runtime:
     def _check_programs(task: Task, programs: tuple[Any, ...]) -> None:
         # All or nothing: a rejected call registers none of its programs.
         for program in programs:
-            if getattr(type(program), "_iec_kind_", "") not in ("program", "fb"):
+            if kind_of(type(program)) not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
                 raise TypeError(f"task {task.name}: {program!r} is not a Program instance")
 
     def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
@@ -686,7 +687,7 @@ class Runtime:
                 if entry is None:
                     raise KeyError(f"online change: no program at {path!r} (known: {', '.join(self.programs())})")
                 if isinstance(replacement, type):
-                    if getattr(replacement, "_iec_kind_", "") not in ("program", "fb"):
+                    if kind_of(replacement) not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
                         raise TypeError(f"online change: {replacement.__name__} is not a Program class")
                     new_program: Any = typing.cast(Any, replacement).__new__(replacement)
                 else:

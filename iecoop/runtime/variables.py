@@ -13,10 +13,10 @@ import ctypes
 import dataclasses
 from typing import Any
 
-from iecoop.memory._core import (
+from iecoop.memory.layout import ClassLayout
+from iecoop.memory.typeinfo import (
     AggregateInfo, ArrayInfo, ElementaryInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo,
 )
-from iecoop.memory.layout import ClassLayout
 
 __all__ = [
     "Leaf", "copy_matching", "describe", "format_directory", "handle_offsets", "leaves", "nodes", "parse_directory",

@@ -27,13 +27,13 @@ from iecoop.memory._core import (
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
     class_info,
     resolve_type,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.st._emit_model import StExportError, annotation_info, ident, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 

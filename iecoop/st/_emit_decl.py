@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access
-from iecoop.memory._core import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.st._emit_body import BodyWriter, Scope, literal
 from iecoop.st._emit_model import (

@@ -22,11 +22,11 @@ from iecoop.memory._core import (
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
 from iecoop.st._emit_decl import Part, Unit, initial_text, parameter_groups
 from iecoop.st._emit_model import FieldDecl, enum_base, enum_members, type_text

@@ -22,12 +22,12 @@ from iecoop.members import Access, Member, flags_of, visibility
 from iecoop.memory._core import (
     Alias,
     ArrayInfo,
-    PointerInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
     resolve_type,
 )
+from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
 from iecoop.types import elementary_type
 

@@ -20,9 +20,10 @@ from typing import Any
 from iecoop import _config
 from iecoop.members import method
 from iecoop.memory import Pointer, adr
-from iecoop.pou import FunctionBlock, Program, check_write
+from iecoop.pou import FunctionBlock, Program
 from iecoop.profiles import active_profile
 from iecoop.types import BOOL
+from iecoop.writes import check_write
 
 __all__ = ["CriticalSection", "R", "S", "test_and_set"]
 

@@ -42,7 +42,9 @@ from typing import Any, Final
 from hypothesis import strategies as st
 
 from iecoop.memory import IecEnum
+from iecoop.sections import Section
 from iecoop.types import iec_type_name
+from iecoop.metadata import Kind, kind_of
 
 __all__ = [
     "ANY_INTS",
@@ -257,13 +259,13 @@ def fb_inputs(fb_class: type, inputs: list[str] | None = None) -> st.SearchStrat
     Elementary, STRING and enumeration inputs are drawn from their whole range.
     """
     layout = getattr(fb_class, "_iec_layout_", None)
-    if layout is None or getattr(fb_class, "_iec_kind_", None) not in ("fb", "program"):
+    if layout is None or kind_of(fb_class) not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         raise TypeError(f"{fb_class!r} is not a function block class")
     if inputs is None:
-        inputs = [r.name for r in layout.fields if r.section == "VAR_INPUT"]
+        inputs = [r.name for r in layout.fields if r.section is Section.VAR_INPUT]
     for name in inputs:
         record = layout.by_name.get(name)
-        if record is None or record.section != "VAR_INPUT":
+        if record is None or record.section is not Section.VAR_INPUT:
             raise TypeError(f"{fb_class.__name__} has no VAR_INPUT {name!r}")
     return st.fixed_dictionaries({name: _field_values(fb_class, name) for name in inputs})
 

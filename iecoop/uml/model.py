@@ -13,6 +13,9 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from iecoop.members import Access, Member, format_signature
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, EnumInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo
+from iecoop.metadata import iec_class, kind_of
+from iecoop.sections import SECTION_RULES, Section
 from iecoop.uml import text as _text
 
 _STEREOTYPES = {
@@ -24,17 +27,8 @@ _STEREOTYPES = {
     "enum": "ENUM",
 }
 
-# Section -> UML visibility: what code outside the block may touch.
-_SECTION_VISIBILITY = {
-    "VAR_INPUT": "+",
-    "VAR_OUTPUT": "+",
-    "VAR_IN_OUT": "+",
-    "VAR": "#",
-    "VAR_INST": "#",
-    "VAR_TEMP": "#",
-    "VAR_STAT": "#",
-    "VAR_EXTERNAL": "#",
-}
+# Section -> UML visibility: the block's interface (what code outside it may touch) is public.
+_SECTION_VISIBILITY = {section: "+" if rule.interface else "#" for section, rule in SECTION_RULES.items()}
 
 _ACCESS_SYMBOL = {Access.PUBLIC: "+", Access.PRIVATE: "-", Access.PROTECTED: "#", Access.INTERNAL: "~"}
 
@@ -115,8 +109,8 @@ class Relation:
 
 
 def _kind(cls: type) -> str | None:
-    kind = getattr(cls, "_iec_kind_", None)
-    return kind if kind in _STEREOTYPES else None
+    kind = kind_of(cls)
+    return str(kind) if kind in _STEREOTYPES else None
 
 
 def _visible(cls: type) -> bool:
@@ -127,10 +121,9 @@ def _type_name(info: Any) -> str:
     return str(getattr(info, "name", info))
 
 
-def _referenced(info: Any) -> tuple[type | None, str, str]:
+def _referenced(info: TypeInfo) -> tuple[type | None, str, str]:
     """The class a field's type points at, the relation kind, and the multiplicity."""
-    kind = type(info).__name__
-    if kind == "ArrayInfo":
+    if isinstance(info, ArrayInfo):
         cls, relation, _ = _referenced(info.elem)
         if len(info.bounds) == 1:
             (lo, hi), = info.bounds
@@ -139,21 +132,22 @@ def _referenced(info: Any) -> tuple[type | None, str, str]:
         for lo, hi in info.bounds:
             count *= hi - lo + 1
         return cls, relation, str(count)
-    if kind == "AggregateInfo":
+    if isinstance(info, AggregateInfo):
         return info.cls, "composition", ""
-    if kind == "InterfaceInfo":
+    if isinstance(info, InterfaceInfo):
         return info.iface, "aggregation", ""
-    if kind in ("PointerInfo", "ReferenceInfo"):
+    if isinstance(info, (PointerInfo, ReferenceInfo)):
         target = info.target
         cls = getattr(target, "cls", None) or getattr(target, "iface", None)
         return cls, "aggregation", ""
-    if kind == "EnumInfo":
+    if isinstance(info, EnumInfo):
         return info.enum_cls, "association", ""
     return None, "", ""
 
 
 def _own_members(cls: type) -> list[Member]:
-    members: dict[str, Member] = getattr(cls, "_iec_members_", {})
+    record = iec_class(cls)
+    members: Mapping[str, Member] = record.members if record is not None else {}
     return [m for m in members.values() if m.owner is cls]
 
 
@@ -184,8 +178,9 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
     kind = _kind(cls)
     assert kind is not None
     stereotype = _STEREOTYPES[kind]
-    abstract = bool(getattr(cls, "_iec_abstract_", False))
-    final = bool(getattr(cls, "_iec_final_", False))
+    meta = iec_class(cls)
+    abstract = meta is not None and meta.abstract
+    final = meta is not None and meta.final
     if not detailed:
         return UmlClass(cls.__name__, stereotype, abstract, final, detailed=False)
     fields: list[UmlField] = []
@@ -203,8 +198,8 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
             visibility = "+" if kind in ("struct", "union") else _SECTION_VISIBILITY.get(section, "#")
             fields.append(UmlField(visibility, record.name, _type_name(record.info), section))
         # VAR_STAT lives in one block per declaring class, outside the instance layout.
-        for record in cls.__dict__.get("_iec_static_fields_", ()):
-            fields.append(UmlField("#", record.name, _type_name(record.info), "VAR_STAT", True))
+        for record in meta.static_fields if meta is not None else ():
+            fields.append(UmlField("#", record.name, _type_name(record.info), Section.VAR_STAT, True))
     operations = tuple(_operation(m) for m in _own_members(cls))
     return UmlClass(cls.__name__, stereotype, abstract, final, tuple(fields), operations)
 

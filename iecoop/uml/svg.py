@@ -12,10 +12,8 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from iecoop.uml.model import Relation, UmlClass
-
-if TYPE_CHECKING:
-    from iecoop.uml.model import ClassDiagram, StateDiagram
+if TYPE_CHECKING:  # the model calls this module to draw itself; it never imports the model at run time
+    from iecoop.uml.model import ClassDiagram, Relation, StateDiagram, UmlClass
 
 __all__ = ["class_svg", "state_svg"]
 
@@ -59,7 +57,7 @@ def _merge_relations(relations: Sequence[Relation]) -> list[Relation]:
             result.append(group[0])
             continue
         labels = [r.label + (f" {r.multiplicity}" if r.multiplicity else "") for r in group if r.label]
-        result.append(Relation(source, target, kind, ", ".join(labels)))
+        result.append(dataclasses.replace(group[0], label=", ".join(labels), multiplicity=""))
     return result
 
 

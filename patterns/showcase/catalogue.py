@@ -34,7 +34,9 @@ from types import ModuleType
 from typing import Any
 
 from iecoop import TYPE_CLASS, FunctionBlock, Program, var_info
+from iecoop.metadata import Kind, kind_of
 from iecoop.runtime import Runtime
+from iecoop.sections import Section
 from iecoop.uml import class_diagram
 from patterns.showcase.entry import (
     Column,
@@ -166,7 +168,7 @@ def program_classes(module: ModuleType) -> list[type[Program]]:
             and issubclass(value, Program)
             and value is not Program
             and value.__module__ == module.__name__
-            and not getattr(value, "_iec_abstract_", False)
+            and not value.__iec__.abstract
         ):
             try:
                 line = inspect.getsourcelines(value)[1]
@@ -230,15 +232,15 @@ def generic_columns(cls: type[Program], limit: int = 5) -> tuple[Column, ...]:
     VAR_INPUT is used only when nothing else is found.
     """
     sample = cls()
-    direct = _declared(sample, Program, ("VAR_OUTPUT", "VAR"))
+    direct = _declared(sample, Program, (Section.VAR_OUTPUT, Section.VAR))
     chosen = [(name, kind) for name, kind in direct if kind not in _NOT_ELEMENTARY]
     for name, kind in direct:
         block = getattr(sample, name, None)
-        if kind == TYPE_CLASS.TYPE_USERDEF and getattr(type(block), "_iec_kind_", "") == "fb":
-            outputs = _declared(block, FunctionBlock, ("VAR_OUTPUT",))
+        if kind == TYPE_CLASS.TYPE_USERDEF and kind_of(type(block)) is Kind.FUNCTION_BLOCK:
+            outputs = _declared(block, FunctionBlock, (Section.VAR_OUTPUT,))
             chosen += [(f"{name}.{inner}", k) for inner, k in outputs if k not in _NOT_ELEMENTARY]
     if not chosen:
-        chosen = [(n, k) for n, k in _declared(sample, Program, ("VAR_INPUT",)) if k not in _NOT_ELEMENTARY]
+        chosen = [(n, k) for n, k in _declared(sample, Program, (Section.VAR_INPUT,)) if k not in _NOT_ELEMENTARY]
     timed = (TYPE_CLASS.TYPE_TIME, TYPE_CLASS.TYPE_LTIME)
     return tuple(Column(name, name, ms if kind in timed else "") for name, kind in chosen[:limit])
 

@@ -1,0 +1,75 @@
+"""One record per declared class: what its builder decided, as ``cls.__iec__``.
+
+Every class an iecoop builder makes (FUNCTION_BLOCK, PROGRAM, STRUCT, UNION,
+GVL, INTERFACE, enumeration) carries one frozen ``IecClass``: its kind, its
+class keywords, its variables and its METHODs and PROPERTYs. The library's
+own base classes (``FunctionBlock``, ``Struct``...) carry one marked
+``root``. The record is read when classes are built, checked, drawn or
+exported; what runs on every call or variable access is installed on the class
+by the builders and never looks it up.
+
+ST::
+
+    FUNCTION_BLOCK ABSTRACT FB_Axis
+
+>>> from iecoop import FunctionBlock
+>>> from iecoop.metadata import Kind, iec_class
+>>> class Axis(FunctionBlock, abstract=True):
+...     pass
+>>> record = iec_class(Axis)
+>>> record.kind is Kind.FUNCTION_BLOCK, record.abstract, record.final
+(True, True, False)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+from iecoop.sections import Kind
+
+if TYPE_CHECKING:
+    from iecoop.members import Member
+    from iecoop.memory.layout import ClassLayout, FieldRecord
+
+__all__ = ["IecClass", "Kind", "iec_class", "kind_of"]
+
+_NO_MEMBERS: Mapping[str, Any] = MappingProxyType({})
+
+@dataclasses.dataclass(frozen=True)
+class IecClass:
+    """A declared class as its builder left it (``cls.__iec__``)."""
+
+    kind: Kind
+    #: The class keywords: ``class Axis(FunctionBlock, abstract=True)``.
+    abstract: bool = False
+    final: bool = False
+    internal: bool = False
+    #: The library's own base class of the kind (``FunctionBlock``), not a declared type.
+    root: bool = False
+    #: The variables in the instance's memory, base fields first (None: a root, an interface, an enum).
+    layout: ClassLayout | None = None
+    #: Every METHOD and PROPERTY, inherited ones included.
+    members: Mapping[str, Member] = dataclasses.field(default_factory=lambda: _NO_MEMBERS)
+    #: The VAR_STAT variables this class declares (kept in its static block).
+    static_fields: tuple[FieldRecord, ...] = ()
+
+    def finished(self, **changes: Any) -> IecClass:
+        """The record with what the later build phases add (its layout, members, statics)."""
+        if "members" in changes:
+            changes["members"] = MappingProxyType(dict(changes["members"]))
+        return dataclasses.replace(self, **changes)
+
+
+def iec_class(cls: object) -> IecClass | None:
+    """The record of a class an iecoop builder made, or None for any other object."""
+    record = getattr(cls, "__iec__", None)
+    return record if isinstance(record, IecClass) else None
+
+
+def kind_of(cls: object) -> Kind | None:
+    """The kind of a declared class (``Kind.FUNCTION_BLOCK``...), or None for any other object."""
+    record = getattr(cls, "__iec__", None)
+    return record.kind if isinstance(record, IecClass) else None
