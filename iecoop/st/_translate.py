@@ -197,6 +197,8 @@ class Translator:
         self.window: tuple[int, int] = (0, 0)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
+        #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
+        self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
         self._stdlib_decls()
@@ -239,12 +241,27 @@ class Translator:
                     if current is None or current.kind not in ("fb", "interface", "program"):
                         raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    if isinstance(item, tf.Property):
+                        self._mark_accessor(unit, item)
                     continue
                 if isinstance(item, tf.Action):
                     raise self.fail(f"ACTION {item.name} is not supported (use a METHOD)", item)
                 current = self._collect_item(unit, item)
                 if current is not None:
                     current.item = item
+
+    def _mark_accessor(self, unit: Unit, node: Any) -> None:
+        """Note a PROPERTY block marked by a ``// Get`` or ``// Set`` comment on the line before it.
+
+        Besides ``Name.Get`` / ``Name.Set``, the plain-text form iecoop's ST writer uses
+        (``iecoop.st.dump``) for a property with both accessors: two blocks of the same name.
+        """
+        line = getattr(node.meta, "line", None) if node.meta else None
+        for token in unit.comments:
+            if line is not None and token.line == line - 1:
+                marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
+                if marker in ("get", "set"):
+                    self.marked_accessors[id(node)] = marker
 
     def _add(self, decl: Decl) -> Decl:
         key = decl.name.lower()
@@ -1246,10 +1263,16 @@ class Translator:
         accessors: dict[str, dict[str, Any]] = {}
         for node in decl.prop_nodes:
             parts = str(node.name).split(".")
-            kind = parts[1].lower() if len(parts) > 1 else "get"
+            kind = parts[1].lower() if len(parts) > 1 else self.marked_accessors.get(id(node), "get")
             if kind not in ("get", "set"):
                 raise self.fail(f"PROPERTY {node.name}: the accessor after the dot must be Get or Set", node)
-            accessors.setdefault(parts[0].lower(), {})[kind] = node
+            found = accessors.setdefault(parts[0].lower(), {})
+            if kind in found:
+                raise self.fail(
+                    f"PROPERTY {parts[0]} has two {kind.capitalize()} accessors "
+                    "(name them {0}.Get and {0}.Set, or mark them // Get and // Set)".format(parts[0]), node,
+                )
+            found[kind] = node
         for key, found in accessors.items():
             prop = decl.props[key]
             assert prop.type is not None

@@ -410,6 +410,40 @@ def test_super_property_write_runs_the_base_setter() -> None:
     assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
 
 
+MARKED_ACCESSORS = """
+FUNCTION_BLOCK FB_Tank
+VAR _rSetpoint : REAL; END_VAR
+END_FUNCTION_BLOCK
+// Set
+PROPERTY PUBLIC Setpoint : REAL
+VAR
+END_VAR
+_rSetpoint := LIMIT(0.0, Setpoint, 100.0);
+END_PROPERTY
+// Get
+PROPERTY PUBLIC Setpoint : REAL
+VAR
+END_VAR
+Setpoint := _rSetpoint * 2.0;
+END_PROPERTY
+// the level, read-only
+PROPERTY PUBLIC Level : REAL
+Level := _rSetpoint;
+END_PROPERTY
+"""
+
+
+def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
+    tank = st.load(MARKED_ACCESSORS).FB_Tank()
+    tank.Setpoint = 150.0
+    assert (tank._rSetpoint, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
+    with pytest.raises(AttributeError, match="Level has no Set accessor"):
+        tank.Level = 1.0
+    unmarked = MARKED_ACCESSORS.replace("// Set\n", "").replace("// Get\n", "")
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:10: PROPERTY Setpoint has two Get accessors .*// Set"):
+        st.load(unmarked)
+
+
 @pytest.mark.parametrize("source, construct", [
     (prog("x : INT;", "lbl: x := 1;"), "label"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
