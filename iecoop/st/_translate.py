@@ -2164,74 +2164,104 @@ class Translator:
         return Ex(f"{name}({', '.join(codes)})", type_)
 
     def operator_call(self, upper: str, node: Any, scope: Scope, level: int | None) -> Ex:
-        params = [p.value for p in node.parameters]
-        if upper == "ADR":
-            return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
-        if upper == "SIZEOF":
-            self.need("iecoop", "sizeof")
-            target = params[0]
-            if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
-                name = str(target.name)
-                elem = self._elem_or_none(name)
-                if elem is not None:
-                    self._need_type(elem)
-                    return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
-                decl = self.decls.get(name.lower())
-                if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
-                    if decl.kind == "stdfb":
-                        self.need("iecoop.stdlib", decl.name)
-                    return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
-            ex = self.expr(target, scope)
-            decl = self.decl_of(ex.type)
-            if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
-                return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
-            holder, field = self.holder_field(target, scope)
-            return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
-        if upper == "__NEW":
-            self.need("iecoop", "new")
-            target = params[0]
-            if isinstance(target, tf.SimpleVariable):
-                decl = self.decls.get(str(target.name).lower())
-                if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
-                    raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
-                if decl.kind == "stdfb":
-                    self.need("iecoop.stdlib", decl.name)
-                return Ex(f"new({decl.name})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+        """ADR, SIZEOF, __NEW, __DELETE, __ISVALIDREF, TEST_AND_SET, __QUERYINTERFACE, __QUERYPOINTER: operands that are variables or types."""
+        handler = _OPERATORS.get(upper)
+        if handler is None:
+            raise self.fail(f"{upper} is not supported", node)
+        return handler(self, upper, [p.value for p in node.parameters], node, scope, level)
+
+    def _op_adr(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
+
+    def _op_sizeof(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "sizeof")
+        target = params[0]
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            of_type = self._sizeof_type(str(target.name))
+            if of_type is not None:
+                return of_type
+        ex = self.expr(target, scope)
+        decl = self.decl_of(ex.type)
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
+            return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
+        holder, field = self.holder_field(target, scope)
+        return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
+
+    def _sizeof_type(self, name: str) -> Ex | None:
+        """``SIZEOF(T)`` of a type name, or None when ``name`` is not one."""
+        elem = self._elem_or_none(name)
+        if elem is not None:
+            self._need_type(elem)
+            return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
+        decl = self.decls.get(name.lower())
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
+            if decl.kind == "stdfb":
+                self.need("iecoop.stdlib", decl.name)
+            return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
+        return None
+
+    def _op_new(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "new")
+        target = params[0]
+        if not isinstance(target, tf.SimpleVariable):
             raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
-        if upper == "__DELETE":
-            if level is None:
-                raise self.fail("__DELETE inside an expression", node)
-            self.need("iecoop", "delete")
-            pointer = self.expr(params[0], scope)
-            return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
-        if upper == "__ISVALIDREF":
-            self.need("iecoop", "is_valid_ref")
-            holder, field = self.holder_field(params[0], scope)
-            return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
-        if upper in ("TEST_AND_SET", "TESTANDSET"):
-            self.need("iecoop", "test_and_set")
-            # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
-            return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
-        if upper in ("__QUERYINTERFACE", "__QUERYPOINTER"):
-            if level is None and not self._hoisting:
-                raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
-            source = self.expr(params[0], scope)
-            dest = self.expr(params[1], scope, store=True)
-            if upper == "__QUERYPOINTER":
-                self.need("iecoop", "query_pointer")
-                self.emit(f"{dest.code} = query_pointer({source.code})", self._hoist_level if level is None else level)
-                return Ex(f"bool({dest.code})" if level is None else "", BOOL)
-            decl = self.decl_of(dest.type)
-            if decl is None or decl.kind != "interface":
-                raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
-            self.need("iecoop", "query_interface", "null")
-            self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})",
-                      self._hoist_level if level is None else level)
+        decl = self.decls.get(str(target.name).lower())
+        if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
+            raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
+        if decl.kind == "stdfb":
+            self.need("iecoop.stdlib", decl.name)
+        return Ex(f"new({decl.name})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+
+    def _op_delete(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        if level is None:
+            raise self.fail("__DELETE inside an expression", node)
+        self.need("iecoop", "delete")
+        pointer = self.expr(params[0], scope)
+        return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
+
+    def _op_isvalidref(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "is_valid_ref")
+        holder, field = self.holder_field(params[0], scope)
+        return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
+
+    def _op_test_and_set(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "test_and_set")
+        # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
+        return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
+
+    def _op_query(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        if level is None and not self._hoisting:
+            raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
+        source = self.expr(params[0], scope)
+        dest = self.expr(params[1], scope, store=True)
+        at = self._hoist_level if level is None else level
+        if upper == "__QUERYPOINTER":
+            self.need("iecoop", "query_pointer")
+            self.emit(f"{dest.code} = query_pointer({source.code})", at)
             return Ex(f"bool({dest.code})" if level is None else "", BOOL)
-        raise self.fail(f"{upper} is not supported", node)
+        decl = self.decl_of(dest.type)
+        if decl is None or decl.kind != "interface":
+            raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
+        self.need("iecoop", "query_interface", "null")
+        self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})", at)
+        return Ex(f"bool({dest.code})" if level is None else "", BOOL)
 
     _hoisting = False
     _hoist_level = 0
+
+
+#: The operators whose operands are variables or types, not values: ST name -> Translator method.
+_OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | None], Ex]] = {
+    "ADR": Translator._op_adr,
+    "SIZEOF": Translator._op_sizeof,
+    "__NEW": Translator._op_new,
+    "__DELETE": Translator._op_delete,
+    "__ISVALIDREF": Translator._op_isvalidref,
+    "TEST_AND_SET": Translator._op_test_and_set,
+    "TESTANDSET": Translator._op_test_and_set,
+    "__QUERYINTERFACE": Translator._op_query,
+    "__QUERYPOINTER": Translator._op_query,
+}
 
 
 def _exact_real(code: str) -> bool:
