@@ -35,6 +35,8 @@ TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
 STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
               "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
 _MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
+#: TwinCAT's Tc2_System memory functions (iecoop's memcpy, memset, memcmp) and their result types.
+_MEMORY_FUNCTIONS = {"MEMCPY": "UDINT", "MEMSET": "UDINT", "MEMCMP": "DINT"}
 _STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
@@ -174,6 +176,8 @@ class Scope:
         self.locals: dict[str, Member] = {}
         self.return_name = return_name
         self.counter = 0
+        #: structured inputs passed by value: the callee's copies, made on entry
+        self.copies: list[str] = []
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -922,16 +926,17 @@ class Translator:
         if isinstance(value, tf.ArrayInitialization):
             element = type_.of if type_ is not None and type_.kind == "array" else None
             return "[" + ", ".join(self._array_elements(value, element, scope)) + "]"
-        if isinstance(value, tf.StructureInitialization):
+        elements = _structure_elements(value)
+        if elements is not None:
             decl = self.decl_of(type_)
             pairs = []
-            for element in value.elements:
-                if element.name is None:
+            for element_name, element_value in elements:
+                if element_name is None:
                     raise self.fail("a structure initialiser element without a name", value)
-                found = self.find_member(decl, str(element.name)) if decl is not None else None
-                name = found[1].name if found is not None else str(element.name)
+                found = self.find_member(decl, element_name) if decl is not None else None
+                name = found[1].name if found is not None else element_name
                 member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
-                pairs.append(f'"{name}": {self.init_value(element.value, member_type, scope)}')
+                pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
             return "{" + ", ".join(pairs) + "}"
         if isinstance(value, tf.EnumeratedValue):
             enum_name = str(value.type_name) if value.type_name is not None else None
@@ -1100,6 +1105,16 @@ class Translator:
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.name.lower()] = param
                 continue
+            by_value = self.decl_of(param.type) if param.type.kind == "user" else None
+            if by_value is not None and by_value.kind in ("struct", "union"):
+                if getattr(inits.get(param.name.lower()), "value", None) is not None:
+                    raise self.fail(f"input {param.name} of structured type {by_value.name} with an initial value is not supported")
+                # ST copies the value into the callee: a zero default (never written, the copy is) and a copy on entry
+                self.need("copy", "copy")
+                parts.append(f"{param.name}: {param.type.annotation()} = {by_value.name}()")
+                scope.locals[param.name.lower()] = param
+                scope.copies.append(param.name)
+                continue
             if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
                 raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
             if param.type.kind == "array":
@@ -1164,6 +1179,12 @@ class Translator:
                         raise self.fail(f"ARRAY local {name} in a {scope.kind} is not supported (declare it in the block)", item)
                     self._need_type(type_)
                     init = getattr(item, "init", None)
+                    if self._local_reference(type_) and getattr(init, "value", None) is None:
+                        # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
+                        assert type_.of is not None
+                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+                        self.emit(f"{name}: {type_.of.annotation()}", level)
+                        continue
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
                     scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
                     self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
@@ -1171,6 +1192,11 @@ class Translator:
 
     def local_annotation(self, type_: TypeRef) -> str:
         return type_.annotation()
+
+    def _local_reference(self, type_: TypeRef | None) -> bool:
+        """A REFERENCE TO a STRUCT, UNION or FB: a local of a method or function holds the view of its target."""
+        decl = self.decl_of(type_) if type_ is not None and type_.kind == "reference" else None
+        return decl is not None and decl.kind in ("struct", "union", "fb", "stdfb")
 
     def _emit_method(self, decl: Decl, node: Any) -> None:
         self.line = node.meta.line if node.meta else None
@@ -1248,6 +1274,8 @@ class Translator:
         return index
 
     def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
+        for name in scope.copies:
+            self.emit(f"{name} = copy({name})", level)
         if returns is not None and scope.return_name is not None:
             scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
             self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
@@ -1444,6 +1472,8 @@ class Translator:
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
+        if local is not None and self._local_reference(local.type):
+            raise self.fail(f"assignment to the whole REFERENCE TO local {local.name} (bind it with REF=, write its members)", target)
         self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
 
     def local_of(self, target: Any, scope: Scope) -> Member | None:
@@ -1500,6 +1530,14 @@ class Translator:
         self.emit(f'{operator}({holder}, "{field}", {condition})', level)
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
+        local = self.local_of(node.variable, scope)
+        if local is not None and self._local_reference(local.type):
+            assert local.type is not None
+            bound = self.expr(node.expression, scope)
+            if self.decl_of(bound.type) is not self.decl_of(local.type):
+                raise self.fail(f"REF= of {local.name} needs a {local.type.deref().name} variable, got {bound.code}", node)
+            self.emit(f"{local.name} = {bound.code}", level)
+            return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)
@@ -2088,9 +2126,16 @@ class Translator:
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)  # operands that are types, not values
+        if upper == "TIME" and not node.parameters:
+            # TwinCAT's TIME(): the time since start, in ms; the task's clock, as TON reads it
+            self.need("iecoop.runtime", "now_ms")
+            return Ex("now_ms()", TypeRef("elem", "TIME"))
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
+        if upper in _MEMORY_FUNCTIONS:
+            self.need("iecoop", upper.lower())
+            return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", _MEMORY_FUNCTIONS[upper]))
         if upper == "ABS":
             return self.function_call(upper, codes, first)
         if upper in _MATH or upper == "EXPT":
@@ -2262,6 +2307,19 @@ _OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | No
     "__QUERYINTERFACE": Translator._op_query,
     "__QUERYPOINTER": Translator._op_query,
 }
+
+
+def _structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
+    """``(name, value)`` of each element of a structure initialiser, or None if ``value`` is not one.
+
+    blark reads a one-element initialiser, ``(x := 1)``, as a parenthesised assignment.
+    """
+    if isinstance(value, tf.StructureInitialization):
+        return [(str(e.name) if e.name is not None else None, e.value) for e in value.elements]
+    inner = value.expr if isinstance(value, tf.ParenthesizedExpression) else None
+    if isinstance(inner, tf.BinaryOperation) and str(inner.op) == ":=" and isinstance(inner.left, tf.SimpleVariable):
+        return [(str(inner.left.name), inner.right)]
+    return None
 
 
 def _exact_real(code: str) -> bool:

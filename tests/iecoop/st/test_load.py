@@ -94,6 +94,31 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      + prog("a : ST_P := (x := 1, y := 2); b : ST_P; u : ARRAY[1..3] OF INT := [1, 2, 3]; v : ARRAY[1..3] OF INT;",
             "b := a; a.x := 5; v := u; u[1] := 9;"), 1,
      lambda m: (m.a.x, m.b.x, m.b.y, list(m.u), list(m.v)), (5, 1, 2, [9, 2, 3], [1, 2, 3])),
+    ("one-element-initialisers",  # blark reads (x := 1) as a parenthesised assignment
+     "TYPE ST_P : STRUCT x : INT; y : INT := 7; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_K\nVAR_INPUT k : INT; j : INT := 4; END_VAR\nVAR nStart : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD FB_init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; nFrom : INT; END_VAR\n"
+     "nStart := nFrom;\nEND_METHOD\n"
+     + prog("a : ST_P := (x := 1); f : FB_K(nFrom := 3) := (k := 5); g : FB_K(nFrom := 6) := (k := 8, j := 9); "
+            "h : ARRAY[1..3] OF ST_P := [(x := 2), (y := 3)]; n : INT;", "n := n + 1;"), 1,
+     lambda m: (m.a.x, m.a.y, m.f.nStart, m.f.k, m.f.j, m.g.nStart, m.g.k, m.g.j, [(p.x, p.y) for p in m.h]),
+     (1, 7, 3, 5, 4, 6, 8, 9, [(2, 7), (0, 3), (0, 7)])),
+    ("local-reference-to-a-struct",
+     "TYPE ST_E : STRUCT n : INT; t : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_Log\nVAR log : ARRAY[0..2] OF ST_E; nCount : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Add\nVAR_INPUT n : INT; END_VAR\nVAR e : REFERENCE TO ST_E; END_VAR\n"
+     "e REF= log[nCount MOD 3];\ne.n := n;\ne.t := e.t + 1;\nnCount := nCount + 1;\nEND_METHOD\n"
+     + prog("fb : FB_Log;", "fb.Add(n := 7); fb.Add(n := 8); fb.Add(n := 9); fb.Add(n := 10);"), 1,
+     lambda m: [(e.n, e.t) for e in m.fb.log], [(10, 2), (8, 1), (9, 1)]),
+    ("struct-input-by-value",  # the callee works on its own copy
+     "TYPE ST_V : STRUCT a : INT; b : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION F_Sum : INT\nVAR_INPUT k : INT; v : ST_V; END_VAR\nv.a := v.a * k;\nF_Sum := v.a + v.b;\nEND_FUNCTION\n"
+     + prog("s : ST_V := (a := 2, b := 3); n : INT; m2 : INT;", "n := F_Sum(k := 10, v := s); m2 := F_Sum(v := s);"), 1,
+     lambda m: (m.n, m.m2, m.s.a, m.s.b), (23, 3, 2, 3)),
+    ("memory-functions", prog("a : ARRAY[1..3] OF INT := [1, 2, 3]; b : ARRAY[1..3] OF INT; n : UDINT; c : DINT; d : DINT;",
+                              "n := MEMCPY(ADR(b), ADR(a), SIZEOF(a)); c := MEMCMP(ADR(a), ADR(b), 6); "
+                              "MEMSET(ADR(b[2]), 0, 2); d := MEMCMP(ADR(a), ADR(b), 6);"), 1,
+     lambda m: (m.n, list(m.b), m.c, m.d), (6, [1, 0, 3], 0, 1)),
     ("timer-stdlib", prog("fbT : TON; bQ : BOOL; tEt : TIME;", "fbT(IN := TRUE, PT := T#30ms, Q => bQ, ET => tEt);"), 1,
      lambda m: (m.bQ, m.tEt), (False, 0)),
     ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
@@ -442,6 +467,30 @@ def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
     unmarked = MARKED_ACCESSORS.replace("// Set\n", "").replace("// Get\n", "")
     with pytest.raises(st.StUnsupportedError, match=r"<st>:10: PROPERTY Setpoint has two Get accessors .*// Set"):
         st.load(unmarked)
+
+
+def test_time_reads_the_task_clock() -> None:
+    main = st.load(prog("t : TIME; n : INT;", "t := TIME(); n := n + 1;")).MAIN
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms"), priority=20), main)
+    runtime.run(cycles=3)
+    assert (main.t, main.n) == (20, 3)
+
+
+LOCAL_REFERENCE = (
+    "TYPE ST_E : STRUCT n : INT; END_STRUCT END_TYPE\nTYPE ST_F : STRUCT n : INT; END_STRUCT END_TYPE\n"
+    "FUNCTION_BLOCK FB_L\nVAR a : ST_E; f : ST_F; END_VAR\nEND_FUNCTION_BLOCK\n"
+    "METHOD M\nVAR e : REFERENCE TO ST_E; END_VAR\n{statement}\nEND_METHOD\n"
+)
+
+
+@pytest.mark.parametrize("statement, construct", [
+    ("e := a;", "<st>:8: assignment to the whole REFERENCE TO local e"),
+    ("e REF= f;", "<st>:8: REF= of e needs a ST_E variable, got self.f"),
+])
+def test_a_local_reference_is_bound_by_ref_assign_only(statement: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(LOCAL_REFERENCE.format(statement=statement))
 
 
 @pytest.mark.parametrize("source, construct", [
