@@ -1472,7 +1472,7 @@ class Translator:
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
-        if local is not None and self._local_reference(local.type):
+        if local is not None and local.section == "LOCAL" and self._local_reference(local.type):
             raise self.fail(f"assignment to the whole REFERENCE TO local {local.name} (bind it with REF=, write its members)", target)
         self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None)}", level)
 
@@ -2312,14 +2312,30 @@ _OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | No
 def _structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
     """``(name, value)`` of each element of a structure initialiser, or None if ``value`` is not one.
 
-    blark reads a one-element initialiser, ``(x := 1)``, as a parenthesised assignment.
+    blark reads a one-element initialiser, ``(x := 1)``, as a parenthesised assignment, and
+    inside an array initialiser may read ``(a := 1, b := 2, c := 3)`` as ``a := [1, b := 2], c := 3``.
     """
     if isinstance(value, tf.StructureInitialization):
-        return [(str(e.name) if e.name is not None else None, e.value) for e in value.elements]
+        found: list[tuple[str | None, Any]] = []
+        for element in value.elements:
+            found += _misread_elements(str(element.name) if element.name is not None else None, element.value)
+        return found
     inner = value.expr if isinstance(value, tf.ParenthesizedExpression) else None
     if isinstance(inner, tf.BinaryOperation) and str(inner.op) == ":=" and isinstance(inner.left, tf.SimpleVariable):
         return [(str(inner.left.name), inner.right)]
     return None
+
+
+def _misread_elements(name: str | None, value: Any) -> list[tuple[str | None, Any]]:
+    """``name := value`` of a structure initialiser, split again where blark read the next elements into ``value``."""
+    items = value.elements if isinstance(value, tf.ArrayInitialization) and not value.brackets else []
+    rest = items[1:]
+    if len(items) > 1 and items[0].count is None and all(
+        item.count is None and isinstance(item.element, tf.BinaryOperation) and str(item.element.op) == ":="
+        and isinstance(item.element.left, tf.SimpleVariable) for item in rest
+    ):
+        return [(name, items[0].element)] + [(str(item.element.left.name), item.element.right) for item in rest]
+    return [(name, value)]
 
 
 def _exact_real(code: str) -> bool:

@@ -28,6 +28,14 @@ def prog(decls: str, body: str) -> str:
     return f"PROGRAM MAIN\nVAR\n{decls}\nEND_VAR\n{body}\nEND_PROGRAM\n"
 
 
+def _reference_results(fb: Any) -> tuple[int, int]:
+    """Write through the references FB_R's Pick and First return: FB_R.s.n and FB_R.t.n after."""
+    fb.Pick(b=True).n = 4
+    fb.Pick(b=False).n = 5
+    fb.First.n += 1
+    return fb.s.n, fb.t.n
+
+
 # (id, ST source, cycles, what to read from MAIN, expected)
 CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("assign-and-wrap", prog("n : INT := 32767; b : BYTE := 255;", "n := n + 1; b := b + 1;"), 1,
@@ -103,6 +111,13 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
             "h : ARRAY[1..3] OF ST_P := [(x := 2), (y := 3)]; n : INT;", "n := n + 1;"), 1,
      lambda m: (m.a.x, m.a.y, m.f.nStart, m.f.k, m.f.j, m.g.nStart, m.g.k, m.g.j, [(p.x, p.y) for p in m.h]),
      (1, 7, 3, 5, 4, 6, 8, 9, [(2, 7), (0, 3), (0, 7)])),
+    ("array-of-structures-initialiser",  # blark may read (a := 1, b := 2, c := 3) as a := [1, b := 2], c := 3
+     "TYPE ST_L : STRUCT low : REAL; high : REAL; step : REAL; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_P\nVAR CONSTANT\nLIMITS : ARRAY[1..2] OF ST_L := "
+     "[(low := 150.0, high := 250.0, step := 10.0), (low := 100.0, high := 300.0, step := 50.0)];\nEND_VAR\n"
+     "VAR x : REAL; END_VAR\nx := LIMITS[2].high + LIMITS[1].step;\nEND_FUNCTION_BLOCK\n"
+     + prog("fb : FB_P;", "fb();"), 1,
+     lambda m: (m.fb.x, [(p.low, p.high, p.step) for p in m.fb.LIMITS]), (310.0, [(150.0, 250.0, 10.0), (100.0, 300.0, 50.0)])),
     ("local-reference-to-a-struct",
      "TYPE ST_E : STRUCT n : INT; t : INT; END_STRUCT END_TYPE\n"
      "FUNCTION_BLOCK FB_Log\nVAR log : ARRAY[0..2] OF ST_E; nCount : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
@@ -110,6 +125,13 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "e REF= log[nCount MOD 3];\ne.n := n;\ne.t := e.t + 1;\nnCount := nCount + 1;\nEND_METHOD\n"
      + prog("fb : FB_Log;", "fb.Add(n := 7); fb.Add(n := 8); fb.Add(n := 9); fb.Add(n := 10);"), 1,
      lambda m: [(e.n, e.t) for e in m.fb.log], [(10, 2), (8, 1), (9, 1)]),
+    ("reference-results",  # the result name of a REFERENCE TO method or property is bound, by := or REF=
+     "TYPE ST_R : STRUCT n : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_R\nVAR s : ST_R; t : ST_R; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Pick : REFERENCE TO ST_R\nVAR_INPUT b : BOOL; END_VAR\nIF b THEN Pick REF= t; ELSE Pick := s; END_IF\nEND_METHOD\n"
+     "PROPERTY First : REFERENCE TO ST_R\nFirst := s;\nEND_PROPERTY\n"
+     + prog("fb : FB_R;", "fb();"), 1,
+     lambda m: _reference_results(m.fb), (6, 4)),
     ("struct-input-by-value",  # the callee works on its own copy
      "TYPE ST_V : STRUCT a : INT; b : INT; END_STRUCT END_TYPE\n"
      "FUNCTION F_Sum : INT\nVAR_INPUT k : INT; v : ST_V; END_VAR\nv.a := v.a * k;\nF_Sum := v.a + v.b;\nEND_FUNCTION\n"
