@@ -1120,6 +1120,10 @@ class Translator:
             if param.type.kind == "array":
                 raise self.fail(f"ARRAY input {param.name} passed by value is not supported")
             default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
+            if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
+                # a prototype's input of its own interface type: the class does not exist yet to make its null()
+                self.need("iecoop", "NULL")
+                default = "NULL"
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
         return "".join(f", {p}" for p in parts)

@@ -132,6 +132,15 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "PROPERTY First : REFERENCE TO ST_R\nFirst := s;\nEND_PROPERTY\n"
      + prog("fb : FB_R;", "fb();"), 1,
      lambda m: _reference_results(m.fb), (6, 4)),
+    ("interface-input-of-its-own-type",
+     "INTERFACE I_Link\nEND_INTERFACE\nMETHOD SetNext\nVAR_INPUT next : I_Link; END_VAR\nEND_METHOD\n"
+     "METHOD Depth : INT\nEND_METHOD\n"
+     "FUNCTION_BLOCK FB_Link IMPLEMENTS I_Link\nVAR nextLink : I_Link; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD SetNext\nVAR_INPUT next : I_Link; END_VAR\nnextLink := next;\nEND_METHOD\n"
+     "METHOD Depth : INT\nIF nextLink = 0 THEN Depth := 1; ELSE Depth := nextLink.Depth() + 1; END_IF\nEND_METHOD\n"
+     + prog("a : FB_Link; b : FB_Link; c : FB_Link; n : INT; m2 : INT;",
+            "a.SetNext(next := b); b.SetNext(next := c); n := a.Depth(); c.SetNext(); m2 := c.Depth();"), 1,
+     lambda m: (m.n, m.m2), (3, 1)),
     ("struct-input-by-value",  # the callee works on its own copy
      "TYPE ST_V : STRUCT a : INT; b : INT; END_STRUCT END_TYPE\n"
      "FUNCTION F_Sum : INT\nVAR_INPUT k : INT; v : ST_V; END_VAR\nv.a := v.a * k;\nF_Sum := v.a + v.b;\nEND_FUNCTION\n"
