@@ -266,6 +266,7 @@ class Translator:
                 marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
                 if marker in ("get", "set"):
                     self.marked_accessors[id(node)] = marker
+                    self.used_comments.add(id(token))  # a mark, not a comment to carry over
 
     def _add(self, decl: Decl) -> Decl:
         key = decl.name.lower()
@@ -1985,6 +1986,10 @@ class Translator:
     def address_of(self, node: Any, scope: Scope) -> str:
         if isinstance(node, tf.SimpleVariable) and node.dereferenced and str(node.name).lower() != "this":
             return self.name_ref(str(node.name), scope, node).code  # ADR(p^) is p
+        if isinstance(node, tf.MultiElementVariable) and getattr(node.elements[-1], "dereferenced", False):
+            # ADR(a[i]^), ADR(s.p^): the pointer itself
+            last = dataclasses.replace(node.elements[-1], dereferenced=False)
+            return self.expr(tf.MultiElementVariable(node.name, node.dereferenced, [*node.elements[:-1], last]), scope).code
         self.need("iecoop", "adr")
         if isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.SubscriptList) and len(node.elements[-1].subscripts) == 1:
             rest = tf.MultiElementVariable(node.name, False, node.elements[:-1]) if len(node.elements) > 1 else node.name

@@ -164,6 +164,12 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      + prog("c : ST_C; x : INT := 3; px : POINTER TO INT := ADR(x); r : REFERENCE TO INT := x;",
             "r := r + 1; px^ := px^ * 10; c.p^ := c.pa^;"), 2,
      lambda m: (m.x, m.c.n), (410, 2)),
+    ("ref-assign-through-an-array-of-pointers",  # REF= p[i]^ and ADR(p[i]^) are the pointer p[i]
+     prog("a : INT := 1; b : INT := 2; p : ARRAY[1..2] OF POINTER TO INT; q : POINTER TO INT; r : REFERENCE TO INT; "
+          "i : INT; s : INT;",
+          "p[1] := ADR(a); p[2] := ADR(b); FOR i := 1 TO 2 DO r REF= p[i]^; r := r * 10; s := s + r; END_FOR "
+          "q := ADR(p[2]^); q^ := q^ + 1;"), 1,
+     lambda m: (m.a, m.b, m.s), (10, 21, 30)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
     ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
@@ -495,6 +501,8 @@ def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
     assert (tank._rSetpoint, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
     with pytest.raises(AttributeError, match="Level has no Set accessor"):
         tank.Level = 1.0
+    python = st.to_python(MARKED_ACCESSORS)
+    assert "# the level, read-only" in python and "# Get" not in python and "# Set" not in python  # marks, not comments
     unmarked = MARKED_ACCESSORS.replace("// Set\n", "").replace("// Get\n", "")
     with pytest.raises(st.StUnsupportedError, match=r"<st>:10: PROPERTY Setpoint has two Get accessors .*// Set"):
         st.load(unmarked)
