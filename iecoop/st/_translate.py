@@ -651,6 +651,9 @@ class Translator:
                     yield type_.name.lower()
             if decl.alias_of is not None and decl.alias_of.kind == "user":
                 yield decl.alias_of.name.lower()
+            for member in decl.members.values():  # a VAR_EXTERNAL binds to its global when the class is made
+                if member.section == "VAR_EXTERNAL" and member.name.lower() in self.globals:
+                    yield self.globals[member.name.lower()][0].lower()
 
         def visit(decl: Decl) -> None:
             key = decl.name.lower()

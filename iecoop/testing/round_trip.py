@@ -29,6 +29,9 @@ import types
 from collections.abc import Iterator
 from typing import Any
 
+from iecoop.gvl import GlobalVariables
+from iecoop.gvl import _lists as gvl_registry
+
 __all__ = ["FORMATS", "load_back", "loaded_names", "rebound", "round_trip"]
 
 #: The export formats ``st.load`` reads back (PLCopen XML is written only).
@@ -67,6 +70,9 @@ def rebound(module: types.ModuleType, loaded: types.ModuleType) -> Iterator[list
     finally:
         for name, value in saved.items():
             setattr(module, name, value)
+            if isinstance(value, GlobalVariables):
+                # The loaded list took the name in the registry VAR_EXTERNAL looks in: give it back.
+                gvl_registry[type(value).__name__] = value
 
 
 def load_back(module: types.ModuleType, format: str = "twincat") -> types.ModuleType:

@@ -516,6 +516,14 @@ def test_time_reads_the_task_clock() -> None:
     assert (main.t, main.n) == (20, 3)
 
 
+def test_a_var_external_declared_before_its_global_binds_to_it() -> None:
+    module = st.load("PROGRAM MAIN\nVAR_EXTERNAL gOrderCount : INT; END_VAR\ngOrderCount := gOrderCount + 1;\nEND_PROGRAM\n"
+                     "VAR_GLOBAL gOrderCount : INT := 40; END_VAR\n")
+    module.MAIN()
+    module.MAIN()
+    assert module.GVL.gOrderCount == 42
+
+
 LOCAL_REFERENCE = (
     "TYPE ST_E : STRUCT n : INT; END_STRUCT END_TYPE\nTYPE ST_F : STRUCT n : INT; END_STRUCT END_TYPE\n"
     "FUNCTION_BLOCK FB_L\nVAR a : ST_E; f : ST_F; END_VAR\nEND_FUNCTION_BLOCK\n"

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+from iecoop.gvl import global_lists
 from iecoop.st.export import StExportError
 from iecoop.testing.round_trip import load_back, loaded_names, rebound, round_trip
 
@@ -102,6 +103,39 @@ def test_only_what_the_st_declares_is_rebound(plant: types.ModuleType) -> None:
     with rebound(plant, loaded) as names:
         assert names == ["Scaler", "Line"]
         assert plant.scenario.__module__ == plant.__name__ and plant.INT is not None
+
+
+GLOBALS = '''
+from iecoop import INT, VAR_EXTERNAL, GlobalVariables, Program, gvl
+
+
+@gvl
+class GVL_RoundTrip(GlobalVariables):
+    round_trip_count: INT = 0
+
+
+class Counting(Program):
+    round_trip_count: INT = VAR_EXTERNAL()
+
+    def body(self) -> None:
+        self.round_trip_count += 1
+'''
+
+
+def test_a_gvl_is_rebound_and_its_registration_given_back(tmp_path: Path) -> None:
+    plant = _module(tmp_path, "round_trip_globals", GLOBALS)
+    python_list = plant.GVL_RoundTrip
+    try:
+        with round_trip(plant, format="st") as (loaded,):
+            assert plant.GVL_RoundTrip is loaded.GVL_RoundTrip is not python_list
+            assert global_lists()["GVL_RoundTrip"] is loaded.GVL_RoundTrip
+            plant.Counting()()
+            assert (loaded.GVL_RoundTrip.round_trip_count, python_list.round_trip_count) == (1, 0)
+        assert plant.GVL_RoundTrip is python_list and global_lists()["GVL_RoundTrip"] is python_list
+        plant.Counting()()
+        assert python_list.round_trip_count == 1
+    finally:
+        del sys.modules[plant.__name__]
 
 
 def test_names_come_back_when_the_block_raises(plant: types.ModuleType) -> None:
