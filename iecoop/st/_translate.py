@@ -2267,7 +2267,19 @@ class Translator:
             raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
         if decl.kind == "stdfb":
             self.need("iecoop.stdlib", decl.name)
-        return Ex(f"new({decl.name})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+        # __NEW(FB_X, a := 1): FB_init's inputs by name, as iecoop's new() takes them
+        fb_init = self.find_member(decl, "FB_init")
+        inputs = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
+        args = [decl.name]
+        for param in node.parameters[1:]:
+            if not isinstance(param, tf.InputParameterAssignment) or param.name is None:
+                raise self.fail(f"__NEW of {decl.name} with a length (an array) is not supported", node)
+            name = str(param.name.name)
+            match = next((p.name for p in inputs if p.name.lower() == name.lower()), None)
+            if match is None:
+                raise self.fail(f"__NEW of {decl.name}: FB_init has no input {name!r}", node)
+            args.append(f"{match}={self.expr(param.value, scope).code}")
+        return Ex(f"new({', '.join(args)})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
 
     def _op_delete(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
         if level is None:

@@ -393,6 +393,39 @@ END_PROGRAM
     assert (module.MAIN.nSeen, module.MAIN.bNull) == (4, True)
 
 
+NEW_WITH_INPUTS = """
+FUNCTION_BLOCK FB_Axis
+VAR nId : INT; rScale : REAL := 1.0; END_VAR
+END_FUNCTION_BLOCK
+METHOD FB_init : BOOL
+VAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; nAxis : INT; rGear : REAL := 2.0; END_VAR
+nId := nAxis;
+rScale := rGear;
+END_METHOD
+PROGRAM MAIN
+VAR p : POINTER TO FB_Axis; q : POINTER TO FB_Axis; END_VAR
+p := __NEW(FB_Axis, NAXIS := 3);
+q := __NEW(FB_Axis, rGear := 0.5, nAxis := 7);
+END_PROGRAM
+"""
+
+
+def test_new_passes_fb_init_inputs_by_name() -> None:
+    module = st.load(NEW_WITH_INPUTS)
+    module.MAIN()
+    p, q = module.MAIN.p.deref, module.MAIN.q.deref
+    assert (p.nId, p.rScale, q.nId, q.rScale) == (3, 2.0, 7, 0.5)
+
+
+@pytest.mark.parametrize("new, construct", [
+    ("__NEW(FB_Axis, nAxle := 3)", "<st>:12: __NEW of FB_Axis: FB_init has no input 'nAxle'"),
+    ("__NEW(FB_Axis, 4)", "<st>:12: __NEW of FB_Axis with a length"),
+])
+def test_new_refuses_what_fb_init_does_not_take(new: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(NEW_WITH_INPUTS.replace("__NEW(FB_Axis, NAXIS := 3)", new))
+
+
 def test_globals_and_external_functions() -> None:
     module = st.load("""
 VAR_GLOBAL
