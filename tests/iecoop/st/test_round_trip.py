@@ -17,7 +17,9 @@ import contextlib
 import dataclasses
 import importlib
 import io
+import os
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -34,6 +36,7 @@ from patterns.showcase.cli import run_entry, table
 from patterns.showcase.entry import plc_task
 
 ENTRIES = catalogue.entries()
+ROOT = Path(__file__).resolve().parents[3]
 CATALOGUE_MODULES = sorted({entry.module for entry in catalogue.entries()})
 
 #: Modules that export fully but do not yet run the same once loaded: module -> the first difference.
@@ -63,7 +66,7 @@ def untranslated(entry: Entry) -> list[str]:
     found: list[str] = []
     for module in exported_modules(entry):
         _units, left_out = units(collect(module), lenient=True)
-        found += [str(item) for item in left_out]
+        found += [str(item).replace(f"{ROOT}{os.sep}", "") for item in left_out]
     return found
 
 
