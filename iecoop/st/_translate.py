@@ -35,8 +35,9 @@ TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
 STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
               "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
 _MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
-#: TwinCAT's Tc2_System memory functions (iecoop's memcpy, memset, memcmp) and their result types.
-_MEMORY_FUNCTIONS = {"MEMCPY": "UDINT", "MEMSET": "UDINT", "MEMCMP": "DINT"}
+#: TwinCAT's system functions: TIME() and the Tc2_System memory functions (iecoop's memcpy, memset, memcmp),
+#: with their result types.
+_SYSTEM_FUNCTIONS = {"TIME": "TIME", "MEMCPY": "UDINT", "MEMSET": "UDINT", "MEMCMP": "DINT"}
 _STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
@@ -1109,15 +1110,9 @@ class Translator:
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.name.lower()] = param
                 continue
-            by_value = self.decl_of(param.type) if param.type.kind == "user" else None
-            if by_value is not None and by_value.kind in ("struct", "union"):
-                if getattr(inits.get(param.name.lower()), "value", None) is not None:
-                    raise self.fail(f"input {param.name} of structured type {by_value.name} with an initial value is not supported")
-                # ST copies the value into the callee: a zero default (never written, the copy is) and a copy on entry
-                self.need("copy", "copy")
-                parts.append(f"{param.name}: {param.type.annotation()} = {by_value.name}()")
-                scope.locals[param.name.lower()] = param
-                scope.copies.append(param.name)
+            by_value = self._by_value_input(param, inits.get(param.name.lower()), scope)
+            if by_value is not None:
+                parts.append(by_value)
                 continue
             if param.type.kind in ("array", "user") and self.decl_of(param.type) is not None and self.decl_of(param.type).kind not in ("enum", "interface", "alias"):  # type: ignore[union-attr]
                 raise self.fail(f"input {param.name} of structured type {param.type.annotation()} passed by value is not supported (use VAR_IN_OUT or REFERENCE TO)")
@@ -1131,6 +1126,20 @@ class Translator:
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
         return "".join(f", {p}" for p in parts)
+
+    def _by_value_input(self, param: Member, init: Any, scope: Scope) -> str | None:
+        """The parameter text of a STRUCT or UNION input passed by value (None for another input)."""
+        assert param.type is not None
+        decl = self.decl_of(param.type) if param.type.kind == "user" else None
+        if decl is None or decl.kind not in ("struct", "union"):
+            return None
+        if getattr(init, "value", None) is not None:
+            raise self.fail(f"input {param.name} of structured type {decl.name} with an initial value is not supported")
+        # ST copies the value into the callee: a zero default (never written, the copy is) and a copy on entry
+        self.need("copy", "copy")
+        scope.locals[param.name.lower()] = param
+        scope.copies.append(param.name)
+        return f"{param.name}: {param.type.annotation()} = {decl.name}()"
 
     def zero(self, type_: TypeRef) -> str:
         if type_.is_bool:
@@ -2138,16 +2147,11 @@ class Translator:
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)  # operands that are types, not values
-        if upper == "TIME" and not node.parameters:
-            # TwinCAT's TIME(): the time since start, in ms; the task's clock, as TON reads it
-            self.need("iecoop.runtime", "now_ms")
-            return Ex("now_ms()", TypeRef("elem", "TIME"))
+        if upper in _SYSTEM_FUNCTIONS:
+            return self.system_call(upper, node, scope)
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
-        if upper in _MEMORY_FUNCTIONS:
-            self.need("iecoop", upper.lower())
-            return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", _MEMORY_FUNCTIONS[upper]))
         if upper == "ABS":
             return self.function_call(upper, codes, first)
         if upper in _MATH or upper == "EXPT":
@@ -2175,6 +2179,17 @@ class Translator:
         if upper in ("AND", "OR", "XOR", "NOT"):
             raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
         return None
+
+    def system_call(self, upper: str, node: Any, scope: Scope) -> Ex:
+        """TwinCAT's system functions: ``TIME()`` (the task clock in ms, as TON reads it), MEMCPY, MEMSET, MEMCMP."""
+        if upper == "TIME":
+            if node.parameters:
+                raise self.fail("TIME() takes no input", node)
+            self.need("iecoop.runtime", "now_ms")
+            return Ex("now_ms()", TypeRef("elem", "TIME"))
+        codes = [self.expr(p.value, scope).code for p in node.parameters]
+        self.need("iecoop", upper.lower())
+        return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", _SYSTEM_FUNCTIONS[upper]))
 
     def conversion(self, source: str | None, target: str, args: list[Ex], node: Any) -> Ex:
         from iecoop import conversions

@@ -576,6 +576,7 @@ def test_a_local_reference_is_bound_by_ref_assign_only(statement: str, construct
 @pytest.mark.parametrize("source, construct", [
     (prog("x : INT;", "lbl: x := 1;"), "label"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
+    (prog("t : TIME;", "t := TIME(t);"), r"<st>:5: TIME\(\) takes no input"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n", "VAR_OUTPUT in a method"),
     ("PROGRAM MAIN\nVAR x AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variables"),
 ])
