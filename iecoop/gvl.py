@@ -38,7 +38,7 @@ from iecoop.sections import Kind
 
 register_builder(__file__)
 
-__all__ = ["GlobalVariables", "find_global", "gvl", "global_lists"]
+__all__ = ["GlobalVariables", "find_global", "gvl", "global_lists", "register_global_list"]
 
 _G = TypeVar("_G")
 
@@ -104,6 +104,16 @@ def gvl(cls: type[_G]) -> _G:
 def global_lists() -> dict[str, Any]:
     """Every global variable list by name."""
     return dict(_lists.items())
+
+
+def register_global_list(instance: GlobalVariables) -> None:
+    """Make ``instance`` the list its class name stands for, the one a VAR_EXTERNAL binds to.
+
+    ``@gvl`` does this when it creates the list; a tool that swaps lists of the
+    same name (loading an exported project back, say) gives the original its
+    place again with this.
+    """
+    _lists[type(instance).__name__] = instance
 
 
 def find_global(name: str, where: str) -> tuple[Any, FieldRecord]:

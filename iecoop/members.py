@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, TypeVar, overload
 
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.metadata import Kind, kind_of
+from iecoop.sections import FieldSpec
 
 __all__ = [
     "ABSTRACT",
@@ -326,7 +327,7 @@ def signature_of(func: Callable[..., Any], resolve: Callable[[str], Any]) -> tup
         if i == 0:
             continue
         # a VAR_OUTPUT / VAR_IN_OUT parameter (its default is the specifier) differs from an input of the same type
-        section = getattr(param.default, "section", None)
+        section = param.default.section if isinstance(param.default, FieldSpec) else None
         kind = section if section in ("VAR_OUTPUT", "VAR_IN_OUT") else param.kind
         items.append((param.name, kind, _resolved(param.annotation, resolve)))
     items.append(("return", None, _resolved(sig.return_annotation, resolve)))

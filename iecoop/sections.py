@@ -24,12 +24,14 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from types import MappingProxyType
-from typing import Final
+from typing import Any, Final
 
 __all__ = [
+    "MISSING",
     "AtCall",
+    "FieldSpec",
     "Kind",
     "Qualifier",
     "SECTION_RULES",
@@ -198,3 +200,72 @@ SECTIONS: Final = tuple(SECTION_RULES)
 def sections_of(kind: Kind) -> tuple[Section, ...]:
     """The sections a class of ``kind`` may declare, in ST order."""
     return tuple(s for s, rule in SECTION_RULES.items() if kind in rule.kinds)
+
+
+# A field's declaration lives beside the sections it names: every module that reads one
+# (the builders, the write rules, the member checks) imports it from here without a cycle.
+class _Missing:
+    def __repr__(self) -> str:
+        return "MISSING"
+
+    def __bool__(self) -> bool:
+        return False
+
+
+MISSING: Final[Any] = _Missing()
+
+
+
+class FieldSpec:
+    """A field's declaration: section, initial value and qualifiers (what ``VAR(...)`` returns)."""
+
+    __slots__ = ("section", "initial", "length", "bounds", "retain", "persistent", "constant", "method", "fb_init")
+
+    def __init__(
+        self,
+        section: str,
+        initial: Any = MISSING,
+        *,
+        length: int | None = None,
+        bounds: object = None,
+        retain: bool = False,
+        persistent: bool = False,
+        constant: bool = False,
+        method: str | None = None,
+        fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
+    ) -> None:
+        self.section = Section(section)
+        self.initial = initial
+        self.length = length
+        self.bounds = bounds
+        self.retain = retain
+        self.persistent = persistent
+        self.constant = constant
+        self.method = method
+        # One dict of FB_init inputs, or one per element of an ARRAY OF FB.
+        self.fb_init: dict[str, Any] | list[dict[str, Any]] | None
+        if not fb_init:
+            self.fb_init = None
+        elif isinstance(fb_init, Mapping):
+            self.fb_init = dict(fb_init)
+        else:
+            self.fb_init = [dict(item) for item in fb_init]
+
+    @property
+    def qualifiers(self) -> str:
+        words = [w for w, on in (("CONSTANT", self.constant), ("RETAIN", self.retain), ("PERSISTENT", self.persistent)) if on]
+        return " ".join(words)
+
+    def __repr__(self) -> str:
+        init = "" if self.initial is MISSING else repr(self.initial)
+        qual = f" {self.qualifiers}" if self.qualifiers else ""
+        return f"{self.section}{qual}({init})"
+
+    def as_python(self) -> str:
+        """The specifier call as the user writes it: ``VAR(10, constant=True)``."""
+        args = [] if self.initial is MISSING else [repr(self.initial)]
+        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init"):
+            value = getattr(self, option)
+            if value:
+                args.append(f"{option}={value!r}")
+        return f"{self.section}({', '.join(args)})"

@@ -35,6 +35,9 @@ TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
 STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
               "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
 _MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
+#: TwinCAT's system functions: TIME() and the Tc2_System memory functions (iecoop's memcpy, memset, memcmp),
+#: with their result types.
+_SYSTEM_FUNCTIONS = {"TIME": "TIME", "MEMCPY": "UDINT", "MEMSET": "UDINT", "MEMCMP": "DINT"}
 _STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR",
@@ -212,6 +215,8 @@ class Translator:
         self.window: tuple[int, int] = (0, 0)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
+        #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
+        self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
         self._stdlib_decls()
@@ -254,6 +259,8 @@ class Translator:
                     if current is None or current.kind not in ("fb", "interface", "program"):
                         raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    if isinstance(item, tf.Property):
+                        self._mark_accessor(unit, item)
                     continue
                 if isinstance(item, tf.Action):
                     if current is None or current.kind not in ("fb", "program"):
@@ -263,6 +270,20 @@ class Translator:
                 current = self._collect_item(unit, item)
                 if current is not None:
                     current.item = item
+
+    def _mark_accessor(self, unit: Unit, node: Any) -> None:
+        """Note a PROPERTY block marked by a ``// Get`` or ``// Set`` comment on the line before it.
+
+        Besides ``Name.Get`` / ``Name.Set``, the plain-text form iecoop's ST writer uses
+        (``iecoop.st.dump``) for a property with both accessors: two blocks of the same name.
+        """
+        line = getattr(node.meta, "line", None) if node.meta else None
+        for token in unit.comments:
+            if line is not None and token.line == line - 1:
+                marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
+                if marker in ("get", "set"):
+                    self.marked_accessors[id(node)] = marker
+                    self.used_comments.add(id(token))  # a mark, not a comment to carry over
 
     def _add(self, decl: Decl) -> Decl:
         key = decl.name.lower()
@@ -683,6 +704,9 @@ class Translator:
                     yield type_.name.lower()
             if decl.alias_of is not None and decl.alias_of.kind == "user":
                 yield decl.alias_of.name.lower()
+            for member in decl.members.values():  # a VAR_EXTERNAL binds to its global when the class is made
+                if member.section == "VAR_EXTERNAL" and member.name.lower() in self.globals:
+                    yield self.globals[member.name.lower()][0].lower()
 
         def visit(decl: Decl) -> None:
             key = decl.name.lower()
@@ -967,16 +991,17 @@ class Translator:
         if isinstance(value, tf.ArrayInitialization):
             element = type_.of if type_ is not None and type_.kind == "array" else None
             return "[" + ", ".join(self._array_elements(value, element, scope)) + "]"
-        if isinstance(value, tf.StructureInitialization):
+        elements = _structure_elements(value)
+        if elements is not None:
             decl = self.decl_of(type_)
             pairs = []
-            for element in value.elements:
-                if element.name is None:
+            for element_name, element_value in elements:
+                if element_name is None:
                     raise self.fail("a structure initialiser element without a name", value)
-                found = self.find_member(decl, str(element.name)) if decl is not None else None
-                name = found[1].name if found is not None else str(element.name)
+                found = self.find_member(decl, element_name) if decl is not None else None
+                name = found[1].name if found is not None else element_name
                 member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
-                pairs.append(f'"{name}": {self.init_value(element.value, member_type, scope)}')
+                pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
             return "{" + ", ".join(pairs) + "}"
         if isinstance(value, tf.EnumeratedValue):
             enum_name = str(value.type_name) if value.type_name is not None else None
@@ -1160,6 +1185,10 @@ class Translator:
                 scope.locals[param.name.lower()] = param
                 continue
             default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
+            if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
+                # a prototype's input of its own interface type: the class does not exist yet to make its null()
+                self.need("iecoop", "NULL")
+                default = "NULL"
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.name.lower()] = param
         return "".join(f", {p}" for p in parts)
@@ -1309,6 +1338,12 @@ class Translator:
                         continue
                     self._need_type(type_)
                     init = getattr(item, "init", None)
+                    if self._local_reference(type_) and getattr(init, "value", None) is None:
+                        # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
+                        assert type_.of is not None
+                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+                        self.emit(f"{name}: {type_.of.annotation()}", level)
+                        continue
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
                     scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
                     self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
@@ -1316,6 +1351,11 @@ class Translator:
 
     def local_annotation(self, type_: TypeRef) -> str:
         return type_.annotation()
+
+    def _local_reference(self, type_: TypeRef | None) -> bool:
+        """A REFERENCE TO a STRUCT, UNION or FB: a local of a method or function holds the view of its target."""
+        decl = self.decl_of(type_) if type_ is not None and type_.kind == "reference" else None
+        return decl is not None and decl.kind in ("struct", "union", "fb", "stdfb")
 
     def _emit_method(self, decl: Decl, node: Any) -> None:
         self.line = node.meta.line if node.meta else None
@@ -1424,10 +1464,16 @@ class Translator:
         accessors: dict[str, dict[str, Any]] = {}
         for node in decl.prop_nodes:
             parts = str(node.name).split(".")
-            kind = parts[1].lower() if len(parts) > 1 else "get"
+            kind = parts[1].lower() if len(parts) > 1 else self.marked_accessors.get(id(node), "get")
             if kind not in ("get", "set"):
                 raise self.fail(f"PROPERTY {node.name}: the accessor after the dot must be Get or Set", node)
-            accessors.setdefault(parts[0].lower(), {})[kind] = node
+            found = accessors.setdefault(parts[0].lower(), {})
+            if kind in found:
+                raise self.fail(
+                    f"PROPERTY {parts[0]} has two {kind.capitalize()} accessors "
+                    "(name them {0}.Get and {0}.Set, or mark them // Get and // Set)".format(parts[0]), node,
+                )
+            found[kind] = node
         for key, found in accessors.items():
             prop = decl.props[key]
             assert prop.type is not None
@@ -1607,6 +1653,8 @@ class Translator:
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
             raise self.fail(f"assignment to CONSTANT {local.name}", target)
+        if local is not None and local.section == "LOCAL" and self._local_reference(local.type):
+            raise self.fail(f"assignment to the whole REFERENCE TO local {local.name} (bind it with REF=, write its members)", target)
         by_reference = local is not None and local.section in ("VAR_OUTPUT", "VAR_IN_OUT")
         if local is not None and not by_reference and "." not in local.name and lhs.type is not None and lhs.type.kind != "reference" and self._copied(lhs.type):
             # a Python local names a view: ST's assignment of a STRUCT, ARRAY or block copies the value
@@ -1697,9 +1745,12 @@ class Translator:
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
         local = self.local_of(node.variable, scope)
-        if local is not None and local.type is not None and local.type.kind == "reference" and self.decl_of(local.type) is not None:
-            # a method's or property's own REFERENCE TO a STRUCT or block (MyProp REF= stLocal): a Python name for the view
-            self.emit(f"{local.name} = {self.expr(node.expression, scope).code}", level)
+        if local is not None and self._local_reference(local.type):
+            assert local.type is not None
+            bound = self.expr(node.expression, scope)
+            if self.decl_of(bound.type) is not self.decl_of(local.type):
+                raise self.fail(f"REF= of {local.name} needs a {local.type.deref().name} variable, got {bound.code}", node)
+            self.emit(f"{local.name} = {bound.code}", level)
             return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
@@ -2227,6 +2278,10 @@ class Translator:
     def address_of(self, node: Any, scope: Scope) -> str:
         if isinstance(node, tf.SimpleVariable) and node.dereferenced and str(node.name).lower() != "this":
             return self.name_ref(str(node.name), scope, node).code  # ADR(p^) is p
+        if isinstance(node, tf.MultiElementVariable) and getattr(node.elements[-1], "dereferenced", False):
+            # ADR(a[i]^), ADR(s.p^): the pointer itself
+            last = dataclasses.replace(node.elements[-1], dereferenced=False)
+            return self.expr(tf.MultiElementVariable(node.name, node.dereferenced, [*node.elements[:-1], last]), scope).code
         self.need("iecoop", "adr")
         if isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.SubscriptList) and len(node.elements[-1].subscripts) == 1:
             rest = tf.MultiElementVariable(node.name, False, node.elements[:-1]) if len(node.elements) > 1 else node.name
@@ -2400,6 +2455,8 @@ class Translator:
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)  # operands that are types, not values
+        if upper in _SYSTEM_FUNCTIONS:
+            return self.system_call(upper, node, scope)
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
@@ -2430,6 +2487,17 @@ class Translator:
         if upper in ("AND", "OR", "XOR", "NOT"):
             raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
         return None
+
+    def system_call(self, upper: str, node: Any, scope: Scope) -> Ex:
+        """TwinCAT's system functions: ``TIME()`` (the task clock in ms, as TON reads it), MEMCPY, MEMSET, MEMCMP."""
+        if upper == "TIME":
+            if node.parameters:
+                raise self.fail("TIME() takes no input", node)
+            self.need("iecoop.runtime", "now_ms")
+            return Ex("now_ms()", TypeRef("elem", "TIME"))
+        codes = [self.expr(p.value, scope).code for p in node.parameters]
+        self.need("iecoop", upper.lower())
+        return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", _SYSTEM_FUNCTIONS[upper]))
 
     def conversion(self, source: str | None, target: str, args: list[Ex], node: Any) -> Ex:
         from iecoop import conversions
@@ -2480,74 +2548,145 @@ class Translator:
         return Ex(f"{name}({', '.join(codes)})", type_)
 
     def operator_call(self, upper: str, node: Any, scope: Scope, level: int | None) -> Ex:
-        params = [p.value for p in node.parameters]
-        if upper == "ADR":
-            return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
-        if upper == "SIZEOF":
-            self.need("iecoop", "sizeof")
-            target = params[0]
-            if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
-                name = str(target.name)
-                elem = self._elem_or_none(name)
-                if elem is not None:
-                    self._need_type(elem)
-                    return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
-                decl = self.decls.get(name.lower())
-                if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
-                    if decl.kind == "stdfb":
-                        self.need("iecoop.stdlib", decl.name)
-                    return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
-            ex = self.expr(target, scope)
-            decl = self.decl_of(ex.type)
-            if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
-                return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
-            holder, field = self.holder_field(target, scope)
-            return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
-        if upper == "__NEW":
-            self.need("iecoop", "new")
-            target = params[0]
-            if isinstance(target, tf.SimpleVariable):
-                decl = self.decls.get(str(target.name).lower())
-                if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
-                    raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
-                if decl.kind == "stdfb":
-                    self.need("iecoop.stdlib", decl.name)
-                return Ex(f"new({decl.name})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+        """ADR, SIZEOF, __NEW, __DELETE, __ISVALIDREF, TEST_AND_SET, __QUERYINTERFACE, __QUERYPOINTER: operands that are variables or types."""
+        handler = _OPERATORS.get(upper)
+        if handler is None:
+            raise self.fail(f"{upper} is not supported", node)
+        return handler(self, upper, [p.value for p in node.parameters], node, scope, level)
+
+    def _op_adr(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
+
+    def _op_sizeof(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "sizeof")
+        target = params[0]
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            of_type = self._sizeof_type(str(target.name))
+            if of_type is not None:
+                return of_type
+        ex = self.expr(target, scope)
+        decl = self.decl_of(ex.type)
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
+            return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
+        holder, field = self.holder_field(target, scope)
+        return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
+
+    def _sizeof_type(self, name: str) -> Ex | None:
+        """``SIZEOF(T)`` of a type name, or None when ``name`` is not one."""
+        elem = self._elem_or_none(name)
+        if elem is not None:
+            self._need_type(elem)
+            return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
+        decl = self.decls.get(name.lower())
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
+            if decl.kind == "stdfb":
+                self.need("iecoop.stdlib", decl.name)
+            return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
+        return None
+
+    def _op_new(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "new")
+        target = params[0]
+        if not isinstance(target, tf.SimpleVariable):
             raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
-        if upper == "__DELETE":
-            if level is None:
-                raise self.fail("__DELETE inside an expression", node)
-            self.need("iecoop", "delete")
-            pointer = self.expr(params[0], scope)
-            return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
-        if upper == "__ISVALIDREF":
-            self.need("iecoop", "is_valid_ref")
-            holder, field = self.holder_field(params[0], scope)
-            return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
-        if upper in ("TEST_AND_SET", "TESTANDSET"):
-            self.need("iecoop", "test_and_set")
-            # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
-            return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
-        if upper in ("__QUERYINTERFACE", "__QUERYPOINTER"):
-            if level is None and not self._hoisting:
-                raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
-            source = self.expr(params[0], scope)
-            dest = self.expr(params[1], scope, store=True)
-            if upper == "__QUERYPOINTER":
-                self.need("iecoop", "query_pointer")
-                self.emit(f"{dest.code} = query_pointer({source.code})", self._hoist_level if level is None else level)
-                return Ex(f"bool({dest.code})" if level is None else "", BOOL)
-            decl = self.decl_of(dest.type)
-            if decl is None or decl.kind != "interface":
-                raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
-            self.need("iecoop", "query_interface", "null")
-            self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})",
-                      self._hoist_level if level is None else level)
+        decl = self.decls.get(str(target.name).lower())
+        if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
+            raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
+        if decl.kind == "stdfb":
+            self.need("iecoop.stdlib", decl.name)
+        # __NEW(FB_X, a := 1): FB_init's inputs by name, as iecoop's new() takes them
+        fb_init = self.find_member(decl, "FB_init")
+        inputs = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
+        args = [decl.name]
+        for param in node.parameters[1:]:
+            if not isinstance(param, tf.InputParameterAssignment) or param.name is None:
+                raise self.fail(f"__NEW of {decl.name} with a length (an array) is not supported", node)
+            name = str(param.name.name)
+            match = next((p.name for p in inputs if p.name.lower() == name.lower()), None)
+            if match is None:
+                raise self.fail(f"__NEW of {decl.name}: FB_init has no input {name!r}", node)
+            args.append(f"{match}={self.expr(param.value, scope).code}")
+        return Ex(f"new({', '.join(args)})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+
+    def _op_delete(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        if level is None:
+            raise self.fail("__DELETE inside an expression", node)
+        self.need("iecoop", "delete")
+        pointer = self.expr(params[0], scope)
+        return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
+
+    def _op_isvalidref(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "is_valid_ref")
+        holder, field = self.holder_field(params[0], scope)
+        return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
+
+    def _op_test_and_set(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "test_and_set")
+        # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
+        return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
+
+    def _op_query(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        if level is None and not self._hoisting:
+            raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
+        source = self.expr(params[0], scope)
+        dest = self.expr(params[1], scope, store=True)
+        at = self._hoist_level if level is None else level
+        if upper == "__QUERYPOINTER":
+            self.need("iecoop", "query_pointer")
+            self.emit(f"{dest.code} = query_pointer({source.code})", at)
             return Ex(f"bool({dest.code})" if level is None else "", BOOL)
-        raise self.fail(f"{upper} is not supported", node)
+        decl = self.decl_of(dest.type)
+        if decl is None or decl.kind != "interface":
+            raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
+        self.need("iecoop", "query_interface", "null")
+        self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})", at)
+        return Ex(f"bool({dest.code})" if level is None else "", BOOL)
 
     _hoisting = False
     _hoist_level = 0
+
+
+#: The operators whose operands are variables or types, not values: ST name -> Translator method.
+_OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | None], Ex]] = {
+    "ADR": Translator._op_adr,
+    "SIZEOF": Translator._op_sizeof,
+    "__NEW": Translator._op_new,
+    "__DELETE": Translator._op_delete,
+    "__ISVALIDREF": Translator._op_isvalidref,
+    "TEST_AND_SET": Translator._op_test_and_set,
+    "TESTANDSET": Translator._op_test_and_set,
+    "__QUERYINTERFACE": Translator._op_query,
+    "__QUERYPOINTER": Translator._op_query,
+}
+
+
+def _structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
+    """``(name, value)`` of each element of a structure initialiser, or None if ``value`` is not one.
+
+    blark reads a one-element initialiser, ``(x := 1)``, as a parenthesised assignment, and
+    inside an array initialiser may read ``(a := 1, b := 2, c := 3)`` as ``a := [1, b := 2], c := 3``.
+    """
+    if isinstance(value, tf.StructureInitialization):
+        found: list[tuple[str | None, Any]] = []
+        for element in value.elements:
+            found += _misread_elements(str(element.name) if element.name is not None else None, element.value)
+        return found
+    inner = value.expr if isinstance(value, tf.ParenthesizedExpression) else None
+    if isinstance(inner, tf.BinaryOperation) and str(inner.op) == ":=" and isinstance(inner.left, tf.SimpleVariable):
+        return [(str(inner.left.name), inner.right)]
+    return None
+
+
+def _misread_elements(name: str | None, value: Any) -> list[tuple[str | None, Any]]:
+    """``name := value`` of a structure initialiser, split again where blark read the next elements into ``value``."""
+    items = value.elements if isinstance(value, tf.ArrayInitialization) and not value.brackets else []
+    rest = items[1:]
+    if len(items) > 1 and items[0].count is None and all(
+        item.count is None and isinstance(item.element, tf.BinaryOperation) and str(item.element.op) == ":="
+        and isinstance(item.element.left, tf.SimpleVariable) for item in rest
+    ):
+        return [(name, items[0].element)] + [(str(item.element.left.name), item.element.right) for item in rest]
+    return [(name, value)]
 
 
 def _exact_real(code: str) -> bool:

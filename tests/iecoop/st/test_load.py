@@ -28,6 +28,14 @@ def prog(decls: str, body: str) -> str:
     return f"PROGRAM MAIN\nVAR\n{decls}\nEND_VAR\n{body}\nEND_PROGRAM\n"
 
 
+def _reference_results(fb: Any) -> tuple[int, int]:
+    """Write through the references FB_R's Pick and First return: FB_R.s.n and FB_R.t.n after."""
+    fb.Pick(b=True).n = 4
+    fb.Pick(b=False).n = 5
+    fb.First.n += 1
+    return fb.s.n, fb.t.n
+
+
 # (id, ST source, cycles, what to read from MAIN, expected)
 CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
     ("assign-and-wrap", prog("n : INT := 32767; b : BYTE := 255;", "n := n + 1; b := b + 1;"), 1,
@@ -94,6 +102,54 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      + prog("a : ST_P := (x := 1, y := 2); b : ST_P; u : ARRAY[1..3] OF INT := [1, 2, 3]; v : ARRAY[1..3] OF INT;",
             "b := a; a.x := 5; v := u; u[1] := 9;"), 1,
      lambda m: (m.a.x, m.b.x, m.b.y, list(m.u), list(m.v)), (5, 1, 2, [9, 2, 3], [1, 2, 3])),
+    ("one-element-initialisers",  # blark reads (x := 1) as a parenthesised assignment
+     "TYPE ST_P : STRUCT x : INT; y : INT := 7; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_K\nVAR_INPUT k : INT; j : INT := 4; END_VAR\nVAR nStart : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD FB_init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; nFrom : INT; END_VAR\n"
+     "nStart := nFrom;\nEND_METHOD\n"
+     + prog("a : ST_P := (x := 1); f : FB_K(nFrom := 3) := (k := 5); g : FB_K(nFrom := 6) := (k := 8, j := 9); "
+            "h : ARRAY[1..3] OF ST_P := [(x := 2), (y := 3)]; n : INT;", "n := n + 1;"), 1,
+     lambda m: (m.a.x, m.a.y, m.f.nStart, m.f.k, m.f.j, m.g.nStart, m.g.k, m.g.j, [(p.x, p.y) for p in m.h]),
+     (1, 7, 3, 5, 4, 6, 8, 9, [(2, 7), (0, 3), (0, 7)])),
+    ("array-of-structures-initialiser",  # blark may read (a := 1, b := 2, c := 3) as a := [1, b := 2], c := 3
+     "TYPE ST_L : STRUCT low : REAL; high : REAL; step : REAL; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_P\nVAR CONSTANT\nLIMITS : ARRAY[1..2] OF ST_L := "
+     "[(low := 150.0, high := 250.0, step := 10.0), (low := 100.0, high := 300.0, step := 50.0)];\nEND_VAR\n"
+     "VAR x : REAL; END_VAR\nx := LIMITS[2].high + LIMITS[1].step;\nEND_FUNCTION_BLOCK\n"
+     + prog("fb : FB_P;", "fb();"), 1,
+     lambda m: (m.fb.x, [(p.low, p.high, p.step) for p in m.fb.LIMITS]), (310.0, [(150.0, 250.0, 10.0), (100.0, 300.0, 50.0)])),
+    ("local-reference-to-a-struct",
+     "TYPE ST_E : STRUCT n : INT; t : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_Log\nVAR log : ARRAY[0..2] OF ST_E; nCount : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Add\nVAR_INPUT n : INT; END_VAR\nVAR e : REFERENCE TO ST_E; END_VAR\n"
+     "e REF= log[nCount MOD 3];\ne.n := n;\ne.t := e.t + 1;\nnCount := nCount + 1;\nEND_METHOD\n"
+     + prog("fb : FB_Log;", "fb.Add(n := 7); fb.Add(n := 8); fb.Add(n := 9); fb.Add(n := 10);"), 1,
+     lambda m: [(e.n, e.t) for e in m.fb.log], [(10, 2), (8, 1), (9, 1)]),
+    ("reference-results",  # the result name of a REFERENCE TO method or property is bound, by := or REF=
+     "TYPE ST_R : STRUCT n : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_R\nVAR s : ST_R; t : ST_R; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Pick : REFERENCE TO ST_R\nVAR_INPUT b : BOOL; END_VAR\nIF b THEN Pick REF= t; ELSE Pick := s; END_IF\nEND_METHOD\n"
+     "PROPERTY First : REFERENCE TO ST_R\nFirst := s;\nEND_PROPERTY\n"
+     + prog("fb : FB_R;", "fb();"), 1,
+     lambda m: _reference_results(m.fb), (6, 4)),
+    ("interface-input-of-its-own-type",
+     "INTERFACE I_Link\nEND_INTERFACE\nMETHOD SetNext\nVAR_INPUT next : I_Link; END_VAR\nEND_METHOD\n"
+     "METHOD Depth : INT\nEND_METHOD\n"
+     "FUNCTION_BLOCK FB_Link IMPLEMENTS I_Link\nVAR nextLink : I_Link; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD SetNext\nVAR_INPUT next : I_Link; END_VAR\nnextLink := next;\nEND_METHOD\n"
+     "METHOD Depth : INT\nIF nextLink = 0 THEN Depth := 1; ELSE Depth := nextLink.Depth() + 1; END_IF\nEND_METHOD\n"
+     + prog("a : FB_Link; b : FB_Link; c : FB_Link; n : INT; m2 : INT;",
+            "a.SetNext(next := b); b.SetNext(next := c); n := a.Depth(); c.SetNext(); m2 := c.Depth();"), 1,
+     lambda m: (m.n, m.m2), (3, 1)),
+    ("struct-input-by-value",  # the callee works on its own copy
+     "TYPE ST_V : STRUCT a : INT; b : INT; END_STRUCT END_TYPE\n"
+     "FUNCTION F_Sum : INT\nVAR_INPUT k : INT; v : ST_V; END_VAR\nv.a := v.a * k;\nF_Sum := v.a + v.b;\nEND_FUNCTION\n"
+     + prog("s : ST_V := (a := 2, b := 3); n : INT; m2 : INT;", "n := F_Sum(k := 10, v := s); m2 := F_Sum(v := s);"), 1,
+     lambda m: (m.n, m.m2, m.s.a, m.s.b), (23, 3, 2, 3)),
+    ("memory-functions", prog("a : ARRAY[1..3] OF INT := [1, 2, 3]; b : ARRAY[1..3] OF INT; n : UDINT; c : DINT; d : DINT;",
+                              "n := MEMCPY(ADR(b), ADR(a), SIZEOF(a)); c := MEMCMP(ADR(a), ADR(b), 6); "
+                              "MEMSET(ADR(b[2]), 0, 2); d := MEMCMP(ADR(a), ADR(b), 6);"), 1,
+     lambda m: (m.n, list(m.b), m.c, m.d), (6, [1, 0, 3], 0, 1)),
     ("timer-stdlib", prog("fbT : TON; bQ : BOOL; tEt : TIME;", "fbT(IN := TRUE, PT := T#30ms, Q => bQ, ET => tEt);"), 1,
      lambda m: (m.bQ, m.tEt), (False, 0)),
     ("pointer-deref", prog("n : INT := 5; p : POINTER TO INT; m2 : INT;", "p := ADR(n); p^ := p^ + 1; m2 := p^;"), 1,
@@ -108,6 +164,12 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      + prog("c : ST_C; x : INT := 3; px : POINTER TO INT := ADR(x); r : REFERENCE TO INT := x;",
             "r := r + 1; px^ := px^ * 10; c.p^ := c.pa^;"), 2,
      lambda m: (m.x, m.c.n), (410, 2)),
+    ("ref-assign-through-an-array-of-pointers",  # REF= p[i]^ and ADR(p[i]^) are the pointer p[i]
+     prog("a : INT := 1; b : INT := 2; p : ARRAY[1..2] OF POINTER TO INT; q : POINTER TO INT; r : REFERENCE TO INT; "
+          "i : INT; s : INT;",
+          "p[1] := ADR(a); p[2] := ADR(b); FOR i := 1 TO 2 DO r REF= p[i]^; r := r * 10; s := s + r; END_FOR "
+          "q := ADR(p[2]^); q^ := q^ + 1;"), 1,
+     lambda m: (m.a, m.b, m.s), (10, 21, 30)),
     ("reference-ref-assign", prog("n : INT := 5; r : REFERENCE TO INT; ok : BOOL;", "ok := __ISVALIDREF(r); r REF= n; r := 9;"), 1,
      lambda m: (m.n, m.ok), (9, False)),
     ("try-catch-finally", prog("a : INT := 1; b : INT; exc : __SYSTEM.ExceptionCode; n : INT; bDiv : BOOL;",
@@ -331,6 +393,39 @@ END_PROGRAM
     assert (module.MAIN.nSeen, module.MAIN.bNull) == (4, True)
 
 
+NEW_WITH_INPUTS = """
+FUNCTION_BLOCK FB_Axis
+VAR nId : INT; rScale : REAL := 1.0; END_VAR
+END_FUNCTION_BLOCK
+METHOD FB_init : BOOL
+VAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; nAxis : INT; rGear : REAL := 2.0; END_VAR
+nId := nAxis;
+rScale := rGear;
+END_METHOD
+PROGRAM MAIN
+VAR p : POINTER TO FB_Axis; q : POINTER TO FB_Axis; END_VAR
+p := __NEW(FB_Axis, NAXIS := 3);
+q := __NEW(FB_Axis, rGear := 0.5, nAxis := 7);
+END_PROGRAM
+"""
+
+
+def test_new_passes_fb_init_inputs_by_name() -> None:
+    module = st.load(NEW_WITH_INPUTS)
+    module.MAIN()
+    p, q = module.MAIN.p.deref, module.MAIN.q.deref
+    assert (p.nId, p.rScale, q.nId, q.rScale) == (3, 2.0, 7, 0.5)
+
+
+@pytest.mark.parametrize("new, construct", [
+    ("__NEW(FB_Axis, nAxle := 3)", "<st>:12: __NEW of FB_Axis: FB_init has no input 'nAxle'"),
+    ("__NEW(FB_Axis, 4)", "<st>:12: __NEW of FB_Axis with a length"),
+])
+def test_new_refuses_what_fb_init_does_not_take(new: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(NEW_WITH_INPUTS.replace("__NEW(FB_Axis, NAXIS := 3)", new))
+
+
 def test_globals_and_external_functions() -> None:
     module = st.load("""
 VAR_GLOBAL
@@ -410,9 +505,78 @@ def test_super_property_write_runs_the_base_setter() -> None:
     assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
 
 
+MARKED_ACCESSORS = """
+FUNCTION_BLOCK FB_Tank
+VAR _rSetpoint : REAL; END_VAR
+END_FUNCTION_BLOCK
+// Set
+PROPERTY PUBLIC Setpoint : REAL
+VAR
+END_VAR
+_rSetpoint := LIMIT(0.0, Setpoint, 100.0);
+END_PROPERTY
+// Get
+PROPERTY PUBLIC Setpoint : REAL
+VAR
+END_VAR
+Setpoint := _rSetpoint * 2.0;
+END_PROPERTY
+// the level, read-only
+PROPERTY PUBLIC Level : REAL
+Level := _rSetpoint;
+END_PROPERTY
+"""
+
+
+def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
+    tank = st.load(MARKED_ACCESSORS).FB_Tank()
+    tank.Setpoint = 150.0
+    assert (tank._rSetpoint, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
+    with pytest.raises(AttributeError, match="Level has no Set accessor"):
+        tank.Level = 1.0
+    python = st.to_python(MARKED_ACCESSORS)
+    assert "# the level, read-only" in python and "# Get" not in python and "# Set" not in python  # marks, not comments
+    unmarked = MARKED_ACCESSORS.replace("// Set\n", "").replace("// Get\n", "")
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:10: PROPERTY Setpoint has two Get accessors .*// Set"):
+        st.load(unmarked)
+
+
+def test_time_reads_the_task_clock() -> None:
+    main = st.load(prog("t : TIME; n : INT;", "t := TIME(); n := n + 1;")).MAIN
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms"), priority=20), main)
+    runtime.run(cycles=3)
+    assert (main.t, main.n) == (20, 3)
+
+
+def test_a_var_external_declared_before_its_global_binds_to_it() -> None:
+    module = st.load("PROGRAM MAIN\nVAR_EXTERNAL gOrderCount : INT; END_VAR\ngOrderCount := gOrderCount + 1;\nEND_PROGRAM\n"
+                     "VAR_GLOBAL gOrderCount : INT := 40; END_VAR\n")
+    module.MAIN()
+    module.MAIN()
+    assert module.GVL.gOrderCount == 42
+
+
+LOCAL_REFERENCE = (
+    "TYPE ST_E : STRUCT n : INT; END_STRUCT END_TYPE\nTYPE ST_F : STRUCT n : INT; END_STRUCT END_TYPE\n"
+    "FUNCTION_BLOCK FB_L\nVAR a : ST_E; f : ST_F; END_VAR\nEND_FUNCTION_BLOCK\n"
+    "METHOD M\nVAR e : REFERENCE TO ST_E; END_VAR\n{statement}\nEND_METHOD\n"
+)
+
+
+@pytest.mark.parametrize("statement, construct", [
+    ("e := a;", "<st>:8: assignment to the whole REFERENCE TO local e"),
+    ("e REF= f;", "<st>:8: REF= of e needs a ST_E variable, got self.f"),
+])
+def test_a_local_reference_is_bound_by_ref_assign_only(statement: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(LOCAL_REFERENCE.format(statement=statement))
+
+
 @pytest.mark.parametrize("source, construct", [
     (prog("x : INT;", "IF x = 0 THEN lbl: x := 1; END_IF"), "label lbl inside IF, CASE or a loop"),
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
+    (prog("t : TIME;", "t := TIME(t);"), r"<st>:5: TIME\(\) takes no input"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n"
      "METHOD N\nVAR x : INT; END_VAR\nM(o => x);\nEND_METHOD\n", "a local variable of a METHOD or FUNCTION has no address"),
     ("PROGRAM MAIN\nVAR AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variable without a name"),
