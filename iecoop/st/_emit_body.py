@@ -732,53 +732,18 @@ class BodyWriter:
 
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
         value = self.globals.get(name)
-        module = getattr(value, "__module__", "") or ""
-        library = module == "iecoop" or module.startswith("iecoop.")
-        args = node.args
-        if name == "T" and value is T or name == "LTIME" and library or name == "D" and value is D:
-            if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
-                self.fail(node, f"{name}() of a value that is not a string literal")
-            text = args[0].value
-            if name == "T":
-                return format_time(T(text)).upper(), _ATOM
-            if name == "D":
-                return format_date(D(text)), _ATOM
-            return format_ltime(parse_ltime(text)).upper(), _ATOM
-        if name in _BUILTINS and value is None:
-            return f"{_BUILTINS[name]}({self.arguments(node)})", _ATOM
-        if name in ("int", "float", "bool") and value is None and len(args) == 1 and not node.keywords:
-            info = self.typeof(args[0])
-            inner = self.expr(args[0])[0]
-            if name == "bool":
-                return (inner, _ATOM) if _is_bool(info) else (f"{self.expr(args[0], _EQ + 1)[0]} <> 0", _EQ)
-            if name == "int":
-                return (inner, _ATOM) if _is_integer(info) or _is_bool(info) and False else (f"TRUNC({inner})" if _is_real(info) else f"TO_DINT({inner})", _ATOM)
-            return f"TO_LREAL({inner})", _ATOM
-        if library and name == "adr":
-            return f"ADR({self.address_operand(node)})", _ATOM
-        if library and name == "sizeof":
-            if len(args) == 2:
-                return f"SIZEOF({self.member_text(args[0], args[1])})", _ATOM
-            return f"SIZEOF({self.expr(args[0])[0]})", _ATOM
-        if library and name == "is_valid_ref":
-            holder, field = self.operator_args(node, 2)
-            return f"__ISVALIDREF({self.member_text(holder, field)})", _ATOM
-        if library and name == "test_and_set":
-            (flag,) = self.operator_args(node, 1)
-            if isinstance(flag, ast.Call) and self.resolves_to(flag.func, "adr"):
-                return f"TestAndSet({self.address_operand(flag)})", _ATOM
-            return f"TestAndSet({self.expr(flag)[0]}^)", _ATOM
-        if library and name == "now_ms":
-            return "TIME()", _ATOM
-        if library and name == "MOD" and len(args) == 2:
-            return f"{self.expr(args[0], _MUL)[0]} MOD {self.expr(args[1], _MUL + 1)[0]}", _MUL
-        if library and name in _OPERATORS:
-            return f"{_OPERATORS[name]}({self.arguments(node)})", _ATOM
-        if library and callable(value) and name.isupper() or library and callable(value) and name[:1].isupper() and "_TO_" in name:
+        library = _from_iecoop(value)
+        if name == "T" and value is T or name == "D" and value is D or name == "LTIME" and library:
+            return self.time_literal(node, name), _ATOM
+        # A builtin only while no module name hides it; iecoop's operators only when they are iecoop's.
+        rules = _BUILTIN_CALLS if value is None else _LIBRARY_CALLS if library else {}
+        rule = rules.get(name)
+        found = rule(self, node) if rule is not None else None
+        if found is not None:
+            return found
+        if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
-        if name == "len" and value is None and len(args) == 1 and isinstance(self.typeof(args[0]), StringInfo):
-            return f"LEN({self.expr(args[0])[0]})", _ATOM
         if self.function_signature(value) is not None:
             known = self.scope.functions.get(name, value)
             if known is not value:
@@ -786,6 +751,18 @@ class BodyWriter:
             self.scope.functions[name] = value
             return f"{ident(name)}({self.arguments(node)})", _ATOM
         self.fail(node, f"a call of {name}()")
+
+    def time_literal(self, node: ast.Call, name: str) -> str:
+        """``T("2s")`` / ``LTIME("1ms")`` / ``D("2024-01-31")``: the typed ST literal."""
+        args = node.args
+        if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
+            self.fail(node, f"{name}() of a value that is not a string literal")
+        text = args[0].value
+        if name == "T":
+            return format_time(T(text)).upper()
+        if name == "D":
+            return format_date(D(text))
+        return format_ltime(parse_ltime(text)).upper()
 
     def function_signature(self, value: Any) -> tuple[list[tuple[str, TypeInfo, Any]], TypeInfo | None] | None:
         """Inputs and result of a module function that can be an ST FUNCTION, or None."""
@@ -823,77 +800,50 @@ class BodyWriter:
         return info
 
     def _typeof(self, node: ast.expr | None) -> TypeInfo | None:
-        if node is None:
-            return None
-        if isinstance(node, ast.Constant):
-            value = node.value
-            if isinstance(value, bool):
-                return _BOOL
-            if isinstance(value, int):
-                return _DINT
-            if isinstance(value, float):
-                return _LREAL
-            if isinstance(value, str):
-                return _STRING
-            return None
-        if isinstance(node, ast.Name):
-            if node.id in self.locals or node.id in self.params:
-                return self._local_info(node.id)
-            if node.id in self.rename:
-                return self.params.get(node.id)
-            if node.id in ("True", "False"):
-                return _BOOL
-            value = self.globals.get(node.id)
-            if isinstance(value, bool):
-                return _BOOL
-            if isinstance(value, int) and not isinstance(value, enum.Enum):
-                return _DINT
-            if isinstance(value, float):
-                return _LREAL
-            return None
-        if isinstance(node, ast.Attribute):
-            base = node.value
-            if isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
-                return self.member_type(self.scope.cls, node.attr, self.fields)
-            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-                return self.member_type(self.scope.cls, node.attr, self.fields)
-            owner = self.constant_object(base)
-            if isinstance(owner, type) and issubclass(owner, enum.Enum):
-                return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
-            inner = self._typeof(base)
-            if node.attr == "deref" and isinstance(inner, PointerInfo):
-                return inner.target
-            if isinstance(inner, ReferenceInfo):
-                inner = inner.target
-            cls = _class_of(inner)
-            if cls is not None:
-                return self.member_type(cls, node.attr, _fields_of(cls))
-            return None
-        if isinstance(node, ast.Subscript):
-            inner = self._typeof(node.value)
-            if isinstance(inner, ReferenceInfo):
-                inner = inner.target
-            if isinstance(inner, ArrayInfo):
-                return inner.elem
-            return None
-        if isinstance(node, ast.Call):
-            return self.call_type(node)
-        if isinstance(node, ast.BinOp):
-            left, right = self._typeof(node.left), self._typeof(node.right)
-            if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
-                return _LREAL
-            if _is_real(left):
-                return left
-            if _is_real(right):
-                return right
-            return left or right
-        if isinstance(node, (ast.Compare, ast.BoolOp)):
+        rule = _TYPE_RULES.get(type(node))
+        return rule(self, node) if rule is not None else None
+
+    def name_type(self, node: ast.Name) -> TypeInfo | None:
+        if node.id in self.locals or node.id in self.params:
+            return self._local_info(node.id)
+        if node.id in self.rename:
+            return self.params.get(node.id)
+        if node.id in ("True", "False"):
             return _BOOL
-        if isinstance(node, ast.UnaryOp):
-            return _BOOL if isinstance(node.op, ast.Not) else self._typeof(node.operand)
-        if isinstance(node, ast.IfExp):
-            return self._typeof(node.body) or self._typeof(node.orelse)
-        return None
+        return _constant_type(self.globals.get(node.id))
+
+    def attribute_type(self, node: ast.Attribute) -> TypeInfo | None:
+        base = node.value
+        if _is_name(base, "self") and "self" not in self.locals or isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            return self.member_type(self.scope.cls, node.attr, self.fields)
+        owner = self.constant_object(base)
+        if isinstance(owner, type) and issubclass(owner, enum.Enum):
+            return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
+        inner = self._typeof(base)
+        if node.attr == "deref" and isinstance(inner, PointerInfo):
+            return inner.target
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        if isinstance(base, ast.Call) and _is_task_info(self, base):
+            return _TASK_INFO.get(node.attr)
+        cls = _class_of(inner)
+        return self.member_type(cls, node.attr, _fields_of(cls)) if cls is not None else None
+
+    def subscript_type(self, node: ast.Subscript) -> TypeInfo | None:
+        inner = self._typeof(node.value)
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        return inner.elem if isinstance(inner, ArrayInfo) else None
+
+    def binop_type(self, node: ast.BinOp) -> TypeInfo | None:
+        left, right = self._typeof(node.left), self._typeof(node.right)
+        if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
+            return _LREAL
+        if _is_real(left):
+            return left
+        if _is_real(right):
+            return right
+        return left or right
 
     def member_type(self, cls: Any, name: str, fields: dict[str, TypeInfo]) -> TypeInfo | None:
         if name in fields:
@@ -910,66 +860,38 @@ class BodyWriter:
     def call_type(self, node: ast.Call) -> TypeInfo | None:
         func = node.func
         if isinstance(func, ast.Name) and func.id not in self.locals:
-            name = func.id
-            value = self.globals.get(name)
-            if name == "T":
-                return _TIME
-            if name == "LTIME":
-                return _LTIME
-            if name in _BUILTINS and node.args:
-                return self._typeof(node.args[0])
-            if name == "float":
-                return _LREAL
-            if name == "int":
-                return _DINT
-            if name in ("bool", "is_valid_ref", "test_and_set"):
-                return _BOOL
-            if name == "now_ms":
-                return _TIME
-            if name == "new" and node.args:
-                cls = self.constant_object(node.args[0])
-                info = class_info(cls) if isinstance(cls, type) else None
-                return PointerInfo(lambda: info, type_text(info)) if info is not None else None
-            if name == "adr" and node.args:
-                target = self._typeof(node.args[0]) if len(node.args) == 1 else None
-                return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
-            if name == "len":
-                return _DINT
-            signature = self.function_signature(value)
-            if signature is not None:
-                return signature[1]
-            if callable(value) and (getattr(value, "__module__", "") or "").startswith("iecoop"):
-                hints = typing.get_type_hints(value) if not isinstance(value, type) else {}
-                ret = hints.get("return")
-                if ret is int:
-                    suffix = name.rsplit("TO_", 1)[-1] if "TO_" in name else "DINT"
-                    try:
-                        from iecoop import types as iec_types
-
-                        return resolve_type(getattr(iec_types, suffix), suffix)
-                    except Exception:
-                        return _DINT
-                if ret is float:
-                    return _LREAL
-                if ret is bool:
-                    return _BOOL
-            return None
+            return self.named_call_type(node, func.id)
         if isinstance(func, ast.Attribute):
-            base = func.value
-            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-                cls = self.scope.cls.__mro__[1]
-            elif isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
-                cls = self.scope.cls
-            else:
-                cls = _class_of(self._typeof(base))
-            if cls is None:
-                return None
-            found = _member_function(cls, func.attr)
-            if found is None or found[0] is None:
-                return None
-            function, owner = found
-            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+            return self.method_call_type(func)
         return None
+
+    def named_call_type(self, node: ast.Call, name: str) -> TypeInfo | None:
+        if name in _CALL_TYPES:
+            return _CALL_TYPES[name]
+        rule = _CALL_TYPE_RULES.get(name)
+        if rule is not None:
+            return rule(self, node)
+        value = self.globals.get(name)
+        signature = self.function_signature(value)
+        if signature is not None:
+            return signature[1]
+        return _library_result(name, value)
+
+    def method_call_type(self, func: ast.Attribute) -> TypeInfo | None:
+        base = func.value
+        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            cls = self.scope.cls.__mro__[1]
+        elif _is_name(base, "self") and "self" not in self.locals:
+            cls = self.scope.cls
+        else:
+            cls = _class_of(self._typeof(base))
+        if cls is None:
+            return None
+        found = _member_function(cls, func.attr)
+        if found is None or found[0] is None:
+            return None
+        function, owner = found
+        return return_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 def _constant_int(node: ast.expr) -> int | None:
@@ -1007,3 +929,236 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
             yield node
+
+
+def _from_iecoop(value: Any) -> bool:
+    module = getattr(value, "__module__", "") or ""
+    return module == "iecoop" or module.startswith("iecoop.")
+
+
+# ---------------------------------------------------------------------------
+# Calls of names: one rule per Python builtin and per iecoop operator
+# ---------------------------------------------------------------------------
+
+_CallRule = Callable[[BodyWriter, ast.Call], "tuple[str, int] | None"]
+
+
+def _one_argument(node: ast.Call) -> ast.expr | None:
+    return node.args[0] if len(node.args) == 1 and not node.keywords else None
+
+
+def _call_min_max_abs(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"{_BUILTINS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+
+
+def _call_bool(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        return None
+    if _is_bool(w.typeof(arg)):
+        return w.expr(arg)[0], _ATOM
+    return f"{w.expr(arg, _EQ + 1)[0]} <> 0", _EQ
+
+
+def _call_int(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        return None
+    info, inner = w.typeof(arg), w.expr(arg)[0]
+    if _is_integer(info):
+        return inner, _ATOM
+    # int() of a float truncates towards zero, as TRUNC does.
+    return (f"TRUNC({inner})" if _is_real(info) else f"TO_DINT({inner})"), _ATOM
+
+
+def _call_float(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    return (f"TO_LREAL({w.expr(arg)[0]})", _ATOM) if arg is not None else None
+
+
+def _call_len(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None or not isinstance(w.typeof(arg), StringInfo):
+        return None
+    return f"LEN({w.expr(arg)[0]})", _ATOM
+
+
+def _call_round(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        w.fail(node, "round() with a number of digits (ST rounds only to an integer: LREAL_TO_DINT(x))")
+    info = w.typeof(arg)
+    if _is_integer(info):
+        return w.expr(arg)
+    if not _is_real(info):
+        return None
+    # Python rounds half to even; so does iecoop's REAL_TO_DINT in both vendor profiles (x64 SSE rounding).
+    return f"{typing.cast(ElementaryInfo, info).record.name}_TO_DINT({w.expr(arg)[0]})", _ATOM
+
+
+def _call_adr(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"ADR({w.address_operand(node)})", _ATOM
+
+
+def _call_sizeof(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    args = node.args
+    if len(args) == 2:
+        return f"SIZEOF({w.member_text(args[0], args[1])})", _ATOM
+    return f"SIZEOF({w.expr(args[0])[0]})", _ATOM
+
+
+def _call_is_valid_ref(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    holder, field = w.operator_args(node, 2)
+    return f"__ISVALIDREF({w.member_text(holder, field)})", _ATOM
+
+
+def _call_test_and_set(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    (flag,) = w.operator_args(node, 1)
+    if isinstance(flag, ast.Call) and w.resolves_to(flag.func, "adr"):
+        return f"TestAndSet({w.address_operand(flag)})", _ATOM
+    return f"TestAndSet({w.expr(flag)[0]}^)", _ATOM
+
+
+def _call_mod(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    if len(node.args) != 2:
+        return None
+    return f"{w.expr(node.args[0], _MUL)[0]} MOD {w.expr(node.args[1], _MUL + 1)[0]}", _MUL
+
+
+def _call_operator(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"{_OPERATORS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+
+
+def _call_current_task(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    # TwinCAT's task information array (Tc2_System); CODESYS has no such array.
+    return "_TaskInfo[GETCURTASKINDEXEX()]", _ATOM
+
+
+#: Python builtins (while no module name hides them) and their ST form.
+_BUILTIN_CALLS: dict[str, _CallRule] = {
+    "min": _call_min_max_abs, "max": _call_min_max_abs, "abs": _call_min_max_abs,
+    "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len, "round": _call_round,
+}
+#: iecoop's operators (only when the name is iecoop's) and their ST form.
+_LIBRARY_CALLS: dict[str, _CallRule] = {
+    **{name: _call_operator for name in _OPERATORS},
+    "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
+    "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
+}
+
+
+# ---------------------------------------------------------------------------
+# Types of expressions: one rule per kind of node
+# ---------------------------------------------------------------------------
+
+
+def _constant_type(value: Any) -> TypeInfo | None:
+    """The type of a Python constant (a literal, or a module constant's value)."""
+    if isinstance(value, bool):
+        return _BOOL
+    if isinstance(value, enum.Enum):
+        return None
+    if isinstance(value, int):
+        return _DINT
+    if isinstance(value, float):
+        return _LREAL
+    if isinstance(value, str):
+        return _STRING
+    return None
+
+
+def _literal_type(w: BodyWriter, node: ast.Constant) -> TypeInfo | None:
+    return _constant_type(node.value)
+
+
+def _unary_type(w: BodyWriter, node: ast.UnaryOp) -> TypeInfo | None:
+    return _BOOL if isinstance(node.op, ast.Not) else w._typeof(node.operand)
+
+
+def _ifexp_type(w: BodyWriter, node: ast.IfExp) -> TypeInfo | None:
+    return w._typeof(node.body) or w._typeof(node.orelse)
+
+
+_TYPE_RULES: dict[type, Callable[[BodyWriter, Any], TypeInfo | None]] = {
+    ast.Constant: _literal_type,
+    ast.Name: BodyWriter.name_type,
+    ast.Attribute: BodyWriter.attribute_type,
+    ast.Subscript: BodyWriter.subscript_type,
+    ast.Call: BodyWriter.call_type,
+    ast.BinOp: BodyWriter.binop_type,
+    ast.Compare: lambda w, node: _BOOL,
+    ast.BoolOp: lambda w, node: _BOOL,
+    ast.UnaryOp: _unary_type,
+    ast.IfExp: _ifexp_type,
+    ast.JoinedStr: lambda w, node: _STRING,
+}
+
+
+def _first_argument_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    return w._typeof(node.args[0]) if node.args else None
+
+
+def _round_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    info = _first_argument_type(w, node)
+    return info if _is_integer(info) else _DINT
+
+
+def _new_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    cls = w.constant_object(node.args[0]) if node.args else None
+    info = class_info(cls) if isinstance(cls, type) else None
+    return PointerInfo(lambda: info, type_text(info)) if info is not None else None
+
+
+def _adr_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    if not node.args:
+        return None
+    target = w._typeof(node.args[0]) if len(node.args) == 1 else None
+    return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
+
+
+#: Result types of calls of names that do not depend on the arguments.
+_CALL_TYPES: dict[str, TypeInfo] = {
+    "T": _TIME, "LTIME": _LTIME, "float": _LREAL, "int": _DINT, "bool": _BOOL, "is_valid_ref": _BOOL,
+    "test_and_set": _BOOL, "now_ms": _TIME, "len": _DINT,
+}
+#: Result types of calls of names that depend on the arguments.
+_CALL_TYPE_RULES: dict[str, Callable[[BodyWriter, ast.Call], TypeInfo | None]] = {
+    "min": _first_argument_type, "max": _first_argument_type, "abs": _first_argument_type,
+    "round": _round_type, "new": _new_type, "adr": _adr_type,
+}
+
+
+def _library_result(name: str, value: Any) -> TypeInfo | None:
+    """The result type of one of iecoop's IEC functions, from its annotation and its ST name."""
+    if not (callable(value) and _from_iecoop(value)) or isinstance(value, type):
+        return None
+    ret = typing.get_type_hints(value).get("return")
+    if ret is int:
+        suffix = name.rsplit("TO_", 1)[-1] if "TO_" in name else "DINT"
+        try:
+            from iecoop import types as iec_types
+
+            return resolve_type(getattr(iec_types, suffix), suffix)
+        except Exception:
+            return _DINT
+    results: dict[Any, TypeInfo] = {float: _LREAL, bool: _BOOL, str: _STRING}
+    return results.get(ret)
+
+
+def _is_task_info(w: BodyWriter, node: ast.Call) -> bool:
+    return w.resolves_to(node.func, "current_task") and _from_iecoop(w.globals.get("current_task"))
+
+
+def _task_info_types() -> dict[str, TypeInfo]:
+    from iecoop.types import BOOL as B, STRING as S, UDINT, UINT
+
+    udint, uint = resolve_type(UDINT, "UDINT"), resolve_type(UINT, "UINT")
+    return {
+        "CycleTime": udint, "CycleCount": udint, "LastExecTime": udint, "Priority": uint,
+        "FirstCycle": resolve_type(B, "BOOL"), "CycleTimeExceeded": resolve_type(B, "BOOL"),
+        "TaskName": resolve_type(S, "STRING"),
+    }
+
+
+#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has, and their ST types.
+_TASK_INFO = _task_info_types()
