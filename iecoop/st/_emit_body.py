@@ -125,13 +125,18 @@ def literal(value: Any, info: TypeInfo | None = None) -> str:
 class Scope:
     """What a body's names mean: the class's variables and members, and module constants."""
 
-    def __init__(self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any]) -> None:
+    def __init__(
+        self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any],
+        named_enums: set[Any] | None = None,
+    ) -> None:
         self.cls = cls
         self.fields = fields
         #: Module constants the bodies use, by name (emitted as a VAR_GLOBAL CONSTANT list).
         self.constants = constants
         #: Module functions the bodies call, by name (emitted as FUNCTIONs).
         self.functions = functions
+        #: Enumerations whose component names the bodies read (declared with {attribute 'to_string'}).
+        self.named_enums: set[Any] = set() if named_enums is None else named_enums
 
 
 def _fields_of(cls: Any) -> dict[str, TypeInfo]:
@@ -540,7 +545,39 @@ class BodyWriter:
         if isinstance(node, ast.IfExp):
             cond = self.condition(node.test)
             return f"SEL({cond}, {self.expr(node.orelse)[0]}, {self.expr(node.body)[0]})", _ATOM
+        if isinstance(node, ast.JoinedStr):
+            return self.fstring(node), _ATOM
         self.fail(node, _describe(node))
+
+    def fstring(self, node: ast.JoinedStr) -> str:
+        """An f-string as nested CONCATs: TwinCAT's and CODESYS's CONCAT take two strings."""
+        pieces = [
+            literal(part.value) if isinstance(part, ast.Constant) else self.string_piece(typing.cast(ast.FormattedValue, part))
+            for part in node.values
+            if not (isinstance(part, ast.Constant) and part.value == "")
+        ]
+        text = pieces[0] if pieces else "''"
+        for piece in pieces[1:]:
+            text = f"CONCAT({text}, {piece})"
+        return text
+
+    def string_piece(self, node: ast.FormattedValue) -> str:
+        """One ``{value}`` of an f-string: only where ST writes the text Python writes."""
+        if node.conversion != -1:
+            self.fail(node, f"the f-string conversion !{chr(node.conversion)} (write the value itself)")
+        if node.format_spec is not None:
+            spec = "".join(str(getattr(p, "value", "{...}")) for p in typing.cast(ast.JoinedStr, node.format_spec).values)
+            self.fail(node, f"the f-string format :{spec} (ST has no format specifiers: {_REAL_IN_TEXT})")
+        info = self.typeof(node.value)
+        text = self.expr(node.value)[0]
+        if isinstance(info, StringInfo) and info.record.name == "STRING":
+            return text
+        name = getattr(getattr(info, "record", None), "name", None)
+        if name in _INTEGER_NAMES:
+            return f"{name}_TO_STRING({text})"
+        if name == "BOOL":
+            return f"SEL({text}, 'False', 'True')"  # Python writes True / False, BOOL_TO_STRING TRUE / FALSE
+        self.fail(node, _piece_refusal(info))
 
     def condition_operand(self, node: ast.expr, prec: int) -> str:
         info = self.typeof(node)
@@ -644,6 +681,10 @@ class BodyWriter:
             self.fail(node, f"the attribute {ast.unparse(node)}")
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
             return f"SUPER^.{attr}"
+        if attr == "name" and isinstance(self.typeof(base), EnumInfo):
+            # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
+            self.scope.named_enums.add(typing.cast(EnumInfo, self.typeof(base)).enum_cls)
+            return f"TO_STRING({self.expr(base)[0]})"
         if isinstance(base, ast.Call):
             # TwinCAT reads a member of a returned REFERENCE, but the grammar blark parses does not.
             self.fail(node, "a member of a call's result")
@@ -824,6 +865,8 @@ class BodyWriter:
             return inner.target
         if isinstance(inner, ReferenceInfo):
             inner = inner.target
+        if node.attr == "name" and isinstance(inner, EnumInfo):
+            return _STRING
         if isinstance(base, ast.Call) and _is_task_info(self, base):
             return _TASK_INFO.get(node.attr)
         cls = _class_of(inner)
@@ -929,6 +972,25 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
             yield node
+
+
+#: Types whose *_TO_STRING text is the one Python's f-string gives (decimal digits, a minus sign).
+_INTEGER_NAMES = frozenset("SINT INT DINT LINT USINT UINT UDINT ULINT BYTE WORD DWORD LWORD".split())
+_REAL_IN_TEXT = "round to an integer and write CONCAT(...) with DINT_TO_STRING(...), or LREAL_TO_STRING(...), whose text differs from Python's"
+
+
+def _piece_refusal(info: TypeInfo | None) -> str:
+    """What an f-string value is that ST would write differently, and what to write instead."""
+    if _is_real(info):
+        return f"a REAL value in an f-string (Python writes repr(): {_REAL_IN_TEXT})"
+    kind = getattr(getattr(info, "record", None), "kind", None)
+    if kind in ("time", "date"):
+        return "a TIME or DATE value in an f-string (Python writes the number, TIME_TO_STRING writes T#...: write CONCAT(...) with TIME_TO_DINT(...) or TIME_TO_STRING(...))"
+    if isinstance(info, EnumInfo):
+        return "an enumeration value in an f-string (Python writes its number: write {x.name} for its name, or its base type's *_TO_STRING)"
+    if isinstance(info, StringInfo):
+        return "a WSTRING in an f-string (write CONCAT(...) with WSTRING_TO_STRING(...))"
+    return "a value of unknown type in an f-string (give it an IEC type annotation)"
 
 
 def _from_iecoop(value: Any) -> bool:

@@ -365,6 +365,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
     """Every object to export, with a GVL of the module constants the bodies use, and what was not translated."""
     constants: dict[str, Any] = {}
     functions: dict[str, Any] = {}
+    named_enums: set[Any] = set()
     untranslated: list[str] = []
     found: list[Unit] = []
     for meta in metas:
@@ -375,16 +376,19 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         else:
             from iecoop.st._emit_body import _fields_of
 
-            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions)
+            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions, named_enums)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
     done: set[str] = set()
     while set(functions) - done:
         for fname in sorted(set(functions) - done):
             done.add(fname)
-            scope = Scope(None, {}, constants, functions)
+            scope = Scope(None, {}, constants, functions, named_enums)
             unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
             index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
             found.insert(index, unit)
+    for unit in found:
+        if unit.kind == "enum" and unit.meta is not None and unit.meta.cls in named_enums:
+            unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
     if constants:
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
