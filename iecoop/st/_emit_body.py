@@ -213,6 +213,10 @@ class BodyWriter:
         self.first_line = func.__code__.co_firstlineno
         #: Statements that became comments (lenient mode): (line, construct).
         self.untranslated: list[tuple[int, str]] = []
+        #: Statements the next emitted line needs first: a call's result kept in a temporary.
+        self.prelude: list[str] = []
+        #: Temporaries of the statement being translated, by the id of the call they hold.
+        self.hoisted: dict[int, str] = {}
 
     # -- entry point ---------------------------------------------------------
 
@@ -255,11 +259,12 @@ class BodyWriter:
             last = top and i == len(body) - 1
             mark = len(self.lines)
             saved = (dict(self.locals), set(self.references))
+            self.hoisted = {}
             try:
                 self.statement(stmt, depth, last)
             except _Untranslated as exc:
                 del self.lines[mark:]
-                self.locals, self.references = saved
+                self.locals, self.references, self.prelude = saved[0], saved[1], []
                 line = self.first_line + getattr(exc.node, "lineno", 1) - 1
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
@@ -272,7 +277,16 @@ class BodyWriter:
                 self.emit(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
 
     def emit(self, depth: int, text: str) -> None:
+        pending, self.prelude = self.prelude, []
+        for line in pending:
+            self.lines.append("    " * depth + line)
         self.lines.append("    " * depth + text)
+
+    def once(self, node: ast.AST, text: str) -> str:
+        """A condition evaluated again and again (WHILE, ELSIF): it cannot use a temporary set before."""
+        if self.prelude:
+            self.fail(node, "a member of a call's result in a while or elif condition (assign the result to a local first)")
+        return text
 
     def statement(self, node: ast.stmt, depth: int, last: bool) -> None:
         if isinstance(node, ast.Pass) or (isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)):
@@ -287,7 +301,8 @@ class BodyWriter:
             info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
             if info is None:
                 self.fail(node, "a local annotated None")
-            self.declare(node.target.id, info, node)
+            if not (isinstance(info, AggregateInfo) and node.value is not None and not isinstance(node.value, ast.Call)):
+                self.declare(node.target.id, info, node)
             if node.value is not None:
                 self.assign_one(node.target, node.value, depth, node)
         elif isinstance(node, ast.AugAssign):
@@ -304,7 +319,7 @@ class BodyWriter:
         elif isinstance(node, ast.While):
             if node.orelse:
                 self.fail(node, "while ... else")
-            self.emit(depth, f"WHILE {self.condition(node.test)} DO")
+            self.emit(depth, f"WHILE {self.once(node, self.condition(node.test))} DO")
             self.block(node.body, depth + 1)
             self.emit(depth, "END_WHILE")
         elif isinstance(node, ast.Break):
@@ -315,6 +330,10 @@ class BodyWriter:
             self.return_statement(node, depth, last)
         elif isinstance(node, ast.With):
             self.with_statement(node, depth)
+        elif isinstance(node, ast.Try):
+            self.try_statement(node, depth)
+        elif isinstance(node, ast.Match):
+            self.match_statement(node, depth)
         else:
             self.fail(node, _describe(node))
 
@@ -333,7 +352,7 @@ class BodyWriter:
         orelse = node.orelse
         while len(orelse) == 1 and isinstance(orelse[0], ast.If):
             branch = orelse[0]
-            self.emit(depth, f"ELSIF {self.condition(branch.test)} THEN")
+            self.emit(depth, f"ELSIF {self.once(branch, self.condition(branch.test))} THEN")
             self.block(branch.body, depth + 1)
             orelse = branch.orelse
         if orelse:
@@ -345,8 +364,109 @@ class BodyWriter:
         if node.orelse:
             self.fail(node, "for ... else")
         it = node.iter
+        enumerated = isinstance(it, ast.Call) and _is_name(it.func, "enumerate") and "enumerate" not in self.globals
+        sequence = typing.cast(ast.Call, it).args[0] if enumerated and typing.cast(ast.Call, it).args else it
+        if isinstance(sequence, (ast.Tuple, ast.List)):
+            self.unrolled_loop(node, depth)
+            return
+        if isinstance(self.typeof(sequence), ArrayInfo):
+            self.array_loop(node, depth)
+            return
         if not (isinstance(node.target, ast.Name) and isinstance(it, ast.Call) and _is_name(it.func, "range") and not it.keywords):
-            self.fail(node, "a for loop over something other than range()")
+            self.fail(node, "a for loop over something other than range(), an ARRAY or a tuple")
+        self.range_loop(node, it, depth)
+
+    def loop_targets(self, node: ast.For, width: int) -> tuple[ast.Name | None, list[str]]:
+        """(the enumerate() counter or None, the names bound to each element) of a for loop."""
+        target = node.target
+        enumerated = isinstance(node.iter, ast.Call) and _is_name(node.iter.func, "enumerate")
+        counter: ast.Name | None = None
+        if enumerated:
+            if not (isinstance(target, ast.Tuple) and len(target.elts) == 2 and isinstance(target.elts[0], ast.Name)):
+                self.fail(node, "enumerate() without a (counter, element) target")
+            counter, target = target.elts[0], target.elts[1]
+        names = target.elts if isinstance(target, ast.Tuple) else [target]
+        if not all(isinstance(n, ast.Name) for n in names) or width != len(names) and width != 0:
+            self.fail(node, "a for loop target that is not one name per element")
+        return counter, [typing.cast(ast.Name, n).id for n in names]
+
+    def enumerate_start(self, node: ast.For) -> int:
+        it = node.iter
+        if not (isinstance(it, ast.Call) and _is_name(it.func, "enumerate")):
+            return 0
+        if it.keywords or len(it.args) not in (1, 2):
+            self.fail(node, "enumerate() with these arguments")
+        start = _constant_int(it.args[1]) if len(it.args) == 2 else 0
+        if start is None:
+            self.fail(node, "an enumerate() start that is not a constant integer")
+        return start
+
+    def unrolled_loop(self, node: ast.For, depth: int) -> None:
+        """A loop over a literal tuple: the body once per element, each name standing for its element."""
+        it = node.iter
+        items = typing.cast(ast.Tuple, it.args[0] if isinstance(it, ast.Call) else it).elts
+        rows = [list(e.elts) if isinstance(e, ast.Tuple) else [e] for e in items]
+        counter, names = self.loop_targets(node, len(rows[0]) if rows and len(rows[0]) > 1 else 1)
+        start = self.enumerate_start(node)
+        bound = [*names, *([counter.id] if counter is not None else [])]
+        if _escapes(node.body) or any(isinstance(n, ast.Name) and n.id in bound and isinstance(n.ctx, ast.Store) for b in node.body for n in ast.walk(b)):
+            self.fail(node, "a loop over a tuple whose body breaks, continues or assigns the loop names (write the statements once per element)")
+        saved = dict(self.rename), dict(self.params)
+        try:
+            for i, row in enumerate(rows):
+                if len(row) != len(names):
+                    self.fail(node, "a for loop over tuples of different lengths")
+                values = [*row, *([ast.Constant(start + i)] if counter is not None else [])]
+                for name, value in zip(bound, values):
+                    text, prec = self.expr(value)
+                    if prec != _ATOM:
+                        self.fail(node, "a loop over a tuple of expressions (name each element)")
+                    self.rename[name] = text
+                    self.params[name] = self.typeof(value)  # type: ignore[assignment]
+                self.block(node.body, depth)
+        finally:
+            self.rename, self.params = saved
+
+    def array_loop(self, node: ast.For, depth: int) -> None:
+        """A loop over a one-dimensional ARRAY: FOR over its declared bounds, the name bound to each element."""
+        it = node.iter
+        array = it.args[0] if isinstance(it, ast.Call) else it
+        info = typing.cast(ArrayInfo, self.typeof(array))
+        if len(info.bounds) != 1:
+            self.fail(node, "a for loop over an ARRAY of several dimensions")
+        (low, high), elem = info.bounds[0], info.elem
+        counter, (name,) = self.loop_targets(node, 1)
+        start = self.enumerate_start(node)
+        aggregate = isinstance(elem, AggregateInfo)
+        if aggregate and any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for b in node.body for n in ast.walk(b)):
+            self.fail(node, "a loop over an ARRAY of blocks or structs whose body assigns the loop name")
+        if counter is not None and start == low:
+            index = counter.id
+        else:
+            index = next(f"{name}_index{n or ''}" for n in range(100) if f"{name}_index{n or ''}" not in {*self.locals, *self.params, *self.fields})
+        if index not in self.locals and index not in self.params:
+            self.declare(index, _DINT, node)
+        self.emit(depth, f"FOR {self.name_text(index)} := {low} TO {high} DO")
+        if counter is not None and index != counter.id:
+            if counter.id not in self.locals and counter.id not in self.params:
+                self.declare(counter.id, _DINT, node)
+            offset = start - low
+            self.emit(depth + 1, f"{self.name_text(counter.id)} := {self.name_text(index)} {'+' if offset >= 0 else '-'} {abs(offset)};")
+        element = f"{self.expr(array, _ATOM)[0]}[{self.name_text(index)}]"
+        if aggregate:
+            # Python binds the name to the element itself: in ST that is a reference to it.
+            if name not in self.references:
+                self.references.add(name)
+                self.declare(name, f"REFERENCE TO {type_text(elem)}", node)
+            self.emit(depth + 1, f"{self.name_text(name)} REF= {element};")
+        else:
+            if name not in self.locals and name not in self.params:
+                self.declare(name, elem, node)
+            self.emit(depth + 1, f"{self.name_text(name)} := {element};")
+        self.block(node.body, depth + 1)
+        self.emit(depth, "END_FOR")
+
+    def range_loop(self, node: ast.For, it: ast.Call, depth: int) -> None:
         args = it.args
         if not 1 <= len(args) <= 3:
             self.fail(node, "range() with no argument")
@@ -358,7 +478,7 @@ class BodyWriter:
             if value is None or value == 0:
                 self.fail(node, "a range() step that is not a constant integer")
             step = value
-        name = node.target.id
+        name = typing.cast(ast.Name, node.target).id
         if name not in self.locals and name not in self.params:
             self.declare(name, _DINT, node)
         end = self.end_bound(stop, -1 if step > 0 else 1)
@@ -401,6 +521,61 @@ class BodyWriter:
             self.emit(depth, "__CATCH")
         self.emit(depth, "__ENDTRY")
 
+    def try_statement(self, node: ast.Try, depth: int) -> None:
+        """``try`` / ``except`` (/ ``finally``) where it means what __TRY / __CATCH (/ __FINALLY) mean."""
+        if not node.handlers:
+            # The vendors' __TRY ... __FINALLY ... __ENDTRY goes on after __ENDTRY; Python's finally re-raises.
+            self.fail(node, "try / finally without except (ST goes on after __FINALLY where Python passes the exception on: "
+                      "put the clean-up after the statements, or use with try_catch() and act on exc.code)")
+        if len(node.handlers) > 1 or node.orelse:
+            self.fail(node, "try with several except clauses or an else (write one except clause)")
+        handler = node.handlers[0]
+        if not self.catches_all_faults(handler.type):
+            self.fail(handler, "an except clause other than except (PlcException, ZeroDivisionError) or except Exception "
+                      "(__CATCH catches every runtime fault, a division by zero too)")
+        self.emit(depth, "__TRY")
+        self.block(node.body, depth + 1)
+        if handler.name is not None:
+            self.catch_vars.add(handler.name)
+            self.declare(handler.name, "__SYSTEM.ExceptionCode", node)
+            self.emit(depth, f"__CATCH({handler.name})")
+        else:
+            name = next(f"exc{n or ''}" for n in range(100) if f"exc{n or ''}" not in {*self.locals, *self.params, *self.fields})
+            self.declare(name, "__SYSTEM.ExceptionCode", node)
+            self.emit(depth, f"__CATCH({name})")
+        self.block(handler.body, depth + 1)
+        if node.finalbody:
+            self.emit(depth, "__FINALLY")
+            self.block(node.finalbody, depth + 1)
+        self.emit(depth, "__ENDTRY")
+
+    def catches_all_faults(self, node: ast.expr | None) -> bool:
+        """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch."""
+        names = node.elts if isinstance(node, ast.Tuple) else [node] if node is not None else []
+        found = {self.constant_object(n) for n in names}
+        from iecoop.exceptions import PlcException
+
+        return Exception in found or BaseException in found or {PlcException, ZeroDivisionError} <= found
+
+    def match_statement(self, node: ast.Match, depth: int) -> None:
+        """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
+        self.emit(depth, f"CASE {self.expr(node.subject)[0]} OF")
+        for case in node.cases:
+            if case.guard is not None:
+                self.fail(case.guard, "a case with a guard (write an if inside the case)")
+            pattern = case.pattern
+            if isinstance(pattern, ast.MatchAs) and pattern.pattern is None and pattern.name is None:
+                self.emit(depth, "ELSE")
+                self.block(case.body, depth + 1)
+                continue
+            options = pattern.patterns if isinstance(pattern, ast.MatchOr) else [pattern]
+            if not all(isinstance(o, ast.MatchValue) for o in options):
+                self.fail(pattern, "a case pattern other than values, enumeration components and _")
+            labels = ", ".join(self.expr(typing.cast(ast.MatchValue, o).value)[0] for o in options)
+            self.emit(depth + 1, f"{labels}:")
+            self.block(case.body, depth + 2)
+        self.emit(depth, "END_CASE")
+
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
             self.fail(node, "an expression statement that is not a call")
@@ -421,14 +596,28 @@ class BodyWriter:
             if isinstance(target, ast.Tuple):
                 if not (isinstance(node.value, ast.Tuple) and len(node.value.elts) == len(target.elts)) or len(node.targets) != 1:
                     self.fail(node, "unpacking a value that is not a tuple of the same length")
-                names = [ast.unparse(t) for t in target.elts]
-                for i, (t, v) in enumerate(zip(target.elts, node.value.elts)):
-                    later = [ast.unparse(x) for x in node.value.elts[i + 1 :]]
-                    if any(names[i] in text for text in later):
-                        self.fail(node, "a tuple assignment whose later values read an earlier target")
-                    self.assign_one(t, v, depth, node)
+                self.tuple_assign(target.elts, node.value.elts, depth, node)
             else:
                 self.assign_one(target, node.value, depth, node)
+
+    def tuple_assign(self, targets: list[ast.expr], values: list[ast.expr], depth: int, node: ast.stmt) -> None:
+        """``a, b = x, y``: one assignment after another; a value that reads an earlier target is kept
+        in a temporary first, since Python evaluates every value before it assigns."""
+        names = [ast.unparse(t) for t in targets]
+        held: dict[int, str] = {}
+        for i, value in enumerate(values):
+            reads = {ast.unparse(n) for n in ast.walk(value) if isinstance(n, (ast.Name, ast.Attribute, ast.Subscript))}
+            if not any(r == n or r.startswith((n + ".", n + "[")) for n in names[:i] for r in reads):
+                continue
+            info = self.typeof(targets[i]) or self.typeof(value)
+            if info is None:
+                self.fail(node, "a tuple assignment whose later values read an earlier target of unknown type")
+            temp = next(f"{_stem(names[i])}_new{n or ''}" for n in range(100) if f"{_stem(names[i])}_new{n or ''}" not in {*self.locals, *self.params, *self.fields})
+            self.declare(temp, info, node)
+            self.emit(depth, f"{temp} := {self.expr(value)[0]};")
+            held[i] = temp
+        for i, (t, v) in enumerate(zip(targets, values)):
+            self.assign_one(t, ast.Name(held[i], ast.Load()) if i in held else v, depth, node)
 
     def assign_one(self, target: ast.expr, value: ast.expr, depth: int, node: ast.stmt) -> None:
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
@@ -686,9 +875,31 @@ class BodyWriter:
             self.scope.named_enums.add(typing.cast(EnumInfo, self.typeof(base)).enum_cls)
             return f"TO_STRING({self.expr(base)[0]})"
         if isinstance(base, ast.Call):
-            # TwinCAT reads a member of a returned REFERENCE, but the grammar blark parses does not.
-            self.fail(node, "a member of a call's result")
+            return self.call_member(node, base)
         return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
+
+    def call_member(self, node: ast.Attribute, call: ast.Call) -> str:
+        """``obj.get().x``: TwinCAT reads a member of a returned value, but blark's grammar does not,
+        so the result goes to a temporary first (a METHOD's STRUCT result is a copy there)."""
+        if _is_task_info(self, call):
+            return f"{self.expr(call, _ATOM)[0]}.{ident(node.attr)}"
+        info = self.typeof(call)
+        if isinstance(info, ReferenceInfo):
+            info = info.target
+        if not isinstance(info, (InterfaceInfo, AggregateInfo)):
+            self.fail(node, "a member of a call's result whose type is not an interface, block or struct")
+        if isinstance(node.ctx, ast.Store) and isinstance(info, AggregateInfo):
+            self.fail(node, "a write into a member of a call's result (the METHOD returns a copy in ST: return an interface, or bind a REFERENCE local)")
+        temp = self.hoisted.get(id(call))
+        if temp is None:
+            func = call.func
+            stem = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "call")
+            taken = {*self.locals, *self.params, *self.fields}
+            temp = next(f"{stem}_result{n or ''}" for n in range(1000) if f"{stem}_result{n or ''}" not in taken)
+            self.declare(temp, info, node)
+            self.prelude.append(f"{temp} := {self.call(call)[0]};")
+            self.hoisted[id(call)] = temp
+        return f"{temp}.{ident(node.attr)}"
 
     def constant_object(self, node: ast.expr | None) -> Any:
         """The module-level object a name or dotted name designates (an enum, an interface), or None."""
@@ -760,6 +971,9 @@ class BodyWriter:
         if isinstance(func, ast.Attribute) and func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
             # Pointer.typed(T): ST converts between POINTER types on assignment.
             return self.expr(func.value)
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and not _is_task_info(self, func.value):
+            # A method of a returned interface: TwinCAT and CODESYS chain the calls (fluent interfaces).
+            return f"{self.call(func.value)[0]}.{ident(func.attr)}({self.arguments(node)})", _ATOM
         callee = self.expr(func, _ATOM)[0]
         return f"{callee}({self.arguments(node)})", _ATOM
 
@@ -785,6 +999,9 @@ class BodyWriter:
         if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
+        if getattr(value, "_iec_kind_", None) == "enum" and _one_argument(node) is not None:
+            # Mode(n): an integer is a component's value in ST (a non-strict enumeration takes it as is).
+            return self.expr(node.args[0])
         if self.function_signature(value) is not None:
             known = self.scope.functions.get(name, value)
             if known is not value:
@@ -915,6 +1132,8 @@ class BodyWriter:
         if rule is not None:
             return rule(self, node)
         value = self.globals.get(name)
+        if isinstance(value, type) and getattr(value, "_iec_kind_", None) == "enum":
+            return class_info(value)
         signature = self.function_signature(value)
         if signature is not None:
             return signature[1]
@@ -944,6 +1163,23 @@ def _constant_int(node: ast.expr) -> int | None:
         inner = _constant_int(node.operand)
         return -inner if inner is not None else None
     return None
+
+
+def _stem(target: str) -> str:
+    """A name for a temporary from an assignment target's text (``self.a[i]`` gives ``a``)."""
+    return target.removeprefix("self.").split("[", 1)[0].replace(".", "_")
+
+
+def _escapes(body: list[ast.stmt]) -> bool:
+    """Whether a loop body breaks or continues its own loop (not one nested in it)."""
+    for stmt in body:
+        if isinstance(stmt, (ast.Break, ast.Continue)):
+            return True
+        if isinstance(stmt, (ast.For, ast.While)):
+            continue
+        if _escapes([c for c in ast.iter_child_nodes(stmt) if isinstance(c, ast.stmt)]):
+            return True
+    return False
 
 
 def _is_name(node: ast.AST | None, name: str) -> bool:
