@@ -11,6 +11,7 @@ it, becomes an ST comment that says the same.
 from __future__ import annotations
 
 import ast
+import builtins
 import enum
 import inspect
 import textwrap
@@ -215,8 +216,10 @@ class BodyWriter:
         self.untranslated: list[tuple[int, str]] = []
         #: Statements the next emitted line needs first: a call's result kept in a temporary.
         self.prelude: list[str] = []
-        #: Temporaries of the statement being translated, by the id of the call they hold.
+        #: Temporaries of the statement being translated, by the id of the expression they hold.
         self.hoisted: dict[int, str] = {}
+        #: Every local declared as a temporary (reused by later statements).
+        self.temps: set[str] = set()
 
     # -- entry point ---------------------------------------------------------
 
@@ -530,9 +533,9 @@ class BodyWriter:
         if len(node.handlers) > 1 or node.orelse:
             self.fail(node, "try with several except clauses or an else (write one except clause)")
         handler = node.handlers[0]
-        if not self.catches_all_faults(handler.type):
-            self.fail(handler, "an except clause other than except (PlcException, ZeroDivisionError) or except Exception "
-                      "(__CATCH catches every runtime fault, a division by zero too)")
+        if not self.catches_all_faults(handler.type, node.body):
+            self.fail(handler, "an except clause other than except PlcException, except (PlcException, ZeroDivisionError) "
+                      "or except Exception (__CATCH catches every runtime fault, a division by zero too)")
         self.emit(depth, "__TRY")
         self.block(node.body, depth + 1)
         if handler.name is not None:
@@ -549,13 +552,15 @@ class BodyWriter:
             self.block(node.finalbody, depth + 1)
         self.emit(depth, "__ENDTRY")
 
-    def catches_all_faults(self, node: ast.expr | None) -> bool:
-        """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch."""
+    def catches_all_faults(self, node: ast.expr | None, body: list[ast.stmt]) -> bool:
+        """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch: a
+        ZeroDivisionError too, unless the statements divide nothing themselves."""
         names = node.elts if isinstance(node, ast.Tuple) else [node] if node is not None else []
-        found = {self.constant_object(n) for n in names}
+        found = {self.constant_object(n) or getattr(builtins, getattr(n, "id", ""), None) for n in names}
         from iecoop.exceptions import PlcException
 
-        return Exception in found or BaseException in found or {PlcException, ZeroDivisionError} <= found
+        divides = any(isinstance(n, (ast.Div, ast.FloorDiv, ast.Mod)) for b in body for n in ast.walk(b))
+        return bool({Exception, BaseException} & found) or PlcException in found and (ZeroDivisionError in found or not divides)
 
     def match_statement(self, node: ast.Match, depth: int) -> None:
         """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
@@ -575,6 +580,20 @@ class BodyWriter:
             self.emit(depth + 1, f"{labels}:")
             self.block(case.body, depth + 2)
         self.emit(depth, "END_CASE")
+
+    def temporary(self, stem: str, info: TypeInfo, node: ast.AST) -> str:
+        """A local for a value a statement needs kept: a new one, or one of the same type that no
+        expression of the statement being translated holds."""
+        busy = set(self.hoisted.values())
+        for n in range(1000):
+            name = f"{stem}{n or ''}"
+            if name in self.temps and self.locals.get(name) is info and name not in busy:
+                return name
+            if name not in self.locals and name not in self.params and name not in self.fields:
+                self.temps.add(name)
+                self.declare(name, info, node)
+                return name
+        self.fail(node, "a statement that needs more than 1000 temporaries")
 
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
@@ -612,8 +631,8 @@ class BodyWriter:
             info = self.typeof(targets[i]) or self.typeof(value)
             if info is None:
                 self.fail(node, "a tuple assignment whose later values read an earlier target of unknown type")
-            temp = next(f"{_stem(names[i])}_new{n or ''}" for n in range(100) if f"{_stem(names[i])}_new{n or ''}" not in {*self.locals, *self.params, *self.fields})
-            self.declare(temp, info, node)
+            temp = self.temporary(f"{_stem(names[i])}_new", info, node)
+            self.hoisted[id(value)] = temp
             self.emit(depth, f"{temp} := {self.expr(value)[0]};")
             held[i] = temp
         for i, (t, v) in enumerate(zip(targets, values)):
@@ -894,9 +913,7 @@ class BodyWriter:
         if temp is None:
             func = call.func
             stem = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "call")
-            taken = {*self.locals, *self.params, *self.fields}
-            temp = next(f"{stem}_result{n or ''}" for n in range(1000) if f"{stem}_result{n or ''}" not in taken)
-            self.declare(temp, info, node)
+            temp = self.temporary(f"{stem}_result", info, node)
             self.prelude.append(f"{temp} := {self.call(call)[0]};")
             self.hoisted[id(call)] = temp
         return f"{temp}.{ident(node.attr)}"

@@ -7,8 +7,12 @@ from typing import Any
 
 import pytest
 
-from iecoop import BOOL, INT, LREAL, REAL, STRING, TIME, WORD, VAR, IecEnum, Program, T
+from iecoop import (
+    ARRAY, BOOL, DINT, INT, LREAL, REAL, STRING, TIME, UDINT, VAR, WORD, FunctionBlock, IecEnum, Interface, PlcException,
+    Program, Struct, T, method, prop,
+)
 from iecoop import st
+from iecoop.runtime import current_task
 from iecoop.st.export import StExportError, dump
 
 COUNT = 3
@@ -21,9 +25,10 @@ def body_of(text: str, name: str) -> str:
     return text[text.rindex("END_VAR\n", start, end) + len("END_VAR\n") : end]
 
 
-def same_run(cls: Any, cycles: int, *names: str) -> None:
-    """Dump ``cls``, load the ST back, run both ``cycles`` times: the named variables agree each cycle."""
-    loaded = getattr(st.load(dump([cls])), cls.__name__)
+def same_run(cls: Any, cycles: int, *names: str, types: tuple[Any, ...] = ()) -> None:
+    """Dump ``cls`` (after ``types``), load the ST back, run both ``cycles`` times: the named variables
+    agree each cycle."""
+    loaded = getattr(st.load(dump([*types, cls])), cls.__name__)
     original = cls()
     for _ in range(cycles):
         loaded()
@@ -169,3 +174,367 @@ class RoundDigits(Program):
 def test_round_to_digits_is_refused() -> None:
     with pytest.raises(StExportError, match=r"round\(\) with a number of digits"):
         dump([RoundDigits])
+
+
+# ---------------------------------------------------------------------------
+# for over an ARRAY, enumerate(), a literal tuple
+# ---------------------------------------------------------------------------
+
+
+class Cell(Struct):
+    value: INT = 0
+    hits: INT = 0
+
+
+class Loops(Program):
+    cells: ARRAY[Cell] = VAR(bounds=(1, 3))
+    weights: ARRAY[INT] = VAR([2, 3, 4], bounds=(0, 2))
+    total: DINT = VAR(0)
+    last: DINT = VAR(0)
+    a: INT = VAR(1)
+    b: INT = VAR(10)
+    c: INT = VAR(100)
+
+    def body(self) -> None:
+        for cell in self.cells:
+            cell.hits += 1
+            cell.value = cell.hits * 2
+        for k, weight in enumerate(self.weights, 1):
+            if weight == 4:
+                break
+            self.total += k * weight
+        for k, weight in enumerate(self.weights):
+            self.last = k
+        for n in (self.a, self.b, self.c):
+            self.total += n
+        for i, n in ((1, self.a), (2, self.b)):
+            self.cells[i].value += n
+
+
+LOOPS = """\
+FOR cell_index := 1 TO 3 DO
+    cell REF= cells[cell_index];
+    cell.hits := cell.hits + 1;
+    cell.value := cell.hits * 2;
+END_FOR
+FOR weight_index := 0 TO 2 DO
+    k := weight_index + 1;
+    weight := weights[weight_index];
+    IF weight = 4 THEN
+        EXIT;
+    END_IF
+    total := total + k * weight;
+END_FOR
+FOR k := 0 TO 2 DO
+    weight := weights[k];
+    last := k;
+END_FOR
+total := total + a;
+total := total + b;
+total := total + c;
+cells[1].value := cells[1].value + a;
+cells[2].value := cells[2].value + b;
+"""
+
+
+def test_for_over_an_array_enumerate_and_a_tuple() -> None:
+    text = dump([Cell, Loops])
+    assert body_of(text, "Loops") == LOOPS
+    assert "VAR_TEMP\n    cell_index : DINT;\n    cell : REFERENCE TO Cell;\n    weight_index : DINT;\n    k : DINT;\n    weight : INT;\nEND_VAR" in text
+
+
+def test_for_loops_loaded_back_run_as_python() -> None:
+    loaded = st.load(dump([Cell, Loops])).Loops
+    original = Loops()
+    for _ in range(3):
+        loaded()
+        original()
+        assert (loaded.total, loaded.last) == (original.total, original.last)
+        assert [(c.value, c.hits) for c in loaded.cells] == [(c.value, c.hits) for c in original.cells]
+
+
+class TupleBreak(Program):
+    a: INT = VAR(0)
+
+    def body(self) -> None:
+        for n in (1, 2):
+            if n == self.a:
+                break
+
+
+class TupleRebind(Program):
+    a: INT = VAR(0)
+
+    def body(self) -> None:
+        for n in (1, 2):
+            n = n + 1
+            self.a = n
+
+
+class Grid(Program):
+    grid: ARRAY[INT] = VAR(bounds=((1, 2), (1, 2)))
+    s: INT = VAR(0)
+
+    def body(self) -> None:
+        for row in self.grid:
+            self.s = row
+
+
+@pytest.mark.parametrize(("cls", "words"), [
+    (TupleBreak, "a loop over a tuple whose body breaks, continues or assigns the loop names"),
+    (TupleRebind, "a loop over a tuple whose body breaks, continues or assigns the loop names"),
+    (Grid, "a for loop over an ARRAY of several dimensions"),
+])
+def test_loops_without_a_faithful_st_form_are_refused(cls: Any, words: str) -> None:
+    with pytest.raises(StExportError, match=rf"test_export_bodies\.py:\d+: {words}"):
+        dump([cls])
+
+
+# ---------------------------------------------------------------------------
+# Method chains and members of a call's result
+# ---------------------------------------------------------------------------
+
+
+class ICounter(Interface):
+    @method
+    def add(self, n: INT) -> ICounter:
+        raise NotImplementedError
+
+    @prop
+    def value(self) -> INT:
+        raise NotImplementedError
+
+
+class Counter(FunctionBlock, ICounter):
+    total: INT = VAR(0)
+    saved: Cell = VAR()
+
+    @method
+    def add(self, n: INT) -> ICounter:
+        self.total += n
+        return self
+
+    @prop
+    def value(self) -> INT:
+        return self.total
+
+    @method
+    def snapshot(self) -> Cell:
+        self.saved.value = self.total
+        return self.saved
+
+
+class Chains(Program):
+    counter: Counter = VAR()
+    seen: INT = VAR(0)
+    copied: INT = VAR(0)
+
+    def body(self) -> None:
+        self.seen = self.counter.add(1).add(2).value
+        if self.counter.snapshot().value > 5:
+            self.copied = self.counter.snapshot().value + self.counter.snapshot().value
+
+
+CHAINS = """\
+add_result := counter.add(1).add(2);
+seen := add_result.value;
+snapshot_result := counter.snapshot();
+IF snapshot_result.value > 5 THEN
+    snapshot_result := counter.snapshot();
+    snapshot_result1 := counter.snapshot();
+    copied := snapshot_result.value + snapshot_result1.value;
+END_IF
+"""
+
+
+def test_a_chain_is_written_as_is_and_a_member_of_its_result_reads_a_temporary() -> None:
+    text = dump([Cell, ICounter, Counter, Chains])
+    assert body_of(text, "Chains") == CHAINS
+    assert "VAR_TEMP\n    add_result : ICounter;\n    snapshot_result : Cell;\n    snapshot_result1 : Cell;\nEND_VAR" in text
+
+
+def test_chains_loaded_back_run_as_python() -> None:
+    loaded = st.load(dump([Cell, ICounter, Counter, Chains])).Chains
+    original = Chains()
+    for _ in range(3):
+        loaded()
+        original()
+        assert (loaded.seen, loaded.copied) == (original.seen, original.copied)
+
+
+class WriteThroughCall(Program):
+    counter: Counter = VAR()
+
+    def body(self) -> None:
+        self.counter.snapshot().value = 3
+
+
+class ChainInWhile(Program):
+    counter: Counter = VAR()
+
+    def body(self) -> None:
+        while self.counter.add(1).value < 10:
+            pass
+
+
+@pytest.mark.parametrize(("cls", "words"), [
+    (WriteThroughCall, r"a write into a member of a call's result \(the METHOD returns a copy in ST"),
+    (ChainInWhile, r"a member of a call's result in a while or elif condition"),
+])
+def test_a_member_of_a_call_without_a_faithful_st_form_is_refused(cls: Any, words: str) -> None:
+    with pytest.raises(StExportError, match=rf"test_export_bodies\.py:\d+: {words}"):
+        dump([Cell, ICounter, Counter, cls])
+
+
+class TaskCycle(Program):
+    ms: UDINT = VAR(0)
+
+    def body(self) -> None:
+        self.ms = current_task().CycleTime // 10_000
+
+
+def test_current_task_is_twincats_task_info() -> None:
+    assert body_of(dump([TaskCycle]), "TaskCycle") == "ms := _TaskInfo[GETCURTASKINDEXEX()].CycleTime / 10000;\n"
+
+
+# ---------------------------------------------------------------------------
+# try / except, match, tuple assignments, enumeration conversions
+# ---------------------------------------------------------------------------
+
+
+class Guarded(Program):
+    divisor: INT = VAR(0)
+    result: INT = VAR(0)
+    cleanups: INT = VAR(0)
+
+    def body(self) -> None:
+        try:
+            self.result = 100 // self.divisor
+        except (PlcException, ZeroDivisionError):
+            self.result = -1
+        finally:
+            self.cleanups += 1
+        self.divisor += 1
+
+
+def test_try_except_finally_is_try_catch_finally() -> None:
+    text = dump([Guarded])
+    assert body_of(text, "Guarded") == (
+        "__TRY\n    result := 100 / divisor;\n__CATCH(exc)\n    result := -1;\n"
+        "__FINALLY\n    cleanups := cleanups + 1;\n__ENDTRY\ndivisor := divisor + 1;\n"
+    )
+    assert "exc : __SYSTEM.ExceptionCode;" in text
+
+
+def test_try_except_loaded_back_runs_as_python() -> None:
+    same_run(Guarded, 3, "result", "cleanups")
+
+
+class FinallyOnly(Program):
+    n: INT = VAR(0)
+
+    def body(self) -> None:
+        try:
+            self.n += 1
+        finally:
+            self.n = 0
+
+
+class CaughtCode(Program):
+    code: UDINT = VAR(0)
+
+    def body(self) -> None:
+        try:
+            self.code = 0
+        except PlcException as fault:
+            self.code = fault.code
+
+
+def test_except_plc_exception_binds_the_exception_code() -> None:
+    assert body_of(dump([CaughtCode]), "CaughtCode") == "__TRY\n    code := 0;\n__CATCH(fault)\n    code := fault;\n__ENDTRY\n"
+
+
+class NarrowExcept(Program):
+    n: INT = VAR(0)
+
+    def body(self) -> None:
+        try:
+            self.n = 10 // self.n
+        except PlcException:
+            self.n = 0
+
+
+@pytest.mark.parametrize(("cls", "words"), [
+    (FinallyOnly, r"try / finally without except \(ST goes on after __FINALLY"),
+    (NarrowExcept, r"an except clause other than except PlcException, except \(PlcException, ZeroDivisionError\)"),
+])
+def test_try_forms_whose_meaning_differs_are_refused(cls: Any, words: str) -> None:
+    with pytest.raises(StExportError, match=rf"test_export_bodies\.py:\d+: {words}"):
+        dump([cls])
+
+
+class Selector(Program):
+    mode: Mode = VAR(Mode.AUTO)
+    n: INT = VAR(0)
+    out: INT = VAR(0)
+
+    def body(self) -> None:
+        self.n += 1
+        self.mode = Mode(self.n % 2)
+        match self.n:
+            case 1 | 3:
+                self.out = 10
+            case 2:
+                self.out = 20
+            case _:
+                self.out = self.out + 1
+
+
+class ModeSelector(Program):
+    mode: Mode = VAR(Mode.AUTO)
+    out: INT = VAR(0)
+
+    def body(self) -> None:
+        match self.mode:
+            case Mode.AUTO:
+                self.out += 100
+            case Mode.MANUAL:
+                pass
+
+
+def test_match_is_case_and_an_enum_conversion_is_its_value() -> None:
+    assert body_of(dump([Mode, Selector]), "Selector") == (
+        "n := n + 1;\nmode := n MOD 2;\nCASE n OF\n    1, 3:\n        out := 10;\n    2:\n        out := 20;\n"
+        "ELSE\n    out := out + 1;\nEND_CASE\n"
+    )
+    # Qualified labels: right for an enumeration declared {attribute 'qualified_only'} too.
+    assert body_of(dump([Mode, ModeSelector]), "ModeSelector") == (
+        "CASE mode OF\n    Mode.AUTO:\n        out := out + 100;\n    Mode.MANUAL:\n        ;\nEND_CASE\n"
+    )
+
+
+def test_match_loaded_back_runs_as_python() -> None:
+    same_run(Selector, 5, "n", "out", types=(Mode,))
+
+
+class Swap(Program):
+    a: INT = VAR(1)
+    b: INT = VAR(2)
+    c: INT = VAR(3)
+    left: INT = VAR(0)
+
+    def body(self) -> None:
+        self.a, self.b, self.c = self.b, self.a + self.c, self.a
+        self.left, self.c = self.left + 1, self.c
+
+
+def test_a_tuple_assignment_reading_an_earlier_target_keeps_that_value_in_a_temporary() -> None:
+    text = dump([Swap])
+    assert body_of(text, "Swap") == (
+        "b_new := a + c;\nc_new := a;\na := b;\nb := b_new;\nc := c_new;\nleft := left + 1;\nc := c;\n"
+    )
+    assert "VAR_TEMP\n    b_new : INT;\n    c_new : INT;\nEND_VAR" in text
+
+
+def test_tuple_assignments_loaded_back_run_as_python() -> None:
+    same_run(Swap, 4, "a", "b", "c", "left")
