@@ -14,6 +14,7 @@ import ast
 import builtins
 import enum
 import inspect
+import math
 import textwrap
 import typing
 from collections.abc import Callable, Iterator
@@ -272,7 +273,8 @@ class BodyWriter:
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
                     raise StExportError(message) from None
-                self.untranslated.append((line, exc.what))
+                if (line, exc.what) not in self.untranslated:  # once, though an unrolled loop repeats it
+                    self.untranslated.append((line, exc.what))
                 text = " ".join(
                     part.strip() for part in self.source_lines[stmt.lineno - 1 : (stmt.end_lineno or stmt.lineno)]
                 )
@@ -370,7 +372,13 @@ class BodyWriter:
         enumerated = isinstance(it, ast.Call) and _is_name(it.func, "enumerate") and "enumerate" not in self.globals
         sequence = typing.cast(ast.Call, it).args[0] if enumerated and typing.cast(ast.Call, it).args else it
         if isinstance(sequence, (ast.Tuple, ast.List)):
-            self.unrolled_loop(node, depth)
+            self.unrolled_loop(node, sequence.elts, depth)
+            return
+        owner = self.constant_object(sequence)
+        if isinstance(owner, type) and getattr(owner, "_iec_kind_", None) == "enum":
+            # An enumeration's components, in declaration order.
+            members = [ast.Attribute(sequence, m.name, ast.Load()) for m in typing.cast(Any, owner)]
+            self.unrolled_loop(node, typing.cast(list[ast.expr], members), depth)
             return
         if isinstance(self.typeof(sequence), ArrayInfo):
             self.array_loop(node, depth)
@@ -404,10 +412,8 @@ class BodyWriter:
             self.fail(node, "an enumerate() start that is not a constant integer")
         return start
 
-    def unrolled_loop(self, node: ast.For, depth: int) -> None:
+    def unrolled_loop(self, node: ast.For, items: list[ast.expr], depth: int) -> None:
         """A loop over a literal tuple: the body once per element, each name standing for its element."""
-        it = node.iter
-        items = typing.cast(ast.Tuple, it.args[0] if isinstance(it, ast.Call) else it).elts
         rows = [list(e.elts) if isinstance(e, ast.Tuple) else [e] for e in items]
         counter, names = self.loop_targets(node, len(rows[0]) if rows and len(rows[0]) > 1 else 1)
         start = self.enumerate_start(node)
@@ -787,6 +793,18 @@ class BodyWriter:
             return f"SEL({text}, 'False', 'True')"  # Python writes True / False, BOOL_TO_STRING TRUE / FALSE
         self.fail(node, _piece_refusal(info))
 
+    def query_test(self, node: ast.Call, found: bool) -> tuple[str, int]:
+        """``query_interface(a, IB) is not None``: __QUERYINTERFACE's BOOL result, into a temporary of IB."""
+        source, iface = self.operator_args(node, 2)
+        cls = self.constant_object(iface)
+        info = class_info(cls) if isinstance(cls, type) else None
+        if not isinstance(info, InterfaceInfo):
+            self.fail(node, "query_interface() with a target that is not an interface name")
+        temp = self.hoisted.get(id(node)) or self.temporary(f"{cls.__name__}_query", info, node)
+        self.hoisted[id(node)] = temp
+        text = f"__QUERYINTERFACE({self.expr(source)[0]}, {temp})"
+        return (text, _ATOM) if found else (f"NOT {text}", _UNARY)
+
     def condition_operand(self, node: ast.expr, prec: int) -> str:
         info = self.typeof(node)
         if info is not None and not _is_bool(info):
@@ -794,6 +812,12 @@ class BodyWriter:
         return self.expr(node, prec + 1)[0]
 
     def compare(self, node: ast.Compare) -> tuple[str, int]:
+        left = node.left
+        if (
+            len(node.ops) == 1 and isinstance(node.ops[0], (ast.Is, ast.IsNot)) and isinstance(left, ast.Call)
+            and self.resolves_to(left.func, "query_interface") and _is_none(node.comparators[0])
+        ):
+            return self.query_test(left, isinstance(node.ops[0], ast.IsNot))
         parts: list[str] = []
         left = node.left
         for op, right in zip(node.ops, node.comparators):
@@ -833,7 +857,7 @@ class BodyWriter:
                 # Python's / on integers gives a float; ST's gives an integer.
                 left_text = f"TO_LREAL({self.expr(left)[0]})"
         if isinstance(node.op, ast.FloorDiv) and (_is_real(self.typeof(left)) or _is_real(self.typeof(right))):
-            self.fail(where, "// on REAL values")
+            self.fail(where, "// on REAL values (ST has no floor division: TRUNC(a / b) is the same where a / b >= 0)")
         return f"{left_text} {symbol} {right_text}", prec
 
     def name(self, node: ast.Name) -> str:
@@ -1053,8 +1077,6 @@ class BodyWriter:
             result = return_info(value, value.__qualname__, None)
         except StExportError:
             return None
-        if result is None:
-            return None
         return inputs, result
 
     # -- types ---------------------------------------------------------------
@@ -1180,6 +1202,10 @@ def _constant_int(node: ast.expr) -> int | None:
         inner = _constant_int(node.operand)
         return -inner if inner is not None else None
     return None
+
+
+def _is_none(node: ast.expr) -> bool:
+    return isinstance(node, ast.Constant) and node.value is None or _is_name(node, "None")
 
 
 def _stem(target: str) -> str:
@@ -1311,6 +1337,38 @@ def _call_round(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
     return f"{typing.cast(ElementaryInfo, info).record.name}_TO_DINT({w.expr(arg)[0]})", _ATOM
 
 
+def _call_len_constant(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    """len() of a module constant (a tuple, a string) or of an enumeration: a number the PLC knows at compile time."""
+    arg = _one_argument(node)
+    if arg is None:
+        return _call_len(w, node)
+    value = w.constant_object(arg) if not isinstance(arg, ast.Name) else w.globals.get(arg.id, w.constant_object(arg))
+    if arg is not None and isinstance(arg, ast.Name) and arg.id in {*w.locals, *w.params}:
+        value = None
+    if isinstance(value, (tuple, str)) or isinstance(value, type) and issubclass(value, enum.Enum):
+        return str(len(value)), _ATOM
+    return _call_len(w, node)
+
+
+def _call_math(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``math.sin(x)``...: Python computes in double precision, so a REAL argument goes to LREAL first."""
+    func = node.func
+    arg = _one_argument(node)
+    if not (isinstance(func, ast.Attribute) and w.constant_object(func.value) is math) or arg is None:
+        return None
+    info = w.typeof(arg)
+    if not (_is_real(info) or _is_integer(info)):
+        return None
+    text = w.expr(arg)[0]
+    if typing.cast(ElementaryInfo, info).record.name != "LREAL":
+        text = f"TO_LREAL({text})"
+    return f"{_MATH[func.attr]}({text})", _ATOM
+
+
+#: Functions of Python's math module and the IEC standard function that computes the same.
+_MATH = {"sin": "SIN", "cos": "COS", "tan": "TAN", "asin": "ASIN", "acos": "ACOS", "atan": "ATAN", "sqrt": "SQRT", "exp": "EXP", "log10": "LOG"}
+
+
 def _call_adr(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
     return f"ADR({w.address_operand(node)})", _ATOM
 
@@ -1352,7 +1410,8 @@ def _call_current_task(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
 #: Python builtins (while no module name hides them) and their ST form.
 _BUILTIN_CALLS: dict[str, _CallRule] = {
     "min": _call_min_max_abs, "max": _call_min_max_abs, "abs": _call_min_max_abs,
-    "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len, "round": _call_round,
+    "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len_constant, "round": _call_round,
+    **{name: _call_math for name in _MATH},
 }
 #: iecoop's operators (only when the name is iecoop's) and their ST form.
 _LIBRARY_CALLS: dict[str, _CallRule] = {
@@ -1439,7 +1498,7 @@ _CALL_TYPES: dict[str, TypeInfo] = {
 #: Result types of calls of names that depend on the arguments.
 _CALL_TYPE_RULES: dict[str, Callable[[BodyWriter, ast.Call], TypeInfo | None]] = {
     "min": _first_argument_type, "max": _first_argument_type, "abs": _first_argument_type,
-    "round": _round_type, "new": _new_type, "adr": _adr_type,
+    "round": _round_type, "new": _new_type, "adr": _adr_type, **{name: lambda w, node: _LREAL for name in _MATH},
 }
 
 

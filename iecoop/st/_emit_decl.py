@@ -16,7 +16,7 @@ from typing import Any
 from iecoop.members import Access
 from iecoop.memory._core import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING
-from iecoop.st._emit_body import BodyWriter, Scope, literal
+from iecoop.st._emit_body import _BOOL, BodyWriter, Scope, literal
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -250,8 +250,6 @@ class _Writer:
         st_name = LIFECYCLE[name]
         where = f"{meta.name}.{st_name}"
         inputs = parameters(func, where, meta.cls)
-        from iecoop.st._emit_body import _BOOL
-
         writer = self.body(func, st_name=st_name, result=_BOOL, params={n: i for n, i, _ in inputs}, rename=_LIFECYCLE_INPUTS)
 
         decl = _inputs_lines(inputs, where, _LIFECYCLE_INPUTS) + _local_lines(writer)
@@ -351,8 +349,8 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     from iecoop.st._emit_model import function_parameters
 
     inputs = function_parameters(func, name)
-    result = return_info(func, name, None)
-    assert result is not None
+    # A FUNCTION has a result in TwinCAT and CODESYS: one that returns nothing in Python gives a BOOL left FALSE.
+    result = return_info(func, name, None) or _BOOL
     body = writer.body(func, st_name=ident(name), result=result, params={n: i for n, i, _ in inputs})
     lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(inputs, name, {}), *_local_lines(body)]
     return Unit(

@@ -3,13 +3,14 @@ and where the ST reader knows the construct, the ST loaded back runs as the Pyth
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import pytest
 
 from iecoop import (
-    ARRAY, BOOL, DINT, INT, LREAL, REAL, STRING, TIME, UDINT, VAR, WORD, FunctionBlock, IecEnum, Interface, PlcException,
-    Program, Struct, T, method, prop,
+    ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, WORD, FunctionBlock, IecEnum, Interface,
+    IQueryInterface, PlcException, Program, Struct, T, adr, method, prop, query_interface,
 )
 from iecoop import st
 from iecoop.runtime import current_task
@@ -538,3 +539,76 @@ def test_a_tuple_assignment_reading_an_earlier_target_keeps_that_value_in_a_temp
 
 def test_tuple_assignments_loaded_back_run_as_python() -> None:
     same_run(Swap, 4, "a", "b", "c", "left")
+
+
+# ---------------------------------------------------------------------------
+# math, len() of constants, functions without a result, query_interface() tests, enumeration loops
+# ---------------------------------------------------------------------------
+
+NAMES = ("a", "b", "c")
+
+
+def bump(cell: POINTER_TO[Cell]) -> None:
+    if cell:
+        cell.deref.hits += 1
+
+
+class IShown(IQueryInterface):
+    @method
+    def show(self) -> INT:
+        raise NotImplementedError
+
+
+class Shown(FunctionBlock, IShown):
+    @method
+    def show(self) -> INT:
+        return 1
+
+
+class Builtins(Program):
+    angle: REAL = VAR(0.0)
+    wave: REAL = VAR(0.0)
+    root: LREAL = VAR(0.0)
+    size: DINT = VAR(0)
+    cell: Cell = VAR()
+    shown: Shown = VAR()
+    target: IShown = VAR()
+    is_shown: BOOL = VAR(False)
+    not_shown: BOOL = VAR(True)
+    modes: INT = VAR(0)
+
+    def body(self) -> None:
+        self.angle += 0.5
+        self.wave = 2.0 + math.sin(self.angle) * 3
+        self.root = math.sqrt(self.root + 4.0)
+        self.size = len(NAMES) + len(Mode)
+        bump(adr(self, "cell"))
+        self.is_shown = query_interface(self.shown, IShown) is not None
+        self.not_shown = query_interface(self.shown, IShown) is None
+        for mode in Mode:
+            self.modes += mode
+
+
+BUILTINS = """\
+angle := angle + 0.5;
+wave := 2.0 + SIN(TO_LREAL(angle)) * 3;
+root := SQRT(root + 4.0);
+size := 3 + 2;
+bump(ADR(cell));
+is_shown := __QUERYINTERFACE(shown, IShown_query);
+not_shown := NOT __QUERYINTERFACE(shown, IShown_query);
+modes := modes + Mode.AUTO;
+modes := modes + Mode.MANUAL;
+"""
+
+
+def test_math_len_functions_query_tests_and_enumeration_loops() -> None:
+    text = dump([Mode, Cell, IShown, Shown, Builtins])
+    assert body_of(text, "Builtins") == BUILTINS
+    # The vendors' FUNCTIONs have a result: one that returns nothing in Python is a BOOL left FALSE.
+    assert "FUNCTION bump : BOOL\nVAR_INPUT\n    cell : POINTER TO Cell;\nEND_VAR\nIF cell <> 0 THEN\n    cell^.hits := cell^.hits + 1;\nEND_IF\nEND_FUNCTION" in text
+    assert "VAR_TEMP\n    IShown_query : IShown;\nEND_VAR" in text
+
+
+def test_math_len_functions_query_tests_and_enumeration_loops_loaded_back_run_as_python() -> None:
+    same_run(Builtins, 4, "angle", "wave", "root", "size", "is_shown", "not_shown", "modes", types=(Mode, Cell, IShown, Shown))
