@@ -678,6 +678,9 @@ class BodyWriter:
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
             self.declare(name, "PVOID", node)
             return
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "var_info"):
+            self.declare(name, "__SYSTEM.VAR_INFO", node)
+            return
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
@@ -1392,6 +1395,11 @@ def _call_test_and_set(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
     return f"TestAndSet({w.expr(flag)[0]}^)", _ATOM
 
 
+def _call_var_info(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    holder, field = w.operator_args(node, 2)
+    return f"__VARINFO({w.member_text(holder, field)})", _ATOM
+
+
 def _call_mod(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
     if len(node.args) != 2:
         return None
@@ -1418,6 +1426,7 @@ _LIBRARY_CALLS: dict[str, _CallRule] = {
     **{name: _call_operator for name in _OPERATORS},
     "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
     "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
+    "var_info": _call_var_info,
 }
 
 

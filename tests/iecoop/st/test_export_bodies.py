@@ -10,7 +10,7 @@ import pytest
 
 from iecoop import (
     ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, WORD, FunctionBlock, IecEnum, Interface,
-    IQueryInterface, PlcException, Program, Struct, T, adr, method, prop, query_interface,
+    IQueryInterface, PlcException, Program, Struct, T, adr, method, prop, query_interface, var_info,
 )
 from iecoop import st
 from iecoop.runtime import current_task
@@ -612,3 +612,18 @@ def test_math_len_functions_query_tests_and_enumeration_loops() -> None:
 
 def test_math_len_functions_query_tests_and_enumeration_loops_loaded_back_run_as_python() -> None:
     same_run(Builtins, 4, "angle", "wave", "root", "size", "is_shown", "not_shown", "modes", types=(Mode, Cell, IShown, Shown))
+
+
+class Info(Program):
+    cell: Cell = VAR()
+    offset: UDINT = VAR(0)
+
+    def body(self) -> None:
+        info = var_info(self.cell, "hits")
+        self.offset = info.ByteOffset
+
+
+def test_var_info_is_varinfo_into_a_system_var_info_local() -> None:
+    text = dump([Cell, Info])
+    assert body_of(text, "Info") == "info := __VARINFO(cell.hits);\noffset := info.ByteOffset;\n"
+    assert "VAR_TEMP\n    info : __SYSTEM.VAR_INFO;\nEND_VAR" in text
