@@ -1345,9 +1345,10 @@ def _call_len_constant(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
     arg = _one_argument(node)
     if arg is None:
         return _call_len(w, node)
-    value = w.constant_object(arg) if not isinstance(arg, ast.Name) else w.globals.get(arg.id, w.constant_object(arg))
-    if arg is not None and isinstance(arg, ast.Name) and arg.id in {*w.locals, *w.params}:
-        value = None
+    if isinstance(arg, ast.Name):
+        value = w.globals.get(arg.id) if arg.id not in w.locals and arg.id not in w.params else None
+    else:
+        value = w.constant_object(arg)
     if isinstance(value, (tuple, str)) or isinstance(value, type) and issubclass(value, enum.Enum):
         return str(len(value)), _ATOM
     return _call_len(w, node)

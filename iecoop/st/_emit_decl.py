@@ -384,9 +384,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
             unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
             index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
             found.insert(index, unit)
-    for unit in found:
-        if unit.kind == "enum" and unit.meta is not None and unit.meta.cls in named_enums:
-            unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
+    _mark_named_enums(found, named_enums, lenient, untranslated)
     if constants:
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
@@ -396,6 +394,21 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
         found.insert(index, Unit("gvl", "GVL_Constants", "\n".join(lines)))
     return found, untranslated
+
+
+def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, untranslated: list[str]) -> None:
+    """Declare {attribute 'to_string'} on each enumeration whose component names the bodies read."""
+    exported = {unit.meta.cls: unit for unit in found if unit.kind == "enum" and unit.meta is not None}
+    for cls in sorted(named_enums, key=lambda c: c.__name__):
+        unit = exported.get(cls)
+        if unit is not None:
+            unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
+            continue
+        # Without the attribute TO_STRING gives the number: the enumeration must come along.
+        message = f"{cls.__name__}: its component names are read (TO_STRING needs {{attribute 'to_string'}} on it): export {cls.__name__} too"
+        if not lenient:
+            raise StExportError(message)
+        untranslated.append(message)
 
 
 def flat_text(unit: Unit) -> str:

@@ -627,3 +627,8 @@ def test_var_info_is_varinfo_into_a_system_var_info_local() -> None:
     text = dump([Cell, Info])
     assert body_of(text, "Info") == "info := __VARINFO(cell.hits);\noffset := info.ByteOffset;\n"
     assert "VAR_TEMP\n    info : __SYSTEM.VAR_INFO;\nEND_VAR" in text
+
+
+def test_an_enumeration_name_needs_the_enumeration_exported_too() -> None:
+    with pytest.raises(StExportError, match=r"Mode: its component names are read \(TO_STRING needs \{attribute 'to_string'\} on it\): export Mode too"):
+        dump([EnumName])
