@@ -7,9 +7,11 @@ import math
 from typing import Any
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies
 
 from iecoop import (
-    ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, WORD, FunctionBlock, IecEnum, Interface,
+    ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, IecEnum, Interface,
     IQueryInterface, PlcException, Program, Struct, T, adr, method, prop, query_interface, var_info,
 )
 from iecoop import st
@@ -632,3 +634,28 @@ def test_var_info_is_varinfo_into_a_system_var_info_local() -> None:
 def test_an_enumeration_name_needs_the_enumeration_exported_too() -> None:
     with pytest.raises(StExportError, match=r"Mode: its component names are read \(TO_STRING needs \{attribute 'to_string'\} on it\): export Mode too"):
         dump([EnumName])
+
+
+class Formats(Program):
+    i: INT = VAR_INPUT(0)
+    u: UDINT = VAR_INPUT(0)
+    flag: BOOL = VAR_INPUT(False)
+    name: STRING = VAR_INPUT("", length=20)
+    out: STRING = VAR_OUTPUT("", length=200)
+
+    def body(self) -> None:
+        self.out = f"[{self.name}] i={self.i} u={self.u} {self.flag}"
+
+
+_FORMATS = st.load(dump([Formats])).Formats
+
+
+@given(
+    i=strategies.integers(-32768, 32767), u=strategies.integers(0, 2**32 - 1), flag=strategies.booleans(),
+    name=strategies.text(strategies.characters(min_codepoint=32, max_codepoint=126), max_size=20),
+)
+def test_an_f_string_gives_the_same_text_in_st_for_any_integer_bool_and_string(i: int, u: int, flag: bool, name: str) -> None:
+    original = Formats()
+    for block in (original, _FORMATS):
+        block(i=i, u=u, flag=flag, name=name)
+    assert _FORMATS.out == original.out
