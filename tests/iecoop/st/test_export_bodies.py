@@ -4,6 +4,7 @@ and where the ST reader knows the construct, the ST loaded back runs as the Pyth
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -16,7 +17,8 @@ from iecoop import (
 )
 from iecoop import st
 from iecoop.runtime import current_task
-from iecoop.st.export import StExportError, dump
+from iecoop.st.export import StExportError, dump, export
+from tests.iecoop.st.test_export import validate_plcopen
 
 COUNT = 3
 
@@ -659,3 +661,14 @@ def test_an_f_string_gives_the_same_text_in_st_for_any_integer_bool_and_string(i
     for block in (original, _FORMATS):
         block(i=i, u=u, flag=flag, name=name)
     assert _FORMATS.out == original.out
+
+
+def test_the_to_string_attribute_is_in_the_twincat_and_plcopen_files(tmp_path: Path) -> None:
+    mode_dut, _ = export([Mode, EnumName], tmp_path / "tc")
+    assert "{attribute 'to_string'}\nTYPE Mode :" in mode_dut.read_text().replace("\r\n", "\n")
+    (project,) = export([Mode, EnumName], tmp_path / "xml", format="plcopen")
+    validate_plcopen(project)
+    text = project.read_text()
+    data = text[text.index('<dataType name="Mode">') : text.index("</dataType>")]
+    assert '<data name="http://www.3s-software.com/plcopenxml/attributes" handleUnknown="implementation">' in data
+    assert '<Attribute Name="to_string" Value="" />' in data
