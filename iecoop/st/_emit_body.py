@@ -609,12 +609,33 @@ class BodyWriter:
             holder, field, target = self.operator_args(node, 3)
             self.emit(depth, f"{self.member_text(holder, field)} REF= {self.ref_target(target)};")
             return
-        for op, word in (("S", "S="), ("R", "R=")):
-            if self.resolves_to(func, op) and getattr(self.globals.get(op), "__module__", "").startswith("iecoop"):
-                holder, field, condition = self.operator_args(node, 3)
-                self.emit(depth, f"{self.member_text(holder, field)} {word} {self.expr(condition)[0]};")
-                return
+        chain = self.set_reset_chain(node)
+        if chain is not None:
+            links, condition = chain
+            reads = {ast.unparse(n) for n in ast.walk(condition) if isinstance(n, (ast.Attribute, ast.Name))}
+            once = len(links) > 1 and any(isinstance(n, ast.Call) for n in ast.walk(condition))
+            if once or len(links) > 1 and any(target in reads for target, _ in links):
+                # The condition is evaluated once for the whole chain: ST's a S= b R= c.
+                self.emit(depth, " ".join(f"{text} {word}" for _, (text, word) in links) + f" {self.expr(condition)[0]};")
+            else:
+                # One statement per link, the innermost first as Python runs them (blark reads no chain).
+                for _, (text, word) in reversed(links):
+                    self.emit(depth, f"{text} {word} {self.expr(condition)[0]};")
+            return
         self.emit(depth, f"{self.call(node)[0]};")
+
+    def set_reset_chain(self, node: ast.expr) -> tuple[list[tuple[str, tuple[str, str]]], ast.expr] | None:
+        """``S(self, "a", R(self, "b", c))``: the links ((Python target, (ST target, S= / R=)), outermost
+        first) and the condition ``c`` they all act on (S and R return their condition)."""
+        if not isinstance(node, ast.Call):
+            return None
+        for op, word in (("S", "S="), ("R", "R=")):
+            if self.resolves_to(node.func, op) and _from_iecoop(self.globals.get(op)):
+                holder, field, condition = self.operator_args(node, 3)
+                link = (f"{ast.unparse(holder)}.{getattr(field, 'value', '')}", (self.member_text(holder, field), word))
+                inner = self.set_reset_chain(condition)
+                return ([link], condition) if inner is None else ([link, *inner[0]], inner[1])
+        return None
 
     def assign(self, node: ast.Assign, depth: int) -> None:
         for target in node.targets:
@@ -844,7 +865,10 @@ class BodyWriter:
     def binop(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
         if isinstance(node.op, (ast.LShift, ast.RShift)):
             word = "SHL" if isinstance(node.op, ast.LShift) else "SHR"
-            return f"{word}({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
+            value = _constant_int(node.left)
+            # SHL's result has its operand's width: a literal needs one (Python's integers have none).
+            operand = f"DWORD#{value}" if value is not None and 0 <= value < 2**32 else self.expr(node.left)[0]
+            return f"{word}({operand}, {self.expr(node.right)[0]})", _ATOM
         if isinstance(node.op, ast.Pow):
             return f"EXPT({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
         op = _BINOPS.get(type(node.op))
@@ -916,6 +940,11 @@ class BodyWriter:
             self.fail(node, f"the attribute {ast.unparse(node)}")
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
             return f"SUPER^.{attr}"
+        if attr in ("low", "high") and isinstance(self.typeof(base), ArrayInfo):
+            # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
+            bounds = typing.cast(ArrayInfo, self.typeof(base)).bounds
+            if len(bounds) == 1:
+                return str(bounds[0][0 if attr == "low" else 1])
         if attr == "name" and isinstance(self.typeof(base), EnumInfo):
             # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
             self.scope.named_enums.add(typing.cast(EnumInfo, self.typeof(base)).enum_cls)
@@ -1018,15 +1047,30 @@ class BodyWriter:
         if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and not _is_task_info(self, func.value):
             # A method of a returned interface: TwinCAT and CODESYS chain the calls (fluent interfaces).
             return f"{self.call(func.value)[0]}.{ident(func.attr)}({self.arguments(node)})", _ATOM
+        if isinstance(func, ast.Attribute):
+            self.python_method(func)
         callee = self.expr(func, _ATOM)[0]
-        return f"{callee}({self.arguments(node)})", _ATOM
+        block = self.typeof(func)
+        in_outs = _in_out_names(block.cls) if isinstance(block, AggregateInfo) else frozenset()
+        return f"{callee}({self.arguments(node, in_outs)})", _ATOM
 
-    def arguments(self, node: ast.Call) -> str:
+    def python_method(self, func: ast.Attribute) -> None:
+        """Refuse a Python method of a value (``name.upper()``): ST has no methods on elementary values."""
+        info = self.typeof(func.value)
+        if isinstance(info, (ElementaryInfo, StringInfo, EnumInfo)):
+            self.fail(func, f"the Python method {func.attr}() of a {info.name} value")
+
+    def arguments(self, node: ast.Call, in_outs: frozenset[str] = frozenset()) -> str:
         parts = [self.expr(a)[0] for a in node.args]
         for kw in node.keywords:
             if kw.arg is None:
                 self.fail(node, "**arguments")
-            parts.append(f"{ident(kw.arg)} := {self.expr(kw.value)[0]}")
+            value = kw.value
+            if kw.arg in in_outs and isinstance(value, ast.Call) and self.resolves_to(value.func, "adr"):
+                # fb(buffer=adr(self, "data")) binds a VAR_IN_OUT: ST passes the variable itself.
+                parts.append(f"{ident(kw.arg)} := {self.address_operand(value)}")
+                continue
+            parts.append(f"{ident(kw.arg)} := {self.expr(value)[0]}")
         return ", ".join(parts)
 
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
@@ -1205,6 +1249,17 @@ def _constant_int(node: ast.expr) -> int | None:
         inner = _constant_int(node.operand)
         return -inner if inner is not None else None
     return None
+
+
+def _in_out_names(cls: Any) -> frozenset[str]:
+    """The VAR_IN_OUT variables of a block, inherited ones too."""
+    from iecoop.st._emit_model import metadata
+
+    found: set[str] = set()
+    for klass in getattr(cls, "__mro__", ()):
+        if getattr(klass, "_iec_kind_", None) in ("fb", "program") and "_iec_base_class_" not in klass.__dict__:
+            found.update(f.name for f in metadata(klass).fields if f.section == "VAR_IN_OUT")
+    return frozenset(found)
 
 
 def _is_none(node: ast.expr) -> bool:

@@ -33,7 +33,7 @@ from iecoop.st._emit_model import (
     type_text,
 )
 
-__all__ = ["Part", "Unit", "units"]
+__all__ = ["Part", "Unit", "passed_inputs", "units"]
 
 _SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
 #: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
@@ -206,6 +206,12 @@ def _local_lines(writer: BodyWriter) -> list[str]:
     return lines
 
 
+def passed_inputs(inputs: Sequence[tuple[str, TypeInfo, Any]]) -> list[tuple[str, TypeInfo, Any]]:
+    """The inputs as a METHOD or FUNCTION declares them: Python passes a STRUCT or block itself, where a
+    VAR_INPUT of its type would hold a copy, so such an input is ``REFERENCE TO`` it (bound by the call)."""
+    return [(n, ReferenceInfo(i), MISSING) if isinstance(i, AggregateInfo) else (n, i, d) for n, i, d in inputs]
+
+
 def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
     if not inputs:
         return []
@@ -238,7 +244,8 @@ class _Writer:
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
-        decl = _inputs_lines(inputs, where, {})
+        declared = passed_inputs(inputs)
+        decl = _inputs_lines(declared, where, {})
         implementation = ""
         if not interface and not member.flags & Access.ABSTRACT:
             writer = self.body(func, st_name=member.name, result=result, params={n: i for n, i, _ in inputs})
@@ -246,7 +253,7 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(inputs))
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -354,10 +361,11 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     # A FUNCTION has a result in TwinCAT and CODESYS: one that returns nothing in Python gives a BOOL left FALSE.
     result = return_info(func, name, None) or _BOOL
     body = writer.body(func, st_name=ident(name), result=result, params={n: i for n, i, _ in inputs})
-    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(inputs, name, {}), *_local_lines(body)]
+    declared = passed_inputs(inputs)
+    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_inputs_lines(declared, name, {}), *_local_lines(body)]
     return Unit(
         "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
-        signature=(result, tuple(inputs), dict(body.locals)),
+        signature=(result, tuple(declared), dict(body.locals)),
     )
 
 

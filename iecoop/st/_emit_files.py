@@ -210,9 +210,13 @@ def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
     interface = _sub(parent, "interface")
     if part.result is not None:
         _type(_sub(interface, "returnType"), part.result)
-    if part.inputs:
+    _input_vars(interface, part.inputs, where)
+
+
+def _input_vars(interface: ET.Element, inputs: Sequence[tuple[str, TypeInfo, Any]], where: str) -> None:
+    if inputs:
         block = _sub(interface, "inputVars")
-        for name, info, default in part.inputs:
+        for name, info, default in inputs:
             _variable(block, name, info, default, f"{where}.{name}")
 
 
@@ -305,10 +309,7 @@ def _function_interface(interface: ET.Element, unit: Unit) -> None:
     assert unit.signature is not None
     result, inputs, temps = unit.signature
     _type(_sub(interface, "returnType"), result)
-    if inputs:
-        block = _sub(interface, "inputVars")
-        for name, info, default in inputs:
-            _variable(block, name, info, default, f"{unit.name}.{name}")
+    _input_vars(interface, inputs, unit.name)
     if temps:
         block = _sub(interface, "tempVars")
         for name, local in temps.items():

@@ -13,10 +13,11 @@ from hypothesis import strategies
 
 from iecoop import (
     ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, IecEnum, Interface,
-    IQueryInterface, PlcException, Program, Struct, T, adr, method, prop, query_interface, var_info,
+    IQueryInterface, PlcException, Program, Struct, T, VAR_IN_OUT, DWORD, adr, method, prop, query_interface, var_info,
 )
 from iecoop import st
 from iecoop.runtime import current_task
+from iecoop.stdlib import R, S
 from iecoop.st.export import StExportError, dump, export
 from tests.iecoop.st.test_export import validate_plcopen
 
@@ -672,3 +673,95 @@ def test_the_to_string_attribute_is_in_the_twincat_and_plcopen_files(tmp_path: P
     data = text[text.index('<dataType name="Mode">') : text.index("</dataType>")]
     assert '<data name="http://www.3s-software.com/plcopenxml/attributes" handleUnknown="implementation">' in data
     assert '<Attribute Name="to_string" Value="" />' in data
+
+
+# ---------------------------------------------------------------------------
+# Inputs passed as they are, VAR_IN_OUT bindings, S= / R= chains, shifts, ARRAY bounds
+# ---------------------------------------------------------------------------
+
+
+class Tally(FunctionBlock):
+    @method
+    def count(self, cell: Cell, step: INT) -> INT:
+        cell.hits += step
+        return cell.hits
+
+
+class Buffered(FunctionBlock):
+    data: INT = VAR_IN_OUT()
+
+    def body(self) -> None:
+        self.data += 1
+
+
+class Passing(Program):
+    tally: Tally = VAR()
+    buffered: Buffered = VAR()
+    cell: Cell = VAR()
+    shared: INT = VAR(0)
+    seen: INT = VAR(0)
+    running: BOOL = VAR(False)
+    alarm: BOOL = VAR(False)
+    trip: BOOL = VAR(False)
+    mask: DWORD = VAR(0)
+    n: INT = VAR(0)
+    cells: ARRAY[Cell] = VAR(bounds=(2, 5))
+    span: INT = VAR(0)
+
+    def body(self) -> None:
+        self.n += 1
+        self.seen = self.tally.count(self.cell, 2)
+        self.buffered(data=adr(self, "shared"))
+        self.trip = self.n % 3 == 0
+        S(self, "alarm", R(self, "running", self.trip))
+        S(self, "running", self.n % 2 == 1)
+        self.mask = 1 << self.n
+        self.span = self.cells.high - self.cells.low
+
+
+PASSING = """\
+n := n + 1;
+seen := tally.count(cell, 2);
+buffered(data := shared);
+trip := n MOD 3 = 0;
+running R= trip;
+alarm S= trip;
+running S= n MOD 2 = 1;
+mask := SHL(DWORD#1, n);
+span := 5 - 2;
+"""
+
+
+def test_a_struct_input_is_a_reference_a_var_in_out_gets_the_variable_and_chains_are_split() -> None:
+    text = dump([Cell, Tally, Buffered, Passing])
+    assert body_of(text, "Passing") == PASSING
+    # Python hands the method the caller's STRUCT: a VAR_INPUT of that type would be a copy.
+    assert "METHOD PUBLIC count : INT\nVAR_INPUT\n    cell : REFERENCE TO Cell;\n    step : INT;\nEND_VAR\n" in text
+
+
+def test_inputs_chains_and_shifts_loaded_back_run_as_python() -> None:
+    same_run(Passing, 6, "seen", "shared", "running", "alarm", "mask", "span", types=(Cell, Tally, Buffered))
+
+
+class OnceChain(Program):
+    a: BOOL = VAR(False)
+    b: BOOL = VAR(True)
+
+    def body(self) -> None:
+        S(self, "a", R(self, "b", self.b))
+
+
+def test_a_chain_whose_condition_reads_a_target_stays_one_st_chain() -> None:
+    assert body_of(dump([OnceChain]), "OnceChain") == "a S= b R= b;\n"
+
+
+class TextMethod(Program):
+    name: STRING = VAR("")
+
+    def body(self) -> None:
+        self.name = self.name.upper()
+
+
+def test_a_python_method_of_a_string_is_refused() -> None:
+    with pytest.raises(StExportError, match=r"test_export_bodies\.py:\d+: the Python method upper\(\) of a STRING\(80\) value"):
+        dump([TextMethod])
