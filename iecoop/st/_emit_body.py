@@ -11,8 +11,10 @@ it, becomes an ST comment that says the same.
 from __future__ import annotations
 
 import ast
+import builtins
 import enum
 import inspect
+import math
 import textwrap
 import typing
 from collections.abc import Callable, Iterator
@@ -126,13 +128,18 @@ def literal(value: Any, info: TypeInfo | None = None) -> str:
 class Scope:
     """What a body's names mean: the class's variables and members, and module constants."""
 
-    def __init__(self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any]) -> None:
+    def __init__(
+        self, cls: Any, fields: dict[str, TypeInfo], constants: dict[str, Any], functions: dict[str, Any],
+        named_enums: set[Any] | None = None,
+    ) -> None:
         self.cls = cls
         self.fields = fields
         #: Module constants the bodies use, by name (emitted as a VAR_GLOBAL CONSTANT list).
         self.constants = constants
         #: Module functions the bodies call, by name (emitted as FUNCTIONs).
         self.functions = functions
+        #: Enumerations whose component names the bodies read (declared with {attribute 'to_string'}).
+        self.named_enums: set[Any] = set() if named_enums is None else named_enums
 
 
 def _fields_of(cls: Any) -> dict[str, TypeInfo]:
@@ -213,6 +220,12 @@ class BodyWriter:
         self.first_line = func.__code__.co_firstlineno
         #: Statements that became comments (lenient mode): (line, construct).
         self.untranslated: list[tuple[int, str]] = []
+        #: Statements the next emitted line needs first: a call's result kept in a temporary.
+        self.prelude: list[str] = []
+        #: Temporaries of the statement being translated, by the id of the expression they hold.
+        self.hoisted: dict[int, str] = {}
+        #: Every local declared as a temporary (reused by later statements).
+        self.temps: set[str] = set()
 
     # -- entry point ---------------------------------------------------------
 
@@ -255,16 +268,18 @@ class BodyWriter:
             last = top and i == len(body) - 1
             mark = len(self.lines)
             saved = (dict(self.locals), set(self.references))
+            self.hoisted = {}
             try:
                 self.statement(stmt, depth, last)
             except _Untranslated as exc:
                 del self.lines[mark:]
-                self.locals, self.references = saved
+                self.locals, self.references, self.prelude = saved[0], saved[1], []
                 line = self.first_line + getattr(exc.node, "lineno", 1) - 1
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
                     raise StExportError(message) from None
-                self.untranslated.append((line, exc.what))
+                if (line, exc.what) not in self.untranslated:  # once, though an unrolled loop repeats it
+                    self.untranslated.append((line, exc.what))
                 text = " ".join(
                     part.strip() for part in self.source_lines[stmt.lineno - 1 : (stmt.end_lineno or stmt.lineno)]
                 )
@@ -272,7 +287,16 @@ class BodyWriter:
                 self.emit(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
 
     def emit(self, depth: int, text: str) -> None:
+        pending, self.prelude = self.prelude, []
+        for line in pending:
+            self.lines.append("    " * depth + line)
         self.lines.append("    " * depth + text)
+
+    def once(self, node: ast.AST, text: str) -> str:
+        """A condition evaluated again and again (WHILE, ELSIF): it cannot use a temporary set before."""
+        if self.prelude:
+            self.fail(node, "a member of a call's result in a while or elif condition (assign the result to a local first)")
+        return text
 
     def statement(self, node: ast.stmt, depth: int, last: bool) -> None:
         if isinstance(node, ast.Pass) or (isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)):
@@ -287,7 +311,8 @@ class BodyWriter:
             info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
             if info is None:
                 self.fail(node, "a local annotated None")
-            self.declare(node.target.id, info, node)
+            if not (isinstance(info, AggregateInfo) and node.value is not None and not isinstance(node.value, ast.Call)):
+                self.declare(node.target.id, info, node)
             if node.value is not None:
                 self.assign_one(node.target, node.value, depth, node)
         elif isinstance(node, ast.AugAssign):
@@ -304,7 +329,7 @@ class BodyWriter:
         elif isinstance(node, ast.While):
             if node.orelse:
                 self.fail(node, "while ... else")
-            self.emit(depth, f"WHILE {self.condition(node.test)} DO")
+            self.emit(depth, f"WHILE {self.once(node, self.condition(node.test))} DO")
             self.block(node.body, depth + 1)
             self.emit(depth, "END_WHILE")
         elif isinstance(node, ast.Break):
@@ -315,6 +340,10 @@ class BodyWriter:
             self.return_statement(node, depth, last)
         elif isinstance(node, ast.With):
             self.with_statement(node, depth)
+        elif isinstance(node, ast.Try):
+            self.try_statement(node, depth)
+        elif isinstance(node, ast.Match):
+            self.match_statement(node, depth)
         else:
             self.fail(node, _describe(node))
 
@@ -333,7 +362,7 @@ class BodyWriter:
         orelse = node.orelse
         while len(orelse) == 1 and isinstance(orelse[0], ast.If):
             branch = orelse[0]
-            self.emit(depth, f"ELSIF {self.condition(branch.test)} THEN")
+            self.emit(depth, f"ELSIF {self.once(branch, self.condition(branch.test))} THEN")
             self.block(branch.body, depth + 1)
             orelse = branch.orelse
         if orelse:
@@ -345,8 +374,113 @@ class BodyWriter:
         if node.orelse:
             self.fail(node, "for ... else")
         it = node.iter
+        enumerated = isinstance(it, ast.Call) and _is_name(it.func, "enumerate") and "enumerate" not in self.globals
+        sequence = typing.cast(ast.Call, it).args[0] if enumerated and typing.cast(ast.Call, it).args else it
+        if isinstance(sequence, (ast.Tuple, ast.List)):
+            self.unrolled_loop(node, sequence.elts, depth)
+            return
+        owner = self.constant_object(sequence)
+        if isinstance(owner, type) and getattr(owner, "_iec_kind_", None) == "enum":
+            # An enumeration's components, in declaration order.
+            members = [ast.Attribute(sequence, m.name, ast.Load()) for m in typing.cast(Any, owner)]
+            self.unrolled_loop(node, typing.cast(list[ast.expr], members), depth)
+            return
+        if isinstance(self.typeof(sequence), ArrayInfo):
+            self.array_loop(node, depth)
+            return
         if not (isinstance(node.target, ast.Name) and isinstance(it, ast.Call) and _is_name(it.func, "range") and not it.keywords):
-            self.fail(node, "a for loop over something other than range()")
+            self.fail(node, "a for loop over something other than range(), an ARRAY or a tuple")
+        self.range_loop(node, it, depth)
+
+    def loop_targets(self, node: ast.For, width: int) -> tuple[ast.Name | None, list[str]]:
+        """(the enumerate() counter or None, the names bound to each element) of a for loop."""
+        target = node.target
+        enumerated = isinstance(node.iter, ast.Call) and _is_name(node.iter.func, "enumerate")
+        counter: ast.Name | None = None
+        if enumerated:
+            if not (isinstance(target, ast.Tuple) and len(target.elts) == 2 and isinstance(target.elts[0], ast.Name)):
+                self.fail(node, "enumerate() without a (counter, element) target")
+            counter, target = target.elts[0], target.elts[1]
+        names = target.elts if isinstance(target, ast.Tuple) else [target]
+        if not all(isinstance(n, ast.Name) for n in names) or width != len(names) and width != 0:
+            self.fail(node, "a for loop target that is not one name per element")
+        return counter, [typing.cast(ast.Name, n).id for n in names]
+
+    def enumerate_start(self, node: ast.For) -> int:
+        it = node.iter
+        if not (isinstance(it, ast.Call) and _is_name(it.func, "enumerate")):
+            return 0
+        if it.keywords or len(it.args) not in (1, 2):
+            self.fail(node, "enumerate() with these arguments")
+        start = _constant_int(it.args[1]) if len(it.args) == 2 else 0
+        if start is None:
+            self.fail(node, "an enumerate() start that is not a constant integer")
+        return start
+
+    def unrolled_loop(self, node: ast.For, items: list[ast.expr], depth: int) -> None:
+        """A loop over a literal tuple: the body once per element, each name standing for its element."""
+        rows = [list(e.elts) if isinstance(e, ast.Tuple) else [e] for e in items]
+        counter, names = self.loop_targets(node, len(rows[0]) if rows and len(rows[0]) > 1 else 1)
+        start = self.enumerate_start(node)
+        bound = [*names, *([counter.id] if counter is not None else [])]
+        if _escapes(node.body) or any(isinstance(n, ast.Name) and n.id in bound and isinstance(n.ctx, ast.Store) for b in node.body for n in ast.walk(b)):
+            self.fail(node, "a loop over a tuple whose body breaks, continues or assigns the loop names (write the statements once per element)")
+        saved = dict(self.rename), dict(self.params)
+        try:
+            for i, row in enumerate(rows):
+                if len(row) != len(names):
+                    self.fail(node, "a for loop over tuples of different lengths")
+                values = [*row, *([ast.Constant(start + i)] if counter is not None else [])]
+                for name, value in zip(bound, values):
+                    text, prec = self.expr(value)
+                    if prec != _ATOM:
+                        self.fail(node, "a loop over a tuple of expressions (name each element)")
+                    self.rename[name] = text
+                    self.params[name] = self.typeof(value)  # type: ignore[assignment]
+                self.block(node.body, depth)
+        finally:
+            self.rename, self.params = saved
+
+    def array_loop(self, node: ast.For, depth: int) -> None:
+        """A loop over a one-dimensional ARRAY: FOR over its declared bounds, the name bound to each element."""
+        it = node.iter
+        array = it.args[0] if isinstance(it, ast.Call) else it
+        info = typing.cast(ArrayInfo, self.typeof(array))
+        if len(info.bounds) != 1:
+            self.fail(node, "a for loop over an ARRAY of several dimensions")
+        (low, high), elem = info.bounds[0], info.elem
+        counter, (name,) = self.loop_targets(node, 1)
+        start = self.enumerate_start(node)
+        aggregate = isinstance(elem, AggregateInfo)
+        if aggregate and any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for b in node.body for n in ast.walk(b)):
+            self.fail(node, "a loop over an ARRAY of blocks or structs whose body assigns the loop name")
+        if counter is not None and start == low:
+            index = counter.id
+        else:
+            index = next(f"{name}_index{n or ''}" for n in range(100) if f"{name}_index{n or ''}" not in {*self.locals, *self.params, *self.fields})
+        if index not in self.locals and index not in self.params:
+            self.declare(index, _DINT, node)
+        self.emit(depth, f"FOR {self.name_text(index)} := {low} TO {high} DO")
+        if counter is not None and index != counter.id:
+            if counter.id not in self.locals and counter.id not in self.params:
+                self.declare(counter.id, _DINT, node)
+            offset = start - low
+            self.emit(depth + 1, f"{self.name_text(counter.id)} := {self.name_text(index)} {'+' if offset >= 0 else '-'} {abs(offset)};")
+        element = f"{self.expr(array, _ATOM)[0]}[{self.name_text(index)}]"
+        if aggregate:
+            # Python binds the name to the element itself: in ST that is a reference to it.
+            if name not in self.references:
+                self.references.add(name)
+                self.declare(name, f"REFERENCE TO {type_text(elem)}", node)
+            self.emit(depth + 1, f"{self.name_text(name)} REF= {element};")
+        else:
+            if name not in self.locals and name not in self.params:
+                self.declare(name, elem, node)
+            self.emit(depth + 1, f"{self.name_text(name)} := {element};")
+        self.block(node.body, depth + 1)
+        self.emit(depth, "END_FOR")
+
+    def range_loop(self, node: ast.For, it: ast.Call, depth: int) -> None:
         args = it.args
         if not 1 <= len(args) <= 3:
             self.fail(node, "range() with no argument")
@@ -358,7 +492,7 @@ class BodyWriter:
             if value is None or value == 0:
                 self.fail(node, "a range() step that is not a constant integer")
             step = value
-        name = node.target.id
+        name = typing.cast(ast.Name, node.target).id
         if name not in self.locals and name not in self.params:
             self.declare(name, _DINT, node)
         end = self.end_bound(stop, -1 if step > 0 else 1)
@@ -401,6 +535,77 @@ class BodyWriter:
             self.emit(depth, "__CATCH")
         self.emit(depth, "__ENDTRY")
 
+    def try_statement(self, node: ast.Try, depth: int) -> None:
+        """``try`` / ``except`` (/ ``finally``) where it means what __TRY / __CATCH (/ __FINALLY) mean."""
+        if not node.handlers:
+            # The vendors' __TRY ... __FINALLY ... __ENDTRY goes on after __ENDTRY; Python's finally re-raises.
+            self.fail(node, "try / finally without except (ST goes on after __FINALLY where Python passes the exception on: "
+                      "put the clean-up after the statements, or use with try_catch() and act on exc.code)")
+        if len(node.handlers) > 1 or node.orelse:
+            self.fail(node, "try with several except clauses or an else (write one except clause)")
+        handler = node.handlers[0]
+        if not self.catches_all_faults(handler.type, node.body):
+            self.fail(handler, "an except clause other than except PlcException, except (PlcException, ZeroDivisionError) "
+                      "or except Exception (__CATCH catches every runtime fault, a division by zero too)")
+        self.emit(depth, "__TRY")
+        self.block(node.body, depth + 1)
+        if handler.name is not None:
+            self.catch_vars.add(handler.name)
+            self.declare(handler.name, "__SYSTEM.ExceptionCode", node)
+            self.emit(depth, f"__CATCH({handler.name})")
+        else:
+            name = next(f"exc{n or ''}" for n in range(100) if f"exc{n or ''}" not in {*self.locals, *self.params, *self.fields})
+            self.declare(name, "__SYSTEM.ExceptionCode", node)
+            self.emit(depth, f"__CATCH({name})")
+        self.block(handler.body, depth + 1)
+        if node.finalbody:
+            self.emit(depth, "__FINALLY")
+            self.block(node.finalbody, depth + 1)
+        self.emit(depth, "__ENDTRY")
+
+    def catches_all_faults(self, node: ast.expr | None, body: list[ast.stmt]) -> bool:
+        """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch: a
+        ZeroDivisionError too, unless the statements divide nothing themselves."""
+        names = node.elts if isinstance(node, ast.Tuple) else [node] if node is not None else []
+        found = {self.constant_object(n) or getattr(builtins, getattr(n, "id", ""), None) for n in names}
+        from iecoop.exceptions import PlcException
+
+        divides = any(isinstance(n, (ast.Div, ast.FloorDiv, ast.Mod)) for b in body for n in ast.walk(b))
+        return bool({Exception, BaseException} & found) or PlcException in found and (ZeroDivisionError in found or not divides)
+
+    def match_statement(self, node: ast.Match, depth: int) -> None:
+        """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
+        self.emit(depth, f"CASE {self.expr(node.subject)[0]} OF")
+        for case in node.cases:
+            if case.guard is not None:
+                self.fail(case.guard, "a case with a guard (write an if inside the case)")
+            pattern = case.pattern
+            if isinstance(pattern, ast.MatchAs) and pattern.pattern is None and pattern.name is None:
+                self.emit(depth, "ELSE")
+                self.block(case.body, depth + 1)
+                continue
+            options = pattern.patterns if isinstance(pattern, ast.MatchOr) else [pattern]
+            if not all(isinstance(o, ast.MatchValue) for o in options):
+                self.fail(pattern, "a case pattern other than values, enumeration components and _")
+            labels = ", ".join(self.expr(typing.cast(ast.MatchValue, o).value)[0] for o in options)
+            self.emit(depth + 1, f"{labels}:")
+            self.block(case.body, depth + 2)
+        self.emit(depth, "END_CASE")
+
+    def temporary(self, stem: str, info: TypeInfo, node: ast.AST) -> str:
+        """A local for a value a statement needs kept: a new one, or one of the same type that no
+        expression of the statement being translated holds."""
+        busy = set(self.hoisted.values())
+        for n in range(1000):
+            name = f"{stem}{n or ''}"
+            if name in self.temps and self.locals.get(name) is info and name not in busy:
+                return name
+            if name not in self.locals and name not in self.params and name not in self.fields:
+                self.temps.add(name)
+                self.declare(name, info, node)
+                return name
+        self.fail(node, "a statement that needs more than 1000 temporaries")
+
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
             self.fail(node, "an expression statement that is not a call")
@@ -409,26 +614,61 @@ class BodyWriter:
             holder, field, target = self.operator_args(node, 3)
             self.emit(depth, f"{self.member_text(holder, field)} REF= {self.ref_target(target)};")
             return
-        for op, word in (("S", "S="), ("R", "R=")):
-            if self.resolves_to(func, op) and getattr(self.globals.get(op), "__module__", "").startswith("iecoop"):
-                holder, field, condition = self.operator_args(node, 3)
-                self.emit(depth, f"{self.member_text(holder, field)} {word} {self.expr(condition)[0]};")
-                return
+        chain = self.set_reset_chain(node)
+        if chain is not None:
+            links, condition = chain
+            reads = {ast.unparse(n) for n in ast.walk(condition) if isinstance(n, (ast.Attribute, ast.Name))}
+            once = len(links) > 1 and any(isinstance(n, ast.Call) for n in ast.walk(condition))
+            if once or len(links) > 1 and any(target in reads for target, _ in links):
+                # The condition is evaluated once for the whole chain: ST's a S= b R= c.
+                self.emit(depth, " ".join(f"{text} {word}" for _, (text, word) in links) + f" {self.expr(condition)[0]};")
+            else:
+                # One statement per link, the innermost first as Python runs them (blark reads no chain).
+                for _, (text, word) in reversed(links):
+                    self.emit(depth, f"{text} {word} {self.expr(condition)[0]};")
+            return
         self.emit(depth, f"{self.call(node)[0]};")
+
+    def set_reset_chain(self, node: ast.expr) -> tuple[list[tuple[str, tuple[str, str]]], ast.expr] | None:
+        """``S(self, "a", R(self, "b", c))``: the links ((Python target, (ST target, S= / R=)), outermost
+        first) and the condition ``c`` they all act on (S and R return their condition)."""
+        if not isinstance(node, ast.Call):
+            return None
+        for op, word in (("S", "S="), ("R", "R=")):
+            if self.resolves_to(node.func, op) and _from_iecoop(self.globals.get(op)):
+                holder, field, condition = self.operator_args(node, 3)
+                link = (f"{ast.unparse(holder)}.{getattr(field, 'value', '')}", (self.member_text(holder, field), word))
+                inner = self.set_reset_chain(condition)
+                return ([link], condition) if inner is None else ([link, *inner[0]], inner[1])
+        return None
 
     def assign(self, node: ast.Assign, depth: int) -> None:
         for target in node.targets:
             if isinstance(target, ast.Tuple):
                 if not (isinstance(node.value, ast.Tuple) and len(node.value.elts) == len(target.elts)) or len(node.targets) != 1:
                     self.fail(node, "unpacking a value that is not a tuple of the same length")
-                names = [ast.unparse(t) for t in target.elts]
-                for i, (t, v) in enumerate(zip(target.elts, node.value.elts)):
-                    later = [ast.unparse(x) for x in node.value.elts[i + 1 :]]
-                    if any(names[i] in text for text in later):
-                        self.fail(node, "a tuple assignment whose later values read an earlier target")
-                    self.assign_one(t, v, depth, node)
+                self.tuple_assign(target.elts, node.value.elts, depth, node)
             else:
                 self.assign_one(target, node.value, depth, node)
+
+    def tuple_assign(self, targets: list[ast.expr], values: list[ast.expr], depth: int, node: ast.stmt) -> None:
+        """``a, b = x, y``: one assignment after another; a value that reads an earlier target is kept
+        in a temporary first, since Python evaluates every value before it assigns."""
+        names = [ast.unparse(t) for t in targets]
+        held: dict[int, str] = {}
+        for i, value in enumerate(values):
+            reads = {ast.unparse(n) for n in ast.walk(value) if isinstance(n, (ast.Name, ast.Attribute, ast.Subscript))}
+            if not any(r == n or r.startswith((n + ".", n + "[")) for n in names[:i] for r in reads):
+                continue
+            info = self.typeof(targets[i]) or self.typeof(value)
+            if info is None:
+                self.fail(node, "a tuple assignment whose later values read an earlier target of unknown type")
+            temp = self.temporary(f"{_stem(names[i])}_new", info, node)
+            self.hoisted[id(value)] = temp
+            self.emit(depth, f"{temp} := {self.expr(value)[0]};")
+            held[i] = temp
+        for i, (t, v) in enumerate(zip(targets, values)):
+            self.assign_one(t, ast.Name(held[i], ast.Load()) if i in held else v, depth, node)
 
     def assign_one(self, target: ast.expr, value: ast.expr, depth: int, node: ast.stmt) -> None:
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
@@ -463,6 +703,9 @@ class BodyWriter:
             return
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
             self.declare(name, "PVOID", node)
+            return
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "var_info"):
+            self.declare(name, "__SYSTEM.VAR_INFO", node)
             return
         info = self.typeof(value)
         if info is None:
@@ -545,7 +788,51 @@ class BodyWriter:
         if isinstance(node, ast.IfExp):
             cond = self.condition(node.test)
             return f"SEL({cond}, {self.expr(node.orelse)[0]}, {self.expr(node.body)[0]})", _ATOM
+        if isinstance(node, ast.JoinedStr):
+            return self.fstring(node), _ATOM
         self.fail(node, _describe(node))
+
+    def fstring(self, node: ast.JoinedStr) -> str:
+        """An f-string as nested CONCATs: TwinCAT's and CODESYS's CONCAT take two strings."""
+        pieces = [
+            literal(part.value) if isinstance(part, ast.Constant) else self.string_piece(typing.cast(ast.FormattedValue, part))
+            for part in node.values
+            if not (isinstance(part, ast.Constant) and part.value == "")
+        ]
+        text = pieces[0] if pieces else "''"
+        for piece in pieces[1:]:
+            text = f"CONCAT({text}, {piece})"
+        return text
+
+    def string_piece(self, node: ast.FormattedValue) -> str:
+        """One ``{value}`` of an f-string: only where ST writes the text Python writes."""
+        if node.conversion != -1:
+            self.fail(node, f"the f-string conversion !{chr(node.conversion)} (write the value itself)")
+        if node.format_spec is not None:
+            spec = "".join(str(getattr(p, "value", "{...}")) for p in typing.cast(ast.JoinedStr, node.format_spec).values)
+            self.fail(node, f"the f-string format :{spec} (ST has no format specifiers: {_REAL_IN_TEXT})")
+        info = self.typeof(node.value)
+        text = self.expr(node.value)[0]
+        if isinstance(info, StringInfo) and info.record.name == "STRING":
+            return text
+        name = getattr(getattr(info, "record", None), "name", None)
+        if name in _INTEGER_NAMES:
+            return f"{name}_TO_STRING({text})"
+        if name == "BOOL":
+            return f"SEL({text}, 'False', 'True')"  # Python writes True / False, BOOL_TO_STRING TRUE / FALSE
+        self.fail(node, _piece_refusal(info))
+
+    def query_test(self, node: ast.Call, found: bool) -> tuple[str, int]:
+        """``query_interface(a, IB) is not None``: __QUERYINTERFACE's BOOL result, into a temporary of IB."""
+        source, iface = self.operator_args(node, 2)
+        cls = self.constant_object(iface)
+        info = class_info(cls) if isinstance(cls, type) else None
+        if not isinstance(info, InterfaceInfo):
+            self.fail(node, "query_interface() with a target that is not an interface name")
+        temp = self.hoisted.get(id(node)) or self.temporary(f"{cls.__name__}_query", info, node)
+        self.hoisted[id(node)] = temp
+        text = f"__QUERYINTERFACE({self.expr(source)[0]}, {temp})"
+        return (text, _ATOM) if found else (f"NOT {text}", _UNARY)
 
     def condition_operand(self, node: ast.expr, prec: int) -> str:
         info = self.typeof(node)
@@ -554,6 +841,12 @@ class BodyWriter:
         return self.expr(node, prec + 1)[0]
 
     def compare(self, node: ast.Compare) -> tuple[str, int]:
+        left = node.left
+        if (
+            len(node.ops) == 1 and isinstance(node.ops[0], (ast.Is, ast.IsNot)) and isinstance(left, ast.Call)
+            and self.resolves_to(left.func, "query_interface") and _is_none(node.comparators[0])
+        ):
+            return self.query_test(left, isinstance(node.ops[0], ast.IsNot))
         parts: list[str] = []
         left = node.left
         for op, right in zip(node.ops, node.comparators):
@@ -577,7 +870,10 @@ class BodyWriter:
     def binop(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
         if isinstance(node.op, (ast.LShift, ast.RShift)):
             word = "SHL" if isinstance(node.op, ast.LShift) else "SHR"
-            return f"{word}({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
+            value = _constant_int(node.left)
+            # SHL's result has its operand's width: a literal needs one (Python's integers have none).
+            operand = f"DWORD#{value}" if value is not None and 0 <= value < 2**32 else self.expr(node.left)[0]
+            return f"{word}({operand}, {self.expr(node.right)[0]})", _ATOM
         if isinstance(node.op, ast.Pow):
             return f"EXPT({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
         op = _BINOPS.get(type(node.op))
@@ -593,7 +889,7 @@ class BodyWriter:
                 # Python's / on integers gives a float; ST's gives an integer.
                 left_text = f"TO_LREAL({self.expr(left)[0]})"
         if isinstance(node.op, ast.FloorDiv) and (_is_real(self.typeof(left)) or _is_real(self.typeof(right))):
-            self.fail(where, "// on REAL values")
+            self.fail(where, "// on REAL values (ST has no floor division: TRUNC(a / b) is the same where a / b >= 0)")
         return f"{left_text} {symbol} {right_text}", prec
 
     def name(self, node: ast.Name) -> str:
@@ -651,10 +947,39 @@ class BodyWriter:
             self.fail(node, f"the attribute {ast.unparse(node)}")
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
             return f"SUPER^.{attr}"
+        if attr in ("low", "high") and isinstance(self.typeof(base), ArrayInfo):
+            # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
+            bounds = typing.cast(ArrayInfo, self.typeof(base)).bounds
+            if len(bounds) == 1:
+                return str(bounds[0][0 if attr == "low" else 1])
+        if attr == "name" and isinstance(self.typeof(base), EnumInfo):
+            # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
+            self.scope.named_enums.add(typing.cast(EnumInfo, self.typeof(base)).enum_cls)
+            return f"TO_STRING({self.expr(base)[0]})"
         if isinstance(base, ast.Call):
-            # TwinCAT reads a member of a returned REFERENCE, but the grammar blark parses does not.
-            self.fail(node, "a member of a call's result")
+            return self.call_member(node, base)
         return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
+
+    def call_member(self, node: ast.Attribute, call: ast.Call) -> str:
+        """``obj.get().x``: TwinCAT reads a member of a returned value, but blark's grammar does not,
+        so the result goes to a temporary first (a METHOD's STRUCT result is a copy there)."""
+        if _is_task_info(self, call):
+            return f"{self.expr(call, _ATOM)[0]}.{ident(node.attr)}"
+        info = self.typeof(call)
+        if isinstance(info, ReferenceInfo):
+            info = info.target
+        if not isinstance(info, (InterfaceInfo, AggregateInfo)):
+            self.fail(node, "a member of a call's result whose type is not an interface, block or struct")
+        if isinstance(node.ctx, ast.Store) and isinstance(info, AggregateInfo):
+            self.fail(node, "a write into a member of a call's result (the METHOD returns a copy in ST: return an interface, or bind a REFERENCE local)")
+        temp = self.hoisted.get(id(call))
+        if temp is None:
+            func = call.func
+            stem = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "call")
+            temp = self.temporary(f"{stem}_result", info, node)
+            self.prelude.append(f"{temp} := {self.call(call)[0]};")
+            self.hoisted[id(call)] = temp
+        return f"{temp}.{ident(node.attr)}"
 
     def constant_object(self, node: ast.expr | None) -> Any:
         """The module-level object a name or dotted name designates (an enum, an interface), or None."""
@@ -726,10 +1051,23 @@ class BodyWriter:
         if isinstance(func, ast.Attribute) and func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
             # Pointer.typed(T): ST converts between POINTER types on assignment.
             return self.expr(func.value)
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and not _is_task_info(self, func.value):
+            # A method of a returned interface: TwinCAT and CODESYS chain the calls (fluent interfaces).
+            return f"{self.call(func.value)[0]}.{ident(func.attr)}({self.arguments(node)})", _ATOM
+        if isinstance(func, ast.Attribute):
+            self.python_method(func)
         callee = self.expr(func, _ATOM)[0]
-        return f"{callee}({self.arguments(node)})", _ATOM
+        block = self.typeof(func)
+        in_outs = _in_out_names(block.cls) if isinstance(block, AggregateInfo) else frozenset()
+        return f"{callee}({self.arguments(node, in_outs)})", _ATOM
 
-    def arguments(self, node: ast.Call) -> str:
+    def python_method(self, func: ast.Attribute) -> None:
+        """Refuse a Python method of a value (``name.upper()``): ST has no methods on elementary values."""
+        info = self.typeof(func.value)
+        if isinstance(info, (ElementaryInfo, StringInfo, EnumInfo)):
+            self.fail(func, f"the Python method {func.attr}() of a {info.name} value")
+
+    def arguments(self, node: ast.Call, in_outs: frozenset[str] = frozenset()) -> str:
         callee = self.callee(node)
         sections = parameter_sections(callee) if callee is not None else {}
         if sections:
@@ -738,7 +1076,12 @@ class BodyWriter:
         for kw in node.keywords:
             if kw.arg is None:
                 self.fail(node, "**arguments")
-            parts.append(f"{ident(kw.arg)} := {self.expr(kw.value)[0]}")
+            value = kw.value
+            if kw.arg in in_outs and isinstance(value, ast.Call) and self.resolves_to(value.func, "adr"):
+                # fb(buffer=adr(self, "data")) binds a VAR_IN_OUT: ST passes the variable itself.
+                parts.append(f"{ident(kw.arg)} := {self.address_operand(value)}")
+                continue
+            parts.append(f"{ident(kw.arg)} := {self.expr(value)[0]}")
         return ", ".join(parts)
 
     def callee(self, node: ast.Call) -> Any:
@@ -793,53 +1136,21 @@ class BodyWriter:
 
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
         value = self.globals.get(name)
-        module = getattr(value, "__module__", "") or ""
-        library = module == "iecoop" or module.startswith("iecoop.")
-        args = node.args
-        if name == "T" and value is T or name == "LTIME" and library or name == "D" and value is D:
-            if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
-                self.fail(node, f"{name}() of a value that is not a string literal")
-            text = args[0].value
-            if name == "T":
-                return format_time(T(text)).upper(), _ATOM
-            if name == "D":
-                return format_date(D(text)), _ATOM
-            return format_ltime(parse_ltime(text)).upper(), _ATOM
-        if name in _BUILTINS and value is None:
-            return f"{_BUILTINS[name]}({self.arguments(node)})", _ATOM
-        if name in ("int", "float", "bool") and value is None and len(args) == 1 and not node.keywords:
-            info = self.typeof(args[0])
-            inner = self.expr(args[0])[0]
-            if name == "bool":
-                return (inner, _ATOM) if _is_bool(info) else (f"{self.expr(args[0], _EQ + 1)[0]} <> 0", _EQ)
-            if name == "int":
-                return (inner, _ATOM) if _is_integer(info) or _is_bool(info) and False else (f"TRUNC({inner})" if _is_real(info) else f"TO_DINT({inner})", _ATOM)
-            return f"TO_LREAL({inner})", _ATOM
-        if library and name == "adr":
-            return f"ADR({self.address_operand(node)})", _ATOM
-        if library and name == "sizeof":
-            if len(args) == 2:
-                return f"SIZEOF({self.member_text(args[0], args[1])})", _ATOM
-            return f"SIZEOF({self.expr(args[0])[0]})", _ATOM
-        if library and name == "is_valid_ref":
-            holder, field = self.operator_args(node, 2)
-            return f"__ISVALIDREF({self.member_text(holder, field)})", _ATOM
-        if library and name == "test_and_set":
-            (flag,) = self.operator_args(node, 1)
-            if isinstance(flag, ast.Call) and self.resolves_to(flag.func, "adr"):
-                return f"TestAndSet({self.address_operand(flag)})", _ATOM
-            return f"TestAndSet({self.expr(flag)[0]}^)", _ATOM
-        if library and name == "now_ms":
-            return "TIME()", _ATOM
-        if library and name == "MOD" and len(args) == 2:
-            return f"{self.expr(args[0], _MUL)[0]} MOD {self.expr(args[1], _MUL + 1)[0]}", _MUL
-        if library and name in _OPERATORS:
-            return f"{_OPERATORS[name]}({self.arguments(node)})", _ATOM
-        if library and callable(value) and name.isupper() or library and callable(value) and name[:1].isupper() and "_TO_" in name:
+        library = _from_iecoop(value)
+        if name == "T" and value is T or name == "D" and value is D or name == "LTIME" and library:
+            return self.time_literal(node, name), _ATOM
+        # A builtin only while no module name hides it; iecoop's operators only when they are iecoop's.
+        rules = _BUILTIN_CALLS if value is None else _LIBRARY_CALLS if library else {}
+        rule = rules.get(name)
+        found = rule(self, node) if rule is not None else None
+        if found is not None:
+            return found
+        if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
-        if name == "len" and value is None and len(args) == 1 and isinstance(self.typeof(args[0]), StringInfo):
-            return f"LEN({self.expr(args[0])[0]})", _ATOM
+        if getattr(value, "_iec_kind_", None) == "enum" and _one_argument(node) is not None:
+            # Mode(n): an integer is a component's value in ST (a non-strict enumeration takes it as is).
+            return self.expr(node.args[0])
         if self.function_signature(value) is not None:
             known = self.scope.functions.get(name, value)
             if known is not value:
@@ -847,6 +1158,18 @@ class BodyWriter:
             self.scope.functions[name] = value
             return f"{ident(name)}({self.arguments(node)})", _ATOM
         self.fail(node, f"a call of {name}()")
+
+    def time_literal(self, node: ast.Call, name: str) -> str:
+        """``T("2s")`` / ``LTIME("1ms")`` / ``D("2024-01-31")``: the typed ST literal."""
+        args = node.args
+        if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
+            self.fail(node, f"{name}() of a value that is not a string literal")
+        text = args[0].value
+        if name == "T":
+            return format_time(T(text)).upper()
+        if name == "D":
+            return format_date(D(text))
+        return format_ltime(parse_ltime(text)).upper()
 
     def function_signature(self, value: Any) -> tuple[list[tuple[str, TypeInfo, Any]], TypeInfo | None] | None:
         """Inputs and result of a module function that can be an ST FUNCTION, or None."""
@@ -861,8 +1184,6 @@ class BodyWriter:
             inputs = function_parameters(value, value.__qualname__)
             result = return_info(value, value.__qualname__, None)
         except StExportError:
-            return None
-        if result is None:
             return None
         return inputs, result
 
@@ -884,79 +1205,54 @@ class BodyWriter:
         return info
 
     def _typeof(self, node: ast.expr | None) -> TypeInfo | None:
-        if node is None:
-            return None
-        if isinstance(node, ast.Constant):
-            value = node.value
-            if isinstance(value, bool):
-                return _BOOL
-            if isinstance(value, int):
-                return _DINT
-            if isinstance(value, float):
-                return _LREAL
-            if isinstance(value, str):
-                return _STRING
-            return None
-        if isinstance(node, ast.Name):
-            if node.id in self.locals or node.id in self.params:
-                return self._local_info(node.id)
-            if node.id in self.rename:
-                return self.params.get(node.id)
-            if node.id in ("True", "False"):
-                return _BOOL
-            value = self.globals.get(node.id)
-            if isinstance(value, bool):
-                return _BOOL
-            if isinstance(value, int) and not isinstance(value, enum.Enum):
-                return _DINT
-            if isinstance(value, float):
-                return _LREAL
-            return None
-        if isinstance(node, ast.Attribute):
-            base = node.value
-            if isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
-                return self.member_type(self.scope.cls, node.attr, self.fields)
-            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-                return self.member_type(self.scope.cls, node.attr, self.fields)
-            owner = self.constant_object(base)
-            if isinstance(owner, type) and issubclass(owner, enum.Enum):
-                return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
-            if node.attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
-                return self.params.get(base.id)
-            inner = self._typeof(base)
-            if node.attr == "deref" and isinstance(inner, PointerInfo):
-                return inner.target
-            if isinstance(inner, ReferenceInfo):
-                inner = inner.target
-            cls = _class_of(inner)
-            if cls is not None:
-                return self.member_type(cls, node.attr, _fields_of(cls))
-            return None
-        if isinstance(node, ast.Subscript):
-            inner = self._typeof(node.value)
-            if isinstance(inner, ReferenceInfo):
-                inner = inner.target
-            if isinstance(inner, ArrayInfo):
-                return inner.elem
-            return None
-        if isinstance(node, ast.Call):
-            return self.call_type(node)
-        if isinstance(node, ast.BinOp):
-            left, right = self._typeof(node.left), self._typeof(node.right)
-            if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
-                return _LREAL
-            if _is_real(left):
-                return left
-            if _is_real(right):
-                return right
-            return left or right
-        if isinstance(node, (ast.Compare, ast.BoolOp)):
+        rule = _TYPE_RULES.get(type(node))
+        return rule(self, node) if rule is not None else None
+
+    def name_type(self, node: ast.Name) -> TypeInfo | None:
+        if node.id in self.locals or node.id in self.params:
+            return self._local_info(node.id)
+        if node.id in self.rename:
+            return self.params.get(node.id)
+        if node.id in ("True", "False"):
             return _BOOL
-        if isinstance(node, ast.UnaryOp):
-            return _BOOL if isinstance(node.op, ast.Not) else self._typeof(node.operand)
-        if isinstance(node, ast.IfExp):
-            return self._typeof(node.body) or self._typeof(node.orelse)
-        return None
+        return _constant_type(self.globals.get(node.id))
+
+    def attribute_type(self, node: ast.Attribute) -> TypeInfo | None:
+        base = node.value
+        if _is_name(base, "self") and "self" not in self.locals or isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            return self.member_type(self.scope.cls, node.attr, self.fields)
+        owner = self.constant_object(base)
+        if isinstance(owner, type) and issubclass(owner, enum.Enum):
+            return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
+        if node.attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
+            return self.params.get(base.id)
+        inner = self._typeof(base)
+        if node.attr == "deref" and isinstance(inner, PointerInfo):
+            return inner.target
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        if node.attr == "name" and isinstance(inner, EnumInfo):
+            return _STRING
+        if isinstance(base, ast.Call) and _is_task_info(self, base):
+            return _TASK_INFO.get(node.attr)
+        cls = _class_of(inner)
+        return self.member_type(cls, node.attr, _fields_of(cls)) if cls is not None else None
+
+    def subscript_type(self, node: ast.Subscript) -> TypeInfo | None:
+        inner = self._typeof(node.value)
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        return inner.elem if isinstance(inner, ArrayInfo) else None
+
+    def binop_type(self, node: ast.BinOp) -> TypeInfo | None:
+        left, right = self._typeof(node.left), self._typeof(node.right)
+        if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
+            return _LREAL
+        if _is_real(left):
+            return left
+        if _is_real(right):
+            return right
+        return left or right
 
     def member_type(self, cls: Any, name: str, fields: dict[str, TypeInfo]) -> TypeInfo | None:
         if name in fields:
@@ -973,66 +1269,40 @@ class BodyWriter:
     def call_type(self, node: ast.Call) -> TypeInfo | None:
         func = node.func
         if isinstance(func, ast.Name) and func.id not in self.locals:
-            name = func.id
-            value = self.globals.get(name)
-            if name == "T":
-                return _TIME
-            if name == "LTIME":
-                return _LTIME
-            if name in _BUILTINS and node.args:
-                return self._typeof(node.args[0])
-            if name == "float":
-                return _LREAL
-            if name == "int":
-                return _DINT
-            if name in ("bool", "is_valid_ref", "test_and_set"):
-                return _BOOL
-            if name == "now_ms":
-                return _TIME
-            if name == "new" and node.args:
-                cls = self.constant_object(node.args[0])
-                info = class_info(cls) if isinstance(cls, type) else None
-                return PointerInfo(lambda: info, type_text(info)) if info is not None else None
-            if name == "adr" and node.args:
-                target = self._typeof(node.args[0]) if len(node.args) == 1 else None
-                return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
-            if name == "len":
-                return _DINT
-            signature = self.function_signature(value)
-            if signature is not None:
-                return signature[1]
-            if callable(value) and (getattr(value, "__module__", "") or "").startswith("iecoop"):
-                hints = typing.get_type_hints(value) if not isinstance(value, type) else {}
-                ret = hints.get("return")
-                if ret is int:
-                    suffix = name.rsplit("TO_", 1)[-1] if "TO_" in name else "DINT"
-                    try:
-                        from iecoop import types as iec_types
-
-                        return resolve_type(getattr(iec_types, suffix), suffix)
-                    except Exception:
-                        return _DINT
-                if ret is float:
-                    return _LREAL
-                if ret is bool:
-                    return _BOOL
-            return None
+            return self.named_call_type(node, func.id)
         if isinstance(func, ast.Attribute):
-            base = func.value
-            if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-                cls = self.scope.cls.__mro__[1]
-            elif isinstance(base, ast.Name) and base.id == "self" and "self" not in self.locals:
-                cls = self.scope.cls
-            else:
-                cls = _class_of(self._typeof(base))
-            if cls is None:
-                return None
-            found = _member_function(cls, func.attr)
-            if found is None or found[0] is None:
-                return None
-            function, owner = found
-            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+            return self.method_call_type(func)
         return None
+
+    def named_call_type(self, node: ast.Call, name: str) -> TypeInfo | None:
+        if name in _CALL_TYPES:
+            return _CALL_TYPES[name]
+        rule = _CALL_TYPE_RULES.get(name)
+        if rule is not None:
+            return rule(self, node)
+        value = self.globals.get(name)
+        if isinstance(value, type) and getattr(value, "_iec_kind_", None) == "enum":
+            return class_info(value)
+        signature = self.function_signature(value)
+        if signature is not None:
+            return signature[1]
+        return _library_result(name, value)
+
+    def method_call_type(self, func: ast.Attribute) -> TypeInfo | None:
+        base = func.value
+        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            cls = self.scope.cls.__mro__[1]
+        elif _is_name(base, "self") and "self" not in self.locals:
+            cls = self.scope.cls
+        else:
+            cls = _class_of(self._typeof(base))
+        if cls is None:
+            return None
+        found = _member_function(cls, func.attr)
+        if found is None or found[0] is None:
+            return None
+        function, owner = found
+        return return_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 def _constant_int(node: ast.expr) -> int | None:
@@ -1042,6 +1312,38 @@ def _constant_int(node: ast.expr) -> int | None:
         inner = _constant_int(node.operand)
         return -inner if inner is not None else None
     return None
+
+
+def _in_out_names(cls: Any) -> frozenset[str]:
+    """The VAR_IN_OUT variables of a block, inherited ones too."""
+    from iecoop.st._emit_model import metadata
+
+    found: set[str] = set()
+    for klass in getattr(cls, "__mro__", ()):
+        if getattr(klass, "_iec_kind_", None) in ("fb", "program") and "_iec_base_class_" not in klass.__dict__:
+            found.update(f.name for f in metadata(klass).fields if f.section == "VAR_IN_OUT")
+    return frozenset(found)
+
+
+def _is_none(node: ast.expr) -> bool:
+    return isinstance(node, ast.Constant) and node.value is None or _is_name(node, "None")
+
+
+def _stem(target: str) -> str:
+    """A name for a temporary from an assignment target's text (``self.a[i]`` gives ``a``)."""
+    return target.removeprefix("self.").split("[", 1)[0].replace(".", "_")
+
+
+def _escapes(body: list[ast.stmt]) -> bool:
+    """Whether a loop body breaks or continues its own loop (not one nested in it)."""
+    for stmt in body:
+        if isinstance(stmt, (ast.Break, ast.Continue)):
+            return True
+        if isinstance(stmt, (ast.For, ast.While)):
+            continue
+        if _escapes([c for c in ast.iter_child_nodes(stmt) if isinstance(c, ast.stmt)]):
+            return True
+    return False
 
 
 def _is_name(node: ast.AST | None, name: str) -> bool:
@@ -1070,3 +1372,295 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
             yield node
+
+
+#: Types whose *_TO_STRING text is the one Python's f-string gives (decimal digits, a minus sign).
+_INTEGER_NAMES = frozenset("SINT INT DINT LINT USINT UINT UDINT ULINT BYTE WORD DWORD LWORD".split())
+_REAL_IN_TEXT = "round to an integer and write CONCAT(...) with DINT_TO_STRING(...), or LREAL_TO_STRING(...), whose text differs from Python's"
+
+
+def _piece_refusal(info: TypeInfo | None) -> str:
+    """What an f-string value is that ST would write differently, and what to write instead."""
+    if _is_real(info):
+        return f"a REAL value in an f-string (Python writes repr(): {_REAL_IN_TEXT})"
+    kind = getattr(getattr(info, "record", None), "kind", None)
+    if kind in ("time", "date"):
+        return "a TIME or DATE value in an f-string (Python writes the number, TIME_TO_STRING writes T#...: write CONCAT(...) with TIME_TO_DINT(...) or TIME_TO_STRING(...))"
+    if isinstance(info, EnumInfo):
+        return "an enumeration value in an f-string (Python writes its number: write {x.name} for its name, or its base type's *_TO_STRING)"
+    if isinstance(info, StringInfo):
+        return "a WSTRING in an f-string (write CONCAT(...) with WSTRING_TO_STRING(...))"
+    return "a value of unknown type in an f-string (give it an IEC type annotation)"
+
+
+def _from_iecoop(value: Any) -> bool:
+    module = getattr(value, "__module__", "") or ""
+    return module == "iecoop" or module.startswith("iecoop.")
+
+
+# ---------------------------------------------------------------------------
+# Calls of names: one rule per Python builtin and per iecoop operator
+# ---------------------------------------------------------------------------
+
+_CallRule = Callable[[BodyWriter, ast.Call], "tuple[str, int] | None"]
+
+
+def _one_argument(node: ast.Call) -> ast.expr | None:
+    return node.args[0] if len(node.args) == 1 and not node.keywords else None
+
+
+def _call_min_max_abs(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"{_BUILTINS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+
+
+def _call_bool(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        return None
+    if _is_bool(w.typeof(arg)):
+        return w.expr(arg)[0], _ATOM
+    return f"{w.expr(arg, _EQ + 1)[0]} <> 0", _EQ
+
+
+def _call_int(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        return None
+    info, inner = w.typeof(arg), w.expr(arg)[0]
+    if _is_integer(info):
+        return inner, _ATOM
+    # int() of a float truncates towards zero, as TRUNC does.
+    return (f"TRUNC({inner})" if _is_real(info) else f"TO_DINT({inner})"), _ATOM
+
+
+def _call_float(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    return (f"TO_LREAL({w.expr(arg)[0]})", _ATOM) if arg is not None else None
+
+
+def _call_len(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None or not isinstance(w.typeof(arg), StringInfo):
+        return None
+    return f"LEN({w.expr(arg)[0]})", _ATOM
+
+
+def _call_round(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    arg = _one_argument(node)
+    if arg is None:
+        w.fail(node, "round() with a number of digits (ST rounds only to an integer: LREAL_TO_DINT(x))")
+    info = w.typeof(arg)
+    if _is_integer(info):
+        return w.expr(arg)
+    if not _is_real(info):
+        return None
+    # Python rounds half to even; so does iecoop's REAL_TO_DINT in both vendor profiles (x64 SSE rounding).
+    return f"{typing.cast(ElementaryInfo, info).record.name}_TO_DINT({w.expr(arg)[0]})", _ATOM
+
+
+def _call_len_constant(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    """len() of a module constant (a tuple, a string) or of an enumeration: a number the PLC knows at compile time."""
+    arg = _one_argument(node)
+    if arg is None:
+        return _call_len(w, node)
+    if isinstance(arg, ast.Name):
+        value = w.globals.get(arg.id) if arg.id not in w.locals and arg.id not in w.params else None
+    else:
+        value = w.constant_object(arg)
+    if isinstance(value, (tuple, str)) or isinstance(value, type) and issubclass(value, enum.Enum):
+        return str(len(value)), _ATOM
+    return _call_len(w, node)
+
+
+def _call_math(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``math.sin(x)``...: Python computes in double precision, so a REAL argument goes to LREAL first."""
+    func = node.func
+    arg = _one_argument(node)
+    if not (isinstance(func, ast.Attribute) and w.constant_object(func.value) is math) or arg is None:
+        return None
+    info = w.typeof(arg)
+    if not (_is_real(info) or _is_integer(info)):
+        return None
+    text = w.expr(arg)[0]
+    if typing.cast(ElementaryInfo, info).record.name != "LREAL":
+        text = f"TO_LREAL({text})"
+    return f"{_MATH[func.attr]}({text})", _ATOM
+
+
+#: Functions of Python's math module and the IEC standard function that computes the same.
+_MATH = {"sin": "SIN", "cos": "COS", "tan": "TAN", "asin": "ASIN", "acos": "ACOS", "atan": "ATAN", "sqrt": "SQRT", "exp": "EXP", "log10": "LOG"}
+
+
+def _call_adr(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"ADR({w.address_operand(node)})", _ATOM
+
+
+def _call_sizeof(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    args = node.args
+    if len(args) == 2:
+        return f"SIZEOF({w.member_text(args[0], args[1])})", _ATOM
+    return f"SIZEOF({w.expr(args[0])[0]})", _ATOM
+
+
+def _call_is_valid_ref(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    holder, field = w.operator_args(node, 2)
+    return f"__ISVALIDREF({w.member_text(holder, field)})", _ATOM
+
+
+def _call_test_and_set(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    (flag,) = w.operator_args(node, 1)
+    if isinstance(flag, ast.Call) and w.resolves_to(flag.func, "adr"):
+        return f"TestAndSet({w.address_operand(flag)})", _ATOM
+    return f"TestAndSet({w.expr(flag)[0]}^)", _ATOM
+
+
+def _call_var_info(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    holder, field = w.operator_args(node, 2)
+    return f"__VARINFO({w.member_text(holder, field)})", _ATOM
+
+
+def _call_mod(w: BodyWriter, node: ast.Call) -> tuple[str, int] | None:
+    if len(node.args) != 2:
+        return None
+    return f"{w.expr(node.args[0], _MUL)[0]} MOD {w.expr(node.args[1], _MUL + 1)[0]}", _MUL
+
+
+def _call_operator(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    return f"{_OPERATORS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+
+
+def _call_current_task(w: BodyWriter, node: ast.Call) -> tuple[str, int]:
+    # TwinCAT's task information array (Tc2_System); CODESYS has no such array.
+    return "_TaskInfo[GETCURTASKINDEXEX()]", _ATOM
+
+
+#: Python builtins (while no module name hides them) and their ST form.
+_BUILTIN_CALLS: dict[str, _CallRule] = {
+    "min": _call_min_max_abs, "max": _call_min_max_abs, "abs": _call_min_max_abs,
+    "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len_constant, "round": _call_round,
+    **{name: _call_math for name in _MATH},
+}
+#: iecoop's operators (only when the name is iecoop's) and their ST form.
+_LIBRARY_CALLS: dict[str, _CallRule] = {
+    **{name: _call_operator for name in _OPERATORS},
+    "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
+    "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
+    "var_info": _call_var_info,
+}
+
+
+# ---------------------------------------------------------------------------
+# Types of expressions: one rule per kind of node
+# ---------------------------------------------------------------------------
+
+
+def _constant_type(value: Any) -> TypeInfo | None:
+    """The type of a Python constant (a literal, or a module constant's value)."""
+    if isinstance(value, bool):
+        return _BOOL
+    if isinstance(value, enum.Enum):
+        return None
+    if isinstance(value, int):
+        return _DINT
+    if isinstance(value, float):
+        return _LREAL
+    if isinstance(value, str):
+        return _STRING
+    return None
+
+
+def _literal_type(w: BodyWriter, node: ast.Constant) -> TypeInfo | None:
+    return _constant_type(node.value)
+
+
+def _unary_type(w: BodyWriter, node: ast.UnaryOp) -> TypeInfo | None:
+    return _BOOL if isinstance(node.op, ast.Not) else w._typeof(node.operand)
+
+
+def _ifexp_type(w: BodyWriter, node: ast.IfExp) -> TypeInfo | None:
+    return w._typeof(node.body) or w._typeof(node.orelse)
+
+
+_TYPE_RULES: dict[type, Callable[[BodyWriter, Any], TypeInfo | None]] = {
+    ast.Constant: _literal_type,
+    ast.Name: BodyWriter.name_type,
+    ast.Attribute: BodyWriter.attribute_type,
+    ast.Subscript: BodyWriter.subscript_type,
+    ast.Call: BodyWriter.call_type,
+    ast.BinOp: BodyWriter.binop_type,
+    ast.Compare: lambda w, node: _BOOL,
+    ast.BoolOp: lambda w, node: _BOOL,
+    ast.UnaryOp: _unary_type,
+    ast.IfExp: _ifexp_type,
+    ast.JoinedStr: lambda w, node: _STRING,
+}
+
+
+def _first_argument_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    return w._typeof(node.args[0]) if node.args else None
+
+
+def _round_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    info = _first_argument_type(w, node)
+    return info if _is_integer(info) else _DINT
+
+
+def _new_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    cls = w.constant_object(node.args[0]) if node.args else None
+    info = class_info(cls) if isinstance(cls, type) else None
+    return PointerInfo(lambda: info, type_text(info)) if info is not None else None
+
+
+def _adr_type(w: BodyWriter, node: ast.Call) -> TypeInfo | None:
+    if not node.args:
+        return None
+    target = w._typeof(node.args[0]) if len(node.args) == 1 else None
+    return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
+
+
+#: Result types of calls of names that do not depend on the arguments.
+_CALL_TYPES: dict[str, TypeInfo] = {
+    "T": _TIME, "LTIME": _LTIME, "float": _LREAL, "int": _DINT, "bool": _BOOL, "is_valid_ref": _BOOL,
+    "test_and_set": _BOOL, "now_ms": _TIME, "len": _DINT,
+}
+#: Result types of calls of names that depend on the arguments.
+_CALL_TYPE_RULES: dict[str, Callable[[BodyWriter, ast.Call], TypeInfo | None]] = {
+    "min": _first_argument_type, "max": _first_argument_type, "abs": _first_argument_type,
+    "round": _round_type, "new": _new_type, "adr": _adr_type, **{name: lambda w, node: _LREAL for name in _MATH},
+}
+
+
+def _library_result(name: str, value: Any) -> TypeInfo | None:
+    """The result type of one of iecoop's IEC functions, from its annotation and its ST name."""
+    if not (callable(value) and _from_iecoop(value)) or isinstance(value, type):
+        return None
+    ret = typing.get_type_hints(value).get("return")
+    if ret is int:
+        suffix = name.rsplit("TO_", 1)[-1] if "TO_" in name else "DINT"
+        try:
+            from iecoop import types as iec_types
+
+            return resolve_type(getattr(iec_types, suffix), suffix)
+        except Exception:
+            return _DINT
+    results: dict[Any, TypeInfo] = {float: _LREAL, bool: _BOOL, str: _STRING}
+    return results.get(ret)
+
+
+def _is_task_info(w: BodyWriter, node: ast.Call) -> bool:
+    return w.resolves_to(node.func, "current_task") and _from_iecoop(w.globals.get("current_task"))
+
+
+def _task_info_types() -> dict[str, TypeInfo]:
+    from iecoop.types import BOOL as B, STRING as S, UDINT, UINT
+
+    udint, uint = resolve_type(UDINT, "UDINT"), resolve_type(UINT, "UINT")
+    return {
+        "CycleTime": udint, "CycleCount": udint, "LastExecTime": udint, "Priority": uint,
+        "FirstCycle": resolve_type(B, "BOOL"), "CycleTimeExceeded": resolve_type(B, "BOOL"),
+        "TaskName": resolve_type(S, "STRING"),
+    }
+
+
+#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has, and their ST types.
+_TASK_INFO = _task_info_types()

@@ -16,7 +16,7 @@ from typing import Any
 from iecoop.members import Access
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import BodyWriter, Scope, literal
+from iecoop.st._emit_body import _BOOL, BodyWriter, Scope, literal
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -33,7 +33,7 @@ from iecoop.st._emit_model import (
     type_text,
 )
 
-__all__ = ["Part", "Unit", "units"]
+__all__ = ["Part", "Unit", "passed_inputs", "units"]
 
 _SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
 #: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
@@ -65,6 +65,8 @@ class Unit:
     meta: ClassMeta | None = None
     #: A FUNCTION's result, inputs and locals.
     signature: tuple[TypeInfo, tuple[tuple[str, TypeInfo, Any], ...], dict[str, TypeInfo | str]] | None = None
+    #: Attributes declared before the object (``{attribute 'to_string'}``), by name.
+    attributes: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def word(self) -> str:
@@ -204,6 +206,12 @@ def _local_lines(writer: BodyWriter) -> list[str]:
     return lines
 
 
+def passed_inputs(inputs: Sequence[tuple[str, TypeInfo, Any]]) -> list[tuple[str, TypeInfo, Any]]:
+    """The inputs as a METHOD or FUNCTION declares them: Python passes a STRUCT or block itself, where a
+    VAR_INPUT of its type would hold a copy, so such an input is ``REFERENCE TO`` it (bound by the call)."""
+    return [(n, ReferenceInfo(i), MISSING) if isinstance(i, AggregateInfo) else (n, i, d) for n, i, d in inputs]
+
+
 def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
     if not inputs:
         return []
@@ -277,7 +285,8 @@ class _Writer:
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
-        decl = _parameter_lines(inputs, where, {})
+        declared = passed_inputs(inputs)
+        decl = _parameter_lines(declared, where, {})
         implementation = ""
         if not interface and not member.flags & Access.ABSTRACT:
             writer = self.body(
@@ -287,14 +296,12 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(inputs))
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
         where = f"{meta.name}.{st_name}"
         inputs = parameters(func, where, meta.cls)
-        from iecoop.st._emit_body import _BOOL
-
         writer = self.body(func, st_name=st_name, result=_BOOL, params={n: i for n, i, _ in inputs}, rename=_LIFECYCLE_INPUTS)
 
         decl = _inputs_lines(inputs, where, _LIFECYCLE_INPUTS) + _local_lines(writer)
@@ -394,14 +401,15 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     from iecoop.st._emit_model import function_parameters
 
     inputs = function_parameters(func, name)
-    result = return_info(func, name, None)
-    assert result is not None
+    # A FUNCTION has a result in TwinCAT and CODESYS: one that returns nothing in Python gives a BOOL left FALSE.
+    result = return_info(func, name, None) or _BOOL
     by_reference = _by_reference(inputs)
     body = writer.body(func, st_name=ident(name), result=result, params=_body_params(inputs), by_reference=set(by_reference))
-    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_parameter_lines(inputs, name, {}), *_local_lines(body)]
+    declared = passed_inputs(inputs)
+    lines = [f"FUNCTION {ident(name)} : {type_text(result)}", *_parameter_lines(declared, name, {}), *_local_lines(body)]
     return Unit(
         "function", ident(name), "\n".join(lines) + "\n", "\n".join(body.lines),
-        signature=(result, tuple(inputs), dict(body.locals)),
+        signature=(result, tuple(declared), dict(body.locals)),
     )
 
 
@@ -409,6 +417,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
     """Every object to export, with a GVL of the module constants the bodies use, and what was not translated."""
     constants: dict[str, Any] = {}
     functions: dict[str, Any] = {}
+    named_enums: set[Any] = set()
     untranslated: list[str] = []
     found: list[Unit] = []
     for meta in metas:
@@ -419,16 +428,17 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         else:
             from iecoop.st._emit_body import _fields_of
 
-            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions)
+            scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions, named_enums)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
     done: set[str] = set()
     while set(functions) - done:
         for fname in sorted(set(functions) - done):
             done.add(fname)
-            scope = Scope(None, {}, constants, functions)
+            scope = Scope(None, {}, constants, functions, named_enums)
             unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
             index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
             found.insert(index, unit)
+    _mark_named_enums(found, named_enums, lenient, untranslated)
     if constants:
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
@@ -438,6 +448,22 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
         found.insert(index, Unit("gvl", "GVL_Constants", "\n".join(lines)))
     return found, untranslated
+
+
+def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, untranslated: list[str]) -> None:
+    """Declare {attribute 'to_string'} on each enumeration whose component names the bodies read."""
+    exported = {unit.meta.cls: unit for unit in found if unit.kind == "enum" and unit.meta is not None}
+    for cls in sorted(named_enums, key=lambda c: c.__name__):
+        unit = exported.get(cls)
+        if unit is not None:
+            unit.attributes.append("to_string")
+            unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
+            continue
+        # Without the attribute TO_STRING gives the number: the enumeration must come along.
+        message = f"{cls.__name__}: its component names are read (TO_STRING needs {{attribute 'to_string'}} on it): export {cls.__name__} too"
+        if not lenient:
+            raise StExportError(message)
+        untranslated.append(message)
 
 
 def flat_text(unit: Unit) -> str:

