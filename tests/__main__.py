@@ -173,7 +173,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         gates.append(Gate("slow tests", [python, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow", "tests"]))
     gates += [
         Gate("mypy", [python, "-m", "mypy", "--strict"]),
-        Gate("docs", [python, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"]),
+        # -E: a fresh environment, so pages the docs build generates and later removes leave nothing stale behind
+        Gate("docs", [python, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"]),
     ]
     started = time.monotonic()
     outcomes = [_run(gate) for gate in gates]
