@@ -43,6 +43,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
+from iecoop._inline import inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.interfaces import Interface, interface_members
 from iecoop.memory._core import (
@@ -652,6 +653,15 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         lines.append("    _temp_reset(self)")
     body = next((k.__dict__["body"] for k in cls.__mro__ if "body" in k.__dict__), None)
     if isinstance(body, types.FunctionType):
+        # One frame per call: the body's statements compiled after the input lines, when provably the same code.
+        given = dict.fromkeys((r.name for r in (*inputs, *in_outs)), _NOT_GIVEN)
+        # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
+        # in place (the class check, the validator only for another class, the store): the same work, no call.
+        stores: dict[str, _FastWrite] = _fast_writes(layout, _write_rules(cls, layout)) if _config.CHECKS else {}
+        inlined = inline_call(name, body, params, lines, globs, given, cls, stores)
+        if inlined is not None:
+            inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
+            return inlined
         # The class's body as found now: this call is this class's own (a subclass generates its own).
         globs["_body"] = body
         lines.append("    _body(self)")
@@ -737,6 +747,23 @@ def _read_only_rule(rule: _WriteRule) -> Callable[[Any, Any], str | None] | None
     return refusal
 
 
+#: Per field: (the value's accepted class, written from inside only, validator, "Class.field", store).
+_FastWrite = tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]
+
+
+def _fast_writes(layout: ClassLayout, rules: dict[str, _WriteRule]) -> dict[str, _FastWrite]:
+    """Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
+    VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
+    one is written by the block's own code without the rule check. The rest takes the general path.
+    """
+    fast: dict[str, _FastWrite] = {}
+    for record in layout.fields:
+        validate, where, section, method_name, constant = rules[record.name]
+        if validate is not None and not constant and method_name is None:
+            fast[record.name] = (accepted_type(record.info), section in _INSIDE_ONLY, validate, where, record.raw.__set__)
+    return fast
+
+
 def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
     rules = cls._iec_write_rules_ = _write_rules(cls, layout)
     for record in layout.own:
@@ -746,14 +773,7 @@ def _checked_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any],
     getframe = sys._getframe
     setter = object.__setattr__
     inside_only = _INSIDE_ONLY
-    # Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
-    # VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
-    # one is written by the block's own code without the rule check. The rest takes the general path.
-    fast: dict[str, tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]] = {}
-    for record in layout.fields:
-        validate, where, section, method_name, constant = rules[record.name]
-        if validate is not None and not constant and method_name is None:
-            fast[record.name] = (accepted_type(record.info), section in inside_only, validate, where, record.raw.__set__)
+    fast = _fast_writes(layout, rules)
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
         spec = fast.get(field)

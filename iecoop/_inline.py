@@ -1,0 +1,263 @@
+"""The generated call with the block's body compiled into it: one Python frame per FB call.
+
+A block's call sets the inputs and runs ``body()``. Run as two functions,
+every call pays for a second frame; a scan of a thousand stations, each
+calling an R_TRIG, a CTU and a TON, pays it four thousand times a cycle. So
+when the class is built, the builder compiles one function from the lines
+that set the inputs and the body's own statements, as attrs compiles
+``__init__`` from its fields.
+
+The body's statements keep their file and line numbers, so a traceback, a
+debugger's breakpoint and coverage still point at the user's ``body``; the
+lines that set the inputs carry the line of ``def body``. The body's closure
+cells (``super()``'s ``__class__`` among them) are the body's own, shared, and
+its globals are its module's. The body is compiled into the call only when
+that is provably the same code: its source, compiled the same way, must give
+a code object equal to the body's (so a file edited since import, a decorated
+body or one made by ``exec`` without its source is left alone), it takes
+``self`` alone, is no generator, returns no value and uses none of the
+call's names. Otherwise the call calls the body, as before.
+"""
+
+from __future__ import annotations
+
+import __future__
+import ast
+import inspect
+import types
+from collections.abc import Callable
+from typing import Any
+
+from iecoop.members import adopt_code
+
+__all__ = ["inline_call"]
+
+_FUTURE_FLAGS = 0
+for _feature in __future__.all_feature_names:
+    _FUTURE_FLAGS |= getattr(__future__, _feature).compiler_flag
+_NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR | inspect.CO_ITERABLE_COROUTINE
+_NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
+_FACTORY = "_iec_factory_"
+_CLASS = "_iec_class_"
+_STORE = "_iec_w_"
+
+
+def inline_call(
+    name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
+    kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
+) -> Callable[..., None] | None:
+    """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
+
+    ``stores`` (checked mode): per variable, what its checked ``__setattr__``
+    does for a write (accepted class, inside only, validator, "Class.field",
+    store); the body's own ``self.x = value`` is written out as that work.
+    None when the body cannot be compiled into the call as the same code.
+    """
+    code = body.__code__
+    if (
+        code.co_flags & _NOT_PLAIN or code.co_argcount != 1 or code.co_posonlyargcount or code.co_kwonlyargcount
+        or code.co_varnames[:1] != ("self",) or body.__defaults__ or body.__kwdefaults__
+        or hasattr(body, "__wrapped__")
+    ):
+        return None
+    node = _function_node(body)
+    if node is None:
+        return None
+    used = _used_names(node)
+    if used & {*params, *names, _FACTORY, _CLASS} or any(n.startswith(_STORE) for n in used):
+        return None
+    if any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node)):
+        return None
+    flags = code.co_flags & _FUTURE_FLAGS
+    same = _compile_in(node, code, [], flags)
+    if same is None or _without_nested(same) != _without_nested(code):
+        return None
+    call = _with_inputs(node, params, lines)
+    names = dict(names)
+    # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
+    own = code in getattr(owner, "_iec_codes_", ())
+    writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
+    if writes and not _rebinds_self(node):
+        call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
+        call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
+        ast.fix_missing_locations(call)
+    merged = _compile_in(call, code, sorted(names), flags)
+    if merged is None:
+        return None
+    cells = dict(zip(code.co_freevars, body.__closure__ or ()))
+    closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
+    function = types.FunctionType(merged, body.__globals__, "__call__", None, closure)
+    function.__kwdefaults__ = dict(kwdefaults)
+    function.__annotations__ = {"return": None}
+    function.__qualname__ = f"{name}.__call__"
+    function.__module__ = owner.__module__
+    # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
+    adopt_code(merged, code, owner)
+    return function
+
+
+def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
+    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source."""
+    try:
+        source = inspect.getsource(body)
+        # An indented def (a method) parses inside an `if`, which keeps its columns.
+        tree = ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
+    except (OSError, TypeError, SyntaxError, ValueError):
+        return None
+    top = tree.body[0]
+    node = top.body[0] if isinstance(top, ast.If) else top
+    if not isinstance(node, ast.FunctionDef) or node.decorator_list or node.name != body.__code__.co_name:
+        return None
+    ast.increment_lineno(node, body.__code__.co_firstlineno - node.lineno)
+    return node
+
+
+def _used_names(node: ast.FunctionDef) -> set[str]:
+    """Every name the body binds or reads (not attribute names): the call's names must not meet them."""
+    found: set[str] = set()
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name):
+            found.add(n.id)
+        elif isinstance(n, ast.arg):
+            found.add(n.arg)
+        elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not node:
+            found.add(n.name)
+        elif isinstance(n, ast.alias):
+            found.add((n.asname or n.name).split(".")[0])
+        elif isinstance(n, (ast.Global, ast.Nonlocal)):
+            found.update(n.names)
+        elif isinstance(n, ast.ExceptHandler) and n.name:
+            found.add(n.name)
+        elif isinstance(n, (ast.MatchAs, ast.MatchStar)) and n.name:
+            found.add(n.name)
+        elif isinstance(n, ast.MatchMapping) and n.rest:
+            found.add(n.rest)
+    return found
+
+
+def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
+    """The nodes of the function itself, not of the functions, lambdas and classes nested in it."""
+    found: list[ast.AST] = []
+    todo: list[ast.AST] = list(node.body)
+    while todo:
+        n = todo.pop()
+        found.append(n)
+        if not isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            todo.extend(ast.iter_child_nodes(n))
+    return found
+
+
+def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str]) -> ast.FunctionDef:
+    """The body's ``def`` with the call's signature and the input lines first, all at the ``def`` line."""
+    signature = ", ".join(["self", "*", *params]) if params else "self"
+    template = ast.parse(f"def {node.name}({signature}) -> None:\n" + "\n".join([*lines, "    pass"]) + "\n")
+    head = template.body[0]
+    assert isinstance(head, ast.FunctionDef)
+    for n in ast.walk(head):
+        if hasattr(n, "lineno"):
+            located: Any = n
+            located.lineno = located.end_lineno = node.lineno
+            located.col_offset = located.end_col_offset = node.col_offset
+    head.body[-1:] = node.body
+    head.returns = None
+    return head
+
+
+def _rebinds_self(node: ast.FunctionDef) -> bool:
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name) and n.id == "self" and not isinstance(n.ctx, ast.Load):
+            return True
+        if isinstance(n, (ast.Global, ast.Nonlocal)) and "self" in n.names:
+            return True
+    return False
+
+
+class _DirectStores(ast.NodeTransformer):
+    """``self.x = value`` / ``self.x += value`` in the body's own statements, as checked ``__setattr__`` does it.
+
+    ::
+
+        _iec_w_value = value
+        if _iec_w_value.__class__ is not _iec_w_accepted_x: _iec_w_check_x(_iec_w_value, "Class.x")
+        _iec_w_store_x(self, _iec_w_value)
+
+    Nested functions, lambdas and classes are left alone (their code must stay the body's).
+    """
+
+    def __init__(self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any]) -> None:
+        self.writes, self.names = writes, names
+
+    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
+        return node
+
+    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
+
+    def _field(self, target: ast.expr) -> str | None:
+        if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+            return target.attr if target.attr in self.writes else None
+        return None
+
+    def visit_Assign(self, node: ast.Assign) -> Any:
+        field = self._field(node.targets[0]) if len(node.targets) == 1 else None
+        return node if field is None else self._store(node, field, node.value)
+
+    def visit_AugAssign(self, node: ast.AugAssign) -> Any:
+        field = self._field(node.target)
+        if field is None:
+            return node
+        current = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=field, ctx=ast.Load())
+        value = ast.BinOp(left=ast.copy_location(current, node.target), op=node.op, right=node.value)
+        return self._store(node, field, ast.copy_location(value, node))
+
+    def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
+        accepted, _inside, check, where, store = self.writes[field]
+        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
+        v = f"{_STORE}value"
+        statements = ast.parse(
+            f"{v} = 0\n"
+            f"if {v}.__class__ is not {_STORE}accepted_{field}: {_STORE}check_{field}({v}, {where!r})\n"
+            f"{_STORE}store_{field}(self, {v})\n"
+        ).body
+        for statement in statements:
+            for n in ast.walk(statement):
+                ast.copy_location(n, node)
+        first = statements[0]
+        assert isinstance(first, ast.Assign)
+        first.value = value
+        return statements
+
+
+def _compile_in(node: ast.FunctionDef, code: types.CodeType, extra: list[str], flags: int) -> types.CodeType | None:
+    """Compile ``node`` where the body was: inside a function giving its free variables (and ``extra``).
+
+    ``__class__`` (``super()``) comes from a class statement around it, as in the source.
+    """
+    free = [v for v in code.co_freevars if v != "__class__"]
+    wrapper = f"def {_FACTORY}({', '.join([*free, *extra])}):\n"
+    wrapper += f" class {_CLASS}:\n  pass\n" if "__class__" in code.co_freevars else " pass\n"
+    tree = ast.parse(wrapper)
+    factory = tree.body[0]
+    assert isinstance(factory, ast.FunctionDef)
+    holder = factory.body[0] if isinstance(factory.body[0], ast.ClassDef) else factory
+    holder.body = [node]
+    try:
+        module = compile(tree, code.co_filename, "exec", flags=flags, dont_inherit=True)
+    except (SyntaxError, ValueError):
+        return None
+    return _find(module, code.co_name, code.co_firstlineno)
+
+
+def _find(code: types.CodeType, name: str, line: int) -> types.CodeType | None:
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            if const.co_name == name and const.co_firstlineno == line:
+                return const
+            found = _find(const, name, line)
+            if found is not None:
+                return found
+    return None
+
+
+def _without_nested(code: types.CodeType) -> types.CodeType:
+    # CO_NESTED only says the def sat in another function; it changes nothing the code does.
+    return code.replace(co_flags=code.co_flags & ~inspect.CO_NESTED)
