@@ -23,7 +23,10 @@ from __future__ import annotations
 
 import __future__
 import ast
+import functools
 import inspect
+import linecache
+import symtable
 import types
 from collections.abc import Callable
 from typing import Any
@@ -64,12 +67,14 @@ def inline_call(
     if node is None:
         return None
     used = _used_names(node)
-    if used & {*params, *names, _FACTORY, _CLASS} or any(n.startswith(_STORE) for n in used):
+    # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
+    if used & {*kwdefaults, *names, _FACTORY, _CLASS} or any(n.startswith(_STORE) for n in used):
         return None
     if any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node)):
         return None
     flags = code.co_flags & _FUTURE_FLAGS
-    same = _compile_in(node, code, [], flags)
+    imports = sorted(_module_imports(code.co_filename, body.__globals__) & used)
+    same = _compile_in(node, code, [], flags, imports)
     if same is None or _without_nested(same) != _without_nested(code):
         return None
     call = _with_inputs(node, params, lines)
@@ -81,7 +86,7 @@ def inline_call(
         call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
         call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
         ast.fix_missing_locations(call)
-    merged = _compile_in(call, code, sorted(names), flags)
+    merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
     cells = dict(zip(code.co_freevars, body.__closure__ or ()))
@@ -227,16 +232,35 @@ class _DirectStores(ast.NodeTransformer):
         return statements
 
 
-def _compile_in(node: ast.FunctionDef, code: types.CodeType, extra: list[str], flags: int) -> types.CodeType | None:
+def _module_imports(filename: str, module_globals: dict[str, Any]) -> frozenset[str]:
+    """The names the body's module imports at its top level (the compiler calls ``name.attr()`` of those differently)."""
+    text = "".join(linecache.getlines(filename, module_globals))
+    return _imports_in(filename, text)
+
+
+@functools.lru_cache(maxsize=16)
+def _imports_in(filename: str, text: str) -> frozenset[str]:
+    try:
+        table = symtable.symtable(text, filename, "exec")
+    except (SyntaxError, ValueError):
+        return frozenset()
+    return frozenset(symbol.get_name() for symbol in table.get_symbols() if symbol.is_imported())
+
+
+def _compile_in(
+    node: ast.FunctionDef, code: types.CodeType, extra: list[str], flags: int, imports: list[str]
+) -> types.CodeType | None:
     """Compile ``node`` where the body was: inside a function giving its free variables (and ``extra``).
 
-    ``__class__`` (``super()``) comes from a class statement around it, as in the source.
+    ``__class__`` (``super()``) comes from a class statement around it, as in the source, and the
+    module's imports the body uses are declared (never run) as the module declares them.
     """
     free = [v for v in code.co_freevars if v != "__class__"]
-    wrapper = f"def {_FACTORY}({', '.join([*free, *extra])}):\n"
+    wrapper = "".join(f"import {name}\n" for name in imports)
+    wrapper += f"def {_FACTORY}({', '.join([*free, *extra])}):\n"
     wrapper += f" class {_CLASS}:\n  pass\n" if "__class__" in code.co_freevars else " pass\n"
     tree = ast.parse(wrapper)
-    factory = tree.body[0]
+    factory = tree.body[-1]
     assert isinstance(factory, ast.FunctionDef)
     holder = factory.body[0] if isinstance(factory.body[0], ast.ClassDef) else factory
     holder.body = [node]

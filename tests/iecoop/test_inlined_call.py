@@ -1,0 +1,243 @@
+"""The generated call with the body compiled into it: the same behaviour as calling the body, in one frame.
+
+Each block is driven over several calls; where the body cannot be compiled
+into the call (no source, a name it shares with an input, a value returned),
+the call still runs the body, and both forms must give the same results.
+"""
+
+from __future__ import annotations
+
+import inspect
+import linecache
+import traceback
+from typing import Any
+
+import pytest
+
+from iecoop import (
+    BOOL,
+    INT,
+    PRIVATE,
+    VAR,
+    VAR_INPUT,
+    VAR_OUTPUT,
+    AccessError,
+    FunctionBlock,
+    _config,
+    method,
+)
+
+LIMIT = 3
+
+
+class Counter(FunctionBlock):
+    """FB_Counter: counts the calls with enable, wraps as an INT."""
+
+    enable: BOOL = VAR_INPUT(False)
+    step: INT = VAR_INPUT(1)
+    count: INT = VAR_OUTPUT(0)
+    calls: INT = VAR(0)
+
+    def body(self) -> None:
+        """The docstring is no statement of the call."""
+        self.calls += 1
+        if self.enable:
+            self.count += self.step
+
+
+def _is_one_frame(cls: type) -> bool:
+    call: Any = cls.__dict__["__call__"]
+    body: Any = next(k.__dict__["body"] for k in cls.__mro__ if "body" in k.__dict__)
+    return bool(call.__code__.co_filename == body.__code__.co_filename and call.__code__.co_firstlineno == body.__code__.co_firstlineno)
+
+
+def test_the_body_runs_in_the_call_frame_with_the_inputs_kept_between_calls() -> None:
+    assert _is_one_frame(Counter)
+    counter = Counter()
+    for enable in (True, True, False, True):
+        counter(enable=enable)
+    counter(step=10)  # enable is kept from the last call
+    assert (counter.count, counter.calls, counter.enable, counter.step) == (13, 5, True, 10)
+    counter(enable=True, step=32767)
+    assert counter.count == 13 + 32767 - 65536  # INT wrap-around at the store
+
+
+def test_the_call_keeps_its_name_and_refuses_unknown_inputs() -> None:
+    assert Counter.__call__.__qualname__ == "Counter.__call__"
+    assert Counter.__call__.__name__ == "__call__"
+    with pytest.raises(TypeError, match=r"Counter\.__call__\(\) got an unexpected keyword argument 'speed'"):
+        Counter()(speed=1)  # type: ignore[call-arg]
+
+
+def test_a_traceback_shows_the_body_line() -> None:
+    class Divider(FunctionBlock):
+        divisor: INT = VAR_INPUT(1)
+        quotient: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            self.quotient = 100 // self.divisor  # the failing line
+
+    divider = Divider()
+    divider(divisor=4)
+    assert divider.quotient == 25
+    with pytest.raises(ZeroDivisionError) as caught:
+        divider(divisor=0)
+    last = traceback.extract_tb(caught.value.__traceback__)[-1]
+    assert (last.filename, last.name, last.line) == (__file__, "body", "self.quotient = 100 // self.divisor  # the failing line")
+
+
+def test_closure_variables_are_the_bodys_own_cells() -> None:
+    scale = 2
+
+    class Scaler(FunctionBlock):
+        value: INT = VAR_INPUT(0)
+        result: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            self.result = self.value * scale
+
+    scaler = Scaler()
+    scaler(value=5)
+    assert scaler.result == 10
+    scale = 3  # rebinding the variable is seen by the next call, as by the body itself
+    scaler(value=5)
+    assert scaler.result == 15
+    assert _is_one_frame(Scaler)
+
+
+def test_super_body_and_a_private_method_of_the_base() -> None:
+    class Base(FunctionBlock):
+        trips: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            self.bump()
+
+        @method(PRIVATE)
+        def bump(self) -> None:
+            self.trips += 1
+
+    class Derived(Base):
+        extra: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            super().body()
+            self.extra += 2
+
+    class Inheriting(Base):
+        other: INT = VAR(0)
+
+        @method
+        def touch(self) -> None:
+            self.other += 1
+
+    derived, inheriting = Derived(), Inheriting()
+    for _ in range(LIMIT):
+        derived()
+        inheriting()
+    assert (derived.trips, derived.extra, inheriting.trips) == (LIMIT, 2 * LIMIT, LIMIT)
+    assert all(_is_one_frame(c) for c in (Base, Derived, Inheriting))
+    with pytest.raises(AccessError, match=r"PRIVATE METHOD Base\.bump"):
+        inheriting.bump()
+
+
+def test_a_body_using_an_input_name_runs_as_its_own_function() -> None:
+    class Shadow(FunctionBlock):
+        limit: INT = VAR_INPUT(0)
+        hits: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            limit = self.limit + 1  # a local named like the input: the call cannot take the body in
+            self.hits += limit
+
+    assert not _is_one_frame(Shadow)
+    shadow = Shadow()
+    shadow(limit=1)
+    shadow()
+    assert shadow.hits == 4
+
+
+def test_a_body_returning_a_value_or_without_source_runs_as_its_own_function() -> None:
+    class Returning(FunctionBlock):
+        count: INT = VAR_OUTPUT(0)
+
+        def body(self) -> Any:
+            self.count += 1
+            return self.count
+
+    returning = Returning()
+    call: Any = returning
+    assert call() is None  # the call returns nothing, whatever the body returns
+    assert returning.count == 1 and not _is_one_frame(Returning)
+
+    source = "class NoSource(FunctionBlock):\n    count: INT = VAR_OUTPUT(0)\n    def body(self) -> None:\n        self.count += 1\n"
+    namespace: dict[str, Any] = {"FunctionBlock": FunctionBlock, "INT": INT, "VAR_OUTPUT": VAR_OUTPUT, "__name__": __name__}
+    exec(compile(source, "<iecoop test: no source>", "exec"), namespace)  # noqa: S102 - a class without source
+    no_source = namespace["NoSource"]()
+    no_source()
+    no_source()
+    assert no_source.count == 2 and not _is_one_frame(namespace["NoSource"])
+
+
+def test_source_that_no_longer_matches_the_running_code_is_not_compiled_in() -> None:
+    filename = "<iecoop test: edited source>"
+    source = "class Edited(FunctionBlock):\n    count: INT = VAR_OUTPUT(0)\n    def body(self) -> None:\n        self.count += 1\n"
+    namespace: dict[str, Any] = {"FunctionBlock": FunctionBlock, "INT": INT, "VAR_OUTPUT": VAR_OUTPUT, "__name__": __name__}
+    # The source linecache holds says "+= 5": the class's real code adds 1, so the call keeps the real body.
+    edited = source.replace("+= 1", "+= 5")
+    linecache.cache[filename] = (len(edited), None, edited.splitlines(True), filename)
+    try:
+        exec(compile(source, filename, "exec"), namespace)  # noqa: S102 - code whose registered source differs
+    finally:
+        del linecache.cache[filename]
+    block = namespace["Edited"]()
+    block()
+    assert block.count == 1 and not _is_one_frame(namespace["Edited"])
+
+
+def test_the_call_code_counts_as_the_blocks_own() -> None:
+    code = Counter.__call__.__code__
+    assert code in Counter._iec_codes_
+    assert inspect.getsource(Counter.__call__).lstrip().startswith("def body(self) -> None:")
+
+
+@pytest.mark.skipif(not _config.CHECKS, reason="checked mode checks the kind of a written value")
+def test_checked_mode_writes_in_the_body_keep_their_checks() -> None:
+    class Writer(FunctionBlock):
+        value: INT = VAR_INPUT(0)
+        kept: INT = VAR_OUTPUT(0)
+        flag: BOOL = VAR(False)
+        limit: INT = VAR(10, constant=True)
+
+        def body(self) -> None:
+            self.kept = self.value * 1000  # wraps as an INT
+            self.flag = self.value > 0
+            if self.value < 0:
+                self.kept = "text"  # type: ignore[assignment]
+            if self.value > 100:
+                self.limit = 3
+
+    writer = Writer()
+    writer(value=40)
+    assert (writer.kept, writer.flag) == (40000 - 65536, True)
+    with pytest.raises(TypeError, match=r"Writer\.kept: cannot store str 'text' in INT"):
+        writer(value=-1)
+    with pytest.raises(AccessError, match=r"Writer\.limit is CONSTANT"):
+        writer(value=101)
+    with pytest.raises(AccessError, match=r"VAR_OUTPUT Writer\.kept cannot be written from"):
+        writer.kept = 1
+
+
+def test_the_body_runs_one_frame_below_the_caller() -> None:
+    frame_count: list[int] = []
+
+    class Depth(FunctionBlock):
+        depth: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            frame_count.append(len(inspect.stack(0)))
+            self.depth = 1
+
+    depth = Depth()
+    depth()
+    here = len(inspect.stack(0))
+    assert frame_count == [here + 1]  # the body runs one frame below the caller
