@@ -31,7 +31,9 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from iecoop.literals import D, T
 from iecoop.members import adopt_code
+from iecoop.types import DT, LTIME, TOD
 
 __all__ = ["inline_call"]
 
@@ -48,12 +50,15 @@ _STORE = "_iec_w_"
 def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
+    aliases: dict[str, str],
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
     ``stores`` (checked mode): per variable, what its checked ``__setattr__``
     does for a write (accepted class, inside only, validator, "Class.field",
     store); the body's own ``self.x = value`` is written out as that work.
+    ``aliases``: per block member, the name its property's getter reads
+    (``attrgetter(alias)``); the body's own ``self.timer`` reads the alias.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -73,7 +78,10 @@ def inline_call(
     if any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node)):
         return None
     flags = code.co_flags & _FUTURE_FLAGS
-    imports = sorted(_module_imports(code.co_filename, body.__globals__) & used)
+    # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
+    called = {n.func.value.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
+              and isinstance(n.func.value, ast.Name)} - {"self"}
+    imports = sorted(_module_imports(code.co_filename, body.__globals__) & used) if called else []
     same = _compile_in(node, code, [], flags, imports)
     if same is None or _without_nested(same) != _without_nested(code):
         return None
@@ -82,10 +90,15 @@ def inline_call(
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
-    if writes and not _rebinds_self(node):
-        call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
-        call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
-        ast.fix_missing_locations(call)
+    if (writes or aliases) and not _rebinds_self(node):
+        if writes:
+            call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
+            call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
+        if aliases:
+            call.body = [_MemberReads(aliases).visit(statement) for statement in call.body]
+    local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
+    call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
+    ast.fix_missing_locations(call)
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -177,7 +190,67 @@ def _rebinds_self(node: ast.FunctionDef) -> bool:
     return False
 
 
-class _DirectStores(ast.NodeTransformer):
+class _OwnCode(ast.NodeTransformer):
+    """Leaves nested functions, lambdas, classes and comprehensions alone: their code must stay the body's."""
+
+    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
+        return node
+
+    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
+    visit_ListComp = visit_SetComp = visit_DictComp = visit_GeneratorExp = visit_FunctionDef
+
+
+class _MemberReads(_OwnCode):
+    """``self.timer`` (a read) becomes ``self._iec_m_timer``, what the member property's getter reads."""
+
+    def __init__(self, aliases: dict[str, str]) -> None:
+        self.aliases = aliases
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        self.generic_visit(node)
+        alias = self.aliases.get(node.attr)
+        if alias is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            return ast.copy_location(ast.Attribute(value=node.value, attr=alias, ctx=node.ctx), node)
+        return node
+
+
+#: The literal functions (ST: T#200ms, LTIME#1ms, D#..., TOD#..., DT#...): the same int for the same text.
+_LITERALS: tuple[Any, ...] = (T, D, LTIME, TOD, DT)
+
+
+class _Literals(_OwnCode):
+    """``T("200ms")`` with a constant text becomes ``(200 if T is <iecoop's T> else T("200ms"))``.
+
+    The literal is read once, when the class is built; the name is still looked
+    up at every call, so a module that rebinds ``T`` calls its own ``T``. A text
+    the literal refuses is left to fail at the call, as before.
+    """
+
+    def __init__(self, module_globals: dict[str, Any], local: set[str], names: dict[str, Any]) -> None:
+        self.globals, self.local, self.names = module_globals, local, names
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        func = node.func
+        if not (isinstance(func, ast.Name) and func.id not in self.local and len(node.args) == 1 and not node.keywords):
+            return node
+        text = node.args[0]
+        literal: Any = self.globals.get(func.id)
+        if not (isinstance(text, ast.Constant) and isinstance(text.value, str) and any(literal is f for f in _LITERALS)):
+            return node
+        try:
+            value = literal(text.value)
+        except (ValueError, TypeError):
+            return node
+        if type(value) is not int:
+            return node
+        known = f"{_STORE}literal_{func.id}"
+        self.names[known] = literal
+        test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
+        return ast.copy_location(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+
+
+class _DirectStores(_OwnCode):
     """``self.x = value`` / ``self.x += value`` in the body's own statements, as checked ``__setattr__`` does it.
 
     ::
@@ -191,11 +264,6 @@ class _DirectStores(ast.NodeTransformer):
 
     def __init__(self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any]) -> None:
         self.writes, self.names = writes, names
-
-    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
-        return node
-
-    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
 
     def _field(self, target: ast.expr) -> str | None:
         if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
@@ -218,17 +286,21 @@ class _DirectStores(ast.NodeTransformer):
         accepted, _inside, check, where, store = self.writes[field]
         self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
         v = f"{_STORE}value"
-        statements = ast.parse(
-            f"{v} = 0\n"
-            f"if {v}.__class__ is not {_STORE}accepted_{field}: {_STORE}check_{field}({v}, {where!r})\n"
-            f"{_STORE}store_{field}(self, {v})\n"
-        ).body
+
+        def name(identifier: str) -> ast.Name:
+            return ast.Name(id=identifier, ctx=ast.Load())
+
+        kind = ast.Compare(left=ast.Attribute(value=name(v), attr="__class__", ctx=ast.Load()), ops=[ast.IsNot()],
+                           comparators=[name(f"{_STORE}accepted_{field}")])
+        check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
+        store = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
+        statements: list[ast.stmt] = [
+            ast.Assign(targets=[ast.Name(id=v, ctx=ast.Store())], value=value),
+            ast.If(test=kind, body=[ast.Expr(check)], orelse=[]),
+            ast.Expr(store),
+        ]
         for statement in statements:
-            for n in ast.walk(statement):
-                ast.copy_location(n, node)
-        first = statements[0]
-        assert isinstance(first, ast.Assign)
-        first.value = value
+            ast.copy_location(statement, node)
         return statements
 
 

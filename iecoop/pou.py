@@ -54,6 +54,7 @@ from iecoop.memory._core import (
     PointerInfo,
     ReferenceInfo,
     TypeInfo,
+    _MemberProperty,
     new_class_tag,
     set_state_without_views,
 )
@@ -658,7 +659,9 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         stores: dict[str, _FastWrite] = _fast_writes(layout, _write_rules(cls, layout)) if _config.CHECKS else {}
-        inlined = inline_call(name, body, params, lines, globs, given, cls, stores)
+        # A block member's read `self.timer` is its property's getter, attrgetter(alias): the call reads the alias.
+        aliases = {r.name: d.alias for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)}
+        inlined = inline_call(name, body, params, lines, globs, given, cls, stores, aliases)
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
             return inlined

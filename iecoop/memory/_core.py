@@ -287,7 +287,8 @@ class DeletedInstance(ctypes.Structure):
     def __getattribute__(self, name: str) -> Any:
         if name in _CTYPES_INTERNALS or (name.startswith("__") and name.endswith("__")):
             return object.__getattribute__(self, name)
-        raise _deleted_fault(self, f"{name!r} read")
+        # A block member read through its alias (as a block's own compiled call reads it) is named as declared.
+        raise _deleted_fault(self, f"{name.removeprefix(CACHE_PREFIX)!r} read")
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise _deleted_fault(self, f"{name!r} written")

@@ -18,14 +18,20 @@ from iecoop import (
     BOOL,
     INT,
     PRIVATE,
+    TIME,
     VAR,
     VAR_INPUT,
     VAR_OUTPUT,
     AccessError,
     FunctionBlock,
+    PlcException,
+    T,
     _config,
+    delete,
     method,
+    new,
 )
+from iecoop.stdlib import R_TRIG, TON
 
 LIMIT = 3
 
@@ -241,3 +247,77 @@ def test_the_body_runs_one_frame_below_the_caller() -> None:
     depth()
     here = len(inspect.stack(0))
     assert frame_count == [here + 1]  # the body runs one frame below the caller
+
+
+_LITERAL_SOURCE = '''
+class Delay(FunctionBlock):
+    run: BOOL = VAR_INPUT(False)
+    preset: TIME = VAR_OUTPUT(0)
+    timer: TON = VAR()
+
+    def body(self) -> None:
+        self.timer(IN=self.run, PT=T("200ms"))
+        self.preset = self.timer.PT
+'''
+
+
+def _module_with_source(source: str, filename: str) -> dict[str, Any]:
+    """Run ``source`` as a module whose lines linecache knows (as a file's would be)."""
+    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+    namespace: dict[str, Any] = {
+        "FunctionBlock": FunctionBlock, "BOOL": BOOL, "TIME": TIME, "VAR_INPUT": VAR_INPUT, "VAR_OUTPUT": VAR_OUTPUT,
+        "VAR": VAR, "TON": TON, "T": T, "__name__": "literal_module",
+    }
+    exec(compile(source, filename, "exec"), namespace)  # noqa: S102 - a module whose source linecache holds
+    return namespace
+
+
+def test_a_time_literal_in_the_body_is_read_once_and_follows_its_name() -> None:
+    filename = "<iecoop test: literal module>"
+    try:
+        module = _module_with_source(_LITERAL_SOURCE, filename)
+        delay = module["Delay"]()
+        assert _is_one_frame(module["Delay"])
+        assert "_iec_w_literal_T" in module["Delay"].__call__.__code__.co_freevars
+        delay(run=True)
+        assert (delay.preset, delay.timer.PT) == (200, 200)
+        module["T"] = lambda text: 7  # the module rebinds T: the call uses the module's T, as the body would
+        delay(run=True)
+        assert delay.preset == 7
+    finally:
+        del linecache.cache[filename]
+
+
+def test_a_refused_literal_still_fails_at_the_call() -> None:
+    filename = "<iecoop test: bad literal module>"
+    try:
+        module = _module_with_source(_LITERAL_SOURCE.replace('"200ms"', '"200 parsecs"'), filename)
+        with pytest.raises(ValueError, match="200 parsecs"):
+            module["Delay"]()(run=True)
+    finally:
+        del linecache.cache[filename]
+
+
+def test_a_member_read_in_the_body_and_after_delete() -> None:
+    class Edge(FunctionBlock):
+        clk: BOOL = VAR_INPUT(False)
+        rising: INT = VAR_OUTPUT(0)
+        trig: R_TRIG = VAR()
+
+        def body(self) -> None:
+            self.trig(CLK=self.clk)
+            if self.trig.Q:
+                self.rising += 1
+
+    edge = Edge()
+    for clk in (True, False, True, True, False, True):
+        edge(clk=clk)
+    assert (edge.rising, edge.trig.M) == (3, True)
+    assert "_iec_m_trig" in Edge.__call__.__code__.co_names  # the member's alias, read in C
+    pointer = new(Edge)
+    block = pointer.deref
+    block(clk=True)
+    delete(pointer)
+    with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
+        getattr(block, "_iec_m_trig")  # what the compiled call reads for self.trig
+    assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
