@@ -17,12 +17,20 @@ a code object equal to the body's (so a file edited since import, a decorated
 body or one made by ``exec`` without its source is left alone), it takes
 ``self`` alone, is no generator, returns no value and uses none of the
 call's names. Otherwise the call calls the body, as before.
+
+Compiled into the call, three of the body's own operations take the cheaper
+way to the same result: a block member read ``self.timer`` reads the alias its
+property's getter reads; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
+the class is built, guarded by the name still being iecoop's literal; and in
+checked mode ``self.x = value`` is written out as the work the checked
+``__setattr__`` does for ``x``.
 """
 
 from __future__ import annotations
 
 import __future__
 import ast
+import copy
 import functools
 import inspect
 import linecache
@@ -50,15 +58,17 @@ _STORE = "_iec_w_"
 def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
-    aliases: dict[str, str],
+    members: dict[str, tuple[str, type | None]],
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
     ``stores`` (checked mode): per variable, what its checked ``__setattr__``
     does for a write (accepted class, inside only, validator, "Class.field",
     store); the body's own ``self.x = value`` is written out as that work.
-    ``aliases``: per block member, the name its property's getter reads
-    (``attrgetter(alias)``); the body's own ``self.timer`` reads the alias.
+    ``members``: per block member, the name its property's getter reads
+    (``attrgetter(alias)``) and, for a member of one block type, that class;
+    the body's own ``self.timer`` reads the alias, and ``self.timer(IN=...)``
+    calls that class's ``__call__`` as Python's call would find it.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -90,11 +100,13 @@ def inline_call(
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
-    if (writes or aliases) and not _rebinds_self(node):
+    if (writes or members) and not _rebinds_self(node):
         if writes:
             call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
             call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
-        if aliases:
+        if members:
+            call.body = [_MemberCalls(members, names).visit(statement) for statement in call.body]
+            aliases = {member: alias for member, (alias, _cls) in members.items()}
             call.body = [_MemberReads(aliases).visit(statement) for statement in call.body]
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
@@ -248,6 +260,39 @@ class _Literals(_OwnCode):
         self.names[known] = literal
         test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
         return ast.copy_location(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+
+
+class _MemberCalls(_OwnCode):
+    """``self.timer(IN=x)`` calls the member's class's ``__call__`` without the call protocol's detour.
+
+    Python runs ``type(view).__call__`` with the arguments packed into a tuple
+    and a dict and unpacked again; a member's view is always of its declared
+    class, so the call is made directly, guarded by that class's ``__call__``
+    still being the one found when the block was built::
+
+        (_call(self._iec_m_timer, IN=x) if _class.__call__ is _call else self._iec_m_timer(IN=x))
+    """
+
+    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any]) -> None:
+        self.members, self.names = members, names
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        func = node.func
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
+            return node
+        alias, cls = self.members.get(func.attr, ("", None))
+        call: Any = getattr(cls, "__call__", None) if cls is not None else None
+        if not isinstance(call, types.FunctionType):
+            return node
+        known, klass = f"{_STORE}call_{func.attr}", f"{_STORE}class_{func.attr}"
+        self.names.update({known: call, klass: cls})
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=alias, ctx=ast.Load())
+        direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
+        current = ast.Attribute(value=ast.Name(id=klass, ctx=ast.Load()), attr="__call__", ctx=ast.Load())
+        test = ast.Compare(left=current, ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
+        # The arguments appear in both branches (one runs): the fallback gets its own copy of their nodes.
+        return ast.copy_location(ast.IfExp(test=test, body=direct, orelse=copy.deepcopy(node)), node)
 
 
 class _DirectStores(_OwnCode):

@@ -660,8 +660,12 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         stores: dict[str, _FastWrite] = _fast_writes(layout, _write_rules(cls, layout)) if _config.CHECKS else {}
         # A block member's read `self.timer` is its property's getter, attrgetter(alias): the call reads the alias.
-        aliases = {r.name: d.alias for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)}
-        inlined = inline_call(name, body, params, lines, globs, given, cls, stores, aliases)
+        # A member declared as one block is a view of exactly that class (its memory holds that type).
+        members = {
+            r.name: (d.alias, r.info.cls if isinstance(r.info, AggregateInfo) else None)
+            for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+        }
+        inlined = inline_call(name, body, params, lines, globs, given, cls, stores, members)
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
             return inlined

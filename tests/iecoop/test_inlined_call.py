@@ -321,3 +321,60 @@ def test_a_member_read_in_the_body_and_after_delete() -> None:
     with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
         getattr(block, "_iec_m_trig")  # what the compiled call reads for self.trig
     assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
+
+
+def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
+    class Pulse(FunctionBlock):
+        go: BOOL = VAR_INPUT(False)
+        count: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            if self.go:
+                self.count += 1
+
+    class Holder(FunctionBlock):
+        go: BOOL = VAR_INPUT(False)
+        inner: Pulse = VAR()
+
+        def body(self) -> None:
+            self.inner(go=self.go)
+            self.inner(**{"go": self.go})
+
+    holder = Holder()
+    holder(go=True)
+    assert holder.inner.count == 2
+    assert "_iec_w_call_inner" in Holder.__call__.__code__.co_freevars
+    original = Pulse.__call__
+    seen: list[bool] = []
+
+    def replaced(self: Any, *, go: bool = False) -> None:
+        seen.append(go)
+
+    Pulse.__call__ = replaced  # type: ignore[method-assign, assignment]
+    try:
+        holder(go=True)  # the class's __call__ is no longer the one found at build: Python's call finds the new one
+    finally:
+        Pulse.__call__ = original  # type: ignore[method-assign]
+    assert seen == [True, True] and holder.inner.count == 2
+    holder(go=True)
+    assert holder.inner.count == 4
+
+
+def test_a_member_call_refuses_what_the_call_refuses() -> None:
+    class Inner(FunctionBlock):
+        go: BOOL = VAR_INPUT(False)
+
+    class Bad(FunctionBlock):
+        inner: Inner = VAR()
+        positional: BOOL = VAR_INPUT(False)
+
+        def body(self) -> None:
+            if self.positional:
+                self.inner(True)  # type: ignore[call-arg]
+            else:
+                self.inner(speed=1)  # type: ignore[call-arg]
+
+    with pytest.raises(TypeError, match=r"Inner\.__call__\(\) got an unexpected keyword argument 'speed'"):
+        Bad()()
+    with pytest.raises(TypeError, match=r"Inner\.__call__\(\) takes 1 positional argument but 2 were given"):
+        Bad()(positional=True)
