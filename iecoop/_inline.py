@@ -18,9 +18,10 @@ body or one made by ``exec`` without its source is left alone), it takes
 ``self`` alone, is no generator, returns no value and uses none of the
 call's names. Otherwise the call calls the body, as before.
 
-Compiled into the call, three of the body's own operations take the cheaper
+Compiled into the call, four of the body's own operations take the cheaper
 way to the same result: a block member read ``self.timer`` reads the alias its
-property's getter reads; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
+property's getter reads; a member call ``self.timer(IN=x)`` calls the member
+class's ``__call__`` directly while it is the one found at build; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
 the class is built, guarded by the name still being iecoop's literal; and in
 checked mode ``self.x = value`` is written out as the work the checked
 ``__setattr__`` does for ``x``.
