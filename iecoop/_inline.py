@@ -54,6 +54,7 @@ _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
+_VALUE = f"{_STORE}value"
 
 
 def inline_call(
@@ -317,8 +318,17 @@ class _DirectStores(_OwnCode):
         return None
 
     def visit_Assign(self, node: ast.Assign) -> Any:
-        field = self._field(node.targets[0]) if len(node.targets) == 1 else None
-        return node if field is None else self._store(node, field, node.value)
+        fields = [self._field(target) for target in node.targets]
+        if not any(fields):
+            return node
+        # `self.CV = cv = 0` assigns the one value to each target, left to right.
+        statements: list[ast.stmt] = [ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
+        for target, field in zip(node.targets, fields):
+            if field is None:
+                statements.append(ast.copy_location(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
+            else:
+                statements.extend(self._write(node, field))
+        return statements
 
     def visit_AugAssign(self, node: ast.AugAssign) -> Any:
         field = self._field(node.target)
@@ -329,9 +339,14 @@ class _DirectStores(_OwnCode):
         return self._store(node, field, ast.copy_location(value, node))
 
     def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
+        first = ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
+        return [first, *self._write(node, field)]
+
+    def _write(self, node: ast.stmt, field: str) -> list[ast.stmt]:
+        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does."""
         accepted, _inside, check, where, store = self.writes[field]
         self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
-        v = f"{_STORE}value"
+        v = _VALUE
 
         def name(identifier: str) -> ast.Name:
             return ast.Name(id=identifier, ctx=ast.Load())
@@ -340,11 +355,7 @@ class _DirectStores(_OwnCode):
                            comparators=[name(f"{_STORE}accepted_{field}")])
         check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
         store = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
-        statements: list[ast.stmt] = [
-            ast.Assign(targets=[ast.Name(id=v, ctx=ast.Store())], value=value),
-            ast.If(test=kind, body=[ast.Expr(check)], orelse=[]),
-            ast.Expr(store),
-        ]
+        statements: list[ast.stmt] = [ast.If(test=kind, body=[ast.Expr(check)], orelse=[]), ast.Expr(store)]
         for statement in statements:
             ast.copy_location(statement, node)
         return statements

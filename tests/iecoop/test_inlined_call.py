@@ -378,3 +378,26 @@ def test_a_member_call_refuses_what_the_call_refuses() -> None:
         Bad()()
     with pytest.raises(TypeError, match=r"Inner\.__call__\(\) takes 1 positional argument but 2 were given"):
         Bad()(positional=True)
+
+
+@pytest.mark.skipif(not _config.CHECKS, reason="checked mode checks the kind of a written value")
+def test_checked_mode_chained_writes_assign_every_target() -> None:
+    class Chain(FunctionBlock):
+        value: INT = VAR_INPUT(0)
+        first: INT = VAR_OUTPUT(0)
+        second: INT = VAR_OUTPUT(0)
+        copy: INT = VAR_OUTPUT(0)
+
+        def body(self) -> None:
+            self.first = local = self.second = self.value * 2
+            self.copy = local
+            if self.value < 0:
+                self.first = kept = "text"  # type: ignore[assignment]
+                self.copy = len(kept)
+
+    chain = Chain()
+    chain(value=20000)
+    assert (chain.first, chain.second, chain.copy) == (40000 - 65536,) * 3
+    with pytest.raises(TypeError, match=r"Chain\.first: cannot store str 'text' in INT"):
+        chain(value=-1)
+    assert (chain.first, chain.second) == (-2, -2)  # the targets before the refused one were written
