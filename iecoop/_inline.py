@@ -134,7 +134,7 @@ def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
         source = inspect.getsource(body)
         # An indented def (a method) parses inside an `if`, which keeps its columns.
         tree = ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
-    except (OSError, TypeError, SyntaxError, ValueError):
+    except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
         return None
     top = tree.body[0]
     node = top.body[0] if isinstance(top, ast.If) else top
@@ -395,7 +395,7 @@ def _compile_in(
     holder.body = [node]
     try:
         module = compile(tree, code.co_filename, "exec", flags=flags, dont_inherit=True)
-    except (SyntaxError, ValueError):
+    except (SyntaxError, ValueError, TypeError, RecursionError):
         return None
     return _find(module, code.co_name, code.co_firstlineno)
 
