@@ -211,8 +211,8 @@ def _forget(codes: set[types.CodeType], dead: weakref.ref[type]) -> None:
             _code_owners.pop(code, None)
 
 
-def own_code(code: types.CodeType, cls: type) -> None:
-    """Record ``cls`` as an owner of ``code``."""
+def _code_sets(cls: type) -> tuple[set[types.CodeType], set[types.CodeType]]:
+    """The code ``cls`` owns and the code its instances count as their own (with its bases'), made at first use."""
     klass: Any = cls
     own: set[types.CodeType] | None = klass.__dict__.get("_iec_own_codes_")
     if own is None:
@@ -220,10 +220,25 @@ def own_code(code: types.CodeType, cls: type) -> None:
         klass._iec_own_codes_ = own
         klass._iec_codes_ = set().union(*(base.__dict__.get("_iec_own_codes_", ()) for base in cls.__mro__[1:]))
         klass._iec_owner_ref_ = weakref.ref(cls, functools.partial(_forget, own))
+    return own, klass._iec_codes_
+
+
+def own_code(code: types.CodeType, cls: type) -> None:
+    """Record ``cls`` as an owner of ``code``."""
+    own, codes = _code_sets(cls)
     if code not in own:
         own.add(code)
-        klass._iec_codes_.add(code)
-        _code_owners[code] = (*_code_owners.get(code, ()), klass._iec_owner_ref_)
+        codes.add(code)
+        _code_owners[code] = (*_code_owners.get(code, ()), typing.cast(Any, cls)._iec_owner_ref_)
+
+
+def adopt_code(copy: types.CodeType, original: types.CodeType, cls: type) -> None:
+    """``copy`` is ``original`` compiled into ``cls``'s call: it has the same owners and counts as ``cls``'s own where ``original`` does."""
+    for owner in _owners(original):
+        own_code(copy, owner)
+    codes = _code_sets(cls)[1]
+    if original in codes:
+        codes.add(copy)
 
 
 def code_of(code: types.CodeType, obj: Any) -> bool:

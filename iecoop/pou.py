@@ -43,6 +43,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
+from iecoop._inline import inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
@@ -54,6 +55,7 @@ from iecoop.memory._core import (
     InterfaceInfo,
     ReferenceInfo,
     TypeInfo,
+    _MemberProperty,
     new_class_tag,
     set_state_without_views,
 )
@@ -88,7 +90,7 @@ from iecoop.members import (
 )
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
-from iecoop.writes import accepted_type, check_write, pou_setattr
+from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, pou_setattr, write_rules
 
 register_builder(__file__)
 
@@ -649,6 +651,21 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         lines.append("    _temp_reset(self)")
     body = next((k.__dict__["body"] for k in cls.__mro__ if "body" in k.__dict__), None)
     if isinstance(body, types.FunctionType):
+        # One frame per call: the body's statements compiled after the input lines, when provably the same code.
+        given = dict.fromkeys((r.name for r in (*inputs, *in_outs)), _NOT_GIVEN)
+        # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
+        # in place (the class check, the validator only for another class, the store): the same work, no call.
+        stores: dict[str, FastWrite] = fast_writes(layout, write_rules(cls, layout)) if _config.CHECKS else {}
+        # A block member's read `self.timer` is its property's getter, attrgetter(alias): the call reads the alias.
+        # A member declared as one block is a view of exactly that class (its memory holds that type).
+        members = {
+            r.name: (d.alias, r.info.cls if isinstance(r.info, AggregateInfo) else None)
+            for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+        }
+        inlined = inline_call(name, body, params, lines, globs, given, cls, stores, members)
+        if inlined is not None:
+            inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
+            return inlined
         # The class's body as found now: this call is this class's own (a subclass generates its own).
         globs["_body"] = body
         lines.append("    _body(self)")

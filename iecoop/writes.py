@@ -44,7 +44,10 @@ from iecoop.sections import SECTION_RULES, Section
 if TYPE_CHECKING:
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
-__all__ = ["WriteRule", "accepted_type", "check_write", "data_setattr", "pou_setattr", "read_only_rule", "write_rule"]
+__all__ = [
+    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "pou_setattr", "read_only_rule",
+    "write_rule", "write_rules",
+]
 
 
 class WriteRule(NamedTuple):
@@ -146,6 +149,31 @@ def accepted_type(info: TypeInfo) -> type | None:
     return bool if kind == "bool" else float if kind == "real" else int
 
 
+#: Per field: (the value's accepted class, written from inside only, validator, "Class.field", store).
+FastWrite = tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]
+
+
+def fast_writes(layout: ClassLayout, rules: dict[str, WriteRule]) -> dict[str, FastWrite]:
+    """Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
+    VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
+    one is written by the block's own code without the rule check. The rest takes the general path.
+
+    The checked ``__setattr__`` reads this table, and so does a call whose body is compiled in
+    (``iecoop._inline``): the body's own ``self.x = v`` does the same work in place.
+    """
+    fast: dict[str, FastWrite] = {}
+    for record in layout.fields:
+        rule = rules[record.name]
+        if rule.validate is not None and not rule.constant and rule.method is None:
+            fast[record.name] = (accepted_type(record.info), rule.inside_only, rule.validate, rule.where, record.raw.__set__)
+    return fast
+
+
+def write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
+    """Every variable's rule of a block class (its layout and its VAR_STAT), by name."""
+    return _write_rules(cls, layout)
+
+
 def pou_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
     """The checked ``__setattr__`` of a FUNCTION_BLOCK or PROGRAM; sets ``cls._iec_write_rules_``."""
     rules = cls._iec_write_rules_ = _write_rules(cls, layout)
@@ -155,14 +183,7 @@ def pou_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None
             field.rule = read_only_rule(rules[record.name])
     getframe = sys._getframe
     setter = object.__setattr__
-    # Per field, as attrs generates validators: an elementary variable that is neither CONSTANT nor
-    # VAR_INST takes a value of its exact Python type without a validator call, and an inside-only
-    # one is written by the block's own code without the rule check. The rest takes the general path.
-    fast: dict[str, tuple[type | None, bool, Callable[[Any, str], None], str, Callable[[Any, Any], None]]] = {}
-    for record in layout.fields:
-        rule = rules[record.name]
-        if rule.validate is not None and not rule.constant and rule.method is None:
-            fast[record.name] = (accepted_type(record.info), rule.inside_only, rule.validate, rule.where, record.raw.__set__)
+    fast = fast_writes(layout, rules)
 
     def __setattr__(self: Any, field: str, value: Any) -> None:
         spec = fast.get(field)

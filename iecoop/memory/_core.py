@@ -288,7 +288,8 @@ class DeletedInstance(ctypes.Structure):
     def __getattribute__(self, name: str) -> Any:
         if name in _CTYPES_INTERNALS or (name.startswith("__") and name.endswith("__")):
             return object.__getattribute__(self, name)
-        raise _deleted_fault(self, f"{name!r} read")
+        # A block member read through its alias (as a block's own compiled call reads it) is named as declared.
+        raise _deleted_fault(self, f"{name.removeprefix(CACHE_PREFIX)!r} read")
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise _deleted_fault(self, f"{name!r} written")
@@ -695,6 +696,26 @@ class CachedView:
             return self.raw
         view = obj.__dict__[self.alias] = self.raw.__get__(obj)
         return view
+
+
+#: Where an ARRAY OF FB keeps its element views (``getitem`` reads it as a plain attribute).
+ELEMENT_VIEWS = f"{CACHE_PREFIX}elements"
+
+
+class ElementViews:
+    """A non-data descriptor on an ARRAY OF FB class: the element views, made at the first index and kept in the view."""
+
+    __slots__ = ("raw_get", "count")
+
+    def __init__(self, raw_get: Callable[[Any, int], Any], count: int) -> None:
+        self.raw_get, self.count = raw_get, count
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        raw_get = self.raw_get
+        views = obj.__dict__[ELEMENT_VIEWS] = [raw_get(obj, i) for i in range(self.count)]
+        return views
 
 
 def set_state_without_views(obj: Any, values: dict[str, Any], memory: bytes) -> None:
@@ -1126,16 +1147,20 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
             elem.store(self, flat(self, index) * size, value, f"element {index!r}")
 
     if elem.direct and getattr(getattr(elem, "cls", None), "_iec_tagged_", False):
-        views_key = f"{CACHE_PREFIX}elements"
+        # ARRAY OF FB: the element views are made once and kept in the array's view (their members cached
+        # in them), under a name the array class answers only the first time (ElementViews).
+        namespace[ELEMENT_VIEWS] = ElementViews(raw_get, count)
+        if one_dim:
 
-        def getitem(self: Any, index: Any) -> Any:
-            # ARRAY OF FB: the element views are made once and kept in the array's view (their members cached in them).
-            views = self.__dict__.get(views_key)
-            if views is None:
-                views = self.__dict__[views_key] = [raw_get(self, i) for i in range(count)]
-            if type(index) is int and lo0 <= index <= hi0 and one_dim:
-                return views[index - lo0]
-            return views[flat(self, index)]
+            def getitem(self: Any, index: Any) -> Any:
+                if index.__class__ is int and lo0 <= index <= hi0:
+                    return self._iec_m_elements[index - lo0]
+                return self._iec_m_elements[flat(self, index)]
+
+        else:
+
+            def getitem(self: Any, index: Any) -> Any:
+                return self._iec_m_elements[flat(self, index)]
 
     def iterate(self: Any) -> Iterator[Any]:
         if elem.direct:

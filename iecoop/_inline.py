@@ -1,0 +1,416 @@
+"""The generated call with the block's body compiled into it: one Python frame per FB call.
+
+A block's call sets the inputs and runs ``body()``. Run as two functions,
+every call pays for a second frame; a scan of a thousand stations, each
+calling an R_TRIG, a CTU and a TON, pays it four thousand times a cycle. So
+when the class is built, the builder compiles one function from the lines
+that set the inputs and the body's own statements, as attrs compiles
+``__init__`` from its fields.
+
+The body's statements keep their file and line numbers, so a traceback, a
+debugger's breakpoint and coverage still point at the user's ``body``; the
+lines that set the inputs carry the line of ``def body``. The body's closure
+cells (``super()``'s ``__class__`` among them) are the body's own, shared, and
+its globals are its module's. The body is compiled into the call only when
+that is provably the same code: its source, compiled the same way, must give
+a code object equal to the body's (so a file edited since import, a decorated
+body or one made by ``exec`` without its source is left alone), it takes
+``self`` alone, is no generator, returns no value and uses none of the
+call's names. Otherwise the call calls the body, as before.
+
+Compiled into the call, four of the body's own operations take the cheaper
+way to the same result: a block member read ``self.timer`` reads the alias its
+property's getter reads; a member call ``self.timer(IN=x)`` calls the member
+class's ``__call__`` directly while it is the one found at build; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
+the class is built, guarded by the name still being iecoop's literal; and in
+checked mode ``self.x = value`` is written out as the work the checked
+``__setattr__`` does for ``x``.
+"""
+
+from __future__ import annotations
+
+import __future__
+import ast
+import copy
+import functools
+import inspect
+import linecache
+import symtable
+import types
+from collections.abc import Callable
+from typing import Any
+
+from iecoop.literals import D, T
+from iecoop.members import adopt_code
+from iecoop.types import DT, LTIME, TOD
+
+__all__ = ["inline_call"]
+
+_FUTURE_FLAGS = 0
+for _feature in __future__.all_feature_names:
+    _FUTURE_FLAGS |= getattr(__future__, _feature).compiler_flag
+_NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR | inspect.CO_ITERABLE_COROUTINE
+_NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
+_FACTORY = "_iec_factory_"
+_CLASS = "_iec_class_"
+_STORE = "_iec_w_"
+_VALUE = f"{_STORE}value"
+
+
+def inline_call(
+    name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
+    kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
+    members: dict[str, tuple[str, type | None]],
+) -> Callable[..., None] | None:
+    """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
+
+    ``stores`` (checked mode): per variable, what its checked ``__setattr__``
+    does for a write (accepted class, inside only, validator, "Class.field",
+    store); the body's own ``self.x = value`` is written out as that work.
+    ``members``: per block member, the name its property's getter reads
+    (``attrgetter(alias)``) and, for a member of one block type, that class;
+    the body's own ``self.timer`` reads the alias, and ``self.timer(IN=...)``
+    calls that class's ``__call__`` as Python's call would find it.
+    None when the body cannot be compiled into the call as the same code.
+    """
+    code = body.__code__
+    if (
+        code.co_flags & _NOT_PLAIN or code.co_argcount != 1 or code.co_posonlyargcount or code.co_kwonlyargcount
+        or code.co_varnames[:1] != ("self",) or body.__defaults__ or body.__kwdefaults__
+        or hasattr(body, "__wrapped__")
+    ):
+        return None
+    node = _function_node(body)
+    if node is None:
+        return None
+    used = _used_names(node)
+    # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
+    if used & {*kwdefaults, *names, _FACTORY, _CLASS} or any(n.startswith(_STORE) for n in used):
+        return None
+    if any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node)):
+        return None
+    flags = code.co_flags & _FUTURE_FLAGS
+    # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
+    called = {n.func.value.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
+              and isinstance(n.func.value, ast.Name)} - {"self"}
+    imports = sorted(_module_imports(code.co_filename, body.__globals__) & used) if called else []
+    same = _compile_in(node, code, [], flags, imports)
+    if same is None or _without_nested(same) != _without_nested(code):
+        return None
+    call = _with_inputs(node, params, lines)
+    names = dict(names)
+    # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
+    own = code in getattr(owner, "_iec_codes_", ())
+    writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
+    if (writes or members) and not _rebinds_self(node):
+        if writes:
+            call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
+            call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
+        if members:
+            call.body = [_MemberCalls(members, names).visit(statement) for statement in call.body]
+            aliases = {member: alias for member, (alias, _cls) in members.items()}
+            call.body = [_MemberReads(aliases).visit(statement) for statement in call.body]
+    local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
+    call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
+    ast.fix_missing_locations(call)
+    merged = _compile_in(call, code, sorted(names), flags, imports)
+    if merged is None:
+        return None
+    cells = dict(zip(code.co_freevars, body.__closure__ or ()))
+    closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
+    function = types.FunctionType(merged, body.__globals__, "__call__", None, closure)
+    function.__kwdefaults__ = dict(kwdefaults)
+    function.__annotations__ = {"return": None}
+    function.__qualname__ = f"{name}.__call__"
+    function.__module__ = owner.__module__
+    # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
+    adopt_code(merged, code, owner)
+    return function
+
+
+def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
+    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source."""
+    try:
+        source = inspect.getsource(body)
+        # An indented def (a method) parses inside an `if`, which keeps its columns.
+        tree = ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
+    except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
+        return None
+    top = tree.body[0]
+    node = top.body[0] if isinstance(top, ast.If) else top
+    if not isinstance(node, ast.FunctionDef) or node.decorator_list or node.name != body.__code__.co_name:
+        return None
+    ast.increment_lineno(node, body.__code__.co_firstlineno - node.lineno)
+    return node
+
+
+def _used_names(node: ast.FunctionDef) -> set[str]:
+    """Every name the body binds or reads (not attribute names): the call's names must not meet them."""
+    found: set[str] = set()
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name):
+            found.add(n.id)
+        elif isinstance(n, ast.arg):
+            found.add(n.arg)
+        elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not node:
+            found.add(n.name)
+        elif isinstance(n, ast.alias):
+            found.add((n.asname or n.name).split(".")[0])
+        elif isinstance(n, (ast.Global, ast.Nonlocal)):
+            found.update(n.names)
+        elif isinstance(n, ast.ExceptHandler) and n.name:
+            found.add(n.name)
+        elif isinstance(n, (ast.MatchAs, ast.MatchStar)) and n.name:
+            found.add(n.name)
+        elif isinstance(n, ast.MatchMapping) and n.rest:
+            found.add(n.rest)
+    return found
+
+
+def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
+    """The nodes of the function itself, not of the functions, lambdas and classes nested in it."""
+    found: list[ast.AST] = []
+    todo: list[ast.AST] = list(node.body)
+    while todo:
+        n = todo.pop()
+        found.append(n)
+        if not isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            todo.extend(ast.iter_child_nodes(n))
+    return found
+
+
+def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str]) -> ast.FunctionDef:
+    """The body's ``def`` with the call's signature and the input lines first, all at the ``def`` line."""
+    signature = ", ".join(["self", "*", *params]) if params else "self"
+    template = ast.parse(f"def {node.name}({signature}) -> None:\n" + "\n".join([*lines, "    pass"]) + "\n")
+    head = template.body[0]
+    assert isinstance(head, ast.FunctionDef)
+    for n in ast.walk(head):
+        if hasattr(n, "lineno"):
+            located: Any = n
+            located.lineno = located.end_lineno = node.lineno
+            located.col_offset = located.end_col_offset = node.col_offset
+    head.body[-1:] = node.body
+    head.returns = None
+    return head
+
+
+def _rebinds_self(node: ast.FunctionDef) -> bool:
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name) and n.id == "self" and not isinstance(n.ctx, ast.Load):
+            return True
+        if isinstance(n, (ast.Global, ast.Nonlocal)) and "self" in n.names:
+            return True
+    return False
+
+
+class _OwnCode(ast.NodeTransformer):
+    """Leaves nested functions, lambdas, classes and comprehensions alone: their code must stay the body's."""
+
+    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
+        return node
+
+    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
+    visit_ListComp = visit_SetComp = visit_DictComp = visit_GeneratorExp = visit_FunctionDef
+
+
+class _MemberReads(_OwnCode):
+    """``self.timer`` (a read) becomes ``self._iec_m_timer``, what the member property's getter reads."""
+
+    def __init__(self, aliases: dict[str, str]) -> None:
+        self.aliases = aliases
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        self.generic_visit(node)
+        alias = self.aliases.get(node.attr)
+        if alias is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            return ast.copy_location(ast.Attribute(value=node.value, attr=alias, ctx=node.ctx), node)
+        return node
+
+
+#: The literal functions (ST: T#200ms, LTIME#1ms, D#..., TOD#..., DT#...): the same int for the same text.
+_LITERALS: tuple[Any, ...] = (T, D, LTIME, TOD, DT)
+
+
+class _Literals(_OwnCode):
+    """``T("200ms")`` with a constant text becomes ``(200 if T is <iecoop's T> else T("200ms"))``.
+
+    The literal is read once, when the class is built; the name is still looked
+    up at every call, so a module that rebinds ``T`` calls its own ``T``. A text
+    the literal refuses is left to fail at the call, as before.
+    """
+
+    def __init__(self, module_globals: dict[str, Any], local: set[str], names: dict[str, Any]) -> None:
+        self.globals, self.local, self.names = module_globals, local, names
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        func = node.func
+        if not (isinstance(func, ast.Name) and func.id not in self.local and len(node.args) == 1 and not node.keywords):
+            return node
+        text = node.args[0]
+        literal: Any = self.globals.get(func.id)
+        if not (isinstance(text, ast.Constant) and isinstance(text.value, str) and any(literal is f for f in _LITERALS)):
+            return node
+        try:
+            value = literal(text.value)
+        except (ValueError, TypeError):
+            return node
+        if type(value) is not int:
+            return node
+        known = f"{_STORE}literal_{func.id}"
+        self.names[known] = literal
+        test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
+        return ast.copy_location(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+
+
+class _MemberCalls(_OwnCode):
+    """``self.timer(IN=x)`` calls the member's class's ``__call__`` without the call protocol's detour.
+
+    Python runs ``type(view).__call__`` with the arguments packed into a tuple
+    and a dict and unpacked again; a member's view is always of its declared
+    class, so the call is made directly, guarded by that class's ``__call__``
+    still being the one found when the block was built::
+
+        (_call(self._iec_m_timer, IN=x) if _class.__call__ is _call else self._iec_m_timer(IN=x))
+    """
+
+    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any]) -> None:
+        self.members, self.names = members, names
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        func = node.func
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
+            return node
+        alias, cls = self.members.get(func.attr, ("", None))
+        call: Any = getattr(cls, "__call__", None) if cls is not None else None
+        if not isinstance(call, types.FunctionType):
+            return node
+        known, klass = f"{_STORE}call_{func.attr}", f"{_STORE}class_{func.attr}"
+        self.names.update({known: call, klass: cls})
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=alias, ctx=ast.Load())
+        direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
+        current = ast.Attribute(value=ast.Name(id=klass, ctx=ast.Load()), attr="__call__", ctx=ast.Load())
+        test = ast.Compare(left=current, ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
+        # The arguments appear in both branches (one runs): the fallback gets its own copy of their nodes.
+        return ast.copy_location(ast.IfExp(test=test, body=direct, orelse=copy.deepcopy(node)), node)
+
+
+class _DirectStores(_OwnCode):
+    """``self.x = value`` / ``self.x += value`` in the body's own statements, as checked ``__setattr__`` does it.
+
+    ::
+
+        _iec_w_value = value
+        if _iec_w_value.__class__ is not _iec_w_accepted_x: _iec_w_check_x(_iec_w_value, "Class.x")
+        _iec_w_store_x(self, _iec_w_value)
+
+    Nested functions, lambdas and classes are left alone (their code must stay the body's).
+    """
+
+    def __init__(self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any]) -> None:
+        self.writes, self.names = writes, names
+
+    def _field(self, target: ast.expr) -> str | None:
+        if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+            return target.attr if target.attr in self.writes else None
+        return None
+
+    def visit_Assign(self, node: ast.Assign) -> Any:
+        fields = [self._field(target) for target in node.targets]
+        if not any(fields):
+            return node
+        # `self.CV = cv = 0` assigns the one value to each target, left to right.
+        statements: list[ast.stmt] = [ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
+        for target, field in zip(node.targets, fields):
+            if field is None:
+                statements.append(ast.copy_location(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
+            else:
+                statements.extend(self._write(node, field))
+        return statements
+
+    def visit_AugAssign(self, node: ast.AugAssign) -> Any:
+        field = self._field(node.target)
+        if field is None:
+            return node
+        current = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=field, ctx=ast.Load())
+        value = ast.BinOp(left=ast.copy_location(current, node.target), op=node.op, right=node.value)
+        return self._store(node, field, ast.copy_location(value, node))
+
+    def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
+        first = ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
+        return [first, *self._write(node, field)]
+
+    def _write(self, node: ast.stmt, field: str) -> list[ast.stmt]:
+        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does."""
+        accepted, _inside, check, where, store = self.writes[field]
+        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
+        v = _VALUE
+
+        def name(identifier: str) -> ast.Name:
+            return ast.Name(id=identifier, ctx=ast.Load())
+
+        kind = ast.Compare(left=ast.Attribute(value=name(v), attr="__class__", ctx=ast.Load()), ops=[ast.IsNot()],
+                           comparators=[name(f"{_STORE}accepted_{field}")])
+        check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
+        store = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
+        statements: list[ast.stmt] = [ast.If(test=kind, body=[ast.Expr(check)], orelse=[]), ast.Expr(store)]
+        for statement in statements:
+            ast.copy_location(statement, node)
+        return statements
+
+
+def _module_imports(filename: str, module_globals: dict[str, Any]) -> frozenset[str]:
+    """The names the body's module imports at its top level (the compiler calls ``name.attr()`` of those differently)."""
+    text = "".join(linecache.getlines(filename, module_globals))
+    return _imports_in(filename, text)
+
+
+@functools.lru_cache(maxsize=16)
+def _imports_in(filename: str, text: str) -> frozenset[str]:
+    try:
+        table = symtable.symtable(text, filename, "exec")
+    except (SyntaxError, ValueError):
+        return frozenset()
+    return frozenset(symbol.get_name() for symbol in table.get_symbols() if symbol.is_imported())
+
+
+def _compile_in(
+    node: ast.FunctionDef, code: types.CodeType, extra: list[str], flags: int, imports: list[str]
+) -> types.CodeType | None:
+    """Compile ``node`` where the body was: inside a function giving its free variables (and ``extra``).
+
+    ``__class__`` (``super()``) comes from a class statement around it, as in the source, and the
+    module's imports the body uses are declared (never run) as the module declares them.
+    """
+    free = [v for v in code.co_freevars if v != "__class__"]
+    wrapper = "".join(f"import {name}\n" for name in imports)
+    wrapper += f"def {_FACTORY}({', '.join([*free, *extra])}):\n"
+    wrapper += f" class {_CLASS}:\n  pass\n" if "__class__" in code.co_freevars else " pass\n"
+    tree = ast.parse(wrapper)
+    factory = tree.body[-1]
+    assert isinstance(factory, ast.FunctionDef)
+    holder = factory.body[0] if isinstance(factory.body[0], ast.ClassDef) else factory
+    holder.body = [node]
+    try:
+        module = compile(tree, code.co_filename, "exec", flags=flags, dont_inherit=True)
+    except (SyntaxError, ValueError, TypeError, RecursionError):
+        return None
+    return _find(module, code.co_name, code.co_firstlineno)
+
+
+def _find(code: types.CodeType, name: str, line: int) -> types.CodeType | None:
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            if const.co_name == name and const.co_firstlineno == line:
+                return const
+            found = _find(const, name, line)
+            if found is not None:
+                return found
+    return None
+
+
+def _without_nested(code: types.CodeType) -> types.CodeType:
+    # CO_NESTED only says the def sat in another function; it changes nothing the code does.
+    return code.replace(co_flags=code.co_flags & ~inspect.CO_NESTED)
