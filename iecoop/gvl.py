@@ -71,7 +71,6 @@ class GlobalVariables(_Base, metaclass=_GvlMeta):
 
     _iec_base_class_: ClassVar[bool] = True
     __iec__: ClassVar[IecClass] = IecClass(Kind.GVL, root=True)
-    _iec_kind_: ClassVar[str] = Kind.GVL  # read by iecoop.st, which does not read the record yet
     _iec_layout_: ClassVar[ClassLayout | None] = None
 
     def __repr__(self) -> str:

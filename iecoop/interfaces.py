@@ -82,7 +82,6 @@ class Interface:
 
     __slots__ = ()
     __iec__: ClassVar[IecClass] = IecClass(Kind.INTERFACE, root=True)
-    _iec_kind_: ClassVar[str] = Kind.INTERFACE  # read by iecoop.st, which does not read the record yet
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -135,7 +134,6 @@ def _build_interface(cls: type) -> None:
             members.update(record.members)
     members.update(own)
     type.__setattr__(cls, "__iec__", IecClass(Kind.INTERFACE).finished(members=members))
-    type.__setattr__(cls, "_iec_members_", members)  # read by iecoop.st, which does not read the record yet
 
 
 def interface_members(iface: type) -> dict[str, Member]:

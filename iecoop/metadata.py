@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from iecoop.members import Member
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
-__all__ = ["IecClass", "Kind", "iec_class", "kind_of"]
+__all__ = ["IecClass", "Kind", "iec_class", "is_root", "kind_of"]
 
 _NO_MEMBERS: Mapping[str, Any] = MappingProxyType({})
 
@@ -73,3 +73,10 @@ def kind_of(cls: object) -> Kind | None:
     """The kind of a declared class (``Kind.FUNCTION_BLOCK``...), or None for any other object."""
     record = getattr(cls, "__iec__", None)
     return record.kind if isinstance(record, IecClass) else None
+
+
+def is_root(cls: object) -> bool:
+    """Whether ``cls`` is one of the library's own base classes (``FunctionBlock``, ``Struct``...), not a declared type."""
+    record = getattr(cls, "__iec__", None)
+    # The record is inherited: only a root's own (in its __dict__) says root.
+    return isinstance(record, IecClass) and record.root and getattr(cls, "__dict__", {}).get("__iec__") is record

@@ -294,7 +294,6 @@ class _PouBuilder:
         self.original_namespace = dict(namespace)
         guard_namespace(self.owner_ref, self.name, namespace)
         namespace["__iec__"] = IecClass(self.kind, self.abstract, self.final, self.internal)
-        namespace["_iec_kind_"] = self.kind  # read by iecoop.st, which does not read the record yet
         self.layout_builder = LayoutBuilder(
             self.name, self.bases, namespace, kind=self.word, allowed_sections=_POU_SECTIONS, adjust=self.adjust,
             annotations=inside, scope=self.scope,
@@ -336,8 +335,7 @@ class _PouBuilder:
         layout = self.layout_builder.install()
         members = self.install_members(cls)
         statics = _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
-        record = cls.__iec__ = cls.__iec__.finished(layout=layout, members=members, static_fields=statics)
-        _legacy_attributes(cls, record)
+        cls.__iec__ = cls.__iec__.finished(layout=layout, members=members, static_fields=statics)
         self.install_runtime(cls, layout)
 
     def install_members(self, cls: Any) -> dict[str, Member]:
@@ -375,14 +373,6 @@ def _record(cls: type) -> IecClass:
     record = iec_class(cls)
     assert record is not None, cls
     return record
-
-
-def _legacy_attributes(cls: Any, record: IecClass) -> None:
-    """The record's fields as the attributes iecoop.st still reads (it does not read ``__iec__`` yet)."""
-    cls._iec_members_ = dict(record.members)
-    cls._iec_abstract_, cls._iec_final_, cls._iec_internal_ = record.abstract, record.final, record.internal
-    if record.static_fields:
-        cls._iec_static_fields_ = record.static_fields
 
 
 def _package(module: str) -> str:
@@ -763,7 +753,6 @@ class FunctionBlock(_PouMixin, _PouBase, metaclass=_PouMeta):
 
     _iec_base_class_: ClassVar[bool] = True
     __iec__ = IecClass(Kind.FUNCTION_BLOCK, root=True)
-    _iec_kind_: ClassVar[str] = Kind.FUNCTION_BLOCK
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 
@@ -773,7 +762,6 @@ class Program(_PouMixin, _PouBase, metaclass=_PouMeta):
 
     _iec_base_class_: ClassVar[bool] = True
     __iec__ = IecClass(Kind.PROGRAM, root=True)
-    _iec_kind_: ClassVar[str] = Kind.PROGRAM
     if not TYPE_CHECKING:
         _fields_ = [("_iec_tag_", ctypes.c_uint64)]
 

@@ -130,7 +130,6 @@ class Struct(_DataTypeMixin, _StructBase, metaclass=_StructMeta):
 
     _iec_base_class_: ClassVar[bool] = True
     __iec__: ClassVar[IecClass] = IecClass(Kind.STRUCT, root=True)
-    _iec_kind_: ClassVar[str] = Kind.STRUCT  # read by iecoop.st, which does not read the record yet
 
 
 class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
@@ -147,7 +146,6 @@ class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
 
     _iec_base_class_: ClassVar[bool] = True
     __iec__: ClassVar[IecClass] = IecClass(Kind.UNION, root=True)
-    _iec_kind_: ClassVar[str] = Kind.UNION  # read by iecoop.st, which does not read the record yet
 
 
 class _IecEnumMeta(enum.EnumMeta):
@@ -168,7 +166,6 @@ class _IecEnumMeta(enum.EnumMeta):
                 )
         type.__setattr__(enum_cls, "_iec_base_", record)
         type.__setattr__(enum_cls, "__iec__", IecClass(Kind.ENUM))
-        type.__setattr__(enum_cls, "_iec_kind_", Kind.ENUM)  # read by iecoop.st, which does not read the record yet
         return enum_cls
 
 

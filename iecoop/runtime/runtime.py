@@ -45,7 +45,7 @@ from typing import Any, Literal
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
-from iecoop.memory._core import allocation_for_handle, free, handle_of, registered_allocation, resolve
+from iecoop.memory.allocations import allocation_for_handle, free, handle_of, registered_allocation, resolve
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import VirtualClock, use_clock

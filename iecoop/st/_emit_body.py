@@ -20,10 +20,11 @@ import typing
 from collections.abc import Callable, Iterator
 from typing import Any
 
+from iecoop.metadata import is_root, kind_of
 from iecoop.exceptions import ExceptionCode
 from iecoop.literals import D, T, format_date, format_ltime, format_time, parse_ltime
 from iecoop.parameters import parameter_sections
-from iecoop.memory._core import (
+from iecoop.memory.typeinfo import (
     AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
@@ -148,7 +149,7 @@ def _fields_of(cls: Any) -> dict[str, TypeInfo]:
 
     found: dict[str, TypeInfo] = {}
     for klass in reversed(getattr(cls, "__mro__", ())):
-        if getattr(klass, "_iec_kind_", None) not in ("fb", "program", "struct", "union", "gvl") or "_iec_base_class_" in klass.__dict__:
+        if kind_of(klass) not in ("fb", "program", "struct", "union", "gvl") or is_root(klass):
             continue
         for field in metadata(klass).fields:
             info = field.info.target if field.section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo) else field.info
@@ -380,7 +381,7 @@ class BodyWriter:
             self.unrolled_loop(node, sequence.elts, depth)
             return
         owner = self.constant_object(sequence)
-        if isinstance(owner, type) and getattr(owner, "_iec_kind_", None) == "enum":
+        if isinstance(owner, type) and kind_of(owner) == "enum":
             # An enumeration's components, in declaration order.
             members = [ast.Attribute(sequence, m.name, ast.Load()) for m in typing.cast(Any, owner)]
             self.unrolled_loop(node, typing.cast(list[ast.expr], members), depth)
@@ -914,10 +915,10 @@ class BodyWriter:
                 return name
             if isinstance(value, type):
                 return value.__name__
-            if getattr(type(value), "_iec_kind_", None) == "gvl":
+            if kind_of(type(value)) == "gvl":
                 return type(value).__name__
             if typing.get_origin(value) is typing.Annotated:
-                from iecoop.memory._core import resolve_type as _resolve
+                from iecoop.memory.typeinfo import resolve_type as _resolve
 
                 try:
                     return type_text(_resolve(value, name))
@@ -1148,7 +1149,7 @@ class BodyWriter:
         if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
-        if getattr(value, "_iec_kind_", None) == "enum" and _one_argument(node) is not None:
+        if kind_of(value) == "enum" and _one_argument(node) is not None:
             # Mode(n): an integer is a component's value in ST (a non-strict enumeration takes it as is).
             return self.expr(node.args[0])
         if self.function_signature(value) is not None:
@@ -1223,7 +1224,7 @@ class BodyWriter:
             return self.member_type(self.scope.cls, node.attr, self.fields)
         owner = self.constant_object(base)
         if isinstance(owner, type) and issubclass(owner, enum.Enum):
-            return class_info(owner) if getattr(owner, "_iec_kind_", "") == "enum" else None
+            return class_info(owner) if kind_of(owner) == "enum" else None
         if node.attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
             return self.params.get(base.id)
         inner = self._typeof(base)
@@ -1281,7 +1282,7 @@ class BodyWriter:
         if rule is not None:
             return rule(self, node)
         value = self.globals.get(name)
-        if isinstance(value, type) and getattr(value, "_iec_kind_", None) == "enum":
+        if isinstance(value, type) and kind_of(value) == "enum":
             return class_info(value)
         signature = self.function_signature(value)
         if signature is not None:
@@ -1320,7 +1321,7 @@ def _in_out_names(cls: Any) -> frozenset[str]:
 
     found: set[str] = set()
     for klass in getattr(cls, "__mro__", ()):
-        if getattr(klass, "_iec_kind_", None) in ("fb", "program") and "_iec_base_class_" not in klass.__dict__:
+        if kind_of(klass) in ("fb", "program") and not is_root(klass):
             found.update(f.name for f in metadata(klass).fields if f.section == "VAR_IN_OUT")
     return frozenset(found)
 

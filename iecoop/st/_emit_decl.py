@@ -13,6 +13,7 @@ import enum
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
@@ -103,7 +104,7 @@ def initial_text(info: TypeInfo, value: Any, where: str) -> str:
 
 def _default_initial(info: TypeInfo, value: Any) -> bool:
     """Whether an initial value is the type's zero (left out, as ST code usually does)."""
-    if value is MISSING or getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+    if value is MISSING or kind_of(type(value)) in ("fb", "program"):
         # A block instance as initial value is the declaration itself: FB instances have no literal.
         return True
     if isinstance(value, enum.Enum):
@@ -117,7 +118,7 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
 
 def _argument(value: Any, where: str) -> str:
     """An FB_init argument: a literal, or the global instance it designates."""
-    if getattr(type(value), "_iec_kind_", None) in ("fb", "program"):
+    if kind_of(type(value)) in ("fb", "program"):
         from iecoop.gvl import global_lists
 
         for instance in global_lists().values():
@@ -348,7 +349,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
         words.append("INTERNAL")
     words.append(name)
     if interface:
-        bases = [b for b in meta.cls.__bases__ if getattr(b, "_iec_kind_", None) == "interface" and "_iec_base_class_" not in b.__dict__ and b.__name__ != "Interface"]
+        bases = [b for b in meta.cls.__bases__ if kind_of(b) == "interface" and not is_root(b) and b.__name__ != "Interface"]
         if bases:
             words.append("EXTENDS " + ", ".join(type_text(_iface_info(b)) for b in bases))
     else:
@@ -390,7 +391,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
 
 
 def _iface_info(cls: Any) -> TypeInfo:
-    from iecoop.memory._core import class_info
+    from iecoop.memory.typeinfo import class_info
 
     info = class_info(cls)
     assert info is not None

@@ -16,7 +16,8 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Sequence
 from typing import Any
 
-from iecoop.memory._core import (
+from iecoop.metadata import kind_of
+from iecoop.memory.typeinfo import (
     AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
@@ -255,7 +256,7 @@ def _inheritance(pou: ET.Element, unit: Unit) -> None:
     interfaces = [type_text(_iface(i)) for i in meta.interfaces]
     if unit.kind == "interface":
         interfaces = []
-        bases = [b for b in meta.cls.__bases__ if getattr(b, "_iec_kind_", None) == "interface" and b.__name__ != "Interface"]
+        bases = [b for b in meta.cls.__bases__ if kind_of(b) == "interface" and b.__name__ != "Interface"]
         parent = ", ".join(type_text(_iface(b)) for b in bases) or None
     if parent is None and not interfaces:
         return
@@ -268,7 +269,7 @@ def _inheritance(pou: ET.Element, unit: Unit) -> None:
 
 
 def _iface(cls: Any) -> TypeInfo:
-    from iecoop.memory._core import class_info
+    from iecoop.memory.typeinfo import class_info
 
     info = class_info(cls)
     assert info is not None
@@ -293,7 +294,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
             for name in unit.attributes:
                 ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": ""})
     elif unit.kind == "alias":
-        from iecoop.memory._core import resolve_type
+        from iecoop.memory.typeinfo import resolve_type
 
         _type(base, resolve_type(meta.cls, unit.name))
     else:

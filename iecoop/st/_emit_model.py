@@ -1,8 +1,8 @@
 """What the ST writer reads from a declared class: one adapter over the class builder's records.
 
-Every attribute the class builder leaves on a class (``_iec_layout_``,
-``_iec_members_``, ``_iec_static_fields_``...) is read in :func:`metadata`
-and nowhere else, so a change in how classes are built is fixed here.
+What the class builder decided about a class (its record ``cls.__iec__``,
+see :mod:`iecoop.metadata`, and its layout) is read in :func:`metadata` and
+nowhere else, so a change in how classes are built is fixed here.
 """
 
 from __future__ import annotations
@@ -12,15 +12,16 @@ import enum
 import inspect
 import types
 import typing
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from iecoop.metadata import IecClass, iec_class, is_root, kind_of
 from iecoop.exceptions import DefinitionError
 from iecoop.gvl import GlobalVariables, find_global
 from iecoop.interfaces import Interface, IQueryInterface
 from iecoop.members import Access, Member, flags_of, visibility
-from iecoop.memory._core import (
-    Alias,
+from iecoop.memory import Alias
+from iecoop.memory.typeinfo import (
     ArrayInfo,
     ReferenceInfo,
     StringInfo,
@@ -96,12 +97,10 @@ def _kind(obj: Any) -> str | None:
         obj = type(obj)
     if typing.get_origin(obj) is typing.Annotated and any(isinstance(m, Alias) for m in obj.__metadata__):
         return "alias"
-    if not isinstance(obj, type) or "_iec_base_class_" in obj.__dict__ or obj in (Interface, IQueryInterface):
+    if not isinstance(obj, type) or is_root(obj) or obj in (Interface, IQueryInterface):
         return None
-    kind = getattr(obj, "_iec_kind_", None)
-    if kind in ("enum", "struct", "union", "gvl", "interface", "fb", "program"):
-        return typing.cast(str, kind)
-    return None
+    kind = kind_of(obj)
+    return str(kind) if kind is not None else None
 
 
 def _alias_name(obj: Any) -> str:
@@ -124,23 +123,30 @@ def metadata(obj: Any) -> ClassMeta:
     if kind in ("fb", "program"):
         fields.extend(_outside_fields(cls))
     parent = next((b for b in cls.__bases__ if _kind(b) == kind and kind in ("fb", "program", "struct")), None)
-    interfaces = tuple(b for b in cls.__bases__ if getattr(b, "_iec_kind_", None) == "interface" and b is not Interface)
+    interfaces = tuple(b for b in cls.__bases__ if kind_of(b) == "interface" and b is not Interface)
     members = _own_members(cls)
     body = cls.__dict__.get("body") if kind in ("fb", "program") else None
     lifecycle = tuple((n, cls.__dict__[n]) for n in LIFECYCLE if kind in ("fb", "program") and n in cls.__dict__)
+    record = _record(cls)
     return ClassMeta(
         cls, name, kind, tuple(fields), members, parent, interfaces,
-        bool(cls.__dict__.get("_iec_abstract_", False)), bool(cls.__dict__.get("_iec_final_", False)),
-        bool(cls.__dict__.get("_iec_internal_", False)), body, lifecycle,
+        record.abstract, record.final, record.internal, body, lifecycle,
     )
+
+
+def _record(cls: type) -> IecClass:
+    record = iec_class(cls)
+    assert record is not None, cls  # every kind metadata() reads has one
+    return record
 
 
 def _outside_fields(cls: Any) -> list[FieldDecl]:
     """VAR_STAT and VAR_EXTERNAL variables: the builder keeps them outside the instance block."""
     found: list[FieldDecl] = []
-    for record in cls.__dict__.get("_iec_static_fields_", ()):
+    own_statics = _record(cls).static_fields
+    for record in own_statics:
         found.append(FieldDecl(record.name, "VAR_STAT", record.info, record.spec))
-    statics = {r.name for r in cls.__dict__.get("_iec_static_fields_", ())}
+    statics = {r.name for r in own_statics}
     for name, value in cls.__dict__.items():
         if type(value).__name__ == "_Static" and name not in statics:
             _block, record = find_global(name, f"{cls.__name__}.{name}")
@@ -149,7 +155,8 @@ def _outside_fields(cls: Any) -> list[FieldDecl]:
 
 
 def _own_members(cls: Any) -> tuple[MemberDecl, ...]:
-    members: dict[str, Member] = getattr(cls, "_iec_members_", {})
+    record = iec_class(cls)
+    members: Mapping[str, Member] = record.members if record is not None else {}
     found: list[MemberDecl] = []
     for name, value in cls.__dict__.items():
         member = members.get(name)

@@ -29,6 +29,7 @@ import types
 from collections.abc import Iterator
 from typing import Any
 
+from iecoop.metadata import kind_of
 from iecoop.gvl import GlobalVariables, register_global_list
 
 __all__ = ["FORMATS", "load_back", "loaded_names", "rebound", "round_trip"]
@@ -49,7 +50,7 @@ def loaded_names(loaded: types.ModuleType) -> dict[str, Any]:
         owner = type(value) if instance else value
         if name.startswith("__") or getattr(owner, "__module__", None) != loaded.__name__:
             continue
-        found[name] = owner if instance and getattr(owner, "_iec_kind_", None) == "program" else value
+        found[name] = owner if instance and kind_of(owner) == "program" else value
     return found
 
 

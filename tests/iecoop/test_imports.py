@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parent.parent.parent
 PACKAGE = ROOT / "iecoop"
 
 #: Packages above the runtime that use only the public API below them (and the process-wide switch).
-OUTER = ("iecoop.opcua", "iecoop.uml", "iecoop.stdlib", "iecoop.testing")
+OUTER = ("iecoop.opcua", "iecoop.uml", "iecoop.stdlib", "iecoop.testing", "iecoop.st", "iecoop.runtime")
 ALLOWED_PRIVATE = frozenset({"iecoop._config"})
 
 
