@@ -119,6 +119,7 @@ from iecoop import (
     prop,
     sizeof,
 )
+from iecoop.conversions import DINT_TO_REAL, REAL_TO_DINT, REAL_TO_STRING
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 from patterns.plant import ramp
@@ -134,6 +135,15 @@ class DriveState(IecEnum):
     STOPPED = 0
     RUNNING = 1
     TRIPPED = 2
+
+
+def tenths(value: REAL) -> STRING:
+    """``FUNCTION F_Tenths : STRING``: ``value`` to one decimal, as the HMI shows it ('72.5', '80.0').
+
+    ST has no format specifier: round to tenths as a DINT, back to REAL, and let
+    REAL_TO_STRING write the fewest digits that read back ('72.5', not '72.500000').
+    """
+    return REAL_TO_STRING(DINT_TO_REAL(REAL_TO_DINT(value * 10.0)) / 10.0)
 
 
 def state_word(state: DriveState) -> STRING:
@@ -197,7 +207,7 @@ class DriveWithHmi(FunctionBlock):
     @method(PROTECTED)
     def compose(self) -> STRING:
         """The HMI wording, owned by the drive: a new wording is a new drive block."""
-        return f"{self.name} {state_word(self.current)} {self.speed_ref:5.1f} %"
+        return f"{self.name} {state_word(self.current)} {tenths(self.speed_ref)} %"
 
     @method
     def event(self, age: INT) -> STRING:
@@ -371,7 +381,7 @@ class DriveHmiFormatter(FunctionBlock):
 
     @method(PROTECTED)
     def compose(self) -> STRING:
-        return f"{self.name} {state_word(self.source.state)} {self.source.speed:5.1f} %"
+        return f"{self.name} {state_word(self.source.state)} {tenths(self.source.speed)} %"
 
     def body(self) -> None:
         self.status_text = self.compose()
@@ -423,8 +433,8 @@ def main() -> None:
 
     >>> main()
     design     drive block      sizeof  texts built in 1 s  HMI text
-    violating  FB_DriveWithHmi   424 B                 100  M1 RUN   75.0 %
-    compliant  FB_Drive           32 B                  10  M1 RUN   75.0 %
+    violating  FB_DriveWithHmi   424 B                 100  M1 RUN  75.0 %
+    compliant  FB_Drive           32 B                  10  M1 RUN  75.0 %
     events, newest first (the same in both designs):
       M1 RUNNING
       M1 STOPPED

@@ -112,6 +112,7 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import DINT_TO_LREAL, LREAL_TO_DINT, LREAL_TO_STRING
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -135,6 +136,15 @@ __all__ = [
 # ---------------------------------------------------------------------------
 # Protection proxy: setpoint writes by access level
 # ---------------------------------------------------------------------------
+
+
+def tenths(value: LREAL) -> STRING:
+    """``FUNCTION F_Tenths : STRING``: ``value`` to one decimal, as the HMI shows it ('72.5', '80.0').
+
+    ST has no format specifier: round to tenths as a DINT, back to LREAL, and let
+    LREAL_TO_STRING write the fewest digits that read back ('72.5', not '72.500000').
+    """
+    return LREAL_TO_STRING(DINT_TO_LREAL(LREAL_TO_DINT(value * 10.0)) / 10.0)
 
 
 class AccessLevel(IecEnum):
@@ -266,11 +276,11 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     def write(self, value: LREAL) -> BOOL:
         limits = self.limits
         if value < limits.low:
-            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {limits.low:.1f}")
+            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {tenths(limits.low)}")
         if value > limits.high:
-            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {limits.high:.1f}")
+            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {tenths(limits.high)}")
         if abs(value - self.subject_ref.setpoint) > limits.max_step:
-            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {limits.max_step:.1f}")
+            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {tenths(limits.max_step)}")
         if not self.subject_ref.write(value):
             return self.refuse(Refusal.SUBJECT_REFUSED, value, "refused by the oven")
         self.idle(IN=False)
@@ -281,7 +291,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     def refuse(self, reason: Refusal, value: LREAL, why: STRING) -> BOOL:
         self.refused += 1
         self.last_refusal = reason
-        self.message = f"{self.user_level.name} write {value:.1f} refused: {why}"
+        self.message = f"{self.user_level.name} write {tenths(value)} refused: {why}"
         return False
 
     @prop

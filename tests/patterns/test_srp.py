@@ -59,7 +59,7 @@ def test_the_violating_drive_rebuilds_its_text_in_every_motion_cycle() -> None:
     assert rt.time_ms == 1000
     assert violating.drive.format_count == 100
     assert hmi.formatter.format_count == 10
-    assert violating.drive.status_text == hmi.formatter.status_text == "M1 STOP   0.0 %"
+    assert violating.drive.status_text == hmi.formatter.status_text == "M1 STOP 0.0 %"
     assert motion.drive.state == DriveState.STOPPED
 
 
@@ -123,7 +123,7 @@ def test_a_new_wording_replaces_only_the_hmi_program_in_the_compliant_design() -
     assert rt.programs()["PlcTask.MotionMain"] is motion
     assert adr(motion.drive) == adr(drive) and type(motion.drive) is Drive
     assert (drive.speed_ref, motion.log.event_total) == (speed_before, events_before) == (37.5, 1)
-    assert changed.formatter.status_text == "M1 RUN   12.5 %"  # copied by the online change, until its next cycle
+    assert changed.formatter.status_text == "M1 RUN  12.5 %"  # copied by the online change, until its next cycle
     rt.run(cycles=8)  # the HMI task runs again at t = 100 ms
     assert changed.formatter.status_text == "M1 LAEUFT 75%"
     assert drive.speed_ref == 75.0 and drive.state == DriveState.RUNNING
