@@ -84,7 +84,6 @@ from iecoop import (
     UDINT,
     VAR,
     VAR_INPUT,
-    VAR_INST,
     VAR_OUTPUT,
     FunctionBlock,
     Interface,
@@ -131,8 +130,8 @@ class Sample(FunctionBlock, ISample):
 
     st_local: SampleData = VAR()
     fb_calls: Counter = VAR()
-    struct_result: SampleData = VAR_INST(method="get_struct")
-    counter_result: Counter = VAR_INST(method="get_counter")
+    struct_result: SampleData = VAR()
+    counter_result: Counter = VAR()
 
     @method
     def increment(self) -> INT:
@@ -146,8 +145,8 @@ class Sample(FunctionBlock, ISample):
         """``METHOD GetStruct : ST_Sample``: the struct, copied as ST's assignment copies it.
 
         ``GetStruct := stLocal;`` copies. A Python ``return self.st_local`` would hand
-        out the block's own struct, so the method copies it into its result variable
-        first (``VAR_INST stResult``; the assignment copies) and returns that.
+        out the block's own struct, so the method copies it into the block's result
+        variable ``stResult`` first (the assignment copies) and returns that.
         """
         self.struct_result = self.st_local
         return self.struct_result

@@ -367,8 +367,10 @@ class ValveFactory(FunctionBlock, IValveFactory):
             self.fail(FactoryError.ALREADY_CONFIGURED)
             return 0
         self.configured = True
+        row_ptr = rows
         for row in range(1, min(count, MAX_VALVES) + 1):
-            config = (rows + (row - 1) * sizeof(ValveConfig)).deref
+            config = row_ptr.deref
+            row_ptr = row_ptr + sizeof(ValveConfig)  # the next row
             if config.type_code == ValveType.NONE:
                 continue
             self.row = row
@@ -402,25 +404,26 @@ class ValveFactory(FunctionBlock, IValveFactory):
     def create_valve(self, config: ValveConfig) -> IValve:
         """The factory method: a configured valve of ``config.type_code``, or 0."""
         code = config.type_code
+        # Each pool has its own block type, so each branch sets up and returns its own element.
         if code == ValveType.SOLENOID:
             if self.n_solenoid >= self.solenoids.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_solenoid += 1
-            made: ValveBase = self.solenoids[self.n_solenoid]
-        elif code == ValveType.MOTORISED:
+            self.solenoids[self.n_solenoid].setup(config)
+            return self.solenoids[self.n_solenoid]
+        if code == ValveType.MOTORISED:
             if self.n_motorised >= self.motorised.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_motorised += 1
-            made = self.motorised[self.n_motorised]
-        elif code == ValveType.PROPORTIONAL:
+            self.motorised[self.n_motorised].setup(config)
+            return self.motorised[self.n_motorised]
+        if code == ValveType.PROPORTIONAL:
             if self.n_proportional >= self.proportional.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_proportional += 1
-            made = self.proportional[self.n_proportional]
-        else:
-            return self.fail(FactoryError.UNKNOWN_TYPE)
-        made.setup(config)
-        return made
+            self.proportional[self.n_proportional].setup(config)
+            return self.proportional[self.n_proportional]
+        return self.fail(FactoryError.UNKNOWN_TYPE)
 
 
 class PinchValveFactory(ValveFactory):

@@ -218,7 +218,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     ``logout_after`` without a write, a higher level falls back to OPERATOR.
     """
 
-    LIMITS: ARRAY[SetpointLimits] = VAR(
+    LEVEL_LIMITS: ARRAY[SetpointLimits] = VAR(
         [
             {"low": 150.0, "high": 250.0, "max_step": 10.0},
             {"low": 100.0, "high": 300.0, "max_step": 50.0},
@@ -269,18 +269,19 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
 
     @prop
     def limits(self) -> SetpointLimits:
-        """The row of ``LIMITS`` for the current level."""
-        return self.LIMITS[self.user_level]
+        """The row of ``LEVEL_LIMITS`` for the current level."""
+        return self.LEVEL_LIMITS[self.user_level]
 
     @method
     def write(self, value: LREAL) -> BOOL:
-        limits = self.limits
-        if value < limits.low:
-            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {tenths(limits.low)}")
-        if value > limits.high:
-            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {tenths(limits.high)}")
-        if abs(value - self.subject_ref.setpoint) > limits.max_step:
-            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {tenths(limits.max_step)}")
+        # ST names are case-blind: the row is not called like the property Limits.
+        allowed = self.LEVEL_LIMITS[self.user_level]
+        if value < allowed.low:
+            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {tenths(allowed.low)}")
+        if value > allowed.high:
+            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {tenths(allowed.high)}")
+        if abs(value - self.subject_ref.setpoint) > allowed.max_step:
+            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {tenths(allowed.max_step)}")
         if not self.subject_ref.write(value):
             return self.refuse(Refusal.SUBJECT_REFUSED, value, "refused by the oven")
         self.idle(IN=False)
