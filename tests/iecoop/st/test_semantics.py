@@ -290,3 +290,10 @@ def test_to_string_conversions_write_the_vendor_text() -> None:
     assert (main.s1, main.s2, main.s3, main.s4, main.s5, main.s6, main.s7, main.ws) == (
         "3.1", "T#1s500ms", "TRUE", "T#1s500ms", "65535", "x=0.25", "D#2024-01-28", "1.5",
     )
+
+
+def test_to_string_of_an_enumeration_is_its_name() -> None:
+    source = "{attribute 'to_string'}\nTYPE E_Mode : (IDLE := 0, AUTO := 1) INT; END_TYPE\n" + prog(
+        "eMode : E_Mode := E_Mode.AUTO; s : STRING;", "s := TO_STRING(eMode);"
+    )
+    assert run(source).s == "AUTO"
