@@ -911,6 +911,7 @@ def _wide(convert: Callable[[_Source], str]) -> Callable[[_Source], str]:
     def wide(x: _Source) -> str:
         return convert(x)
 
+    wide.__annotations__ = dict(convert.__annotations__)  # the source type, for the reference pages
     name = convert.__name__.replace("TO_STRING", "TO_WSTRING")
     wide.__name__ = wide.__qualname__ = name
     wide.__doc__ = f"{name}: the text of {convert.__name__}, as a WSTRING (ST: ``wsText := {name}(x);``)."
