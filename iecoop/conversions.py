@@ -20,6 +20,11 @@ as the source type holds it, so ``REAL_TO_INT`` sees the 32-bit value and
 ``STRING_TO_<type>`` is ``TO_<type>(STRING_TO_NUMBER(text, "<type>"))``: the
 literal the text starts with, stored in the target type.
 
+``<type>_TO_STRING`` writes the text TwinCAT 3 writes: ``'TRUE'``, ``'T#1s500ms'``,
+decimal digits for an integer, and for a REAL the fewest digits that read back
+as the same REAL (``'1.5'``, ``'0.1'``); see ``REAL_TO_STRING`` for what is
+documented and what is not.
+
 DIV truncates toward zero and MOD takes the sign of the dividend (C semantics,
 as the PLCs' native code); dividing by zero raises a PlcException, as TwinCAT
 does.
@@ -40,14 +45,18 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Final, overload
+from collections.abc import Callable
+from typing import Final, TypeVar, overload
 
 from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
 from iecoop.profiles import active_profile
 from iecoop.types import (
     BOOL_T,
     BYTE_T,
+    DATE_T,
     DINT_T,
+    DT_T,
     DWORD_T,
     INT_T,
     LINT_T,
@@ -57,6 +66,7 @@ from iecoop.types import (
     REAL_T,
     SINT_T,
     TIME_T,
+    TOD_T,
     UDINT_T,
     UINT_T,
     ULINT_T,
@@ -67,18 +77,29 @@ from iecoop.types import (
 
 __all__ = [
     "BOOL_TO_INT",
+    "BOOL_TO_STRING",
+    "BOOL_TO_WSTRING",
+    "BYTE_TO_STRING",
+    "DATE_TO_STRING",
     "DINT_TO_DWORD",
     "DINT_TO_LREAL",
     "DINT_TO_REAL",
+    "DINT_TO_STRING",
     "DINT_TO_TIME",
+    "DINT_TO_WSTRING",
     "DIV",
+    "DT_TO_STRING",
     "DWORD_TO_DINT",
+    "DWORD_TO_STRING",
     "INT_TO_BOOL",
     "INT_TO_BYTE",
     "INT_TO_LREAL",
     "INT_TO_REAL",
+    "INT_TO_STRING",
     "INT_TO_UINT",
     "INT_TO_WORD",
+    "INT_TO_WSTRING",
+    "LINT_TO_STRING",
     "LREAL_TO_BOOL",
     "LREAL_TO_BYTE",
     "LREAL_TO_DINT",
@@ -89,15 +110,19 @@ __all__ = [
     "LREAL_TO_LWORD",
     "LREAL_TO_REAL",
     "LREAL_TO_SINT",
+    "LREAL_TO_STRING",
     "LREAL_TO_TIME",
     "LREAL_TO_UDINT",
     "LREAL_TO_UINT",
     "LREAL_TO_ULINT",
     "LREAL_TO_USINT",
     "LREAL_TO_WORD",
+    "LREAL_TO_WSTRING",
+    "LTIME_TO_STRING",
     "LTIME_TO_TIME",
+    "LTIME_TO_WSTRING",
+    "LWORD_TO_STRING",
     "MOD",
-    "STRING_TO_NUMBER",
     "REAL_TO_BOOL",
     "REAL_TO_BYTE",
     "REAL_TO_DINT",
@@ -108,14 +133,21 @@ __all__ = [
     "REAL_TO_LTIME",
     "REAL_TO_LWORD",
     "REAL_TO_SINT",
+    "REAL_TO_STRING",
     "REAL_TO_TIME",
     "REAL_TO_UDINT",
     "REAL_TO_UINT",
     "REAL_TO_ULINT",
     "REAL_TO_USINT",
     "REAL_TO_WORD",
+    "REAL_TO_WSTRING",
+    "SINT_TO_STRING",
+    "STRING_TO_NUMBER",
     "TIME_TO_DINT",
     "TIME_TO_LTIME",
+    "TIME_TO_STRING",
+    "TIME_TO_WSTRING",
+    "TOD_TO_STRING",
     "TO_BOOL",
     "TO_BYTE",
     "TO_DINT",
@@ -127,19 +159,27 @@ __all__ = [
     "TO_LWORD",
     "TO_REAL",
     "TO_SINT",
+    "TO_STRING",
     "TO_TIME",
     "TO_UDINT",
     "TO_UINT",
     "TO_ULINT",
     "TO_USINT",
     "TO_WORD",
+    "TO_WSTRING",
     "TRUNC",
     "TRUNC_INT",
+    "UDINT_TO_STRING",
     "UINT_TO_INT",
+    "UINT_TO_STRING",
+    "ULINT_TO_STRING",
+    "USINT_TO_STRING",
     "WORD_TO_INT",
+    "WORD_TO_STRING",
 ]
 
 Number = int | float | bool
+_Source = TypeVar("_Source", int, float, bool, Number)
 
 # Above 2^53 a Python int -> float conversion already rounds, and rounding that
 # double again to 24 bits can land on the wrong float32 (double rounding).
@@ -721,3 +761,168 @@ def STRING_TO_NUMBER(text: str, target: str) -> Number:
     base, _, value = digits.rpartition("#")
     return sign * int(value, int(base) if base else 10)
 
+
+
+# --- <type>_TO_STRING ------------------------------------------------------------------------
+#
+# The text TwinCAT 3 writes. BOOL gives 'TRUE' / 'FALSE' and TIME the literal
+# ('T#12ms'): Beckhoff Infosys, "BOOL_TO conversions" and "TIME_TO conversions"
+# (infosys.beckhoff.com/content/1033/tcplccontrol/925577611.html, 925587851.html).
+# Integers give their decimal digits. For REAL and LREAL Beckhoff documents a
+# limit of 16 digits, the sixteenth rounded ("REAL/LREAL_TO_<type>",
+# infosys.beckhoff.com/content/1033/tc3_plc_intro/9007201783799179.html), and
+# CODESYS Control Win writes REAL 0.7 as '0.7' (forge.codesys.com, "Unexpected
+# output from REAL_TO_STRING", 2014). The rest of the float format is not
+# documented (UNCONFIRMED): the fewest digits that read back as the same value
+# (at most 9 for a REAL, 16 for an LREAL), a '.0' on a whole number, and the
+# exponent form d.ddddE+nn past 16 digits before the point or below 1E-5.
+# Some other runtimes write 0.7 as '7.0e-1' (same thread); iecoop follows TwinCAT.
+
+_REAL_DIGITS: Final = 9  # enough for every float32 to read back exactly
+_LREAL_DIGITS: Final = 16  # Beckhoff: "the total number of digits is limited to 16"
+_FIXED_EXPONENTS: Final = range(-5, 16)
+
+
+def _float_text(x: float, digits: tuple[str, int]) -> str:
+    """``digits`` (significant digits, decimal exponent of the first) as TwinCAT writes them."""
+    mantissa, exponent = digits
+    sign = "-" if x < 0 else ""
+    if exponent not in _FIXED_EXPONENTS:
+        tail = mantissa[1:] or "0"
+        return f"{sign}{mantissa[0]}.{tail}E{exponent:+03d}"
+    if exponent < 0:
+        return f"{sign}0.{'0' * (-exponent - 1)}{mantissa}"
+    whole = mantissa[: exponent + 1].ljust(exponent + 1, "0")
+    fraction = mantissa[exponent + 1:] or "0"
+    return f"{sign}{whole}.{fraction}"
+
+
+def _float_to_string(x: float, most: int, store: Callable[[float], float]) -> str:
+    """The fewest significant digits (up to ``most``) whose decimal, stored, reads back as ``x``."""
+    if math.isnan(x):  # the forms of Tc2_Utilities' LREAL_TO_FMTSTR (the conversion documents none)
+        return "#QNAN"
+    if math.isinf(x):
+        return "#INF" if x > 0 else "-#INF"
+    if x == 0:
+        return "0.0"
+    text = ""
+    for count in range(1, most + 1):
+        text = f"{x:.{count - 1}e}"
+        if store(float(text)) == x:
+            break
+    mantissa, _, exponent = text.lstrip("-").partition("e")
+    return _float_text(x, (mantissa.replace(".", "").rstrip("0") or "0", int(exponent)))
+
+
+def REAL_TO_STRING(x: float) -> str:
+    """REAL_TO_STRING: the fewest digits that read back as the same REAL (at most 9).
+
+    ST: ``sText := REAL_TO_STRING(rValue);``  (exponent form past 16 digits, UNCONFIRMED)
+
+    >>> REAL_TO_STRING(1.5), REAL_TO_STRING(0.1), REAL_TO_STRING(-50.1), REAL_TO_STRING(2.0)
+    ('1.5', '0.1', '-50.1', '2.0')
+    >>> REAL_TO_STRING(1.0 / 3.0), REAL_TO_STRING(3.0e20), REAL_TO_STRING(1.5e-7)
+    ('0.33333334', '3.0E+20', '1.5E-07')
+    """
+    return _float_to_string(_from_real(x), _REAL_DIGITS, _from_real)
+
+
+def LREAL_TO_STRING(x: float) -> str:
+    """LREAL_TO_STRING: the fewest digits that read back as the same LREAL, at most 16 (the 16th rounded).
+
+    ST: ``sText := LREAL_TO_STRING(lrValue);``
+
+    >>> LREAL_TO_STRING(1.4), LREAL_TO_STRING(0.1 + 0.2), LREAL_TO_STRING(1e100)
+    ('1.4', '0.3', '1.0E+100')
+    """
+    return _float_to_string(float(x), _LREAL_DIGITS, float)
+
+
+def BOOL_TO_STRING(x: bool) -> str:
+    """BOOL_TO_STRING: 'TRUE' or 'FALSE' (Python's str() writes 'True').
+
+    >>> BOOL_TO_STRING(True), BOOL_TO_STRING(False)
+    ('TRUE', 'FALSE')
+    """
+    return "TRUE" if BOOL_T.store(x) else "FALSE"
+
+
+def TIME_TO_STRING(x: int) -> str:
+    """TIME_TO_STRING: the TIME literal, zero units left out.
+
+    >>> TIME_TO_STRING(1500), TIME_TO_STRING(12), TIME_TO_STRING(0)
+    ('T#1s500ms', 'T#12ms', 'T#0ms')
+    """
+    return format_time(_source(x, TIME_T))
+
+
+def _named_to_string(source: ElementaryType, text: Callable[[int], str], what: str) -> Callable[[int], str]:
+    """``<source>_TO_STRING``: the argument as a ``source`` variable holds it, written by ``text``."""
+
+    def convert(x: int) -> str:
+        return text(_source(x, source))
+
+    convert.__name__ = convert.__qualname__ = f"{source.name}_TO_STRING"
+    convert.__doc__ = f"{source.name}_TO_STRING: {what} (ST: ``sText := {source.name}_TO_STRING(x);``)."
+    return convert
+
+
+LTIME_TO_STRING: Final = _named_to_string(LTIME_T, format_ltime, "the LTIME literal, ``LTIME#1ms500us``")
+DATE_TO_STRING: Final = _named_to_string(DATE_T, format_date, "the DATE literal, ``D#2024-01-28``")
+TOD_TO_STRING: Final = _named_to_string(TOD_T, format_tod, "the TIME_OF_DAY literal, ``TOD#12:30:00.5``")
+DT_TO_STRING: Final = _named_to_string(DT_T, format_dt, "the DATE_AND_TIME literal, ``DT#2024-01-28-11:05:43``")
+
+
+_DIGITS: Final = "the decimal digits of the value the source type holds"
+SINT_TO_STRING: Final = _named_to_string(SINT_T, str, _DIGITS)
+USINT_TO_STRING: Final = _named_to_string(USINT_T, str, _DIGITS)
+INT_TO_STRING: Final = _named_to_string(INT_T, str, _DIGITS)
+UINT_TO_STRING: Final = _named_to_string(UINT_T, str, _DIGITS)
+DINT_TO_STRING: Final = _named_to_string(DINT_T, str, _DIGITS)
+UDINT_TO_STRING: Final = _named_to_string(UDINT_T, str, _DIGITS)
+LINT_TO_STRING: Final = _named_to_string(LINT_T, str, _DIGITS)
+ULINT_TO_STRING: Final = _named_to_string(ULINT_T, str, _DIGITS)
+BYTE_TO_STRING: Final = _named_to_string(BYTE_T, str, _DIGITS)
+WORD_TO_STRING: Final = _named_to_string(WORD_T, str, _DIGITS)
+DWORD_TO_STRING: Final = _named_to_string(DWORD_T, str, _DIGITS)
+LWORD_TO_STRING: Final = _named_to_string(LWORD_T, str, _DIGITS)
+
+
+def TO_STRING(x: Number) -> str:
+    """TO_STRING: by the Python type, since an int does not say which IEC type it is.
+
+    A bool gives 'TRUE' / 'FALSE', an int its decimal digits, a float the
+    LREAL text. For a REAL, TIME, DATE, TOD or DT variable call the source-named
+    form (``REAL_TO_STRING``, ``TIME_TO_STRING`` ...): their text differs.
+
+    >>> TO_STRING(True), TO_STRING(-7), TO_STRING(0.5)
+    ('TRUE', '-7', '0.5')
+    """
+    if isinstance(x, bool):
+        return BOOL_TO_STRING(x)
+    if isinstance(x, float):
+        return LREAL_TO_STRING(x)
+    return str(int(x))
+
+
+def _wide(convert: Callable[[_Source], str]) -> Callable[[_Source], str]:
+    """The WSTRING form of a *_TO_STRING conversion: the same characters (a WSTRING is a Python str too)."""
+
+    def wide(x: _Source) -> str:
+        return convert(x)
+
+    wide.__annotations__ = dict(convert.__annotations__)  # the source type, for the reference pages
+    name = convert.__name__.replace("TO_STRING", "TO_WSTRING")
+    wide.__name__ = wide.__qualname__ = name
+    wide.__doc__ = f"{name}: the text of {convert.__name__}, as a WSTRING (ST: ``wsText := {name}(x);``)."
+    return wide
+
+
+REAL_TO_WSTRING: Final = _wide(REAL_TO_STRING)
+LREAL_TO_WSTRING: Final = _wide(LREAL_TO_STRING)
+BOOL_TO_WSTRING: Final = _wide(BOOL_TO_STRING)
+TIME_TO_WSTRING: Final = _wide(TIME_TO_STRING)
+LTIME_TO_WSTRING: Final = _wide(LTIME_TO_STRING)
+INT_TO_WSTRING: Final = _wide(INT_TO_STRING)
+DINT_TO_WSTRING: Final = _wide(DINT_TO_STRING)
+TO_WSTRING: Final = _wide(TO_STRING)

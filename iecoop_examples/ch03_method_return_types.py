@@ -77,8 +77,6 @@ ST::
 
 from __future__ import annotations
 
-import copy
-
 from iecoop import (
     BOOL,
     INT,
@@ -132,6 +130,8 @@ class Sample(FunctionBlock, ISample):
 
     st_local: SampleData = VAR()
     fb_calls: Counter = VAR()
+    struct_result: SampleData = VAR()
+    counter_result: Counter = VAR()
 
     @method
     def increment(self) -> INT:
@@ -142,8 +142,14 @@ class Sample(FunctionBlock, ISample):
 
     @method
     def get_struct(self) -> SampleData:
-        """``METHOD GetStruct : ST_Sample``: the struct, copied as ST's assignment copies it."""
-        return copy.copy(self.st_local)
+        """``METHOD GetStruct : ST_Sample``: the struct, copied as ST's assignment copies it.
+
+        ``GetStruct := stLocal;`` copies. A Python ``return self.st_local`` would hand
+        out the block's own struct, so the method copies it into the block's result
+        variable ``stResult`` first (the assignment copies) and returns that.
+        """
+        self.struct_result = self.st_local
+        return self.struct_result
 
     @method
     def get_interface(self) -> ISample:
@@ -152,8 +158,9 @@ class Sample(FunctionBlock, ISample):
 
     @method
     def get_counter(self) -> Counter:
-        """``METHOD GetCounter : FB_Counter``: the whole instance, copied."""
-        return copy.copy(self.fb_calls)
+        """``METHOD GetCounter : FB_Counter``: the whole instance, copied (``GetCounter := fbCalls;``)."""
+        self.counter_result = self.fb_calls
+        return self.counter_result
 
     @prop
     def my_prop(self) -> REFERENCE_TO[SampleData]:

@@ -106,6 +106,7 @@ from iecoop import (
     REAL,
     REFERENCE_TO,
     VAR,
+    VAR_IN_OUT,
     Program,
     Struct,
     T,
@@ -208,11 +209,17 @@ def average_values(
     ) / 20.0
 
 
-def average_reference(values: REFERENCE_TO[ARRAY[REAL]]) -> REAL:
-    """``FUNCTION F_AverageReference : REAL``: one input, the caller's array itself."""
-    total = 0.0
+def average_reference(values: POINTER_TO[ARRAY[REAL]] = VAR_IN_OUT(bounds=(1, 20))) -> REAL:
+    """``FUNCTION F_AverageReference : REAL``: the caller's array itself, no copy.
+
+    ``VAR_IN_OUT aValues : ARRAY[1..20] OF REAL; END_VAR``: an in-out passes the
+    variable by reference, as a ``REFERENCE TO ARRAY[1..20] OF REAL`` input
+    does, with the bounds in the declaration; Python passes ``adr(...)`` of the
+    array the reference designates. The exported ST declares it this way.
+    """
+    total: REAL = 0.0
     for i in range(1, 21):
-        total += values[i]
+        total += values.deref[i]
     return total / 20.0
 
 
@@ -238,7 +245,7 @@ class SrAverage(Program):
             f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9], f[10],
             f[11], f[12], f[13], f[14], f[15], f[16], f[17], f[18], f[19], f[20],
         )
-        self.avg_reference = average_reference(self.ref_fifo)
+        self.avg_reference = average_reference(adr(self.ref_fifo))
 
 
 def main() -> None:

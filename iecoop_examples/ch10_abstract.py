@@ -82,6 +82,7 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import DINT_TO_REAL, REAL_TO_DINT, REAL_TO_STRING
 from iecoop.runtime import Runtime, Task
 from patterns.showcase.entry import Column, Showcase
 
@@ -89,6 +90,15 @@ __all__ = ["Main", "PressureSensor", "Sensor", "TemperatureSensor", "main"]
 
 #: The full-scale count of a 16-bit analog input card (S7 / EL30xx style).
 FULL_SCALE = 27648
+
+
+def tenths(value: REAL) -> STRING:
+    """``FUNCTION F_Tenths : STRING``: ``value`` to one decimal, as the HMI shows it ('72.5', '80.0').
+
+    ST has no format specifier: round to tenths as a DINT, back to REAL, and let
+    REAL_TO_STRING write the fewest digits that read back ('72.5', not '72.500000').
+    """
+    return REAL_TO_STRING(DINT_TO_REAL(REAL_TO_DINT(value * 10.0)) / 10.0)
 
 
 class Sensor(FunctionBlock, abstract=True):
@@ -122,7 +132,7 @@ class Sensor(FunctionBlock, abstract=True):
     @method
     def describe(self) -> STRING:
         """``METHOD Describe : STRING``: uses the abstract ``Unit``, written by the derived block."""
-        return f"{self.value:.1f} {self.unit}"
+        return f"{tenths(self.value)} {self.unit}"
 
 
 class TemperatureSensor(Sensor):

@@ -2509,11 +2509,21 @@ class Translator:
         if result_type is None:
             raise self.fail(f"conversion to {target} is not supported", node)
         if target in ("STRING", "WSTRING"):
-            if source is not None and source in INTEGER_TYPES or value.type is not None and value.type.is_int:
-                return Ex(f"str({value.code})", result_type)
-            if source == "BOOL":
-                return Ex(f'"TRUE" if {value.p()} else "FALSE"', result_type, True)
-            raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
+            # iecoop's *_TO_STRING write the vendor text (T#1s500ms, 1.5, TRUE); TO_STRING goes by the
+            # argument's declared type, which the Python function cannot see, so it gets the source-named form.
+            decl = self.decl_of(value.type)
+            if source is None and decl is not None and decl.kind == "enum":
+                # TwinCAT's TO_STRING of an enumeration with {attribute 'to_string'}: the value's name
+                return Ex(f"{value.p()}.name", result_type)
+            named = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
+            named = TYPE_SYNONYMS.get(named, named) if named else None
+            form = f"{named}_TO_STRING" if named else ""
+            if form not in conversions.__all__:
+                if value.type is None or not value.type.is_int:
+                    raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
+                form = "TO_STRING"
+            self.need("iecoop.conversions", form)
+            return Ex(f"{form}({value.code})", result_type)
         if source in ("STRING", "WSTRING"):
             # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
             if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):

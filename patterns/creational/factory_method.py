@@ -18,7 +18,8 @@ delivers them as an I/O configuration table: one row per valve with its tag
 and a type code. The sequence only wants to ``open`` and ``close`` valves and
 wait for the end position; it must not change when the table does.
 
-``ValveFactory.configure`` walks the CONSTANT table and calls the factory
+``ValveFactory.configure`` walks the CONSTANT table (given as the address of
+its first row and a row count, so nothing is copied) and calls the factory
 method ``create_valve`` for each row. The method takes a free block of the
 right kind from a static pool and returns it as an ``IValve``; the factory
 keeps the result in an ``ARRAY[1..8] OF I_Valve`` indexed like the table.
@@ -111,6 +112,7 @@ from iecoop import (
     BOOL,
     INT,
     INTERNAL,
+    POINTER_TO,
     PROTECTED,
     REAL,
     STRING,
@@ -124,8 +126,10 @@ from iecoop import (
     Program,
     Struct,
     T,
+    adr,
     method,
     prop,
+    sizeof,
 )
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
@@ -226,7 +230,7 @@ class IValveFactory(Interface):
     """``INTERFACE I_ValveFactory``: what the sequence knows about the factory."""
 
     @method
-    def configure(self, table: ARRAY[ValveConfig]) -> INT:
+    def configure(self, rows: POINTER_TO[ValveConfig], count: INT) -> INT:
         raise NotImplementedError
 
     @method
@@ -352,14 +356,21 @@ class ValveFactory(FunctionBlock, IValveFactory):
     n_proportional: INT = VAR(0)
 
     @method
-    def configure(self, table: ARRAY[ValveConfig]) -> INT:
-        """Create one valve per used row; returns how many were created. Runs once."""
+    def configure(self, rows: POINTER_TO[ValveConfig], count: INT) -> INT:
+        """Create one valve per used row; returns how many were created. Runs once.
+
+        ``Configure(pRows := ADR(aIoConfig[1]), nRows := MAX_VALVES)``: the first
+        row of the caller's table and how many follow. The table is a CONSTANT,
+        which a VAR_IN_OUT cannot take, and an input of type ARRAY would copy it.
+        """
         if self.configured:
             self.fail(FactoryError.ALREADY_CONFIGURED)
             return 0
         self.configured = True
-        for row in range(table.low, table.high + 1):
-            config = table[row]
+        row_ptr = rows
+        for row in range(1, min(count, MAX_VALVES) + 1):
+            config = row_ptr.deref
+            row_ptr = row_ptr + sizeof(ValveConfig)  # the next row
             if config.type_code == ValveType.NONE:
                 continue
             self.row = row
@@ -393,25 +404,26 @@ class ValveFactory(FunctionBlock, IValveFactory):
     def create_valve(self, config: ValveConfig) -> IValve:
         """The factory method: a configured valve of ``config.type_code``, or 0."""
         code = config.type_code
+        # Each pool has its own block type, so each branch sets up and returns its own element.
         if code == ValveType.SOLENOID:
             if self.n_solenoid >= self.solenoids.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_solenoid += 1
-            made: ValveBase = self.solenoids[self.n_solenoid]
-        elif code == ValveType.MOTORISED:
+            self.solenoids[self.n_solenoid].setup(config)
+            return self.solenoids[self.n_solenoid]
+        if code == ValveType.MOTORISED:
             if self.n_motorised >= self.motorised.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_motorised += 1
-            made = self.motorised[self.n_motorised]
-        elif code == ValveType.PROPORTIONAL:
+            self.motorised[self.n_motorised].setup(config)
+            return self.motorised[self.n_motorised]
+        if code == ValveType.PROPORTIONAL:
             if self.n_proportional >= self.proportional.high:
                 return self.fail(FactoryError.POOL_FULL)
             self.n_proportional += 1
-            made = self.proportional[self.n_proportional]
-        else:
-            return self.fail(FactoryError.UNKNOWN_TYPE)
-        made.setup(config)
-        return made
+            self.proportional[self.n_proportional].setup(config)
+            return self.proportional[self.n_proportional]
+        return self.fail(FactoryError.UNKNOWN_TYPE)
 
 
 class PinchValveFactory(ValveFactory):
@@ -442,7 +454,7 @@ class ValveCellMain(Program):
     def body(self) -> None:
         if self.first_scan:
             self.first_scan = False
-            self.factory.configure(self.io_config)
+            self.factory.configure(adr(self, "io_config", 1), MAX_VALVES)
             for row in range(1, MAX_VALVES + 1):
                 valve = self.factory.valve(row)
                 if valve:

@@ -119,13 +119,14 @@ from iecoop import (
     prop,
     sizeof,
 )
+from iecoop.conversions import DINT_TO_REAL, REAL_TO_DINT, REAL_TO_STRING
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 from patterns.plant import ramp
 from patterns.showcase.entry import Column, Scenario, Showcase, plc_task
 
-#: Entries kept by an event log: ``ARRAY[1..EVENTS] OF STRING(40)``.
-EVENTS = 8
+#: Entries kept by an event log: ``ARRAY[1..MAX_EVENTS] OF STRING(40)``.
+MAX_EVENTS = 8
 
 
 class DriveState(IecEnum):
@@ -134,6 +135,15 @@ class DriveState(IecEnum):
     STOPPED = 0
     RUNNING = 1
     TRIPPED = 2
+
+
+def tenths(value: REAL) -> STRING:
+    """``FUNCTION F_Tenths : STRING``: ``value`` to one decimal, as the HMI shows it ('72.5', '80.0').
+
+    ST has no format specifier: round to tenths as a DINT, back to REAL, and let
+    REAL_TO_STRING write the fewest digits that read back ('72.5', not '72.500000').
+    """
+    return REAL_TO_STRING(DINT_TO_REAL(REAL_TO_DINT(value * 10.0)) / 10.0)
 
 
 def state_word(state: DriveState) -> STRING:
@@ -168,7 +178,7 @@ class DriveWithHmi(FunctionBlock):
     current: DriveState = VAR(DriveState.STOPPED)
     setpoint: REAL = VAR(0.0)
     logged: DriveState = VAR(DriveState.STOPPED)
-    events: ARRAY[STRING] = VAR(bounds=(1, EVENTS), length=40)
+    events: ARRAY[STRING] = VAR(bounds=(1, MAX_EVENTS), length=40)
 
     @method
     def start(self, setpoint: REAL) -> BOOL:
@@ -197,30 +207,31 @@ class DriveWithHmi(FunctionBlock):
     @method(PROTECTED)
     def compose(self) -> STRING:
         """The HMI wording, owned by the drive: a new wording is a new drive block."""
-        return f"{self.name} {state_word(self.current)} {self.speed_ref:5.1f} %"
+        return f"{self.name} {state_word(self.current)} {tenths(self.speed_ref)} %"
 
     @method
     def event(self, age: INT) -> STRING:
         """The event ``age`` changes ago (0 = newest); an empty STRING when fewer changes are kept."""
-        if age < 0 or age >= min(self.event_total, EVENTS):
+        if age < 0 or age >= min(self.event_total, MAX_EVENTS):
             return ""
-        return self.events[(self.event_total - 1 - age) % EVENTS + 1]
+        return self.events[(self.event_total - 1 - age) % MAX_EVENTS + 1]
 
     def body(self) -> None:
         if self.overload:
             self.current = DriveState.TRIPPED
         if self.current == DriveState.TRIPPED:
             self.speed_ref = 0.0
-        else:
-            target = self.setpoint if self.current == DriveState.RUNNING else 0.0
-            self.speed_ref = ramp(self.speed_ref, target, self.ramp_step)
+        elif self.current == DriveState.RUNNING:
+            self.speed_ref = ramp(self.speed_ref, self.setpoint, self.ramp_step)
+        else:  # stopping: ramp down (no local: sizeof counts the block's variables only)
+            self.speed_ref = ramp(self.speed_ref, 0.0, self.ramp_step)
         self.q_run = self.current == DriveState.RUNNING or self.speed_ref > 0.0
         # HMI text and event log: the second and third reasons to change.
         self.status_text = self.compose()
         self.format_count += 1
         if self.current != self.logged:
             self.logged = self.current
-            self.events[self.event_total % EVENTS + 1] = f"{self.name} {self.current.name}"
+            self.events[self.event_total % MAX_EVENTS + 1] = f"{self.name} {self.current.name}"
             self.event_total += 1
 
 
@@ -323,14 +334,15 @@ class Drive(FunctionBlock, IDrive):
             self.current = DriveState.TRIPPED
         if self.current == DriveState.TRIPPED:
             self.speed_ref = 0.0
-        else:
-            target = self.setpoint if self.current == DriveState.RUNNING else 0.0
-            self.speed_ref = ramp(self.speed_ref, target, self.ramp_step)
+        elif self.current == DriveState.RUNNING:
+            self.speed_ref = ramp(self.speed_ref, self.setpoint, self.ramp_step)
+        else:  # stopping: ramp down (no local: sizeof counts the block's variables only)
+            self.speed_ref = ramp(self.speed_ref, 0.0, self.ramp_step)
         self.q_run = self.current == DriveState.RUNNING or self.speed_ref > 0.0
 
 
 class DriveEventLog(FunctionBlock):
-    """``FUNCTION_BLOCK FB_DriveEventLog``: the last ``EVENTS`` state changes of an ``I_DriveStatus``.
+    """``FUNCTION_BLOCK FB_DriveEventLog``: the last ``MAX_EVENTS`` state changes of an ``I_DriveStatus``.
 
     Called after the drive in the same task, so no change is missed; the
     oldest entry is overwritten when the ring is full.
@@ -340,20 +352,20 @@ class DriveEventLog(FunctionBlock):
     name: STRING = VAR_INPUT("M1", length=8)
     event_total: UDINT = VAR_OUTPUT(0)
     logged: DriveState = VAR(DriveState.STOPPED)
-    events: ARRAY[STRING] = VAR(bounds=(1, EVENTS), length=40)
+    events: ARRAY[STRING] = VAR(bounds=(1, MAX_EVENTS), length=40)
 
     @method
     def event(self, age: INT) -> STRING:
         """The event ``age`` changes ago (0 = newest); an empty STRING when fewer changes are kept."""
-        if age < 0 or age >= min(self.event_total, EVENTS):
+        if age < 0 or age >= min(self.event_total, MAX_EVENTS):
             return ""
-        return self.events[(self.event_total - 1 - age) % EVENTS + 1]
+        return self.events[(self.event_total - 1 - age) % MAX_EVENTS + 1]
 
     def body(self) -> None:
         state = self.source.state
         if state != self.logged:
             self.logged = state
-            self.events[self.event_total % EVENTS + 1] = f"{self.name} {state.name}"
+            self.events[self.event_total % MAX_EVENTS + 1] = f"{self.name} {state.name}"
             self.event_total += 1
 
 
@@ -371,7 +383,7 @@ class DriveHmiFormatter(FunctionBlock):
 
     @method(PROTECTED)
     def compose(self) -> STRING:
-        return f"{self.name} {state_word(self.source.state)} {self.source.speed:5.1f} %"
+        return f"{self.name} {state_word(self.source.state)} {tenths(self.source.speed)} %"
 
     def body(self) -> None:
         self.status_text = self.compose()
@@ -423,8 +435,8 @@ def main() -> None:
 
     >>> main()
     design     drive block      sizeof  texts built in 1 s  HMI text
-    violating  FB_DriveWithHmi   424 B                 100  M1 RUN   75.0 %
-    compliant  FB_Drive           32 B                  10  M1 RUN   75.0 %
+    violating  FB_DriveWithHmi   424 B                 100  M1 RUN  75.0 %
+    compliant  FB_Drive           32 B                  10  M1 RUN  75.0 %
     events, newest first (the same in both designs):
       M1 RUNNING
       M1 STOPPED

@@ -112,6 +112,7 @@ from iecoop import (
     method,
     prop,
 )
+from iecoop.conversions import DINT_TO_LREAL, LREAL_TO_DINT, LREAL_TO_STRING
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import TON
 from patterns.showcase.entry import Column, Scenario, Showcase
@@ -135,6 +136,15 @@ __all__ = [
 # ---------------------------------------------------------------------------
 # Protection proxy: setpoint writes by access level
 # ---------------------------------------------------------------------------
+
+
+def tenths(value: LREAL) -> STRING:
+    """``FUNCTION F_Tenths : STRING``: ``value`` to one decimal, as the HMI shows it ('72.5', '80.0').
+
+    ST has no format specifier: round to tenths as a DINT, back to LREAL, and let
+    LREAL_TO_STRING write the fewest digits that read back ('72.5', not '72.500000').
+    """
+    return LREAL_TO_STRING(DINT_TO_LREAL(LREAL_TO_DINT(value * 10.0)) / 10.0)
 
 
 class AccessLevel(IecEnum):
@@ -208,7 +218,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     ``logout_after`` without a write, a higher level falls back to OPERATOR.
     """
 
-    LIMITS: ARRAY[SetpointLimits] = VAR(
+    LEVEL_LIMITS: ARRAY[SetpointLimits] = VAR(
         [
             {"low": 150.0, "high": 250.0, "max_step": 10.0},
             {"low": 100.0, "high": 300.0, "max_step": 50.0},
@@ -259,18 +269,19 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
 
     @prop
     def limits(self) -> SetpointLimits:
-        """The row of ``LIMITS`` for the current level."""
-        return self.LIMITS[self.user_level]
+        """The row of ``LEVEL_LIMITS`` for the current level."""
+        return self.LEVEL_LIMITS[self.user_level]
 
     @method
     def write(self, value: LREAL) -> BOOL:
-        limits = self.limits
-        if value < limits.low:
-            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {limits.low:.1f}")
-        if value > limits.high:
-            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {limits.high:.1f}")
-        if abs(value - self.subject_ref.setpoint) > limits.max_step:
-            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {limits.max_step:.1f}")
+        # ST names are case-blind: the row is not called like the property Limits.
+        allowed = self.LEVEL_LIMITS[self.user_level]
+        if value < allowed.low:
+            return self.refuse(Refusal.BELOW_LIMIT, value, f"below {tenths(allowed.low)}")
+        if value > allowed.high:
+            return self.refuse(Refusal.ABOVE_LIMIT, value, f"above {tenths(allowed.high)}")
+        if abs(value - self.subject_ref.setpoint) > allowed.max_step:
+            return self.refuse(Refusal.STEP_TOO_LARGE, value, f"step over {tenths(allowed.max_step)}")
         if not self.subject_ref.write(value):
             return self.refuse(Refusal.SUBJECT_REFUSED, value, "refused by the oven")
         self.idle(IN=False)
@@ -281,7 +292,7 @@ class SetpointAccessProxy(FunctionBlock, ISetpoint):
     def refuse(self, reason: Refusal, value: LREAL, why: STRING) -> BOOL:
         self.refused += 1
         self.last_refusal = reason
-        self.message = f"{self.user_level.name} write {value:.1f} refused: {why}"
+        self.message = f"{self.user_level.name} write {tenths(value)} refused: {why}"
         return False
 
     @prop

@@ -135,7 +135,7 @@ def test_the_average_by_value_equals_the_average_by_reference(values: list[float
     for i, value in enumerate(values, 1):
         readings.values[i] = value
     by_value = average_values(*readings.values)
-    assert by_value == average_reference(readings.values)
+    assert by_value == average_reference(adr(readings, "values"))
     assert math.isclose(by_value, sum(values) / 20, rel_tol=1e-9, abs_tol=1e-6)
 
 

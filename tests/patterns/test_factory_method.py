@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import ARRAY, VAR, AccessError, DefinitionError, ExceptionCode, PlcException, Program, Struct, T
+from iecoop import ARRAY, VAR, AccessError, DefinitionError, ExceptionCode, PlcException, Program, Struct, T, adr
 from iecoop.runtime import Runtime, Task
 from patterns.creational.factory_method import (
     IO_CONFIG,
@@ -69,10 +69,10 @@ def test_each_row_gets_the_block_its_type_code_names() -> None:
 def test_the_base_factory_refuses_the_kind_only_the_subclass_knows() -> None:
     table = table_of(ValveType.SOLENOID, ValveType.PINCH, ValveType.MOTORISED)
     base, extended = ValveFactory(), PinchValveFactory()
-    assert base.configure(table.rows) == 2
+    assert base.configure(adr(table, "rows", 1), MAX_VALVES) == 2
     assert (base.error, base.error_row) == (FactoryError.UNKNOWN_TYPE, 2)
     assert not base.valve(2)
-    assert extended.configure(table.rows) == 3
+    assert extended.configure(adr(table, "rows", 1), MAX_VALVES) == 3
     assert extended.error == FactoryError.NONE
     assert isinstance(extended.valve(2), PinchValve)
 
@@ -87,7 +87,7 @@ def test_the_factory_method_is_protected_and_the_client_goes_through_configure()
 def test_an_exhausted_pool_leaves_the_row_null_and_a_call_through_it_faults() -> None:
     factory = PinchValveFactory()
     table = table_of(*[ValveType.SOLENOID] * 5, ValveType.MOTORISED)
-    assert factory.configure(table.rows) == 5
+    assert factory.configure(adr(table, "rows", 1), MAX_VALVES) == 5
     assert (factory.error, factory.error_row) == (FactoryError.POOL_FULL, 5)
     assert isinstance(factory.valve(6), MotorisedValve)
     with pytest.raises(PlcException, match=r"IValve\.open called through a null interface") as info:
@@ -98,8 +98,8 @@ def test_an_exhausted_pool_leaves_the_row_null_and_a_call_through_it_faults() ->
 def test_configure_runs_once() -> None:
     factory = PinchValveFactory()
     table = table_of(ValveType.SOLENOID)
-    assert factory.configure(table.rows) == 1
-    assert factory.configure(table.rows) == 0
+    assert factory.configure(adr(table, "rows", 1), MAX_VALVES) == 1
+    assert factory.configure(adr(table, "rows", 1), MAX_VALVES) == 0
     assert factory.error == FactoryError.ALREADY_CONFIGURED
     assert factory.created == 1
 
@@ -138,7 +138,8 @@ class ProportionalCell(Program):
 
 def test_a_proportional_valve_without_a_table_stroke_uses_its_rated_250_ms() -> None:
     cell = ProportionalCell()
-    cell.factory.configure(table_of(ValveType.PROPORTIONAL).rows)
+    table = table_of(ValveType.PROPORTIONAL)
+    cell.factory.configure(adr(table, "rows", 1), MAX_VALVES)
     valve = cell.factory.valve(1)
     valve.open()
     rt = Runtime(store=":memory:")
@@ -186,7 +187,8 @@ POOL_SIZE = {ValveType.SOLENOID: 4, ValveType.MOTORISED: 2, ValveType.PROPORTION
 @given(st.lists(st.sampled_from(list(ValveType)), max_size=MAX_VALVES))
 def test_every_row_gets_a_distinct_block_of_its_kind_or_a_reason(codes: list[ValveType]) -> None:
     factory = PinchValveFactory()
-    created = factory.configure(table_of(*codes).rows)
+    table = table_of(*codes)
+    created = factory.configure(adr(table, "rows", 1), MAX_VALVES)
     used = {kind: 0 for kind in POOL_SIZE}
     blocks = []
     first_failure = None

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from iecoop import BOOL, PROTECTED, STRING, VAR, VAR_INPUT, ExceptionCode, PlcException, Program, T, adr, method, sizeof
 from iecoop.runtime import Runtime, Task
 from patterns.solid.srp import (
-    EVENTS,
+    MAX_EVENTS,
     Drive,
     DriveEventLog,
     DriveHmiFormatter,
@@ -46,7 +46,7 @@ def _set(cells: tuple[ViolatingCell, MotionMain], **inputs: object) -> None:
 def test_every_violating_drive_instance_carries_the_hmi_buffers() -> None:
     fat, lean = DriveWithHmi(), Drive()
     hmi_bytes = sizeof(fat, "status_text") + sizeof(fat, "events") + sizeof(fat, "name")
-    assert hmi_bytes == 41 + EVENTS * 41 + 9
+    assert hmi_bytes == 41 + MAX_EVENTS * 41 + 9
     assert sizeof(DriveWithHmi) >= sizeof(Drive) + hmi_bytes
     assert sizeof(lean) == sizeof(Drive) <= 32
     # The split-off text lives once, in the HMI program's formatter.
@@ -59,7 +59,7 @@ def test_the_violating_drive_rebuilds_its_text_in_every_motion_cycle() -> None:
     assert rt.time_ms == 1000
     assert violating.drive.format_count == 100
     assert hmi.formatter.format_count == 10
-    assert violating.drive.status_text == hmi.formatter.status_text == "M1 STOP   0.0 %"
+    assert violating.drive.status_text == hmi.formatter.status_text == "M1 STOP 0.0 %"
     assert motion.drive.state == DriveState.STOPPED
 
 
@@ -123,7 +123,7 @@ def test_a_new_wording_replaces_only_the_hmi_program_in_the_compliant_design() -
     assert rt.programs()["PlcTask.MotionMain"] is motion
     assert adr(motion.drive) == adr(drive) and type(motion.drive) is Drive
     assert (drive.speed_ref, motion.log.event_total) == (speed_before, events_before) == (37.5, 1)
-    assert changed.formatter.status_text == "M1 RUN   12.5 %"  # copied by the online change, until its next cycle
+    assert changed.formatter.status_text == "M1 RUN  12.5 %"  # copied by the online change, until its next cycle
     rt.run(cycles=8)  # the HMI task runs again at t = 100 ms
     assert changed.formatter.status_text == "M1 LAEUFT 75%"
     assert drive.speed_ref == 75.0 and drive.state == DriveState.RUNNING
@@ -157,7 +157,7 @@ def test_both_designs_run_the_motor_and_log_events_identically(script: list[tupl
         assert (fat.state, fat.q_run, fat.speed_ref) == (lean.state, lean.q_run, lean.speed_ref)
         assert 0.0 <= lean.speed_ref <= 100.0
         assert fat.event_total == motion.log.event_total
-    kept = min(motion.log.event_total, EVENTS)
+    kept = min(motion.log.event_total, MAX_EVENTS)
     assert [violating.drive.event(age) for age in range(kept)] == [motion.log.event(age) for age in range(kept)]
 
 
@@ -202,9 +202,9 @@ def test_the_event_log_keeps_the_newest_eight_changes() -> None:
         rt.run(cycles=1)
         motion.stop_button = False
     assert motion.log.event_total == 10
-    assert [motion.log.event(age) for age in range(EVENTS)] == ["M1 STOPPED", "M1 RUNNING"] * 4
+    assert [motion.log.event(age) for age in range(MAX_EVENTS)] == ["M1 STOPPED", "M1 RUNNING"] * 4
     # An age past the changes kept reads as an empty row, as an HMI event list shows it.
-    assert (motion.log.event(EVENTS), motion.log.event(-1)) == ("", "")
+    assert (motion.log.event(MAX_EVENTS), motion.log.event(-1)) == ("", "")
     assert DriveEventLog().event(0) == ""
 
 

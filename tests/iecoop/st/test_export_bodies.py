@@ -18,6 +18,8 @@ from iecoop import (
 from iecoop import st
 from iecoop.runtime import current_task
 from iecoop.stdlib import R, S
+from iecoop.conversions import BOOL_TO_STRING, REAL_TO_STRING, TIME_TO_STRING
+from iecoop.functions import CONCAT
 from iecoop.st.export import StExportError, dump, export
 from tests.iecoop.st.test_export import validate_plcopen
 
@@ -72,6 +74,30 @@ def test_an_f_string_is_nested_concat_with_integer_and_bool_texts() -> None:
 
 def test_an_f_string_loaded_back_gives_pythons_text() -> None:
     same_run(Texts, 3, "out", "flag", "empty")
+
+
+class VendorTexts(Program):
+    level: REAL = VAR(0.5)
+    delay: TIME = VAR(T("1s"))
+    lit: BOOL = VAR(False)
+    out: STRING = VAR("")
+
+    def body(self) -> None:
+        self.level += 0.25
+        self.delay += T("250ms")
+        self.lit = not self.lit
+        self.out = CONCAT(CONCAT(REAL_TO_STRING(self.level), TIME_TO_STRING(self.delay)), BOOL_TO_STRING(self.lit))
+
+
+def test_to_string_conversions_are_written_as_called_and_load_back() -> None:
+    assert body_of(dump([VendorTexts]), "VendorTexts").endswith(
+        "out := CONCAT(CONCAT(REAL_TO_STRING(level), TIME_TO_STRING(delay)), BOOL_TO_STRING(lit));\n"
+    )
+    same_run(VendorTexts, 3, "out")
+    texts = VendorTexts()
+    texts()
+    texts()
+    assert texts.out == "1.0T#1s500msFALSE"
 
 
 class Mode(IecEnum, base=INT):

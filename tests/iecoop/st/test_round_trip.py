@@ -49,6 +49,8 @@ KNOWN: dict[str, str] = {
     "R(THIS^, 'running', fault), not the chained alarm S= running R= fault",
     "patterns.structural.decorator": "call_after_init is not written on PressureMain.wire, so the loaded "
     "chain of ISensor stays null: RTSEXCPT_ACCESS_VIOLATION in cycle 0",
+    "patterns.structural.proxy": "call_after_init is not written on OvenMain.wire, so the loaded "
+    "hmi_setpoint stays null: RTSEXCPT_ACCESS_VIOLATION in main()'s first write",
     "patterns.structural.flyweight": "table REF= calibration_for(sensor): a REF= to a FUNCTION's result, "
     "which ST has no address of (the reader refuses it)",
 }

@@ -276,3 +276,24 @@ def test_an_action_of_a_program_runs_on_its_instance() -> None:
                      + prog("n : INT;", "P_Line.Halt(); n := P_Line.nStops * 10;"))
     module.MAIN(); module.MAIN()
     assert (module.MAIN.n, module.P_Line.nStops) == (20, 2)
+
+
+def test_to_string_conversions_write_the_vendor_text() -> None:
+    """REAL_TO_STRING, TIME_TO_STRING and the rest load as iecoop's conversions, TO_STRING by the declared type."""
+    main = run(prog(
+        "r : REAL := 1.5; lr : LREAL := 0.25; t : TIME := T#1S500MS; b : BOOL := TRUE; w : WORD := 16#FFFF;\n"
+        "d : DATE := D#2024-01-28; s1, s2, s3, s4, s5, s6, s7 : STRING; ws : WSTRING;",
+        "s1 := REAL_TO_STRING(r * 2.0 + 0.1); s2 := TIME_TO_STRING(t); s3 := BOOL_TO_STRING(b);\n"
+        "s4 := TO_STRING(t); s5 := WORD_TO_STRING(w); s6 := CONCAT('x=', LREAL_TO_STRING(lr));\n"
+        "s7 := DATE_TO_STRING(d); ws := REAL_TO_WSTRING(r);",
+    ))
+    assert (main.s1, main.s2, main.s3, main.s4, main.s5, main.s6, main.s7, main.ws) == (
+        "3.1", "T#1s500ms", "TRUE", "T#1s500ms", "65535", "x=0.25", "D#2024-01-28", "1.5",
+    )
+
+
+def test_to_string_of_an_enumeration_is_its_name() -> None:
+    source = "{attribute 'to_string'}\nTYPE E_Mode : (IDLE := 0, AUTO := 1) INT; END_TYPE\n" + prog(
+        "eMode : E_Mode := E_Mode.AUTO; s : STRING;", "s := TO_STRING(eMode);"
+    )
+    assert run(source).s == "AUTO"
