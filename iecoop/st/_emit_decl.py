@@ -16,7 +16,7 @@ from typing import Any
 from iecoop.members import Access
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, BodyWriter, Scope, literal
+from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -201,7 +201,7 @@ def _local_lines(writer: BodyWriter) -> list[str]:
         return []
     lines = ["VAR"]
     for name, info in writer.locals.items():
-        lines.append(f"    {ident(name)} : {info if isinstance(info, str) else type_text(info)};")
+        lines.append(f"    {writer.name_text(name)} : {info if isinstance(info, str) else type_text(info)};")
     lines.append("END_VAR")
     return lines
 
@@ -446,7 +446,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
             lines.append(f"    {cname} : {st_type} := {literal(value)};")
         lines += ["END_VAR", ""]
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
-        found.insert(index, Unit("gvl", "GVL_Constants", "\n".join(lines)))
+        found.insert(index, Unit("gvl", _CONSTANTS_GVL, "\n".join(lines)))
     return found, untranslated
 
 

@@ -52,20 +52,12 @@ KNOWN: dict[str, str] = {
     "iecoop_examples.ch14_operators": "the reader has no __SYSTEM.VAR_INFO type (MainOperators.info)",
     "patterns.behavioral.chain_of_responsibility": "AnalogInput.signal: reference is not bound (REF= missing) "
     "in cycle 0",
-    "patterns.behavioral.command": "'<=' between an int and ARRAY[1..4] OF BOOL in the loaded Python",
     "patterns.behavioral.interpreter": "unknown variable 'constant_': a keyword-renamed name is not renamed "
     "at every use",
-    "patterns.behavioral.iterator": "AlarmHistory: input sequence comes before a REFERENCE TO input "
-    "(the reader wants REFERENCE TO inputs first)",
     "patterns.behavioral.strategy": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
     "patterns.behavioral.visitor": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
-    "patterns.creational.abstract_factory": "EcAnalogInput: POINTER_TO[BusImage] has no member 'inputs'",
-    "patterns.creational.builder": "float division by zero in cycle 0 of the loaded main()",
     "patterns.creational.prototype": "ADR: ParameterSet has no variable 'params' in cycle 0",
-    "patterns.creational.singleton": "ILogger: input age comes before a REFERENCE TO input "
-    "(the reader wants REFERENCE TO inputs first)",
     "patterns.solid.isp": "the reader has no __SYSTEM.IQueryInterface type",
-    "patterns.solid.lsp": "RampOnActuator is called with the input target, which the loaded FB lacks",
     "patterns.solid.ocp": "the reader has no qualified CASE label ValveKind.SOLENOID",
     "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef'",
     "patterns.structural.composite": "line 1 of main(): Python 'wired', ST 'NOT WIRED'",
