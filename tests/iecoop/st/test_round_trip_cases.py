@@ -165,3 +165,26 @@ def test_a_constant_named_like_a_variable_loaded_back_runs_as_python(tmp_path: P
         original()
         assert (loaded.count, loaded.capped) == (original.count, original.capped)
     assert (original.count, original.capped) == (5, 3)
+
+
+class Folder(FunctionBlock):
+    total: INT = VAR_OUTPUT(0)
+
+    @method
+    def constant(self, value: INT) -> INT:
+        """A method whose name is an ST keyword (CONSTANT)."""
+        return value * 2
+
+    def body(self) -> None:
+        self.total += self.constant(3)
+
+
+def test_a_method_named_like_a_keyword_is_declared_and_called_by_one_name() -> None:
+    text = dump([Folder])
+    assert "METHOD PUBLIC constant_ : INT\n" in text
+    assert "constant_ := value * 2;\n" in text
+    assert "total := total + constant_(3);\n" in text
+    loaded = st.load(text).Folder()
+    loaded()
+    loaded()
+    assert loaded.total == 12
