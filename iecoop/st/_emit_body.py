@@ -735,8 +735,9 @@ class BodyWriter:
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
-        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call):
-            # Python binds a name to the element itself: in ST that is a reference to it.
+        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call) and not self.reads_property(value):
+            # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
+            # Get gives a value, which has no address: that one is a copy).
             self.references.add(name)
             self.declare(name, f"REFERENCE TO {type_text(info)}", node)
             return
@@ -1260,6 +1261,20 @@ class BodyWriter:
         if node.id in ("True", "False"):
             return _BOOL
         return _constant_type(self.globals.get(node.id))
+
+    def reads_property(self, node: ast.expr) -> bool:
+        """Whether ``node`` reads a PROPERTY (a call of its Get accessor in ST)."""
+        if not isinstance(node, ast.Attribute):
+            return False
+        if _is_name(node.value, "self") and "self" not in self.locals:
+            cls = self.scope.cls
+        else:
+            inner = self._typeof(node.value)
+            cls = _class_of(inner.target if isinstance(inner, ReferenceInfo) else inner)
+        for klass in getattr(cls, "__mro__", ()):
+            if node.attr in klass.__dict__:
+                return isinstance(klass.__dict__[node.attr], property)
+        return False
 
     def attribute_type(self, node: ast.Attribute) -> TypeInfo | None:
         base = node.value

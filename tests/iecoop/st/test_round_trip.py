@@ -50,7 +50,6 @@ KNOWN: dict[str, str] = {
     "iecoop_examples.ch14_operators": "the reader has no __SYSTEM.VAR_INFO type (MainOperators.info)",
     "patterns.behavioral.strategy": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
     "patterns.behavioral.visitor": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
-    "patterns.creational.prototype": "ADR: ParameterSet has no variable 'params' in cycle 0",
     "patterns.solid.isp": "the reader has no __SYSTEM.IQueryInterface type",
     "patterns.solid.ocp": "the reader has no qualified CASE label ValveKind.SOLENOID",
     "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef'",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from iecoop import ARRAY, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, method
+from iecoop import ARRAY, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, method, prop
 from iecoop import st
 from iecoop.st.export import dump, export
 
@@ -188,3 +188,40 @@ def test_a_method_named_like_a_keyword_is_declared_and_called_by_one_name() -> N
     loaded()
     loaded()
     assert loaded.total == 12
+
+
+class Limits(Struct):
+    high: INT = 0
+
+
+class LimitSource(FunctionBlock):
+    kept: Limits = VAR()
+
+    @prop
+    def limits(self) -> Limits:
+        return self.kept
+
+    @method
+    def raise_to(self, high: INT) -> None:
+        self.kept.high = high
+
+
+class LimitUser(FunctionBlock):
+    source: LimitSource = VAR()
+    seen: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        self.source.raise_to(self.seen + 5)
+        limits = self.source.limits
+        self.seen = limits.high
+
+
+def test_a_local_bound_to_a_property_s_structure_is_a_copy_not_a_reference() -> None:
+    text = dump([Limits, LimitSource, LimitUser])
+    # A Get accessor's result has no address: REF= to it would not compile.
+    assert "VAR_TEMP\n    limits : Limits;\nEND_VAR" in text
+    assert "limits := source.limits;\nseen := limits.high;\n" in text
+    loaded = st.load(text).LimitUser()
+    loaded()
+    loaded()
+    assert loaded.seen == 10
