@@ -817,6 +817,10 @@ class BodyWriter:
                 return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
         if isinstance(node, ast.BoolOp):
             word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
+            if any(self.may_act(v) for v in node.values[1:]):
+                # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
+                # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
+                word += "_THEN" if word == "AND" else "_ELSE"
             operands = [self.condition_operand(v, prec) for v in node.values]
             return f" {word} ".join(operands), prec
         if isinstance(node, ast.Compare):
@@ -1261,6 +1265,15 @@ class BodyWriter:
         if node.id in ("True", "False"):
             return _BOOL
         return _constant_type(self.globals.get(node.id))
+
+    def may_act(self, node: ast.expr) -> bool:
+        """Whether evaluating ``node`` may do more than read variables: call, dereference, index, run a Get."""
+        for sub in ast.walk(node):
+            if isinstance(sub, (ast.Call, ast.Subscript)):
+                return True
+            if isinstance(sub, ast.Attribute) and (sub.attr == "deref" or self.reads_property(sub)):
+                return True
+        return False
 
     def reads_property(self, node: ast.expr) -> bool:
         """Whether ``node`` reads a PROPERTY (a call of its Get accessor in ST)."""

@@ -53,6 +53,10 @@ class Part:
     inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
 
 
+#: The pragma of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
+_CALL_AFTER_INIT = "{attribute 'call_after_init'}"
+
+
 @dataclasses.dataclass
 class Unit:
     """One exported object."""
@@ -284,6 +288,8 @@ class _Writer:
         # Interface prototypes carry no access specifier (they are PUBLIC by definition).
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
+        if getattr(func, "_iec_call_after_init_", False):
+            header = f"{_CALL_AFTER_INIT}\n{header}"
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
         declared = passed_inputs(inputs)
         decl = _parameter_lines(declared, where, {})
@@ -359,6 +365,9 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     implementation = ""
     parts: list[Part] = []
     decl_lines = [" ".join(words)]
+    if any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method"):
+        # TwinCAT wants the attribute above the FUNCTION_BLOCK too, not only above the METHOD it calls.
+        decl_lines.insert(0, _CALL_AFTER_INIT)
     if not interface:
         temps: list[str] = []
         if meta.body is not None:

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from iecoop import ARRAY, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, method, prop
+from iecoop import ARRAY, BOOL, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, call_after_init, method, prop
 from iecoop import st
 from iecoop.st.export import dump, export
 
@@ -225,3 +225,49 @@ def test_a_local_bound_to_a_property_s_structure_is_a_copy_not_a_reference() -> 
     loaded()
     loaded()
     assert loaded.seen == 10
+
+
+class Wired(FunctionBlock):
+    source: LimitSource = VAR()
+    ready: BOOL = VAR_OUTPUT(False)
+    calls: INT = VAR_OUTPUT(0)
+
+    @call_after_init
+    def wire(self) -> None:
+        self.source.raise_to(7)
+        self.ready = True
+
+    @method
+    def probe(self) -> BOOL:
+        self.calls += 1
+        return True
+
+    def body(self) -> None:
+        if self.ready and self.probe():
+            self.ready = self.source.limits.high == 7
+        if self.ready or self.probe():
+            self.calls += 10
+
+
+def test_call_after_init_is_written_on_the_method_and_the_block() -> None:
+    text = dump([Limits, LimitSource, Wired])
+    assert "{attribute 'call_after_init'}\nFUNCTION_BLOCK Wired\n" in text
+    assert "{attribute 'call_after_init'}\nMETHOD PUBLIC wire\n" in text
+
+
+def test_an_operand_that_calls_after_the_first_is_guarded_by_and_then_or_else() -> None:
+    text = dump([Limits, LimitSource, Wired])
+    assert "IF ready AND_THEN probe() THEN\n" in text
+    assert "IF ready OR_ELSE probe() THEN\n" in text
+
+
+@pytest.mark.parametrize("fmt", ["st", "twincat"])
+def test_call_after_init_and_short_circuits_loaded_back_run_as_python(tmp_path: Path, fmt: str) -> None:
+    export([Limits, LimitSource, Wired], tmp_path, format=fmt)
+    loaded, original = st.load(tmp_path).Wired(), Wired()
+    assert (loaded.ready, loaded.source.limits.high) == (original.ready, original.source.limits.high) == (True, 7)
+    for _ in range(3):
+        loaded()
+        original()
+        assert (loaded.ready, loaded.calls) == (original.ready, original.calls)
+    assert original.calls == 33
