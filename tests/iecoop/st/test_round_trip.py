@@ -53,8 +53,6 @@ KNOWN: dict[str, str] = {
     "patterns.solid.isp": "the reader has no __SYSTEM.IQueryInterface type",
     "patterns.solid.ocp": "the reader has no qualified CASE label ValveKind.SOLENOID",
     "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef'",
-    "patterns.structural.decorator": "line 5 of the trace: the loaded run stops in cycle 16 with "
-    "RTSEXCPT_ARRAYBOUNDS, index 0 outside ARRAY[1..16] OF LREAL",
     "patterns.structural.flyweight": "table REF= calibration_for(sensor): a REF= to a FUNCTION's result, "
     "which ST has no address of (the reader refuses it)",
 }
