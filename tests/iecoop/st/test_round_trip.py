@@ -45,8 +45,6 @@ KNOWN: dict[str, str] = {
     "in the loaded module, so main() (in its own module) is outside it and M_Internal is denied",
     "iecoop_examples.ch04_properties": "the PRIVATE Set accessor of Tank.capacity is written PUBLIC, "
     "so main()'s write from outside is not refused",
-    "iecoop_examples.ch08_interfaces": "Main.actuator: IActuator.running called through a null interface "
-    "reference in cycle 0",
     "iecoop_examples.ch14_operators": "the reader has no __SYSTEM.VAR_INFO type (MainOperators.info)",
     "patterns.behavioral.strategy": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
     "patterns.behavioral.visitor": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
