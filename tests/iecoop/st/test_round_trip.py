@@ -50,7 +50,8 @@ KNOWN: dict[str, str] = {
     "patterns.behavioral.visitor": "the reader has no _TaskInfo[GETCURTASKINDEXEX()]",
     "patterns.solid.isp": "the reader has no __SYSTEM.IQueryInterface type",
     "patterns.solid.ocp": "the reader has no qualified CASE label ValveKind.SOLENOID",
-    "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef'",
+    "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef': it and the MC_ blocks are in "
+    "patterns.plant.motion, which the module's export leaves out (TwinCAT has them from Tc2_MC2)",
     "patterns.structural.flyweight": "table REF= calibration_for(sensor): a REF= to a FUNCTION's result, "
     "which ST has no address of (the reader refuses it)",
 }
