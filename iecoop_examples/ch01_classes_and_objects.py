@@ -81,22 +81,22 @@ class Car(FunctionBlock):
 
     brand_internal: STRING = VAR("")
     color_internal: STRING = VAR("")
-    action: STRING = VAR("")
+    last_action: STRING = VAR("")
 
     @method
     def accelerate(self) -> None:
         """``METHOD PUBLIC Accelerate``."""
-        self.action = "accelerate"
+        self.last_action = "accelerate"
 
     @method
     def drive(self) -> None:
         """``METHOD PUBLIC Drive``."""
-        self.action = "drive"
+        self.last_action = "drive"
 
     @method
     def brake(self) -> None:
         """``METHOD PUBLIC Brake``."""
-        self.action = "brake"
+        self.last_action = "brake"
 
     @prop
     def brand(self) -> STRING:
@@ -165,7 +165,7 @@ def main() -> None:
         now = rt.time_ms
         setattr(program, command, True)  # an operator's one-shot command (an online write)
         rt.run(cycles=2)
-        objects = "  ".join(f"{car.brand} {car.color}: {car.action!r}" for car in cars)
+        objects = "  ".join(f"{car.brand} {car.color}: {car.last_action!r}" for car in cars)
         print(f"t={now:2d} ms  b{command.capitalize():<11} {objects}")
     flags_reset = not (program.accelerate or program.drive or program.brake)
     print(f"MAIN.sColor = {program.color!r}; the command flags are FALSE again: {flags_reset}")
@@ -174,8 +174,8 @@ def main() -> None:
 
 
 SHOWCASE = Showcase(
-    columns=(Column("fbMercedes", lambda p: p.mercedes.action), Column("fbBMW", lambda p: p.bmw.action),
-             Column("fbAudi", lambda p: p.audi.action), Column("sColor", lambda p: p.color)),
+    columns=(Column("fbMercedes", lambda p: p.mercedes.last_action), Column("fbBMW", lambda p: p.bmw.last_action),
+             Column("fbAudi", lambda p: p.audi.last_action), Column("sColor", lambda p: p.color)),
     script=steps(*press("accelerate", 2), *press("drive", 4), *press("brake", 6)),
     cycles=8,
 )

@@ -318,8 +318,10 @@ def main() -> None:
 
 SHOWCASE = Showcase(
     program=MainOperators,
-    columns=(Column("instances before", lambda p: p.before), Column("after __NEW", lambda p: p.after_new),
-             Column("after __DELETE", lambda p: p.after_delete), Column("p = 0", lambda p: p.deleted_is_null),
+    # Instances is the VAR_STAT count of every FB_Motor the application made, in this program or not:
+    # the trace shows what __NEW and __DELETE change, which does not depend on what ran before.
+    columns=(Column("Instances by __NEW", lambda p: p.after_new - p.before, "+d"),
+             Column("by __DELETE", lambda p: p.after_delete - p.after_new, "+d"), Column("p = 0", lambda p: p.deleted_is_null),
              Column("__ISVALIDREF", lambda p: p.valid_before)),
     cycles=3,
 )

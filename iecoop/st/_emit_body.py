@@ -80,6 +80,19 @@ def _is_integer(info: TypeInfo | None) -> bool:
     )
 
 
+#: The global variable list the module constants a body reads are declared in.
+_CONSTANTS_GVL = "GVL_Constants"
+
+
+def _is_time(info: TypeInfo | None) -> bool:
+    return isinstance(info, ElementaryInfo) and info.record.kind == "time"
+
+
+def _is_whole(info: TypeInfo | None) -> bool:
+    """An integer or a TIME: a whole number in Python, which ``/`` turns into a float."""
+    return _is_integer(info) or _is_time(info)
+
+
 def _is_bool(info: TypeInfo | None) -> bool:
     return isinstance(info, ElementaryInfo) and info.record.kind == "bool"
 
@@ -227,6 +240,10 @@ class BodyWriter:
         self.hoisted: dict[int, str] = {}
         #: Every local declared as a temporary (reused by later statements).
         self.temps: set[str] = set()
+        #: The body's locals named like a variable, by the VAR_TEMP name they take instead.
+        self.temp_names: dict[str, str] = {}
+        #: The names the function binds (filled by translate()).
+        self.bound: set[str] = set()
 
     # -- entry point ---------------------------------------------------------
 
@@ -240,6 +257,14 @@ class BodyWriter:
         if not isinstance(node, ast.FunctionDef):
             raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
         self.source_lines = source.splitlines()
+        # Every name the function binds is an ST local for the whole body, so it hides a variable of the
+        # same name even in the statements before its first assignment: those read THIS^.name.
+        self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+        if self.func.__name__ == "body":
+            # The body's locals named like a variable are renamed (see declare()): they hide nothing.
+            for name in sorted(self.bound & set(self.fields)):
+                self.temp_name(name)
+            self.bound -= set(self.temp_names)
         body = list(node.body)
         if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
             body = body[1:]
@@ -711,18 +736,29 @@ class BodyWriter:
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
-        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call):
-            # Python binds a name to the element itself: in ST that is a reference to it.
+        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call) and not self.reads_property(value):
+            # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
+            # Get gives a value, which has no address: that one is a copy).
             self.references.add(name)
             self.declare(name, f"REFERENCE TO {type_text(info)}", node)
             return
         self.declare(name, info, node)
 
     def declare(self, name: str, info: TypeInfo | str, node: ast.AST) -> None:
-        if name in self.fields and name not in self.params:
-            # A local with a variable's name hides the variable: ST reads it as THIS^.name.
-            pass
+        if name in self.fields and name not in self.params and self.func.__name__ == "body":
+            self.temp_name(name)
         self.locals[name] = info
+
+    def temp_name(self, name: str) -> str:
+        """The VAR_TEMP name of the body's local ``name``, which a variable of the block already has.
+
+        A method's local hides the variable (ST reads that as THIS^.name), but the body's VAR_TEMP is
+        declared beside the variables, where the same name twice is an error.
+        """
+        if name not in self.temp_names:
+            taken = {*self.fields, *self.locals, *self.params, *self.bound, *self.temp_names.values()}
+            self.temp_names[name] = next(f"{name}_temp{n or ''}" for n in range(100) if f"{name}_temp{n or ''}" not in taken)
+        return self.temp_names[name]
 
     # -- expressions ---------------------------------------------------------
 
@@ -739,7 +775,7 @@ class BodyWriter:
         return text
 
     def name_text(self, name: str) -> str:
-        return self.rename.get(name, ident(name))
+        return self.rename.get(name) or self.temp_names.get(name) or ident(name)
 
     def expr(self, node: ast.expr, need: int = 0) -> tuple[str, int]:
         text, prec = self._expr(node)
@@ -782,6 +818,10 @@ class BodyWriter:
                 return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
         if isinstance(node, ast.BoolOp):
             word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
+            if any(self.may_act(v) for v in node.values[1:]):
+                # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
+                # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
+                word += "_THEN" if word == "AND" else "_ELSE"
             operands = [self.condition_operand(v, prec) for v in node.values]
             return f" {word} ".join(operands), prec
         if isinstance(node, ast.Compare):
@@ -886,9 +926,12 @@ class BodyWriter:
         right_text = self.expr(right, prec + 1)[0]
         if isinstance(node.op, ast.Div):
             lt, rt = self.typeof(left), self.typeof(right)
-            if _is_integer(lt) and _is_integer(rt):
-                # Python's / on integers gives a float; ST's gives an integer.
+            if _is_whole(lt) and _is_whole(rt):
+                # Python's / on integers (and on TIMEs, which are milliseconds) gives a float; ST's gives
+                # an integer or a TIME.
                 left_text = f"TO_LREAL({self.expr(left)[0]})"
+                if _is_time(rt):
+                    right_text = f"TO_LREAL({self.expr(right)[0]})"
         if isinstance(node.op, ast.FloorDiv) and (_is_real(self.typeof(left)) or _is_real(self.typeof(right))):
             self.fail(where, "// on REAL values (ST has no floor division: TRUNC(a / b) is the same where a / b >= 0)")
         return f"{left_text} {symbol} {right_text}", prec
@@ -898,7 +941,7 @@ class BodyWriter:
         if name in self.rename:
             return self.rename[name]
         if name in self.locals or name in self.params:
-            return ident(name)
+            return self.temp_names.get(name) or ident(name)
         if name == "self":
             return "THIS^"
         if name in ("True", "False"):
@@ -912,6 +955,12 @@ class BodyWriter:
                 if known != value:
                     raise StExportError(f"{self.where_text(node)}: two module constants named {name} have different values")
                 self.scope.constants[name] = value
+                own = {*self.fields, *self.locals, *self.params, *self.bound, *self.rename.values(), self.st_name}
+                if self.scope.cls is not None:  # its methods and properties, and its interfaces'
+                    own.update(n for klass in self.scope.cls.__mro__ for n in vars(klass) if not n.startswith("_"))
+                if name.lower() in {n.lower() for n in own}:
+                    # ST names ignore case: buttons would hide BUTTONS, so name the list it is declared in.
+                    return f"{_CONSTANTS_GVL}.{name}"
                 return name
             if isinstance(value, type):
                 return value.__name__
@@ -930,7 +979,7 @@ class BodyWriter:
         base = node.value
         attr = node.attr
         if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
-            if attr in self.locals or attr in self.params or attr in self.rename.values() or attr == self.st_name:
+            if attr in self.locals and attr not in self.temp_names or attr in self.bound or attr in self.params or attr in self.rename.values() or attr == self.st_name:
                 return f"THIS^.{ident(attr)}"
             return ident(attr)
         if attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
@@ -1218,6 +1267,29 @@ class BodyWriter:
             return _BOOL
         return _constant_type(self.globals.get(node.id))
 
+    def may_act(self, node: ast.expr) -> bool:
+        """Whether evaluating ``node`` may do more than read variables: call, dereference, index, run a Get."""
+        for sub in ast.walk(node):
+            if isinstance(sub, (ast.Call, ast.Subscript)):
+                return True
+            if isinstance(sub, ast.Attribute) and (sub.attr == "deref" or self.reads_property(sub)):
+                return True
+        return False
+
+    def reads_property(self, node: ast.expr) -> bool:
+        """Whether ``node`` reads a PROPERTY (a call of its Get accessor in ST)."""
+        if not isinstance(node, ast.Attribute):
+            return False
+        if _is_name(node.value, "self") and "self" not in self.locals:
+            cls = self.scope.cls
+        else:
+            inner = self._typeof(node.value)
+            cls = _class_of(inner.target if isinstance(inner, ReferenceInfo) else inner)
+        for klass in getattr(cls, "__mro__", ()):
+            if node.attr in klass.__dict__:
+                return isinstance(klass.__dict__[node.attr], property)
+        return False
+
     def attribute_type(self, node: ast.Attribute) -> TypeInfo | None:
         base = node.value
         if _is_name(base, "self") and "self" not in self.locals or isinstance(base, ast.Call) and _is_name(base.func, "super"):
@@ -1247,7 +1319,7 @@ class BodyWriter:
 
     def binop_type(self, node: ast.BinOp) -> TypeInfo | None:
         left, right = self._typeof(node.left), self._typeof(node.right)
-        if isinstance(node.op, ast.Div) and _is_integer(left) and _is_integer(right):
+        if isinstance(node.op, ast.Div) and _is_whole(left) and _is_whole(right):
             return _LREAL
         if _is_real(left):
             return left

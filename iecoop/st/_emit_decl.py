@@ -17,7 +17,7 @@ from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, BodyWriter, Scope, literal
+from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -52,6 +52,10 @@ class Part:
     implementation: str
     result: TypeInfo | None = None
     inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
+
+
+#: The pragma of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
+_CALL_AFTER_INIT = "{attribute 'call_after_init'}"
 
 
 @dataclasses.dataclass
@@ -202,7 +206,7 @@ def _local_lines(writer: BodyWriter) -> list[str]:
         return []
     lines = ["VAR"]
     for name, info in writer.locals.items():
-        lines.append(f"    {ident(name)} : {info if isinstance(info, str) else type_text(info)};")
+        lines.append(f"    {writer.name_text(name)} : {info if isinstance(info, str) else type_text(info)};")
     lines.append("END_VAR")
     return lines
 
@@ -285,6 +289,8 @@ class _Writer:
         # Interface prototypes carry no access specifier (they are PUBLIC by definition).
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
+        if getattr(func, "_iec_call_after_init_", False):
+            header = f"{_CALL_AFTER_INIT}\n{header}"
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
         declared = passed_inputs(inputs)
         decl = _parameter_lines(declared, where, {})
@@ -360,6 +366,9 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     implementation = ""
     parts: list[Part] = []
     decl_lines = [" ".join(words)]
+    if any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method"):
+        # TwinCAT wants the attribute above the FUNCTION_BLOCK too, not only above the METHOD it calls.
+        decl_lines.insert(0, _CALL_AFTER_INIT)
     if not interface:
         temps: list[str] = []
         if meta.body is not None:
@@ -447,7 +456,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
             lines.append(f"    {cname} : {st_type} := {literal(value)};")
         lines += ["END_VAR", ""]
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
-        found.insert(index, Unit("gvl", "GVL_Constants", "\n".join(lines)))
+        found.insert(index, Unit("gvl", _CONSTANTS_GVL, "\n".join(lines)))
     return found, untranslated
 
 

@@ -167,10 +167,10 @@ def _own_members(cls: Any) -> tuple[MemberDecl, ...]:
             raw_setter = value.fset if value.fset is not None and getattr(value.fset, "__name__", "") != "read_only" else None
             setter = inspect.unwrap(raw_setter) if raw_setter is not None else None
             found.append(MemberDecl(
-                name, "property", member.flags, value, getter, setter, flags_of(getter), flags_of(setter) if setter else Access.PUBLIC,
+                ident(name), "property", member.flags, value, getter, setter, flags_of(getter), flags_of(setter) if setter else Access.PUBLIC,
             ))
         else:
-            found.append(MemberDecl(name, "method", member.flags, inspect.unwrap(value)))
+            found.append(MemberDecl(ident(name), "method", member.flags, inspect.unwrap(value)))
     return tuple(found)
 
 

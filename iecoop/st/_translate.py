@@ -1170,8 +1170,9 @@ class Translator:
                 parts.append(self._by_reference_param(param, inits.get(param.name.lower()), scope))
                 continue
             if index <= last_reference:
-                # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python
-                if param.type.kind != "reference" and index < last_reference:
+                # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python:
+                # that one is required too, as in a Python signature (a STRUCT by value needs its default)
+                if param.type.kind != "reference" and self._aggregate(param.type):
                     raise self.fail(f"input {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.name.lower()] = param
@@ -2244,8 +2245,11 @@ class Translator:
                 self.need("iecoop.functions", "get_bit")
                 current = Ex(f"get_bit({current.code}, {field_name})", BOOL)
                 continue
+            if element.dereferenced:
+                # blark marks the ^ of ``p^.x[i]`` on the field selector that follows it: dereference first.
+                current = self.deref(current, node)
             current = self.member_ref(current, field_name, node, store=store and index == len(elements) - 1)
-            if isinstance(field, tf.SimpleVariable) and field.dereferenced or element.dereferenced:
+            if isinstance(field, tf.SimpleVariable) and field.dereferenced:
                 current = self.deref(current, node)
         return current
 

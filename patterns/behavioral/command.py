@@ -60,8 +60,8 @@ IEC 61131-3 mapping
     INTERFACE I_Command
         PROPERTY Name : STRING(24)
         PROPERTY UndoSteps : INT
-        METHOD Execute : BOOL   VAR_IN_OUT undo : ST_UndoRecord; END_VAR
-        METHOD Undo    : BOOL   VAR_IN_OUT undo : ST_UndoRecord; END_VAR
+        METHOD Execute : BOOL   VAR_IN_OUT record : ST_UndoRecord; END_VAR
+        METHOD Undo    : BOOL   VAR_IN_OUT record : ST_UndoRecord; END_VAR
         // FALSE: refused, nothing changed; the command's eError says why
 
     FUNCTION_BLOCK ABSTRACT FB_ReceiverCommand IMPLEMENTS I_Command
@@ -327,11 +327,11 @@ class ICommand(Interface):
         raise NotImplementedError
 
     @method
-    def execute(self, undo: UndoRecord) -> BOOL:
+    def execute(self, record: UndoRecord) -> BOOL:
         raise NotImplementedError
 
     @method
-    def undo(self, undo: UndoRecord) -> BOOL:
+    def undo(self, record: UndoRecord) -> BOOL:
         raise NotImplementedError
 
 
@@ -356,36 +356,36 @@ class ReceiverCommand(FunctionBlock, ICommand, abstract=True):
         raise NotImplementedError
 
     @method(PROTECTED)
-    def can_execute(self, undo: UndoRecord) -> BOOL:
+    def can_execute(self, record: UndoRecord) -> BOOL:
         if not self.has_receiver():
             self.error = CommandError.NO_RECEIVER
-        elif undo.used >= UNDO_STEPS:
+        elif record.used >= UNDO_STEPS:
             self.error = CommandError.RECORD_FULL
         else:
             self.error = CommandError.NONE
         return self.error == CommandError.NONE
 
     @method(PROTECTED)
-    def can_undo(self, undo: UndoRecord) -> BOOL:
+    def can_undo(self, record: UndoRecord) -> BOOL:
         if not self.has_receiver():
             self.error = CommandError.NO_RECEIVER
-        elif undo.used <= 0:
+        elif record.used <= 0:
             self.error = CommandError.NOTHING_TO_UNDO
         else:
             self.error = CommandError.NONE
         return self.error == CommandError.NONE
 
     @method(PROTECTED)
-    def push_step(self, undo: UndoRecord, flag: BOOL, value: REAL) -> None:
+    def push_step(self, record: UndoRecord, flag: BOOL, value: REAL) -> None:
         """Keep the replaced state; past ``UNDO_STEPS`` the index faults (``can_execute`` checks first)."""
-        undo.steps[undo.used + 1].flag = flag
-        undo.steps[undo.used + 1].value = value
-        undo.used += 1
+        record.steps[record.used + 1].flag = flag
+        record.steps[record.used + 1].value = value
+        record.used += 1
 
     @method(PROTECTED)
-    def pop_step(self, undo: UndoRecord) -> UndoStep:
-        step: UndoStep = undo.steps[undo.used]
-        undo.used -= 1
+    def pop_step(self, record: UndoRecord) -> UndoStep:
+        step: UndoStep = record.steps[record.used]
+        record.used -= 1
         return step
 
 
@@ -413,18 +413,18 @@ class OpenValveCommand(ReceiverCommand):
         return f"open {self.valve.tag}"
 
     @method
-    def execute(self, undo: UndoRecord) -> BOOL:
-        if not self.can_execute(undo):
+    def execute(self, record: UndoRecord) -> BOOL:
+        if not self.can_execute(record):
             return False
-        self.push_step(undo, self.valve.is_open, 0.0)
+        self.push_step(record, self.valve.is_open, 0.0)
         self.valve.open()
         return True
 
     @method
-    def undo(self, undo: UndoRecord) -> BOOL:
-        if not self.can_undo(undo):
+    def undo(self, record: UndoRecord) -> BOOL:
+        if not self.can_undo(record):
             return False
-        step: UndoStep = self.pop_step(undo)
+        step: UndoStep = self.pop_step(record)
         if not step.flag:
             self.valve.close()
         return True
@@ -458,18 +458,18 @@ class SetPumpSpeedCommand(ReceiverCommand):
         return f"{self.pump.tag} to {speed_text(self.speed)} %"
 
     @method
-    def execute(self, undo: UndoRecord) -> BOOL:
-        if not self.can_execute(undo):
+    def execute(self, record: UndoRecord) -> BOOL:
+        if not self.can_execute(record):
             return False
-        self.push_step(undo, False, self.pump.speed)
+        self.push_step(record, False, self.pump.speed)
         self.pump.set_speed(self.speed)
         return True
 
     @method
-    def undo(self, undo: UndoRecord) -> BOOL:
-        if not self.can_undo(undo):
+    def undo(self, record: UndoRecord) -> BOOL:
+        if not self.can_undo(record):
             return False
-        step: UndoStep = self.pop_step(undo)
+        step: UndoStep = self.pop_step(record)
         self.pump.set_speed(step.value)
         return True
 
@@ -498,18 +498,18 @@ class StartMixerCommand(ReceiverCommand):
         return f"start {self.mixer.tag}"
 
     @method
-    def execute(self, undo: UndoRecord) -> BOOL:
-        if not self.can_execute(undo):
+    def execute(self, record: UndoRecord) -> BOOL:
+        if not self.can_execute(record):
             return False
-        self.push_step(undo, self.mixer.running, 0.0)
+        self.push_step(record, self.mixer.running, 0.0)
         self.mixer.start()
         return True
 
     @method
-    def undo(self, undo: UndoRecord) -> BOOL:
-        if not self.can_undo(undo):
+    def undo(self, record: UndoRecord) -> BOOL:
+        if not self.can_undo(record):
             return False
-        step: UndoStep = self.pop_step(undo)
+        step: UndoStep = self.pop_step(record)
         if not step.flag:
             self.mixer.stop()
         return True
@@ -579,23 +579,23 @@ class MacroCommand(FunctionBlock, ICommand):
         return True
 
     @method
-    def execute(self, undo: UndoRecord) -> BOOL:
+    def execute(self, record: UndoRecord) -> BOOL:
         if self.busy:
             self.error = CommandError.CONTAINS_ITSELF
             return False
-        if undo.used + self.undo_steps > UNDO_STEPS:
+        if record.used + self.undo_steps > UNDO_STEPS:
             self.error = CommandError.RECORD_FULL
             return False
         self.busy = True
         done: INT = 0
         while done < self.count:
-            if not self.children[done + 1].execute(undo):
+            if not self.children[done + 1].execute(record):
                 break
             done += 1
         if done < self.count:
             # All or nothing: take back the commands that ran, newest first.
             for i in range(done, 0, -1):
-                self.children[i].undo(undo)
+                self.children[i].undo(record)
             self.error = CommandError.STEP_REFUSED
         else:
             self.error = CommandError.NONE
@@ -603,14 +603,14 @@ class MacroCommand(FunctionBlock, ICommand):
         return self.error == CommandError.NONE
 
     @method
-    def undo(self, undo: UndoRecord) -> BOOL:
+    def undo(self, record: UndoRecord) -> BOOL:
         if self.busy:
             self.error = CommandError.CONTAINS_ITSELF
             return False
         self.busy = True
         self.error = CommandError.NONE
         for i in range(self.count, 0, -1):
-            if not self.children[i].undo(undo):
+            if not self.children[i].undo(record):
                 self.error = CommandError.STEP_REFUSED
         self.busy = False
         return self.error == CommandError.NONE
@@ -703,8 +703,8 @@ class AuditAction(IecEnum):
 class AuditEntry(Struct):
     """One audit line. ST: ``TYPE ST_AuditEntry : STRUCT``."""
 
-    at: TIME = 0
-    action: AuditAction = AuditAction.EXECUTED
+    stamp: TIME = 0
+    outcome: AuditAction = AuditAction.EXECUTED
     command: STRING = VAR("", length=24)
 
 
@@ -721,10 +721,10 @@ class AuditTrail(FunctionBlock):
     total: UDINT = VAR_OUTPUT(0)
 
     @method
-    def log(self, action: AuditAction, command: STRING) -> None:
+    def log(self, outcome: AuditAction, command: STRING) -> None:
         self.newest = self.newest % AUDIT_DEPTH + 1
         line = self.lines[self.newest]
-        line.at, line.action, line.command = now_ms(), action, command
+        line.stamp, line.outcome, line.command = now_ms(), outcome, command
         self.count = min(self.count + 1, AUDIT_DEPTH)
         self.total += 1
 
@@ -885,7 +885,7 @@ def main() -> None:
         undo()
     for i in range(1, panel.audit.count + 1):
         line = panel.audit.entry(i)
-        print(f"t={line.at:4d} ms  {AuditAction(line.action).name:<9} {line.command}")
+        print(f"t={line.stamp:4d} ms  {AuditAction(line.outcome).name:<9} {line.command}")
     print(f"after the buttons: {pressed}")
     print(f"after the undos:   {skid_state(skid)}")
 
@@ -911,7 +911,7 @@ def _audit(prog: Any) -> object:
     if not audit.count:
         return "-"
     line = audit.entry(audit.count)
-    return f"{AuditAction(line.action).name} {line.command}"
+    return f"{AuditAction(line.outcome).name} {line.command}"
 
 
 SHOWCASE = Showcase(

@@ -240,7 +240,8 @@ class MovingAverage(SensorDecorator):
         n = min(max(self.window, 1), MAX_WINDOW, self.filled)
         total = 0.0
         for k in range(n):
-            total += self.samples[(self.newest - 1 - k) % MAX_WINDOW + 1]
+            # + MAX_WINDOW keeps the dividend positive: ST's MOD follows its sign, Python's % the divisor's.
+            total += self.samples[(self.newest - 1 - k + MAX_WINDOW) % MAX_WINDOW + 1]
         self.average = total / n
 
     @method

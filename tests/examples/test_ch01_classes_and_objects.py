@@ -37,11 +37,11 @@ def test_a_command_reaches_the_mercedes_only_and_is_reset(command: str) -> None:
     rt = _runtime(program)
     setattr(program, command, True)
     rt.run(cycles=1)
-    assert program.mercedes.action == command
-    assert (program.bmw.action, program.audi.action) == ("", "")
+    assert program.mercedes.last_action == command
+    assert (program.bmw.last_action, program.audi.last_action) == ("", "")
     assert getattr(program, command) is False
     rt.run(cycles=5)
-    assert program.mercedes.action == command  # the object keeps its state between cycles
+    assert program.mercedes.last_action == command  # the object keeps its state between cycles
 
 
 @settings(max_examples=50)
@@ -58,9 +58,9 @@ def test_the_last_command_executed_is_the_action(cycles: list[set[str]]) -> None
         for command in COMMANDS:
             if command in commands:
                 expected = command
-        assert program.mercedes.action == expected
+        assert program.mercedes.last_action == expected
         assert not (program.accelerate or program.drive or program.brake)
-    assert (program.bmw.action, program.audi.action) == ("", "")
+    assert (program.bmw.last_action, program.audi.last_action) == ("", "")
 
 
 def test_the_properties_read_and_write_the_objects_own_data() -> None:

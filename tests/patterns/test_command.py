@@ -50,7 +50,7 @@ def _state(skid: DosingSkid) -> State:
 
 def _actions(panel: CommandPanel) -> list[tuple[str, str]]:
     lines = (panel.audit.entry(i) for i in range(1, panel.audit.count + 1))
-    return [(AuditAction(line.action).name, line.command) for line in lines]
+    return [(AuditAction(line.outcome).name, line.command) for line in lines]
 
 
 def _press(rt: Runtime, panel: CommandPanel, button: int, held: int = 3) -> None:
@@ -122,8 +122,8 @@ def test_audit_lines_carry_the_task_clock_time() -> None:
     skid.panel.undo_button = True
     rt.run(cycles=1)  # 130 ms
     line_1, line_2 = skid.panel.audit.entry(1), skid.panel.audit.entry(2)
-    assert (line_1.at, AuditAction(line_1.action), line_1.command) == (70, AuditAction.EXECUTED, "start M301")
-    assert (line_2.at, AuditAction(line_2.action)) == (130, AuditAction.UNDONE)
+    assert (line_1.stamp, AuditAction(line_1.outcome), line_1.command) == (70, AuditAction.EXECUTED, "start M301")
+    assert (line_2.stamp, AuditAction(line_2.outcome)) == (130, AuditAction.UNDONE)
     assert rt.time_ms == 140
 
 
@@ -371,10 +371,10 @@ def test_the_audit_trail_keeps_the_newest_lines() -> None:
         clock.set(n * 1_000_000)
         trail.log(AuditAction.EXECUTED, f"request {n}")
     assert (trail.count, trail.total) == (AUDIT_DEPTH, AUDIT_DEPTH + 5)
-    assert (trail.entry(1).command, trail.entry(1).at) == ("request 5", 5)
+    assert (trail.entry(1).command, trail.entry(1).stamp) == ("request 5", 5)
     assert trail.entry(AUDIT_DEPTH).command == f"request {AUDIT_DEPTH + 4}"
     for index in (0, -1, AUDIT_DEPTH + 1):
-        assert (trail.entry(index).command, trail.entry(index).at) == ("", 0)
+        assert (trail.entry(index).command, trail.entry(index).stamp) == ("", 0)
 
 
 @pytest.mark.parametrize(("percent", "text"), [(60.0, "60"), (25.0, "25"), (12.5, "12.5"), (0.0, "0"), (99.94, "99.9"), (-7.5, "-7.5"), (-0.04, "0")])

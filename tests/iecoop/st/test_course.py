@@ -34,7 +34,7 @@ CHAPTERS: dict[str, tuple[str, dict[str, str]]] = {
         "deleted_is_null": "bDeletedIsNull", "valid_before": "bValidBefore"}),
     "ch01": ("ch01_classes_and_objects.st", {
         "accelerate": "bAccelerate", "drive": "bDrive", "brake": "bBrake", "mercedes": "fbMercedes",
-        "bmw": "fbBmw", "audi": "fbAudi", "action": "sAction", "color": "sColor"}),
+        "bmw": "fbBmw", "audi": "fbAudi", "last_action": "sAction", "color": "sColor"}),
     "ch02": ("ch02_fb_declaration_and_access.st", {
         "start": "bStart", "stop": "bStop", "pump": "fbPump", "running": "bRunning", "pump_starts": "nPumpStarts"}),
     "ch04": ("ch04_properties.st", {"tank": "fbTank", "setpoint": "Setpoint", "level": "Level", "volume": "Volume"}),
@@ -90,7 +90,7 @@ class Renamed:
         return self._program(*args, **{self._names.get(k, k): v for k, v in kwargs.items()})
 
     def _wrap(self, value: Any, path: str) -> Any:
-        # A nested block, STRUCT or ARRAY is seen under the Python names too (a column p.mercedes.action).
+        # A nested block, STRUCT or ARRAY is seen under the Python names too (a column p.mercedes.last_action).
         if isinstance(value, (bool, int, float, str, bytes)) or value is None:
             return value
         return Renamed(value, self._names, path)

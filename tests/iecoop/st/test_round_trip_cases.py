@@ -1,0 +1,273 @@
+"""Constructs the catalogue's round trip met: the exact ST the writer gives, and the ST read back runs as the Python does."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from iecoop import ARRAY, BOOL, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, call_after_init, method, prop
+from iecoop import st
+from iecoop.st.export import dump, export
+
+
+class Image(Struct):
+    inputs: ARRAY[WORD] = VAR(bounds=(0, 3))
+
+
+class Reader(FunctionBlock):
+    image: POINTER_TO[Image] = VAR_INPUT()
+    bus: Image = VAR_INPUT()
+    seen: WORD = VAR(0)
+
+    @method
+    def first(self) -> INT:
+        if not self.image:
+            return -1
+        image = self.image.deref
+        self.seen = image.inputs[1]
+        return 1
+
+
+def test_a_local_hides_the_variable_of_its_name_before_its_first_assignment() -> None:
+    text = dump([Image, Reader])
+    assert "IF THIS^.image = 0 THEN\n    first := -1;\n    RETURN;\nEND_IF\nimage REF= THIS^.image^;\n" in text
+
+
+def test_a_local_named_like_a_variable_loaded_back_reads_the_variable() -> None:
+    module = st.load(dump([Image, Reader]))
+    reader = module.Reader()
+    assert reader.first() == -1
+    reader.bus.inputs[1] = 42
+    reader.image = adr(reader, "bus")
+    assert (reader.first(), reader.seen) == (1, 42)
+
+
+def test_a_dereference_before_a_subscripted_field_is_read_first() -> None:
+    # blark puts the ^ of image^.inputs[1] on the field selector after it.
+    module = st.load("""
+TYPE BusImage :
+STRUCT
+    inputs : ARRAY[0..3] OF WORD;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK FB_Card
+VAR image : POINTER TO BusImage; bus : BusImage; nRead : WORD; nCall : WORD; END_VAR
+image := ADR(bus);
+bus.inputs[1] := bus.inputs[1] + 7;
+nRead := image^.inputs[1];
+nCall := MAX(image^.inputs[1], 10);
+END_FUNCTION_BLOCK
+""")
+    card = module.FB_Card()
+    card()
+    card()
+    assert (card.nRead, card.nCall) == (14, 14)
+
+
+class Ramp(FunctionBlock):
+    duration: TIME = VAR_INPUT(T("500ms"))
+    velocity: LREAL = VAR_OUTPUT(0.0)
+    per_second: LREAL = VAR_OUTPUT(0.0)
+    share: LREAL = VAR_OUTPUT(0.0)
+
+    def body(self) -> None:
+        velocity = self.velocity + 1.0
+        self.per_second = 100.0 / (self.duration / 1000)
+        self.share = self.duration / T("2s")
+        self.velocity = velocity
+
+
+def test_python_division_of_times_is_written_on_lreal() -> None:
+    text = dump([Ramp])
+    assert "per_second := 100.0 / (TO_LREAL(duration) / 1000);\n" in text
+    assert "share := TO_LREAL(duration) / TO_LREAL(T#2S);\n" in text
+
+
+def test_a_body_local_named_like_a_variable_takes_a_var_temp_name_of_its_own() -> None:
+    text = dump([Ramp])
+    assert "VAR_TEMP\n    velocity_temp : LREAL;\nEND_VAR" in text
+    assert "velocity_temp := velocity + 1.0;\n" in text
+    assert "velocity := velocity_temp;\n" in text
+
+
+def test_times_divided_and_a_renamed_local_loaded_back_run_as_python() -> None:
+    loaded, original = st.load(dump([Ramp])).Ramp(), Ramp()
+    for _ in range(3):
+        loaded()
+        original()
+        assert (loaded.velocity, loaded.per_second, loaded.share) == (original.velocity, original.per_second, original.share)
+    assert (original.velocity, original.per_second, original.share) == (3.0, 200.0, 0.25)
+
+
+def test_an_input_before_a_reference_to_input_is_required_as_in_python() -> None:
+    module = st.load("""
+TYPE ST_Event :
+STRUCT
+    nCode : INT;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK FB_Log
+VAR aCodes : ARRAY[0..1] OF INT := [11, 22]; END_VAR
+END_FUNCTION_BLOCK
+METHOD Newest : BOOL
+VAR_INPUT
+    nAge : UINT;
+    stEvent : REFERENCE TO ST_Event;
+END_VAR
+IF nAge > 1 THEN
+    RETURN;
+END_IF
+stEvent.nCode := aCodes[nAge];
+Newest := TRUE;
+END_METHOD
+PROGRAM MAIN
+VAR fbLog : FB_Log; stA : ST_Event; stB : ST_Event; bA : BOOL; bB : BOOL; bOld : BOOL := TRUE; END_VAR
+bA := fbLog.Newest(0, stA);
+bB := fbLog.Newest(nAge := 1, stEvent := stB);
+bOld := fbLog.Newest(2, stB);
+END_PROGRAM
+""")
+    module.MAIN()
+    main = module.MAIN
+    assert (main.bA, main.stA.nCode, main.bB, main.stB.nCode, main.bOld) == (True, 11, True, 22, False)
+
+
+#: A module constant whose name differs from a variable's only in case.
+LIMIT = 3
+
+
+class Counter(FunctionBlock):
+    limit: INT = VAR_INPUT(10)
+    count: INT = VAR_OUTPUT(0)
+    capped: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        if self.count < self.limit:
+            self.count += 1
+        self.capped = min(self.count, LIMIT)
+
+
+def test_a_constant_named_like_a_variable_but_for_case_is_read_from_its_list() -> None:
+    text = dump([Counter])
+    # ST names ignore case: a bare LIMIT would be the input limit.
+    assert "capped := MIN(count, GVL_Constants.LIMIT);\n" in text
+    assert "IF count < limit THEN\n" in text
+
+
+@pytest.mark.parametrize("fmt", ["st", "twincat"])
+def test_a_constant_named_like_a_variable_loaded_back_runs_as_python(tmp_path: Path, fmt: str) -> None:
+    # The exported files name the global list (the flat text of dump() does not).
+    export([Counter], tmp_path, format=fmt)
+    loaded, original = st.load(tmp_path).Counter(), Counter()
+    for _ in range(5):
+        loaded()
+        original()
+        assert (loaded.count, loaded.capped) == (original.count, original.capped)
+    assert (original.count, original.capped) == (5, 3)
+
+
+class Folder(FunctionBlock):
+    total: INT = VAR_OUTPUT(0)
+
+    @method
+    def constant(self, value: INT) -> INT:
+        """A method whose name is an ST keyword (CONSTANT)."""
+        return value * 2
+
+    def body(self) -> None:
+        self.total += self.constant(3)
+
+
+def test_a_method_named_like_a_keyword_is_declared_and_called_by_one_name() -> None:
+    text = dump([Folder])
+    assert "METHOD PUBLIC constant_ : INT\n" in text
+    assert "constant_ := value * 2;\n" in text
+    assert "total := total + constant_(3);\n" in text
+    loaded = st.load(text).Folder()
+    loaded()
+    loaded()
+    assert loaded.total == 12
+
+
+class Limits(Struct):
+    high: INT = 0
+
+
+class LimitSource(FunctionBlock):
+    kept: Limits = VAR()
+
+    @prop
+    def limits(self) -> Limits:
+        return self.kept
+
+    @method
+    def raise_to(self, high: INT) -> None:
+        self.kept.high = high
+
+
+class LimitUser(FunctionBlock):
+    source: LimitSource = VAR()
+    seen: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        self.source.raise_to(self.seen + 5)
+        limits = self.source.limits
+        self.seen = limits.high
+
+
+def test_a_local_bound_to_a_property_s_structure_is_a_copy_not_a_reference() -> None:
+    text = dump([Limits, LimitSource, LimitUser])
+    # A Get accessor's result has no address: REF= to it would not compile.
+    assert "VAR_TEMP\n    limits : Limits;\nEND_VAR" in text
+    assert "limits := source.limits;\nseen := limits.high;\n" in text
+    loaded = st.load(text).LimitUser()
+    loaded()
+    loaded()
+    assert loaded.seen == 10
+
+
+class Wired(FunctionBlock):
+    source: LimitSource = VAR()
+    ready: BOOL = VAR_OUTPUT(False)
+    calls: INT = VAR_OUTPUT(0)
+
+    @call_after_init
+    def wire(self) -> None:
+        self.source.raise_to(7)
+        self.ready = True
+
+    @method
+    def probe(self) -> BOOL:
+        self.calls += 1
+        return True
+
+    def body(self) -> None:
+        if self.ready and self.probe():
+            self.ready = self.source.limits.high == 7
+        if self.ready or self.probe():
+            self.calls += 10
+
+
+def test_call_after_init_is_written_on_the_method_and_the_block() -> None:
+    text = dump([Limits, LimitSource, Wired])
+    assert "{attribute 'call_after_init'}\nFUNCTION_BLOCK Wired\n" in text
+    assert "{attribute 'call_after_init'}\nMETHOD PUBLIC wire\n" in text
+
+
+def test_an_operand_that_calls_after_the_first_is_guarded_by_and_then_or_else() -> None:
+    text = dump([Limits, LimitSource, Wired])
+    assert "IF ready AND_THEN probe() THEN\n" in text
+    assert "IF ready OR_ELSE probe() THEN\n" in text
+
+
+@pytest.mark.parametrize("fmt", ["st", "twincat"])
+def test_call_after_init_and_short_circuits_loaded_back_run_as_python(tmp_path: Path, fmt: str) -> None:
+    export([Limits, LimitSource, Wired], tmp_path, format=fmt)
+    loaded, original = st.load(tmp_path).Wired(), Wired()
+    assert (loaded.ready, loaded.source.limits.high) == (original.ready, original.source.limits.high) == (True, 7)
+    for _ in range(3):
+        loaded()
+        original()
+        assert (loaded.ready, loaded.calls) == (original.ready, original.calls)
+    assert original.calls == 33
