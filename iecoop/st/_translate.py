@@ -1031,6 +1031,9 @@ class Translator:
             if match is None:
                 raise self.fail(f"enumeration {decl.name} has no value {value!r}", node)
             return f"{decl.name}.{match}"
+        if "." in value:  # blark reads a qualified value (E_Mode.AUTO) as one dotted name
+            prefix, _, last = value.rpartition(".")
+            return self.enum_ref(prefix, last, node)
         found = self.enum_values.get(value.lower())
         if found is None:
             raise self.fail(f"unknown enumeration value {value!r}", node)
@@ -1321,6 +1324,14 @@ class Translator:
                 if not scope.pou:
                     raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
                 statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
+                continue
+            if section == "VAR_EXTERNAL":  # the global itself, read and written in place (never a local copy)
+                for item in block.items:
+                    for name, _ in self._item_types(item):
+                        found = self.globals.get(name.lower())
+                        if found is None:
+                            raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
+                        scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT")
                 continue
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
@@ -1798,6 +1809,14 @@ class Translator:
 
     def case_label(self, match: Any, selector: TypeRef | None, scope: Scope) -> str:
         if isinstance(match, tf.EnumeratedValue):
+            prefix, _, last = str(match.name).rpartition(".")
+            decl = self.decls.get(prefix.lower())
+            if match.type_name is None and prefix and (decl is None or decl.kind != "enum"):
+                # a qualified constant (GVL_Const.cMax) or an enumeration value of a GVL's type
+                ex = self.name_ref(prefix.split(".")[0], scope, match)
+                for field in [*prefix.split(".")[1:], last]:
+                    ex = self.member_ref(ex, field, match)
+                return ex.code
             return self.enum_ref(str(match.type_name) if match.type_name else None, str(match.name), match)
         return self.expr(match, scope).code
 
@@ -2362,7 +2381,7 @@ class Translator:
         """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""
         if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
             local = scope.locals.get(str(value.name).lower())
-            if local is not None and local.section not in ("VAR_OUTPUT", "VAR_IN_OUT") and self.decl_of(local.type) is None:
+            if local is not None and local.section not in ("VAR_OUTPUT", "VAR_IN_OUT", "STAT") and self.decl_of(local.type) is None:
                 raise self.fail(
                     f"{arrow} {value.name}: a local variable of a METHOD or FUNCTION has no address here; "
                     "declare it in the block, or pass it through the block's own variable", value)

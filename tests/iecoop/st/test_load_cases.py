@@ -1,0 +1,53 @@
+"""st.load: qualified enumeration values, enumerations as text, globals inside a FUNCTION, names used before
+their declaration, STRUCT ARRAY initial values, one small ST program each, expected values worked out by hand."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+
+from iecoop import st
+from tests.iecoop.st.test_load import prog, run
+
+MODES = "TYPE E_Mode : (IDLE, AUTO := 5, MANUAL) INT; END_TYPE\n"
+
+# (id, ST source, cycles, what to read from MAIN, expected)
+CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
+    ("qualified-enum-case-labels",  # cycle 1: AUTO -> 2, then MANUAL -> 3, then IDLE -> 1 (n = 0 + 2, 2 * 10 + 3, 23 * 10 + 1)
+     MODES + "VAR_GLOBAL CONSTANT cIdle : E_Mode := E_Mode.IDLE; END_VAR\n"
+     + prog("eMode : E_Mode := E_Mode.AUTO; n : INT; a : ARRAY[0..1] OF E_Mode := [E_Mode.MANUAL, E_Mode.IDLE]; i : INT;",
+            "CASE eMode OF GVL.cIdle: n := n * 10 + 1; E_Mode.AUTO: n := n * 10 + 2; eMode := a[0];\n"
+            "E_Mode.MANUAL, E_Mode.IDLE: n := n * 10 + 3; eMode := a[1]; END_CASE"), 3,
+     lambda m: (m.n, m.eMode), (231, 0)),
+    ("qualified-enum-in-expressions-and-structs",
+     MODES + "TYPE ST_Cfg : STRUCT eMode : E_Mode := E_Mode.MANUAL; n : INT; END_STRUCT END_TYPE\n"
+     + prog("c : ST_Cfg; d : ST_Cfg := (eMode := E_Mode.AUTO, n := 1); b : BOOL; k : INT;",
+            "b := c.eMode = E_Mode.MANUAL AND d.eMode <> E_Mode.IDLE; k := E_Mode.MANUAL - d.eMode;"), 1,
+     lambda m: (m.c.eMode, m.d.eMode, m.b, m.k), (6, 5, True, 1)),
+    ("globals-in-a-function",  # F_Inc: n 0 -> 1; F_Add: GVL.n 1 -> 11, then VAR_EXTERNAL written through a call
+     "VAR_GLOBAL n : INT; END_VAR\n"
+     "FUNCTION F_Inc : INT\nVAR_EXTERNAL n : INT; END_VAR\nn := n + 1; F_Inc := n;\nEND_FUNCTION\n"
+     "FUNCTION F_Add : INT\nVAR_INPUT d : INT; END_VAR\nGVL.n := GVL.n + d; F_Add := GVL.n;\nEND_FUNCTION\n"
+     "FUNCTION F_Out\nVAR_OUTPUT o : INT; END_VAR\no := 100;\nEND_FUNCTION\n"
+     "FUNCTION F_Twice\nVAR_EXTERNAL n : INT; END_VAR\nF_Out(o => n);\nEND_FUNCTION\n"
+     + prog("a : INT; b : INT; c : INT;", "a := F_Inc(); b := F_Add(10); F_Twice(); c := GVL.n;"), 2,
+     lambda m: (m.a, m.b, m.c), (101, 111, 100)),
+]
+
+
+@pytest.mark.parametrize("source, cycles, read, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expected: Any) -> None:
+    assert read(run(source, cycles)) == expected
+
+
+@pytest.mark.parametrize("source, construct", [
+    (MODES + prog("e : E_Mode; n : INT;", "CASE e OF E_Mode.OFF: n := 1; END_CASE"), "<st>:6: enumeration E_Mode has no value 'OFF'"),
+    (MODES + prog("e : E_Mode;", "e := E_Mode.OFF;"), "E_Mode has no value 'OFF'"),
+    ("FUNCTION F : INT\nVAR_EXTERNAL nMissing : INT; END_VAR\nF := nMissing;\nEND_FUNCTION\n",
+     "<st>:2: VAR_EXTERNAL nMissing of F names no VAR_GLOBAL"),
+])
+def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=construct):
+        st.load(source)
