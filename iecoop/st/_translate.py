@@ -2499,6 +2499,9 @@ class Translator:
             return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))
         conversion = re.fullmatch(r"(?:(\w+?)_)?TO_(\w+)", upper)
         if conversion is not None:
+            enum_text = self.enum_to_string(conversion.group(1), conversion.group(2), args)
+            if enum_text is not None:
+                return enum_text
             return self.conversion(conversion.group(1), conversion.group(2), args, node)
         strings = self.string_call(upper, args, node)
         if strings is not None:
@@ -2506,6 +2509,32 @@ class Translator:
         if upper in ("AND", "OR", "XOR", "NOT"):
             raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
         return None
+
+    def enum_to_string(self, source: str | None, target: str, args: list[Ex]) -> Ex | None:
+        """``TO_STRING(eMode)``, ``E_Mode_TO_STRING(eMode)``: the component's name when the enumeration has
+        ``{attribute 'to_string'}`` (TwinCAT 3.1.4024, CODESYS), else the number's text; None if not an enumeration."""
+        if target not in ("STRING", "WSTRING") or not args:
+            return None
+        name = source if source is not None else args[0].type.name if args[0].type is not None and args[0].type.kind == "user" else None
+        decl = self.decls.get(name.lower()) if name is not None else None
+        if decl is None or decl.kind != "enum":
+            return None
+        result = self._elem_or_none(target)
+        value = args[0]
+        if not any(re.fullmatch(r"\{\s*attribute\s+'to_string'\s*\}", p, re.IGNORECASE) for p in self._decl_pragmas(decl)):
+            return Ex(f"str(int({value.code}))", result)
+        # a value that names no component (an integer stored in the variable) gives its number's text
+        return Ex(f'str(getattr({value.code}, "name", int({value.code})))', result)
+
+    def _decl_pragmas(self, decl: Decl) -> list[str]:
+        """The pragmas written before the declaration ``decl``, which may be another item than the current one."""
+        saved = self.unit, self.window
+        try:
+            self.unit = decl.unit
+            self.enter(decl.item)
+            return self.pragmas(decl.node)
+        finally:
+            self.unit, self.window = saved
 
     def system_call(self, upper: str, node: Any, scope: Scope) -> Ex:
         """TwinCAT's system functions: ``TIME()`` (the task clock in ms, as TON reads it), MEMCPY, MEMSET, MEMCMP."""

@@ -34,6 +34,13 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "FUNCTION F_Twice\nVAR_EXTERNAL n : INT; END_VAR\nF_Out(o => n);\nEND_FUNCTION\n"
      + prog("a : INT; b : INT; c : INT;", "a := F_Inc(); b := F_Add(10); F_Twice(); c := GVL.n;"), 2,
      lambda m: (m.a, m.b, m.c), (101, 111, 100)),
+    ("enum-to-string",  # {attribute 'to_string'}: the component's name; without it: the number's text
+     "{attribute 'qualified_only'}\n{attribute 'to_string'}\nTYPE E_Named : (IDLE, AUTO := 5, MANUAL) INT; END_TYPE\n"
+     "TYPE E_Plain : (A, B := 7) INT; END_TYPE\n"
+     + prog("e : E_Named := E_Named.AUTO; p : E_Plain := E_Plain.B; s1 : STRING; s2 : STRING; s3 : STRING; s4 : WSTRING; s5 : STRING;",
+            "s1 := TO_STRING(e); s2 := E_Named_TO_STRING(E_Named.MANUAL); s3 := TO_STRING(p); s4 := E_Plain_TO_WSTRING(E_Plain.A);\n"
+            "s5 := CONCAT(TO_STRING(E_Named.IDLE), TO_STRING(e));"), 1,
+     lambda m: (m.s1, m.s2, m.s3, m.s4, m.s5), ("AUTO", "MANUAL", "7", "0", "IDLEAUTO")),
 ]
 
 
@@ -51,3 +58,14 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
 def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
         st.load(source)
+
+
+def test_enum_to_string_of_a_value_without_a_component_is_its_number() -> None:
+    main = st.load("{attribute 'to_string'}\nTYPE E_Named : (IDLE, AUTO := 5) INT; END_TYPE\n"
+                   "PROGRAM MAIN\nVAR_INPUT e : E_Named; END_VAR\nVAR s : STRING; END_VAR\ns := TO_STRING(e);\nEND_PROGRAM\n").MAIN
+    main.e = 5
+    main()
+    assert main.s == "AUTO"
+    main.e = 3
+    main()
+    assert main.s == "3"
