@@ -41,6 +41,32 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
             "s1 := TO_STRING(e); s2 := E_Named_TO_STRING(E_Named.MANUAL); s3 := TO_STRING(p); s4 := E_Plain_TO_WSTRING(E_Plain.A);\n"
             "s5 := CONCAT(TO_STRING(E_Named.IDLE), TO_STRING(e));"), 1,
      lambda m: (m.s1, m.s2, m.s3, m.s4, m.s5), ("AUTO", "MANUAL", "7", "0", "IDLEAUTO")),
+    ("names-used-before-their-declaration",  # MAIN, then the FB, its base, the interface and the types it uses
+     "PROGRAM MAIN\nVAR fb : FB_Pump; i : I_Pump; n : INT; s : ST_Pair; END_VAR\n"
+     "i := fb; n := i.Speed(s) + fb.nBase;\nEND_PROGRAM\n"
+     "FUNCTION_BLOCK FB_Pump EXTENDS FB_Base IMPLEMENTS I_Pump\nVAR p : ST_Pair := (a := 3, b := 4); END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Speed : INT\nVAR_INPUT q : ST_Pair; END_VAR\nSpeed := p.a * 10 + p.b + q.a;\nEND_METHOD\n"
+     "INTERFACE I_Pump\nEND_INTERFACE\nMETHOD Speed : INT\nVAR_INPUT q : ST_Pair; END_VAR\nEND_METHOD\n"
+     "FUNCTION_BLOCK FB_Base\nVAR_OUTPUT nBase : INT := 100; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "TYPE ST_Pair : STRUCT a : INT; b : E_Unit := E_Unit.MM; END_STRUCT END_TYPE\n"
+     "TYPE E_Unit : (MM := 1, CM := 10) INT; END_TYPE\n", 1,
+     lambda m: (m.n, m.s.b), (134, 1)),
+    ("struct-array-initial-values",  # a[1].low + a[2].high * 10 + cR[1].low * 100 + cR[0].high * 1000
+     "TYPE ST_Range : STRUCT low : INT; high : INT := 9; END_STRUCT END_TYPE\n"
+     "VAR_GLOBAL CONSTANT cR : ARRAY[0..1] OF ST_Range := [(low := 1, high := 2), (low := 3, high := 4)]; END_VAR\n"
+     + prog("a : ARRAY[1..3] OF ST_Range := [(low := 1, high := 2), (low := 3, high := 4)]; s : INT; t : INT;",
+            "s := a[1].low + a[2].high * 10 + cR[1].low * 100 + cR[0].high * 1000; t := a[3].low + a[3].high;"), 1,
+     lambda m: (m.s, m.t), (2341, 9)),
+    ("struct-array-initial-values-of-locals-and-members",  # F: c[1].high = 4; M: c[0].high = 2; t.r[1].low = 7, t.r[0].high = 6
+     "TYPE ST_R : STRUCT low : INT; high : INT; END_STRUCT END_TYPE\n"
+     "TYPE ST_T : STRUCT r : ARRAY[0..1] OF ST_R := [(low := 5, high := 6), (low := 7)]; END_STRUCT END_TYPE\n"
+     "FUNCTION F : INT\nVAR CONSTANT c : ARRAY[0..1] OF ST_R := [(low := 1, high := 2), (low := 3, high := 4)]; END_VAR\n"
+     "F := c[1].high;\nEND_FUNCTION\n"
+     "FUNCTION_BLOCK FB\nEND_FUNCTION_BLOCK\n"
+     "METHOD M : INT\nVAR c : ARRAY[0..1] OF ST_R := [(low := 1, high := 2), (low := 3, high := 4)]; END_VAR\n"
+     "M := c[0].high; c[0].high := 0;\nEND_METHOD\n"
+     + prog("n : INT; t : ST_T; fb : FB; m : INT;", "n := F(); m := fb.M() * 100 + t.r[1].low * 10 + t.r[0].high;"), 2,
+     lambda m: (m.n, m.m), (4, 276)),
 ]
 
 
