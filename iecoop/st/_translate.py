@@ -112,6 +112,10 @@ class Member:
     section: str
 
 
+class ReferenceLocal(Member):
+    """An elementary ``REFERENCE TO`` local of a METHOD or FUNCTION: a pointer, read and written as an in-out."""
+
+
 @dataclasses.dataclass
 class Callable_:
     name: str
@@ -1355,6 +1359,12 @@ class Translator:
                         scope.locals[name.lower()] = Member(name, type_, "LOCAL")
                         self.emit(f"{name}: {type_.of.annotation()}", level)
                         continue
+                    if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
+                        # a pointer that REF= binds; reached through .deref, as an in-out is
+                        self.need("iecoop", "POINTER_TO", "Pointer")
+                        scope.locals[name.lower()] = ReferenceLocal(name, type_.of, "VAR_IN_OUT")
+                        self.emit(f"{name}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
+                        continue
                     value = self.initial_value(type_, init, scope) or self.zero(type_)
                     scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
                     self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
@@ -1762,6 +1772,9 @@ class Translator:
             if self.decl_of(bound.type) is not self.decl_of(local.type):
                 raise self.fail(f"REF= of {local.name} needs a {local.type.deref().name} variable, got {bound.code}", node)
             self.emit(f"{local.name} = {bound.code}", level)
+            return
+        if isinstance(local, ReferenceLocal):
+            self.emit(f"{local.name} = {self.address_of(node.expression, scope)}", level)
             return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
@@ -2664,6 +2677,9 @@ class Translator:
         return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
 
     def _op_isvalidref(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        local = self.local_of(params[0], scope)
+        if isinstance(local, ReferenceLocal):
+            return Ex(f"bool({local.name})", BOOL)
         self.need("iecoop", "is_valid_ref")
         holder, field = self.holder_field(params[0], scope)
         return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)

@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from iecoop import st
+from iecoop import ExceptionCode, PlcException, st
 from tests.iecoop.st.test_load import prog, run
 
 MODES = "TYPE E_Mode : (IDLE, AUTO := 5, MANUAL) INT; END_TYPE\n"
@@ -67,6 +67,15 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "M := c[0].high; c[0].high := 0;\nEND_METHOD\n"
      + prog("n : INT; t : ST_T; fb : FB; m : INT;", "n := F(); m := fb.M() * 100 + t.r[1].low * 10 + t.r[0].high;"), 2,
      lambda m: (m.n, m.m), (4, 276)),
+    ("elementary-reference-local",  # n 5 -> +2 = 7 -> *2 through ADR(r) = 14 -> +1 through q = 15; s 'ab' -> 'abc'
+     "FUNCTION_BLOCK FB\nVAR n : INT := 5; s : STRING := 'ab'; END_VAR\nVAR_OUTPUT b : BOOL; c : BOOL; t : STRING; END_VAR\n"
+     "END_FUNCTION_BLOCK\n"
+     "METHOD Bump : INT\nVAR_INPUT x : INT; END_VAR\n"
+     "VAR r : REFERENCE TO INT; q : REFERENCE TO INT; p : POINTER TO INT; rs : REFERENCE TO STRING; END_VAR\n"
+     "b := __ISVALIDREF(r);\nr REF= n; r := r + x; p := ADR(r); p^ := p^ * 2;\nq REF= r; q := q + 1;\n"
+     "rs REF= s; rs := CONCAT(rs, 'c'); t := rs;\nc := __ISVALIDREF(q);\nBump := r;\nEND_METHOD\n"
+     + prog("fb : FB; k : INT;", "k := fb.Bump(2);"), 1,
+     lambda m: (m.k, m.fb.b, m.fb.c, m.fb.t), (15, False, True, "abc")),
 ]
 
 
@@ -80,6 +89,8 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
     (MODES + prog("e : E_Mode;", "e := E_Mode.OFF;"), "E_Mode has no value 'OFF'"),
     ("FUNCTION F : INT\nVAR_EXTERNAL nMissing : INT; END_VAR\nF := nMissing;\nEND_FUNCTION\n",
      "<st>:2: VAR_EXTERNAL nMissing of F names no VAR_GLOBAL"),
+    ("FUNCTION F : INT\nVAR_INPUT x : INT; END_VAR\nVAR r : REFERENCE TO INT; END_VAR\nr REF= x;\nEND_FUNCTION\n",
+     "<st>:4: x is a local variable; ADR / REF= need a variable of a block, struct or GVL"),
 ])
 def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
@@ -95,3 +106,10 @@ def test_enum_to_string_of_a_value_without_a_component_is_its_number() -> None:
     main.e = 3
     main()
     assert main.s == "3"
+
+
+def test_an_unbound_reference_local_faults_when_read() -> None:
+    module = st.load("FUNCTION F : INT\nVAR r : REFERENCE TO INT; END_VAR\nF := r;\nEND_FUNCTION\n")
+    with pytest.raises(PlcException) as caught:
+        module.F()
+    assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
