@@ -76,6 +76,11 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "rs REF= s; rs := CONCAT(rs, 'c'); t := rs;\nc := __ISVALIDREF(q);\nBump := r;\nEND_METHOD\n"
      + prog("fb : FB; k : INT;", "k := fb.Bump(2);"), 1,
      lambda m: (m.k, m.fb.b, m.fb.c, m.fb.t), (15, False, True, "abc")),
+    ("another-program-by-name",  # MAIN calls P_Count, then reads it: 1, 2; FB_Seen reads it from a block: 20
+     "PROGRAM P_Count\nVAR counter : INT; END_VAR\ncounter := counter + 1;\nEND_PROGRAM\n"
+     "FUNCTION_BLOCK FB_Seen\nVAR_OUTPUT n : INT; END_VAR\nn := P_Count.counter * 10;\nEND_FUNCTION_BLOCK\n"
+     + prog("n : INT; fb : FB_Seen;", "P_Count(); n := P_Count.counter; fb();"), 2,
+     lambda m: (m.n, m.fb.n), (2, 20)),
 ]
 
 
