@@ -398,6 +398,8 @@ class Translator:
             return elem
         if name.upper() == "__SYSTEM.EXCEPTIONCODE":
             return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
+        if name.upper() == "__SYSTEM.VAR_INFO":
+            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
@@ -879,6 +881,8 @@ class Translator:
     def field_line(self, member: Member, init: Any, scope: Scope, *, plain: bool = False, extra: str = "") -> str:
         type_ = member.type
         assert type_ is not None
+        if type_.kind == "varinfo":
+            raise self.fail(f"{member.section} {member.name} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
         self._need_type(type_)
         args: list[str] = []
         value = self.initial_value(type_, init, scope)
@@ -1365,6 +1369,11 @@ class Translator:
                         assert type_.of is not None
                         scope.locals[name.lower()] = Member(name, type_, "LOCAL")
                         self.emit(f"{name}: {type_.of.annotation()}", level)
+                        continue
+                    if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
+                        self.need("iecoop", "VarInfo")
+                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+                        self.emit(f"{name}: VarInfo", level)
                         continue
                     if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
                         # a pointer that REF= binds; reached through .deref, as an in-out is
@@ -2234,6 +2243,11 @@ class Translator:
                 return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
         if base.code == "ExceptionCode":
             return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
+        if base.type is not None and base.type.kind == "varinfo":
+            member = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
+            if member is None or store:
+                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if member else 'has no member ' + repr(field)}", node)
+            return Ex(f"{base.p()}.{member}", STRING if member in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[member]))
         decl = self.decl_of(base.type)
         if decl is None:
             if base.type is None:
@@ -2265,6 +2279,8 @@ class Translator:
         return Ex(f"{base.p()}.{member.name}", member.type)
 
     def _ex_MultiElementVariable(self, node: Any, scope: Scope, store: bool = False) -> Ex:
+        if str(node.name.name).lower() == "_taskinfo":
+            return self.task_info(node, store)
         current = self._ex_SimpleVariable(node.name, scope)
         elements = list(node.elements)
         for index, element in enumerate(elements):
@@ -2287,6 +2303,24 @@ class Translator:
             if isinstance(field, tf.SimpleVariable) and field.dereferenced or element.dereferenced:
                 current = self.deref(current, node)
         return current
+
+    def task_info(self, node: Any, store: bool) -> Ex:
+        """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``."""
+        elements = list(node.elements)
+        index = elements[0].subscripts if elements and isinstance(elements[0], tf.SubscriptList) else []
+        call = index[0] if len(index) == 1 else None
+        if not (isinstance(call, tf.FunctionCall) and str(call.name).upper() == "GETCURTASKINDEXEX" and not call.parameters):
+            raise self.fail("_TaskInfo indexed by anything but GETCURTASKINDEXEX() (iecoop knows the running task only)", node)
+        field = elements[1].field if len(elements) == 2 and isinstance(elements[1], tf.FieldSelector) else None
+        name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+        member = next((m for m in _TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
+        if member is None:
+            raise self.fail(f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(_TASK_INFO_MEMBERS)}", node)
+        if store:
+            raise self.fail(f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)", node)
+        self.need("iecoop.runtime", "current_task")
+        type_ = STRING if member == "TaskName" else TypeRef("elem", _TASK_INFO_MEMBERS[member])
+        return Ex(f"current_task().{member}", type_)
 
     def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
         if not isinstance(target, tf.MultiElementVariable) or not target.elements:
@@ -2625,6 +2659,11 @@ class Translator:
     def _op_adr(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
         return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
 
+    def _op_varinfo(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "var_info")
+        holder, field = self.holder_field(params[0], scope)
+        return Ex(f'var_info({holder}, "{field}")', TypeRef("varinfo", "VarInfo"))
+
     def _op_sizeof(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
         self.need("iecoop", "sizeof")
         target = params[0]
@@ -2721,6 +2760,7 @@ class Translator:
 _OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | None], Ex]] = {
     "ADR": Translator._op_adr,
     "SIZEOF": Translator._op_sizeof,
+    "__VARINFO": Translator._op_varinfo,
     "__NEW": Translator._op_new,
     "__DELETE": Translator._op_delete,
     "__ISVALIDREF": Translator._op_isvalidref,
@@ -2729,6 +2769,17 @@ _OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | No
     "__QUERYINTERFACE": Translator._op_query,
     "__QUERYPOINTER": Translator._op_query,
 }
+
+
+#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has (times in 100 ns), and their ST types.
+_TASK_INFO_MEMBERS = {"CycleTime": "UDINT", "CycleCount": "UDINT", "LastExecTime": "UDINT", "Priority": "UINT",
+                      "FirstCycle": "BOOL", "CycleTimeExceeded": "BOOL", "TaskName": "STRING"}
+
+
+#: The members of ``__SYSTEM.VAR_INFO`` (iecoop's VarInfo) and their ST types; TypeClass compares with TYPE_CLASS values.
+_VAR_INFO_MEMBERS = {"Symbol": "STRING", "ByteAddress": "ULINT", "ByteOffset": "UDINT", "Area": "DINT", "BitNr": "UINT",
+                     "BitSize": "UDINT", "TypeClass": "DINT", "TypeName": "STRING", "NumElements": "UDINT",
+                     "ElemBitSize": "UDINT", "BaseTypeClass": "DINT"}
 
 
 def _structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:

@@ -8,7 +8,8 @@ from typing import Any
 
 import pytest
 
-from iecoop import ExceptionCode, PlcException, st
+from iecoop import ExceptionCode, PlcException, T, st
+from iecoop.runtime import Runtime, Task
 from tests.iecoop.st.test_load import prog, run
 
 MODES = "TYPE E_Mode : (IDLE, AUTO := 5, MANUAL) INT; END_TYPE\n"
@@ -81,7 +82,20 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "FUNCTION_BLOCK FB_Seen\nVAR_OUTPUT n : INT; END_VAR\nn := P_Count.counter * 10;\nEND_FUNCTION_BLOCK\n"
      + prog("n : INT; fb : FB_Seen;", "P_Count(); n := P_Count.counter; fb();"), 2,
      lambda m: (m.n, m.fb.n), (2, 20)),
+    ("varinfo-in-a-method",  # ST_AB: a INT at 0, b LREAL aligned to 8: offset 8, 64 bits
+     "TYPE ST_AB : STRUCT a : INT; b : LREAL; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB\nVAR s : ST_AB; END_VAR\nVAR_OUTPUT nOff : UDINT; nBits : UDINT; sType : STRING; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Inspect : BOOL\nVAR info : __SYSTEM.VAR_INFO; END_VAR\n"
+     "info := __VARINFO(s.b); nOff := info.ByteOffset; nBits := info.BitSize; sType := info.TypeName;\n"
+     "Inspect := info.NumElements = 1;\nEND_METHOD\n"
+     + prog("fb : FB; b : BOOL;", "b := fb.Inspect();"), 1,
+     lambda m: (m.b, m.fb.nOff, m.fb.nBits, m.fb.sType), (True, 8, 64, "LREAL")),
 ]
+
+TASK_INFO = prog("t : UDINT; n : UDINT; bFirst : BOOL; s : STRING; nFirst : INT;",
+                 "t := _TaskInfo[GETCURTASKINDEXEX()].CycleTime; n := _TaskInfo[GETCURTASKINDEXEX()].cyclecount;\n"
+                 "bFirst := _TaskInfo[GETCURTASKINDEXEX()].FirstCycle; s := _TaskInfo[GETCURTASKINDEXEX()].TaskName;\n"
+                 "IF _TaskInfo[GETCURTASKINDEXEX()].FirstCycle THEN nFirst := nFirst + 1; END_IF")
 
 
 @pytest.mark.parametrize("source, cycles, read, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
@@ -96,6 +110,10 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
      "<st>:2: VAR_EXTERNAL nMissing of F names no VAR_GLOBAL"),
     ("FUNCTION F : INT\nVAR_INPUT x : INT; END_VAR\nVAR r : REFERENCE TO INT; END_VAR\nr REF= x;\nEND_FUNCTION\n",
      "<st>:4: x is a local variable; ADR / REF= need a variable of a block, struct or GVL"),
+    (prog("t : UDINT; i : DINT;", "t := _TaskInfo[i].CycleTime;"), r"<st>:5: _TaskInfo indexed by anything but GETCURTASKINDEXEX\(\)"),
+    (prog("t : UDINT;", "t := _TaskInfo[GETCURTASKINDEXEX()].AdsPort;"), r"_TaskInfo\[...\].AdsPort: iecoop's TaskInfo has CycleTime"),
+    (prog("t : UDINT;", "_TaskInfo[GETCURTASKINDEXEX()].CycleTime := t;"), "assignment to _TaskInfo"),
+    (prog("info : __SYSTEM.VAR_INFO;", ""), "<st>:3: VAR info : __SYSTEM.VAR_INFO .declare it as a local of a METHOD or FUNCTION."),
 ])
 def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
@@ -118,3 +136,13 @@ def test_an_unbound_reference_local_faults_when_read() -> None:
     with pytest.raises(PlcException) as caught:
         module.F()
     assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_task_info_is_the_running_tasks() -> None:
+    main = st.load(TASK_INFO).MAIN
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("Fast", interval=T("5ms")), main)
+    rt.run(cycles=1)
+    assert (main.t, main.bFirst, main.s, main.nFirst) == (50_000, True, "Fast", 1)  # 5 ms in 100 ns units
+    rt.run(cycles=2)
+    assert (main.bFirst, main.nFirst, main.n) == (False, 1, 2)  # the third cycle: 2 cycles counted before it
