@@ -196,6 +196,8 @@ class Scope:
         #: JMP targets of the body (lower case) and the variable that names the part to run next
         self.labels: set[str] = set()
         self.jump = ""
+        #: elementary locals given to a call as an output (=>) or in-out: they live in the holder STRUCT, which has addresses
+        self.addressed: set[str] = set()
 
     def temp(self, stem: str) -> str:
         self.counter += 1
@@ -1294,7 +1296,8 @@ class Translator:
         if held:
             # ARRAY and structured locals, and the copies of such inputs passed by value, live in a STRUCT
             # made at each call: initialised as declared, and the caller's variables never written
-            holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}: new at every call.")
+            addressed = " and the locals passed by address" if any(m.section == "ADDRESSED" for m, _ in held) else ""
+            holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}{addressed}: new at every call.")
             self.emit(f"_var = {holder}()", level)
             for member, _ in scope.by_value:
                 self.emit(f"if {member.name} is not None:", level)
@@ -1302,6 +1305,8 @@ class Translator:
             for member, _ in held:
                 assert member.type is not None
                 self._need_type(member.type)
+                if member.section == "ADDRESSED":
+                    continue  # read and written as _var.name
                 annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
                 self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
 
@@ -1355,6 +1360,12 @@ class Translator:
                 index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
+                    enum = getattr(self.decl_of(type_), "kind", None) == "enum"
+                    if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
+                        # an output or in-out argument needs the variable's address: a field of the holder has one
+                        arrays.append((Member(name, type_, "ADDRESSED"), getattr(item, "init", None)))
+                        scope.locals[name.lower()] = Member(f"_var.{name}", type_, "STAT")
+                        continue
                     initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
                     if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
                         if not scope.pou:
@@ -1487,6 +1498,8 @@ class Translator:
         if returns is not None and scope.return_name is not None:
             scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
             self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
+        in_out = {c.name.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
+        scope.addressed = set(_by_reference_arguments(node.body, in_out))
         self._local_blocks(node.declarations, scope, level)
         for line in scope.output_inits:
             self.emit(line, level)
@@ -2437,7 +2450,7 @@ class Translator:
             local = scope.locals.get(str(value.name).lower())
             if local is not None and local.section not in ("VAR_OUTPUT", "VAR_IN_OUT", "STAT") and self.decl_of(local.type) is None:
                 raise self.fail(
-                    f"{arrow} {value.name}: a local variable of a METHOD or FUNCTION has no address here; "
+                    f"{arrow} {value.name}: a local variable of a {'METHOD or FUNCTION' if scope.pou else 'PROPERTY accessor'} has no address here; "
                     "declare it in the block, or pass it through the block's own variable", value)
         return self.address_of(value, scope)
 
@@ -2842,6 +2855,24 @@ def _variables(node: Any) -> Iterator[Any]:
     elif isinstance(node, (list, tuple)):
         for item in node:
             yield from _variables(item)
+
+
+def _by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
+    """The bare variables (lower case) that the calls in ``node`` get as an output (``=>``), or as an argument of
+    a METHOD or FUNCTION whose name (in ``in_out``) has a VAR_IN_OUT: by name, so never fewer than need an address."""
+    if isinstance(node, tf.FunctionCall):
+        callee = str(node.name).split(".")[-1].lower()
+        for param in node.parameters or []:
+            value = getattr(param, "value", None)
+            if isinstance(value, tf.SimpleVariable) and not value.dereferenced and (
+                    isinstance(param, tf.OutputParameterAssignment) or callee in in_out):
+                yield str(value.name).lower()
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from _by_reference_arguments(getattr(node, field.name), in_out)
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _by_reference_arguments(item, in_out)
 
 
 def _has_call(node: Any) -> bool:

@@ -90,6 +90,16 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "Inspect := info.NumElements = 1;\nEND_METHOD\n"
      + prog("fb : FB; b : BOOL;", "b := fb.Inspect();"), 1,
      lambda m: (m.b, m.fb.nOff, m.fb.nBits, m.fb.sType), (True, 8, 64, "LREAL")),
+    ("outputs-and-in-outs-into-locals",  # F_Use(16#0304): h 3, l 4, k 10 + 1 + 1 = 12, e MANUAL (6): 3000 + 4 + 12 + 6
+     MODES + "FUNCTION F_Split\nVAR_INPUT w : WORD; END_VAR\nVAR_OUTPUT nHigh : BYTE; nLow : BYTE; eMode : E_Mode; END_VAR\n"
+     "nHigh := WORD_TO_BYTE(SHR(w, 8)); nLow := WORD_TO_BYTE(w); eMode := E_Mode.MANUAL;\nEND_FUNCTION\n"
+     "FUNCTION F_Inc\nVAR_IN_OUT n : INT; END_VAR\nn := n + 1;\nEND_FUNCTION\n"
+     "FUNCTION F_Use : INT\nVAR_INPUT w : WORD; END_VAR\nVAR h : BYTE; l : BYTE; k : INT := 10; e : E_Mode; END_VAR\n"
+     "F_Split(w := w, nHigh => h, nLow => l, eMode => e);\nF_Inc(k); F_Inc(n := k);\nF_Use := h * 1000 + l + k + e;\nEND_FUNCTION\n"
+     "FUNCTION_BLOCK FB\nEND_FUNCTION_BLOCK\n"
+     "METHOD Pair : INT\nVAR a : BYTE; b : BYTE; END_VAR\nF_Split(w := 16#0102, nHigh => a, nLow => b);\nPair := a * 10 + b;\nEND_METHOD\n"
+     + prog("n : INT; fb : FB; m : INT;", "n := F_Use(16#0304); m := fb.Pair();"), 2,
+     lambda m: (m.n, m.m), (3022, 12)),
 ]
 
 TASK_INFO = prog("t : UDINT; n : UDINT; bFirst : BOOL; s : STRING; nFirst : INT;",
