@@ -883,6 +883,10 @@ class Translator:
     def field_line(self, member: Member, init: Any, scope: Scope, *, plain: bool = False, extra: str = "") -> str:
         type_ = member.type
         assert type_ is not None
+        if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
+            # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
+            scope.locals[member.name.lower()] = Member(member.name, type_, "LOCAL")
+            return f"# {member.name} : __SYSTEM.VAR_INFO (VAR_TEMP) is a local of body()"
         if type_.kind == "varinfo":
             raise self.fail(f"{member.section} {member.name} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
         self._need_type(type_)
@@ -2257,10 +2261,10 @@ class Translator:
         if base.code == "ExceptionCode":
             return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
         if base.type is not None and base.type.kind == "varinfo":
-            member = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
-            if member is None or store:
-                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if member else 'has no member ' + repr(field)}", node)
-            return Ex(f"{base.p()}.{member}", STRING if member in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[member]))
+            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
+            if info is None or store:
+                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
+            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
         decl = self.decl_of(base.type)
         if decl is None:
             if base.type is None:

@@ -90,6 +90,11 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "Inspect := info.NumElements = 1;\nEND_METHOD\n"
      + prog("fb : FB; b : BOOL;", "b := fb.Inspect();"), 1,
      lambda m: (m.b, m.fb.nOff, m.fb.nBits, m.fb.sType), (True, 8, 64, "LREAL")),
+    ("varinfo-in-a-var-temp",  # as above, from a PROGRAM's VAR_TEMP
+     "TYPE ST_AB : STRUCT a : INT; b : LREAL; END_STRUCT END_TYPE\n"
+     "PROGRAM MAIN\nVAR s : ST_AB; nOff : UDINT; sType : STRING; END_VAR\nVAR_TEMP info : __SYSTEM.VAR_INFO; END_VAR\n"
+     "info := __VARINFO(s.b); nOff := info.ByteOffset; sType := info.TypeName;\nEND_PROGRAM\n", 1,
+     lambda m: (m.nOff, m.sType), (8, "LREAL")),
     ("outputs-and-in-outs-into-locals",  # F_Use(16#0304): h 3, l 4, k 10 + 1 + 1 = 12, e MANUAL (6): 3000 + 4 + 12 + 6
      MODES + "FUNCTION F_Split\nVAR_INPUT w : WORD; END_VAR\nVAR_OUTPUT nHigh : BYTE; nLow : BYTE; eMode : E_Mode; END_VAR\n"
      "nHigh := WORD_TO_BYTE(SHR(w, 8)); nLow := WORD_TO_BYTE(w); eMode := E_Mode.MANUAL;\nEND_FUNCTION\n"
