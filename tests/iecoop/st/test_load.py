@@ -578,7 +578,7 @@ def test_a_local_reference_is_bound_by_ref_assign_only(statement: str, construct
     (prog("x : INT;", "y := 1;"), "unknown variable 'y'"),
     (prog("t : TIME;", "t := TIME(t);"), r"<st>:5: TIME\(\) takes no input"),
     ("FUNCTION_BLOCK FB_O\nEND_FUNCTION_BLOCK\nMETHOD M\nVAR_OUTPUT o : INT; END_VAR\nEND_METHOD\n"
-     "METHOD N\nVAR x : INT; END_VAR\nM(o => x);\nEND_METHOD\n", "a local variable of a METHOD or FUNCTION has no address"),
+     "PROPERTY N : INT\nVAR x : INT; END_VAR\nM(o => x);\nN := x;\nEND_PROPERTY\n", "a local variable of a PROPERTY accessor has no address"),
     ("PROGRAM MAIN\nVAR AT %IX0.0 : BOOL; END_VAR\nEND_PROGRAM\n", "located variable without a name"),
 ])
 def test_unsupported_constructs_raise(source: str, construct: str) -> None:
@@ -783,7 +783,7 @@ def test_a_program_reads_another_programs_variables_through_its_instance() -> No
     module.P_Count(); module.MAIN(); module.P_Count(); module.MAIN()
     assert (module.P_Count.counter, module.MAIN.seen) == (6, 60)
     code = st.to_python(TWO_PROGRAMS)
-    assert "self.seen = P_Count.counter * 10" in code and code.rstrip().endswith("P_Count = P_Count()")
+    assert "self.seen = P_Count.counter * 10" in code and "@_program_instance\nclass P_Count(Program):" in code
 
 
 @checked_only

@@ -6,6 +6,7 @@ import pathlib
 
 from iecoop import st
 from tests.iecoop.st.test_load import CASES, OOP
+from tests.iecoop.st.test_load_cases import CASES as MORE_CASES, TASK_INFO
 from tests.iecoop.st.test_semantics import CASES as SEMANTIC_CASES
 from tests.typing.test_typing import run_mypy
 
@@ -13,9 +14,9 @@ DATA = pathlib.Path(__file__).parent / "data"
 
 
 def test_generated_python_passes_mypy_strict(tmp_path: pathlib.Path) -> None:
-    sources: dict[str, str | pathlib.Path] = {"twincat": DATA / "twincat", "oop": OOP}
+    sources: dict[str, str | pathlib.Path] = {"twincat": DATA / "twincat", "oop": OOP, "task_info": TASK_INFO}
     sources.update({path.stem: path for path in sorted((DATA / "course").glob("*.st"))})
-    sources.update({f"case_{name.replace('-', '_')}": text for name, text, *_ in [*CASES, *SEMANTIC_CASES]})
+    sources.update({f"case_{name.replace('-', '_')}": text for name, text, *_ in [*CASES, *SEMANTIC_CASES, *MORE_CASES]})
     files = []
     for name, source in sources.items():
         path = tmp_path / f"st_{name}.py"
