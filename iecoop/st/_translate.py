@@ -2634,10 +2634,7 @@ class Translator:
         if target in ("STRING", "WSTRING"):
             # iecoop's *_TO_STRING write the vendor text (T#1s500ms, 1.5, TRUE); TO_STRING goes by the
             # argument's declared type, which the Python function cannot see, so it gets the source-named form.
-            decl = self.decl_of(value.type)
-            if source is None and decl is not None and decl.kind == "enum":
-                # TwinCAT's TO_STRING of an enumeration with {attribute 'to_string'}: the value's name
-                return Ex(f"{value.p()}.name", result_type)
+            # (an enumeration's TO_STRING is enum_to_string's, before this)
             named = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
             named = TYPE_SYNONYMS.get(named, named) if named else None
             form = f"{named}_TO_STRING" if named else ""
