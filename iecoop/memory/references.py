@@ -126,6 +126,9 @@ def _resolve_reference(annotation: Any, where: str, length: int | None, bounds: 
     target_annotation = Annotated[(inner, *rest)] if rest else inner
     # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
     target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
+    if len(rest) < len(metadata) - 1:
+        # Annotated flattens REFERENCE_TO[REFERENCE_TO[T]] into one marker list: T with two markers.
+        target = ReferenceInfo(target)
     if isinstance(target, (InterfaceInfo, ReferenceInfo)):
         raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
     return ReferenceInfo(target)

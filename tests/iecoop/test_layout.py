@@ -707,3 +707,14 @@ def test_a_reference_to_an_interface_is_refused_at_definition() -> None:
     with pytest.raises(DefinitionError, match=r"ToInterface\.r: REFERENCE TO I_Probe is not allowed"):
         class ToInterface(Struct):
             r: REFERENCE_TO[I_Probe] = VAR()
+
+
+
+def test_a_reference_to_a_reference_is_refused_at_definition_however_it_nests() -> None:
+    """CODESYS and TwinCAT reject ``REFERENCE TO REFERENCE TO INT``."""
+    with pytest.raises(DefinitionError, match=r"Twice\.r: REFERENCE TO REFERENCE TO INT is not allowed"):
+        class Twice(Struct):
+            r: REFERENCE_TO[REFERENCE_TO[INT]] = VAR()
+    with pytest.raises(DefinitionError, match=r"Named\.r: REFERENCE TO REFERENCE TO INT is not allowed"):
+        class Named(Struct):
+            r: REFERENCE_TO["REFERENCE_TO[INT]"] = VAR()
