@@ -50,7 +50,7 @@ nitpick_ignore = [
     ("py:class", "iecoop.interfaces._I"),
     ("py:class", "iecoop.lifecycle._T"),
     ("py:class", "iecoop.members._F"),
-    ("py:class", "iecoop.memory._core._T"),
+    ("py:class", "iecoop.memory.references._T"),
     ("py:class", "iecoop.parameters._F"),
     ("py:class", "iecoop.memory.arrays._T"),
     ("py:class", "iecoop.memory.pointers._T"),

@@ -31,7 +31,8 @@ import typing
 from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import NullInterface, class_info, handle_of
+from iecoop.memory._core import class_info, handle_of
+from iecoop.memory.interface_references import NullInterface
 from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import register_builder, DefinitionScope
 from iecoop.members import Member, has_body, members_of_namespace

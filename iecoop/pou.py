@@ -52,14 +52,14 @@ from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
-    InterfaceInfo,
-    ReferenceInfo,
     TypeInfo,
     _MemberProperty,
     new_class_tag,
     set_state_without_views,
 )
+from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
+from iecoop.memory.references import ReferenceInfo
 from iecoop.memory.layout import (
     MISSING,
     ClassLayout,

@@ -6,7 +6,9 @@ variables hold checked handles, so a bad address raises
 RTSEXCPT_ACCESS_VIOLATION instead of crashing the interpreter.
 """
 
-from iecoop.memory._core import REFERENCE_TO, Alias, NullInterface
+from iecoop.memory.aliases import Alias
+from iecoop.memory.interface_references import NullInterface
+from iecoop.memory.references import REFERENCE_TO
 from iecoop.memory.arrays import ARRAY
 from iecoop.memory.pointers import POINTER_TO, Pointer
 from iecoop.memory.datatypes import IecEnum, Struct, Union

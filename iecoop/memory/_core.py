@@ -25,14 +25,13 @@ import threading
 import typing
 import weakref
 from collections.abc import Callable, Iterator
-from typing import Annotated, Any, TypeVar
+from typing import Annotated, Any
 
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcException
+from iecoop.memory.aliases import Alias
 from iecoop.types import ElementaryType, StringType, elementary_type
 from iecoop.metadata import Kind, kind_of
-
-_T = TypeVar("_T")
 
 _AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 _HANDLE_MASK = 0xFFFFFFFF
@@ -431,6 +430,8 @@ class TypeInfo:
     ctype: Any = None
     #: True when a ctypes field of ``ctype`` already yields the Python value (no descriptor).
     direct: bool = True
+    #: True when a value written through this type is checked as its ``target`` (REFERENCE TO T: as T).
+    checked_as_target: bool = False
 
     @property
     def size(self) -> int:
@@ -813,224 +814,6 @@ class AggregateInfo(TypeInfo):
 
 
 # ---------------------------------------------------------------------------
-# References and interface variables: handles that dereference themselves
-# ---------------------------------------------------------------------------
-
-
-class Alias:
-    """Metadata naming a type alias: ``T_Speed = Annotated[REAL, Alias("T_Speed")]``.
-
-    ST: ``TYPE T_Speed : REAL; END_TYPE``. Values behave as the base type; the
-    alias name shows in ``var_info`` and diagrams. ``initial=`` is the alias's
-    own initial value (``TYPE T_Index : DINT := -1; END_TYPE`` is
-    ``Annotated[DINT, Alias("T_Index", initial=-1)]``): a variable of the alias
-    type starts with it unless its declaration gives one, and so does each
-    element of an ARRAY OF the alias.
-    """
-
-    __slots__ = ("name", "initial")
-
-    def __init__(self, name: str, initial: Any = None) -> None:
-        self.name = name
-        self.initial = initial
-
-    def __repr__(self) -> str:
-        return f"Alias({self.name!r})" if self.initial is None else f"Alias({self.name!r}, initial={self.initial!r})"
-
-
-class _ReferenceMarker:
-    """Metadata marking ``REFERENCE_TO[T]`` inside an Annotated type."""
-
-    def __repr__(self) -> str:
-        return "REFERENCE"
-
-
-REFERENCE: Any = _ReferenceMarker()
-
-#: ``REFERENCE TO T``: a type checker sees ``T`` (reads and writes go through).
-REFERENCE_TO = Annotated[_T, REFERENCE]
-
-
-class ReferenceInfo(TypeInfo):
-    direct = False
-    ctype = ctypes.c_uint64
-
-    def __init__(self, target: TypeInfo) -> None:
-        self.target = target
-        self.name = f"REFERENCE TO {target.name}"
-
-    def load(self, root: Any, offset: int) -> Any:
-        handle = ctypes.c_uint64.from_buffer(root, offset).value
-        return self.target.load_handle(handle, self.name)
-
-    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
-        handle = ctypes.c_uint64.from_buffer(root, offset).value
-        if handle == 0:
-            raise access_violation(f"{where}: reference is not bound (REF= missing)")
-        self.target.store_handle(handle, value, where)
-
-    def bind_handle(self, target: Any, where: str) -> int:
-        """The handle ``REF= target`` stores: target is a pointer or an aggregate instance."""
-        if isinstance(target, Address):
-            if target._target is not None and target._target.size < self.target.size:
-                raise TypeError(f"{where}: REF= to {target._target.name} does not fit {self.name}")
-            return target._handle
-        if target is None:
-            return 0
-        if isinstance(self.target, AggregateInfo):
-            self.target.validate(target, where)
-            return handle_of(target)
-        if isinstance(self.target, ArrayInfo) and type(target) is self.target.ctype:
-            return handle_of(target)
-        raise TypeError(
-            f"{where}: REF= needs adr(...), a struct / FB instance or an ARRAY, got {type(target).__name__}"
-        )
-
-    def bind_constant(self, owner: Any, value: Any, where: str) -> int:
-        """VAR_IN_OUT CONSTANT: a literal or expression is passed through a temporary the call owns."""
-        if isinstance(value, Address) or value is None or isinstance(self.target, AggregateInfo):
-            return self.bind_handle(value, where)
-        if isinstance(self.target, ArrayInfo) and type(value) is self.target.ctype:
-            return handle_of(value)
-        holder = self.target.ctype()
-        self.target.store(holder, 0, value, where)
-        # Kept by the instance until the next call binds another value, so the handle stays valid.
-        owner.__dict__[f"_iec_const_{where}"] = holder
-        return handle_of(holder)
-
-    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
-        return _ReferenceField(self, raw, f"{owner}.{name}")
-
-
-class _ReferenceField:
-    __slots__ = ("info", "raw", "where")
-
-    def __init__(self, info: ReferenceInfo, raw: Any, where: str) -> None:
-        self.info, self.raw, self.where = info, raw, where
-
-    def __get__(self, obj: Any, owner: Any = None) -> Any:
-        if obj is None:
-            return self
-        handle = self.raw.__get__(obj)
-        if handle == 0:
-            raise access_violation(f"{self.where}: reference is not bound (REF= missing)")
-        return self.info.target.load_handle(handle, self.where)
-
-    def __set__(self, obj: Any, value: Any) -> None:
-        handle = self.raw.__get__(obj)
-        if handle == 0:
-            raise access_violation(f"{self.where}: reference is not bound (REF= missing)")
-        self.info.target.store_handle(handle, value, self.where)
-
-
-class NullInterface:
-    """The value of an interface variable that references nothing (ST: ``itf = 0``).
-
-    It is falsy; calling a method or reading a property through it raises
-    RTSEXCPT_ACCESS_VIOLATION, as the PLC does.
-    """
-
-    __slots__ = ("_iface", "_where")
-
-    def __init__(self, iface: str, where: str) -> None:
-        object.__setattr__(self, "_iface", iface)
-        object.__setattr__(self, "_where", where)
-
-    def __getattr__(self, name: str) -> Any:
-        if name.startswith("__") and name.endswith("__"):
-            # Python's own protocol lookups (copy, pickle, inspect) are not PLC calls.
-            raise AttributeError(name)
-        raise access_violation(f"{self._where}: {self._iface}.{name} called through a null interface reference")
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise access_violation(f"{self._where}: {self._iface}.{name} written through a null interface reference")
-
-    def __bool__(self) -> bool:
-        return False
-
-    def __eq__(self, other: object) -> bool:
-        return other is None or isinstance(other, NullInterface) or (isinstance(other, int) and other == 0)
-
-    def __hash__(self) -> int:
-        return 0
-
-    def __repr__(self) -> str:
-        return f"<{self._iface} = 0>"
-
-
-class InterfaceInfo(TypeInfo):
-    direct = False
-    ctype = ctypes.c_uint64
-
-    def __init__(self, iface: type) -> None:
-        self.iface = iface
-        self.name = iface.__name__
-
-    def handle_for(self, value: Any, where: str) -> int:
-        return self.handle_and_block(value, where)[0]
-
-    def handle_and_block(self, value: Any, where: str) -> tuple[int, Any]:
-        """The handle an assignment stores, and the block it keeps alive (None for the null reference)."""
-        if value is None or isinstance(value, NullInterface):
-            return 0, None
-        if isinstance(value, int) and not isinstance(value, bool) and value == 0:
-            return 0, None
-        if not isinstance(value, self.iface):
-            raise TypeError(
-                f"{where}: {type(value).__name__} does not implement {self.name} and cannot be assigned to it"
-            )
-        alloc, offset = allocation_of(value)
-        return (alloc.id << 32) | offset, alloc.ref()
-
-    def value_for(self, handle: int, where: str) -> Any:
-        if handle == 0:
-            return NullInterface(self.name, where)
-        root, offset = resolve(handle, 8, where)
-        cls = dynamic_class(root, offset, f"{where}: interface reference")
-        if offset == 0 and type(root) is cls:
-            return root
-        return typing.cast(Any, cls).from_buffer(root, offset)
-
-    def load(self, root: Any, offset: int) -> Any:
-        return self.value_for(ctypes.c_uint64.from_buffer(root, offset).value, self.name)
-
-    def store(self, root: Any, offset: int, value: Any, where: str) -> None:
-        handle, block = self.handle_and_block(value, where)
-        ctypes.c_uint64.from_buffer(root, offset).value = handle
-        hold(root, offset, block)
-
-    def validate(self, value: Any, where: str) -> None:
-        if value is None or isinstance(value, NullInterface):
-            return
-        if not isinstance(value, self.iface):
-            raise TypeError(f"{where}: {type(value).__name__} does not implement {self.name}")
-
-
-    def descriptor(self, raw: Any, name: str, owner: str) -> Any:
-        return _InterfaceField(self, raw, f"{owner}.{name}")
-
-
-class _InterfaceField:
-    __slots__ = ("info", "raw", "where")
-
-    def __init__(self, info: InterfaceInfo, raw: Any, where: str) -> None:
-        self.info, self.raw, self.where = info, raw, where
-
-    def __get__(self, obj: Any, owner: Any = None) -> Any:
-        if obj is None:
-            return self
-        return self.info.value_for(self.raw.__get__(obj), self.where)
-
-    def __set__(self, obj: Any, value: Any) -> None:
-        handle, block = self.info.handle_and_block(value, self.where)
-        raw = self.raw
-        # Storing the instance the variable already holds (every cycle, often) changes nothing.
-        if raw.__get__(obj) != handle:
-            raw.__set__(obj, handle)
-            hold(obj, raw.offset, block)
-
-
-# ---------------------------------------------------------------------------
 # Arrays
 # ---------------------------------------------------------------------------
 
@@ -1249,8 +1032,8 @@ def check_value(info: TypeInfo, value: Any, where: str) -> list[Any]:
     A list into an ARRAY and a dict into a STRUCT are checked to the leaves
     first, so a bad item leaves the target untouched.
     """
-    if isinstance(info, ReferenceInfo):
-        check_value(info.target, value, where)
+    if info.checked_as_target:
+        check_value(typing.cast(Any, info).target, value, where)
     elif isinstance(info, ArrayInfo) and isinstance(value, (list, tuple)):
         # ARRAY OF ARRAY takes one list per element array; a multi-dimensional ARRAY any nesting, row-major
         items = list(value) if isinstance(info.elem, ArrayInfo) else list(_flatten(value))
@@ -1345,6 +1128,16 @@ def string_info(record: StringType, length: int) -> StringInfo:
     return info
 
 
+#: How a class of another kind is described (an interface: InterfaceInfo), registered by the
+#: module that defines that description, so this module does not import it.
+_class_infos: dict[Kind, Callable[[type], TypeInfo]] = {}
+
+
+def register_class_info(kind: Kind, make: Callable[[type], TypeInfo]) -> None:
+    """Describe the classes of ``kind`` with ``make(cls)`` in ``class_info``."""
+    _class_infos[kind] = make
+
+
 def class_info(cls: type) -> TypeInfo | None:
     """The TypeInfo of a Struct / Union / FB / interface / enum class, or None."""
     # Kept on the class itself (its own __dict__, never a base's), so it goes with the class.
@@ -1356,11 +1149,11 @@ def class_info(cls: type) -> TypeInfo | None:
         if getattr(cls, "_iec_layout_", None) is None:
             return None
         info = AggregateInfo(cls)
-    elif kind is Kind.INTERFACE:
-        info = InterfaceInfo(cls)
     elif kind is Kind.ENUM:
         base = typing.cast(ElementaryType, getattr(cls, "_iec_base_"))
         info = EnumInfo(typing.cast(type[enum.IntEnum], cls), base)
+    elif kind in _class_infos:
+        info = _class_infos[kind](cls)
     else:
         return None
     setattr(cls, "_iec_type_info_", info)
@@ -1383,7 +1176,8 @@ def resolve_type(
     origin = typing.get_origin(annotation)
     if origin is Annotated:
         return _resolve_annotated(annotation, where, length, bounds, resolver)
-    # ARRAY[T], POINTER_TO[T] and a bare POINTER_TO (PVOID): their classes know how they resolve.
+    # ARRAY[T], POINTER_TO[T] and a bare POINTER_TO (PVOID): their classes know how they resolve
+    # (iecoop.memory.arrays and .pointers; REFERENCE_TO: iecoop.memory.references).
     resolve = getattr(origin if origin is not None else annotation, "_iec_resolve_", None)
     if resolve is not None:
         return typing.cast(TypeInfo, resolve(annotation, where, length, bounds, resolver))
@@ -1411,15 +1205,10 @@ _Resolver = Callable[[Any], Any] | None
 def _resolve_annotated(annotation: Any, where: str, length: int | None, bounds: object, resolver: _Resolver) -> TypeInfo:
     """``Annotated[...]``: a REFERENCE_TO, a STRING(n), an alias of an elementary type, or metadata to look through."""
     metadata = annotation.__metadata__
-    if any(m is REFERENCE for m in metadata):
-        rest = tuple(m for m in metadata if m is not REFERENCE)
-        inner = annotation.__origin__
-        target_annotation = Annotated[(inner, *rest)] if rest else inner
-        # bounds= belong to a referenced ARRAY (REFERENCE TO ARRAY[1..16] OF REAL)
-        target = resolve_type(target_annotation, where, length=length, bounds=bounds, resolver=resolver)
-        if isinstance(target, (InterfaceInfo, ReferenceInfo)):
-            raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
-        return ReferenceInfo(target)
+    # The REFERENCE marker of REFERENCE_TO[T] knows how it resolves, wherever it stands.
+    marker = next((m for m in metadata if hasattr(type(m), "_iec_resolve_")), None)
+    if marker is not None:
+        return typing.cast(TypeInfo, marker._iec_resolve_(annotation, where, length, bounds, resolver))
     record = elementary_type(annotation)
     if isinstance(record, StringType):
         n = record.default_length if length is None else length

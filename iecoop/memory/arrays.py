@@ -14,7 +14,6 @@ from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
-    ReferenceInfo,
     TypeInfo,
     _Resolver,
     array_info,
@@ -22,6 +21,7 @@ from iecoop.memory._core import (
     normalise_bounds,
     resolve_type,
 )
+from iecoop.memory.references import ReferenceInfo
 from iecoop.metadata import Kind, kind_of
 
 __all__ = ["ARRAY"]

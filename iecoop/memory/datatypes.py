@@ -33,7 +33,7 @@ import enum
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import Alias
+from iecoop.memory.aliases import Alias
 from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, register_builder
 from iecoop.metadata import IecClass
 from iecoop.sections import Kind

@@ -29,14 +29,14 @@ from iecoop.memory._core import (
     ArrayInfo,
     ElementaryInfo,
     EnumInfo,
-    InterfaceInfo,
-    ReferenceInfo,
     StringInfo,
     TypeInfo,
     check_block_size,
     resolve_type,
 )
+from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
+from iecoop.memory.references import ReferenceInfo
 
 __all__ = [
     "MISSING",

@@ -29,8 +29,6 @@ from iecoop.memory._core import (
     ArrayInfo,
     ElementaryInfo,
     EnumInfo,
-    InterfaceInfo,
-    ReferenceInfo,
     StringInfo,
     TypeInfo,
     access_violation,
@@ -44,7 +42,9 @@ from iecoop.memory._core import (
     table_lock,
     target_root,
 )
+from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import Pointer, PointerInfo
+from iecoop.memory.references import ReferenceInfo
 from iecoop.memory.layout import ClassLayout, FieldRecord, LateInitial
 from iecoop.metadata import Kind, kind_of
 

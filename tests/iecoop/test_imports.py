@@ -135,3 +135,14 @@ def test_the_outer_packages_import_no_private_name_of_another_package(outer: str
             private += [f"{target}.{name}" for name in names if name.startswith("_") and name != "_config"]
             found += [f"{module} imports {name}" for name in private]
     assert not found, "\n".join(sorted(set(found)))
+
+
+def test_the_public_memory_names_live_in_public_modules() -> None:
+    """A reader finds a type in the module named after it, not in the private engine."""
+    import iecoop.memory
+
+    homes = {name: getattr(iecoop.memory, name).__module__ for name in iecoop.memory.__all__}
+    assert not {name: home for name, home in homes.items() if _private(home)}
+    assert homes["REFERENCE_TO"] == "iecoop.memory.references"
+    assert homes["NullInterface"] == "iecoop.memory.interface_references"
+    assert homes["Alias"] == "iecoop.memory.aliases"

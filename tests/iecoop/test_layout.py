@@ -21,7 +21,7 @@ from tests import checked_only
 from iecoop import (
     ARRAY, BOOL, BYTE, DATE, DINT, DT, DWORD, INT, LINT, LREAL, LTIME, LWORD, POINTER_TO, REAL, REFERENCE_TO, SINT,
     STRING, TIME, TOD, UDINT, UINT, ULINT, USINT, VAR, VAR_INPUT, WORD, WSTRING, Alias, DefinitionError, FunctionBlock, IecEnum, Struct,
-    PlcException, Union, sizeof, var_info,
+    PlcException, Union, adr, ref_assign, sizeof, var_info,
 )
 
 
@@ -680,3 +680,41 @@ def test_an_alias_initial_value_of_the_wrong_type_names_the_field() -> None:
     with pytest.raises(DefinitionError, match=r"Bad\.flag: initial value of the wrong type: cannot store str 'x' in BOOL"):
         class Bad(Struct):
             flag: Annotated[BOOL, Alias("T_Flag", initial="x")] = VAR()
+
+
+def test_a_reference_to_an_alias_type_resolves_whether_the_alias_stands_inside_or_outside() -> None:
+    """ST: ``rIndex : REFERENCE TO T_Index;`` written either way round in Python."""
+
+    class Holder(Struct):
+        target: Index = VAR()
+        inside: REFERENCE_TO[Index] = VAR()
+        outside: Annotated[REFERENCE_TO[DINT], Alias("T_Index")] = VAR()
+
+    holder = Holder()
+    assert var_info(holder, "inside").TypeName == var_info(holder, "outside").TypeName == "REFERENCE TO T_Index"
+    ref_assign(holder, "inside", adr(holder, "target"))
+    ref_assign(holder, "outside", adr(holder, "target"))
+    holder.inside = 3
+    assert (holder.target, holder.outside) == (3, 3)
+
+
+def test_a_reference_to_an_interface_is_refused_at_definition() -> None:
+    from iecoop import Interface
+
+    class I_Probe(Interface):
+        pass
+
+    with pytest.raises(DefinitionError, match=r"ToInterface\.r: REFERENCE TO I_Probe is not allowed"):
+        class ToInterface(Struct):
+            r: REFERENCE_TO[I_Probe] = VAR()
+
+
+
+def test_a_reference_to_a_reference_is_refused_at_definition_however_it_nests() -> None:
+    """CODESYS and TwinCAT reject ``REFERENCE TO REFERENCE TO INT``."""
+    with pytest.raises(DefinitionError, match=r"Twice\.r: REFERENCE TO REFERENCE TO INT is not allowed"):
+        class Twice(Struct):
+            r: REFERENCE_TO[REFERENCE_TO[INT]] = VAR()
+    with pytest.raises(DefinitionError, match=r"Named\.r: REFERENCE TO REFERENCE TO INT is not allowed"):
+        class Named(Struct):
+            r: REFERENCE_TO["REFERENCE_TO[INT]"] = VAR()
