@@ -2271,17 +2271,10 @@ class Translator:
         raise self.fail(f"unknown variable {name!r}", node)
 
     def member_ref(self, base: Ex, field: str, node: Any, store: bool = False) -> Ex:
-        if base.type is not None and base.type.name == "__SYSTEM":
-            if field.lower() == "exceptioncode":
-                self.need("iecoop", "ExceptionCode")
-                return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
-        if base.code == "ExceptionCode":
-            return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
-        if base.type is not None and base.type.kind == "varinfo":
-            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
-            if info is None or store:
-                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
-            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
+        """``base.field``: a system member, an enumeration value, or a member or method of a declared type."""
+        system = self._system_member_ref(base, field, node, store)
+        if system is not None:
+            return system
         decl = self.decl_of(base.type)
         if decl is None:
             if base.type is None:
@@ -2298,19 +2291,40 @@ class Translator:
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
         kind, member = found
-        if base.code == "super()" and kind == "method":
-            return Ex(f"super().{member.name}", None)
-        if base.code == "super()" and kind == "member":
-            assert isinstance(member, Member)
-            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
-        if base.code == "super()" and store:
-            assert isinstance(member, Member)
-            self.need("iecoop", "super_set")
-            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
+        if base.code == "super()":
+            return self._super_member_ref(kind, member, store)
         if kind == "method":
             return Ex(f"{base.p()}.{member.name}", None)
         assert isinstance(member, Member)
         return Ex(f"{base.p()}.{member.name}", member.type)
+
+    def _system_member_ref(self, base: Ex, field: str, node: Any, store: bool) -> Ex | None:
+        """``__SYSTEM.ExceptionCode``, its values, and the members of a ``__SYSTEM.VAR_INFO``; None for any other base."""
+        if base.type is not None and base.type.name == "__SYSTEM":
+            if field.lower() == "exceptioncode":
+                self.need("iecoop", "ExceptionCode")
+                return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
+        if base.code == "ExceptionCode":
+            return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
+        if base.type is not None and base.type.kind == "varinfo":
+            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
+            if info is None or store:
+                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
+            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
+        return None
+
+    def _super_member_ref(self, kind: str, member: Any, store: bool) -> Ex:
+        """``SUPER^.name``: the parent's method or property; a variable is the instance's own."""
+        if kind == "method":
+            return Ex(f"super().{member.name}", None)
+        if kind == "member":
+            assert isinstance(member, Member)
+            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+        assert isinstance(member, Member)
+        if store:
+            self.need("iecoop", "super_set")
+            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
+        return Ex(f"super().{member.name}", member.type)
 
     def _ex_MultiElementVariable(self, node: Any, scope: Scope, store: bool = False) -> Ex:
         if str(node.name.name).lower() == "_taskinfo":
