@@ -782,56 +782,11 @@ class BodyWriter:
         return (_paren(text, prec, need), _ATOM if prec < need else prec)
 
     def _expr(self, node: ast.expr) -> tuple[str, int]:
-        if isinstance(node, ast.Constant):
-            if isinstance(node.value, (bool, int, float, str)) or node.value is None:
-                return literal(node.value), _ATOM
-            self.fail(node, f"the constant {node.value!r}")
-        if isinstance(node, ast.Name):
-            return self.name(node), _ATOM
-        if isinstance(node, ast.Attribute):
-            return self.attribute(node), _ATOM
-        if isinstance(node, ast.Subscript):
-            base = self.expr(node.value, _ATOM)[0]
-            index = node.slice
-            parts = index.elts if isinstance(index, ast.Tuple) else [index]
-            if any(isinstance(p, ast.Slice) for p in parts):
-                self.fail(node, "a slice")
-            return f"{base}[{', '.join(self.expr(p)[0] for p in parts)}]", _ATOM
-        if isinstance(node, ast.Call):
-            return self.call(node)
-        if isinstance(node, ast.BinOp):
-            return self.binop(node, node)
-        if isinstance(node, ast.UnaryOp):
-            if isinstance(node.op, ast.Not):
-                info = self.typeof(node.operand)
-                if info is not None and not _is_bool(info):
-                    return f"{self.expr(node.operand, _EQ + 1)[0]} = 0", _EQ
-                return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
-            if isinstance(node.op, ast.USub):
-                operand = node.operand
-                if isinstance(operand, ast.Constant) and isinstance(operand.value, (int, float)) and not isinstance(operand.value, bool):
-                    return literal(-operand.value), _ATOM
-                return f"-{self.expr(operand, _UNARY + 1)[0]}", _UNARY
-            if isinstance(node.op, ast.UAdd):
-                return self.expr(node.operand)
-            if isinstance(node.op, ast.Invert):
-                return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
-        if isinstance(node, ast.BoolOp):
-            word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
-            if any(self.may_act(v) for v in node.values[1:]):
-                # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
-                # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
-                word += "_THEN" if word == "AND" else "_ELSE"
-            operands = [self.condition_operand(v, prec) for v in node.values]
-            return f" {word} ".join(operands), prec
-        if isinstance(node, ast.Compare):
-            return self.compare(node)
-        if isinstance(node, ast.IfExp):
-            cond = self.condition(node.test)
-            return f"SEL({cond}, {self.expr(node.orelse)[0]}, {self.expr(node.body)[0]})", _ATOM
-        if isinstance(node, ast.JoinedStr):
-            return self.fstring(node), _ATOM
-        self.fail(node, _describe(node))
+        """ST text of an expression and its precedence, by the rule for its node type (_EXPR_RULES)."""
+        rule = _EXPR_RULES.get(type(node))
+        if rule is None:
+            self.fail(node, _describe(node))
+        return rule(self, node)
 
     def fstring(self, node: ast.JoinedStr) -> str:
         """An f-string as nested CONCATs: TwinCAT's and CODESYS's CONCAT take two strings."""
@@ -1666,6 +1621,71 @@ _TYPE_RULES: dict[type, Callable[[BodyWriter, Any], TypeInfo | None]] = {
     ast.UnaryOp: _unary_type,
     ast.IfExp: _ifexp_type,
     ast.JoinedStr: lambda w, node: _STRING,
+}
+
+
+def _constant_expr(w: BodyWriter, node: ast.Constant) -> tuple[str, int]:
+    if isinstance(node.value, (bool, int, float, str)) or node.value is None:
+        return literal(node.value), _ATOM
+    w.fail(node, f"the constant {node.value!r}")
+
+
+def _subscript_expr(w: BodyWriter, node: ast.Subscript) -> tuple[str, int]:
+    base = w.expr(node.value, _ATOM)[0]
+    index = node.slice
+    parts = index.elts if isinstance(index, ast.Tuple) else [index]
+    if any(isinstance(p, ast.Slice) for p in parts):
+        w.fail(node, "a slice")
+    return f"{base}[{', '.join(w.expr(p)[0] for p in parts)}]", _ATOM
+
+
+def _unary_expr(w: BodyWriter, node: ast.UnaryOp) -> tuple[str, int]:
+    if isinstance(node.op, ast.Not):
+        info = w.typeof(node.operand)
+        if info is not None and not _is_bool(info):
+            return f"{w.expr(node.operand, _EQ + 1)[0]} = 0", _EQ
+        return f"NOT {w.expr(node.operand, _UNARY)[0]}", _UNARY
+    if isinstance(node.op, ast.USub):
+        operand = node.operand
+        if isinstance(operand, ast.Constant) and isinstance(operand.value, (int, float)) and not isinstance(operand.value, bool):
+            return literal(-operand.value), _ATOM
+        return f"-{w.expr(operand, _UNARY + 1)[0]}", _UNARY
+    if isinstance(node.op, ast.UAdd):
+        return w.expr(node.operand)
+    if isinstance(node.op, ast.Invert):
+        return f"NOT {w.expr(node.operand, _UNARY)[0]}", _UNARY
+    w.fail(node, _describe(node))
+
+
+def _boolop_expr(w: BodyWriter, node: ast.BoolOp) -> tuple[str, int]:
+    word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
+    if any(w.may_act(v) for v in node.values[1:]):
+        # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
+        # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
+        word += "_THEN" if word == "AND" else "_ELSE"
+    operands = [w.condition_operand(v, prec) for v in node.values]
+    return f" {word} ".join(operands), prec
+
+
+def _ifexp_expr(w: BodyWriter, node: ast.IfExp) -> tuple[str, int]:
+    # ST's SEL(g, in0, in1) gives in0 when g is FALSE: the else value comes first
+    cond = w.condition(node.test)
+    return f"SEL({cond}, {w.expr(node.orelse)[0]}, {w.expr(node.body)[0]})", _ATOM
+
+
+#: ST text and precedence of an expression, by its node type (see BodyWriter._expr).
+_EXPR_RULES: dict[type, Callable[[BodyWriter, Any], tuple[str, int]]] = {
+    ast.Constant: _constant_expr,
+    ast.Name: lambda w, node: (w.name(node), _ATOM),
+    ast.Attribute: lambda w, node: (w.attribute(node), _ATOM),
+    ast.Subscript: _subscript_expr,
+    ast.Call: BodyWriter.call,
+    ast.BinOp: lambda w, node: w.binop(node, node),
+    ast.UnaryOp: _unary_expr,
+    ast.BoolOp: _boolop_expr,
+    ast.Compare: BodyWriter.compare,
+    ast.IfExp: _ifexp_expr,
+    ast.JoinedStr: lambda w, node: (w.fstring(node), _ATOM),
 }
 
 

@@ -344,28 +344,11 @@ class _Writer:
 
 
 def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
+    """The PROGRAM, FUNCTION_BLOCK or INTERFACE of a class: declaration, body, methods and properties."""
     name = meta.name
     interface = meta.kind == "interface"
-    words = [meta.kind == "program" and "PROGRAM" or interface and "INTERFACE" or "FUNCTION_BLOCK"]
-    if meta.abstract:
-        words.append("ABSTRACT")
-    if meta.final:
-        words.append("FINAL")
-    if meta.internal:
-        words.append("INTERNAL")
-    words.append(name)
-    if interface:
-        bases = [b for b in meta.cls.__bases__ if kind_of(b) == "interface" and not is_root(b) and b.__name__ != "Interface"]
-        if bases:
-            words.append("EXTENDS " + ", ".join(type_text(_iface_info(b)) for b in bases))
-    else:
-        if meta.parent is not None:
-            words.append(f"EXTENDS {meta.parent.__name__}")
-        if meta.interfaces:
-            words.append("IMPLEMENTS " + ", ".join(type_text(_iface_info(i)) for i in meta.interfaces))
     implementation = ""
-    parts: list[Part] = []
-    decl_lines = [" ".join(words)]
+    decl_lines = [_pou_header(meta)]
     if any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method"):
         # TwinCAT wants the attribute above the FUNCTION_BLOCK too, not only above the METHOD it calls.
         decl_lines.insert(0, _CALL_AFTER_INIT)
@@ -378,6 +361,32 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
             if temps:
                 temps[0] = "VAR_TEMP"
         decl_lines += sections(meta.fields, name) + temps
+    parts = _pou_parts(meta, writer, interface)
+    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta)
+
+
+def _pou_header(meta: ClassMeta) -> str:
+    """The first line of a POU: ``FUNCTION_BLOCK ABSTRACT FB_x EXTENDS FB_base IMPLEMENTS I_y``."""
+    interface = meta.kind == "interface"
+    words = [meta.kind == "program" and "PROGRAM" or interface and "INTERFACE" or "FUNCTION_BLOCK"]
+    words += [word for word, on in (("ABSTRACT", meta.abstract), ("FINAL", meta.final), ("INTERNAL", meta.internal)) if on]
+    words.append(meta.name)
+    if interface:
+        bases = [b for b in meta.cls.__bases__ if kind_of(b) == "interface" and not is_root(b) and b.__name__ != "Interface"]
+        if bases:
+            words.append("EXTENDS " + ", ".join(type_text(_iface_info(b)) for b in bases))
+    else:
+        if meta.parent is not None:
+            words.append(f"EXTENDS {meta.parent.__name__}")
+        if meta.interfaces:
+            words.append("IMPLEMENTS " + ", ".join(type_text(_iface_info(i)) for i in meta.interfaces))
+    return " ".join(words)
+
+
+def _pou_parts(meta: ClassMeta, writer: _Writer, interface: bool) -> list[Part]:
+    """The FB_init/FB_exit, METHODs and PROPERTYs of a POU; when lenient, one that does not translate is left out."""
+    parts: list[Part] = []
+    if not interface:
         for lifecycle_name, func in meta.lifecycle:
             try:
                 parts.append(writer.lifecycle(meta, lifecycle_name, func))
@@ -396,7 +405,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
                 raise
             # A Python-only helper (its signature has no IEC type): left out, and said so.
             writer.untranslated.append(f"{meta.name}.{member.name}: member left out: {exc}")
-    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta)
+    return parts
 
 
 def _iface_info(cls: Any) -> TypeInfo:

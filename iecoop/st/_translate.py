@@ -1338,25 +1338,7 @@ class Translator:
     def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
                           statics: list[tuple[Any, str, TypeRef | None]]) -> None:
         for block in blocks:
-            section = _SECTION_OF.get(type(block))
-            if section in ("VAR_INPUT", "VAR_INST"):
-                continue
-            if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-                if scope.kind in ("method", "function"):
-                    continue  # parameters (see _by_reference_param)
-                raise self.fail(f"{section} in a {scope.kind} is not supported", block)
-            if section == "VAR_STAT":
-                if not scope.pou:
-                    raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
-                statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
-                continue
-            if section == "VAR_EXTERNAL":  # the global itself, read and written in place (never a local copy)
-                for item in block.items:
-                    for name, _ in self._item_types(item):
-                        found = self.globals.get(name.lower())
-                        if found is None:
-                            raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
-                        scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT")
+            if self._non_local_block(block, scope, statics):
                 continue
             constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
             for item in block.items:
@@ -1365,42 +1347,76 @@ class Translator:
                 index = len(self.out)
                 for name, type_ in self._item_types(item):
                     assert type_ is not None
-                    enum = getattr(self.decl_of(type_), "kind", None) == "enum"
-                    if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
-                        # an output or in-out argument needs the variable's address: a field of the holder has one
-                        arrays.append((Member(name, type_, "ADDRESSED"), getattr(item, "init", None)))
-                        scope.locals[name.lower()] = Member(f"_var.{name}", type_, "STAT")
-                        continue
-                    initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
-                    if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
-                        if not scope.pou:
-                            raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
-                        arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
-                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
-                        continue
-                    self._need_type(type_)
-                    init = getattr(item, "init", None)
-                    if self._local_reference(type_) and getattr(init, "value", None) is None:
-                        # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
-                        assert type_.of is not None
-                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
-                        self.emit(f"{name}: {type_.of.annotation()}", level)
-                        continue
-                    if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
-                        self.need("iecoop", "VarInfo")
-                        scope.locals[name.lower()] = Member(name, type_, "LOCAL")
-                        self.emit(f"{name}: VarInfo", level)
-                        continue
-                    if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
-                        # a pointer that REF= binds; reached through .deref, as an in-out is
-                        self.need("iecoop", "POINTER_TO", "Pointer")
-                        scope.locals[name.lower()] = ReferenceLocal(name, type_.of, "VAR_IN_OUT")
-                        self.emit(f"{name}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
-                        continue
-                    value = self.initial_value(type_, init, scope) or self.zero(type_)
-                    scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
-                    self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
+                    if not self._held_local(item, name, type_, scope, arrays, constant):
+                        self._declare_local(item, name, type_, scope, level, constant)
                 self.trail(index, trailing)
+
+    def _non_local_block(self, block: Any, scope: Scope, statics: list[tuple[Any, str, TypeRef | None]]) -> bool:
+        """Handle a VAR section that declares no plain local (parameters, VAR_STAT, VAR_EXTERNAL); True if handled."""
+        section = _SECTION_OF.get(type(block))
+        if section in ("VAR_INPUT", "VAR_INST"):
+            return True
+        if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+            if scope.kind in ("method", "function"):
+                return True  # parameters (see _by_reference_param)
+            raise self.fail(f"{section} in a {scope.kind} is not supported", block)
+        if section == "VAR_STAT":
+            if not scope.pou:
+                raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
+            statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
+            return True
+        if section == "VAR_EXTERNAL":  # the global itself, read and written in place (never a local copy)
+            for item in block.items:
+                for name, _ in self._item_types(item):
+                    found = self.globals.get(name.lower())
+                    if found is None:
+                        raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
+                    scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT")
+            return True
+        return False
+
+    def _held_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, arrays: list[tuple[Member, Any]],
+                    constant: Any) -> bool:
+        """A local the POU's holder makes (an addressed scalar, an ARRAY, an initialised STRUCT); True if it is one."""
+        enum = getattr(self.decl_of(type_), "kind", None) == "enum"
+        if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
+            # an output or in-out argument needs the variable's address: a field of the holder has one
+            arrays.append((Member(name, type_, "ADDRESSED"), getattr(item, "init", None)))
+            scope.locals[name.lower()] = Member(f"_var.{name}", type_, "STAT")
+            return True
+        initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
+        if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
+            if not scope.pou:
+                raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
+            arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
+            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+            return True
+        return False
+
+    def _declare_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, level: int, constant: Any) -> None:
+        """Emit the Python local of one ST variable of a method or function body."""
+        self._need_type(type_)
+        init = getattr(item, "init", None)
+        if self._local_reference(type_) and getattr(init, "value", None) is None:
+            # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
+            assert type_.of is not None
+            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+            self.emit(f"{name}: {type_.of.annotation()}", level)
+            return
+        if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
+            self.need("iecoop", "VarInfo")
+            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+            self.emit(f"{name}: VarInfo", level)
+            return
+        if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
+            # a pointer that REF= binds; reached through .deref, as an in-out is
+            self.need("iecoop", "POINTER_TO", "Pointer")
+            scope.locals[name.lower()] = ReferenceLocal(name, type_.of, "VAR_IN_OUT")
+            self.emit(f"{name}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
+            return
+        value = self.initial_value(type_, init, scope) or self.zero(type_)
+        scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
+        self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
 
     def local_annotation(self, type_: TypeRef) -> str:
         return type_.annotation()
@@ -2255,17 +2271,10 @@ class Translator:
         raise self.fail(f"unknown variable {name!r}", node)
 
     def member_ref(self, base: Ex, field: str, node: Any, store: bool = False) -> Ex:
-        if base.type is not None and base.type.name == "__SYSTEM":
-            if field.lower() == "exceptioncode":
-                self.need("iecoop", "ExceptionCode")
-                return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
-        if base.code == "ExceptionCode":
-            return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
-        if base.type is not None and base.type.kind == "varinfo":
-            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
-            if info is None or store:
-                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
-            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
+        """``base.field``: a system member, an enumeration value, or a member or method of a declared type."""
+        system = self._system_member_ref(base, field, node, store)
+        if system is not None:
+            return system
         decl = self.decl_of(base.type)
         if decl is None:
             if base.type is None:
@@ -2282,19 +2291,40 @@ class Translator:
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
         kind, member = found
-        if base.code == "super()" and kind == "method":
-            return Ex(f"super().{member.name}", None)
-        if base.code == "super()" and kind == "member":
-            assert isinstance(member, Member)
-            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
-        if base.code == "super()" and store:
-            assert isinstance(member, Member)
-            self.need("iecoop", "super_set")
-            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
+        if base.code == "super()":
+            return self._super_member_ref(kind, member, store)
         if kind == "method":
             return Ex(f"{base.p()}.{member.name}", None)
         assert isinstance(member, Member)
         return Ex(f"{base.p()}.{member.name}", member.type)
+
+    def _system_member_ref(self, base: Ex, field: str, node: Any, store: bool) -> Ex | None:
+        """``__SYSTEM.ExceptionCode``, its values, and the members of a ``__SYSTEM.VAR_INFO``; None for any other base."""
+        if base.type is not None and base.type.name == "__SYSTEM":
+            if field.lower() == "exceptioncode":
+                self.need("iecoop", "ExceptionCode")
+                return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
+        if base.code == "ExceptionCode":
+            return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
+        if base.type is not None and base.type.kind == "varinfo":
+            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
+            if info is None or store:
+                raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
+            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
+        return None
+
+    def _super_member_ref(self, kind: str, member: Any, store: bool) -> Ex:
+        """``SUPER^.name``: the parent's method or property; a variable is the instance's own."""
+        if kind == "method":
+            return Ex(f"super().{member.name}", None)
+        if kind == "member":
+            assert isinstance(member, Member)
+            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+        assert isinstance(member, Member)
+        if store:
+            self.need("iecoop", "super_set")
+            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
+        return Ex(f"super().{member.name}", member.type)
 
     def _ex_MultiElementVariable(self, node: Any, scope: Scope, store: bool = False) -> Ex:
         if str(node.name.name).lower() == "_taskinfo":
