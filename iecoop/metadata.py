@@ -62,6 +62,19 @@ class IecClass:
             changes["members"] = MappingProxyType(dict(changes["members"]))
         return dataclasses.replace(self, **changes)
 
+    def complete(self, **changes: Any) -> None:
+        """Fill in what the later build phases add (layout, members, statics), while the class is being built.
+
+        The record a builder puts in the class namespace is completed in place, never replaced:
+        replacing an attribute of a ctypes Structure class after ctypes has set the class up
+        left a dangling reference behind on CPython 3.11 (a crash in the garbage collector after
+        classes were collected), so a block class's ``__iec__`` is assigned exactly once.
+        """
+        if "members" in changes:
+            changes["members"] = MappingProxyType(dict(changes["members"]))
+        for name, value in changes.items():
+            object.__setattr__(self, name, value)
+
 
 def iec_class(cls: object) -> IecClass | None:
     """The record of a class an iecoop builder made, or None for any other object."""

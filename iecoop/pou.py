@@ -335,7 +335,7 @@ class _PouBuilder:
         layout = self.layout_builder.install()
         members = self.install_members(cls)
         statics = _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
-        cls.__iec__ = cls.__iec__.finished(layout=layout, members=members, static_fields=statics)
+        cls.__dict__["__iec__"].complete(layout=layout, members=members, static_fields=statics)
         self.install_runtime(cls, layout)
 
     def install_members(self, cls: Any) -> dict[str, Member]:

@@ -385,7 +385,7 @@ class DataClassBuilder:
             return None
         builder.lay_out(cls)
         layout = builder.install()
-        cls.__iec__ = cls.__iec__.finished(layout=layout)
+        cls.__dict__["__iec__"].complete(layout=layout)
         cls._iec_implicit_init_ = layout.implicit_init
         if CHECKS:
             cls.__setattr__ = data_setattr(cls.__name__, layout)

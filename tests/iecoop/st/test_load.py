@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -793,3 +796,23 @@ def test_writing_another_programs_local_variable_is_refused_at_the_write() -> No
     module = st.load(TWO_PROGRAMS.replace("P_Count.nStep := 5;", "P_Count.counter := 0;"))
     with pytest.raises(AccessError, match=r"VAR P_Count\.counter cannot be written from MAIN\.body"):
         module.MAIN()
+
+
+def test_loading_the_same_design_again_and_again_never_crashes_the_interpreter() -> None:
+    # Block classes are built, run and collected 30 times in a child process: a class record replaced
+    # after ctypes set the class up once left a dangling reference that crashed the garbage collector.
+    script = (
+        "import gc\n"
+        "from tests.iecoop.st.test_load import OOP\n"
+        "from iecoop import st\n"
+        "for _ in range(30):\n"
+        "    module = st.load(OOP)\n"
+        "    module.MAIN()\n"
+        "    del module\n"
+        "    gc.collect()\n"
+        "print('ok')\n"
+    )
+    root = Path(__file__).resolve().parents[3]
+    done = subprocess.run([sys.executable, "-c", script], cwd=root, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == "ok"
