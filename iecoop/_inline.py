@@ -74,57 +74,110 @@ def inline_call(
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
-    if (
-        code.co_flags & _NOT_PLAIN or code.co_argcount != 1 or code.co_posonlyargcount or code.co_kwonlyargcount
-        or code.co_varnames[:1] != ("self",) or body.__defaults__ or body.__kwdefaults__
-        or hasattr(body, "__wrapped__")
-    ):
-        return None
-    node = _function_node(body)
+    node = _function_node(body) if _plain(body) else None
     if node is None:
         return None
     used = _used_names(node)
     # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
-    if used & {*kwdefaults, *names, _FACTORY, _CLASS} or any(n.startswith(_STORE) for n in used):
-        return None
-    if any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node)):
+    if _meets_call(used, {*kwdefaults, *names}) or _returns_value(node):
         return None
     flags = code.co_flags & _FUTURE_FLAGS
-    # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
-    called = {n.func.value.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
-              and isinstance(n.func.value, ast.Name)} - {"self"}
-    imports = sorted(_module_imports(code.co_filename, body.__globals__) & used) if called else []
+    imports = _imports_used(node, body, used)
     same = _compile_in(node, code, [], flags, imports)
     if same is None or _without_nested(same) != _without_nested(code):
         return None
-    call = _with_inputs(node, params, lines)
+    # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
+    call = _rewritten(node, body, params, lines, names, owner, stores, members)
+    merged = _compile_in(call, code, sorted(names), flags, imports)
+    if merged is None:
+        return None
+    function = _call_function(merged, body, names, kwdefaults, f"{name}.__call__", owner.__module__)
+    # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
+    adopt_code(merged, code, owner)
+    return function
+
+
+def _plain(body: types.FunctionType) -> bool:
+    """``def body(self)``: no other parameter, no default, no generator or coroutine, no decorator's wrapper."""
+    code = body.__code__
+    return not (
+        code.co_flags & _NOT_PLAIN or code.co_argcount != 1 or code.co_posonlyargcount or code.co_kwonlyargcount
+        or code.co_varnames[:1] != ("self",) or body.__defaults__ or body.__kwdefaults__
+        or hasattr(body, "__wrapped__")
+    )
+
+
+def _meets_call(used: set[str], call_names: set[str]) -> bool:
+    """Whether a name the body uses is one of the call's (its inputs, its names, the compile's and the rewrites')."""
+    return bool(used & {*call_names, _FACTORY, _CLASS}) or any(n.startswith(_STORE) for n in used)
+
+
+def _returns_value(node: ast.FunctionDef) -> bool:
+    """Whether the body's own code has ``return value``: the call returns None."""
+    return any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node))
+
+
+def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str]) -> list[str]:
+    """The module's top-level imports the body uses, when it calls ``name.attr(...)`` on a name; else none."""
+    # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
+    called = any(
+        isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and isinstance(n.func.value, ast.Name)
+        and n.func.value.id != "self" for n in ast.walk(node)
+    )
+    return sorted(_module_imports(body.__code__.co_filename, body.__globals__) & used) if called else []
+
+
+def _rewritten(
+    node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
+    owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
+) -> ast.FunctionDef:
+    """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
+
+    The rewrites add the objects their code reads to ``names``.
+    """
+    code = body.__code__
+    call = _with_inputs(node, params, lines)
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
     if (writes or members) and not _rebinds_self(node):
-        if writes:
-            call.body = [_DirectStores(writes, names).visit(statement) for statement in call.body]
-            call.body = [s for item in call.body for s in (item if isinstance(item, list) else [item])]
-        if members:
-            call.body = [_MemberCalls(members, names).visit(statement) for statement in call.body]
-            aliases = {member: alias for member, (alias, _cls) in members.items()}
-            call.body = [_MemberReads(aliases).visit(statement) for statement in call.body]
+        call.body = _with_members(call.body, writes, members, names)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     ast.fix_missing_locations(call)
-    merged = _compile_in(call, code, sorted(names), flags, imports)
-    if merged is None:
-        return None
+    return call
+
+
+def _with_members(
+    statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
+    members: dict[str, tuple[str, type | None]], names: dict[str, Any],
+) -> list[ast.stmt]:
+    """``statements`` with the direct stores, then the member calls, then the member reads written out."""
+    if writes:
+        statements = [_DirectStores(writes, names).visit(statement) for statement in statements]
+        # A store becomes a list of statements.
+        statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
+    if members:
+        statements = [_MemberCalls(members, names).visit(statement) for statement in statements]
+        aliases = {member: alias for member, (alias, _cls) in members.items()}
+        statements = [_MemberReads(aliases).visit(statement) for statement in statements]
+    return statements
+
+
+def _call_function(
+    merged: types.CodeType, body: types.FunctionType, names: dict[str, Any], kwdefaults: dict[str, Any],
+    qualname: str, module: str,
+) -> types.FunctionType:
+    """``__call__`` from the merged code: the body's globals and cells, a new cell for each of the call's names."""
+    code = body.__code__
     cells = dict(zip(code.co_freevars, body.__closure__ or ()))
     closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
     function = types.FunctionType(merged, body.__globals__, "__call__", None, closure)
     function.__kwdefaults__ = dict(kwdefaults)
     function.__annotations__ = {"return": None}
-    function.__qualname__ = f"{name}.__call__"
-    function.__module__ = owner.__module__
-    # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
-    adopt_code(merged, code, owner)
+    function.__qualname__ = qualname
+    function.__module__ = module
     return function
 
 
