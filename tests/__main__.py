@@ -28,12 +28,14 @@ code iecoop generates, not how Python runs it).
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import dataclasses
 import os
 import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -61,24 +63,48 @@ class Outcome:
     counts: str = ""
 
 
-def _run(gate: Gate) -> Outcome:
-    print(f"\n=== {gate.title}: {' '.join(gate.command)}", flush=True)
+_print_lock = threading.Lock()
+
+
+def _run(gate: Gate, *, live: bool = True) -> Outcome:
+    """Run one gate; ``live=False`` (gates running side by side) prints its output in one piece at the end."""
+    header = f"\n=== {gate.title}: {' '.join(gate.command)}"
+    if live:
+        print(header, flush=True)
     started = time.monotonic()
     process = subprocess.Popen(
         gate.command, cwd=ROOT, env={**os.environ, **gate.env}, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
     )
     assert process.stdout is not None
     counts = ""
-    for line in process.stdout:  # shown as it comes; pytest's last line gives the counts
-        print(line, end="", flush=True)
+    kept: list[str] = []
+    for line in process.stdout:  # pytest's last line gives the counts
+        if live:
+            print(line, end="", flush=True)
+        else:
+            kept.append(line)
         found = _SUMMARY.search(line)
         if found:
             counts = found.group(1)
     code = process.wait()
     seconds = time.monotonic() - started
     verdict = "ok" if code == 0 else "FAILED"
-    print(f"=== {gate.title}: {verdict if code == 0 else f'FAILED (exit {code})'} in {seconds:.1f} s", flush=True)
+    footer = f"=== {gate.title}: {verdict if code == 0 else f'FAILED (exit {code})'} in {seconds:.1f} s"
+    with _print_lock:
+        if not live:
+            print(header + "\n" + "".join(kept), end="", flush=True)
+        print(footer, flush=True)
     return Outcome(gate.title, verdict, seconds, counts)
+
+
+#: The pytest passes run two at a time: each is one process on one core, and the machine has two.
+JOBS = 2
+
+
+def run_side_by_side(gates: Sequence[Gate], jobs: int = JOBS) -> list[Outcome]:
+    """Run ``gates`` ``jobs`` at a time (longest first is the caller's order); outcomes in the given order."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(lambda gate: _run(gate, live=jobs == 1), gates))
 
 
 def pytest_gates(python: str, label: str = "", *, fast_mode: bool = True) -> list[Gate]:
@@ -134,8 +160,10 @@ def prepare_venv(python: str, version: str) -> tuple[str | None, Outcome]:
     return (str(venv_python) if installed.verdict == "ok" else None), installed
 
 
-def other_pythons(versions: Sequence[str], ci: bool) -> list[Outcome]:
+def other_pythons(versions: Sequence[str], ci: bool, gates: list[Gate] | None = None) -> list[Outcome]:
+    """Prepare each other interpreter's environment and add its pytest pass to ``gates``; the failures so far."""
     outcomes: list[Outcome] = []
+    gates = [] if gates is None else gates
     here = "%d.%d" % sys.version_info[:2]
     for version in versions:
         if version == here:
@@ -151,7 +179,7 @@ def other_pythons(versions: Sequence[str], ci: bool) -> list[Outcome]:
         if venv_python is None:
             outcomes.append(prepared)
             continue
-        outcomes += [_run(gate) for gate in pytest_gates(venv_python, f"CPython {version}", fast_mode=False)]
+        gates += pytest_gates(venv_python, f"CPython {version}", fast_mode=False)
     return outcomes
 
 
@@ -168,17 +196,20 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser.error(f"--pythons takes versions like 3.12, not {version!r}")
     os.environ.setdefault("PYTHONHASHSEED", "0")
     python = sys.executable
-    gates = pytest_gates(python)
+    started = time.monotonic()
+    # mypy and the docs first, one after the other (the docs build writes its generated pages into docs/)
+    outcomes = [
+        _run(Gate("mypy", [python, "-m", "mypy", "--strict"])),
+        # -E: a fresh environment, so pages the docs build generates and later removes leave nothing stale behind
+        _run(Gate("docs", [python, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"])),
+    ]
+    # then every pytest pass, each in its own process and temporary folders, two at a time, the longest first
+    gates: list[Gate] = []
     if args.slow:
         gates.append(Gate("slow tests", [python, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow", "tests"]))
-    gates += [
-        Gate("mypy", [python, "-m", "mypy", "--strict"]),
-        # -E: a fresh environment, so pages the docs build generates and later removes leave nothing stale behind
-        Gate("docs", [python, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html", "docs", "docs/_build/html"]),
-    ]
-    started = time.monotonic()
-    outcomes = [_run(gate) for gate in gates]
-    outcomes += other_pythons(versions, ci=os.environ.get("CI", "").lower() == "true")
+    gates += pytest_gates(python)
+    outcomes += other_pythons(versions, ci=os.environ.get("CI", "").lower() == "true", gates=gates)
+    outcomes += run_side_by_side(gates)
     print("\nsummary:")
     for outcome in outcomes:
         counts = f"  ({outcome.counts})" if outcome.counts else ""
