@@ -120,12 +120,17 @@ def load(
     *,
     profile: str | None = None,
     externals: Mapping[str, Callable[..., Any]] | None = None,
+    package: str | None = None,
 ) -> StModule:
     """Load Structured Text as live iecoop classes and instances (see the module docstring).
 
     ``profile`` ("twincat" or "codesys") is active while the PROGRAM and GVL
     instances are created; ``externals`` binds FUNCTIONs declared without a
-    body (or marked ``{external}``) to Python callables.
+    body (or marked ``{external}``) to Python callables. ``package`` is the
+    Python package the loaded POUs belong to, the namespace INTERNAL is
+    checked against (a TwinCAT PLC project or library is one namespace): by
+    default the text is a namespace of its own, so only its own code reaches
+    its INTERNAL members; with ``package="plant"`` code in ``plant`` does too.
     """
     from iecoop.profiles import use_profile
     translate = _translator()
@@ -133,7 +138,9 @@ def load(
     externals = dict(externals or {})
     text, names = translate(parse_sources(source), externals=list(externals))
     number = next(_counter)
-    module_name = f"iecoop_st_{number}"
+    if package is not None and not all(part.isidentifier() for part in package.split(".")):
+        raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
+    module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
     linecache.cache[filename] = (len(text), None, text.splitlines(keepends=True), filename)
     code = compile(text, filename, "exec")

@@ -78,6 +78,10 @@ def rebound(module: types.ModuleType, loaded: types.ModuleType) -> Iterator[list
 def load_back(module: types.ModuleType, format: str = "twincat") -> types.ModuleType:
     """Export ``module``'s declared classes (``format`` "twincat" or "st") to a scratch folder and ``st.load`` it.
 
+    The loaded POUs belong to ``module``'s package (``st.load(package=...)``),
+    as the Python classes did, so the module's code still reaches their
+    INTERNAL members.
+
     Raises what :func:`~iecoop.st.export` raises for a statement outside the
     translated subset, and what :func:`~iecoop.st.load` raises for text it
     cannot read.
@@ -88,7 +92,7 @@ def load_back(module: types.ModuleType, format: str = "twincat") -> types.Module
         raise ValueError(f"round_trip format must be one of {', '.join(map(repr, FORMATS))}, got {format!r}")
     with tempfile.TemporaryDirectory(prefix="iecoop_round_trip_") as folder:
         st.export(module, folder, format=format)
-        return st.load(folder)
+        return st.load(folder, package=module.__name__.partition(".")[0])
 
 
 @contextlib.contextmanager

@@ -453,6 +453,37 @@ def test_external_function_must_be_bound() -> None:
         st.load("FUNCTION F_Missing : INT\nVAR_INPUT x : INT; END_VAR\nEND_FUNCTION\n")
 
 
+_INTERNAL_METHOD = """
+FUNCTION_BLOCK FB_Valve
+VAR nOpened : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD INTERNAL Service : INT
+nOpened := nOpened + 1;
+Service := nOpened;
+END_METHOD
+"""
+
+
+def test_internal_members_are_reached_only_from_the_loaded_package() -> None:
+    from iecoop import AccessError
+
+    own = st.load(_INTERNAL_METHOD)
+    with pytest.raises(AccessError, match=r"INTERNAL members are callable only inside the package 'iecoop_st_\d+'"):
+        own.FB_Valve().Service()
+    shared = st.load(_INTERNAL_METHOD, package="tests")
+    valve = shared.FB_Valve()
+    assert (valve.Service(), valve.Service()) == (1, 2)
+    assert shared.__name__.startswith("tests.")
+    outside = st.load(_INTERNAL_METHOD, package="plant")
+    with pytest.raises(AccessError, match="inside the package 'plant'"):
+        outside.FB_Valve().Service()
+
+
+def test_package_must_be_a_dotted_name() -> None:
+    with pytest.raises(ValueError, match="package must be a dotted Python name"):
+        st.load(_INTERNAL_METHOD, package="my plant")
+
+
 def test_syntax_error_names_file_and_line(tmp_path: Any) -> None:
     path = tmp_path / "broken.st"
     path.write_text("PROGRAM MAIN\nVAR x : INT; END_VAR\nx := := 1;\nEND_PROGRAM\n")
