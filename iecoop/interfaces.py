@@ -134,7 +134,9 @@ def _build_interface(cls: type) -> None:
         if record is not None:
             members.update(record.members)
     members.update(own)
-    type.__setattr__(cls, "__iec__", IecClass(Kind.INTERFACE).finished(members=members))
+    record = IecClass(Kind.INTERFACE)
+    record.complete(members=members)
+    type.__setattr__(cls, "__iec__", record)
 
 
 def interface_members(iface: type) -> dict[str, Member]:

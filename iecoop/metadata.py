@@ -56,12 +56,6 @@ class IecClass:
     #: The VAR_STAT variables this class declares (kept in its static block).
     static_fields: tuple[FieldRecord, ...] = ()
 
-    def finished(self, **changes: Any) -> IecClass:
-        """The record with what the later build phases add (its layout, members, statics)."""
-        if "members" in changes:
-            changes["members"] = MappingProxyType(dict(changes["members"]))
-        return dataclasses.replace(self, **changes)
-
     def complete(self, **changes: Any) -> None:
         """Fill in what the later build phases add (layout, members, statics), while the class is being built.
 

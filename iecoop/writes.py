@@ -82,7 +82,8 @@ def write_rule(record: FieldRecord) -> WriteRule:
     return WriteRule(_validator(record), record.where, spec.section, spec.method, spec.constant, inside_only)
 
 
-def _write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
+def write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
+    """Every variable's rule of a block class (its layout and its VAR_STAT), by name."""
     rules = {record.name: write_rule(record) for record in layout.fields}
     inside_only = SECTION_RULES[Section.VAR_STAT].inside_only
     for record in cls.__iec__.static_fields:
@@ -169,14 +170,9 @@ def fast_writes(layout: ClassLayout, rules: dict[str, WriteRule]) -> dict[str, F
     return fast
 
 
-def write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
-    """Every variable's rule of a block class (its layout and its VAR_STAT), by name."""
-    return _write_rules(cls, layout)
-
-
 def pou_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
     """The checked ``__setattr__`` of a FUNCTION_BLOCK or PROGRAM; sets ``cls._iec_write_rules_``."""
-    rules = cls._iec_write_rules_ = _write_rules(cls, layout)
+    rules = cls._iec_write_rules_ = write_rules(cls, layout)
     for record in layout.own:
         field = cls.__dict__.get(record.name)
         if isinstance(field, CheckedMemberField):

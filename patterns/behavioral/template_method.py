@@ -170,25 +170,6 @@ def floor_dint(value: LREAL) -> DINT:
     return whole
 
 
-def step_name(step: HomingStep) -> STRING:
-    """``FUNCTION F_StepName : STRING``: the name of a step, for the HMI's error text."""
-    if step == HomingStep.PRECONDITIONS:
-        return "PRECONDITIONS"
-    if step == HomingStep.APPROACH:
-        return "APPROACH"
-    if step == HomingStep.EDGE:
-        return "EDGE"
-    if step == HomingStep.BACK_OFF:
-        return "BACK_OFF"
-    if step == HomingStep.SET_POSITION:
-        return "SET_POSITION"
-    if step == HomingStep.DONE:
-        return "DONE"
-    if step == HomingStep.ERROR:
-        return "ERROR"
-    return "IDLE"
-
-
 # ---------------------------------------------------------------------------
 # The axis
 # ---------------------------------------------------------------------------
@@ -433,7 +414,7 @@ class AxisHoming(FunctionBlock, IHoming, abstract=True):
         elif self.step_timer.Q:
             self.drive.halt()
             self.busy, self.error, self.error_step = False, True, step
-            self.error_text = f"{step_name(step)} timed out after {TIME_TO_DINT(self.timeout)} ms"
+            self.error_text = f"{step.name} timed out after {TIME_TO_DINT(self.timeout)} ms"
             self.current = HomingStep.ERROR
         return self.done
 
