@@ -11,6 +11,7 @@ in ``addData`` blocks under CODESYS's own names.
 
 from __future__ import annotations
 
+import re
 import uuid
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Sequence
@@ -207,11 +208,35 @@ def _add_data(parent: ET.Element, name: str) -> ET.Element:
     return _sub(add, "data", name=_CODESYS + name, handleUnknown="implementation")
 
 
+#: ``{attribute 'name'}`` or ``{attribute 'name' := 'value'}`` on a line of its own.
+_PRAGMA = re.compile(r"^\{attribute '([^']+)'(?:\s*:=\s*'([^']*)')?\}$")
+
+
+def _pragmas(text: str) -> list[tuple[str, str]]:
+    """The attribute pragmas written above a declaration's first line, as (name, value)."""
+    found = []
+    for line in text.splitlines():
+        match = _PRAGMA.match(line.strip())
+        if match is None:
+            break
+        found.append((match.group(1), match.group(2) or ""))
+    return found
+
+
+def _attributes(parent: ET.Element, pragmas: Sequence[tuple[str, str]]) -> None:
+    """CODESYS keeps an object's ``{attribute ...}`` pragmas in an addData block of this name."""
+    if pragmas:
+        attributes = ET.SubElement(_add_data(parent, "attributes"), _q("Attributes"))
+        for name, value in pragmas:
+            ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": value})
+
+
 def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
     interface = _sub(parent, "interface")
     if part.result is not None:
         _type(_sub(interface, "returnType"), part.result)
     _parameter_vars(interface, part.inputs, where)
+    _attributes(interface, _pragmas(part.header))
 
 
 def _parameter_vars(interface: ET.Element, params: Sequence[tuple[str, TypeInfo, Any]], where: str) -> None:
@@ -288,11 +313,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         for name, value in enum_members(meta.cls):
             _sub(values, "value", name=name, value=str(value))
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
-        if unit.attributes:
-            # CODESYS keeps an object's {attribute ...} pragmas in this addData block.
-            attributes = ET.SubElement(_add_data(data_type, "attributes"), _q("Attributes"))
-            for name in unit.attributes:
-                ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": ""})
+        _attributes(data_type, [(name, "") for name in unit.attributes])
     elif unit.kind == "alias":
         from iecoop.memory.typeinfo import resolve_type
 
@@ -355,6 +376,7 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
                 _sections(interface, [f for f in unit.meta.fields if f.section != "VAR_INST"], unit.name)
             else:
                 _function_interface(interface, unit)
+            _attributes(interface, _pragmas(unit.declaration))
             _st_body(pou, unit.implementation)
             _members(pou, unit, True)
             _inheritance(pou, unit)
@@ -378,5 +400,6 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
                     var = _sub(block, "variable", name=var_name)
                     _sub(_sub(var, "type"), type_name if "(" not in type_name else "string")
                     _sub(_sub(var, "initialValue"), "simpleValue", value=value)
+            _attributes(block, _pragmas(unit.declaration))
     ET.indent(project, "  ")
     return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(project, encoding="unicode") + "\n"

@@ -264,6 +264,7 @@ def _check_required(node: Any, where: str) -> None:
 
 
 #: The TC6 XML 2.01 schema itself (see data/plcopen/README.md), loaded once.
+TC6 = "http://www.plcopen.org/xml/tc6_0201"
 TC6_SCHEMA = xmlschema.XMLSchema(Path(__file__).parent / "data" / "plcopen" / "tc6_xml_v201.xsd")
 
 
@@ -333,3 +334,32 @@ def test_plcopen_validation_rejects_what_the_schema_forbids(tmp_path: Path) -> N
     bad.write_text(text.replace("<types>", "<types><notAnElement/>", 1))
     with pytest.raises(xmlschema.XMLSchemaValidationError, match="notAnElement"):
         validate_plcopen(bad)
+
+
+def _attribute_names(element: Any) -> list[str]:
+    data = f"{{{TC6}}}addData/{{{TC6}}}data[@name='http://www.3s-software.com/plcopenxml/attributes']"
+    return [a.get("Name") for a in element.iterfind(f"{data}/{{{TC6}}}Attributes/{{{TC6}}}Attribute")]
+
+
+def test_plcopen_carries_the_attribute_pragmas(tmp_path: Path) -> None:
+    import xml.etree.ElementTree as ET
+
+    proxy = importlib.import_module("patterns.structural.proxy")
+    singleton = importlib.import_module("patterns.creational.singleton")
+    (proxied,) = export(proxy, tmp_path / "proxy", format="plcopen")
+    validate_plcopen(proxied)
+    root = ET.parse(proxied).getroot()
+    marked = [
+        pou.get("name") for pou in root.iter(f"{{{TC6}}}pou")
+        if "call_after_init" in _attribute_names(pou.find(f"{{{TC6}}}interface"))
+    ]
+    methods = [
+        m.get("name") for m in root.iter(f"{{{TC6}}}Method")
+        if "call_after_init" in _attribute_names(m.find(f"{{{TC6}}}interface"))
+    ]
+    # The FUNCTION_BLOCK and the METHOD both carry it, as in the TwinCAT declaration text.
+    assert marked and methods == ["wire"] * len(marked)
+    (single,) = export(singleton, tmp_path / "singleton", format="plcopen")
+    validate_plcopen(single)
+    lists = {g.get("name"): _attribute_names(g) for g in ET.parse(single).getroot().iter(f"{{{TC6}}}globalVars")}
+    assert lists["GVL_PlantEvents"] == ["qualified_only"] and lists["GVL_Constants"] == []
