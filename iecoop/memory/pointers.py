@@ -27,7 +27,9 @@ from iecoop.memory._core import (
     signed_offset,
     target_root,
 )
+from iecoop.exceptions import DefinitionError
 from iecoop.memory.arrays import ARRAY
+from iecoop.memory.references import REFERENCE, ReferenceInfo
 
 __all__ = ["POINTER_TO", "Pointer", "PointerInfo"]
 
@@ -270,6 +272,9 @@ def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: ob
     if annotation is Pointer:
         return PointerInfo(lambda: None, "PVOID")
     (target_annotation,) = typing.get_args(annotation) or (None,)
+    if typing.get_origin(target_annotation) is typing.Annotated and REFERENCE in target_annotation.__metadata__:
+        # CODESYS: a reference type is never the base type of an array, a pointer or a reference.
+        raise DefinitionError(f"{where}: POINTER TO REFERENCE is not allowed; point to the referenced type instead")
     to_array = typing.get_origin(target_annotation) is ARRAY
     if not to_array:
         _check_plain(None, bounds, where, "POINTER")
@@ -278,7 +283,10 @@ def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: ob
         if target_annotation is None or target_annotation is Any:
             return None
         # bounds= belong to a pointed-to ARRAY (POINTER TO ARRAY[1..8] OF INT)
-        return resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
+        target = resolve_type(target_annotation, where, length=length, bounds=bounds if to_array else None, resolver=resolver)
+        if isinstance(target, ReferenceInfo):  # named by a string, so seen only now
+            raise DefinitionError(f"{where}: POINTER TO REFERENCE is not allowed; point to the referenced type instead")
+        return target
 
     return PointerInfo(thunk, _annotation_name(target_annotation))
 

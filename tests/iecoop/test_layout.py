@@ -718,3 +718,17 @@ def test_a_reference_to_a_reference_is_refused_at_definition_however_it_nests() 
     with pytest.raises(DefinitionError, match=r"Named\.r: REFERENCE TO REFERENCE TO INT is not allowed"):
         class Named(Struct):
             r: REFERENCE_TO["REFERENCE_TO[INT]"] = VAR()
+
+
+def test_a_pointer_to_a_reference_is_refused_at_definition() -> None:
+    """CODESYS: a reference type is never the base type of an array, a pointer or a reference."""
+    with pytest.raises(DefinitionError, match=r"Pointing\.p: POINTER TO REFERENCE is not allowed"):
+        class Pointing(Struct):
+            p: POINTER_TO[REFERENCE_TO[INT]] = VAR()
+
+    class Late(Struct):
+        p: POINTER_TO["REFERENCE_TO[INT]"] = VAR()  # a target named by a string is resolved at first use
+
+    late = Late()
+    with pytest.raises(DefinitionError, match=r"Late\.p: POINTER TO REFERENCE is not allowed"):
+        late.p.deref
