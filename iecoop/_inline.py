@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import __future__
 import ast
-import copy
 import functools
 import inspect
 import linecache
@@ -41,6 +40,7 @@ from collections.abc import Callable
 from typing import Any
 
 from iecoop.literals import D, T
+from iecoop.memory._core import keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
@@ -160,9 +160,38 @@ def _with_members(
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
         statements = [_MemberCalls(members, names).visit(statement) for statement in statements]
-        aliases = {member: alias for member, (alias, _cls) in members.items()}
-        statements = [_MemberReads(aliases).visit(statement) for statement in statements]
+        keys = {member: key for member, (key, _cls) in members.items()}
+        statements = [_MemberReads(keys).visit(statement) for statement in statements]
+        statements = _with_views_kept(statements, set(keys.values()), names)
     return statements
+
+
+def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any]) -> list[ast.stmt]:
+    """``statements``, first making sure the member views they read are kept under their keys.
+
+    ::
+
+        try:
+            self._iec_m_0timer
+        except AttributeError:
+            _iec_w_keep_views(self)
+
+    One key present means every key of the instance's class is (``keep_member_views``).
+    """
+    used = sorted(
+        n.attr for statement in statements for n in ast.walk(statement)
+        if isinstance(n, ast.Attribute) and n.attr in keys and isinstance(n.value, ast.Name) and n.value.id == "self"
+    )
+    if not used:
+        return statements
+    keep, error = f"{_STORE}keep_views", f"{_STORE}attribute_error"
+    # The builtin itself: the body's module may bind the name AttributeError to something else.
+    names.update({keep: keep_member_views, error: AttributeError})
+    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=used[0], ctx=ast.Load()))
+    fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
+    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
+    prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
+    return [prologue, *statements]
 
 
 def _call_function(
@@ -172,6 +201,8 @@ def _call_function(
     """``__call__`` from the merged code: the body's globals and cells, a new cell for each of the call's names."""
     code = body.__code__
     cells = dict(zip(code.co_freevars, body.__closure__ or ()))
+    # A cell among the names is shared as it is: a member class's direct-call cell, which its class keeps current.
+    cells.update((v, value) for v, value in names.items() if isinstance(value, types.CellType))
     closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
     function = types.FunctionType(merged, body.__globals__, "__call__", None, closure)
     function.__kwdefaults__ = dict(kwdefaults)
@@ -268,7 +299,7 @@ class _OwnCode(ast.NodeTransformer):
 
 
 class _MemberReads(_OwnCode):
-    """``self.timer`` (a read) becomes ``self._iec_m_timer``, what the member property's getter reads."""
+    """``self.timer`` (a read) becomes ``self._iec_m_0timer``, the view the member property's getter returns."""
 
     def __init__(self, aliases: dict[str, str]) -> None:
         self.aliases = aliases
@@ -322,10 +353,12 @@ class _MemberCalls(_OwnCode):
 
     Python runs ``type(view).__call__`` with the arguments packed into a tuple
     and a dict and unpacked again; a member's view is always of its declared
-    class, so the call is made directly, guarded by that class's ``__call__``
-    still being the one found when the block was built::
+    class, so the call is made directly, through the cell the class keeps
+    (``_iec_call_cell_``): it holds the class's built ``__call__`` while that is
+    the class's ``__call__``, and a function making Python's ordinary call once
+    the class's ``__call__`` is rebound or deleted::
 
-        (_call(self._iec_m_timer, IN=x) if _class.__call__ is _call else self._iec_m_timer(IN=x))
+        _iec_w_call_timer(self._iec_m_0timer, IN=x)
     """
 
     def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any]) -> None:
@@ -336,18 +369,15 @@ class _MemberCalls(_OwnCode):
         func = node.func
         if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
             return node
-        alias, cls = self.members.get(func.attr, ("", None))
-        call: Any = getattr(cls, "__call__", None) if cls is not None else None
-        if not isinstance(call, types.FunctionType):
+        key, cls = self.members.get(func.attr, ("", None))
+        cell = cls.__dict__.get("_iec_call_cell_") if cls is not None else None
+        if not isinstance(cell, types.CellType):
             return node
-        known, klass = f"{_STORE}call_{func.attr}", f"{_STORE}class_{func.attr}"
-        self.names.update({known: call, klass: cls})
-        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=alias, ctx=ast.Load())
+        known = f"{_STORE}call_{func.attr}"
+        self.names[known] = cell
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
         direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
-        current = ast.Attribute(value=ast.Name(id=klass, ctx=ast.Load()), attr="__call__", ctx=ast.Load())
-        test = ast.Compare(left=current, ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
-        # The arguments appear in both branches (one runs): the fallback gets its own copy of their nodes.
-        return ast.copy_location(ast.IfExp(test=test, body=direct, orelse=copy.deepcopy(node)), node)
+        return ast.copy_location(direct, node)
 
 
 class _DirectStores(_OwnCode):

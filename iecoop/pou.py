@@ -52,6 +52,7 @@ from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
+    VIEW_PREFIX,
     TypeInfo,
     _MemberProperty,
     new_class_tag,
@@ -166,6 +167,29 @@ class _PouMeta(_PouMetaBase):
         builder: _PouBuilder | None = take_over(cls)
         if builder is not None:
             builder.build(cls)
+
+    def __setattr__(cls, name: str, value: Any) -> None:
+        super().__setattr__(name, value)
+        if name == "__call__":
+            _follow_call(cls)
+
+    def __delattr__(cls, name: str) -> None:
+        super().__delattr__(name)
+        if name == "__call__":
+            _follow_call(cls)
+
+
+def _follow_call(cls: Any) -> None:
+    """``Class.__call__`` rebound or deleted: the compiled calls of its holders call it as Python's call would."""
+    cell = cls.__dict__.get("_iec_call_cell_")
+    if cell is not None:
+        built = cls.__dict__["_iec_built_call_"]
+        cell.cell_contents = built if cls.__dict__.get("__call__") is built else _call_as_python_does
+
+
+def _call_as_python_does(view: Any, /, *args: Any, **inputs: Any) -> None:
+    """A member call once its class's ``__call__`` is no longer the one built: Python's call protocol."""
+    view(*args, **inputs)
 
 
 def _kind_word(cls_or_kind: Any) -> str:
@@ -364,7 +388,13 @@ class _PouBuilder:
         )
         temps = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.REINITIALISED]
         cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
-        cls.__call__ = _make_call(cls, layout)
+        cls._iec_view_keys_ = tuple(
+            (d.alias, sys.intern(VIEW_PREFIX + r.name)) for r in layout.fields
+            if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+        )
+        cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
+        # What a holder's compiled call calls for `self.member(...)` of this class (see _follow_call).
+        cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout)
 
@@ -646,11 +676,12 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         stores: dict[str, FastWrite] = fast_writes(layout, write_rules(cls, layout)) if _config.CHECKS else {}
-        # A block member's read `self.timer` is its property's getter, attrgetter(alias): the call reads the alias.
+        # A block member's read `self.timer` is its property's getter, attrgetter(alias), which keeps the view;
+        # the call reads the same view under a key with no class attribute (see VIEW_PREFIX).
         # A member declared as one block is a view of exactly that class (its memory holds that type).
         members = {
-            r.name: (d.alias, r.info.cls if isinstance(r.info, AggregateInfo) else None)
-            for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+            r.name: (sys.intern(VIEW_PREFIX + r.name), r.info.cls if isinstance(r.info, AggregateInfo) else None)
+            for r in layout.fields if isinstance(getattr(cls, r.name, None), _MemberProperty)
         }
         inlined = inline_call(name, body, params, lines, globs, given, cls, stores, members)
         if inlined is not None:
@@ -691,6 +722,8 @@ class _PouMixin:
     #: The code this class's body defined, and with its bases' (see members.own_code).
     _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
+    #: (alias, key) of each block member: where keep_member_views puts the view the compiled call reads.
+    _iec_view_keys_: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: Instances start with a type tag, so a pointer, reference or interface to a
     #: base block dereferences to the derived block it designates (virtual calls).
     _iec_tagged_: ClassVar[bool] = True

@@ -313,14 +313,43 @@ def test_a_member_read_in_the_body_and_after_delete() -> None:
     for clk in (True, False, True, True, False, True):
         edge(clk=clk)
     assert (edge.rising, edge.trig.M) == (3, True)
-    assert "_iec_m_trig" in Edge.__call__.__code__.co_names  # the member's alias, read in C
+    assert "_iec_m_0trig" in Edge.__call__.__code__.co_names  # the member's kept view, an instance attribute
+    assert edge.__dict__["_iec_m_0trig"] is edge.trig  # the view the member's property returns
     pointer = new(Edge)
     block = pointer.deref
     block(clk=True)
     delete(pointer)
-    with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
-        getattr(block, "_iec_m_trig")  # what the compiled call reads for self.trig
-    assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
+    for key in ("_iec_m_0trig", "_iec_m_trig"):  # what the compiled call reads for self.trig, and the alias
+        with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
+            getattr(block, key)
+        assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
+
+
+_SHADOW_SOURCE = """
+AttributeError = None  # the module's own name: the call must still catch the builtin
+
+
+class Pulse(FunctionBlock):
+    run: BOOL = VAR_INPUT(False)
+    timer: TON = VAR()
+
+    def body(self) -> None:
+        self.timer(IN=self.run, PT=T("20ms"))
+"""
+
+
+def test_member_views_are_kept_at_the_first_call_whatever_the_module_names() -> None:
+    filename = "<iecoop test: shadowing module>"
+    try:
+        module = _module_with_source(_SHADOW_SOURCE, filename)
+        pulse = module["Pulse"]()
+        assert "_iec_m_0timer" not in pulse.__dict__
+        pulse(run=True)  # the first call keeps the view, although the module's AttributeError is None
+        assert pulse.__dict__["_iec_m_0timer"] is pulse.timer and pulse.timer.IN is True
+        pulse(run=False)
+        assert pulse.timer.IN is False
+    finally:
+        del linecache.cache[filename]
 
 
 def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
@@ -358,6 +387,24 @@ def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
     assert seen == [True, True] and holder.inner.count == 2
     holder(go=True)
     assert holder.inner.count == 4
+    del Pulse.__call__  # no __call__ left on the class: a view of it is not callable, as Python says
+    with pytest.raises(TypeError, match="'Pulse' object is not callable"):
+        holder(go=True)
+    setattr(Pulse, "__call__", replaced)  # rebound before a holder is built: that holder calls the new one too
+
+    class Later(FunctionBlock):
+        inner: Pulse = VAR()
+
+        def body(self) -> None:
+            self.inner(go=True)
+
+    later = Later()
+    later()
+    assert seen == [True, True, True] and later.inner.count == 0
+    Pulse.__call__ = original  # type: ignore[method-assign]
+    later()
+    holder(go=False)
+    assert later.inner.count == 1 and holder.inner.count == 4 and holder.inner.go is False
 
 
 def test_a_member_call_refuses_what_the_call_refuses() -> None:
