@@ -20,6 +20,7 @@ from iecoop import (
     PRIVATE,
     TIME,
     VAR,
+    VAR_IN_OUT,
     VAR_INPUT,
     VAR_OUTPUT,
     AccessError,
@@ -27,6 +28,7 @@ from iecoop import (
     PlcException,
     T,
     _config,
+    adr,
     delete,
     method,
     new,
@@ -405,6 +407,72 @@ def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
     later()
     holder(go=False)
     assert later.inner.count == 1 and holder.inner.count == 4 and holder.inner.go is False
+
+
+class Mixer(FunctionBlock):
+    """Three inputs and an in-out: a member call may give any of the inputs, in any order."""
+
+    a: INT = VAR_INPUT(0)
+    b: INT = VAR_INPUT(0)
+    c: INT = VAR_INPUT(0)
+    total: INT = VAR_IN_OUT()
+
+    def body(self) -> None:
+        self.total = self.a * 100 + self.b * 10 + self.c
+
+
+class Station(FunctionBlock):
+    """Calls its Mixer with the keywords in the declared order, with gaps, and out of order."""
+
+    step: INT = VAR_INPUT(0)
+    total: INT = VAR_OUTPUT(0)
+    mixer: Mixer = VAR()
+
+    def body(self) -> None:
+        if self.step == 1:
+            self.mixer(a=1, c=3, total=adr(self, "total"))  # in order, b not given: kept from the last call
+        elif self.step == 2:
+            self.mixer(c=note(7), a=note(5), total=adr(self, "total"))  # out of order: evaluated as written
+        elif self.step == 3:
+            self.mixer(b=2)  # type: ignore[call-arg]  # no in-out: refused as the call refuses it
+
+
+_noted: list[int] = []
+
+
+def note(value: int) -> int:
+    _noted.append(value)
+    return value
+
+
+def test_member_call_inputs_by_position_or_as_written() -> None:
+    station = Station()
+    code = Station.__call__.__code__
+    assert {"_iec_w_position_mixer", "_iec_w_call_mixer"} <= set(code.co_freevars)
+    station.mixer(b=4, total=adr(station, "total"))
+    station(step=1)
+    assert (station.total, station.mixer.b) == (143, 4)
+    _noted.clear()
+    station(step=2)
+    assert (station.total, _noted) == (547, [7, 5])
+    with pytest.raises(TypeError, match=r"Mixer: VAR_IN_OUT 'total' must be assigned at every call"):
+        station(step=3)
+    seen: list[dict[str, Any]] = []
+    original = Mixer.__call__
+
+    def replaced(self: Any, **inputs: Any) -> None:
+        seen.append(inputs)
+
+    Mixer.__call__ = replaced  # type: ignore[method-assign]
+    try:
+        station(step=1)
+        station(step=3)
+    finally:
+        Mixer.__call__ = original  # type: ignore[method-assign]
+    # Rebound: the new __call__ gets the inputs given, by name, and nothing for those not given.
+    assert [sorted(inputs) for inputs in seen] == [["a", "c", "total"], ["b"]]
+    station(step=1)
+    assert station.total == 123 and station.mixer.b == 2
 
 
 def test_a_member_call_refuses_what_the_call_refuses() -> None:
