@@ -11,6 +11,8 @@ from __future__ import annotations
 import copy
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, PlcException, Program, T, delete, method, new
 from iecoop.exceptions import ExceptionCode
@@ -114,6 +116,20 @@ def test_array_of_fb_indexes_only_with_an_int_whatever_was_indexed_first(first: 
     assert holders[Index(3)] is holders[3] and holders[Index(3)] is not holders[2]
     holders[Index(1)](go=True)
     assert [holders[i].go for i in (1, 2, 3)] == [True, False, False]
+
+
+_CELL = Cell()
+
+
+@given(st.one_of(st.integers(-3, 7), st.booleans(), st.floats(-3, 7), st.integers(-3, 7).map(Index)))
+def test_an_array_of_fb_index_is_an_int_in_bounds_whatever_its_value_equals(index: object) -> None:
+    holders = _CELL.holders
+    if isinstance(index, int) and not isinstance(index, bool) and 1 <= index <= 3:
+        assert holders[index] is holders[int(index)]
+    else:
+        with pytest.raises(PlcException) as info:
+            _ = holders[index]  # type: ignore[index]
+        assert info.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
 
 
 def test_the_compiled_call_reads_the_views_its_members_return() -> None:
