@@ -19,9 +19,11 @@ body or one made by ``exec`` without its source is left alone), it takes
 call's names. Otherwise the call calls the body, as before.
 
 Compiled into the call, four of the body's own operations take the cheaper
-way to the same result: a block member read ``self.timer`` reads the alias its
-property's getter reads; a member call ``self.timer(IN=x)`` calls the member
-class's ``__call__`` directly while it is the one found at build; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
+way to the same result: a block member read ``self.timer`` reads the view its
+property's getter returns, kept as an instance attribute; a member call
+``self.timer(IN=x)`` calls the member class's call directly (inputs by
+position when the keywords follow the declared order) while it is the
+class's ``__call__``; ``T("200ms")`` (and D, LTIME, TOD, DT) is read when
 the class is built, guarded by the name still being iecoop's literal; and in
 checked mode ``self.x = value`` is written out as the work the checked
 ``__setattr__`` does for ``x``.
@@ -31,7 +33,6 @@ from __future__ import annotations
 
 import __future__
 import ast
-import copy
 import functools
 import inspect
 import linecache
@@ -41,6 +42,7 @@ from collections.abc import Callable
 from typing import Any
 
 from iecoop.literals import D, T
+from iecoop.memory._core import keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
@@ -51,6 +53,8 @@ for _feature in __future__.all_feature_names:
     _FUTURE_FLAGS |= getattr(__future__, _feature).compiler_flag
 _NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR | inspect.CO_ITERABLE_COROUTINE
 _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
+#: ``direct(cls)``: the cell a member call calls ``cls`` through with the inputs by position, and their order.
+Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
@@ -60,9 +64,13 @@ _VALUE = f"{_STORE}value"
 def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
-    members: dict[str, tuple[str, type | None]],
+    members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
+
+    ``positional``: ``__call__(self, <params>)`` instead, every input by
+    position. ``direct(cls)``: the cell through which a member call passes
+    ``cls``'s inputs by position, and their order (see ``_MemberCalls``).
 
     ``stores`` (checked mode): per variable, what its checked ``__setattr__``
     does for a write (accepted class, inside only, validator, "Class.field",
@@ -88,11 +96,11 @@ def inline_call(
         return None
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
-    call = _rewritten(node, body, params, lines, names, owner, stores, members)
+    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct)
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
-    function = _call_function(merged, body, names, kwdefaults, f"{name}.__call__", owner.__module__)
+    function = _call_function(merged, body, names, {} if positional else kwdefaults, f"{name}.__call__", owner.__module__)
     # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
     adopt_code(merged, code, owner)
     return function
@@ -131,18 +139,19 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
+    positional: bool, direct: Direct | None,
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
     The rewrites add the objects their code reads to ``names``.
     """
     code = body.__code__
-    call = _with_inputs(node, params, lines)
+    call = _with_inputs(node, [p.removesuffix("=_M") for p in params] if positional else params, lines, positional)
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names)
+        call.body = _with_members(call.body, writes, members, names, direct)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     ast.fix_missing_locations(call)
@@ -151,7 +160,7 @@ def _rewritten(
 
 def _with_members(
     statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
-    members: dict[str, tuple[str, type | None]], names: dict[str, Any],
+    members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
 ) -> list[ast.stmt]:
     """``statements`` with the direct stores, then the member calls, then the member reads written out."""
     if writes:
@@ -159,10 +168,39 @@ def _with_members(
         # A store becomes a list of statements.
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
-        statements = [_MemberCalls(members, names).visit(statement) for statement in statements]
-        aliases = {member: alias for member, (alias, _cls) in members.items()}
-        statements = [_MemberReads(aliases).visit(statement) for statement in statements]
+        statements = [_MemberCalls(members, names, direct).visit(statement) for statement in statements]
+        keys = {member: key for member, (key, _cls) in members.items()}
+        statements = [_MemberReads(keys).visit(statement) for statement in statements]
+        statements = _with_views_kept(statements, set(keys.values()), names)
     return statements
+
+
+def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any]) -> list[ast.stmt]:
+    """``statements``, first making sure the member views they read are kept under their keys.
+
+    ::
+
+        try:
+            self._iec_m_0timer
+        except AttributeError:
+            _iec_w_keep_views(self)
+
+    One key present means every key of the instance's class is (``keep_member_views``).
+    """
+    used = sorted(
+        n.attr for statement in statements for n in ast.walk(statement)
+        if isinstance(n, ast.Attribute) and n.attr in keys and isinstance(n.value, ast.Name) and n.value.id == "self"
+    )
+    if not used:
+        return statements
+    keep, error = f"{_STORE}keep_views", f"{_STORE}attribute_error"
+    # The builtin itself: the body's module may bind the name AttributeError to something else.
+    names.update({keep: keep_member_views, error: AttributeError})
+    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=used[0], ctx=ast.Load()))
+    fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
+    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
+    prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
+    return [prologue, *statements]
 
 
 def _call_function(
@@ -172,6 +210,8 @@ def _call_function(
     """``__call__`` from the merged code: the body's globals and cells, a new cell for each of the call's names."""
     code = body.__code__
     cells = dict(zip(code.co_freevars, body.__closure__ or ()))
+    # A cell among the names is shared as it is: a member class's direct-call cell, which its class keeps current.
+    cells.update((v, value) for v, value in names.items() if isinstance(value, types.CellType))
     closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
     function = types.FunctionType(merged, body.__globals__, "__call__", None, closure)
     function.__kwdefaults__ = dict(kwdefaults)
@@ -232,9 +272,9 @@ def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
     return found
 
 
-def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str]) -> ast.FunctionDef:
+def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str], positional: bool) -> ast.FunctionDef:
     """The body's ``def`` with the call's signature and the input lines first, all at the ``def`` line."""
-    signature = ", ".join(["self", "*", *params]) if params else "self"
+    signature = ", ".join(["self", *params] if positional or not params else ["self", "*", *params])
     template = ast.parse(f"def {node.name}({signature}) -> None:\n" + "\n".join([*lines, "    pass"]) + "\n")
     head = template.body[0]
     assert isinstance(head, ast.FunctionDef)
@@ -268,7 +308,7 @@ class _OwnCode(ast.NodeTransformer):
 
 
 class _MemberReads(_OwnCode):
-    """``self.timer`` (a read) becomes ``self._iec_m_timer``, what the member property's getter reads."""
+    """``self.timer`` (a read) becomes ``self._iec_m_0timer``, the view the member property's getter returns."""
 
     def __init__(self, aliases: dict[str, str]) -> None:
         self.aliases = aliases
@@ -322,32 +362,51 @@ class _MemberCalls(_OwnCode):
 
     Python runs ``type(view).__call__`` with the arguments packed into a tuple
     and a dict and unpacked again; a member's view is always of its declared
-    class, so the call is made directly, guarded by that class's ``__call__``
-    still being the one found when the block was built::
+    class, so the call is made directly, through a cell the class keeps: it
+    holds the class's built call while that is the class's ``__call__``, and a
+    function making Python's ordinary call once ``__call__`` is rebound or
+    deleted. Keywords in the order the class declares its inputs (any of them
+    left out) pass by position, ``_M`` for one not given; any other call passes
+    them as written, so its arguments are still evaluated in the source's order::
 
-        (_call(self._iec_m_timer, IN=x) if _class.__call__ is _call else self._iec_m_timer(IN=x))
+        _iec_w_position_timer(self._iec_m_0timer, x, _M)    # self.timer(IN=x)
+        _iec_w_call_timer(self._iec_m_0timer, PT=t, IN=x)   # self.timer(PT=t, IN=x)
     """
 
-    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any]) -> None:
-        self.members, self.names = members, names
+    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None) -> None:
+        self.members, self.names, self.direct = members, names, direct
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
         self.generic_visit(node)
         func = node.func
         if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
             return node
-        alias, cls = self.members.get(func.attr, ("", None))
-        call: Any = getattr(cls, "__call__", None) if cls is not None else None
-        if not isinstance(call, types.FunctionType):
+        key, cls = self.members.get(func.attr, ("", None))
+        cell = cls.__dict__.get("_iec_call_cell_") if cls is not None else None
+        if cls is None or not isinstance(cell, types.CellType):
             return node
-        known, klass = f"{_STORE}call_{func.attr}", f"{_STORE}class_{func.attr}"
-        self.names.update({known: call, klass: cls})
-        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=alias, ctx=ast.Load())
-        direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
-        current = ast.Attribute(value=ast.Name(id=klass, ctx=ast.Load()), attr="__call__", ctx=ast.Load())
-        test = ast.Compare(left=current, ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
-        # The arguments appear in both branches (one runs): the fallback gets its own copy of their nodes.
-        return ast.copy_location(ast.IfExp(test=test, body=direct, orelse=copy.deepcopy(node)), node)
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
+        values = self._by_position(node, cls)
+        if values is not None:
+            known = f"{_STORE}position_{func.attr}"
+            self.names[known] = self.direct(cls)[0] if self.direct is not None else cell
+            direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *values], keywords=[])
+        else:
+            known = f"{_STORE}call_{func.attr}"
+            self.names[known] = cell
+            direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
+        return ast.copy_location(direct, node)
+
+    def _by_position(self, node: ast.Call, cls: type) -> list[ast.expr] | None:
+        """The arguments in the class's input order (``_M`` for one not given), if the keywords are in that order."""
+        if self.direct is None or node.args or any(k.arg is None for k in node.keywords):
+            return None
+        order = self.direct(cls)[1]
+        given = [k.arg for k in node.keywords]
+        if not set(given) <= set(order) or [n for n in order if n in given] != given:
+            return None  # an unknown or repeated name, or another order: the call as written
+        values = {k.arg: k.value for k in node.keywords}
+        return [values[n] if n in values else ast.Name(id="_M", ctx=ast.Load()) for n in order]
 
 
 class _DirectStores(_OwnCode):

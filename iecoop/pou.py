@@ -52,6 +52,7 @@ from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
     AggregateInfo,
     ArrayInfo,
+    VIEW_PREFIX,
     TypeInfo,
     _MemberProperty,
     new_class_tag,
@@ -166,6 +167,35 @@ class _PouMeta(_PouMetaBase):
         builder: _PouBuilder | None = take_over(cls)
         if builder is not None:
             builder.build(cls)
+
+    def __setattr__(cls, name: str, value: Any) -> None:
+        super().__setattr__(name, value)
+        if name == "__call__":
+            _follow_call(cls)
+
+    def __delattr__(cls, name: str) -> None:
+        super().__delattr__(name)
+        if name == "__call__":
+            _follow_call(cls)
+
+
+def _follow_call(cls: Any) -> None:
+    """``Class.__call__`` rebound or deleted: the compiled calls of its holders call it as Python's call would."""
+    cell = cls.__dict__.get("_iec_call_cell_")
+    if cell is None:
+        return
+    built = cls.__dict__["_iec_built_call_"]
+    same = cls.__dict__.get("__call__") is built
+    cell.cell_contents = built if same else _call_as_python_does
+    positional = cls.__dict__.get("_iec_positional_")
+    if positional is not None:
+        by_position, _order, call, by_name = positional
+        by_position.cell_contents = call if same else by_name
+
+
+def _call_as_python_does(view: Any, /, *args: Any, **inputs: Any) -> None:
+    """A member call once its class's ``__call__`` is no longer the one built: Python's call protocol."""
+    view(*args, **inputs)
 
 
 def _kind_word(cls_or_kind: Any) -> str:
@@ -364,7 +394,13 @@ class _PouBuilder:
         )
         temps = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.REINITIALISED]
         cls._iec_temp_reset_ = _temp_reset(temps) if temps else None
-        cls.__call__ = _make_call(cls, layout)
+        cls._iec_view_keys_ = tuple(
+            (d.alias, sys.intern(VIEW_PREFIX + r.name)) for r in layout.fields
+            if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+        )
+        cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
+        # What a holder's compiled call calls for `self.member(...)` of this class (see _follow_call).
+        cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout)
 
@@ -593,8 +629,12 @@ _NOT_GIVEN: Any = type("_NotGiven", (), {"__repr__": lambda self: "<not given>",
 _script_counter = [0]
 
 
-def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
-    """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``."""
+def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Callable[..., None]:
+    """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``.
+
+    ``positional``: the same call taking every input and in-out by position,
+    in declaration order, ``_M`` for one not given (see ``_positional_call``).
+    """
     inputs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.SET_IF_GIVEN]
     in_outs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.BOUND]
     name = cls.__name__
@@ -646,13 +686,16 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         stores: dict[str, FastWrite] = fast_writes(layout, write_rules(cls, layout)) if _config.CHECKS else {}
-        # A block member's read `self.timer` is its property's getter, attrgetter(alias): the call reads the alias.
+        # A block member's read `self.timer` is its property's getter, attrgetter(alias), which keeps the view;
+        # the call reads the same view under a key with no class attribute (see VIEW_PREFIX).
         # A member declared as one block is a view of exactly that class (its memory holds that type).
         members = {
-            r.name: (d.alias, r.info.cls if isinstance(r.info, AggregateInfo) else None)
-            for r in layout.fields if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
+            r.name: (sys.intern(VIEW_PREFIX + r.name), r.info.cls if isinstance(r.info, AggregateInfo) else None)
+            for r in layout.fields if isinstance(getattr(cls, r.name, None), _MemberProperty)
         }
-        inlined = inline_call(name, body, params, lines, globs, given, cls, stores, members)
+        inlined = inline_call(
+            name, body, params, lines, globs, given, cls, stores, members, positional=positional, direct=_positional_call
+        )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
             return inlined
@@ -661,7 +704,10 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
         lines.append("    _body(self)")
     else:
         lines.append("    self.body()")
-    signature = ", ".join(["self", "*", *params]) if params else "self"
+    if positional:
+        signature = ", ".join(["self", *(p.removesuffix("=_M") for p in params)])
+    else:
+        signature = ", ".join(["self", "*", *params]) if params else "self"
     source = f"def __call__({signature}) -> None:\n" + "\n".join(lines) + "\n"
     _script_counter[0] += 1
     filename = f"<iecoop generated {name}.__call__ #{_script_counter[0]}>"
@@ -672,6 +718,41 @@ def _make_call(cls: Any, layout: ClassLayout) -> Callable[..., None]:
     call.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
     own_code(call.__code__, cls)
     return call
+
+
+def _positional_call(cls: Any) -> tuple[types.CellType, tuple[str, ...]]:
+    """The cell a holder's compiled call calls ``cls`` through with the inputs by position, and their order.
+
+    ``self.timer(IN=x, PT=t)`` passes its keywords as names the callee matches
+    one by one (CPython 3.13 does not specialise such a call); with the inputs
+    by position, ``_M`` for one not given, the callee starts from its
+    arguments as they come. The positional call is built at the first holder
+    that needs it; the cell holds it while ``cls.__call__`` is the built call,
+    and a function making Python's ordinary call with the given inputs by
+    name once it is not (``_follow_call``).
+    """
+    entry = cls.__dict__.get("_iec_positional_")
+    if entry is None:
+        layout = cls._iec_layout_
+        # _make_call lists the inputs, then the in-outs, each in declaration order.
+        order = (
+            *(r.name for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.SET_IF_GIVEN),
+            *(r.name for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.BOUND),
+        )
+        call = _make_call(cls, layout, positional=True)
+        fallback = _by_name(order)
+        built = cls.__dict__.get("__call__") is cls.__dict__["_iec_built_call_"]
+        entry = (types.CellType(call if built else fallback), order, call, fallback)
+        cls._iec_positional_ = entry
+    return entry[0], entry[1]
+
+
+def _by_name(order: tuple[str, ...]) -> Callable[..., None]:
+    def call_by_name(view: Any, /, *values: Any) -> None:
+        """A positional member call once its class's ``__call__`` is rebound: Python's call, given inputs by name."""
+        view(**{name: value for name, value in zip(order, values) if value is not _NOT_GIVEN})
+
+    return call_by_name
 
 
 def _call_error(name: str, field: str) -> None:
@@ -691,6 +772,8 @@ class _PouMixin:
     #: The code this class's body defined, and with its bases' (see members.own_code).
     _iec_own_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
     _iec_codes_: ClassVar[frozenset[types.CodeType] | set[types.CodeType]] = frozenset()
+    #: (alias, key) of each block member: where keep_member_views puts the view the compiled call reads.
+    _iec_view_keys_: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: Instances start with a type tag, so a pointer, reference or interface to a
     #: base block dereferences to the derived block it designates (virtual calls).
     _iec_tagged_: ClassVar[bool] = True

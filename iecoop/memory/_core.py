@@ -288,7 +288,7 @@ class DeletedInstance(ctypes.Structure):
         if name in _CTYPES_INTERNALS or (name.startswith("__") and name.endswith("__")):
             return object.__getattribute__(self, name)
         # A block member read through its alias (as a block's own compiled call reads it) is named as declared.
-        raise _deleted_fault(self, f"{name.removeprefix(CACHE_PREFIX)!r} read")
+        raise _deleted_fault(self, f"{name.removeprefix(VIEW_PREFIX).removeprefix(CACHE_PREFIX)!r} read")
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise _deleted_fault(self, f"{name!r} written")
@@ -699,24 +699,39 @@ class CachedView:
         return view
 
 
-#: Where an ARRAY OF FB keeps its element views (``getitem`` reads it as a plain attribute).
-ELEMENT_VIEWS = f"{CACHE_PREFIX}elements"
+#: Where a block's own compiled call finds a member's view: an instance attribute with no class attribute of
+#: that name, which the interpreter's specialised attribute read answers from the instance (from CPython 3.12 on,
+#: a class attribute under the name, even a non-data descriptor such as CachedView, stops that specialisation).
+#: An identifier never starts with a digit, so no member's alias is one of these keys.
+VIEW_PREFIX = f"{CACHE_PREFIX}0"
 
 
-class ElementViews:
-    """A non-data descriptor on an ARRAY OF FB class: the element views, made at the first index and kept in the view."""
+def keep_member_views(obj: Any) -> None:
+    """Keep every block member's view of ``obj`` under its ``VIEW_PREFIX`` key, all at once.
 
-    __slots__ = ("raw_get", "count")
+    The compiled call tries one key first and calls this when it is missing, so
+    one key present means all of ``type(obj)``'s are; the views are the ones its
+    members' aliases keep, so both names give one view per member.
+    """
+    views = {key: getattr(obj, alias) for alias, key in type(obj)._iec_view_keys_}
+    own_dict(obj).update(views)
 
-    def __init__(self, raw_get: Callable[[Any, int], Any], count: int) -> None:
-        self.raw_get, self.count = raw_get, count
 
-    def __get__(self, obj: Any, owner: Any = None) -> Any:
-        if obj is None:
-            return self
-        raw_get = self.raw_get
-        views = obj.__dict__[ELEMENT_VIEWS] = [raw_get(obj, i) for i in range(self.count)]
-        return views
+def own_dict(obj: Any) -> dict[str, Any]:
+    """``obj.__dict__``, replaced first by a plain copy of itself (same items).
+
+    CPython (3.12, 3.13) starts an instance's ``__dict__`` as a dict sharing its
+    keys with the class's other instances, and its specialised attribute read
+    does not answer from such a dict; a dict made by ``dict()`` is never one.
+    Only the speed differs: the items are the same.
+    """
+    state = obj.__dict__ = dict(obj.__dict__)
+    return state
+
+
+#: Where an ARRAY OF FB keeps its element views: an instance attribute with no class attribute of that
+#: name (see VIEW_PREFIX), made at the first index.
+ELEMENT_VIEWS = sys.intern(f"{CACHE_PREFIX}elements")
 
 
 def set_state_without_views(obj: Any, values: dict[str, Any], memory: bytes) -> None:
@@ -931,19 +946,30 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
 
     if elem.direct and getattr(getattr(elem, "cls", None), "_iec_tagged_", False):
         # ARRAY OF FB: the element views are made once and kept in the array's view (their members cached
-        # in them), under a name the array class answers only the first time (ElementViews).
-        namespace[ELEMENT_VIEWS] = ElementViews(raw_get, count)
+        # in them), read as a plain instance attribute; the first index makes them.
+
+        def kept(self: Any) -> list[Any]:
+            views = own_dict(self)[ELEMENT_VIEWS] = [raw_get(self, i) for i in range(count)]
+            return views
+
         if one_dim:
 
             def getitem(self: Any, index: Any) -> Any:
-                if index.__class__ is int and lo0 <= index <= hi0:
-                    return self._iec_m_elements[index - lo0]
-                return self._iec_m_elements[flat(self, index)]
+                # Exactly an int: a bool or a float is no index (flat() refuses it with RTSEXCPT_ARRAYBOUNDS).
+                position = index - lo0 if type(index) is int and lo0 <= index <= hi0 else flat(self, index)
+                try:
+                    return self._iec_m_elements[position]
+                except AttributeError:
+                    return kept(self)[position]
 
         else:
 
             def getitem(self: Any, index: Any) -> Any:
-                return self._iec_m_elements[flat(self, index)]
+                position = flat(self, index)
+                try:
+                    return self._iec_m_elements[position]
+                except AttributeError:
+                    return kept(self)[position]
 
     def iterate(self: Any) -> Iterator[Any]:
         if elem.direct:

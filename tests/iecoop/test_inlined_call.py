@@ -20,6 +20,7 @@ from iecoop import (
     PRIVATE,
     TIME,
     VAR,
+    VAR_IN_OUT,
     VAR_INPUT,
     VAR_OUTPUT,
     AccessError,
@@ -27,6 +28,7 @@ from iecoop import (
     PlcException,
     T,
     _config,
+    adr,
     delete,
     method,
     new,
@@ -313,14 +315,43 @@ def test_a_member_read_in_the_body_and_after_delete() -> None:
     for clk in (True, False, True, True, False, True):
         edge(clk=clk)
     assert (edge.rising, edge.trig.M) == (3, True)
-    assert "_iec_m_trig" in Edge.__call__.__code__.co_names  # the member's alias, read in C
+    assert "_iec_m_0trig" in Edge.__call__.__code__.co_names  # the member's kept view, an instance attribute
+    assert edge.__dict__["_iec_m_0trig"] is edge.trig  # the view the member's property returns
     pointer = new(Edge)
     block = pointer.deref
     block(clk=True)
     delete(pointer)
-    with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
-        getattr(block, "_iec_m_trig")  # what the compiled call reads for self.trig
-    assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
+    for key in ("_iec_m_0trig", "_iec_m_trig"):  # what the compiled call reads for self.trig, and the alias
+        with pytest.raises(PlcException, match=r"'trig' read of a deleted Edge") as caught:
+            getattr(block, key)
+        assert caught.value.code.name == "RTSEXCPT_ACCESS_VIOLATION"
+
+
+_SHADOW_SOURCE = """
+AttributeError = None  # the module's own name: the call must still catch the builtin
+
+
+class Pulse(FunctionBlock):
+    run: BOOL = VAR_INPUT(False)
+    timer: TON = VAR()
+
+    def body(self) -> None:
+        self.timer(IN=self.run, PT=T("20ms"))
+"""
+
+
+def test_member_views_are_kept_at_the_first_call_whatever_the_module_names() -> None:
+    filename = "<iecoop test: shadowing module>"
+    try:
+        module = _module_with_source(_SHADOW_SOURCE, filename)
+        pulse = module["Pulse"]()
+        assert "_iec_m_0timer" not in pulse.__dict__
+        pulse(run=True)  # the first call keeps the view, although the module's AttributeError is None
+        assert pulse.__dict__["_iec_m_0timer"] is pulse.timer and pulse.timer.IN is True
+        pulse(run=False)
+        assert pulse.timer.IN is False
+    finally:
+        del linecache.cache[filename]
 
 
 def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
@@ -358,6 +389,90 @@ def test_a_member_call_runs_the_members_call_as_python_finds_it() -> None:
     assert seen == [True, True] and holder.inner.count == 2
     holder(go=True)
     assert holder.inner.count == 4
+    del Pulse.__call__  # no __call__ left on the class: a view of it is not callable, as Python says
+    with pytest.raises(TypeError, match="'Pulse' object is not callable"):
+        holder(go=True)
+    setattr(Pulse, "__call__", replaced)  # rebound before a holder is built: that holder calls the new one too
+
+    class Later(FunctionBlock):
+        inner: Pulse = VAR()
+
+        def body(self) -> None:
+            self.inner(go=True)
+
+    later = Later()
+    later()
+    assert seen == [True, True, True] and later.inner.count == 0
+    Pulse.__call__ = original  # type: ignore[method-assign]
+    later()
+    holder(go=False)
+    assert later.inner.count == 1 and holder.inner.count == 4 and holder.inner.go is False
+
+
+class Mixer(FunctionBlock):
+    """Three inputs and an in-out: a member call may give any of the inputs, in any order."""
+
+    a: INT = VAR_INPUT(0)
+    b: INT = VAR_INPUT(0)
+    c: INT = VAR_INPUT(0)
+    total: INT = VAR_IN_OUT()
+
+    def body(self) -> None:
+        self.total = self.a * 100 + self.b * 10 + self.c
+
+
+class Station(FunctionBlock):
+    """Calls its Mixer with the keywords in the declared order, with gaps, and out of order."""
+
+    step: INT = VAR_INPUT(0)
+    total: INT = VAR_OUTPUT(0)
+    mixer: Mixer = VAR()
+
+    def body(self) -> None:
+        if self.step == 1:
+            self.mixer(a=1, c=3, total=adr(self, "total"))  # in order, b not given: kept from the last call
+        elif self.step == 2:
+            self.mixer(c=note(7), a=note(5), total=adr(self, "total"))  # out of order: evaluated as written
+        elif self.step == 3:
+            self.mixer(b=2)  # type: ignore[call-arg]  # no in-out: refused as the call refuses it
+
+
+_noted: list[int] = []
+
+
+def note(value: int) -> int:
+    _noted.append(value)
+    return value
+
+
+def test_member_call_inputs_by_position_or_as_written() -> None:
+    station = Station()
+    code = Station.__call__.__code__
+    assert {"_iec_w_position_mixer", "_iec_w_call_mixer"} <= set(code.co_freevars)
+    station.mixer(b=4, total=adr(station, "total"))
+    station(step=1)
+    assert (station.total, station.mixer.b) == (143, 4)
+    _noted.clear()
+    station(step=2)
+    assert (station.total, _noted) == (547, [7, 5])
+    with pytest.raises(TypeError, match=r"Mixer: VAR_IN_OUT 'total' must be assigned at every call"):
+        station(step=3)
+    seen: list[dict[str, Any]] = []
+    original = Mixer.__call__
+
+    def replaced(self: Any, **inputs: Any) -> None:
+        seen.append(inputs)
+
+    Mixer.__call__ = replaced  # type: ignore[method-assign]
+    try:
+        station(step=1)
+        station(step=3)
+    finally:
+        Mixer.__call__ = original  # type: ignore[method-assign]
+    # Rebound: the new __call__ gets the inputs given, by name, and nothing for those not given.
+    assert [sorted(inputs) for inputs in seen] == [["a", "c", "total"], ["b"]]
+    station(step=1)
+    assert station.total == 123 and station.mixer.b == 2
 
 
 def test_a_member_call_refuses_what_the_call_refuses() -> None:
