@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop.metadata import is_root, kind_of
-from iecoop.members import Access
+from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
@@ -339,6 +340,10 @@ class _Writer:
                 writer = self.body(func, st_name=member.name, result=result if kind == "get" else None, params=params, rename=rename)
                 decl = _local_lines(writer) or decl
                 implementation = "\n".join(writer.lines)
+            if not interface and visibility(flags) != visibility(member.flags):
+                # An accessor's own specifier heads its declaration, as TwinCAT stores it (in the flat
+                # form it follows the PROPERTY line: PROPERTY PUBLIC Capacity : REAL / PRIVATE / VAR ...)
+                decl = [typing.cast(str, visibility(flags).name), *decl]
             parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result))
         return parts
 

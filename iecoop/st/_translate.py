@@ -1559,11 +1559,12 @@ class Translator:
             self.enter(getter)
             self.comments(getter, 1)
             self.emit("@prop", 1)
-            flags = self._access_decorator(getter.access)
+            access = accessor_access(getter)
+            flags = self._access_decorator(access)
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
-            if decl.kind == "interface" or getter.access is not None and getter.access & tf.AccessSpecifier.abstract:
+            if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
                 scope = Scope(decl, "getter", return_name=prop.name)
@@ -1573,11 +1574,12 @@ class Translator:
                 self.enter(setter)
                 self.comments(setter, 1)
                 self.emit(f"@{prop.name}.setter", 1)
-                flags = self._access_decorator(setter.access)
+                access = accessor_access(setter)
+                flags = self._access_decorator(access)
                 if flags != "@method":
                     self.emit(flags, 1)
                 self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
-                if decl.kind == "interface" or setter.access is not None and setter.access & tf.AccessSpecifier.abstract:
+                if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
@@ -2876,6 +2878,23 @@ def _exact_real(code: str) -> bool:
     except ValueError:
         return False
     return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+_VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
+
+
+def accessor_access(node: Any) -> Any:
+    """The access of one PROPERTY accessor: its own specifier, where it has one, in place of the property's.
+
+    TwinCAT keeps an accessor's specifier at the head of the accessor's declaration, so the flat form
+    reads ``PROPERTY PUBLIC Capacity : REAL PRIVATE`` (blark's ``access_override``); ABSTRACT and
+    FINAL stay those of the property.
+    """
+    own = node.access_override
+    if own is None:
+        return node.access
+    kept = node.access & ~_VISIBILITY if node.access is not None else tf.AccessSpecifier(0)
+    return kept | own
 
 
 def _signature(members: Sequence[Member]) -> list[Member]:

@@ -6,7 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from iecoop import ARRAY, BOOL, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, call_after_init, method, prop
+from iecoop import (
+    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, FunctionBlock, Struct, T, adr,
+    call_after_init, method, prop,
+)
 from iecoop import st
 from iecoop.st.export import dump, export
 
@@ -271,3 +274,84 @@ def test_call_after_init_and_short_circuits_loaded_back_run_as_python(tmp_path: 
         original()
         assert (loaded.ready, loaded.calls) == (original.ready, original.calls)
     assert original.calls == 33
+
+
+class Gauge(FunctionBlock):
+    span_internal: INT = VAR(10)
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, span: INT = 10) -> BOOL:
+        self.span = span
+        return True
+
+    @prop
+    def span(self) -> INT:
+        return self.span_internal
+
+    @span.setter
+    @method(PRIVATE)
+    def span(self, value: INT) -> None:
+        self.span_internal = max(value, 1)
+
+    @method
+    def widen(self, by: INT) -> INT:
+        self.span = self.span + by
+        return self.span
+
+
+def test_an_accessor_s_own_specifier_heads_its_declaration() -> None:
+    text = dump([Gauge])
+    # The property keeps the Get's specifier; the Set's own follows the PROPERTY line, as in TwinCAT's flat form.
+    assert "// Get\nPROPERTY PUBLIC span : INT\nVAR\nEND_VAR\n" in text
+    assert "// Set\nPROPERTY PUBLIC span : INT\nPRIVATE\nVAR\nEND_VAR\n" in text
+
+
+def test_an_accessor_s_own_specifier_is_in_the_twincat_accessor_declaration(tmp_path: Path) -> None:
+    export([Gauge], tmp_path, format="twincat")
+    pou = (tmp_path / "Gauge.TcPOU").read_text(encoding="utf-8")
+    assert "<Declaration><![CDATA[PROPERTY PUBLIC span : INT\n]]></Declaration>" in pou
+    get, set_ = pou.split('<Get Name="Get"')[1].split("</Get>")[0], pou.split('<Set Name="Set"')[1].split("</Set>")[0]
+    assert "<Declaration><![CDATA[VAR\nEND_VAR\n]]></Declaration>" in get
+    assert "<Declaration><![CDATA[PRIVATE\nVAR\nEND_VAR\n]]></Declaration>" in set_
+
+
+@pytest.mark.parametrize("fmt", ["st", "twincat"])
+def test_a_private_set_accessor_loaded_back_refuses_a_write_from_outside(tmp_path: Path, fmt: str) -> None:
+    export([Gauge], tmp_path, format=fmt)
+    module = st.load(tmp_path)
+    loaded, original = module.Gauge(span=0), Gauge(span=0)
+    for gauge in (loaded, original):
+        assert gauge.span == 1  # FB_init writes it through the PRIVATE Set, from the block's own code
+        assert gauge.widen(4) == 5
+        with pytest.raises(AccessError, match=r"PRIVATE PROPERTY Gauge\.span \(Set\) cannot be called from"):
+            gauge.span = 50
+        assert gauge.span == 5
+
+
+def test_an_accessor_s_own_specifier_overrides_the_property_s_when_read() -> None:
+    # PROPERTY PUBLIC n : INT PROTECTED: blark's reading of a Get whose declaration starts with PROTECTED.
+    module = st.load("""
+FUNCTION_BLOCK FB_Base
+VAR nValue : INT := 3; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY PUBLIC n.Get : INT
+PROTECTED
+VAR
+END_VAR
+n := nValue;
+END_PROPERTY
+PROPERTY PUBLIC n.Set : INT
+VAR
+END_VAR
+nValue := n * 2;
+END_PROPERTY
+FUNCTION_BLOCK FB_Child EXTENDS FB_Base
+VAR_OUTPUT nSeen : INT; END_VAR
+nSeen := n;
+END_FUNCTION_BLOCK
+""")
+    child = module.FB_Child()
+    child.n = 4  # the Set stays PUBLIC
+    child()
+    assert child.nSeen == 8  # a derived block reads the PROTECTED Get
+    with pytest.raises(AccessError, match=r"PROTECTED PROPERTY FB_Base\.n \(Get\) cannot be called from"):
+        child.n
