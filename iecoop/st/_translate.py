@@ -147,6 +147,12 @@ class Decl:
     units: dict[int, Unit] = dataclasses.field(default_factory=dict)
 
 
+#: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
+#: IQueryInterface, a type wherever a type may stand (its Python name is the key)
+IQUERYINTERFACE = Decl("interface", "IQueryInterface")
+SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
+
+
 @dataclasses.dataclass
 class Ex:
     """A translated expression: Python code, its ST type (None when unknown), whether it needs parentheses."""
@@ -402,6 +408,11 @@ class Translator:
             return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
+            if IQUERYINTERFACE.name.lower() in self.decls:
+                raise self.fail(f"{name}: the source declares its own {IQUERYINTERFACE.name}, which the Python name "
+                                f"of __SYSTEM.IQueryInterface would hide (rename it)", node)
+            return TypeRef("user", IQUERYINTERFACE.name)
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
@@ -572,7 +583,7 @@ class Translator:
         type_ = type_.deref()
         if type_.kind != "user":
             return None
-        decl = self.decls.get(type_.name.lower())
+        decl = self.decls.get(type_.name.lower()) or SYSTEM_DECLS.get(type_.name.lower())
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
             decl = self.decls.get(decl.alias_of.name.lower())
         return decl
@@ -845,6 +856,8 @@ class Translator:
             self.need("iecoop", "ExceptionCode")
         elif type_.name.upper() in STDLIB_FBS:
             self.need("iecoop.stdlib", type_.name)
+        elif type_.kind == "user" and self.decls.get(type_.name.lower()) is None and type_.name.lower() in SYSTEM_DECLS:
+            self.need("iecoop", type_.name)
         if type_.of is not None:
             self._need_type(type_.of)
 
