@@ -1831,6 +1831,9 @@ class Translator:
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
         local = self.local_of(node.variable, scope)
+        if _is_zero(node.expression):
+            self._unbind(node, local, scope, level)
+            return
         if local is not None and self._local_reference(local.type):
             assert local.type is not None
             bound = self.expr(node.expression, scope)
@@ -1845,6 +1848,20 @@ class Translator:
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)
         self.emit(f'ref_assign({holder}, "{field}", {target})', level)
+
+    def _unbind(self, node: Any, local: Member | None, scope: Scope, level: int) -> None:
+        """``r REF= 0``: the reference points nowhere again (``__ISVALIDREF`` is FALSE, reading it faults)."""
+        if isinstance(local, ReferenceLocal):
+            assert local.type is not None
+            self.need("iecoop", "Pointer")
+            self.emit(f"{local.name} = Pointer(0, None).typed({local.type.annotation()})", level)
+            return
+        if local is not None:
+            raise self.fail(f"REF= 0 of {local.name}: a local REFERENCE TO a STRUCT, UNION or FB cannot be unbound "
+                            "(make it a variable of the block)", node)
+        holder, field = self.holder_field(node.variable, scope)
+        self.need("iecoop", "ref_assign")
+        self.emit(f'ref_assign({holder}, "{field}", None)', level)
 
     def _st_IfStatement(self, node: Any, scope: Scope, level: int) -> None:
         self.emit(f"if {self.condition(node.if_expression, scope)}:", level)
@@ -2908,6 +2925,11 @@ def accessor_access(node: Any) -> Any:
         return node.access
     kept = node.access & ~_VISIBILITY if node.access is not None else tf.AccessSpecifier(0)
     return kept | own
+
+
+def _is_zero(node: Any) -> bool:
+    """Whether ``node`` is the literal 0 (``16#0``, ``UDINT#0`` too): the address of nothing."""
+    return isinstance(node, tf.Integer) and int(str(node.value).replace("_", ""), node.base) == 0
 
 
 def _signature(members: Sequence[Member]) -> list[Member]:

@@ -43,8 +43,6 @@ CATALOGUE_MODULES = sorted({entry.module for entry in catalogue.entries()})
 KNOWN: dict[str, str] = {
     "iecoop_examples.ch02_fb_declaration_and_access": "INTERNAL is per namespace: the loaded Access is "
     "in the loaded module, so main() (in its own module) is outside it and M_Internal is denied",
-    "iecoop_examples.ch14_operators": "MainOperators: the reader takes no address of the variable the exported "
-    "__VARINFO reads ('this variable has no holder to take its address from')",
     "patterns.behavioral.visitor": "main()'s CSV report: the loaded plant writes no device rows (its line 2 is "
     "the energy line, where Python writes Plant.Area1.Motor1,motor,FAULT,overload trip)",
     "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef': it and the MC_ blocks are in "

@@ -7,10 +7,11 @@ from pathlib import Path
 import pytest
 
 from iecoop import (
-    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, FunctionBlock, Struct, T, adr,
-    call_after_init, method, prop,
+    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, ExceptionCode, FunctionBlock,
+    Program, Struct, T, adr, call_after_init, method, prop, try_catch,
 )
 from iecoop import st
+from iecoop.runtime import Runtime, Task
 from iecoop.st.export import dump, export
 
 
@@ -355,3 +356,32 @@ END_FUNCTION_BLOCK
     assert child.nSeen == 8  # a derived block reads the PROTECTED Get
     with pytest.raises(AccessError, match=r"PROTECTED PROPERTY FB_Base\.n \(Get\) cannot be called from"):
         child.n
+
+
+class Divide(Program):
+    divisor: INT = VAR_INPUT(1)
+    result: INT = VAR(0)
+    errors: INT = VAR(0)
+
+    def body(self) -> None:
+        with try_catch() as exc:
+            self.result = 100 // self.divisor
+        if exc.code != ExceptionCode.RTSEXCPT_NOEXCEPTION:
+            self.result = -1
+            self.errors += 1
+
+
+def test_a_body_s_python_local_is_a_var_temp_fresh_at_every_task_call() -> None:
+    text = dump([Divide])
+    assert "VAR_TEMP\n    exc : __SYSTEM.ExceptionCode;\nEND_VAR" in text
+    loaded, original = st.load(text).Divide, Divide()  # a loaded PROGRAM's name is its instance
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms")), loaded, original)
+    seen = []
+    for divisor in (5, 0, 4, 4):
+        loaded.divisor = original.divisor = divisor
+        rt.run(cycles=1)
+        seen.append((loaded.result, loaded.errors))
+        assert (loaded.result, loaded.errors) == (original.result, original.errors)
+    # the exception caught at 100 / 0 is not seen again by the next cycles: their exc starts at 0
+    assert seen == [(20, 0), (-1, 1), (25, 1), (25, 1)]
