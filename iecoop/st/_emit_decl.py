@@ -53,6 +53,8 @@ class Part:
     implementation: str
     result: TypeInfo | None = None
     inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
+    #: PUBLIC, PRIVATE, PROTECTED or INTERNAL: the METHOD's, or the accessor's own
+    access: Access = Access.PUBLIC
 
 
 #: The pragma of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
@@ -304,7 +306,7 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared))
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -344,7 +346,7 @@ class _Writer:
                 # An accessor's own specifier heads its declaration, as TwinCAT stores it (in the flat
                 # form it follows the PROPERTY line: PROPERTY PUBLIC Capacity : REAL / PRIVATE / VAR ...)
                 decl = [typing.cast(str, visibility(flags).name), *decl]
-            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result))
+            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result, access=visibility(flags)))
         return parts
 
 

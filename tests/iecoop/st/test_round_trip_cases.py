@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
+from xml.etree import ElementTree
 
 import pytest
 
 from iecoop import (
-    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, ExceptionCode, FunctionBlock,
+    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, PROTECTED, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, ExceptionCode, FunctionBlock,
     Program, Struct, T, adr, call_after_init, method, prop, try_catch,
 )
 from iecoop import st
 from iecoop.runtime import Runtime, Task
 from iecoop.st.export import dump, export
+from tests.iecoop.st.test_export import validate_plcopen
 
 
 class Image(Struct):
@@ -298,6 +300,10 @@ class Gauge(FunctionBlock):
         self.span = self.span + by
         return self.span
 
+    @method(PROTECTED)
+    def narrow(self) -> None:
+        self.span = self.span - 1
+
 
 def test_an_accessor_s_own_specifier_heads_its_declaration() -> None:
     text = dump([Gauge])
@@ -313,6 +319,23 @@ def test_an_accessor_s_own_specifier_is_in_the_twincat_accessor_declaration(tmp_
     get, set_ = pou.split('<Get Name="Get"')[1].split("</Get>")[0], pou.split('<Set Name="Set"')[1].split("</Set>")[0]
     assert "<Declaration><![CDATA[VAR\nEND_VAR\n]]></Declaration>" in get
     assert "<Declaration><![CDATA[PRIVATE\nVAR\nEND_VAR\n]]></Declaration>" in set_
+
+
+def test_an_accessor_s_own_specifier_is_in_codesys_plcopen_add_data(tmp_path: Path) -> None:
+    (path,) = export([Gauge], tmp_path, format="plcopen")
+    validate_plcopen(path)
+    root = ElementTree.parse(path).getroot()
+    tc6 = "{http://www.plcopen.org/xml/tc6_0201}"
+    (prop,) = root.iter(f"{tc6}Property")
+    modifiers = {
+        element.tag.removeprefix(tc6): [dict(m.attrib) for m in element.iter(f"{tc6}AccessModifiers")]
+        for element in prop if element.tag != f"{tc6}interface"
+    }
+    # the PUBLIC property and its Get carry none; the Set carries its own, in its interface's addData
+    assert modifiers == {"GetAccessor": [], "SetAccessor": [{"Private": "true"}]}
+    assert not list(prop.find(f"{tc6}interface").iter(f"{tc6}AccessModifiers"))  # type: ignore[union-attr]
+    methods = {m.get("name"): [dict(a.attrib) for a in m.iter(f"{tc6}AccessModifiers")] for m in root.iter(f"{tc6}Method")}
+    assert methods == {"FB_init": [], "widen": [], "narrow": [{"Protected": "true"}]}
 
 
 @pytest.mark.parametrize("fmt", ["st", "twincat"])
