@@ -107,11 +107,35 @@ class Task:
         self.watchdog = watchdog
         self.sensitivity = max(1, sensitivity)
         self.programs: list[tuple[str, Any]] = []
+        #: what a cycle calls, one per program (kept in step with ``programs`` by the runtime)
+        self._steps: list[typing.Callable[[], object]] = []
         self.info = TaskInfo(name, interval * 10_000, priority)
         self._overruns = 0
 
     def __repr__(self) -> str:
         return f"<Task {self.name} {self.interval} ms prio {self.priority}>"
+
+    def _update_steps(self) -> None:
+        self._steps = [_step(program) for _, program in self.programs]
+
+
+def _step(program: Any) -> typing.Callable[[], object]:
+    """What a cycle calls for ``program``: its body, after re-initialising its VAR_TEMP if it has any.
+
+    A task's call is a call of the POU, and every call starts with fresh VAR_TEMP
+    (IEC 61131-3; TwinCAT and CODESYS alike). A program without VAR_TEMP is its
+    bound body, so the cycle costs what it did.
+    """
+    body = program.body
+    reset = getattr(type(program), "_iec_temp_reset_", None)
+    if reset is None:
+        return typing.cast(typing.Callable[[], object], body)
+
+    def step() -> None:
+        reset(program)
+        body()
+
+    return step
 
 
 @dataclasses.dataclass(frozen=True)
@@ -255,6 +279,7 @@ class Runtime:
             entry = _Entry(path, program)
             self._entries.append(entry)
             task.programs.append((path, program))
+        task._update_steps()
         self._retain_plan = None
 
     def _global_entries(self) -> list[_Entry]:
@@ -369,8 +394,8 @@ class Runtime:
             started = time.perf_counter_ns()
             token = _current.set(task)
             try:
-                for path, program in task.programs:
-                    program.body()
+                for step in task._steps:
+                    step()
             except BaseException as exc:
                 if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                     raise
@@ -703,4 +728,5 @@ class Runtime:
                 reinitialise(new_program)
                 for task in self.tasks:
                     task.programs = [(p, new_program if p == path else prog) for p, prog in task.programs]
+                    task._update_steps()
         self._retain_plan = None

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop.metadata import is_root, kind_of
-from iecoop.members import Access
+from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
@@ -52,6 +53,8 @@ class Part:
     implementation: str
     result: TypeInfo | None = None
     inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
+    #: PUBLIC, PRIVATE, PROTECTED or INTERNAL: the METHOD's, or the accessor's own
+    access: Access = Access.PUBLIC
 
 
 #: The pragma of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
@@ -303,7 +306,7 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared))
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -339,7 +342,11 @@ class _Writer:
                 writer = self.body(func, st_name=member.name, result=result if kind == "get" else None, params=params, rename=rename)
                 decl = _local_lines(writer) or decl
                 implementation = "\n".join(writer.lines)
-            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result))
+            if not interface and visibility(flags) != visibility(member.flags):
+                # An accessor's own specifier heads its declaration, as TwinCAT stores it (in the flat
+                # form it follows the PROPERTY line: PROPERTY PUBLIC Capacity : REAL / PRIVATE / VAR ...)
+                decl = [typing.cast(str, visibility(flags).name), *decl]
+            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result, access=visibility(flags)))
         return parts
 
 

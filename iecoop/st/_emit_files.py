@@ -15,8 +15,10 @@ import re
 import uuid
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Sequence
+import typing
 from typing import Any
 
+from iecoop.members import Access
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import (
     AggregateInfo,
@@ -237,6 +239,14 @@ def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
         _type(_sub(interface, "returnType"), part.result)
     _parameter_vars(interface, part.inputs, where)
     _attributes(interface, _pragmas(part.header))
+    _access_modifiers(interface, part.access)
+
+
+def _access_modifiers(interface: ET.Element, access: Access, default: Access = Access.PUBLIC) -> None:
+    """A specifier other than ``default``, where CODESYS's PLCopen export keeps it: ``<AccessModifiers Private="true" />``."""
+    if access != default:
+        modifiers = ET.SubElement(_add_data(interface, "accessmodifiers"), _q("AccessModifiers"))
+        modifiers.set(typing.cast(str, access.name).capitalize(), "true")
 
 
 def _parameter_vars(interface: ET.Element, params: Sequence[tuple[str, TypeInfo, Any]], where: str) -> None:
@@ -265,10 +275,14 @@ def _members(pou: ET.Element, unit: Unit, with_bodies: bool) -> None:
         interface = _sub(prop, "interface")
         if first.result is not None:
             _type(_sub(interface, "returnType"), first.result)
+        # the PROPERTY's specifier is its Get's (the header's); a Set with another one carries its own
+        own = first.access if first.kind == "get" else Access.PUBLIC
+        _access_modifiers(interface, own)
         for accessor in group:
             tag = "GetAccessor" if accessor.kind == "get" else "SetAccessor"
             element = ET.SubElement(prop, _q(tag))
-            _sub(element, "interface")
+            accessor_interface = _sub(element, "interface")
+            _access_modifiers(accessor_interface, accessor.access, default=own)
             if with_bodies:
                 _st_body(element, accessor.implementation)
 

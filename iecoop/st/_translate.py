@@ -147,6 +147,12 @@ class Decl:
     units: dict[int, Unit] = dataclasses.field(default_factory=dict)
 
 
+#: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
+#: IQueryInterface, a type wherever a type may stand (its Python name is the key)
+IQUERYINTERFACE = Decl("interface", "IQueryInterface")
+SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
+
+
 @dataclasses.dataclass
 class Ex:
     """A translated expression: Python code, its ST type (None when unknown), whether it needs parentheses."""
@@ -402,6 +408,11 @@ class Translator:
             return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
+            if IQUERYINTERFACE.name.lower() in self.decls:
+                raise self.fail(f"{name}: the source declares its own {IQUERYINTERFACE.name}, which the Python name "
+                                f"of __SYSTEM.IQueryInterface would hide (rename it)", node)
+            return TypeRef("user", IQUERYINTERFACE.name)
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
@@ -572,7 +583,7 @@ class Translator:
         type_ = type_.deref()
         if type_.kind != "user":
             return None
-        decl = self.decls.get(type_.name.lower())
+        decl = self.decls.get(type_.name.lower()) or SYSTEM_DECLS.get(type_.name.lower())
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
             decl = self.decls.get(decl.alias_of.name.lower())
         return decl
@@ -845,6 +856,8 @@ class Translator:
             self.need("iecoop", "ExceptionCode")
         elif type_.name.upper() in STDLIB_FBS:
             self.need("iecoop.stdlib", type_.name)
+        elif type_.kind == "user" and self.decls.get(type_.name.lower()) is None and type_.name.lower() in SYSTEM_DECLS:
+            self.need("iecoop", type_.name)
         if type_.of is not None:
             self._need_type(type_.of)
 
@@ -1559,11 +1572,12 @@ class Translator:
             self.enter(getter)
             self.comments(getter, 1)
             self.emit("@prop", 1)
-            flags = self._access_decorator(getter.access)
+            access = accessor_access(getter)
+            flags = self._access_decorator(access)
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
-            if decl.kind == "interface" or getter.access is not None and getter.access & tf.AccessSpecifier.abstract:
+            if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
                 scope = Scope(decl, "getter", return_name=prop.name)
@@ -1573,11 +1587,12 @@ class Translator:
                 self.enter(setter)
                 self.comments(setter, 1)
                 self.emit(f"@{prop.name}.setter", 1)
-                flags = self._access_decorator(setter.access)
+                access = accessor_access(setter)
+                flags = self._access_decorator(access)
                 if flags != "@method":
                     self.emit(flags, 1)
                 self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
-                if decl.kind == "interface" or setter.access is not None and setter.access & tf.AccessSpecifier.abstract:
+                if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
@@ -1816,6 +1831,9 @@ class Translator:
 
     def _st_ReferenceAssignmentStatement(self, node: Any, scope: Scope, level: int) -> None:
         local = self.local_of(node.variable, scope)
+        if _is_zero(node.expression):
+            self._unbind(node, local, scope, level)
+            return
         if local is not None and self._local_reference(local.type):
             assert local.type is not None
             bound = self.expr(node.expression, scope)
@@ -1830,6 +1848,20 @@ class Translator:
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)
         self.emit(f'ref_assign({holder}, "{field}", {target})', level)
+
+    def _unbind(self, node: Any, local: Member | None, scope: Scope, level: int) -> None:
+        """``r REF= 0``: the reference points nowhere again (``__ISVALIDREF`` is FALSE, reading it faults)."""
+        if isinstance(local, ReferenceLocal):
+            assert local.type is not None
+            self.need("iecoop", "Pointer")
+            self.emit(f"{local.name} = Pointer(0, None).typed({local.type.annotation()})", level)
+            return
+        if local is not None:
+            raise self.fail(f"REF= 0 of {local.name}: a local REFERENCE TO a STRUCT, UNION or FB cannot be unbound "
+                            "(make it a variable of the block)", node)
+        holder, field = self.holder_field(node.variable, scope)
+        self.need("iecoop", "ref_assign")
+        self.emit(f'ref_assign({holder}, "{field}", None)', level)
 
     def _st_IfStatement(self, node: Any, scope: Scope, level: int) -> None:
         self.emit(f"if {self.condition(node.if_expression, scope)}:", level)
@@ -2876,6 +2908,28 @@ def _exact_real(code: str) -> bool:
     except ValueError:
         return False
     return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+_VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
+
+
+def accessor_access(node: Any) -> Any:
+    """The access of one PROPERTY accessor: its own specifier, where it has one, in place of the property's.
+
+    TwinCAT keeps an accessor's specifier at the head of the accessor's declaration, so the flat form
+    reads ``PROPERTY PUBLIC Capacity : REAL PRIVATE`` (blark's ``access_override``); ABSTRACT and
+    FINAL stay those of the property.
+    """
+    own = node.access_override
+    if own is None:
+        return node.access
+    kept = node.access & ~_VISIBILITY if node.access is not None else tf.AccessSpecifier(0)
+    return kept | own
+
+
+def _is_zero(node: Any) -> bool:
+    """Whether ``node`` is the literal 0 (``16#0``, ``UDINT#0`` too): the address of nothing."""
+    return isinstance(node, tf.Integer) and int(str(node.value).replace("_", ""), node.base) == 0
 
 
 def _signature(members: Sequence[Member]) -> list[Member]:

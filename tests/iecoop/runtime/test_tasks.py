@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from iecoop import INT, VAR, Program, T
+from iecoop import INT, VAR, VAR_TEMP, Program, T
 from iecoop.runtime import Runtime, Task, TaskInfo, current_task, now_ms
 
 #: (time in ms, task name, priority, CycleCount, FirstCycle) of every cycle.
@@ -189,6 +189,39 @@ def test_an_online_change_does_not_restart_the_cycle_count() -> None:
     trace.clear()
     rt.run(cycles=1)
     assert [(count, first) for *_, count, first in trace] == [(2, False)]
+
+
+class Scratch(Program):
+    """Counts in a VAR_TEMP: each call starts it again at its initial value."""
+
+    scratch: INT = VAR_TEMP(10)
+    seen: INT = VAR(0)
+    calls: INT = VAR(0)
+
+    def body(self) -> None:
+        self.scratch += 1
+        self.seen = self.scratch
+        self.calls += 1
+
+
+class ScratchMoved(Scratch):
+    """The same program after an online change (a new class, a new instance)."""
+
+
+def test_a_task_call_re_initialises_var_temp_every_cycle() -> None:
+    # IEC 61131-3 (TwinCAT, CODESYS): a task's call of a PROGRAM is a call; VAR_TEMP starts fresh at each.
+    rt = Runtime(store=":memory:")
+    program = Scratch()
+    rt.add_task(Task("PlcTask"), program)
+    rt.run(cycles=3)
+    assert (program.seen, program.calls) == (11, 3)
+    rt.run(cycles=1)
+    assert program.seen == 11
+    rt.online_change(replace={"PlcTask.Scratch": ScratchMoved})
+    moved = rt.programs()["PlcTask.Scratch"]
+    assert type(moved) is ScratchMoved and moved is not program
+    rt.run(cycles=2)
+    assert (moved.seen, moved.calls, program.calls) == (11, 6, 4)  # the new instance runs; its calls carried over
 
 
 def test_current_task_is_only_for_code_a_cycle_calls() -> None:

@@ -1,5 +1,6 @@
 """st.load: qualified enumeration values, enumerations as text, globals inside a FUNCTION, names used before
-their declaration, STRUCT ARRAY initial values, one small ST program each, expected values worked out by hand."""
+their declaration, STRUCT ARRAY initial values, __SYSTEM.IQueryInterface as a type, REF= 0, one small ST program each,
+expected values worked out by hand."""
 
 from __future__ import annotations
 
@@ -95,6 +96,37 @@ CASES: list[tuple[str, str, int, Callable[[Any], Any], Any]] = [
      "PROGRAM MAIN\nVAR s : ST_AB; nOff : UDINT; sType : STRING; END_VAR\nVAR_TEMP info : __SYSTEM.VAR_INFO; END_VAR\n"
      "info := __VARINFO(s.b); nOff := info.ByteOffset; sType := info.TypeName;\nEND_PROGRAM\n", 1,
      lambda m: (m.nOff, m.sType), (8, "LREAL")),
+    ("iqueryinterface-as-a-type",  # FB_Rack holds FB_Lamp and FB_Pump as __SYSTEM.IQueryInterface; per cycle only the pump
+     # answers I_Start: through Pick's result (Start's count, 2 in cycle 2), through POINTER TO (+100), a STRUCT member (+1000)
+     "INTERFACE I_Start EXTENDS __SYSTEM.IQueryInterface\nEND_INTERFACE\nMETHOD Start : INT\nEND_METHOD\n"
+     "INTERFACE I_Other EXTENDS __SYSTEM.IQueryInterface\nEND_INTERFACE\n"
+     "FUNCTION_BLOCK FB_Pump IMPLEMENTS I_Start\nVAR_OUTPUT nStarts : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Start : INT\nnStarts := nStarts + 1; Start := nStarts;\nEND_METHOD\n"
+     "FUNCTION_BLOCK FB_Lamp IMPLEMENTS I_Other\nEND_FUNCTION_BLOCK\n"
+     "TYPE ST_Slot : STRUCT itf : __SYSTEM.IQueryInterface; END_STRUCT END_TYPE\n"
+     "FUNCTION_BLOCK FB_Rack\nVAR_INPUT itfFirst : __SYSTEM.IQueryInterface; END_VAR\n"
+     "VAR aItems : ARRAY[0..1] OF __SYSTEM.IQueryInterface; pItem : POINTER TO __SYSTEM.IQueryInterface; stSlot : ST_Slot; END_VAR\n"
+     "VAR_OUTPUT nStarted : INT; bFirstSet : BOOL; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Put\nVAR_INPUT n : INT; itf : __SYSTEM.IQueryInterface; END_VAR\naItems[n] := itf;\nEND_METHOD\n"
+     "METHOD Pick : __SYSTEM.IQueryInterface\nVAR_INPUT n : INT; END_VAR\nPick := aItems[n];\nEND_METHOD\n"
+     "PROPERTY First : __SYSTEM.IQueryInterface\nFirst := itfFirst;\nEND_PROPERTY\n"
+     "METHOD StartAll : INT\nVAR i : INT; itfStart : I_Start; itf : __SYSTEM.IQueryInterface; END_VAR\n"
+     "bFirstSet := First <> 0; stSlot.itf := First; pItem := ADR(aItems[1]);\n"
+     "FOR i := 0 TO 1 DO itf := Pick(i); __QUERYINTERFACE(itf, itfStart);\n"
+     "IF itfStart <> 0 THEN StartAll := StartAll + itfStart.Start(); END_IF END_FOR\n"
+     "__QUERYINTERFACE(pItem^, itfStart); IF itfStart <> 0 THEN nStarted := nStarted + 100; END_IF\n"
+     "__QUERYINTERFACE(stSlot.itf, itfStart); IF itfStart <> 0 THEN nStarted := nStarted + 1000; END_IF\nEND_METHOD\n"
+     + prog("fbPump : FB_Pump; fbLamp : FB_Lamp; fbRack : FB_Rack; n : INT;",
+            "fbRack.Put(0, fbLamp); fbRack.Put(n := 1, itf := fbPump); fbRack.itfFirst := fbPump; n := fbRack.StartAll();"), 2,
+     lambda m: (m.n, m.fbPump.nStarts, m.fbRack.nStarted, m.fbRack.bFirstSet), (2, 2, 2200, True)),
+    ("ref-zero-unbinds",  # a block's REFERENCE TO and a METHOD's elementary one: bound to n (5), then REF= 0 (16#0 too)
+     "FUNCTION_BLOCK FB\nVAR n : INT := 5; r : REFERENCE TO INT; END_VAR\n"
+     "VAR_OUTPUT bBound : BOOL; nRead : INT; bAfter : BOOL := TRUE; bLocal : BOOL; bLocalAfter : BOOL := TRUE; END_VAR\n"
+     "r REF= n; bBound := __ISVALIDREF(r); nRead := r; r REF= 0; bAfter := __ISVALIDREF(r);\nEND_FUNCTION_BLOCK\n"
+     "METHOD M : INT\nVAR q : REFERENCE TO INT; END_VAR\n"
+     "q REF= n; bLocal := __ISVALIDREF(q); M := q; q REF= 16#0; bLocalAfter := __ISVALIDREF(q);\nEND_METHOD\n"
+     + prog("fb : FB; m : INT;", "fb(); m := fb.M();"), 2,
+     lambda m: (m.fb.bBound, m.fb.nRead, m.fb.bAfter, m.m, m.fb.bLocal, m.fb.bLocalAfter), (True, 5, False, 5, True, False)),
     ("outputs-and-in-outs-into-locals",  # F_Use(16#0304): h 3, l 4, k 10 + 1 + 1 = 12, e MANUAL (6): 3000 + 4 + 12 + 6
      MODES + "FUNCTION F_Split\nVAR_INPUT w : WORD; END_VAR\nVAR_OUTPUT nHigh : BYTE; nLow : BYTE; eMode : E_Mode; END_VAR\n"
      "nHigh := WORD_TO_BYTE(SHR(w, 8)); nLow := WORD_TO_BYTE(w); eMode := E_Mode.MANUAL;\nEND_FUNCTION\n"
@@ -129,6 +161,11 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
     (prog("t : UDINT;", "t := _TaskInfo[GETCURTASKINDEXEX()].AdsPort;"), r"_TaskInfo\[...\].AdsPort: iecoop's TaskInfo has CycleTime"),
     (prog("t : UDINT;", "_TaskInfo[GETCURTASKINDEXEX()].CycleTime := t;"), "assignment to _TaskInfo"),
     (prog("info : __SYSTEM.VAR_INFO;", ""), "<st>:3: VAR info : __SYSTEM.VAR_INFO .declare it as a local of a METHOD or FUNCTION."),
+    ("TYPE ST_A : STRUCT n : INT; END_STRUCT END_TYPE\nFUNCTION F : INT\nVAR s : ST_A; r : REFERENCE TO ST_A; END_VAR\n"
+     "r REF= s; r REF= 0;\nEND_FUNCTION\n",
+     "<st>:4: REF= 0 of r: a local REFERENCE TO a STRUCT, UNION or FB cannot be unbound"),
+    ("INTERFACE IQueryInterface\nEND_INTERFACE\n" + prog("itf : __SYSTEM.IQueryInterface;", ""),
+     "<st>:5: __SYSTEM.IQueryInterface: the source declares its own IQueryInterface"),
 ])
 def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
@@ -151,6 +188,15 @@ def test_an_unbound_reference_local_faults_when_read() -> None:
     with pytest.raises(PlcException) as caught:
         module.F()
     assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_reference_unbound_by_ref_zero_faults_when_read() -> None:
+    fb = st.load("FUNCTION_BLOCK FB\nVAR n : INT; r : REFERENCE TO INT; END_VAR\nVAR_OUTPUT nRead : INT; END_VAR\n"
+                 "r REF= n; nRead := r + 1; r REF= 0; nRead := r;\nEND_FUNCTION_BLOCK\n").FB()
+    with pytest.raises(PlcException) as caught:
+        fb()
+    assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+    assert fb.nRead == 1  # the read through the bound reference ran; the one after REF= 0 faulted
 
 
 def test_task_info_is_the_running_tasks() -> None:

@@ -3,12 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
+from xml.etree import ElementTree
 
 import pytest
 
-from iecoop import ARRAY, BOOL, INT, LREAL, POINTER_TO, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, Struct, T, adr, call_after_init, method, prop
+from iecoop import (
+    ARRAY, BOOL, INT, LREAL, POINTER_TO, PRIVATE, PROTECTED, TIME, VAR, VAR_INPUT, VAR_OUTPUT, WORD, AccessError, ExceptionCode, FunctionBlock,
+    Program, Struct, T, adr, call_after_init, method, prop, try_catch,
+)
 from iecoop import st
+from iecoop.runtime import Runtime, Task
 from iecoop.st.export import dump, export
+from tests.iecoop.st.test_export import validate_plcopen
 
 
 class Image(Struct):
@@ -271,3 +277,134 @@ def test_call_after_init_and_short_circuits_loaded_back_run_as_python(tmp_path: 
         original()
         assert (loaded.ready, loaded.calls) == (original.ready, original.calls)
     assert original.calls == 33
+
+
+class Gauge(FunctionBlock):
+    span_internal: INT = VAR(10)
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, span: INT = 10) -> BOOL:
+        self.span = span
+        return True
+
+    @prop
+    def span(self) -> INT:
+        return self.span_internal
+
+    @span.setter
+    @method(PRIVATE)
+    def span(self, value: INT) -> None:
+        self.span_internal = max(value, 1)
+
+    @method
+    def widen(self, by: INT) -> INT:
+        self.span = self.span + by
+        return self.span
+
+    @method(PROTECTED)
+    def narrow(self) -> None:
+        self.span = self.span - 1
+
+
+def test_an_accessor_s_own_specifier_heads_its_declaration() -> None:
+    text = dump([Gauge])
+    # The property keeps the Get's specifier; the Set's own follows the PROPERTY line, as in TwinCAT's flat form.
+    assert "// Get\nPROPERTY PUBLIC span : INT\nVAR\nEND_VAR\n" in text
+    assert "// Set\nPROPERTY PUBLIC span : INT\nPRIVATE\nVAR\nEND_VAR\n" in text
+
+
+def test_an_accessor_s_own_specifier_is_in_the_twincat_accessor_declaration(tmp_path: Path) -> None:
+    export([Gauge], tmp_path, format="twincat")
+    pou = (tmp_path / "Gauge.TcPOU").read_text(encoding="utf-8")
+    assert "<Declaration><![CDATA[PROPERTY PUBLIC span : INT\n]]></Declaration>" in pou
+    get, set_ = pou.split('<Get Name="Get"')[1].split("</Get>")[0], pou.split('<Set Name="Set"')[1].split("</Set>")[0]
+    assert "<Declaration><![CDATA[VAR\nEND_VAR\n]]></Declaration>" in get
+    assert "<Declaration><![CDATA[PRIVATE\nVAR\nEND_VAR\n]]></Declaration>" in set_
+
+
+def test_an_accessor_s_own_specifier_is_in_codesys_plcopen_add_data(tmp_path: Path) -> None:
+    (path,) = export([Gauge], tmp_path, format="plcopen")
+    validate_plcopen(path)
+    root = ElementTree.parse(path).getroot()
+    tc6 = "{http://www.plcopen.org/xml/tc6_0201}"
+    (prop,) = root.iter(f"{tc6}Property")
+    modifiers = {
+        element.tag.removeprefix(tc6): [dict(m.attrib) for m in element.iter(f"{tc6}AccessModifiers")]
+        for element in prop if element.tag != f"{tc6}interface"
+    }
+    # the PUBLIC property and its Get carry none; the Set carries its own, in its interface's addData
+    assert modifiers == {"GetAccessor": [], "SetAccessor": [{"Private": "true"}]}
+    assert not list(prop.find(f"{tc6}interface").iter(f"{tc6}AccessModifiers"))  # type: ignore[union-attr]
+    methods = {m.get("name"): [dict(a.attrib) for a in m.iter(f"{tc6}AccessModifiers")] for m in root.iter(f"{tc6}Method")}
+    assert methods == {"FB_init": [], "widen": [], "narrow": [{"Protected": "true"}]}
+
+
+@pytest.mark.parametrize("fmt", ["st", "twincat"])
+def test_a_private_set_accessor_loaded_back_refuses_a_write_from_outside(tmp_path: Path, fmt: str) -> None:
+    export([Gauge], tmp_path, format=fmt)
+    module = st.load(tmp_path)
+    loaded, original = module.Gauge(span=0), Gauge(span=0)
+    for gauge in (loaded, original):
+        assert gauge.span == 1  # FB_init writes it through the PRIVATE Set, from the block's own code
+        assert gauge.widen(4) == 5
+        with pytest.raises(AccessError, match=r"PRIVATE PROPERTY Gauge\.span \(Set\) cannot be called from"):
+            gauge.span = 50
+        assert gauge.span == 5
+
+
+def test_an_accessor_s_own_specifier_overrides_the_property_s_when_read() -> None:
+    # PROPERTY PUBLIC n : INT PROTECTED: blark's reading of a Get whose declaration starts with PROTECTED.
+    module = st.load("""
+FUNCTION_BLOCK FB_Base
+VAR nValue : INT := 3; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY PUBLIC n.Get : INT
+PROTECTED
+VAR
+END_VAR
+n := nValue;
+END_PROPERTY
+PROPERTY PUBLIC n.Set : INT
+VAR
+END_VAR
+nValue := n * 2;
+END_PROPERTY
+FUNCTION_BLOCK FB_Child EXTENDS FB_Base
+VAR_OUTPUT nSeen : INT; END_VAR
+nSeen := n;
+END_FUNCTION_BLOCK
+""")
+    child = module.FB_Child()
+    child.n = 4  # the Set stays PUBLIC
+    child()
+    assert child.nSeen == 8  # a derived block reads the PROTECTED Get
+    with pytest.raises(AccessError, match=r"PROTECTED PROPERTY FB_Base\.n \(Get\) cannot be called from"):
+        child.n
+
+
+class Divide(Program):
+    divisor: INT = VAR_INPUT(1)
+    result: INT = VAR(0)
+    errors: INT = VAR(0)
+
+    def body(self) -> None:
+        with try_catch() as exc:
+            self.result = 100 // self.divisor
+        if exc.code != ExceptionCode.RTSEXCPT_NOEXCEPTION:
+            self.result = -1
+            self.errors += 1
+
+
+def test_a_body_s_python_local_is_a_var_temp_fresh_at_every_task_call() -> None:
+    text = dump([Divide])
+    assert "VAR_TEMP\n    exc : __SYSTEM.ExceptionCode;\nEND_VAR" in text
+    loaded, original = st.load(text).Divide, Divide()  # a loaded PROGRAM's name is its instance
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms")), loaded, original)
+    seen = []
+    for divisor in (5, 0, 4, 4):
+        loaded.divisor = original.divisor = divisor
+        rt.run(cycles=1)
+        seen.append((loaded.result, loaded.errors))
+        assert (loaded.result, loaded.errors) == (original.result, original.errors)
+    # the exception caught at 100 / 0 is not seen again by the next cycles: their exc starts at 0
+    assert seen == [(20, 0), (-1, 1), (25, 1), (25, 1)]
