@@ -106,8 +106,8 @@ class Task:
         self.priority = priority
         self.watchdog = watchdog
         self.sensitivity = max(1, sensitivity)
-        self.programs: list[tuple[str, Any]] = []
-        #: what a cycle calls, one per program (kept in step with ``programs`` by the runtime)
+        self._programs: tuple[tuple[str, Any], ...] = ()
+        #: what a cycle calls, one per program (set with ``programs``, so the two never disagree)
         self._steps: list[typing.Callable[[], object]] = []
         self.info = TaskInfo(name, interval * 10_000, priority)
         self._overruns = 0
@@ -115,8 +115,14 @@ class Task:
     def __repr__(self) -> str:
         return f"<Task {self.name} {self.interval} ms prio {self.priority}>"
 
-    def _update_steps(self) -> None:
-        self._steps = [_step(program) for _, program in self.programs]
+    @property
+    def programs(self) -> tuple[tuple[str, Any], ...]:
+        """The (path, program) pairs the task calls, in order; ``Runtime.add_program`` adds one."""
+        return self._programs
+
+    def _set_programs(self, programs: typing.Iterable[tuple[str, Any]]) -> None:
+        self._programs = tuple(programs)
+        self._steps = [_step(program) for _, program in self._programs]
 
 
 def _step(program: Any) -> typing.Callable[[], object]:
@@ -278,8 +284,7 @@ class Runtime:
                 n += 1
             entry = _Entry(path, program)
             self._entries.append(entry)
-            task.programs.append((path, program))
-        task._update_steps()
+            task._set_programs([*task.programs, (path, program)])
         self._retain_plan = None
 
     def _global_entries(self) -> list[_Entry]:
@@ -727,6 +732,5 @@ class Runtime:
                 self._retarget(entry.program, new_program)
                 reinitialise(new_program)
                 for task in self.tasks:
-                    task.programs = [(p, new_program if p == path else prog) for p, prog in task.programs]
-                    task._update_steps()
+                    task._set_programs((p, new_program if p == path else prog) for p, prog in task.programs)
         self._retain_plan = None

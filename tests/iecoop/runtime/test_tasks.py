@@ -115,6 +115,11 @@ def test_programs_of_a_task_run_in_order_and_add_program_appends() -> None:
     rt.add_program("PlcTask", again)
     assert rt.programs() == {"PlcTask.First": first, "PlcTask.Second": second, "PlcTask.First_2": again}
     assert [path for path, _ in rt.tasks[0].programs] == ["PlcTask.First", "PlcTask.Second", "PlcTask.First_2"]
+    # The list is the runtime's: a task's programs change only through add_task / add_program / online change.
+    with pytest.raises(AttributeError):
+        rt.tasks[0].programs.append(("PlcTask.Stray", first))  # type: ignore[attr-defined]
+    with pytest.raises(AttributeError):
+        rt.tasks[0].programs = ()  # type: ignore[misc]
     rt.run(cycles=2)
     assert order == ["First", "Second", "First"] * 2
 
