@@ -244,6 +244,8 @@ class BodyWriter:
         self.temp_names: dict[str, str] = {}
         #: The names the function binds (filled by translate()).
         self.bound: set[str] = set()
+        #: For each ``return value``, whether the value is a variable that outlives the call (see is_place()).
+        self.return_places: list[bool] = []
 
     # -- entry point ---------------------------------------------------------
 
@@ -262,7 +264,9 @@ class BodyWriter:
         self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
         if self.func.__name__ == "body":
             # The body's locals named like a variable are renamed (see declare()): they hide nothing.
-            for name in sorted(self.bound & set(self.fields)):
+            # ST names ignore case: a local axis is the variable Axis there.
+            variables = {f.lower() for f in self.fields}
+            for name in sorted(n for n in self.bound if n.lower() in variables):
                 self.temp_name(name)
             self.bound -= set(self.temp_names)
         body = list(node.body)
@@ -337,7 +341,8 @@ class BodyWriter:
             info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
             if info is None:
                 self.fail(node, "a local annotated None")
-            if not (isinstance(info, AggregateInfo) and node.value is not None and not isinstance(node.value, ast.Call)):
+            bound_by_call = isinstance(node.value, ast.Call) and isinstance(self.typeof(node.value), ReferenceInfo)
+            if not (isinstance(info, AggregateInfo) and node.value is not None and (not isinstance(node.value, ast.Call) or bound_by_call)):
                 self.declare(node.target.id, info, node)
             if node.value is not None:
                 self.assign_one(node.target, node.value, depth, node)
@@ -377,8 +382,15 @@ class BodyWriter:
         if node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
             if self.result is None:
                 self.fail(node, "a return value in a block without a result")
-            value = self.expr(node.value)[0]
-            self.emit(depth, f"{self.st_name} := {value};")
+            place = self.is_place(node.value)
+            self.return_places.append(place)
+            if isinstance(self.result, ReferenceInfo):
+                if not place:
+                    self.fail(node, f"a return of a value that ends with the call, where the result is {type_text(self.result)} "
+                              "(the member's first definition hands out a variable: return a variable of the block, a GVL or an input)")
+                self.emit(depth, f"{self.st_name} REF= {self.ref_target(node.value)};")
+            else:
+                self.emit(depth, f"{self.st_name} := {self.expr(node.value)[0]};")
         if not last:
             self.emit(depth, "RETURN;")
 
@@ -736,6 +748,11 @@ class BodyWriter:
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
+        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and isinstance(value, ast.Call):
+            # A METHOD or FUNCTION that returns REFERENCE TO: Python's name is the variable itself, as ST's REF= binds it.
+            self.references.add(name)
+            self.declare(name, info, node)
+            return
         if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call) and not self.reads_property(value):
             # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
             # Get gives a value, which has no address: that one is a copy).
@@ -744,8 +761,34 @@ class BodyWriter:
             return
         self.declare(name, info, node)
 
+    def is_place(self, node: ast.expr) -> bool:
+        """Whether ``node`` names a variable that outlives the call: a variable of the block or of a GVL, an
+        element or member of one, an input passed by reference, a pointer's target, a REFERENCE local bound to
+        one of those, or the result of a call that returns a REFERENCE TO (ST can bind a reference to it)."""
+        if isinstance(node, ast.Name):
+            if node.id == "self":
+                return "self" not in self.locals and self.scope.cls is not None
+            if node.id in self.references:
+                return True
+            if node.id in self.params:
+                return node.id not in self.bound and isinstance(self.params[node.id], AggregateInfo)
+            return node.id not in self.locals and kind_of(type(self.globals.get(node.id))) == "gvl"
+        if isinstance(node, ast.Attribute):
+            if node.attr == "deref":
+                return True
+            if isinstance(node.value, ast.Name) and node.value.id not in self.locals and node.value.id not in self.params:
+                holder = self.globals.get(node.value.id)
+                if kind_of(type(holder)) == "gvl":
+                    return node.attr in _fields_of(type(holder))
+            return self.is_place(node.value) and self.typeof(node) is not None and not self.reads_property(node)
+        if isinstance(node, ast.Subscript):
+            return self.is_place(node.value)
+        if isinstance(node, ast.Call):
+            return isinstance(self.typeof(node), ReferenceInfo)
+        return False
+
     def declare(self, name: str, info: TypeInfo | str, node: ast.AST) -> None:
-        if name in self.fields and name not in self.params and self.func.__name__ == "body":
+        if name.lower() in {f.lower() for f in self.fields} and name not in self.params and self.func.__name__ == "body":
             self.temp_name(name)
         self.locals[name] = info
 
@@ -756,8 +799,8 @@ class BodyWriter:
         declared beside the variables, where the same name twice is an error.
         """
         if name not in self.temp_names:
-            taken = {*self.fields, *self.locals, *self.params, *self.bound, *self.temp_names.values()}
-            self.temp_names[name] = next(f"{name}_temp{n or ''}" for n in range(100) if f"{name}_temp{n or ''}" not in taken)
+            taken = {n.lower() for n in (*self.fields, *self.locals, *self.params, *self.bound, *self.temp_names.values())}
+            self.temp_names[name] = next(f"{name}_temp{n or ''}" for n in range(100) if f"{name}_temp{n or ''}".lower() not in taken)
         return self.temp_names[name]
 
     # -- expressions ---------------------------------------------------------
@@ -934,7 +977,9 @@ class BodyWriter:
         base = node.value
         attr = node.attr
         if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
-            if attr in self.locals and attr not in self.temp_names or attr in self.bound or attr in self.params or attr in self.rename.values() or attr == self.st_name:
+            # A local, input or the result of the same name (ST ignores case) hides the variable: THIS^ reaches it.
+            hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
+            if attr.lower() in {n.lower() for n in hiding}:
                 return f"THIS^.{ident(attr)}"
             return ident(attr)
         if attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
@@ -971,18 +1016,19 @@ class BodyWriter:
         if _is_task_info(self, call):
             return f"{self.expr(call, _ATOM)[0]}.{ident(node.attr)}"
         info = self.typeof(call)
-        if isinstance(info, ReferenceInfo):
-            info = info.target
-        if not isinstance(info, (InterfaceInfo, AggregateInfo)):
+        bind = isinstance(info, ReferenceInfo)  # the variable itself: a REFERENCE local bound with REF=
+        target = info.target if isinstance(info, ReferenceInfo) else info
+        if not isinstance(target, (InterfaceInfo, AggregateInfo)):
             self.fail(node, "a member of a call's result whose type is not an interface, block or struct")
-        if isinstance(node.ctx, ast.Store) and isinstance(info, AggregateInfo):
+        if isinstance(node.ctx, ast.Store) and isinstance(target, AggregateInfo) and not bind:
             self.fail(node, "a write into a member of a call's result (the METHOD returns a copy in ST: return an interface, or bind a REFERENCE local)")
         temp = self.hoisted.get(id(call))
         if temp is None:
+            assert info is not None
             func = call.func
             stem = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "call")
             temp = self.temporary(f"{stem}_result", info, node)
-            self.prelude.append(f"{temp} := {self.call(call)[0]};")
+            self.prelude.append(f"{temp} {'REF=' if bind else ':='} {self.call(call)[0]};")
             self.hoisted[id(call)] = temp
         return f"{temp}.{ident(node.attr)}"
 
@@ -1185,9 +1231,11 @@ class BodyWriter:
             return None
         from iecoop.st._emit_model import function_parameters
 
+        from iecoop.st._emit_decl import result_info
+
         try:
             inputs = function_parameters(value, value.__qualname__)
-            result = return_info(value, value.__qualname__, None)
+            result = result_info(value, value.__qualname__, None)
         except StExportError:
             return None
         return inputs, result
@@ -1330,7 +1378,11 @@ class BodyWriter:
         if found is None or found[0] is None:
             return None
         function, owner = found
-        return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+        if isinstance(owner.__dict__.get(func.attr), property):
+            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+        from iecoop.st._emit_decl import result_info
+
+        return result_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 def _constant_int(node: ast.expr) -> int | None:

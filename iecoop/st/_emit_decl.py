@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import inspect
+import weakref
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -29,6 +31,7 @@ from iecoop.st._emit_model import (
     alias_target,
     enum_base,
     enum_members,
+    function_parameters,
     parameters,
     return_info,
     type_text,
@@ -268,6 +271,67 @@ def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeI
     return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
 
 
+#: The result each METHOD / FUNCTION is written with, by the function that first defines it (see result_info()).
+_RESULTS: weakref.WeakKeyDictionary[Any, TypeInfo] = weakref.WeakKeyDictionary()
+
+
+def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    """The result type a METHOD (``owner`` its class) or FUNCTION (``owner`` None) is written with.
+
+    Python returns a STRUCT or block itself, never a copy. Where every ``return`` of the member's first
+    definition gives a variable that outlives the call (a variable of the block or of a GVL, an element of
+    one, an input passed by reference), the result is ``REFERENCE TO`` it, bound with ``REF=``, so a caller
+    that keeps the result (``area = plant.add_area(...)``, ``REF= calibration_for(...)``) keeps the variable,
+    as in Python; ``x := F()`` still copies. Any other result is the type itself, a copy, as is every
+    result an interface declares (its implementations are not all known).
+    """
+    info = return_info(func, where, owner)
+    if not isinstance(info, AggregateInfo):
+        return info
+    root = _first_definition(func, owner)
+    if root is None:
+        return info
+    found = _RESULTS.get(root[0])
+    if found is None:
+        _RESULTS[root[0]] = info  # while its body is read: a recursive call sees the copy
+        found = ReferenceInfo(info) if _returns_variables(*root, info) else info
+        _RESULTS[root[0]] = found
+    return found
+
+
+def _first_definition(func: Any, owner: Any) -> tuple[Any, Any] | None:
+    """(function, class) of the first definition of a METHOD in the EXTENDS chain; None for an interface's."""
+    if owner is None:
+        return inspect.unwrap(func), None
+    first = None
+    for klass in owner.__mro__:
+        if func.__name__ in klass.__dict__:
+            if kind_of(klass) == "interface":
+                return None
+            if kind_of(klass) in ("fb", "program"):
+                first = klass
+    value = first.__dict__[func.__name__] if first is not None else None
+    return (inspect.unwrap(value), first) if inspect.isfunction(value) else None
+
+
+def _returns_variables(func: Any, owner: Any, info: TypeInfo) -> bool:
+    """Whether every ``return`` of ``func`` gives a variable that outlives the call (read by translating it)."""
+    from iecoop.st._emit_body import _fields_of
+
+    name = func.__name__
+    try:
+        inputs = function_parameters(func, name) if owner is None else parameters(func, f"{owner.__name__}.{name}", owner)
+        scope = Scope(owner, _fields_of(owner) if owner is not None else {}, {}, {}, set())
+        writer = BodyWriter(
+            scope, func, st_name=ident(name), result=info, params=_body_params(inputs),
+            by_reference=set(_by_reference(inputs)), lenient=True,
+        )
+        writer.translate()
+    except StExportError:
+        return False
+    return bool(writer.return_places) and all(writer.return_places)
+
+
 class _Writer:
     def __init__(self, scope: Scope, lenient: bool, untranslated: list[str]) -> None:
         self.scope = scope
@@ -285,7 +349,7 @@ class _Writer:
         func = member.function
         where = f"{meta.name}.{member.name}"
         inputs = parameters(func, where, meta.cls)
-        result = return_info(func, where, meta.cls)
+        result = result_info(func, where, meta.cls)
         # Interface prototypes carry no access specifier (they are PUBLIC by definition).
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
@@ -417,11 +481,9 @@ def _iface_info(cls: Any) -> TypeInfo:
 
 
 def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
-    from iecoop.st._emit_model import function_parameters
-
     inputs = function_parameters(func, name)
     # A FUNCTION has a result in TwinCAT and CODESYS: one that returns nothing in Python gives a BOOL left FALSE.
-    result = return_info(func, name, None) or _BOOL
+    result = result_info(func, name, None) or _BOOL
     by_reference = _by_reference(inputs)
     body = writer.body(func, st_name=ident(name), result=result, params=_body_params(inputs), by_reference=set(by_reference))
     declared = passed_inputs(inputs)

@@ -47,14 +47,8 @@ KNOWN: dict[str, str] = {
     "so main()'s write from outside is not refused",
     "iecoop_examples.ch14_operators": "MainOperators: the reader takes no address of the variable the exported "
     "__VARINFO reads ('this variable has no holder to take its address from')",
-    "patterns.behavioral.visitor": "main()'s CSV report: the loaded plant writes no device rows (its line 2 is "
-    "the energy line, where Python writes Plant.Area1.Motor1,motor,FAULT,overload trip)",
     "patterns.solid.isp": "IspCell: the reader knows __SYSTEM.IQueryInterface only after EXTENDS, not as a "
     "variable's type",
-    "patterns.structural.adapter": "AxisDrive: unknown type 'AxisRef': it and the MC_ blocks are in "
-    "patterns.plant.motion, which the module's export leaves out (TwinCAT has them from Tc2_MC2)",
-    "patterns.structural.flyweight": "table REF= calibration_for(sensor): a REF= to a FUNCTION's result, "
-    "which ST has no address of (the reader refuses it)",
 }
 
 
