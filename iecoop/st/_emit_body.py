@@ -17,7 +17,8 @@ import inspect
 import math
 import textwrap
 import typing
-from collections.abc import Callable, Iterator
+import weakref
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from iecoop.metadata import is_root, kind_of
@@ -36,8 +37,9 @@ from iecoop.memory.typeinfo import (
     class_info,
     resolve_type,
 )
+from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.memory.pointers import PointerInfo
-from iecoop.st._emit_model import StExportError, annotation_info, ident, return_info, type_text
+from iecoop.st._emit_model import StExportError, annotation_info, function_parameters, ident, parameters, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 
 __all__ = ["BodyWriter", "Scope", "literal"]
@@ -1229,10 +1231,6 @@ class BodyWriter:
         module = getattr(value, "__module__", "") or ""
         if module == "iecoop" or module.startswith("iecoop.") or value.__name__.startswith("<"):
             return None
-        from iecoop.st._emit_model import function_parameters
-
-        from iecoop.st._emit_decl import result_info
-
         try:
             inputs = function_parameters(value, value.__qualname__)
             result = result_info(value, value.__qualname__, None)
@@ -1380,8 +1378,6 @@ class BodyWriter:
         function, owner = found
         if isinstance(owner.__dict__.get(func.attr), property):
             return return_info(function, f"{owner.__name__}.{func.attr}", owner)
-        from iecoop.st._emit_decl import result_info
-
         return result_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
@@ -1809,3 +1805,80 @@ def _task_info_types() -> dict[str, TypeInfo]:
 
 #: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has, and their ST types.
 _TASK_INFO = _task_info_types()
+
+
+def _by_reference(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, tuple[str, TypeInfo, Any]]:
+    """The VAR_OUTPUT / VAR_IN_OUT parameters: name -> (section, the variable's type, initial value)."""
+    found: dict[str, tuple[str, TypeInfo, Any]] = {}
+    for name, info, default in params:
+        if isinstance(default, FieldSpec) and default.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+            target = info.target if isinstance(info, PointerInfo) else None
+            if target is None:
+                raise StExportError(f"{default.section} {name}: annotate it POINTER_TO[<type>]")
+            found[name] = (default.section, target, default.initial if default.section == "VAR_OUTPUT" else MISSING)
+    return found
+
+
+def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
+    """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
+    by_reference = _by_reference(params)
+    return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
+
+
+#: The result each METHOD / FUNCTION is written with, by the function that first defines it (see result_info()).
+_RESULTS: weakref.WeakKeyDictionary[Any, TypeInfo] = weakref.WeakKeyDictionary()
+
+
+def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    """The result type a METHOD (``owner`` its class) or FUNCTION (``owner`` None) is written with.
+
+    Python returns a STRUCT or block itself, never a copy. Where every ``return`` of the member's first
+    definition gives a variable that outlives the call (a variable of the block or of a GVL, an element of
+    one, an input passed by reference), the result is ``REFERENCE TO`` it, bound with ``REF=``, so a caller
+    that keeps the result (``area = plant.add_area(...)``, ``REF= calibration_for(...)``) keeps the variable,
+    as in Python; ``x := F()`` still copies. Any other result is the type itself, a copy, as is every
+    result an interface declares (its implementations are not all known).
+    """
+    info = return_info(func, where, owner)
+    if not isinstance(info, AggregateInfo):
+        return info
+    root = _first_definition(func, owner)
+    if root is None:
+        return info
+    found = _RESULTS.get(root[0])
+    if found is None:
+        _RESULTS[root[0]] = info  # while its body is read: a recursive call sees the copy
+        found = ReferenceInfo(info) if _returns_variables(*root, info) else info
+        _RESULTS[root[0]] = found
+    return found
+
+
+def _first_definition(func: Any, owner: Any) -> tuple[Any, Any] | None:
+    """(function, class) of the first definition of a METHOD in the EXTENDS chain; None for an interface's."""
+    if owner is None:
+        return inspect.unwrap(func), None
+    first = None
+    for klass in owner.__mro__:
+        if func.__name__ in klass.__dict__:
+            if kind_of(klass) == "interface":
+                return None
+            if kind_of(klass) in ("fb", "program"):
+                first = klass
+    value = first.__dict__[func.__name__] if first is not None else None
+    return (inspect.unwrap(value), first) if inspect.isfunction(value) else None
+
+
+def _returns_variables(func: Any, owner: Any, info: TypeInfo) -> bool:
+    """Whether every ``return`` of ``func`` gives a variable that outlives the call (read by translating it)."""
+    name = func.__name__
+    try:
+        inputs = function_parameters(func, name) if owner is None else parameters(func, f"{owner.__name__}.{name}", owner)
+        scope = Scope(owner, _fields_of(owner) if owner is not None else {}, {}, {}, set())
+        writer = BodyWriter(
+            scope, func, st_name=ident(name), result=info, params=_body_params(inputs),
+            by_reference=set(_by_reference(inputs)), lenient=True,
+        )
+        writer.translate()
+    except StExportError:
+        return False
+    return bool(writer.return_places) and all(writer.return_places)

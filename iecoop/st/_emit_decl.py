@@ -10,16 +10,14 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-import inspect
-import weakref
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access
-from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
-from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.layout import MISSING
+from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -230,18 +228,6 @@ def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, renam
     return lines
 
 
-def _by_reference(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, tuple[str, TypeInfo, Any]]:
-    """The VAR_OUTPUT / VAR_IN_OUT parameters: name -> (section, the variable's type, initial value)."""
-    found: dict[str, tuple[str, TypeInfo, Any]] = {}
-    for name, info, default in params:
-        if isinstance(default, FieldSpec) and default.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-            target = info.target if isinstance(info, PointerInfo) else None
-            if target is None:
-                raise StExportError(f"{default.section} {name}: annotate it POINTER_TO[<type>]")
-            found[name] = (default.section, target, default.initial if default.section == "VAR_OUTPUT" else MISSING)
-    return found
-
-
 def _parameter_lines(params: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
     """VAR_INPUT, VAR_OUTPUT and VAR_IN_OUT of a METHOD or FUNCTION (outputs and in-outs are POINTER_TO parameters in Python)."""
     by_reference = _by_reference(params)
@@ -263,73 +249,6 @@ def parameter_groups(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, l
         section, target, initial = by_reference.get(name, ("VAR_INPUT", info, default))
         groups[section].append((name, target, initial))
     return groups
-
-
-def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
-    """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
-    by_reference = _by_reference(params)
-    return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
-
-
-#: The result each METHOD / FUNCTION is written with, by the function that first defines it (see result_info()).
-_RESULTS: weakref.WeakKeyDictionary[Any, TypeInfo] = weakref.WeakKeyDictionary()
-
-
-def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
-    """The result type a METHOD (``owner`` its class) or FUNCTION (``owner`` None) is written with.
-
-    Python returns a STRUCT or block itself, never a copy. Where every ``return`` of the member's first
-    definition gives a variable that outlives the call (a variable of the block or of a GVL, an element of
-    one, an input passed by reference), the result is ``REFERENCE TO`` it, bound with ``REF=``, so a caller
-    that keeps the result (``area = plant.add_area(...)``, ``REF= calibration_for(...)``) keeps the variable,
-    as in Python; ``x := F()`` still copies. Any other result is the type itself, a copy, as is every
-    result an interface declares (its implementations are not all known).
-    """
-    info = return_info(func, where, owner)
-    if not isinstance(info, AggregateInfo):
-        return info
-    root = _first_definition(func, owner)
-    if root is None:
-        return info
-    found = _RESULTS.get(root[0])
-    if found is None:
-        _RESULTS[root[0]] = info  # while its body is read: a recursive call sees the copy
-        found = ReferenceInfo(info) if _returns_variables(*root, info) else info
-        _RESULTS[root[0]] = found
-    return found
-
-
-def _first_definition(func: Any, owner: Any) -> tuple[Any, Any] | None:
-    """(function, class) of the first definition of a METHOD in the EXTENDS chain; None for an interface's."""
-    if owner is None:
-        return inspect.unwrap(func), None
-    first = None
-    for klass in owner.__mro__:
-        if func.__name__ in klass.__dict__:
-            if kind_of(klass) == "interface":
-                return None
-            if kind_of(klass) in ("fb", "program"):
-                first = klass
-    value = first.__dict__[func.__name__] if first is not None else None
-    return (inspect.unwrap(value), first) if inspect.isfunction(value) else None
-
-
-def _returns_variables(func: Any, owner: Any, info: TypeInfo) -> bool:
-    """Whether every ``return`` of ``func`` gives a variable that outlives the call (read by translating it)."""
-    from iecoop.st._emit_body import _fields_of
-
-    name = func.__name__
-    try:
-        inputs = function_parameters(func, name) if owner is None else parameters(func, f"{owner.__name__}.{name}", owner)
-        scope = Scope(owner, _fields_of(owner) if owner is not None else {}, {}, {}, set())
-        writer = BodyWriter(
-            scope, func, st_name=ident(name), result=info, params=_body_params(inputs),
-            by_reference=set(_by_reference(inputs)), lenient=True,
-        )
-        writer.translate()
-    except StExportError:
-        return False
-    return bool(writer.return_places) and all(writer.return_places)
 
 
 class _Writer:
