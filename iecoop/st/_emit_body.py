@@ -1286,6 +1286,8 @@ class BodyWriter:
         else:
             inner = self._typeof(node.value)
             cls = _class_of(inner.target if isinstance(inner, ReferenceInfo) else inner)
+        if cls is not None and node.attr in _fields_of(cls):
+            return False  # a variable (a nested block's view is a Python property, but no PROPERTY of ST)
         for klass in getattr(cls, "__mro__", ()):
             if node.attr in klass.__dict__:
                 return isinstance(klass.__dict__[node.attr], property)

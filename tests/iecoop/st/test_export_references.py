@@ -146,6 +146,34 @@ def test_references_handed_out_loaded_back_run_as_python(fmt: str) -> None:
         register_global_list(typing.cast(GlobalVariables, GVL_Tables))  # the loaded list took its name
 
 
+class Station(FunctionBlock):
+    """Hands out a nested block, and names it in a local: both are the block itself."""
+
+    counter: Pool = VAR()
+    seen: INT = VAR_OUTPUT(0)
+
+    @method
+    def pool(self) -> Pool:
+        return self.counter
+
+    def body(self) -> None:
+        shared = self.counter
+        shared.take().level = 5
+        self.seen = self.pool().count
+
+
+def test_a_nested_block_handed_out_or_named_by_a_local_is_a_reference_not_a_copy() -> None:
+    text = dump([Slot, Pool, Station])
+    assert "METHOD PUBLIC pool : REFERENCE TO Pool\n" in text and "pool REF= counter;" in text
+    assert "    shared : REFERENCE TO Pool;\n" in text
+    assert "shared REF= counter;\ntake_result REF= shared.take();\ntake_result.level := 5;\n" in text
+    station, loaded = Station(), st.load(text).Station()
+    for block in (station, loaded):
+        block()
+        block()
+    assert (station.seen, station.counter.slots[2].level) == (loaded.seen, loaded.counter.slots[2].level) == (2, 5)
+
+
 def test_an_override_must_hand_out_a_variable_where_its_first_definition_does() -> None:
     class Base(FunctionBlock):
         kept: Slot = VAR()
