@@ -17,7 +17,8 @@ import inspect
 import math
 import textwrap
 import typing
-from collections.abc import Callable, Iterator
+import weakref
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from iecoop.metadata import is_root, kind_of
@@ -36,8 +37,9 @@ from iecoop.memory.typeinfo import (
     class_info,
     resolve_type,
 )
+from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.memory.pointers import PointerInfo
-from iecoop.st._emit_model import StExportError, annotation_info, ident, return_info, type_text
+from iecoop.st._emit_model import StExportError, annotation_info, function_parameters, ident, parameters, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 
 __all__ = ["BodyWriter", "Scope", "literal"]
@@ -244,6 +246,8 @@ class BodyWriter:
         self.temp_names: dict[str, str] = {}
         #: The names the function binds (filled by translate()).
         self.bound: set[str] = set()
+        #: For each ``return value``, whether the value is a variable that outlives the call (see is_place()).
+        self.return_places: list[bool] = []
 
     # -- entry point ---------------------------------------------------------
 
@@ -262,7 +266,9 @@ class BodyWriter:
         self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
         if self.func.__name__ == "body":
             # The body's locals named like a variable are renamed (see declare()): they hide nothing.
-            for name in sorted(self.bound & set(self.fields)):
+            # ST names ignore case: a local axis is the variable Axis there.
+            variables = {f.lower() for f in self.fields}
+            for name in sorted(n for n in self.bound if n.lower() in variables):
                 self.temp_name(name)
             self.bound -= set(self.temp_names)
         body = list(node.body)
@@ -337,7 +343,8 @@ class BodyWriter:
             info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
             if info is None:
                 self.fail(node, "a local annotated None")
-            if not (isinstance(info, AggregateInfo) and node.value is not None and not isinstance(node.value, ast.Call)):
+            bound_by_call = isinstance(node.value, ast.Call) and isinstance(self.typeof(node.value), ReferenceInfo)
+            if not (isinstance(info, AggregateInfo) and node.value is not None and (not isinstance(node.value, ast.Call) or bound_by_call)):
                 self.declare(node.target.id, info, node)
             if node.value is not None:
                 self.assign_one(node.target, node.value, depth, node)
@@ -377,8 +384,15 @@ class BodyWriter:
         if node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
             if self.result is None:
                 self.fail(node, "a return value in a block without a result")
-            value = self.expr(node.value)[0]
-            self.emit(depth, f"{self.st_name} := {value};")
+            place = self.is_place(node.value)
+            self.return_places.append(place)
+            if isinstance(self.result, ReferenceInfo):
+                if not place:
+                    self.fail(node, f"a return of a value that ends with the call, where the result is {type_text(self.result)} "
+                              "(the member's first definition hands out a variable: return a variable of the block, a GVL or an input)")
+                self.emit(depth, f"{self.st_name} REF= {self.ref_target(node.value)};")
+            else:
+                self.emit(depth, f"{self.st_name} := {self.expr(node.value)[0]};")
         if not last:
             self.emit(depth, "RETURN;")
 
@@ -736,6 +750,11 @@ class BodyWriter:
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
+        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and isinstance(value, ast.Call):
+            # A METHOD or FUNCTION that returns REFERENCE TO: Python's name is the variable itself, as ST's REF= binds it.
+            self.references.add(name)
+            self.declare(name, info, node)
+            return
         if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call) and not self.reads_property(value):
             # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
             # Get gives a value, which has no address: that one is a copy).
@@ -744,8 +763,34 @@ class BodyWriter:
             return
         self.declare(name, info, node)
 
+    def is_place(self, node: ast.expr) -> bool:
+        """Whether ``node`` names a variable that outlives the call: a variable of the block or of a GVL, an
+        element or member of one, an input passed by reference, a pointer's target, a REFERENCE local bound to
+        one of those, or the result of a call that returns a REFERENCE TO (ST can bind a reference to it)."""
+        if isinstance(node, ast.Name):
+            if node.id == "self":
+                return "self" not in self.locals and self.scope.cls is not None
+            if node.id in self.references:
+                return True
+            if node.id in self.params:
+                return node.id not in self.bound and isinstance(self.params[node.id], AggregateInfo)
+            return node.id not in self.locals and kind_of(type(self.globals.get(node.id))) == "gvl"
+        if isinstance(node, ast.Attribute):
+            if node.attr == "deref":
+                return True
+            if isinstance(node.value, ast.Name) and node.value.id not in self.locals and node.value.id not in self.params:
+                holder = self.globals.get(node.value.id)
+                if kind_of(type(holder)) == "gvl":
+                    return node.attr in _fields_of(type(holder))
+            return self.is_place(node.value) and self.typeof(node) is not None and not self.reads_property(node)
+        if isinstance(node, ast.Subscript):
+            return self.is_place(node.value)
+        if isinstance(node, ast.Call):
+            return isinstance(self.typeof(node), ReferenceInfo)
+        return False
+
     def declare(self, name: str, info: TypeInfo | str, node: ast.AST) -> None:
-        if name in self.fields and name not in self.params and self.func.__name__ == "body":
+        if name.lower() in {f.lower() for f in self.fields} and name not in self.params and self.func.__name__ == "body":
             self.temp_name(name)
         self.locals[name] = info
 
@@ -756,8 +801,8 @@ class BodyWriter:
         declared beside the variables, where the same name twice is an error.
         """
         if name not in self.temp_names:
-            taken = {*self.fields, *self.locals, *self.params, *self.bound, *self.temp_names.values()}
-            self.temp_names[name] = next(f"{name}_temp{n or ''}" for n in range(100) if f"{name}_temp{n or ''}" not in taken)
+            taken = {n.lower() for n in (*self.fields, *self.locals, *self.params, *self.bound, *self.temp_names.values())}
+            self.temp_names[name] = next(f"{name}_temp{n or ''}" for n in range(100) if f"{name}_temp{n or ''}".lower() not in taken)
         return self.temp_names[name]
 
     # -- expressions ---------------------------------------------------------
@@ -934,7 +979,9 @@ class BodyWriter:
         base = node.value
         attr = node.attr
         if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
-            if attr in self.locals and attr not in self.temp_names or attr in self.bound or attr in self.params or attr in self.rename.values() or attr == self.st_name:
+            # A local, input or the result of the same name (ST ignores case) hides the variable: THIS^ reaches it.
+            hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
+            if attr.lower() in {n.lower() for n in hiding}:
                 return f"THIS^.{ident(attr)}"
             return ident(attr)
         if attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
@@ -971,18 +1018,19 @@ class BodyWriter:
         if _is_task_info(self, call):
             return f"{self.expr(call, _ATOM)[0]}.{ident(node.attr)}"
         info = self.typeof(call)
-        if isinstance(info, ReferenceInfo):
-            info = info.target
-        if not isinstance(info, (InterfaceInfo, AggregateInfo)):
+        bind = isinstance(info, ReferenceInfo)  # the variable itself: a REFERENCE local bound with REF=
+        target = info.target if isinstance(info, ReferenceInfo) else info
+        if not isinstance(target, (InterfaceInfo, AggregateInfo)):
             self.fail(node, "a member of a call's result whose type is not an interface, block or struct")
-        if isinstance(node.ctx, ast.Store) and isinstance(info, AggregateInfo):
+        if isinstance(node.ctx, ast.Store) and isinstance(target, AggregateInfo) and not bind:
             self.fail(node, "a write into a member of a call's result (the METHOD returns a copy in ST: return an interface, or bind a REFERENCE local)")
         temp = self.hoisted.get(id(call))
         if temp is None:
+            assert info is not None
             func = call.func
             stem = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "call")
             temp = self.temporary(f"{stem}_result", info, node)
-            self.prelude.append(f"{temp} := {self.call(call)[0]};")
+            self.prelude.append(f"{temp} {'REF=' if bind else ':='} {self.call(call)[0]};")
             self.hoisted[id(call)] = temp
         return f"{temp}.{ident(node.attr)}"
 
@@ -1183,11 +1231,9 @@ class BodyWriter:
         module = getattr(value, "__module__", "") or ""
         if module == "iecoop" or module.startswith("iecoop.") or value.__name__.startswith("<"):
             return None
-        from iecoop.st._emit_model import function_parameters
-
         try:
             inputs = function_parameters(value, value.__qualname__)
-            result = return_info(value, value.__qualname__, None)
+            result = result_info(value, value.__qualname__, None)
         except StExportError:
             return None
         return inputs, result
@@ -1240,6 +1286,8 @@ class BodyWriter:
         else:
             inner = self._typeof(node.value)
             cls = _class_of(inner.target if isinstance(inner, ReferenceInfo) else inner)
+        if cls is not None and node.attr in _fields_of(cls):
+            return False  # a variable (a nested block's view is a Python property, but no PROPERTY of ST)
         for klass in getattr(cls, "__mro__", ()):
             if node.attr in klass.__dict__:
                 return isinstance(klass.__dict__[node.attr], property)
@@ -1330,7 +1378,9 @@ class BodyWriter:
         if found is None or found[0] is None:
             return None
         function, owner = found
-        return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+        if isinstance(owner.__dict__.get(func.attr), property):
+            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
+        return result_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 def _constant_int(node: ast.expr) -> int | None:
@@ -1757,3 +1807,80 @@ def _task_info_types() -> dict[str, TypeInfo]:
 
 #: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has, and their ST types.
 _TASK_INFO = _task_info_types()
+
+
+def _by_reference(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, tuple[str, TypeInfo, Any]]:
+    """The VAR_OUTPUT / VAR_IN_OUT parameters: name -> (section, the variable's type, initial value)."""
+    found: dict[str, tuple[str, TypeInfo, Any]] = {}
+    for name, info, default in params:
+        if isinstance(default, FieldSpec) and default.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
+            target = info.target if isinstance(info, PointerInfo) else None
+            if target is None:
+                raise StExportError(f"{default.section} {name}: annotate it POINTER_TO[<type>]")
+            found[name] = (default.section, target, default.initial if default.section == "VAR_OUTPUT" else MISSING)
+    return found
+
+
+def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
+    """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
+    by_reference = _by_reference(params)
+    return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
+
+
+#: The result each METHOD / FUNCTION is written with, by the function that first defines it (see result_info()).
+_RESULTS: weakref.WeakKeyDictionary[Any, TypeInfo] = weakref.WeakKeyDictionary()
+
+
+def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    """The result type a METHOD (``owner`` its class) or FUNCTION (``owner`` None) is written with.
+
+    Python returns a STRUCT or block itself, never a copy. Where every ``return`` of the member's first
+    definition gives a variable that outlives the call (a variable of the block or of a GVL, an element of
+    one, an input passed by reference), the result is ``REFERENCE TO`` it, bound with ``REF=``, so a caller
+    that keeps the result (``area = plant.add_area(...)``, ``REF= calibration_for(...)``) keeps the variable,
+    as in Python; ``x := F()`` still copies. Any other result is the type itself, a copy, as is every
+    result an interface declares (its implementations are not all known).
+    """
+    info = return_info(func, where, owner)
+    if not isinstance(info, AggregateInfo):
+        return info
+    root = _first_definition(func, owner)
+    if root is None:
+        return info
+    found = _RESULTS.get(root[0])
+    if found is None:
+        _RESULTS[root[0]] = info  # while its body is read: a recursive call sees the copy
+        found = ReferenceInfo(info) if _returns_variables(*root, info) else info
+        _RESULTS[root[0]] = found
+    return found
+
+
+def _first_definition(func: Any, owner: Any) -> tuple[Any, Any] | None:
+    """(function, class) of the first definition of a METHOD in the EXTENDS chain; None for an interface's."""
+    if owner is None:
+        return inspect.unwrap(func), None
+    first = None
+    for klass in owner.__mro__:
+        if func.__name__ in klass.__dict__:
+            if kind_of(klass) == "interface":
+                return None
+            if kind_of(klass) in ("fb", "program"):
+                first = klass
+    value = first.__dict__[func.__name__] if first is not None else None
+    return (inspect.unwrap(value), first) if inspect.isfunction(value) else None
+
+
+def _returns_variables(func: Any, owner: Any, info: TypeInfo) -> bool:
+    """Whether every ``return`` of ``func`` gives a variable that outlives the call (read by translating it)."""
+    name = func.__name__
+    try:
+        inputs = function_parameters(func, name) if owner is None else parameters(func, f"{owner.__name__}.{name}", owner)
+        scope = Scope(owner, _fields_of(owner) if owner is not None else {}, {}, {}, set())
+        writer = BodyWriter(
+            scope, func, st_name=ident(name), result=info, params=_body_params(inputs),
+            by_reference=set(_by_reference(inputs)), lenient=True,
+        )
+        writer.translate()
+    except StExportError:
+        return False
+    return bool(writer.return_places) and all(writer.return_places)

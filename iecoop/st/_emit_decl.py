@@ -18,7 +18,7 @@ from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, literal
+from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
 from iecoop.st._emit_model import (
     LIFECYCLE,
     ClassMeta,
@@ -30,6 +30,7 @@ from iecoop.st._emit_model import (
     alias_target,
     enum_base,
     enum_members,
+    function_parameters,
     parameters,
     return_info,
     type_text,
@@ -230,18 +231,6 @@ def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, renam
     return lines
 
 
-def _by_reference(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, tuple[str, TypeInfo, Any]]:
-    """The VAR_OUTPUT / VAR_IN_OUT parameters: name -> (section, the variable's type, initial value)."""
-    found: dict[str, tuple[str, TypeInfo, Any]] = {}
-    for name, info, default in params:
-        if isinstance(default, FieldSpec) and default.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-            target = info.target if isinstance(info, PointerInfo) else None
-            if target is None:
-                raise StExportError(f"{default.section} {name}: annotate it POINTER_TO[<type>]")
-            found[name] = (default.section, target, default.initial if default.section == "VAR_OUTPUT" else MISSING)
-    return found
-
-
 def _parameter_lines(params: Sequence[tuple[str, TypeInfo, Any]], owner: str, rename: Mapping[str, str]) -> list[str]:
     """VAR_INPUT, VAR_OUTPUT and VAR_IN_OUT of a METHOD or FUNCTION (outputs and in-outs are POINTER_TO parameters in Python)."""
     by_reference = _by_reference(params)
@@ -265,12 +254,6 @@ def parameter_groups(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, l
     return groups
 
 
-def _body_params(params: Sequence[tuple[str, TypeInfo, Any]]) -> dict[str, TypeInfo]:
-    """The parameters as the body sees them: an output / in-out has its variable's type (``x.deref`` is ``x``)."""
-    by_reference = _by_reference(params)
-    return {n: by_reference[n][1] if n in by_reference else i for n, i, _ in params}
-
-
 class _Writer:
     def __init__(self, scope: Scope, lenient: bool, untranslated: list[str]) -> None:
         self.scope = scope
@@ -288,7 +271,7 @@ class _Writer:
         func = member.function
         where = f"{meta.name}.{member.name}"
         inputs = parameters(func, where, meta.cls)
-        result = return_info(func, where, meta.cls)
+        result = result_info(func, where, meta.cls)
         # Interface prototypes carry no access specifier (they are PUBLIC by definition).
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
@@ -424,11 +407,9 @@ def _iface_info(cls: Any) -> TypeInfo:
 
 
 def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
-    from iecoop.st._emit_model import function_parameters
-
     inputs = function_parameters(func, name)
     # A FUNCTION has a result in TwinCAT and CODESYS: one that returns nothing in Python gives a BOOL left FALSE.
-    result = return_info(func, name, None) or _BOOL
+    result = result_info(func, name, None) or _BOOL
     by_reference = _by_reference(inputs)
     body = writer.body(func, st_name=ident(name), result=result, params=_body_params(inputs), by_reference=set(by_reference))
     declared = passed_inputs(inputs)

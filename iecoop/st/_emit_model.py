@@ -7,9 +7,11 @@ nowhere else, so a change in how classes are built is fixed here.
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import enum
 import inspect
+import textwrap
 import types
 import typing
 from collections.abc import Callable, Iterable, Mapping
@@ -32,7 +34,7 @@ from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
 from iecoop.types import elementary_type
 
-__all__ = ["RESERVED", "ident", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text"]
+__all__ = ["RESERVED", "ident", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
 
 
 class StExportError(DefinitionError):
@@ -329,6 +331,112 @@ def collect(source: Any) -> list[ClassMeta]:
         metas.append(metadata(obj))
     order = {kind: i for i, kind in enumerate(KINDS)}
     return sorted(metas, key=lambda m: order[m.kind])
+
+
+def with_dependencies(metas: list[ClassMeta]) -> list[ClassMeta]:
+    """``metas`` and, transitively, the user-defined types, interfaces, POUs and GVLs they use from other modules.
+
+    A class uses what its variables, EXTENDS / IMPLEMENTS, METHOD and PROPERTY signatures and bodies name
+    (``AxisRef``, ``MC_Power``, ``AxisStep.IDLE``, a GVL). iecoop's own library (TON, R_TRIG, the IEC
+    types) is on the PLC already and stays out. Two different objects with one ST name cannot share a PLC
+    project's namespace: that raises StExportError naming both. The order is the one :func:`collect`
+    gives (types first, code last; discovery order within a kind), so exporting again gives the same files.
+    """
+    found = list(metas)
+    by_name: dict[str, Any] = {}
+    for meta in found:
+        _claim(by_name, meta)
+    queue = list(found)
+    while queue:
+        meta = queue.pop(0)
+        for obj in _uses(meta):
+            key = type(obj) if isinstance(obj, GlobalVariables) else obj
+            if _kind(obj) in (None, "alias") or _library(key) or any(m.cls is key for m in found):
+                continue
+            dependency = metadata(obj)
+            _claim(by_name, dependency)
+            found.append(dependency)
+            queue.append(dependency)
+    order = {kind: i for i, kind in enumerate(KINDS)}
+    return sorted(found, key=lambda m: order[m.kind])
+
+
+def _claim(by_name: dict[str, Any], meta: ClassMeta) -> None:
+    """Register ``meta``'s ST name (ST names ignore case); a second object of that name is an error."""
+    other = by_name.setdefault(meta.name.lower(), meta.cls)
+    if other is not meta.cls:
+        def qualified(obj: Any) -> str:
+            return f"{getattr(obj, '__module__', '?')}.{getattr(obj, '__qualname__', obj)}"
+
+        raise StExportError(
+            f"two objects are named {meta.name} in one export: {qualified(other)} and {qualified(meta.cls)} "
+            "(a PLC project has one namespace: rename one, or export the modules to separate projects)"
+        )
+
+
+def _uses(meta: ClassMeta) -> Iterable[Any]:
+    """The declared classes and GVLs ``meta`` names, in a fixed order (duplicates included)."""
+    cls = meta.cls
+    if meta.kind in ("enum", "alias"):
+        return
+    yield from (b for b in cls.__bases__ if _kind(b) is not None)
+    for field in meta.fields:
+        yield from _classes_in(field.info)
+        if field.section == "VAR_EXTERNAL":
+            yield find_global(field.name, f"{meta.name}.{field.name}")[0]
+    functions: list[Any] = []
+    for member in meta.members:
+        functions += [member.function] if member.kind == "method" else [f for f in (member.getter, member.setter) if f is not None]
+    functions += [func for _name, func in meta.lifecycle]
+    if meta.body is not None:
+        functions.append(meta.body)
+    for func in functions:
+        func = inspect.unwrap(func)
+        try:
+            hints = typing.get_type_hints(func, include_extras=True)
+        except Exception:  # an annotation only a type checker resolves: the writer reports it where it matters
+            hints = {}
+        for value in hints.values():
+            yield from _annotation_classes(value)
+        yield from _named_in_body(func)
+
+
+def _annotation_classes(annotation: Any) -> Iterable[Any]:
+    """The declared classes an annotation names (``Motor``, ``POINTER_TO[AxisRef]``, ``IDrive | None``)."""
+    if _kind(annotation) not in (None, "alias"):
+        yield annotation
+        return
+    for arg in typing.get_args(annotation):
+        yield from _annotation_classes(arg)
+    for extra in getattr(annotation, "__metadata__", ()):
+        target = getattr(extra, "target", None)
+        if target is not None:
+            yield from _annotation_classes(target)
+
+
+def _classes_in(info: TypeInfo | None) -> Iterable[Any]:
+    """The declared classes a resolved type refers to (an ARRAY's element, a POINTER's target...)."""
+    if isinstance(info, ArrayInfo):
+        yield from _classes_in(info.elem)
+    elif isinstance(info, (PointerInfo, ReferenceInfo)):
+        yield from _classes_in(info.target)
+    else:
+        for attribute in ("cls", "iface", "enum_cls"):
+            value = getattr(info, attribute, None)
+            if isinstance(value, type):
+                yield value
+
+
+def _named_in_body(func: Any) -> Iterable[Any]:
+    """The module-level declared classes and GVLs a function's source names (``AxisStep.IDLE``, ``new(Motor)``)."""
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(func)))
+    except (OSError, TypeError, SyntaxError):
+        return
+    namespace = getattr(func, "__globals__", {})
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in namespace:
+            yield namespace[node.id]
 
 
 def enum_members(cls: Any) -> list[tuple[str, int]]:

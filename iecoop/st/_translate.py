@@ -1531,7 +1531,12 @@ class Translator:
     def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
         if returns is not None and scope.return_name is not None:
             scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
-            self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
+            if self._local_reference(returns):
+                # REFERENCE TO a STRUCT or block: ``F REF= x`` names the variable itself, which is what Python returns
+                assert returns.of is not None
+                self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
+            else:
+                self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
         in_out = {c.name.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
         scope.addressed = set(_by_reference_arguments(node.body, in_out))
         self._local_blocks(node.declarations, scope, level)
@@ -2432,6 +2437,12 @@ class Translator:
         return holder, field
 
     def address_of(self, node: Any, scope: Scope) -> str:
+        if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
+            # REF= F(): a FUNCTION or METHOD that returns REFERENCE TO a STRUCT or block gives the variable itself
+            ex = self.expr(node, scope)
+            if ex.type is None or not self._local_reference(ex.type):
+                raise self.fail(f"the address of a call's result ({ex.code}): only a call that returns REFERENCE TO a STRUCT, UNION or FUNCTION_BLOCK can be bound", node)
+            return ex.code
         if isinstance(node, tf.SimpleVariable) and node.dereferenced and str(node.name).lower() != "this":
             return self.name_ref(str(node.name), scope, node).code  # ADR(p^) is p
         if isinstance(node, tf.MultiElementVariable) and getattr(node.elements[-1], "dereferenced", False):

@@ -11,13 +11,13 @@ from pathlib import Path
 from typing import Any
 
 from iecoop.st._emit_decl import Unit, flat_text, units
-from iecoop.st._emit_model import StExportError, collect
+from iecoop.st._emit_model import StExportError, collect, with_dependencies
 
 __all__ = ["StExportError", "dump", "export"]
 
 
 def _units(classes_or_module: Any, lenient: bool) -> list[Unit]:
-    found, _untranslated = units(collect(classes_or_module), lenient=lenient)
+    found, _untranslated = units(with_dependencies(collect(classes_or_module)), lenient=lenient)
     return found
 
 

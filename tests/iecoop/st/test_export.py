@@ -182,7 +182,9 @@ END_METHOD
 def test_function_block_declaration_body_methods_and_property() -> None:
     text = dump([Pump])
     assert PUMP in text
-    assert text.startswith("VAR_GLOBAL CONSTANT\n    LIMIT : DINT := 3;\nEND_VAR\n")
+    # the types and the interface Pump uses come along, before the constants its bodies read
+    assert text.startswith("TYPE Mode :\n")
+    assert text.index("TYPE Point :") < text.index("VAR_GLOBAL CONSTANT\n    LIMIT : DINT := 3;\nEND_VAR\n") < text.index("INTERFACE IPump")
 
 
 def test_types_and_interface() -> None:
