@@ -474,9 +474,16 @@ def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, u
 
 
 def flat_text(unit: Unit) -> str:
-    """The unit in the flat convention: the POU, then each METHOD / PROPERTY accessor after it."""
+    """The unit in the flat convention: the POU, then each METHOD / PROPERTY accessor after it.
+
+    A global list is preceded by a ``// GVL <name>`` line, and a PROPERTY
+    accessor by ``// Get`` or ``// Set``: marks ``st.load`` reads.
+    """
     out: list[str] = []
-    if unit.kind in ("enum", "alias", "struct", "union", "gvl"):
+    if unit.kind == "gvl":
+        # ST gives a global list no name in the text (TwinCAT takes the file's): a mark the reader takes it from.
+        return f"// GVL {unit.name}\n{unit.declaration}"
+    if unit.kind in ("enum", "alias", "struct", "union"):
         return unit.declaration
     end = {"fb": "END_FUNCTION_BLOCK", "program": "END_PROGRAM", "interface": "END_INTERFACE", "function": "END_FUNCTION"}[unit.kind]
     out.append(unit.declaration.rstrip("\n"))

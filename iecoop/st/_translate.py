@@ -297,6 +297,28 @@ class Translator:
                     self.marked_accessors[id(node)] = marker
                     self.used_comments.add(id(token))  # a mark, not a comment to carry over
 
+    def _marked_list_name(self, unit: Unit, node: Any) -> str | None:
+        """The name of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its pragmas), as dump writes it."""
+        line = getattr(node.meta, "line", None) if node.meta else None
+        if line is None:
+            return None
+        above = [t for t in unit.comments if t.line < line]
+        # The mark is on the line right above the block or above the pragmas ({attribute ...}) heading it.
+        expected = line - 1
+        for token in sorted(above, key=lambda t: -t.line):
+            text = str(token).strip()
+            if token.line != expected:
+                return None
+            if text.startswith("{"):
+                expected -= 1
+                continue
+            words = text[2:].split() if text.startswith("//") else []
+            if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier():
+                self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                return words[1]
+            return None
+        return None
+
     def _add(self, decl: Decl) -> Decl:
         key = decl.name.lower()
         if key in self.decls and self.decls[key].kind != "stdfb":
@@ -324,7 +346,7 @@ class Translator:
             name = str(item.name or "")
             if not name.isidentifier():
                 stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
-                name = stem if stem.isidentifier() else "GVL"
+                name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
             existing = self.decls.get(str(name).lower())
             decl = existing if existing is not None else self._add(Decl("gvl", str(name), [], unit))
             decl.node.append(item)

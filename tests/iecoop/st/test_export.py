@@ -365,3 +365,20 @@ def test_plcopen_carries_the_attribute_pragmas(tmp_path: Path) -> None:
     validate_plcopen(single)
     lists = {g.get("name"): _attribute_names(g) for g in ET.parse(single).getroot().iter(f"{{{TC6}}}globalVars")}
     assert lists["GVL_PlantEvents"] == ["qualified_only"] and lists["GVL_Constants"] == []
+
+
+def test_the_flat_text_names_each_global_list_for_the_reader() -> None:
+    from iecoop import st
+
+    singleton = importlib.import_module("patterns.creational.singleton")
+    text = dump(singleton)
+    # ST gives a VAR_GLOBAL block no name; dump marks each, above its pragmas.
+    assert "// GVL GVL_Constants\nVAR_GLOBAL CONSTANT\n" in text
+    assert "// GVL GVL_PlantEvents\n{attribute 'qualified_only'}\nVAR_GLOBAL\n" in text
+    loaded = st.load(text)
+    assert loaded.GVL_Constants.CAPACITY == 8
+    assert type(loaded.GVL_PlantEvents.plant_events).__name__ == "PlantLog"
+    # A block without the mark takes the file's name, and "GVL" in a text of its own; a mark is not a comment.
+    python = st.to_python("// GVL GVL_A\nVAR_GLOBAL\n    a : INT := 1;\nEND_VAR\n\nVAR_GLOBAL\n    b : INT;\nEND_VAR\n")
+    assert "class GVL_A(GlobalVariables):" in python and "class GVL(GlobalVariables):" in python
+    assert "# GVL GVL_A" not in python
