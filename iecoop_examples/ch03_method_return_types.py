@@ -146,7 +146,10 @@ class Sample(FunctionBlock, ISample):
 
         ``GetStruct := stLocal;`` copies. A Python ``return self.st_local`` would hand
         out the block's own struct, so the method copies it into the block's result
-        variable ``stResult`` first (the assignment copies) and returns that.
+        variable ``stResult`` first (the assignment copies) and returns that. So
+        ``iecoop.st`` exports it as ``METHOD get_struct : REFERENCE TO SampleData``
+        with ``get_struct REF= struct_result``: the caller's assignment copies,
+        and gets the same values as from the by-value result.
         """
         self.struct_result = self.st_local
         return self.struct_result
@@ -158,7 +161,11 @@ class Sample(FunctionBlock, ISample):
 
     @method
     def get_counter(self) -> Counter:
-        """``METHOD GetCounter : FB_Counter``: the whole instance, copied (``GetCounter := fbCalls;``)."""
+        """``METHOD GetCounter : FB_Counter``: the whole instance, copied (``GetCounter := fbCalls;``).
+
+        As for ``get_struct``, the copy is the block's ``counter_result``, and the
+        export returns ``REFERENCE TO Counter`` bound to it.
+        """
         self.counter_result = self.fb_calls
         return self.counter_result
 
