@@ -2537,14 +2537,15 @@ class Translator:
                     continue
                 value = self.expr(param.value, scope)
                 expected = match.type if match is not None else None
-                args.append(f"{match.name if match else name}={self.coerce(value, expected).code}")
+                # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
+                args.append(f"{match.name if match else name}={self.limit(expected, self.coerce(value, expected)).code}")
             else:
                 if declared is not None and index < len(declared):
                     if declared[index].section == "VAR_IN_OUT":
                         args.append(self.by_reference_argument(param.value, scope, ":="))
                         continue
                     expected = declared[index].type
-                args.append(self.coerce(self.expr(param.value, scope), expected).code)
+                args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
         return args
 
     def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:

@@ -119,6 +119,13 @@ END_ACTION
             "a0 := a; b0 := b; c0 := c; a := n; b := b - 10; c := c + 1; fb(nIn := n * 2);"), 1,
      # a subrange starts at its lower limit; a store is held to the limits (150 -> 100, -5 -> 5, 300 -> 100, 50 -> 5)
      lambda m: (m.a0, m.b0, m.c0, m.a, m.b, m.c, m.fb.nIn, m.fb.nOut), (0, 5, 7, 100, 5, 8, 100, 5)),
+    ("subrange-arguments", "FUNCTION F_Pct : INT\nVAR_INPUT nPct : INT(0..100); END_VAR\nF_Pct := nPct;\nEND_FUNCTION\n"
+     "FUNCTION_BLOCK FB_Valve\nVAR nLast : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+     "METHOD Open : INT\nVAR_INPUT nPct : INT(0..100); END_VAR\nnLast := nPct;\nOpen := nPct;\nEND_METHOD\n"
+     + prog("fb : FB_Valve; n : INT := 250; a : INT; b : INT; c : INT; d : INT;",
+            "a := F_Pct(nPct := n); b := F_Pct(n - 300); c := fb.Open(nPct := n - 200); d := fb.Open(n);"), 1,
+     # a METHOD's or FUNCTION's subrange input is held to the limits at the call, named or by position
+     lambda m: (m.a, m.b, m.c, m.d, m.fb.nLast), (100, 0, 50, 100, 100)),
     ("located-variables", prog(
         "bSensor AT %IX0.1 : BOOL; bLamp AT %Q* : BOOL; wWord AT %MW10 : WORD := 5; nCount : INT;",
         "bLamp := bSensor; wWord := wWord + 1; IF bSensor THEN nCount := nCount + 1; END_IF"), 2,
@@ -200,6 +207,8 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
     (prog("i : INT(0..10);", "i := 11;"), "11 is outside the subrange INT[(]0..10[)]"),
     (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
+    ("FUNCTION F : INT\nVAR_INPUT n : INT(0..10); END_VAR\nF := n;\nEND_FUNCTION\n" + prog("i : INT;", "i := F(n := 11);"),
+     "11 is outside the subrange INT[(]0..10[)]"),
     (prog("d : DATE;", "d := STRING_TO_DATE('D#2024-01-01');"), "STRING_TO_DATE is not supported"),
     ("PROGRAM MAIN\nVAR x : INT; END_VAR\nEND_PROGRAM\nACTION A:\nx := 1;\nEND_ACTION\nACTION A2:\nEND_ACTION\n"
      "FUNCTION F : INT\nF := 1;\nEND_FUNCTION\nACTION B:\nEND_ACTION\n", "ACTION B does not follow a FUNCTION_BLOCK or PROGRAM"),
