@@ -725,6 +725,13 @@ class BodyWriter:
         if isinstance(target, ast.Name) and target.id in self.references:
             self.emit(depth, f"{self.name_text(target.id)} REF= {self.expr(value)[0]};")
             return
+        if isinstance(target, ast.Attribute) and self.reads_property(target):
+            info = self.typeof(target)
+            if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo):
+                # The Set accessor of a REFERENCE TO property is called with REF= (fbSample.MyProp REF= stSet),
+                # as Python's setter gets the object itself; := would write through the Get accessor's reference.
+                self.emit(depth, f"{self.target(target)} REF= {self.expr(value)[0]};")
+                return
         text, _prec = self.expr(value)
         self.emit(depth, f"{self.target(target)} := {text};")
 

@@ -1871,10 +1871,30 @@ class Translator:
         if isinstance(local, ReferenceLocal):
             self.emit(f"{local.name} = {self.address_of(node.expression, scope)}", level)
             return
+        prop = self._reference_property(node.variable, scope)
+        if prop is not None:
+            # fbSample.MyProp REF= stSet: the Set accessor of a REFERENCE TO property gets stSet itself.
+            bound = self.expr(node.expression, scope)
+            if self.decl_of(bound.type) is not self.decl_of(prop.type):
+                raise self.fail(f"REF= of {prop.code} needs a {prop.type.deref().name if prop.type else '?'} variable, got {bound.code}", node)
+            self.emit(f"{prop.code} = {bound.code}", level)
+            return
         holder, field = self.holder_field(node.variable, scope)
         self.need("iecoop", "ref_assign")
         target = self.address_of(node.expression, scope)
         self.emit(f'ref_assign({holder}, "{field}", {target})', level)
+
+    def _reference_property(self, node: Any, scope: Scope) -> Ex | None:
+        """``x.Prop`` when ``Prop`` is a PROPERTY of type REFERENCE TO a STRUCT, UNION or block, else None."""
+        if not (isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.FieldSelector)):
+            return None
+        rest = tf.MultiElementVariable(node.name, node.dereferenced, node.elements[:-1]) if len(node.elements) > 1 else node.name
+        owner = self.decl_of(self.expr(rest, scope).type)
+        found = self.find_member(owner, str(node.elements[-1].field)) if owner is not None else None
+        if found is None or found[0] != "prop":
+            return None
+        target = self.expr(node, scope)
+        return target if target.type is not None and self._local_reference(target.type) else None
 
     def _unbind(self, node: Any, local: Member | None, scope: Scope, level: int) -> None:
         """``r REF= 0``: the reference points nowhere again (``__ISVALIDREF`` is FALSE, reading it faults)."""

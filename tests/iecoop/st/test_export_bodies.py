@@ -12,7 +12,7 @@ from hypothesis import given
 from hypothesis import strategies
 
 from iecoop import (
-    ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, STRING, TIME, UDINT, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, IecEnum, Interface,
+    ARRAY, BOOL, DINT, INT, LREAL, POINTER_TO, REAL, REFERENCE_TO, STRING, TIME, UDINT, VAR, VAR_INPUT, VAR_OUTPUT, WORD, FunctionBlock, IecEnum, Interface,
     IQueryInterface, PlcException, Program, Struct, T, VAR_IN_OUT, DWORD, adr, method, prop, query_interface, var_info,
 )
 from iecoop import st
@@ -806,3 +806,49 @@ class TextMethod(Program):
 def test_a_python_method_of_a_string_is_refused() -> None:
     with pytest.raises(StExportError, match=r"test_export_bodies\.py:\d+: the Python method upper\(\) of a STRING\(80\) value"):
         dump([TextMethod])
+
+
+class Sample(Struct):
+    n_var: INT = 0
+
+
+class SampleHolder(FunctionBlock):
+    st_local: Sample = VAR()
+    sets: INT = VAR(0)
+
+    @prop
+    def my_prop(self) -> REFERENCE_TO[Sample]:
+        return self.st_local
+
+    @my_prop.setter
+    def my_prop(self, value: REFERENCE_TO[Sample]) -> None:
+        self.st_local = value
+        self.sets += 1
+
+
+class SetThroughReference(Program):
+    holder: SampleHolder = VAR()
+    st_set: Sample = VAR()
+    seen: INT = VAR(0)
+    sets: INT = VAR(0)
+
+    def body(self) -> None:
+        self.st_set.n_var += 7
+        self.holder.my_prop = self.st_set
+        self.st_set.n_var += 100  # after the Set: the block keeps its copy
+        self.seen = self.holder.my_prop.n_var
+        self.sets = self.holder.sets
+
+
+def test_a_reference_property_is_set_with_ref_as_the_course_writes_it() -> None:
+    text = dump([Sample, SampleHolder, SetThroughReference])
+    assert "holder.my_prop REF= st_set;\n" in body_of(text, "SetThroughReference")
+    same_run(SetThroughReference, 3, "seen", "sets", types=(Sample, SampleHolder))
+
+
+def test_ref_to_a_property_of_another_type_is_refused() -> None:
+    text = dump([Sample, SampleHolder]) + (
+        "PROGRAM Wrong\nVAR holder : SampleHolder; n : INT; END_VAR\nholder.my_prop REF= n;\nEND_PROGRAM\n"
+    )
+    with pytest.raises(st.StUnsupportedError, match=r"REF= of self\.holder\.my_prop needs a Sample variable, got self\.n"):
+        st.load(text)
