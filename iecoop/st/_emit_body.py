@@ -757,8 +757,10 @@ class BodyWriter:
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
-        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and isinstance(value, ast.Call):
-            # A METHOD or FUNCTION that returns REFERENCE TO: Python's name is the variable itself, as ST's REF= binds it.
+        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and (
+            isinstance(value, ast.Call) or self.reads_property(value)
+        ):
+            # A METHOD, FUNCTION or PROPERTY that gives REFERENCE TO: Python's name is the variable itself, as ST's REF= binds it.
             self.references.add(name)
             self.declare(name, info, node)
             return
@@ -1346,7 +1348,7 @@ class BodyWriter:
         func, owner = found
         value = owner.__dict__.get(name)
         if isinstance(value, property):
-            return return_info(func, f"{owner.__name__}.{name}", owner)
+            return result_info(func, f"{owner.__name__}.{name}", owner)
         return None
 
     def call_type(self, node: ast.Call) -> TypeInfo | None:
@@ -1385,8 +1387,6 @@ class BodyWriter:
         if found is None or found[0] is None:
             return None
         function, owner = found
-        if isinstance(owner.__dict__.get(func.attr), property):
-            return return_info(function, f"{owner.__name__}.{func.attr}", owner)
         return result_info(function, f"{owner.__name__}.{func.attr}", owner)
 
 
@@ -1839,7 +1839,7 @@ _RESULTS: weakref.WeakKeyDictionary[Any, TypeInfo] = weakref.WeakKeyDictionary()
 
 
 def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
-    """The result type a METHOD (``owner`` its class) or FUNCTION (``owner`` None) is written with.
+    """The result type a METHOD or PROPERTY (``owner`` its class) or FUNCTION (``owner`` None) is written with.
 
     Python returns a STRUCT or block itself, never a copy. Where every ``return`` of the member's first
     definition gives a variable that outlives the call (a variable of the block or of a GVL, an element of
@@ -1874,6 +1874,8 @@ def _first_definition(func: Any, owner: Any) -> tuple[Any, Any] | None:
             if kind_of(klass) in ("fb", "program"):
                 first = klass
     value = first.__dict__[func.__name__] if first is not None else None
+    if isinstance(value, property):
+        value = value.fget  # a PROPERTY: its Get accessor
     return (inspect.unwrap(value), first) if inspect.isfunction(value) else None
 
 

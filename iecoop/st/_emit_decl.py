@@ -303,7 +303,7 @@ class _Writer:
 
     def accessors(self, meta: ClassMeta, member: MemberDecl, interface: bool) -> list[Part]:
         where = f"{meta.name}.{member.name}"
-        result = return_info(member.getter, where, meta.cls)
+        result = result_info(member.getter, where, meta.cls)
         if result is None:
             raise StExportError(f"{where}: a PROPERTY needs a type (annotate the getter's return)")
         words = "" if interface else f"{access_words(member.flags)} "

@@ -2479,6 +2479,9 @@ class Translator:
         return holder, field
 
     def address_of(self, node: Any, scope: Scope) -> str:
+        prop = self._reference_property(node, scope)
+        if prop is not None:
+            return prop.code  # REF= x.Prop: a REFERENCE TO property's Get gives the variable itself
         if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
             # REF= F(): a FUNCTION or METHOD that returns REFERENCE TO a STRUCT or block gives the variable itself
             ex = self.expr(node, scope)

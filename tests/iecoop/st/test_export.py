@@ -19,6 +19,7 @@ from iecoop import (
     FunctionBlock, IecEnum, Interface, Program, Struct, T, adr, method, prop, ref_assign, try_catch,
 )
 from iecoop.conversions import MOD, TO_INT
+from iecoop.gvl import GlobalVariables, register_global_list
 from iecoop.st._emit_model import collect
 from iecoop.st.export import StExportError, dump, export
 from iecoop.stdlib import TON
@@ -376,8 +377,14 @@ def test_the_flat_text_names_each_global_list_for_the_reader() -> None:
     assert "// GVL GVL_Constants\nVAR_GLOBAL CONSTANT\n" in text
     assert "// GVL GVL_PlantEvents\n{attribute 'qualified_only'}\nVAR_GLOBAL\n" in text
     loaded = st.load(text)
-    assert loaded.GVL_Constants.CAPACITY == 8
-    assert type(loaded.GVL_PlantEvents.plant_events).__name__ == "PlantLog"
+    try:
+        assert loaded.GVL_Constants.CAPACITY == 8
+        assert type(loaded.GVL_PlantEvents.plant_events).__name__ == "PlantLog"
+    finally:
+        # The loaded lists took their names in the registry VAR_EXTERNAL looks in: give them back.
+        for value in vars(singleton).values():
+            if isinstance(value, GlobalVariables):
+                register_global_list(value)
     # A block without the mark takes the file's name, and "GVL" in a text of its own; a mark is not a comment.
     python = st.to_python("// GVL GVL_A\nVAR_GLOBAL\n    a : INT := 1;\nEND_VAR\n\nVAR_GLOBAL\n    b : INT;\nEND_VAR\n")
     assert "class GVL_A(GlobalVariables):" in python and "class GVL(GlobalVariables):" in python

@@ -222,15 +222,36 @@ class LimitUser(FunctionBlock):
         self.seen = limits.high
 
 
-def test_a_local_bound_to_a_property_s_structure_is_a_copy_not_a_reference() -> None:
+def test_a_local_bound_to_a_property_s_structure_is_the_structure_itself() -> None:
     text = dump([Limits, LimitSource, LimitUser])
-    # A Get accessor's result has no address: REF= to it would not compile.
-    assert "VAR_TEMP\n    limits : Limits;\nEND_VAR" in text
-    assert "limits := source.limits;\nseen := limits.high;\n" in text
+    # The Get accessor hands out the block's own STRUCT, as Python's getter does: REFERENCE TO it, bound with REF=.
+    assert "PROPERTY PUBLIC limits : REFERENCE TO Limits\nVAR\nEND_VAR\nlimits REF= kept;\n" in text
+    assert "VAR_TEMP\n    limits : REFERENCE TO Limits;\nEND_VAR" in text
+    assert "limits REF= source.limits;\nseen := limits.high;\n" in text
     loaded = st.load(text).LimitUser()
     loaded()
     loaded()
     assert loaded.seen == 10
+
+
+class LimitTuner(FunctionBlock):
+    source: LimitSource = VAR()
+    seen: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        limits = self.source.limits
+        limits.high = limits.high + 5  # in Python, the source's own STRUCT
+        self.seen = self.source.kept.high
+
+
+def test_a_write_through_a_property_s_structure_reaches_the_block_once_loaded_back() -> None:
+    original = LimitTuner()
+    loaded = st.load(dump([Limits, LimitSource, LimitTuner])).LimitTuner()
+    for _ in range(3):
+        original()
+        loaded()
+        assert loaded.seen == original.seen
+    assert original.seen == 15
 
 
 class Wired(FunctionBlock):
