@@ -386,10 +386,10 @@ class _MemberCalls(_OwnCode):
         if cls is None or not isinstance(cell, types.CellType):
             return node
         view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
-        values = self._by_position(node, cls)
-        if values is not None:
+        by_position = self._by_position(node, cls)
+        if by_position is not None:
             known = f"{_STORE}position_{func.attr}"
-            self.names[known] = self.direct(cls)[0] if self.direct is not None else cell
+            self.names[known], values = by_position
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *values], keywords=[])
         else:
             known = f"{_STORE}call_{func.attr}"
@@ -397,16 +397,17 @@ class _MemberCalls(_OwnCode):
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
         return ast.copy_location(direct, node)
 
-    def _by_position(self, node: ast.Call, cls: type) -> list[ast.expr] | None:
-        """The arguments in the class's input order (``_M`` for one not given), if the keywords are in that order."""
+    def _by_position(self, node: ast.Call, cls: type) -> tuple[types.CellType, list[ast.expr]] | None:
+        """The positional call's cell and the arguments in the class's input order (``_M`` for one not
+        given), if the keywords are in that order."""
         if self.direct is None or node.args or any(k.arg is None for k in node.keywords):
             return None
-        order = self.direct(cls)[1]
+        cell, order = self.direct(cls)
         given = [k.arg for k in node.keywords]
         if not set(given) <= set(order) or [n for n in order if n in given] != given:
             return None  # an unknown or repeated name, or another order: the call as written
         values = {k.arg: k.value for k in node.keywords}
-        return [values[n] if n in values else ast.Name(id="_M", ctx=ast.Load()) for n in order]
+        return cell, [values[n] if n in values else ast.Name(id="_M", ctx=ast.Load()) for n in order]
 
 
 class _DirectStores(_OwnCode):

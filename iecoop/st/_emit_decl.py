@@ -74,8 +74,6 @@ class Unit:
     meta: ClassMeta | None = None
     #: A FUNCTION's result, inputs and locals.
     signature: tuple[TypeInfo, tuple[tuple[str, TypeInfo, Any], ...], dict[str, TypeInfo | str]] | None = None
-    #: Attributes declared before the object (``{attribute 'to_string'}``), by name.
-    attributes: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def word(self) -> str:
@@ -463,7 +461,6 @@ def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, u
     for cls in sorted(named_enums, key=lambda c: c.__name__):
         unit = exported.get(cls)
         if unit is not None:
-            unit.attributes.append("to_string")
             unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
             continue
         # Without the attribute TO_STRING gives the number: the enumeration must come along.

@@ -327,7 +327,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         for name, value in enum_members(meta.cls):
             _sub(values, "value", name=name, value=str(value))
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
-        _attributes(data_type, [(name, "") for name in unit.attributes])
+        _attributes(data_type, _pragmas(unit.declaration))
     elif unit.kind == "alias":
         from iecoop.memory.typeinfo import resolve_type
 
