@@ -1,4 +1,4 @@
-"""The ``iecoop st2py`` and ``iecoop st run`` commands: Structured Text to Python, and ST run with a trace.
+"""``iecoop st2py`` and ``iecoop st run``: Structured Text to Python, and ST run with a trace.
 
 ::
 
@@ -38,13 +38,14 @@ import argparse
 import pathlib
 import sys
 from collections.abc import Sequence
-from typing import Any, TextIO
+from typing import TextIO
 
-from iecoop import DefinitionError, Program
-from iecoop.runtime import Runtime
-from patterns.showcase.catalogue import Entry, generic_columns, plc_task
+from iecoop import DefinitionError, Program, T, st
+from iecoop.cli.base import UsageError
+from iecoop.cli.trace import fault_text, run_cycles, table, variable_probes
+from iecoop.runtime import Runtime, Task
 
-__all__ = ["ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "st2py", "st2py_command", "st_command", "st_run"]
+__all__ = ["ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "load_program", "plc_task", "st2py", "st2py_command", "st_command", "st_run"]
 
 #: The help lines of ``iecoop st2py`` and ``iecoop st``.
 ST2PY_HELP = "translate Structured Text (.st, TwinCAT files, a folder, a .plcproj) to iecoop Python"
@@ -90,8 +91,6 @@ def st2py(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = N
 
 def st2py_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st2py`` with its parsed arguments."""
-    from iecoop import st
-
     for source in args.sources:
         try:
             text = st.to_python(source)
@@ -115,34 +114,39 @@ def st_run(argv: Sequence[str], out: TextIO | None = None, err: TextIO | None = 
     return st_command(_run_parser().parse_args(list(argv)), out or sys.stdout, err or sys.stderr)
 
 
+def plc_task() -> Task:
+    """The command's cyclic task: ``PlcTask``, 10 ms, priority 20."""
+    return Task("PlcTask", interval=T("10ms"), priority=20)
+
+
+def load_program(source: str, name: str, profile: str) -> Program:
+    """The PROGRAM ``name`` of the ST ``source``, loaded under ``profile``; :class:`UsageError` if it cannot be."""
+    try:
+        module = st.load(source, profile=profile)
+        program = getattr(module, name)
+    except (DefinitionError, FileNotFoundError) as exc:
+        raise UsageError(str(exc)) from None
+    except AttributeError:
+        raise UsageError(f"{source} declares no PROGRAM {name}") from None
+    if not isinstance(program, Program):
+        raise UsageError(f"{name} is not a PROGRAM")
+    return program
+
+
 def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
-    from iecoop import st
-    from patterns.showcase.cli import _fault_text, run_entry, table  # the command table imports this module
-
     try:
-        module = st.load(args.source, profile=args.profile)
-        program = getattr(module, args.program)
-    except (DefinitionError, FileNotFoundError) as exc:
+        program = load_program(args.source, args.program, args.profile)
+    except UsageError as exc:
         err.write(f"iecoop st run: {exc}\n")
         return 2
-    except AttributeError:
-        err.write(f"iecoop st run: {args.source} declares no PROGRAM {args.program}\n")
-        return 2
-    if not isinstance(program, Program):
-        err.write(f"iecoop st run: {args.program} is not a PROGRAM\n")
-        return 2
-
-    def builder(_module: Any, runtime: Runtime) -> list[Any]:
-        runtime.add_task(plc_task(), program)
-        return [program]
-
-    entry = Entry(args.program, "st", __name__, columns=generic_columns(type(program)), builder=builder)
-    trace = run_entry(entry, args.cycles, every=args.every, profile=args.profile)
+    runtime = Runtime(store=":memory:", profile=args.profile)
+    runtime.add_task(plc_task(), program)
+    trace = run_cycles(runtime, variable_probes(program), args.cycles, every=args.every)
     rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
     header = f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {rows}"
     out.write("\n".join([header, *table(trace)]) + "\n")
     if trace.fault is None:
         return 0
-    err.write(f"iecoop st run: {_fault_text(trace)}\n")
+    err.write(f"iecoop st run: {fault_text(trace)}\n")
     return 1
