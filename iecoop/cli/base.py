@@ -4,17 +4,39 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 from collections.abc import Callable
 from types import ModuleType
 from typing import TextIO
 
 from iecoop.runtime import Runtime
 
-__all__ = ["Command", "Names", "Served", "UsageError", "positive"]
+__all__ = ["Command", "Names", "Run", "Served", "UsageError", "positive", "usage_errors"]
 
 
 class UsageError(Exception):
     """Bad usage or input that does not load: the command prints ``iecoop COMMAND: message`` and exits 2."""
+
+
+#: A subcommand's function: its parsed arguments, stdout and stderr in; the exit status out.
+Run = Callable[[argparse.Namespace, TextIO, TextIO], int]
+
+
+def usage_errors(prog: str) -> Callable[[Run], Run]:
+    """Decorate a subcommand's function: a :class:`UsageError` is written as ``prog: message`` and exits 2."""
+
+    def decorate(run: Run) -> Run:
+        @functools.wraps(run)
+        def guarded(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
+            try:
+                return run(args, out, err)
+            except UsageError as exc:
+                err.write(f"{prog}: {exc}\n")
+                return 2
+
+        return guarded
+
+    return decorate
 
 
 @dataclasses.dataclass(frozen=True)
@@ -23,7 +45,7 @@ class Command:
 
     help: str
     arguments: Callable[[argparse.ArgumentParser], None]
-    run: Callable[[argparse.Namespace, TextIO, TextIO], int]
+    run: Run
 
 
 @dataclasses.dataclass

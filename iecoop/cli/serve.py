@@ -27,7 +27,7 @@ from collections.abc import Sequence
 from typing import TextIO
 
 from iecoop import PlcException, T
-from iecoop.cli.base import Command, Names, Served, UsageError
+from iecoop.cli.base import Command, Names, Served, usage_errors
 from iecoop.cli.st import load_program, plc_task
 from iecoop.runtime import Runtime
 
@@ -81,22 +81,20 @@ def _served(args: argparse.Namespace, names: Names | None, err: TextIO) -> Serve
     found = names.scenario(args.name, args.profile) if names is not None else None
     if found is not None:
         return found
-    if pathlib.Path(args.name).exists():
+    path = pathlib.Path(args.name)
+    if names is None or path.exists() or path.suffix or len(path.parts) > 1:
         return _st_source(args)
-    err.write(names.unknown(args.name, "iecoop serve") if names is not None
-              else f"iecoop serve: no ST file or folder {args.name!r}\n")
+    err.write(names.unknown(args.name, "iecoop serve"))
     return None
 
 
 def command(names: Names | None = None) -> Command:
     """The ``iecoop serve`` subcommand, taking the names of ``names`` besides ST sources."""
 
+    @usage_errors("iecoop serve")
     def run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         try:
             served = _served(args, names, err)
-        except UsageError as exc:
-            err.write(f"iecoop serve: {exc}\n")
-            return 2
         except PlcException as exc:
             err.write(f"iecoop serve: {args.name}: PLC fault at start-up: {exc.code.name} ({exc})\n")
             return 1
