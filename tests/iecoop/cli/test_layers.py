@@ -42,8 +42,8 @@ def test_the_finder_sees_an_import_of_patterns_inside_a_function(tmp_path: Path)
     assert list(_imports("iecoop.cli.deferred", source)) == [("patterns.showcase.cli", ["run_entry"])]
 
 
-def test_no_import_cycle_in_iecoop_and_the_showcase() -> None:
-    modules = {**MODULES, **_modules(ROOT / "patterns" / "showcase")}
+def test_no_import_cycle_in_iecoop_the_patterns_and_the_examples() -> None:
+    modules = {**MODULES, **_modules(ROOT / "patterns"), **_modules(ROOT / "iecoop_examples")}
     graph = import_graph(modules)
     assert "patterns.showcase.catalogue" in graph["patterns.showcase.cli"]
     assert not any(target.startswith("patterns") for target in graph["iecoop.cli.st"])
