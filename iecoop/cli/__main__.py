@@ -4,4 +4,5 @@ import sys
 
 from iecoop.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":  # a walk over the package's modules imports this one too
+    sys.exit(main())

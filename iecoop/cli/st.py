@@ -46,7 +46,10 @@ from iecoop.cli.base import UsageError, positive, usage_errors
 from iecoop.cli.trace import fault_text, run_cycles, table, variable_probes
 from iecoop.runtime import Runtime, Task
 
-__all__ = ["ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "load_program", "plc_task", "st2py", "st2py_command", "st_command", "st_run", "translated"]
+__all__ = [
+    "ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "load_program", "plc_task", "st2py",
+    "st2py_command", "st_command", "st_run", "translated",
+]
 
 #: The help lines of ``iecoop st2py`` and ``iecoop st``.
 ST2PY_HELP = "translate Structured Text (.st, TwinCAT files, a folder, a .plcproj) to iecoop Python"

@@ -112,6 +112,12 @@ def test_every_count_and_duration_must_be_positive(
     assert err.startswith("usage: iecoop") and message in err
 
 
+def test_without_the_showcase_a_command_is_needed(capsys: pytest.CaptureFixture[str]) -> None:
+    status, out, err = run(capsys)
+    assert (status, out) == (2, "")
+    assert err.startswith("usage: iecoop") and "iecoop: a COMMAND is needed" in err
+
+
 # -- 4: outputs of one run ------------------------------------------------------------------------------
 
 
