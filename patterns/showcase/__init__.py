@@ -2,9 +2,12 @@
 
 - :mod:`patterns.showcase.entry`: ``Showcase`` and ``Column``, the declaration each module
   makes next to its ``main()`` (small, no command-line code: pattern modules import it).
-- :mod:`patterns.showcase.catalogue`: finds the modules and collects their declarations as entries.
-- :mod:`patterns.showcase.cli`: the ``iecoop`` command (``tour``, ``list``, ``show``, ``run``, ``serve``).
-- :mod:`patterns.showcase.serve` and :mod:`patterns.showcase.text`: ``iecoop serve``, and the
+- :mod:`patterns.showcase.catalogue`: finds the modules and collects their declarations as entries,
+  and offers their names to ``iecoop export`` and ``iecoop serve`` (``NAMES``).
+- :mod:`patterns.showcase.cli`: the ``iecoop`` command: the showcase's ``tour``, ``list``, ``show``
+  and ``run``, composed with the subcommands of :mod:`iecoop.cli` (``st2py``, ``st``, ``export``,
+  ``serve``).
+- :mod:`patterns.showcase.serve` and :mod:`patterns.showcase.text`: ``iecoop serve NAME``, and the
   docstrings rendered for a terminal.
 
 The command's names (``main``, ``run_entry``, ...) are found here too, imported on first use, so

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import difflib
 import dataclasses
-import enum
 import importlib
 import inspect
 import pkgutil
@@ -33,11 +32,10 @@ from collections.abc import Callable, Iterator, Sequence
 from types import ModuleType
 from typing import Any
 
-from iecoop import TYPE_CLASS, FunctionBlock, Program, var_info
-from iecoop.metadata import Kind, kind_of
+from iecoop import Program
+from iecoop.cli import Names, Served, UsageError
+from iecoop.cli.trace import TIME_CLASSES, elementary_variables, show
 from iecoop.runtime import Runtime
-from iecoop.sections import Section
-from iecoop.uml import class_diagram
 from patterns.showcase.entry import (
     Column,
     Scenario,
@@ -53,6 +51,7 @@ from patterns.showcase.entry import (
 __all__ = [
     "CATEGORIES",
     "Column",
+    "NAMES",
     "Entry",
     "Scenario",
     "Showcase",
@@ -139,21 +138,6 @@ def read(scenario: Scenario, column: Column) -> object:
     return column.source(program)
 
 
-def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
-    """A value as the trace prints it: ``TRUE`` / ``FALSE``, enum names, REALs to two decimals."""
-    if callable(fmt):
-        return fmt(value)
-    if isinstance(value, bool):
-        return "TRUE" if value else "FALSE"
-    if isinstance(value, enum.Enum):
-        return value.name
-    if isinstance(value, float):
-        return format(value, fmt or ".2f")
-    if fmt:
-        return format(value, fmt)
-    return str(value)
-
-
 # ---------------------------------------------------------------------------
 # Building
 # ---------------------------------------------------------------------------
@@ -200,49 +184,12 @@ def build(entry: Entry, profile: str = "twincat") -> Scenario:
     return scenario
 
 
-_NOT_ELEMENTARY = {
-    TYPE_CLASS.TYPE_POINTER,
-    TYPE_CLASS.TYPE_REFERENCE,
-    TYPE_CLASS.TYPE_ARRAY,
-    TYPE_CLASS.TYPE_USERDEF,
-    TYPE_CLASS.TYPE_INTERFACE,
-    TYPE_CLASS.TYPE_PARAMS,
-    TYPE_CLASS.TYPE_NONE,
-    TYPE_CLASS.TYPE_ANY,
-}
-
-
-def _declared(instance: Any, base: type, sections: Sequence[str]) -> list[tuple[str, TYPE_CLASS]]:
-    """``(name, type class)`` of the variables ``instance`` declares in ``sections``, in order."""
-    own = [c for c in reversed(type(instance).__mro__) if isinstance(c, type) and issubclass(c, base) and c is not base]
-    found: list[tuple[str, TYPE_CLASS]] = []
-    for box in class_diagram(*own, related=False).classes:
-        for field in box.fields:
-            if field.section in sections and not field.static and field.name not in dict(found):
-                try:
-                    found.append((field.name, var_info(instance, field.name).TypeClass))
-                except Exception:
-                    continue
-    return found
-
-
 def generic_columns(cls: type[Program], limit: int = 5) -> tuple[Column, ...]:
     """The first ``limit`` elementary variables of ``cls``: VAR_OUTPUT, VAR, then the nested blocks' outputs.
 
     VAR_INPUT is used only when nothing else is found.
     """
-    sample = cls()
-    direct = _declared(sample, Program, (Section.VAR_OUTPUT, Section.VAR))
-    chosen = [(name, kind) for name, kind in direct if kind not in _NOT_ELEMENTARY]
-    for name, kind in direct:
-        block = getattr(sample, name, None)
-        if kind == TYPE_CLASS.TYPE_USERDEF and kind_of(type(block)) is Kind.FUNCTION_BLOCK:
-            outputs = _declared(block, FunctionBlock, (Section.VAR_OUTPUT,))
-            chosen += [(f"{name}.{inner}", k) for inner, k in outputs if k not in _NOT_ELEMENTARY]
-    if not chosen:
-        chosen = [(n, k) for n, k in _declared(sample, Program, (Section.VAR_INPUT,)) if k not in _NOT_ELEMENTARY]
-    timed = (TYPE_CLASS.TYPE_TIME, TYPE_CLASS.TYPE_LTIME)
-    return tuple(Column(name, name, ms if kind in timed else "") for name, kind in chosen[:limit])
+    return tuple(Column(name, name, ms if kind in TIME_CLASSES else "") for name, kind in elementary_variables(cls, limit))
 
 
 # ---------------------------------------------------------------------------
@@ -402,3 +349,32 @@ def find(name: str) -> Entry:
             if collected is not None:
                 return collected
     raise KeyError(name)
+
+
+# ---------------------------------------------------------------------------
+# The catalogue's names in the iecoop command (export NAME, serve NAME)
+# ---------------------------------------------------------------------------
+
+
+def _module(name: str) -> ModuleType | None:
+    try:
+        return find(name).load()
+    except KeyError:
+        return None
+
+
+def _scenario(name: str, profile: str) -> Served | None:
+    try:
+        entry = find(name)
+    except KeyError:
+        return None
+    if entry.problem or entry.demo:
+        raise UsageError(f"{entry.name} cannot be served: {entry.problem or 'it has no Program'}")
+    scenario = build(entry, profile)
+    script = entry.script
+    return Served(entry.name, f"{entry.name} -- {entry.heading()}", scenario.runtime,
+                  None if script is None else lambda cycle: script(scenario, cycle))
+
+
+#: The catalogue as the names ``iecoop export`` and ``iecoop serve`` accept.
+NAMES = Names("catalogue entry", _module, _scenario, unknown_name)

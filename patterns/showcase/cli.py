@@ -30,176 +30,43 @@ time ms  cycle  state      packs  transitions  refused  batches
     590     60  EXECUTE        0            4        0        0
 0
 
-The subcommands are one table, :data:`COMMANDS`: a new one is a
-:class:`Command` added there, with its arguments and the function it runs.
+The subcommands are one table, :data:`COMMANDS`: the showcase's own
+(``tour``, ``list``, ``show``, ``run``) and those of :mod:`iecoop.cli`
+(``st2py``, ``st``, ``export``, ``serve``), which take the catalogue's
+names through :data:`~patterns.showcase.catalogue.NAMES`. A new one is a
+:class:`~iecoop.cli.Command` added there, with its arguments and the
+function it runs.
 """
 
 from __future__ import annotations
 
 import argparse
-import dataclasses
+import functools
 import inspect
-import os
-import re
-import sys
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import TextIO
 
 from iecoop import PlcException
-from patterns.showcase.catalogue import CATEGORIES, Entry, build, entries, find, read, show, unknown_name
+from iecoop.cli import Command, commands
+from iecoop.cli import main as iecoop_main
+from iecoop.cli.base import positive
+from iecoop.cli.export import module_of
+from iecoop.cli.trace import PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, Trace, fault_text, run_cycles, table
+from iecoop.st.export import dump
+from patterns.showcase.catalogue import CATEGORIES, NAMES, Entry, build, entries, find, read, show, unknown_name
 from patterns.showcase.text import render_rst
-from patterns.showcase import export_cli, serve, st_cli
 
-__all__ = ["COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "Trace", "main", "run_entry", "table"]
+__all__ = [
+    "COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "Trace", "main", "run_entry",
+    "st_text", "table",
+]
 
-#: Runs of at least this many cycles show a progress line on a terminal.
-PROGRESS_THRESHOLD = 1000
 #: The tour's categories (the course examples are listed and run, not toured).
 TOUR_CATEGORIES = ("creational", "structural", "behavioral", "solid")
 #: Trace rows shown per pattern in the tour (first and last included).
 TOUR_ROWS = 20
-#: Seconds between two flushes of streamed rows (and two redraws of the progress line).
-FLUSH_EVERY = 0.1
-
-#: One trace row: (time in ms at the cycle's start, cycle counted from 1, the values as text).
-Row = tuple[int, int, list[str]]
-
-
-@dataclasses.dataclass
-class Trace:
-    """The rows of one run; ``fault`` is set if the PLC stopped, ``fault_cycle`` counts from 1 like the rows."""
-
-    labels: list[str]
-    rows: list[Row] = dataclasses.field(default_factory=list)
-    fault: PlcException | None = None
-    fault_cycle: int = 0
-    fault_message: str = ""
-    cycles_run: int = 0
-    where: str = ""
-    tick_ms: int = 0
-
-
-class Progress:
-    """A one-line progress report redrawn in place on a terminal, at most every :data:`FLUSH_EVERY` s."""
-
-    def __init__(self, total: int, stream: TextIO, width: int = 30, clock: Callable[[], float] = time.monotonic):
-        self.total = total
-        self.stream = stream
-        self.width = width
-        self.clock = clock
-        self.started = clock()
-        self.drawn_at = -FLUSH_EVERY
-        self.done = 0
-        self.shown = ""
-
-    def update(self, done: int) -> None:
-        self.done = done
-        now = self.clock()
-        if now - self.drawn_at >= FLUSH_EVERY or done == self.total:
-            self.drawn_at = now
-            self.draw()
-
-    def draw(self) -> None:
-        filled = self.width * self.done // self.total
-        bar = "#" * filled + "-" * (self.width - filled)
-        seconds = self.clock() - self.started
-        text = f"[{bar}] {self.done * 100 // self.total:3d}% {self.done}/{self.total} cycles, {seconds:.0f} s"
-        self.stream.write("\r" + text.ljust(len(self.shown)))
-        self.stream.flush()
-        self.shown = text
-
-    def clear(self) -> None:
-        """Wipe the line (before a row is written to the same terminal, and at the end)."""
-        if self.shown:
-            self.stream.write("\r" + " " * len(self.shown) + "\r")
-            self.shown = ""
-
-
-_NUMBER = re.compile(r"^[-+]?\d+(\.\d+)?(ms)?$")
-
-
-def _cells(row: Row) -> list[str]:
-    start, cycle, values = row
-    return [str(start), str(cycle), *values]
-
-
-def _line(cells: Sequence[str], widths: Sequence[int], numeric: Sequence[bool]) -> str:
-    parts = [c.rjust(w) if n else c.ljust(w) for c, w, n in zip(cells, widths, numeric)]
-    return "  ".join(parts).rstrip()
-
-
-def table(trace: Trace, limit: int | None = None) -> list[str]:
-    """The trace as aligned text lines; with ``limit``, at most that many rows (the last one kept)."""
-    labels = ["time ms", "cycle", *trace.labels]
-    rows = [_cells(row) for row in trace.rows]
-    hidden = 0
-    if limit is not None and len(rows) > limit:
-        hidden = len(rows) - limit
-        rows = rows[: limit - 1] + rows[-1:]
-    widths = [max([len(label)] + [len(row[i]) for row in rows]) for i, label in enumerate(labels)]
-    numeric = [all(_NUMBER.match(row[i]) for row in rows) for i in range(len(labels))]
-    lines = [_line(labels, widths, numeric)] + [_line(row, widths, numeric) for row in rows]
-    if hidden:
-        lines.insert(len(lines) - 1, f"{'...':>{widths[0]}}  ({hidden} more {'row' if hidden == 1 else 'rows'})")
-    return lines
-
-
-class RowWriter:
-    """Writes a trace table row by row, as the cycles run.
-
-    The widths come from the labels and the first row (the time and cycle
-    columns from the largest values the run can reach); a later, wider value
-    widens its column from that row on. A column is right-aligned when its
-    first value is a number. Rows are flushed at most every
-    :data:`FLUSH_EVERY` seconds and at the end, so a pipe reader sees them as
-    they come; a ``progress`` line on the same terminal is wiped before each
-    row and redrawn after it.
-    """
-
-    def __init__(
-        self, labels: Sequence[str], out: TextIO, *, last_time: int = 0, last_cycle: int = 0,
-        progress: Progress | None = None, clock: Callable[[], float] = time.monotonic,
-    ) -> None:
-        self.labels = ["time ms", "cycle", *labels]
-        self.out = out
-        self.progress = progress
-        self.clock = clock
-        self.flushed_at = clock()
-        self.widths = [len(label) for label in self.labels]
-        self.widths[0] = max(self.widths[0], len(str(last_time)))
-        self.widths[1] = max(self.widths[1], len(str(last_cycle)))
-        self.numeric: list[bool] = []
-
-    def row(self, row: Row) -> None:
-        cells = _cells(row)
-        if not self.numeric:
-            self.numeric = [bool(_NUMBER.match(cell)) for cell in cells]
-            self.widths = [max(w, len(cell)) for w, cell in zip(self.widths, cells)]
-            self._write(_line(self.labels, self.widths, self.numeric))
-        self.widths = [max(w, len(cell)) for w, cell in zip(self.widths, cells)]
-        self._write(_line(cells, self.widths, self.numeric))
-        now = self.clock()
-        if now - self.flushed_at >= FLUSH_EVERY:
-            self.flushed_at = now
-            self.out.flush()
-
-    def _write(self, line: str) -> None:
-        shared = self.progress is not None and self.progress.stream is self.out and self.progress.shown
-        if shared:
-            assert self.progress is not None
-            self.progress.clear()
-        self.out.write(line + "\n")
-        if shared:
-            assert self.progress is not None
-            self.progress.draw()
-
-    def close(self) -> None:
-        if self.progress is not None:
-            self.progress.clear()
-        self.out.flush()
 
 
 def run_entry(
@@ -219,51 +86,29 @@ def run_entry(
     each row is handed over as its cycle ends instead of being kept in
     ``trace.rows``, so a run of any length streams in constant memory.
     """
-    trace = Trace([column.label for column in entry.columns])
     try:
         scenario = build(entry, profile)
     except PlcException as exc:
-        trace.fault, trace.fault_message = exc, exc.message
-        return trace
-    trace.where = "; ".join(
-        f"{', '.join(type(program).__name__ for _, program in task.programs)} on {task.name} ({task.interval} ms)"
-        for task in scenario.runtime.tasks
+        return Trace([column.label for column in entry.columns], fault=exc, fault_message=exc.message)
+    probes = [
+        Probe(column.label, functools.partial(lambda column: show(read(scenario, column), column.fmt), column),
+              column.watch)
+        for column in entry.columns
+    ]
+    script = entry.script
+    return run_cycles(
+        scenario.runtime, probes, cycles, every=every, progress=progress, on_start=on_start, on_row=on_row,
+        before_cycle=None if script is None else lambda cycle: script(scenario, cycle),
     )
-    trace.tick_ms = min((task.interval for task in scenario.runtime.tasks), default=0)
-    if on_start is not None:
-        on_start(trace)
-    emit = on_row if on_row is not None else trace.rows.append
-    runtime = scenario.runtime
-    watched = [i for i, column in enumerate(entry.columns) if column.watch]
-    previous: list[str] | None = None
-    for cycle in range(1, cycles + 1):
-        start = runtime.time_ms
-        try:
-            if entry.script is not None:
-                entry.script(scenario, cycle)
-            runtime.run(cycles=1)
-        except PlcException as exc:
-            trace.fault, trace.fault_cycle = exc, cycle
-            # The runtime's own text numbers the cycle from 0 (its CycleCount): keep only the cause.
-            trace.fault_message = runtime.fault.exception.message if runtime.fault is not None else exc.message
-            break
-        trace.cycles_run = cycle
-        values = [show(read(scenario, column), column.fmt) for column in entry.columns]
-        now = [values[i] for i in watched]
-        keep = (cycle - 1) % every == 0 if every else now != previous
-        if keep or cycle == cycles:
-            emit((start, cycle, values))
-        previous = now
-        if progress is not None:
-            progress(cycle)
-    return trace
 
 
-def _fault_text(trace: Trace) -> str:
-    assert trace.fault is not None
-    where = f"in cycle {trace.fault_cycle}" if trace.fault_cycle else "at start-up"
-    cause = f" ({trace.fault_message})" if trace.fault_message else ""
-    return f"PLC fault {where}: {trace.fault.code.name}{cause}"
+def st_text(entry_name: str, *, strict: bool = False) -> str:
+    """The generated ST of an entry (what ``iecoop show NAME --st`` prints).
+
+    >>> "FUNCTION_BLOCK TemperatureTransmitter IMPLEMENTS ISubject" in st_text("observer")
+    True
+    """
+    return dump(module_of(entry_name, NAMES), lenient=not strict)
 
 
 def _expected(entry: Entry) -> list[str]:
@@ -325,7 +170,7 @@ def _cmd_show(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     blocks += [text for section in SHOW_SECTIONS if (text := section(entry, module)) is not None]
     if args.st:
         blocks.append("Structured Text (generated by iecoop.st.export; 'iecoop export' writes TwinCAT files):\n\n"
-                      + export_cli.st_text(entry.name))
+                      + st_text(entry.name))
     out.write("\n\n".join(blocks) + "\n")
     return 0
 
@@ -373,7 +218,7 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         if rows:
             rows[0].close()
     if trace.fault is not None:
-        err.write(f"iecoop: {entry.name}: {_fault_text(trace)}\n")
+        err.write(f"iecoop: {entry.name}: {fault_text(trace)}\n")
         return 1
     return 0
 
@@ -418,20 +263,10 @@ def _cmd_tour(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         for text in table(trace, limit=TOUR_ROWS):
             out.write(f"  {text}\n")
         if trace.fault is not None:
-            out.write(f"  {_fault_text(trace)}\n")
+            out.write(f"  {fault_text(trace)}\n")
             status = 1
         out.flush()
     return status
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
 
 
 def _name_argument(parser: argparse.ArgumentParser) -> None:
@@ -445,22 +280,13 @@ def _show_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _run_arguments(parser: argparse.ArgumentParser) -> None:
     _name_argument(parser)
-    parser.add_argument("--cycles", type=_positive, metavar="N", help="cycles of 10 ms to run (default: the entry's)")
-    parser.add_argument("--every", type=_positive, metavar="K", help="print every K-th cycle (default: the changes)")
+    parser.add_argument("--cycles", type=positive, metavar="N", help="cycles of 10 ms to run (default: the entry's)")
+    parser.add_argument("--every", type=positive, metavar="K", help="print every K-th cycle (default: the changes)")
     parser.add_argument("--profile", choices=("twincat", "codesys"), default="twincat", help="the PLC profile")
 
 
 def _no_arguments(parser: argparse.ArgumentParser) -> None:
     pass
-
-
-@dataclasses.dataclass(frozen=True)
-class Command:
-    """One subcommand: its help line, the function adding its arguments, and the function running it."""
-
-    help: str
-    arguments: Callable[[argparse.ArgumentParser], None]
-    run: Callable[[argparse.Namespace, TextIO, TextIO], int]
 
 
 #: The subcommands, in the order ``--help`` lists them; ``tour`` runs when none is given.
@@ -469,54 +295,15 @@ COMMANDS: dict[str, Command] = {
     "list": Command("the names of the patterns, principles and examples, by category", _no_arguments, _cmd_list),
     "show": Command("the documentation of one pattern or example, and where its file is", _show_arguments, _cmd_show),
     "run": Command("run one pattern or example, printing its trace rows as the cycles run", _run_arguments, _cmd_run),
-    "serve": Command(serve.HELP, serve.add_arguments, serve.run),
-    "st2py": Command(st_cli.ST2PY_HELP, st_cli.add_st2py_arguments, st_cli.st2py_command),
-    "st": Command(st_cli.ST_HELP, st_cli.add_st_arguments, st_cli.st_command),
-    "export": Command(export_cli.EXPORT_HELP, export_cli.add_export_arguments, export_cli.export_run),
+    **commands(NAMES),
 }
 DEFAULT_COMMAND = "tour"
-
-
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="iecoop",
-        description="The GoF patterns, SOLID principles and course examples of iecoop, run on the cyclic PLC "
-        "runtime. Without a command: a short tour of every pattern.",
-    )
-    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name, command in COMMANDS.items():
-        command.arguments(subparsers.add_parser(name, help=command.help))
-    return parser
-
-
-def _quiet_stdout() -> None:
-    """Point stdout at the null device, so that the interpreter's last flush at exit cannot fail again.
-
-    This is the handling the Python documentation gives for SIGPIPE / BrokenPipeError (``signal`` module).
-    """
-    try:
-        descriptor = sys.stdout.fileno()
-    except (AttributeError, OSError, ValueError):  # not a real file (a test's capture): nothing to redirect
-        return
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, descriptor)
+DESCRIPTION = (
+    "The GoF patterns, SOLID principles and course examples of iecoop, run on the cyclic PLC "
+    "runtime. Without a command: a short tour of every pattern."
+)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``iecoop`` command; returns the exit status."""
-    out, err = sys.stdout, sys.stderr
-    try:
-        args = _parser().parse_args(argv)
-    except SystemExit as exc:  # --help, or a bad option (argparse has printed why)
-        return exc.code if isinstance(exc.code, int) else 0
-    command = COMMANDS[args.command or DEFAULT_COMMAND]
-    try:
-        status = command.run(args, out, err)
-        out.flush()  # inside the try: a reader that went away shows up here at the latest
-        return status
-    except KeyboardInterrupt:
-        err.write("\niecoop: interrupted\n")
-        return 130
-    except BrokenPipeError:  # the reader stopped early (iecoop list | head -1): that is not an error
-        _quiet_stdout()
-        return 0
+    return iecoop_main(argv, table=COMMANDS, default=DEFAULT_COMMAND, description=DESCRIPTION)

@@ -22,9 +22,9 @@ OUTER = ("iecoop.opcua", "iecoop.uml", "iecoop.stdlib", "iecoop.testing", "iecoo
 ALLOWED_PRIVATE = frozenset({"iecoop._config"})
 
 
-def _modules() -> dict[str, Path]:
+def _modules(package: Path = PACKAGE) -> dict[str, Path]:
     found = {}
-    for path in PACKAGE.rglob("*.py"):
+    for path in package.rglob("*.py"):
         parts = list(path.relative_to(ROOT).with_suffix("").parts)
         if parts[-1] == "__init__":
             parts.pop()
@@ -42,7 +42,7 @@ def _is_type_checking(node: ast.If) -> bool:
     )
 
 
-def _imports(module: str, path: Path) -> Iterator[tuple[str, list[str]]]:
+def _imports(module: str, path: Path, modules: Mapping[str, Path] = MODULES) -> Iterator[tuple[str, list[str]]]:
     """``(imported module, names imported from it)`` for each import that runs."""
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
 
@@ -60,7 +60,7 @@ def _imports(module: str, path: Path) -> Iterator[tuple[str, list[str]]]:
                 for alias in node.names:
                     # ``from iecoop import _config`` imports the module iecoop._config
                     full = f"{base}.{alias.name}"
-                    yield (full, []) if full in MODULES else (base, [alias.name])
+                    yield (full, []) if full in modules else (base, [alias.name])
             else:
                 for field in ("body", "orelse", "finalbody", "handlers"):
                     inner = getattr(node, field, None)
@@ -70,11 +70,11 @@ def _imports(module: str, path: Path) -> Iterator[tuple[str, list[str]]]:
     yield from visit(ast.parse(path.read_text(encoding="utf-8")).body)
 
 
-def import_graph() -> dict[str, set[str]]:
-    """Module -> the iecoop modules it imports."""
+def import_graph(modules: Mapping[str, Path] = MODULES) -> dict[str, set[str]]:
+    """Module -> the modules of ``modules`` it imports (by default iecoop's)."""
     return {
-        module: {target for target, _ in _imports(module, path) if target in MODULES and target != module}
-        for module, path in MODULES.items()
+        module: {target for target, _ in _imports(module, path, modules) if target in modules and target != module}
+        for module, path in modules.items()
     }
 
 

@@ -8,7 +8,14 @@ from pathlib import Path
 import pytest
 
 from iecoop import BOOL, VAR_INPUT, FunctionBlock
-from patterns.showcase.export_cli import export_command, st_text
+from iecoop.cli import export
+from patterns.showcase.catalogue import NAMES
+from patterns.showcase.cli import st_text
+
+
+def export_command(argv: list[str], out: io.StringIO) -> int:
+    """``iecoop export`` with the catalogue's names, as the installed command runs it."""
+    return export.export_command(argv, out, names=NAMES)
 
 
 class Refusing(FunctionBlock):

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from iecoop import DINT, INT, VAR, VAR_OUTPUT, Program
+from iecoop.cli import trace
 import patterns.showcase.cli as showcase
 from patterns.showcase.cli import TOUR_CATEGORIES, main, run_entry
 from patterns.showcase import catalogue, cli
@@ -171,7 +172,7 @@ def test_on_a_terminal_the_rows_stream_above_a_progress_line(
 
     terminal = Terminal()
     monkeypatch.setattr(sys, "stdout", terminal)
-    monkeypatch.setattr(showcase, "FLUSH_EVERY", 0.0)  # draw at every cycle
+    monkeypatch.setattr(trace, "FLUSH_EVERY", 0.0)  # draw at every cycle
     assert main(["run", "strategy", "--cycles", "2100"]) == 0
     text = terminal.getvalue()
     # Each row is written on a wiped line, after the progress of the cycles before it.

@@ -9,9 +9,10 @@ from typing import TextIO
 
 import pytest
 
-from patterns.showcase.st_cli import st2py, st_run
+from iecoop.cli import main
+from iecoop.cli.st import st2py, st_run
 
-TWINCAT = pathlib.Path(__file__).parents[1] / "iecoop" / "st" / "data" / "twincat"
+TWINCAT = pathlib.Path(__file__).parents[1] / "st" / "data" / "twincat"
 
 
 def call(command: Callable[[list[str], TextIO, TextIO], int], *argv: str) -> tuple[int, str, str]:
@@ -56,9 +57,7 @@ def test_st2py_prints_or_writes(tmp_path: pathlib.Path) -> None:
 
 
 def test_st2py_and_st_run_are_commands_of_iecoop(capsys: pytest.CaptureFixture[str]) -> None:
-    from patterns.showcase import main
-
-    folder = pathlib.Path(__file__).resolve().parent.parent / "iecoop" / "st" / "data" / "twincat"
+    folder = TWINCAT
     assert main(["st", "run", str(folder), "--cycles", "2"]) == 0
     out = capsys.readouterr().out
     assert "MAIN on PlcTask" in out and out.count("\n") >= 4

@@ -1,0 +1,31 @@
+"""``iecoop serve FILE_OR_FOLDER``: an ST PROGRAM in real time behind the OPC UA server."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import pytest
+
+from iecoop.cli.serve import serve
+
+pytest.importorskip("asyncua")
+
+
+def test_serve_runs_an_st_program_for_its_duration(tmp_path: Path) -> None:
+    source = tmp_path / "plant.st"
+    source.write_text("PROGRAM MAIN\nVAR_INPUT nSetpoint : INT; END_VAR\nVAR nCount : INT; END_VAR\n"
+                      "nCount := nCount + 1;\nEND_PROGRAM\n")
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(source), "--endpoint", "opc.tcp://127.0.0.1:0", "--duration", "100ms"], out, err)
+    assert (status, err.getvalue()) == (0, "")
+    lines = out.getvalue().splitlines()
+    assert lines[0] == f"iecoop serve: MAIN of {source}"
+    assert lines[1].startswith("OPC UA server at opc.tcp://127.0.0.1:")
+    assert "PlcTask.MAIN.nSetpoint" in lines[2]
+    assert lines[-1] == "iecoop serve: stopped after 100 ms of PLC time"
+
+
+def test_serve_without_a_catalogue_takes_paths_only(capsys: pytest.CaptureFixture[str]) -> None:
+    assert serve(["state"]) == 2
+    assert capsys.readouterr().err == "iecoop serve: ST source 'state' does not exist\n"
