@@ -34,7 +34,7 @@ import threading
 import time
 import types
 import typing
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from types import TracebackType
 from typing import Any
 from urllib.parse import urlsplit
@@ -52,7 +52,6 @@ from iecoop.gvl import GlobalVariables, global_lists
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
-from iecoop.members import _codes, _functions_of
 from iecoop.metadata import Kind, iec_class, kind_of
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
@@ -271,6 +270,14 @@ def _indices(bounds: tuple[tuple[int, int], ...]) -> list[tuple[int, ...]]:
     return result
 
 
+def _code_names(code: types.CodeType) -> Iterator[str]:
+    """The global and attribute names a function's code uses, its nested functions' and comprehensions' included."""
+    yield from code.co_names
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            yield from _code_names(const)
+
+
 def _user_code(obj: Any) -> bool:
     # The library's own blocks and functions (TON, SEL...) name no global list of the user's.
     module = getattr(obj, "__module__", None) or ""
@@ -311,13 +318,15 @@ class _ListFinder:
                 static = getattr(value, "block", None)  # a VAR_EXTERNAL's global list, a VAR_STAT's block
                 if static is not None and getattr(type(static), "_iec_layout_", None) is not None:
                     self.value(static)
-                for func in _functions_of(value):  # its body, METHODs, PROPERTY accessors
-                    self.function(func)
+                # Its body and METHODs, its PROPERTYs' accessors.
+                for attribute in ("fget", "fset", "__func__"):
+                    self.function(getattr(value, attribute, None))
+                self.function(value)
 
     def function(self, func: Any) -> None:
         if not isinstance(func, types.FunctionType) or not _user_code(func) or not self._first(func):
             return
-        names = {name for code in _codes(func.__code__) for name in code.co_names}
+        names = set(_code_names(func.__code__))
         values = [func.__globals__[n] for n in names if n in func.__globals__]
         values += [cell.cell_contents for cell in func.__closure__ or () if _filled(cell)]
         for value in values:
@@ -477,6 +486,10 @@ class _Users:
         return User(role=UserRole.User, name=username)
 
 
+#: The user of a call that names none: refused, where asyncua's default would be an administrator.
+_NOBODY = User(role=UserRole.Anonymous)
+
+
 def _denied(count: int) -> list[ua.StatusCode]:
     return [ua.StatusCode(ua.StatusCodes.BadUserAccessDenied) for _ in range(count)]
 
@@ -494,22 +507,22 @@ class _FixedNodes(NodeManagementService):  # type: ignore[misc]  # asyncua is no
         super().__init__(aspace)
         self._server_user = server_user
 
-    def add_nodes(self, addnodeitems: list[ua.AddNodesItem], user: User = User(role=UserRole.Admin)) -> list[ua.AddNodesResult]:
+    def add_nodes(self, addnodeitems: list[ua.AddNodesItem], user: User = _NOBODY) -> list[ua.AddNodesResult]:
         if user is self._server_user:
             return typing.cast(list[ua.AddNodesResult], super().add_nodes(addnodeitems, user))
         return [ua.AddNodesResult(StatusCode=code) for code in _denied(len(addnodeitems))]
 
-    def delete_nodes(self, deletenodeitems: ua.DeleteNodesParameters, user: User = User(role=UserRole.Admin)) -> list[ua.StatusCode]:
+    def delete_nodes(self, deletenodeitems: ua.DeleteNodesParameters, user: User = _NOBODY) -> list[ua.StatusCode]:
         if user is self._server_user:
             return typing.cast(list[ua.StatusCode], super().delete_nodes(deletenodeitems, user))
         return _denied(len(deletenodeitems.NodesToDelete))
 
-    def add_references(self, refs: list[ua.AddReferencesItem], user: User = User(role=UserRole.Admin)) -> list[ua.StatusCode]:
+    def add_references(self, refs: list[ua.AddReferencesItem], user: User = _NOBODY) -> list[ua.StatusCode]:
         if user is self._server_user:
             return typing.cast(list[ua.StatusCode], super().add_references(refs, user))
         return _denied(len(refs))
 
-    def delete_references(self, refs: list[ua.DeleteReferencesItem], user: User = User(role=UserRole.Admin)) -> list[ua.StatusCode]:
+    def delete_references(self, refs: list[ua.DeleteReferencesItem], user: User = _NOBODY) -> list[ua.StatusCode]:
         if user is self._server_user:
             return typing.cast(list[ua.StatusCode], super().delete_references(refs, user))
         return _denied(len(refs))
@@ -526,7 +539,7 @@ class _PlcAttributeService(AttributeService):  # type: ignore[misc]  # asyncua i
         self._owner = owner
         self._server_user = server_user
 
-    async def write(self, params: ua.WriteParameters, user: User = User(role=UserRole.Admin)) -> list[ua.StatusCode]:
+    async def write(self, params: ua.WriteParameters, user: User = _NOBODY) -> list[ua.StatusCode]:
         results: list[ua.StatusCode] = []
         for item in params.NodesToWrite:
             nodeid = item.NodeId
