@@ -32,8 +32,9 @@ import os
 import socket
 import threading
 import time
+import types
 import typing
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from types import TracebackType
 from typing import Any
 from urllib.parse import urlsplit
@@ -41,17 +42,17 @@ from urllib.parse import urlsplit
 try:
     from asyncua import Server, ua
     from asyncua.crypto.permission_rules import User, UserRole
-    from asyncua.server.address_space import AttributeService
+    from asyncua.server.address_space import AttributeService, NodeManagementService
 except ImportError as exc:  # pragma: no cover - exercised without the extra installed
     raise ImportError(
         'iecoop.opcua needs the asyncua library: install the extra with pip install "iecoop[opcua]"'
     ) from exc
 
-from iecoop.gvl import global_lists
+from iecoop.gvl import GlobalVariables, global_lists
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
-from iecoop.metadata import Kind, kind_of
+from iecoop.metadata import Kind, iec_class, kind_of
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
 
@@ -137,6 +138,9 @@ def _read_date(seconds: Any) -> Any:
 def _string(info: StringInfo) -> Callable[[Any], Any]:
     def take(value: Any) -> Any:
         text = "" if value is None else value
+        if "\x00" in text:
+            # The PLC's string ends at its first NUL: storing the rest would store less than was written.
+            raise _out_of_range(f"{info.name} cannot hold the NUL character (it ends a PLC string)")
         if len(text) > info.length:
             raise _out_of_range(f"{len(text)} characters do not fit {info.name}")
         try:
@@ -266,10 +270,119 @@ def _indices(bounds: tuple[tuple[int, int], ...]) -> list[tuple[int, ...]]:
     return result
 
 
+def _code_names(code: types.CodeType) -> Iterator[str]:
+    """The global and attribute names a function's code uses, its nested functions' and comprehensions' included."""
+    yield from code.co_names
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            yield from _code_names(const)
+
+
+def _user_code(obj: Any) -> bool:
+    # The library's own blocks and functions (TON, SEL...) name no global list of the user's.
+    module = getattr(obj, "__module__", None) or ""
+    return module != "iecoop" and not module.startswith("iecoop.")
+
+
+class _ListFinder:
+    """The global variable lists some programs use, as the PLC links them: found in their classes, once.
+
+    A list is used when a class the programs are made of (their own, their
+    bases, the FBs and STRUCTs they hold, the functions and blocks their code
+    names) declares a VAR_EXTERNAL of it or its code names it (``GVL_Plant.speed``,
+    ``plant.GVL_Plant.speed``).
+    """
+
+    def __init__(self) -> None:
+        self.found: dict[int, Any] = {}
+        self._seen: set[int] = set()
+
+    def _first(self, obj: Any) -> bool:
+        if id(obj) in self._seen:
+            return False
+        self._seen.add(id(obj))
+        return True
+
+    def block_class(self, cls: type) -> None:
+        for klass in cls.__mro__:
+            if iec_class(klass) is None or not _user_code(klass) or not self._first(klass):
+                continue
+            layout = getattr(klass, "_iec_layout_", None)
+            for record in layout.fields if layout is not None else ():
+                info = record.info.elem if isinstance(record.info, ArrayInfo) else record.info
+                if isinstance(info, AggregateInfo):
+                    self.block_class(info.cls)
+            for name, value in vars(klass).items():
+                if name.startswith(("_iec", "__")):
+                    continue  # what the builders generate: no code of the user's
+                static = getattr(value, "block", None)  # a VAR_EXTERNAL's global list, a VAR_STAT's block
+                if static is not None and getattr(type(static), "_iec_layout_", None) is not None:
+                    self.value(static)
+                # Its body and METHODs, its PROPERTYs' accessors.
+                for attribute in ("fget", "fset", "__func__"):
+                    self.function(getattr(value, attribute, None))
+                self.function(value)
+
+    def function(self, func: Any) -> None:
+        if not isinstance(func, types.FunctionType) or not _user_code(func) or not self._first(func):
+            return
+        names = set(_code_names(func.__code__))
+        values = [func.__globals__[n] for n in names if n in func.__globals__]
+        values += [cell.cell_contents for cell in func.__closure__ or () if _filled(cell)]
+        for value in values:
+            if isinstance(value, types.ModuleType):  # plant.GVL_Plant.speed: the list is an attribute of a module
+                for name in names:
+                    if isinstance(getattr(value, name, None), GlobalVariables):
+                        self.value(getattr(value, name))
+            else:
+                self.value(value)
+
+    def value(self, value: Any) -> None:
+        if isinstance(value, GlobalVariables):
+            self.found.setdefault(id(value), value)
+            self.block_class(type(value))
+        elif isinstance(value, types.FunctionType):
+            self.function(value)
+        elif isinstance(value, type):
+            self.block_class(value)
+        elif getattr(type(value), "_iec_layout_", None) is not None:
+            self.block_class(type(value))
+
+
+def _filled(cell: types.CellType) -> bool:
+    try:
+        cell.cell_contents
+    except ValueError:  # a closure variable not yet bound
+        return False
+    return True
+
+
+def _served_lists(
+    runtime: Runtime, named: Iterable[GlobalVariables | type[GlobalVariables] | str]
+) -> list[tuple[str, Any]]:
+    """The global lists a server shows: those the runtime's programs use, then those named, by their names."""
+    finder = _ListFinder()
+    for task in runtime.tasks:
+        for _path, program in task.programs:
+            finder.block_class(type(program))
+    registry = global_lists()
+    for item in named:
+        block = registry.get(item) if isinstance(item, str) else item
+        if not isinstance(block, GlobalVariables):
+            known = ", ".join(registry) or "none"
+            raise ValueError(f"OpcUaServer: gvls names {item!r}, which is no global variable list (known: {known})")
+        finder.found.setdefault(id(block), block)
+    names = {id(block): name for name, block in registry.items()}
+    # The registry's order (the order of definition), then lists a program holds that another took the name of.
+    ordered = [block for block in registry.values() if id(block) in finder.found]
+    ordered += [block for key, block in finder.found.items() if key not in names]
+    return [(names.get(id(block), type(block).__name__), block) for block in ordered]
+
+
 class _AddressSpace:
     """The nodes of a runtime's programs and GVLs, read once from their class layouts."""
 
-    def __init__(self, runtime: Runtime, writable: Iterable[str]) -> None:
+    def __init__(self, runtime: Runtime, lists: Iterable[tuple[str, Any]], writable: Iterable[str]) -> None:
         self.objects: list[_Object] = []
         self.variables: dict[str, _Variable] = {}
         self.blocks: list[Any] = []
@@ -282,7 +395,7 @@ class _AddressSpace:
             self._add_object(task.name, task.name, None)
             for path, program in task.programs:
                 self._add_block(path, path[len(task.name) + 1 :], task.name, program, inputs_writable=True)
-        for name, block in global_lists().items():
+        for name, block in lists:
             self._add_block(name, name, None, block, inputs_writable=False)
         for pattern in patterns:
             if pattern not in matched:
@@ -351,37 +464,92 @@ class _AddressSpace:
         )
 
 
-class _UserTable:
-    """asyncua user manager: the configured user names and passwords, nobody else."""
+class _Users:
+    """asyncua user manager: who may open a session, never as an administrator.
 
-    def __init__(self, users: Mapping[str, str]) -> None:
-        self._users = {name: password.encode() for name, password in users.items()}
+    With a table, the configured names and passwords and nobody else; without
+    one, every client (anonymous or any name) as an ordinary user. asyncua's
+    default manager makes a client that calls itself ``admin`` an
+    administrator, whatever its password: this one never does.
+    """
+
+    def __init__(self, users: Mapping[str, str] | None) -> None:
+        self._users = None if users is None else {name: password.encode() for name, password in users.items()}
 
     def get_user(self, iserver: Any, username: str | None = None, password: str | None = None,
                  certificate: Any = None) -> User | None:
+        if self._users is None:
+            return User(role=UserRole.User, name=username)
         known = self._users.get(username or "")
         if known is None or password is None or not hmac.compare_digest(known, password.encode()):
             return None
         return User(role=UserRole.User, name=username)
 
 
-class _PlcAttributeService(AttributeService):  # type: ignore[misc]  # asyncua is not followed (see pyproject.toml)
-    """Client writes to PLC variables: checked here, queued for the next cycle; other nodes as asyncua does."""
+#: The user of a call that names none: refused, where asyncua's default would be an administrator.
+_NOBODY = User(role=UserRole.Anonymous)
 
-    def __init__(self, aspace: Any, owner: OpcUaServer) -> None:
+
+def _denied(count: int) -> list[ua.StatusCode]:
+    return [ua.StatusCode(ua.StatusCodes.BadUserAccessDenied) for _ in range(count)]
+
+
+class _FixedNodes(NodeManagementService):  # type: ignore[misc]  # asyncua is not followed (see pyproject.toml)
+    """The node management services (AddNodes, DeleteNodes, AddReferences, DeleteReferences) for the server alone.
+
+    The address space is the runtime's layout: a client that removed a
+    variable's node would leave the HMI blind, one that added nodes would
+    show variables the PLC has not got. Every client request is refused,
+    whatever its user's role; the server's own session builds the nodes.
+    """
+
+    def __init__(self, aspace: Any, server_user: User) -> None:
+        super().__init__(aspace)
+        self._server_user = server_user
+
+    def add_nodes(self, addnodeitems: list[ua.AddNodesItem], user: User = _NOBODY) -> list[ua.AddNodesResult]:
+        if user is self._server_user:
+            return typing.cast(list[ua.AddNodesResult], super().add_nodes(addnodeitems, user))
+        return [ua.AddNodesResult(StatusCode=code) for code in _denied(len(addnodeitems))]
+
+    def delete_nodes(self, deletenodeitems: ua.DeleteNodesParameters, user: User = _NOBODY) -> list[ua.StatusCode]:
+        if user is self._server_user:
+            return typing.cast(list[ua.StatusCode], super().delete_nodes(deletenodeitems, user))
+        return _denied(len(deletenodeitems.NodesToDelete))
+
+    def add_references(self, refs: list[ua.AddReferencesItem], user: User = _NOBODY) -> list[ua.StatusCode]:
+        if user is self._server_user:
+            return typing.cast(list[ua.StatusCode], super().add_references(refs, user))
+        return _denied(len(refs))
+
+    def delete_references(self, refs: list[ua.DeleteReferencesItem], user: User = _NOBODY) -> list[ua.StatusCode]:
+        if user is self._server_user:
+            return typing.cast(list[ua.StatusCode], super().delete_references(refs, user))
+        return _denied(len(refs))
+
+
+class _PlcAttributeService(AttributeService):  # type: ignore[misc]  # asyncua is not followed (see pyproject.toml)
+    """Client writes: to PLC variables checked here and queued for the next cycle; to any other node refused.
+
+    The server's own session (its clock) writes the other nodes as asyncua does.
+    """
+
+    def __init__(self, aspace: Any, owner: OpcUaServer, server_user: User) -> None:
         super().__init__(aspace)
         self._owner = owner
+        self._server_user = server_user
 
-    async def write(self, params: ua.WriteParameters, user: User = User(role=UserRole.Admin)) -> list[ua.StatusCode]:
+    async def write(self, params: ua.WriteParameters, user: User = _NOBODY) -> list[ua.StatusCode]:
         results: list[ua.StatusCode] = []
         for item in params.NodesToWrite:
             nodeid = item.NodeId
             variable = self._owner._variable_for(nodeid)
-            if variable is None:
-                single = ua.WriteParameters(NodesToWrite=[item])
-                results.extend(await super().write(single, user))
-                continue
-            results.append(ua.StatusCode(self._owner._client_write(variable, item)))
+            if variable is not None:
+                results.append(ua.StatusCode(self._owner._client_write(variable, item)))
+            elif user is self._server_user:
+                results.extend(await super().write(ua.WriteParameters(NodesToWrite=[item]), user))
+            else:
+                results.extend(_denied(1))
         return results
 
 
@@ -391,8 +559,12 @@ class OpcUaServer:
     ``endpoint`` is where it listens (``opc.tcp://127.0.0.1:4840``; port 0
     picks a free port, which ``.endpoint`` then names). ``writable`` adds
     variables a client may write, as instance paths or ``fnmatch`` patterns
-    (``"PlcTask.Main.setpoint"``, ``"PlcTask.Main.axis.*"``). ``users`` maps
-    user names to passwords (anonymous clients are then refused);
+    (``"PlcTask.Main.setpoint"``, ``"PlcTask.Main.axis.*"``). The server
+    shows the runtime's programs and the global variable lists they use
+    (VAR_EXTERNAL, or named in their code); ``gvls`` adds lists, by name or
+    instance (``gvls=["GVL_Plant"]``). No client adds, deletes or relinks a
+    node. ``users`` maps user names to passwords (anonymous clients are then
+    refused; without it every client may connect, none as an administrator);
     ``certificate`` and ``private_key`` enable the ``security`` policies
     (asyncua ``SecurityPolicyType`` names). Use it as a context manager::
 
@@ -406,6 +578,7 @@ class OpcUaServer:
         endpoint: str = "opc.tcp://127.0.0.1:4840",
         *,
         writable: Iterable[str] = (),
+        gvls: Iterable[GlobalVariables | type[GlobalVariables] | str] = (),
         users: Mapping[str, str] | None = None,
         certificate: str | os.PathLike[str] | None = None,
         private_key: str | os.PathLike[str] | None = None,
@@ -443,7 +616,7 @@ class OpcUaServer:
         self._policies = policies
         self._name = name
         self._start_timeout = start_timeout
-        self._space = _AddressSpace(runtime, writable)
+        self._space = _AddressSpace(runtime, _served_lists(runtime, gvls), writable)
         # A byte view of each exposed block: `.raw` copies it in one C call (the whole per-cycle cost).
         self._views = [(ctypes.c_char * ctypes.sizeof(b)).from_buffer(b) for b in self._space.blocks]
         self._nodeids: dict[ua.NodeId, _Variable] = {}
@@ -623,9 +796,12 @@ class OpcUaServer:
         self._loop = asyncio.get_running_loop()
         self._stop = asyncio.Event()
         self._wake = asyncio.Event()
-        user_manager = _UserTable(self._users) if self._users is not None else None
-        server = Server(user_manager=user_manager)
+        server = Server(user_manager=_Users(self._users))
+        server.allow_remote_admin(False)
         await server.init()
+        iserver = server.iserver
+        builder = iserver.isession.user
+        iserver.node_mgt_service = _FixedNodes(iserver.aspace, builder)
         # asyncua's own clock task sleeps a second between updates and is awaited on stop; ours is cancelled.
         server.disable_clock()
         server.set_endpoint(self.endpoint)
@@ -639,7 +815,7 @@ class OpcUaServer:
             server.set_identity_tokens([ua.UserNameIdentityToken])
         self._namespace = await server.register_namespace(NAMESPACE)
         await self._build(server, first)
-        server.iserver.attribute_service = _PlcAttributeService(server.iserver.aspace, self)
+        iserver.attribute_service = _PlcAttributeService(iserver.aspace, self, builder)
         await server.start()
         helpers = [asyncio.create_task(self._publisher(server, first)), asyncio.create_task(_clock(server))]
         try:

@@ -191,7 +191,8 @@ def served() -> Iterator[tuple[Runtime, OpcUaServer, Client]]:
     rt.add_task(Task("PlcTask", interval=T("10ms")), MAIN, SECOND)
     named = ["PlcTask.OpcMain.where.*", "PlcTask.OpcMain.stamp"]
     named += [f"PlcTask.OpcMain.{name}" for name in INTEGERS if name != "step"]
-    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", writable=named) as server:
+    # No program here uses GVL_OpcPlant: named, the server shows it too.
+    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", writable=named, gvls=[GVL_OpcPlant]) as server:
         client = Client(server.endpoint)
         try:
             yield rt, server, client
@@ -502,7 +503,7 @@ def test_bad_configuration_is_refused_with_the_reason(served: Any) -> None:
     clash = Runtime(store=":memory:")
     clash.add_task(Task("GVL_OpcPlant", interval=T("10ms")), OpcSecond())
     with pytest.raises(ValueError, match="two nodes would have the instance path 'GVL_OpcPlant'"):
-        OpcUaServer(clash)
+        OpcUaServer(clash, gvls=["GVL_OpcPlant"])
 
 
 def certificate(folder: Path, name: str, uri: str, usage: Any) -> tuple[Path, Path]:
