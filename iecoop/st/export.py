@@ -38,6 +38,13 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     interface, with ids derived from the names, so exporting again writes
     the same bytes. ``format="plcopen"``: one PLCopen XML file (TC6 2.01).
     ``format="st"``: the flat text of :func:`dump`, one ``.st`` file per object.
+
+    Files are written only directly in ``folder``, never through a symbolic link,
+    and only once every one of them is made. A name that is not an ST identifier
+    (letter or underscore, then ASCII letters, digits and underscores), a class
+    named like an ST keyword, and two names of one scope that differ only in case
+    raise StExportError; a variable, METHOD, PROPERTY or enumeration value named
+    like a keyword is written with a trailing underscore (``TO`` -> ``TO_``).
     """
     found = _units(classes_or_module, lenient)
     if format not in ("twincat", "st", "plcopen"):

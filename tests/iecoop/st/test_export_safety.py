@@ -307,3 +307,21 @@ def test_double_underscores_are_kept(tmp_path: Path) -> None:
     text = dump([point])
     assert "a__b : INT;" in text
     assert _declared(text) == {"ST__Pair"}
+
+
+def test_plcopen_writes_the_renamed_names_the_bodies_use(tmp_path: Path) -> None:
+    written = export([E_Step, Stepper, _struct("ST_Kw3", {"Then": INT})], tmp_path, format="plcopen")[0]
+    root = ET.parse(written).getroot()
+    assert {v.get("name") for v in root.iterfind(".//{*}enum/{*}values/{*}value")} == {"TO_", "Then_", "idle"}
+    assert [v.get("name") for v in root.iterfind(".//{*}dataType[@name='ST_Kw3']//{*}variable")] == ["Then_"]
+
+
+def test_the_xml_writers_refuse_a_character_xml_cannot_hold() -> None:
+    from iecoop.st._emit_decl import Unit
+    from iecoop.st._emit_files import plcopen_project, twincat_file
+
+    unit = Unit("gvl", "GVL_Raw", "VAR_GLOBAL\n    s : STRING := '\x01';\nEND_VAR\n")
+    with pytest.raises(StExportError, match="control character.*XML"):
+        twincat_file(unit)
+    with pytest.raises(StExportError, match="control character.*XML"):
+        plcopen_project("raw\x02", [])
