@@ -167,8 +167,8 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         groups.setdefault((section, qualifier), []).append(field)
     order = {s: i for i, s in enumerate((*_SECTION_ORDER, "VAR_GLOBAL"))}
     for (section, qualifier), members in sorted(groups.items(), key=lambda item: order.get(item[0][0], 99)):
-        if section == "VAR_INST":
-            continue  # declared inside the METHOD it belongs to
+        if section == "VAR_INST" and default is None:
+            continue  # declared inside the METHOD it belongs to (which asks with default="VAR_INST")
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
@@ -278,7 +278,8 @@ class _Writer:
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         if getattr(func, "_iec_call_after_init_", False):
             header = f"{_CALL_AFTER_INIT}\n{header}"
-        inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
+        # VAR_INST(method=...) names the METHOD as Python does (``constant``, not ``constant_``).
+        inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == (member.python_name or member.name)]
         declared = passed_inputs(inputs)
         decl = _member_note(member) + _parameter_lines(declared, where, {})
         implementation = ""

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
-from iecoop import INT, STRING, VAR, FunctionBlock, GlobalVariables, IecEnum, Interface, Program, Struct, method
+from iecoop import INT, STRING, VAR, VAR_INST, FunctionBlock, GlobalVariables, IecEnum, Interface, Program, Struct, method
 from iecoop.st import load
 from iecoop.st.export import StExportError, dump, export
 
@@ -325,3 +325,21 @@ def test_the_xml_writers_refuse_a_character_xml_cannot_hold() -> None:
         twincat_file(unit)
     with pytest.raises(StExportError, match="control character.*XML"):
         plcopen_project("raw\x02", [])
+
+
+class Tally(FunctionBlock):
+    @method
+    def constant(self) -> INT:
+        """A METHOD named like a keyword (CONSTANT), with a VAR_INST of its own."""
+        self.calls += 1
+        return self.calls
+
+    calls: INT = VAR_INST(0, method="constant")
+
+
+def test_a_renamed_method_keeps_its_var_inst() -> None:
+    text = dump([Tally])
+    assert "METHOD PUBLIC constant_ : INT\n// constant is an ST keyword: constant_ in ST\nVAR_INST\n    calls : INT;\nEND_VAR\n" in text
+    tally = load(text).Tally()
+    tally.constant_()
+    assert tally.constant_() == 2
