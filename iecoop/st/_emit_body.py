@@ -109,15 +109,29 @@ def _real_text(value: float) -> str:
     return f"{mantissa}E{exponent}" if exponent else mantissa
 
 
-def _string_text(value: str) -> str:
-    escaped = value.replace("$", "$$").replace("'", "$'").replace("\n", "$N").replace("\t", "$T").replace("\r", "$R")
-    return f"'{escaped}'"
+#: ST's named string escapes (IEC 61131-3, 6.3.3); every other control character is ``$`` and its code in hex.
+_ESCAPES = {"$": "$$", "\n": "$N", "\t": "$T", "\r": "$R", "\f": "$P"}
+
+
+def _string_text(value: str, quote: str = "'") -> str:
+    """A STRING ('...', ``$xx``) or WSTRING ("...", ``$xxxx``) literal: no control character is written as it is,
+    so the text stays one line and the TwinCAT and PLCopen XML stay well-formed."""
+    digits = 2 if quote == "'" else 4
+    out = []
+    for char in value:
+        if char in _ESCAPES or char == quote:
+            out.append(_ESCAPES.get(char) or "$" + char)
+        elif char < " " or "\x7f" <= char <= "\x9f":
+            out.append(f"${ord(char):0{digits}X}")
+        else:
+            out.append(char)
+    return quote + "".join(out) + quote
 
 
 def literal(value: Any, info: TypeInfo | None = None) -> str:
     """A Python value as an ST literal of type ``info`` (TIME values as ``T#...``)."""
     if isinstance(value, enum.Enum):
-        return f"{type(value).__name__}.{value.name}"
+        return f"{type(value).__name__}.{ident(value.name)}"
     if isinstance(value, bool):
         return "TRUE" if value else "FALSE"
     if isinstance(info, ElementaryInfo) and isinstance(value, int):
@@ -135,7 +149,7 @@ def literal(value: Any, info: TypeInfo | None = None) -> str:
     if isinstance(value, float):
         return _real_text(value)
     if isinstance(value, str):
-        return _string_text(value) if not (isinstance(info, StringInfo) and info.record.name == "WSTRING") else '"' + value.replace("$", "$$").replace('"', '$"') + '"'
+        return _string_text(value, '"' if isinstance(info, StringInfo) and info.record.name == "WSTRING" else "'")
     if value is None:
         return "0"
     raise ValueError(f"{value!r} has no ST literal")
@@ -969,8 +983,8 @@ class BodyWriter:
                     own.update(n for klass in self.scope.cls.__mro__ for n in vars(klass) if not n.startswith("_"))
                 if name.lower() in {n.lower() for n in own}:
                     # ST names ignore case: buttons would hide BUTTONS, so name the list it is declared in.
-                    return f"{_CONSTANTS_GVL}.{name}"
-                return name
+                    return f"{_CONSTANTS_GVL}.{ident(name)}"
+                return ident(name)
             if isinstance(value, type):
                 return value.__name__
             if kind_of(type(value)) == "gvl":
@@ -1004,10 +1018,10 @@ class BodyWriter:
             if owner is ExceptionCode:
                 return f"__SYSTEM.ExceptionCode.{attr}"
             if isinstance(owner, type) and issubclass(owner, enum.Enum):
-                return f"{owner.__name__}.{attr}"
+                return f"{owner.__name__}.{ident(attr)}"
             self.fail(node, f"the attribute {ast.unparse(node)}")
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-            return f"SUPER^.{attr}"
+            return f"SUPER^.{ident(attr)}"
         if attr in ("low", "high") and isinstance(self.typeof(base), ArrayInfo):
             # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
             bounds = typing.cast(ArrayInfo, self.typeof(base)).bounds

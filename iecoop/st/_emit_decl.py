@@ -27,6 +27,7 @@ from iecoop.st._emit_model import (
     StExportError,
     access_words,
     ident,
+    renamed_note,
     alias_target,
     enum_base,
     enum_members,
@@ -96,11 +97,11 @@ def initial_text(info: TypeInfo, value: Any, where: str) -> str:
     if isinstance(info, AggregateInfo):
         if isinstance(value, dict):
             layout = getattr(info.cls, "_iec_layout_")
-            parts = [f"{k} := {initial_text(layout.by_name[k].info, v, f'{where}.{k}')}" for k, v in value.items()]
+            parts = [f"{ident(k, where)} := {initial_text(layout.by_name[k].info, v, f'{where}.{k}')}" for k, v in value.items()]
             return "(" + ", ".join(parts) + ")"
         if isinstance(value, info.cls):
             layout = getattr(info.cls, "_iec_layout_")
-            parts = [f"{f.name} := {initial_text(f.info, getattr(value, f.name), where)}" for f in layout.fields]
+            parts = [f"{ident(f.name)} := {initial_text(f.info, getattr(value, f.name), where)}" for f in layout.fields]
             return "(" + ", ".join(parts) + ")"
     try:
         return literal(value, info)
@@ -139,7 +140,7 @@ def _argument(value: Any, where: str) -> str:
 
 
 def variable_line(name: str, info: TypeInfo, initial: Any, where: str, fb_init: Any = None) -> str:
-    text = f"{ident(name)} : {type_text(info)}"
+    text = f"{ident(name, where.rpartition('.')[0] or where)} : {type_text(info)}"
     if fb_init and isinstance(fb_init, Mapping):
         args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
         text += f"({args})"
@@ -147,7 +148,7 @@ def variable_line(name: str, info: TypeInfo, initial: Any, where: str, fb_init: 
         raise StExportError(f"{where}: FB_init inputs per ARRAY element have no declaration form the writer knows")
     if not _default_initial(info, initial):
         text += f" := {initial_text(info, initial, where)}"
-    return text + ";"
+    return text + ";" + renamed_note(name)
 
 
 def _declared_type(field: FieldDecl) -> TypeInfo:
@@ -166,8 +167,8 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         groups.setdefault((section, qualifier), []).append(field)
     order = {s: i for i, s in enumerate((*_SECTION_ORDER, "VAR_GLOBAL"))}
     for (section, qualifier), members in sorted(groups.items(), key=lambda item: order.get(item[0][0], 99)):
-        if section == "VAR_INST":
-            continue  # declared inside the METHOD it belongs to
+        if section == "VAR_INST" and default is None:
+            continue  # declared inside the METHOD it belongs to (which asks with default="VAR_INST")
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
@@ -185,7 +186,9 @@ def _type_unit(meta: ClassMeta) -> Unit:
     name = meta.name
     if meta.kind == "enum":
         items = enum_members(meta.cls)
-        body = ",\n".join(f"    {n} := {v}" for n, v in items)
+        body = "\n".join(
+            f"    {ident(n)} := {v}{',' if i < len(items) - 1 else ''}{renamed_note(n)}" for i, (n, v) in enumerate(items)
+        )
         return Unit("enum", name, f"TYPE {name} :\n(\n{body}\n) {enum_base(meta.cls)};\nEND_TYPE\n", meta=meta)
     if meta.kind == "alias":
         return Unit("alias", name, f"TYPE {name} : {alias_target(meta.cls)};\nEND_TYPE\n", meta=meta)
@@ -275,9 +278,10 @@ class _Writer:
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
         if getattr(func, "_iec_call_after_init_", False):
             header = f"{_CALL_AFTER_INIT}\n{header}"
-        inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == member.name]
+        # VAR_INST(method=...) names the METHOD as Python does (``constant``, not ``constant_``).
+        inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == (member.python_name or member.name)]
         declared = passed_inputs(inputs)
-        decl = _parameter_lines(declared, where, {})
+        decl = _member_note(member) + _parameter_lines(declared, where, {})
         implementation = ""
         if not interface and not member.flags & Access.ABSTRACT:
             writer = self.body(
@@ -323,12 +327,19 @@ class _Writer:
                 writer = self.body(func, st_name=member.name, result=result if kind == "get" else None, params=params, rename=rename)
                 decl = _local_lines(writer) or decl
                 implementation = "\n".join(writer.lines)
+            decl = _member_note(member) + decl
             if not interface and visibility(flags) != visibility(member.flags):
                 # An accessor's own specifier heads its declaration, as TwinCAT stores it (in the flat
                 # form it follows the PROPERTY line: PROPERTY PUBLIC Capacity : REAL / PRIVATE / VAR ...)
                 decl = [typing.cast(str, visibility(flags).name), *decl]
             parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result, access=visibility(flags)))
         return parts
+
+
+def _member_note(member: MemberDecl) -> list[str]:
+    """The comment line of a METHOD or PROPERTY whose Python name is a keyword (see ``renamed_note``)."""
+    note = renamed_note(member.python_name) if member.python_name else ""
+    return [note.strip()] if note else []
 
 
 def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
@@ -448,7 +459,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
             st_type = "BOOL" if isinstance(value, bool) else "DINT" if isinstance(value, int) else "LREAL" if isinstance(value, float) else f"STRING({max(1, len(value))})"
-            lines.append(f"    {cname} : {st_type} := {literal(value)};")
+            lines.append(f"    {ident(cname, _CONSTANTS_GVL)} : {st_type} := {literal(value)};{renamed_note(cname)}")
         lines += ["END_VAR", ""]
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
         found.insert(index, Unit("gvl", _CONSTANTS_GVL, "\n".join(lines)))

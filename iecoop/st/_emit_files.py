@@ -33,7 +33,7 @@ from iecoop.memory.typeinfo import (
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
 from iecoop.st._emit_decl import Part, Unit, initial_text, parameter_groups
-from iecoop.st._emit_model import FieldDecl, enum_base, enum_members, type_text
+from iecoop.st._emit_model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
 
 __all__ = ["guid", "plcopen_project", "twincat_file"]
 
@@ -48,13 +48,24 @@ def guid(*path: str) -> str:
     return "{" + str(uuid.uuid5(_NAMESPACE, "/".join(path))) + "}"
 
 
+#: What XML 1.0 cannot hold, escaped or not: the writer escapes it in ST strings, so finding it is a bug.
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
+
+
+def _xml_text(text: str) -> str:
+    found = _NOT_XML.search(text)
+    if found is not None:
+        raise StExportError(f"the export text holds the control character {found.group()!r}, which XML cannot hold: {text[:60]!r}")
+    return text
+
+
 def _cdata(text: str) -> str:
-    text = text.replace("\r\n", "\n").replace("\n", _NL)
+    text = _xml_text(text).replace("\r\n", "\n").replace("\n", _NL)
     return "<![CDATA[" + text.replace("]]>", "]]]]><![CDATA[>") + "]]>"
 
 
 def _attr(value: str) -> str:
-    return value.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
+    return _xml_text(value).replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
 
 
 def _groups(parts: Sequence[Part]) -> Iterator[list[Part]]:
@@ -171,7 +182,7 @@ def _value(parent: ET.Element, info: TypeInfo, value: Any, where: str) -> None:
 
 
 def _variable(parent: ET.Element, name: str, info: TypeInfo, initial: Any, where: str) -> None:
-    var = _sub(parent, "variable", name=name)
+    var = _sub(parent, "variable", name=ident(name))
     _type(_sub(var, "type"), info)
     if initial is not MISSING and initial is not None and not (isinstance(info, (ReferenceInfo, InterfaceInfo, PointerInfo))):
         if not (isinstance(initial, (dict, list)) and not initial):
@@ -325,7 +336,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         enumeration = _sub(base, "enum")
         values = _sub(enumeration, "values")
         for name, value in enum_members(meta.cls):
-            _sub(values, "value", name=name, value=str(value))
+            _sub(values, "value", name=ident(name), value=str(value))
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
         _attributes(data_type, _pragmas(unit.declaration))
     elif unit.kind == "alias":
@@ -416,4 +427,4 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
                     _sub(_sub(var, "initialValue"), "simpleValue", value=value)
             _attributes(block, _pragmas(unit.declaration))
     ET.indent(project, "  ")
-    return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(project, encoding="unicode") + "\n"
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + _xml_text(ET.tostring(project, encoding="unicode")) + "\n"

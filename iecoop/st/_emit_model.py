@@ -11,6 +11,7 @@ import ast
 import dataclasses
 import enum
 import inspect
+import re
 import textwrap
 import types
 import typing
@@ -33,8 +34,9 @@ from iecoop.memory.typeinfo import (
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
 from iecoop.types import elementary_type
+from iecoop.st._keywords import RESERVED
 
-__all__ = ["RESERVED", "ident", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
+__all__ = ["RESERVED", "check_unique", "ident", "renamed_note", "type_name", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
 
 
 class StExportError(DefinitionError):
@@ -74,6 +76,8 @@ class MemberDecl:
     setter: Any = None
     get_flags: Access = Access.PUBLIC
     set_flags: Access = Access.PUBLIC
+    #: The Python name, where ``name`` is it renamed (a keyword's trailing underscore).
+    python_name: str = ""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -110,30 +114,43 @@ def _alias_name(obj: Any) -> str:
 
 
 def metadata(obj: Any) -> ClassMeta:
-    """Read a class (a GVL instance, an alias) into a :class:`ClassMeta`."""
+    """Read a class (a GVL instance, an alias) into a :class:`ClassMeta`.
+
+    Every name the class gives ST is checked here, before anything is written: the class's own
+    (:func:`type_name`), and its variables', METHODs', PROPERTYs' and values' (:func:`ident`), which must
+    also stay apart once case is ignored (:func:`check_unique`).
+    """
     kind = _kind(obj)
     if kind is None:
         raise StExportError(f"{obj!r} is not a declared IEC type, POU, interface or GVL")
     if kind == "alias":
-        return ClassMeta(obj, _alias_name(obj), kind)
+        return ClassMeta(obj, type_name(_alias_name(obj), kind), kind)
     cls = type(obj) if isinstance(obj, GlobalVariables) else obj
-    name = cls.__name__
+    name = type_name(cls.__name__, kind)
     if kind == "enum":
+        check_unique(f"TYPE {name}", (n for n, _ in enum_members(cls)), "values")
         return ClassMeta(cls, name, kind)
     layout = cls.__dict__.get("_iec_layout_")
-    fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())]
-    if kind in ("fb", "program"):
-        fields.extend(_outside_fields(cls))
+    outside = _outside_fields(cls) if kind in ("fb", "program") else []
+    fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())] + outside
+    record = _record(cls)
+    # The whole EXTENDS chain is one scope: its variables, VAR_STAT / VAR_EXTERNAL and members.
+    every = [r.name for r in (layout.fields if layout is not None else ())] + [f.name for f in outside]
+    check_unique(f"{kind_word(kind)} {name}", [*every, *record.members], "variable and member names")
     parent = next((b for b in cls.__bases__ if _kind(b) == kind and kind in ("fb", "program", "struct")), None)
     interfaces = tuple(b for b in cls.__bases__ if kind_of(b) == "interface" and b is not Interface)
     members = _own_members(cls)
     body = cls.__dict__.get("body") if kind in ("fb", "program") else None
     lifecycle = tuple((n, cls.__dict__[n]) for n in LIFECYCLE if kind in ("fb", "program") and n in cls.__dict__)
-    record = _record(cls)
     return ClassMeta(
         cls, name, kind, tuple(fields), members, parent, interfaces,
         record.abstract, record.final, record.internal, body, lifecycle,
     )
+
+
+def kind_word(kind: str) -> str:
+    """The ST keyword that declares a class of ``kind`` (``TYPE`` for the data types)."""
+    return {"gvl": "GVL", "interface": "INTERFACE", "fb": "FUNCTION_BLOCK", "program": "PROGRAM", "function": "FUNCTION"}.get(kind, "TYPE")
 
 
 def _record(cls: type) -> IecClass:
@@ -169,10 +186,10 @@ def _own_members(cls: Any) -> tuple[MemberDecl, ...]:
             raw_setter = value.fset if value.fset is not None and getattr(value.fset, "__name__", "") != "read_only" else None
             setter = inspect.unwrap(raw_setter) if raw_setter is not None else None
             found.append(MemberDecl(
-                ident(name), "property", member.flags, value, getter, setter, flags_of(getter), flags_of(setter) if setter else Access.PUBLIC,
+                ident(name, f"{cls.__name__} PROPERTY"), "property", member.flags, value, getter, setter, flags_of(getter), flags_of(setter) if setter else Access.PUBLIC, name,
             ))
         else:
-            found.append(MemberDecl(ident(name), "method", member.flags, inspect.unwrap(value)))
+            found.append(MemberDecl(ident(name, f"{cls.__name__} METHOD"), "method", member.flags, inspect.unwrap(value), python_name=name))
     return tuple(found)
 
 
@@ -246,20 +263,59 @@ def _plain_annotations() -> dict[Any, Any]:
 #: Plain Python annotations and the IEC type a value of them is in ST.
 _PLAIN = _plain_annotations()
 
-#: ST keywords a Python name may spell; such a name gets a trailing underscore in ST.
-RESERVED = frozenset("""
-ABSTRACT ACTION AND AND_THEN ARRAY AT BY CASE CONSTANT CONTINUE DO ELSE ELSIF END_ACTION END_CASE END_FOR
-END_FUNCTION END_FUNCTION_BLOCK END_IF END_INTERFACE END_METHOD END_PROGRAM END_PROPERTY END_REPEAT END_STRUCT
-END_TYPE END_UNION END_VAR END_WHILE EXIT EXTENDS FINAL FOR FUNCTION FUNCTION_BLOCK IF IMPLEMENTS INTERFACE
-INTERNAL JMP METHOD MOD NOT OF ON OR OR_ELSE PERSISTENT POINTER PRIVATE PROGRAM PROPERTY PROTECTED PUBLIC
-READ_ONLY READ_WRITE REFERENCE REPEAT RETAIN RETURN STRUCT SUPER THEN THIS TO TYPE UNION UNTIL VAR VAR_ACCESS
-VAR_CONFIG VAR_EXTERNAL VAR_GLOBAL VAR_INPUT VAR_INST VAR_IN_OUT VAR_OUTPUT VAR_STAT VAR_TEMP WHILE XOR
-""".split())
+#: ST identifiers as TwinCAT 3 and CODESYS take them: IEC 61131-3's rule, ASCII only. Two underscores in a
+#: row (``a__b``), which the standard forbids, are kept: both accept them, and their own system names
+#: (``__QUERYINTERFACE``, ``__SYSTEM``) are spelled so.
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_IDENTIFIER_RULE = "an ST identifier is a letter or underscore, then letters, digits and underscores, ASCII only"
+
+#: What a declared class of each kind is usually called in ST: the name to suggest instead of a keyword.
+_PREFIX = {
+    "enum": "E_", "alias": "T_", "struct": "ST_", "union": "U_", "gvl": "GVL_", "interface": "I_", "fb": "FB_",
+    "program": "PRG_", "function": "F_",
+}
 
 
-def ident(name: str) -> str:
-    """The ST identifier of a Python name: itself, or with a trailing underscore if it spells a keyword."""
+def ident(name: str, where: str | None = None) -> str:
+    """The ST identifier of a Python name: itself, or with a trailing underscore if it spells a keyword.
+
+    Every variable, METHOD, PROPERTY, enumeration value and parameter name the writer
+    writes comes through here; a name that is not an ST identifier is refused, naming ``where``.
+    """
+    if not isinstance(name, str) or _IDENTIFIER.fullmatch(name) is None:
+        place = f"{where} " if where else ""
+        raise StExportError(f"{place}{name!r} is not an ST identifier ({_IDENTIFIER_RULE}): rename it")
     return f"{name}_" if name.upper() in RESERVED else name
+
+
+def renamed_note(name: str) -> str:
+    """The comment a declaration carries when ``ident`` renamed its Python name (empty otherwise)."""
+    return f" // {name} is an ST keyword: {ident(name)} in ST" if ident(name) != name else ""
+
+
+def type_name(name: str, kind: str) -> str:
+    """The ST name of a declared class (a type, POU, interface or GVL): its Python name, which must be an ST
+    identifier and no keyword. It is not renamed: it is the object's name in the PLC project, in other
+    projects' code and on its file."""
+    word = kind_word(kind)
+    if ident(name, f"{word} {name!r}") != name:
+        raise StExportError(
+            f"{word} {name}: {name} is an ST keyword, so it cannot name a {word} (ST ignores case): "
+            f"rename the class, for example {_PREFIX.get(kind, '')}{name}"
+        )
+    return name
+
+
+def check_unique(owner: str, names: Iterable[str], what: str = "names") -> None:
+    """ST names ignore case: two ``names`` of one scope that are one ST name are refused, naming both."""
+    seen: dict[str, str] = {}
+    for name in names:
+        other = seen.setdefault(ident(name, owner).lower(), name)
+        if other != name:
+            raise StExportError(
+                f"{owner}: the {what} {other} and {name} differ only in case (or by a keyword's trailing underscore), "
+                "and ST ignores case: they would be one name; rename one"
+            )
 
 
 def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, Any]]:
@@ -270,6 +326,7 @@ def parameters(func: Any, where: str, owner: Any) -> list[tuple[str, TypeInfo, A
             continue
         if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
             raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
+        ident(param.name, f"{where} input")
         default = MISSING if param.default is inspect.Parameter.empty else param.default
         # a VAR_OUTPUT(length=20) parameter: the STRING(20) it points to
         shape = (default.length, default.bounds) if isinstance(default, FieldSpec) else (None, None)
@@ -286,6 +343,7 @@ def function_parameters(func: Any, where: str) -> list[tuple[str, TypeInfo, Any]
     for param in inspect.signature(func).parameters.values():
         if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
             raise StExportError(f"{where}: *{param.name} has no ST form; declare each input")
+        ident(param.name, f"{where} input")
         default = MISSING if param.default is inspect.Parameter.empty else param.default
         shape = (default.length, default.bounds) if isinstance(default, FieldSpec) else (None, None)
         info = annotation_info(param.annotation, func, f"{where}.{param.name}", length=shape[0], bounds=shape[1])

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from iecoop.st._emit_decl import Unit, flat_text, units
-from iecoop.st._emit_model import StExportError, collect, with_dependencies
+from iecoop.st._emit_model import StExportError, collect, ident, with_dependencies
 
 __all__ = ["StExportError", "dump", "export"]
 
@@ -38,38 +38,63 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     interface, with ids derived from the names, so exporting again writes
     the same bytes. ``format="plcopen"``: one PLCopen XML file (TC6 2.01).
     ``format="st"``: the flat text of :func:`dump`, one ``.st`` file per object.
+
+    Files are written only directly in ``folder``, never through a symbolic link,
+    and only once every one of them is made. A name that is not an ST identifier
+    (letter or underscore, then ASCII letters, digits and underscores), a class
+    named like an ST keyword, and two names of one scope that differ only in case
+    raise StExportError; a variable, METHOD, PROPERTY or enumeration value named
+    like a keyword is written with a trailing underscore (``TO`` -> ``TO_``).
     """
     found = _units(classes_or_module, lenient)
-    target = Path(folder)
-    target.mkdir(parents=True, exist_ok=True)
-    written: list[Path] = []
+    if format not in ("twincat", "st", "plcopen"):
+        raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
     if format == "twincat":
         from iecoop.st._emit_files import twincat_file
 
-        for unit in found:
-            name, text = twincat_file(unit)
-            written.append(_write(target / name, text))
+        files = [twincat_file(unit) for unit in found]
     elif format == "st":
-        for unit in found:
-            written.append(_write(target / f"{unit.name}.st", flat_text(unit)))
-    elif format == "plcopen":
+        files = [(f"{unit.name}.st", flat_text(unit)) for unit in found]
+    else:
         from iecoop.st._emit_files import plcopen_project
 
         name = _project_name(classes_or_module, found)
-        written.append(_write(target / f"{name}.xml", plcopen_project(name, found)))
-    else:
-        raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
-    return written
+        files = [(f"{name}.xml", plcopen_project(name, found))]
+    # Every file is made before the first is written: a refused name leaves the folder as it was.
+    target = Path(folder)
+    target.mkdir(parents=True, exist_ok=True)
+    return [_write(target, file_name, text) for file_name, text in files]
 
 
 def _project_name(source: Any, found: list[Unit]) -> str:
     name = getattr(source, "__name__", None)
     if isinstance(name, str):
-        return name.rsplit(".", 1)[-1]
+        project = name.rsplit(".", 1)[-1]
+        ident(project, "the PLCopen project (the module's name)")  # it names the file
+        return project
     return found[0].name if found else "project"
 
 
-def _write(path: Path, text: str) -> Path:
+def _write(folder: Path, name: str, text: str) -> Path:
+    """Write ``folder/name``, which must be a file right in ``folder`` (the names were checked before, this
+    holds whatever the name): no path leaves the folder, and no symbolic link in it is written through."""
+    base = folder.resolve()
+    path = base / name
+    if Path(name).name != name or name in (".", "..") or os.sep in name or (os.altsep and os.altsep in name) or path.parent != base:
+        raise StExportError(f"export: the file name {name!r} is outside the folder {str(folder)!r}; nothing is written outside it")
+    if path.is_symlink():
+        raise StExportError(
+            f"export: {str(path)!r} is a symbolic link (to {os.readlink(path)!r}); export does not write through links: remove it"
+        )
+    # O_NOFOLLOW: a link made between the check and the write is refused by the system too.
+    flags = os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0)
+    try:
+        descriptor = os.open(path, flags, 0o666)
+    except OSError as exc:
+        if path.is_symlink():
+            raise StExportError(f"export: {str(path)!r} is a symbolic link; export does not write through links: remove it") from None
+        raise StExportError(f"export: cannot write {str(path)!r} ({exc.strerror})") from None
     # Bytes, not text mode: the files are the same on every platform (CRLF as TwinCAT writes them).
-    path.write_bytes(text.encode("utf-8"))
-    return path
+    with os.fdopen(descriptor, "wb") as file:
+        file.write(text.encode("utf-8"))
+    return folder / name
