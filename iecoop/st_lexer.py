@@ -37,13 +37,13 @@ from pygments.token import (
     Whitespace,
 )
 
-from iecoop.st._keywords import KEYWORDS, TYPES, WORD_OPERATORS
+from iecoop.st.language import KEYWORDS, TYPE_NAMES, WORD_OPERATORS
 
 __all__ = ["IecStLexer", "looks_like_st"]
 
 _TIME_PREFIX = r"(?:LTIME|LT|TIME|T)#"
 _DATE_PREFIX = r"(?:LDATE_AND_TIME|DATE_AND_TIME|LDT|DT|LTIME_OF_DAY|TIME_OF_DAY|LTOD|TOD|LDATE|DATE|LD|D)#"
-_TYPED = r"(?:" + "|".join(sorted((t for t in TYPES if not t.startswith(("ANY", "__"))), key=len, reverse=True)) + r")#"
+_TYPED = r"(?:" + "|".join(sorted((t for t in TYPE_NAMES if not t.startswith(("ANY", "__"))), key=len, reverse=True)) + r")#"
 
 
 class IecStLexer(RegexLexer):
@@ -67,7 +67,7 @@ class IecStLexer(RegexLexer):
             (words(KEYWORDS, prefix=r"(?<![\w#])", suffix=r"\b"), Keyword),
             (words(WORD_OPERATORS, prefix=r"(?<![\w#])", suffix=r"\b"), Operator.Word),
             (words(("TRUE", "FALSE", "NULL"), prefix=r"(?<!\w)", suffix=r"\b"), Keyword.Constant),
-            (words(TYPES, prefix=r"(?<![\w#])", suffix=r"\b"), Keyword.Type),
+            (words(TYPE_NAMES, prefix=r"(?<![\w#])", suffix=r"\b"), Keyword.Type),
             # E_Mode#Auto: the enumeration, then its value
             (r"[A-Za-z_]\w*(?=#[A-Za-z_])", Name.Class),
             (r"#(?=[A-Za-z_])", Operator),

@@ -34,7 +34,7 @@ from iecoop.memory.typeinfo import (
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
 from iecoop.types import elementary_type
-from iecoop.st._keywords import RESERVED
+from iecoop.st.language import RESERVED
 
 __all__ = ["RESERVED", "check_unique", "ident", "renamed_note", "type_name", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
 

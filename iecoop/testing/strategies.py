@@ -45,6 +45,7 @@ from iecoop.memory import IecEnum
 from iecoop.sections import Section
 from iecoop.types import iec_type_name
 from iecoop.metadata import Kind, kind_of
+from iecoop.st.language import INTEGER_LAYOUT as ST_INTEGER_LAYOUT
 
 __all__ = [
     "ANY_INTS",
@@ -85,27 +86,9 @@ __all__ = [
     "wstring_values",
 ]
 
-#: Storage of every integer-like type: name -> (bits, signed). TIME, LTIME and the
-#: date types are unsigned counters of ms / ns / s.
-INTEGER_LAYOUT: Final[dict[str, tuple[int, bool]]] = {
-    "SINT": (8, True),
-    "USINT": (8, False),
-    "INT": (16, True),
-    "UINT": (16, False),
-    "DINT": (32, True),
-    "UDINT": (32, False),
-    "LINT": (64, True),
-    "ULINT": (64, False),
-    "BYTE": (8, False),
-    "WORD": (16, False),
-    "DWORD": (32, False),
-    "LWORD": (64, False),
-    "TIME": (32, False),
-    "LTIME": (64, False),
-    "DATE": (32, False),
-    "TOD": (32, False),
-    "DT": (32, False),
-}
+#: Storage of every integer-like type: name -> (bits, signed), from the ST vocabulary. TIME, LTIME and
+#: the date types are unsigned counters of ms / ns / s.
+INTEGER_LAYOUT: Final[dict[str, tuple[int, bool]]] = dict(ST_INTEGER_LAYOUT)
 
 #: The largest finite IEEE 754 single (REAL).
 FLT_MAX: Final[float] = struct.unpack("<f", b"\xff\xff\x7f\x7f")[0]
