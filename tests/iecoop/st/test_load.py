@@ -533,9 +533,9 @@ def test_super_property_write_runs_the_base_setter() -> None:
         + "PROPERTY N.Get : INT\nN := SUPER^.N;\nEND_PROPERTY\n")
     block = module.FB_B()
     block(); block()
-    assert (block._n, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
+    assert (block.st_n_, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
     block.N = 4
-    assert (block._n, block.nSets, block.N) == (8, 1, 8)
+    assert (block.st_n_, block.nSets, block.N) == (8, 1, 8)
     assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
 
 
