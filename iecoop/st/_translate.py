@@ -68,13 +68,18 @@ _GENERATED_NAMES = frozenset(("self", "cls", "body", "fb_init", "fb_reinit", "fb
 
 
 @functools.cache
-def reserved_names() -> frozenset[str]:
+def reserved_names(attribute: bool = False) -> frozenset[str]:
     """Every Python name an ST name must not become: keywords, builtins and what the generated module uses.
 
-    That is Python's keywords and soft keywords, its builtins, every name the generated module may import
-    (``iecoop``, ``iecoop.stdlib``, ``.functions``, ``.conversions``, ``.runtime``, ``iecoop.st``), the
-    public attributes of iecoop's base classes and the names of ``_GENERATED_NAMES``. Compared with case,
-    as Python compares names: ``T`` is reserved (``T#5S``), ``t`` is not.
+    A name Python code reads bare (a POU, type, GVL or FUNCTION; a METHOD's or FUNCTION's input, output
+    or local) must be none of Python's keywords and soft keywords, its builtins, the names the generated
+    module may import (``iecoop``, ``iecoop.stdlib``, ``.functions``, ``.conversions``, ``.runtime``,
+    ``iecoop.st``), the public attributes of iecoop's base classes and ``_GENERATED_NAMES``. A name read
+    as an attribute (``self.x``: a variable of a block, STRUCT or GVL, a METHOD, PROPERTY or enumeration
+    value) stands bare only in its class body, beside the section specifiers, types and literals
+    of ``iecoop`` and ``iecoop.stdlib``: with ``attribute``, the builtins and the other modules stay
+    free (a METHOD ``open``, a constant ``LIMIT``). Compared with case, as Python compares names:
+    ``T`` is reserved (``T#5S``), ``t`` is not.
     """
     import iecoop
     import iecoop.conversions
@@ -83,28 +88,31 @@ def reserved_names() -> frozenset[str]:
     import iecoop.st
     import iecoop.stdlib
 
-    names = {*keyword.kwlist, *keyword.softkwlist, *dir(builtins), *_GENERATED_NAMES}
-    for module in (iecoop, iecoop.stdlib, iecoop.functions, iecoop.conversions, iecoop.runtime, iecoop.st):
-        names.update(module.__all__)
+    names = {*keyword.kwlist, *_GENERATED_NAMES, *iecoop.__all__, *iecoop.stdlib.__all__}
     for base in (iecoop.FunctionBlock, iecoop.Program, iecoop.Struct, iecoop.Union, iecoop.GlobalVariables,
                  iecoop.Interface, iecoop.IecEnum):
         names.update(n for n in dir(base) if not n.startswith("_"))
+    if not attribute:
+        names.update(keyword.softkwlist, dir(builtins))
+        for module in (iecoop.functions, iecoop.conversions, iecoop.runtime, iecoop.st):
+            names.update(module.__all__)
     return frozenset(n for n in names if not n.startswith("_"))
 
 
 _PREFIXED = re.compile(f"(?:{NAME_PREFIX})*_", re.IGNORECASE)
 
 
-def python_name(name: str) -> str:
+def python_name(name: str, attribute: bool = False) -> str:
     """The Python name of the ST name ``name``: itself, unless it could meet a Python or iecoop name.
 
-    A name that is reserved (``reserved_names``), or starts or ends with ``_``, gets ``_`` at its end,
+    A name that is reserved (``reserved_names(attribute)``: ``attribute`` for a name only read as
+    ``x.name``), or starts or ends with ``_``, gets ``_`` at its end,
     so it can be no keyword, builtin or generated name, and no other ST name's Python name (only these
     end with ``_``). If it starts with ``_`` (after any number of ``st``), it also gets ``st`` in front,
     so no ST name becomes a Python private (``_x``) or special (``__x__``) name. ``in`` is ``in_``,
     ``in_`` is ``in__``, ``_x`` is ``st_x_``, ``__del__`` is ``st__del___``; ``Speed`` is ``Speed``.
     """
-    if name not in reserved_names() and not name.startswith("_") and not name.endswith("_"):
+    if name not in reserved_names(attribute) and not name.startswith("_") and not name.endswith("_"):
         return name
     return (NAME_PREFIX if _PREFIXED.match(name) else "") + name + NAME_SUFFIX
 
@@ -458,7 +466,7 @@ class Translator:
                 for value in inner.init.spec.values or []:
                     self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
                     decl.values.append(str(value.name))
-                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name))))
+                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
             elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
                                     tf.SubrangeTypeDeclaration)):
                 decl = self._add(Decl("alias", str(inner.name), inner, unit))
@@ -474,7 +482,7 @@ class Translator:
             self.unit = decl.unit
             if decl.kind in ("fb", "program", "function"):
                 for block in decl.node.declarations:
-                    for member in self._block_members(block):
+                    for member in self._block_members(block, attribute=decl.kind != "function"):
                         self._add_member(decl, member)
             elif decl.kind in ("struct", "union"):
                 for element in decl.node.declarations:
@@ -483,7 +491,7 @@ class Translator:
             elif decl.kind == "gvl":
                 for block in decl.node:
                     self.unit = decl.units.get(id(block), decl.unit)
-                    for member in self._block_members(block):
+                    for member in self._block_members(block, attribute=True):
                         self._add_member(decl, member)
                         self.globals[member.st.lower()] = (decl.name, member)
             elif decl.kind == "alias":
@@ -499,17 +507,17 @@ class Translator:
                         self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
                         members.append(member)
                 returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
-                decl.methods[name.lower()] = Callable_(python_name(name), returns, _signature(members), st=name)
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, _signature(members), st=name)
             for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
                 name = str(node.name).rsplit(".", 1)[-1]
                 self.declare(decl.declared, f"ACTION {decl.st}.{name}", name, node)
-                decl.methods[name.lower()] = Callable_(python_name(name), None, [], st=name)
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), None, [], st=name)
             for node in decl.prop_nodes:
                 name = str(node.name).split(".")[0]
                 if name.lower() not in decl.props:  # its Get and its Set accessor: one PROPERTY
                     self.declare(decl.declared, f"PROPERTY {decl.st}.{name}", name, node)
                 type_ = self._spec_type(node.return_type.spec, node)
-                decl.props[name.lower()] = Member(python_name(name), type_, "PROPERTY", st=name)
+                decl.props[name.lower()] = Member(python_name(name, attribute=True), type_, "PROPERTY", st=name)
             if decl.kind == "function":
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = _signature(list(decl.members.values()))
@@ -629,7 +637,8 @@ class Translator:
             return TypeRef("elem", base.name, limits=(limits[0], limits[1]))
         raise self.fail(f"declaration {type(init).__name__} is not supported", node)
 
-    def _block_members(self, block: Any) -> Iterator[Member]:
+    def _block_members(self, block: Any, attribute: bool = False) -> Iterator[Member]:
+        """The variables of one VAR block; ``attribute``: of a block or GVL (fields), not of a METHOD or FUNCTION."""
         section = _SECTION_OF.get(type(block))
         if isinstance(block, tf.GlobalVariableDeclarations):
             section = "VAR_GLOBAL"
@@ -640,7 +649,7 @@ class Translator:
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(python_name(name), type_, section, st=name)
+                yield Member(python_name(name, attribute), type_, section, st=name)
 
     def location(self, item: Any) -> str:
         """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
@@ -696,7 +705,7 @@ class Translator:
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
         self.line = element.meta.line if element.meta else self.line
         if isinstance(element, tf.UnionElementDeclaration):
-            yield Member(python_name(str(element.name)), self._spec_type(element.spec, element), "VAR", st=str(element.name))
+            yield Member(python_name(str(element.name), attribute=True), self._spec_type(element.spec, element), "VAR", st=str(element.name))
             return
         init = element.init
         if isinstance(init, tf.FunctionCall):
@@ -704,7 +713,7 @@ class Translator:
         else:
             type_ = self.init_type(init, element)
         for var in element.variables:
-            yield Member(python_name(str(var.variable.name)), type_, "VAR", st=str(var.variable.name))
+            yield Member(python_name(str(var.variable.name), attribute=True), type_, "VAR", st=str(var.variable.name))
 
     # --- lookups ---
 
@@ -949,7 +958,7 @@ class Translator:
                     raise self.fail(f"enumeration value {decl.name}.{item.name} := {text} is not a constant", node) from None
             else:
                 value += 1
-            self.emit(f"{python_name(str(item.name))} = {value}", 1)
+            self.emit(f"{python_name(str(item.name), attribute=True)} = {value}", 1)
         if node.init.value is not None:
             raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
 
@@ -1140,7 +1149,7 @@ class Translator:
         if value is None:
             decl = self.decl_of(type_) if type_.kind == "user" else None
             if decl is not None and decl.kind == "enum" and decl.values:
-                return f"{decl.name}.{python_name(decl.values[0])}"
+                return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
             if type_.limits is not None:
                 return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
             return None
@@ -1164,7 +1173,7 @@ class Translator:
                 if element_name is None:
                     raise self.fail("a structure initialiser element without a name", value)
                 found = self.find_member(decl, element_name) if decl is not None else None
-                name = found[1].name if found is not None else python_name(element_name)
+                name = found[1].name if found is not None else python_name(element_name, attribute=True)
                 member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
                 pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
             return "{" + ", ".join(pairs) + "}"
@@ -1195,7 +1204,7 @@ class Translator:
             match = next((v for v in decl.values if v.lower() == value.lower()), None)
             if match is None:
                 raise self.fail(f"enumeration {decl.st} has no value {value!r}", node)
-            return f"{decl.name}.{python_name(match)}"
+            return f"{decl.name}.{python_name(match, attribute=True)}"
         if "." in value:  # blark reads a qualified value (E_Mode.AUTO) as one dotted name
             prefix, _, last = value.rpartition(".")
             return self.enum_ref(prefix, last, node)
@@ -1289,12 +1298,12 @@ class Translator:
                     for name, type_ in self._item_types(item):
                         self._need_type(type_)
                         self.need("iecoop", "VAR_EXTERNAL")
-                        self.emit(f"{python_name(name)}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
+                        self.emit(f"{python_name(name, attribute=True)}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
                     self.trail(index, trailing)
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(python_name(name), type_, self.located_section(item, section or "VAR"), st=name)
+                    member = Member(python_name(name, attribute=True), type_, self.located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
                 self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
@@ -1317,7 +1326,7 @@ class Translator:
                 if isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
                     target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
                 for var in item.variables:
-                    self.emit(f'ref_assign(self, "{python_name(str(var.variable.name))}", {self.address_of(target, scope)})', 2)
+                    self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
         inits: dict[str, Any] = {}
@@ -1414,7 +1423,7 @@ class Translator:
             return "Pointer(0, None)"
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
-            return f"{decl.name}.{python_name(decl.values[0])}"
+            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
         if decl is not None and decl.kind == "interface":
             self.need("iecoop", "null")
             return f"null({decl.name})"
@@ -1472,12 +1481,12 @@ class Translator:
                 self.out.insert(self._field_insert_point(), "    " + self.field_line(field, getattr(item, "init", None), Scope(None, "const")))
                 scope.locals[name.lower()] = Member(f"self.{field.name}", type_, "STAT")
             return
-        holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
+        holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name, attribute=True), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
                               f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
         instance = f"_{scope.pou}_static"
         self.preamble.extend(["", "", f"{instance} = {holder}()"])
         for _, name, type_ in statics:
-            scope.locals[name.lower()] = Member(f"{instance}.{python_name(name)}", type_, "STAT", st=name)
+            scope.locals[name.lower()] = Member(f"{instance}.{python_name(name, attribute=True)}", type_, "STAT", st=name)
 
     def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
                           statics: list[tuple[Any, str, TypeRef | None]]) -> None:
@@ -1578,7 +1587,7 @@ class Translator:
         name = str(node.name)
         info = decl.methods[name.lower()]
         lifecycle = _LIFECYCLE.get(name.lower())
-        scope = Scope(decl, "method", return_name=info.name if info.returns is not None else None)
+        scope = Scope(decl, "method", return_name=python_name(name) if info.returns is not None else None)
         scope.return_st = name
         scope.pou = f"{decl.name}.{info.name}"
         self.emit("", 0)
@@ -1596,7 +1605,7 @@ class Translator:
                     for var_name, type_ in self._item_types(item):
                         assert type_ is not None
                         self._need_type(type_)
-                        member = Member(python_name(var_name), type_, "VAR_INST", st=var_name)
+                        member = Member(python_name(var_name, attribute=True), type_, "VAR_INST", st=var_name)
                         self._add_member(decl, member)  # a field of the instance, beside the block's own
                         self.need("iecoop", "VAR_INST")
                         self.out.insert(self._field_insert_point(), "    " + self.field_line(
@@ -1623,7 +1632,7 @@ class Translator:
                 params = ""
             self.emit_def(f"def {lifecycle}(self{params}) -> BOOL:", 1)
             self.need("iecoop", "BOOL")
-            scope.return_name = info.name
+            scope.return_name = python_name(name)
             returns = TypeRef("elem", "BOOL")
         else:
             decorators.insert(0, self._access_decorator(node.access))
@@ -1645,7 +1654,7 @@ class Translator:
             self.emit("", 0)
             self.comments(node, 1)
             self.emit(self._access_decorator(None), 1)
-            self.emit(f"def {python_name(name)}(self) -> None:", 1)
+            self.emit(f"def {python_name(name, attribute=True)}(self) -> None:", 1)
             self.emit(f'"""ACTION {name}."""', 2)
             self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
 
@@ -1721,7 +1730,7 @@ class Translator:
             if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
-                scope = Scope(decl, "getter", return_name=prop.name)
+                scope = Scope(decl, "getter", return_name=python_name(prop.st))
                 scope.return_st = prop.st
                 self._emit_callable_body(getter, scope, prop.type, 2)
             if setter is not None:
@@ -1733,12 +1742,12 @@ class Translator:
                 flags = self._access_decorator(access)
                 if flags != "@method":
                     self.emit(flags, 1)
-                self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
+                self.emit(f"def {prop.name}(self, {python_name(prop.st)}: {annotation}) -> None:", 1)
                 if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
-                    scope.locals[prop.st.lower()] = prop
+                    scope.locals[prop.st.lower()] = Member(python_name(prop.st), prop.type, "VAR_INPUT", st=prop.st)
                     self._emit_callable_body(setter, scope, None, 2)
 
     def _emit_interface(self, decl: Decl) -> None:
@@ -2480,7 +2489,7 @@ class Translator:
             match = next((v for v in decl.values if v.lower() == field.lower()), None)
             if match is None:
                 raise self.fail(f"enumeration {decl.st} has no value {field!r}", node)
-            return Ex(f"{decl.name}.{python_name(match)}", TypeRef("user", decl.name))
+            return Ex(f"{decl.name}.{python_name(match, attribute=True)}", TypeRef("user", decl.name))
         found = self.find_member(decl, field)
         if decl.kind == "program" and found is not None and found[0] in ("member", "method") and base.code == decl.name:
             self.named_programs.add(decl.name)

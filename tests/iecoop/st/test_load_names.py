@@ -27,9 +27,19 @@ def test_python_name_table(name: str, expected: str) -> None:
     assert python_name(name) == expected
 
 
+@pytest.mark.parametrize(("name", "expected"), [
+    ("open", "open"), ("LIMIT", "LIMIT"), ("match", "match"), ("in", "in_"), ("T", "T_"), ("body", "body_"),
+    ("method", "method_"), ("VAR", "VAR_"), ("_x", "st_x_"), ("__del__", "st__del___"), ("x_", "x__"),
+])
+def test_attribute_names_keep_builtins(name: str, expected: str) -> None:
+    # a variable, METHOD or enumeration value is read as x.name: only its class body can meet a name
+    assert python_name(name, attribute=True) == expected
+
+
 def test_no_reserved_name_ends_with_the_suffix() -> None:
     # the rule's images of mapped names end with "_": none of them can be a reserved name
     assert not [n for n in reserved_names() if n.endswith("_")]
+    assert reserved_names(attribute=True) < reserved_names()
 
 
 IDENTIFIER = hs.from_regex(r"\A_{0,2}[A-Za-z][A-Za-z0-9]{0,3}(_[A-Za-z0-9]{1,2})?_{0,2}\Z")
@@ -38,14 +48,14 @@ SPECIAL = hs.sampled_from(["in", "in_", "_x", "__x__", "__del__", "self", "body"
 NAMES = hs.one_of(SPECIAL, IDENTIFIER)
 
 
-@given(hs.lists(NAMES, min_size=2, max_size=8, unique_by=str.lower))
-def test_python_name_is_injective_and_never_private(names: list[str]) -> None:
-    mapped = [python_name(n) for n in names]
+@given(hs.lists(NAMES, min_size=2, max_size=8, unique_by=str.lower), hs.booleans())
+def test_python_name_is_injective_and_never_private(names: list[str], attribute: bool) -> None:
+    mapped = [python_name(n, attribute) for n in names]
     assert len(set(mapped)) == len(mapped)
     for name in mapped:
         assert name.isidentifier() and not name.startswith("_")
-        assert not keyword.iskeyword(name) and not keyword.issoftkeyword(name)
-        assert name not in reserved_names()
+        assert not keyword.iskeyword(name)
+        assert name not in reserved_names(attribute)
 
 
 # --- the reproduced problems --------------------------------------------------------------------
@@ -171,7 +181,7 @@ LEGAL = NAMES.filter(lambda n: n.upper() not in ST_KEYWORDS and not n.upper().st
                      and "__" not in n.strip("_"))
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(hs.lists(LEGAL, min_size=7, max_size=7), hs.integers(0, 100))
 def test_random_st_names_load_and_run(names: list[str], start: int) -> None:
     pou, var, meth, inp, value, local, other = names
@@ -190,6 +200,7 @@ VAR {local} : INT; END_VAR
 END_METHOD
 """
     assume(meth.lower() not in (inp.lower(), local.lower()))  # the METHOD's result variable has its name
+    assume(local.lower() != var.lower())  # a METHOD's local hides the block's variable of its name
     lowered = [n.lower() for n in (pou, f"e_{value}")]
     members = [n.lower() for n in (inp, var, other, meth)]
     duplicate = len(set(lowered)) < 2 or len(set(members)) < 4 or inp.lower() == local.lower()
@@ -200,7 +211,7 @@ END_METHOD
         return
     cls = getattr(plc, python_name(pou))
     block = cls()
-    block(**{python_name(inp): 3})
-    assert getattr(block, python_name(var)) == start + 3
-    assert getattr(block, python_name(other)) == 1
-    assert getattr(block, python_name(meth))(**{python_name(inp): 4}) == 8 + start + 3
+    block(**{python_name(inp, attribute=True): 3})  # the block's input: a field
+    assert getattr(block, python_name(var, attribute=True)) == start + 3
+    assert getattr(block, python_name(other, attribute=True)) == 1
+    assert getattr(block, python_name(meth, attribute=True))(**{python_name(inp): 4}) == 8 + start + 3
