@@ -565,7 +565,7 @@ END_PROPERTY
 def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
     tank = st.load(MARKED_ACCESSORS).FB_Tank()
     tank.Setpoint = 150.0
-    assert (tank._rSetpoint, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
+    assert (tank.st_rSetpoint_, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
     with pytest.raises(AttributeError, match="Level has no Set accessor"):
         tank.Level = 1.0
     python = st.to_python(MARKED_ACCESSORS)
