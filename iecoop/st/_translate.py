@@ -548,9 +548,6 @@ class Translator:
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
-            if IQUERYINTERFACE.name in self.by_python:
-                raise self.fail(f"{name}: the source declares its own {IQUERYINTERFACE.name}, which the Python name "
-                                f"of __SYSTEM.IQueryInterface would hide (rename it)", node)
             return TypeRef("user", IQUERYINTERFACE.name)
         decl = self.decls.get(name.lower())
         if decl is None:

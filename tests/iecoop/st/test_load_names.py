@@ -136,6 +136,14 @@ def test_the_fb_body_is_not_replaced_by_a_method_named_body() -> None:
     assert block.def_ == 2 * (0 + 1 + 2 + 1 + 2)
 
 
+def test_a_type_named_like_an_iecoop_name_stands_beside_it() -> None:
+    # the source's own IQueryInterface is IQueryInterface_: __SYSTEM.IQueryInterface is still iecoop's
+    plc = st.load("INTERFACE IQueryInterface\nEND_INTERFACE\nPROGRAM MAIN\nVAR itf : __SYSTEM.IQueryInterface; "
+                  "own : IQueryInterface; END_VAR\nEND_PROGRAM\n")
+    assert plc.IQueryInterface_ is not plc.__dict__.get("IQueryInterface")
+    assert "own: IQueryInterface_" in plc.__python__ and "itf: IQueryInterface " in plc.__python__
+
+
 # --- duplicates ---------------------------------------------------------------------------------
 
 DUPLICATES = {
