@@ -74,7 +74,7 @@ def reserved_names(attribute: bool = False) -> frozenset[str]:
     A name Python code reads bare (a POU, type, GVL or FUNCTION; a METHOD's or FUNCTION's input, output
     or local) must be none of Python's keywords and soft keywords, its builtins, the names the generated
     module may import (``iecoop``, ``iecoop.stdlib``, ``.functions``, ``.conversions``, ``.runtime``,
-    ``iecoop.st``), the public attributes of iecoop's base classes and ``_GENERATED_NAMES``. A name read
+    ``iecoop.st.external``), the public attributes of iecoop's base classes and ``_GENERATED_NAMES``. A name read
     as an attribute (``self.x``: a variable of a block, STRUCT or GVL, a METHOD, PROPERTY or enumeration
     value) stands bare only in its class body, beside the section specifiers, types and literals
     of ``iecoop`` and ``iecoop.stdlib``: with ``attribute``, the builtins and the other modules stay
@@ -85,7 +85,6 @@ def reserved_names(attribute: bool = False) -> frozenset[str]:
     import iecoop.conversions
     import iecoop.functions
     import iecoop.runtime
-    import iecoop.st
     import iecoop.stdlib
 
     names = {*keyword.kwlist, *_GENERATED_NAMES, *iecoop.__all__, *iecoop.stdlib.__all__}
@@ -94,8 +93,9 @@ def reserved_names(attribute: bool = False) -> frozenset[str]:
         names.update(n for n in dir(base) if not n.startswith("_"))
     if not attribute:
         names.update(keyword.softkwlist, dir(builtins))
-        for module in (iecoop.functions, iecoop.conversions, iecoop.runtime, iecoop.st):
+        for module in (iecoop.functions, iecoop.conversions, iecoop.runtime):
             names.update(module.__all__)
+        names.add("external")  # iecoop.st's decorator of a FUNCTION without a body
     return frozenset(n for n in names if not n.startswith("_"))
 
 
