@@ -11,8 +11,11 @@ the file, line and construct; nothing is dropped silently.
 
 from __future__ import annotations
 
+import builtins
 import dataclasses
+import functools
 import json
+import keyword
 import re
 import struct
 from collections.abc import Callable, Iterator, Sequence
@@ -20,6 +23,7 @@ from typing import Any
 
 import blark.transform as tf
 
+from iecoop.exceptions import DefinitionError
 from iecoop.st._parse import StUnsupportedError, Unit
 
 __all__ = ["translate"]
@@ -50,6 +54,67 @@ _COMPARE = {"=": "==", "<>": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
 _ACCESS = {"PUBLIC": "PUBLIC", "PRIVATE": "PRIVATE", "PROTECTED": "PROTECTED", "INTERNAL": "INTERNAL",
            "ABSTRACT": "ABSTRACT", "FINAL": "FINAL"}
 _LIFECYCLE = {"fb_init": "fb_init", "fb_reinit": "fb_reinit", "fb_exit": "fb_exit"}
+
+
+# --- names -------------------------------------------------------------------------------------
+
+#: The suffix and prefix of the naming rule (see ``python_name``).
+NAME_SUFFIX = "_"
+NAME_PREFIX = "st"
+#: Names the generated code itself writes beside the user's: ``self``, a block's ``body``, FB_init's
+#: PEP 8 inputs, a pointer's ``deref``, the modules it imports.
+_GENERATED_NAMES = frozenset(("self", "cls", "body", "fb_init", "fb_reinit", "fb_exit", "init_retains", "in_copy_code",
+                              "deref", "typed", "math", "copy", "typing", "iecoop", "Annotated", "TypeVar"))
+
+
+@functools.cache
+def reserved_names(attribute: bool = False) -> frozenset[str]:
+    """Every Python name an ST name must not become: keywords, builtins and what the generated module uses.
+
+    A name Python code reads bare (a POU, type, GVL or FUNCTION; a METHOD's or FUNCTION's input, output
+    or local) must be none of Python's keywords and soft keywords, its builtins, the names the generated
+    module may import (``iecoop``, ``iecoop.stdlib``, ``.functions``, ``.conversions``, ``.runtime``,
+    ``iecoop.st.external``), the public attributes of iecoop's base classes and ``_GENERATED_NAMES``. A name read
+    as an attribute (``self.x``: a variable of a block, STRUCT or GVL, a METHOD, PROPERTY or enumeration
+    value) stands bare only in its class body, beside the section specifiers, types and literals
+    of ``iecoop`` and ``iecoop.stdlib``: with ``attribute``, the builtins and the other modules stay
+    free (a METHOD ``open``, a constant ``LIMIT``). Compared with case, as Python compares names:
+    ``T`` is reserved (``T#5S``), ``t`` is not.
+    """
+    import iecoop
+    import iecoop.conversions
+    import iecoop.functions
+    import iecoop.runtime
+    import iecoop.stdlib
+
+    names = {*keyword.kwlist, *_GENERATED_NAMES, *iecoop.__all__, *iecoop.stdlib.__all__}
+    for base in (iecoop.FunctionBlock, iecoop.Program, iecoop.Struct, iecoop.Union, iecoop.GlobalVariables,
+                 iecoop.Interface, iecoop.IecEnum):
+        names.update(n for n in dir(base) if not n.startswith("_"))
+    if not attribute:
+        names.update(keyword.softkwlist, dir(builtins))
+        for module in (iecoop.functions, iecoop.conversions, iecoop.runtime):
+            names.update(module.__all__)
+        names.add("external")  # iecoop.st's decorator of a FUNCTION without a body
+    return frozenset(n for n in names if not n.startswith("_"))
+
+
+_PREFIXED = re.compile(f"(?:{NAME_PREFIX})*_", re.IGNORECASE)
+
+
+def python_name(name: str, attribute: bool = False) -> str:
+    """The Python name of the ST name ``name``: itself, unless it could meet a Python or iecoop name.
+
+    A name that is reserved (``reserved_names(attribute)``: ``attribute`` for a name only read as
+    ``x.name``), or starts or ends with ``_``, gets ``_`` at its end,
+    so it can be no keyword, builtin or generated name, and no other ST name's Python name (only these
+    end with ``_``). If it starts with ``_`` (after any number of ``st``), it also gets ``st`` in front,
+    so no ST name becomes a Python private (``_x``) or special (``__x__``) name. ``in`` is ``in_``,
+    ``in_`` is ``in__``, ``_x`` is ``st_x_``, ``__del__`` is ``st__del___``; ``Speed`` is ``Speed``.
+    """
+    if name not in reserved_names(attribute) and not name.startswith("_") and not name.endswith("_"):
+        return name
+    return (NAME_PREFIX if _PREFIXED.match(name) else "") + name + NAME_SUFFIX
 
 
 # --- types --------------------------------------------------------------------------------------
@@ -107,9 +172,15 @@ STRING = TypeRef("string", "STRING", length="80")
 
 @dataclasses.dataclass
 class Member:
+    """A variable: ``name`` is its Python code (``python_name`` of the ST name, or how it is reached), ``st`` its ST name."""
+
     name: str
     type: TypeRef | None
     section: str
+    st: str = ""
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
 
 
 class ReferenceLocal(Member):
@@ -121,6 +192,10 @@ class Callable_:
     name: str
     returns: TypeRef | None
     params: list[Member]
+    st: str = ""
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
 
 
 @dataclasses.dataclass
@@ -128,6 +203,7 @@ class Decl:
     """Everything the second pass needs to know about one declared name."""
 
     kind: str  # fb program function interface struct union enum alias gvl stdfb
+    #: the Python name (``python_name`` of the ST name); ``st`` is the ST name
     name: str
     node: Any = None
     unit: Unit | None = None
@@ -145,6 +221,12 @@ class Decl:
     item: Any = None
     #: for a GVL gathered from several sources: the unit of each VAR_GLOBAL block
     units: dict[int, Unit] = dataclasses.field(default_factory=dict)
+    st: str = ""
+    #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
+    declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
 
 
 #: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
@@ -190,6 +272,8 @@ class Scope:
         self.kind = kind  # body | method | function | getter | setter
         self.locals: dict[str, Member] = {}
         self.return_name = return_name
+        #: the ST name of the result variable (the METHOD's, FUNCTION's or PROPERTY's): how the body names it
+        self.return_st = return_name
         self.counter = 0
         #: ``x.deref = value`` for each VAR_OUTPUT with an initial value (a METHOD / FUNCTION)
         self.output_inits: list[str] = []
@@ -216,7 +300,11 @@ class Scope:
 class Translator:
     def __init__(self, units: Sequence[Unit], externals: Sequence[str] = ()) -> None:
         self.units = units
+        #: ST name (lower case) -> declaration; ``by_python``: the same by Python name (a TypeRef's name)
         self.decls: dict[str, Decl] = {}
+        self.by_python: dict[str, Decl] = {}
+        #: top-level ST names (lower case) -> what and where they are declared, for the duplicate check
+        self.declared: dict[str, tuple[str, str]] = {}
         self.enum_values: dict[str, tuple[str, str]] = {}
         self.globals: dict[str, tuple[str, Member]] = {}
         self.externals = {name.lower() for name in externals}
@@ -253,7 +341,7 @@ class Translator:
             decl = Decl("stdfb", name)
             for record in cls._iec_layout_.fields:
                 decl.members[record.name.lower()] = Member(record.name, self._elem_or_none(record.info.name), record.section)
-            self.decls[name.lower()] = decl
+            self.decls[name.lower()] = self.by_python[name] = decl
 
     def _elem_or_none(self, name: str) -> TypeRef | None:
         name = TYPE_SYNONYMS.get(name.upper(), name.upper())
@@ -319,11 +407,21 @@ class Translator:
             return None
         return None
 
+    def declare(self, registry: dict[str, tuple[str, str]], what: str, name: str, node: Any = None) -> None:
+        """Note that ``what name`` is declared here; DefinitionError naming both if ``registry`` has it already."""
+        line = getattr(getattr(node, "meta", None), "line", None) or self.line
+        where = self.unit.where(line) if self.unit is not None else "<st>"
+        first = registry.get(name.lower())
+        if first is not None:
+            raise DefinitionError(f"{where}: {what} is declared twice: as {first[0]} at {first[1]} and as {what} at {where} "
+                                  "(ST names are case-insensitive)")
+        registry[name.lower()] = (what, where)
+
     def _add(self, decl: Decl) -> Decl:
-        key = decl.name.lower()
-        if key in self.decls and self.decls[key].kind != "stdfb":
-            raise self.fail(f"{decl.name} is declared twice", decl.node)
-        self.decls[key] = decl
+        keyword = {"fb": "FUNCTION_BLOCK", "gvl": "GVL", "alias": "TYPE"}.get(decl.kind, decl.kind.upper())
+        self.declare(self.declared, f"{keyword} {decl.st}", decl.st, decl.node if decl.kind != "gvl" else decl.node[0])
+        decl.name = python_name(decl.st)
+        self.decls[decl.st.lower()] = self.by_python[decl.name] = decl
         return decl
 
     def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
@@ -348,8 +446,11 @@ class Translator:
                 stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
                 name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
             existing = self.decls.get(str(name).lower())
-            decl = existing if existing is not None else self._add(Decl("gvl", str(name), [], unit))
-            decl.node.append(item)
+            if existing is not None and existing.kind == "gvl":
+                existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
+                existing.units[id(item)] = unit
+                return None
+            decl = self._add(Decl("gvl", str(name), [item], unit))
             decl.units[id(item)] = unit
             return None
         if isinstance(item, tf.DataTypeDeclaration):
@@ -363,8 +464,9 @@ class Translator:
             elif isinstance(inner, tf.EnumeratedTypeDeclaration):
                 decl = self._add(Decl("enum", str(inner.name), inner, unit))
                 for value in inner.init.spec.values or []:
+                    self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
                     decl.values.append(str(value.name))
-                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, str(value.name)))
+                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
             elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
                                     tf.SubrangeTypeDeclaration)):
                 decl = self._add(Decl("alias", str(inner.name), inner, unit))
@@ -380,36 +482,51 @@ class Translator:
             self.unit = decl.unit
             if decl.kind in ("fb", "program", "function"):
                 for block in decl.node.declarations:
-                    for member in self._block_members(block):
-                        decl.members[member.name.lower()] = member
+                    for member in self._block_members(block, attribute=decl.kind != "function"):
+                        self._add_member(decl, member)
             elif decl.kind in ("struct", "union"):
                 for element in decl.node.declarations:
                     for member in self._element_members(element, decl.kind):
-                        decl.members[member.name.lower()] = member
+                        self._add_member(decl, member)
             elif decl.kind == "gvl":
                 for block in decl.node:
-                    for member in self._block_members(block):
-                        decl.members[member.name.lower()] = member
-                        self.globals[member.name.lower()] = (decl.name, member)
+                    self.unit = decl.units.get(id(block), decl.unit)
+                    for member in self._block_members(block, attribute=True):
+                        self._add_member(decl, member)
+                        self.globals[member.st.lower()] = (decl.name, member)
             elif decl.kind == "alias":
                 decl.alias_of = self._alias_target(decl.node)
+            self.unit = decl.unit
             for node in decl.method_nodes:
                 name = str(node.name)
-                params = _signature([m for block in node.declarations for m in self._block_members(block)])
+                self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
+                local: dict[str, tuple[str, str]] = {}
+                members = []
+                for block in node.declarations:
+                    for member in self._block_members(block):
+                        self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
+                        members.append(member)
                 returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
-                decl.methods[name.lower()] = Callable_(name, returns, params)
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, _signature(members), st=name)
             for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
                 name = str(node.name).rsplit(".", 1)[-1]
-                if name.lower() in decl.methods:
-                    raise self.fail(f"ACTION {name} of {decl.name} has the name of a METHOD", node)
-                decl.methods[name.lower()] = Callable_(name, None, [])
+                self.declare(decl.declared, f"ACTION {decl.st}.{name}", name, node)
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), None, [], st=name)
             for node in decl.prop_nodes:
                 name = str(node.name).split(".")[0]
-                decl.props[name.lower()] = Member(name, self._spec_type(node.return_type.spec, node), "PROPERTY")
+                if name.lower() not in decl.props:  # its Get and its Set accessor: one PROPERTY
+                    self.declare(decl.declared, f"PROPERTY {decl.st}.{name}", name, node)
+                type_ = self._spec_type(node.return_type.spec, node)
+                decl.props[name.lower()] = Member(python_name(name, attribute=True), type_, "PROPERTY", st=name)
             if decl.kind == "function":
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = _signature(list(decl.members.values()))
-                decl.methods["()"] = Callable_(decl.name, returns, params)
+                decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
+
+    def _add_member(self, decl: Decl, member: Member) -> None:
+        """A variable of ``decl``, refused if ``decl`` declares its name already (its line is ``self.line``)."""
+        self.declare(decl.declared, f"{member.section} {decl.st}.{member.st}", member.st)
+        decl.members[member.st.lower()] = member
 
     def _alias_target(self, node: Any) -> TypeRef:
         if isinstance(node, tf.SimpleTypeDeclaration):
@@ -431,9 +548,6 @@ class Translator:
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
-            if IQUERYINTERFACE.name.lower() in self.decls:
-                raise self.fail(f"{name}: the source declares its own {IQUERYINTERFACE.name}, which the Python name "
-                                f"of __SYSTEM.IQueryInterface would hide (rename it)", node)
             return TypeRef("user", IQUERYINTERFACE.name)
         decl = self.decls.get(name.lower())
         if decl is None:
@@ -520,7 +634,8 @@ class Translator:
             return TypeRef("elem", base.name, limits=(limits[0], limits[1]))
         raise self.fail(f"declaration {type(init).__name__} is not supported", node)
 
-    def _block_members(self, block: Any) -> Iterator[Member]:
+    def _block_members(self, block: Any, attribute: bool = False) -> Iterator[Member]:
+        """The variables of one VAR block; ``attribute``: of a block or GVL (fields), not of a METHOD or FUNCTION."""
         section = _SECTION_OF.get(type(block))
         if isinstance(block, tf.GlobalVariableDeclarations):
             section = "VAR_GLOBAL"
@@ -531,7 +646,7 @@ class Translator:
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(name, type_, section)
+                yield Member(python_name(name, attribute), type_, section, st=name)
 
     def location(self, item: Any) -> str:
         """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
@@ -587,7 +702,7 @@ class Translator:
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
         self.line = element.meta.line if element.meta else self.line
         if isinstance(element, tf.UnionElementDeclaration):
-            yield Member(str(element.name), self._spec_type(element.spec, element), "VAR")
+            yield Member(python_name(str(element.name), attribute=True), self._spec_type(element.spec, element), "VAR", st=str(element.name))
             return
         init = element.init
         if isinstance(init, tf.FunctionCall):
@@ -595,7 +710,7 @@ class Translator:
         else:
             type_ = self.init_type(init, element)
         for var in element.variables:
-            yield Member(str(var.variable.name), type_, "VAR")
+            yield Member(python_name(str(var.variable.name), attribute=True), type_, "VAR", st=str(var.variable.name))
 
     # --- lookups ---
 
@@ -605,9 +720,9 @@ class Translator:
         type_ = type_.deref()
         if type_.kind != "user":
             return None
-        decl = self.decls.get(type_.name.lower()) or SYSTEM_DECLS.get(type_.name.lower())
+        decl = self.by_python.get(type_.name) or SYSTEM_DECLS.get(type_.name.lower())
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
-            decl = self.decls.get(decl.alias_of.name.lower())
+            decl = self.by_python.get(decl.alias_of.name)
         return decl
 
     def lineage(self, decl: Decl) -> Iterator[Decl]:
@@ -729,9 +844,9 @@ class Translator:
         order: list[Decl] = []
         state: dict[str, int] = {}
 
-        def needs(decl: Decl) -> Iterator[str]:
-            yield from (b.lower() for b in decl.bases)
-            yield from (i.lower() for i in decl.implements)
+        def needs(decl: Decl) -> Iterator[Decl | None]:
+            yield from (self.decls.get(b.lower()) for b in decl.bases)
+            yield from (self.decls.get(i.lower()) for i in decl.implements)
             members = [m.type for m in decl.members.values()]
             members += [p.type for p in decl.props.values()] + [m.returns for m in decl.methods.values()]
             members += [p.type for m in decl.methods.values() for p in m.params]
@@ -742,23 +857,23 @@ class Translator:
                 while type_ is not None and type_.kind in ("array", "pointer", "reference"):
                     type_ = type_.of
                 if type_ is not None and type_.kind == "user":
-                    yield type_.name.lower()
+                    yield self.by_python.get(type_.name)
             if decl.alias_of is not None and decl.alias_of.kind == "user":
-                yield decl.alias_of.name.lower()
+                yield self.by_python.get(decl.alias_of.name)
             for member in decl.members.values():  # a VAR_EXTERNAL binds to its global when the class is made
-                if member.section == "VAR_EXTERNAL" and member.name.lower() in self.globals:
-                    yield self.globals[member.name.lower()][0].lower()
+                if member.section == "VAR_EXTERNAL" and member.st.lower() in self.globals:
+                    yield self.by_python.get(self.globals[member.st.lower()][0])
 
         def visit(decl: Decl) -> None:
-            key = decl.name.lower()
+            key = decl.name
             if state.get(key) == 2 or decl.kind == "stdfb":
                 return
             if state.get(key) == 1:
                 return  # a cycle through a pointer or interface: annotations are strings, order does not matter
             state[key] = 1
             for dep in needs(decl):
-                if dep in self.decls and dep != key:
-                    visit(self.decls[dep])
+                if dep is not None and dep is not decl:
+                    visit(dep)
             state[key] = 2
             order.append(decl)
 
@@ -840,7 +955,7 @@ class Translator:
                     raise self.fail(f"enumeration value {decl.name}.{item.name} := {text} is not a constant", node) from None
             else:
                 value += 1
-            self.emit(f"{item.name} = {value}", 1)
+            self.emit(f"{python_name(str(item.name), attribute=True)} = {value}", 1)
         if node.init.value is not None:
             raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
 
@@ -876,9 +991,9 @@ class Translator:
             self.need("iecoop", type_.name)
         elif type_.name == "ExceptionCode":
             self.need("iecoop", "ExceptionCode")
-        elif type_.name.upper() in STDLIB_FBS:
+        elif getattr(self.by_python.get(type_.name), "kind", None) == "stdfb":
             self.need("iecoop.stdlib", type_.name)
-        elif type_.kind == "user" and self.decls.get(type_.name.lower()) is None and type_.name.lower() in SYSTEM_DECLS:
+        elif type_.kind == "user" and type_.name not in self.by_python and type_.name.lower() in SYSTEM_DECLS:
             self.need("iecoop", type_.name)
         if type_.of is not None:
             self._need_type(type_.of)
@@ -920,10 +1035,10 @@ class Translator:
         assert type_ is not None
         if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
             # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
-            scope.locals[member.name.lower()] = Member(member.name, type_, "LOCAL")
-            return f"# {member.name} : __SYSTEM.VAR_INFO (VAR_TEMP) is a local of body()"
+            scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)
+            return f"# {member.st} : __SYSTEM.VAR_INFO (VAR_TEMP) is a local of body()"
         if type_.kind == "varinfo":
-            raise self.fail(f"{member.section} {member.name} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
+            raise self.fail(f"{member.section} {member.st} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
         self._need_type(type_)
         args: list[str] = []
         value = self.initial_value(type_, init, scope)
@@ -968,14 +1083,14 @@ class Translator:
             decl = self.decls.get(type_name.lower())
             fb_init = self.find_member(decl, "FB_init") if decl is not None else None
             params = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
-            params = [p for p in params if p.name.lower() not in ("binitretains", "bincopycode")]
+            params = [p for p in params if p.st.lower() not in ("binitretains", "bincopycode")]
             pairs = []
             for index, param in enumerate(parameters):
                 if isinstance(param, tf.OutputParameterAssignment):
                     raise self.fail("an output (=>) in an FB_init call of a declaration", init)
                 if param.name is not None:
                     name = str(param.name.name)
-                    match = next((p.name for p in params if p.name.lower() == name.lower()), name)
+                    match = next((p.name for p in params if p.st.lower() == name.lower()), python_name(name))
                 elif index < len(params):
                     match = params[index].name
                 else:
@@ -1031,7 +1146,7 @@ class Translator:
         if value is None:
             decl = self.decl_of(type_) if type_.kind == "user" else None
             if decl is not None and decl.kind == "enum" and decl.values:
-                return f"{decl.name}.{decl.values[0]}"
+                return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
             if type_.limits is not None:
                 return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
             return None
@@ -1055,7 +1170,7 @@ class Translator:
                 if element_name is None:
                     raise self.fail("a structure initialiser element without a name", value)
                 found = self.find_member(decl, element_name) if decl is not None else None
-                name = found[1].name if found is not None else element_name
+                name = found[1].name if found is not None else python_name(element_name, attribute=True)
                 member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
                 pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
             return "{" + ", ".join(pairs) + "}"
@@ -1085,8 +1200,8 @@ class Translator:
                 raise self.fail(f"unknown enumeration {enum_name!r}", node)
             match = next((v for v in decl.values if v.lower() == value.lower()), None)
             if match is None:
-                raise self.fail(f"enumeration {decl.name} has no value {value!r}", node)
-            return f"{decl.name}.{match}"
+                raise self.fail(f"enumeration {decl.st} has no value {value!r}", node)
+            return f"{decl.name}.{python_name(match, attribute=True)}"
         if "." in value:  # blark reads a qualified value (E_Mode.AUTO) as one dotted name
             prefix, _, last = value.rpartition(".")
             return self.enum_ref(prefix, last, node)
@@ -1180,12 +1295,12 @@ class Translator:
                     for name, type_ in self._item_types(item):
                         self._need_type(type_)
                         self.need("iecoop", "VAR_EXTERNAL")
-                        self.emit(f"{name}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
+                        self.emit(f"{python_name(name, attribute=True)}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
                     self.trail(index, trailing)
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(name, type_, self.located_section(item, section or "VAR"))
+                    member = Member(python_name(name, attribute=True), type_, self.located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
                 self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
@@ -1208,7 +1323,7 @@ class Translator:
                 if isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
                     target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
                 for var in item.variables:
-                    self.emit(f'ref_assign(self, "{var.variable.name}", {self.address_of(target, scope)})', 2)
+                    self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
         inits: dict[str, Any] = {}
@@ -1225,49 +1340,49 @@ class Translator:
             self._need_type(param.type)
             if param.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
                 if index < last_reference:
-                    raise self.fail(f"{param.section} {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
-                parts.append(self._by_reference_param(param, inits.get(param.name.lower()), scope))
+                    raise self.fail(f"{param.section} {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+                parts.append(self._by_reference_param(param, inits.get(param.st.lower()), scope))
                 continue
             if index <= last_reference:
                 # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python:
                 # that one is required too, as in a Python signature (a STRUCT by value needs its default)
                 if param.type.kind != "reference" and self._aggregate(param.type):
-                    raise self.fail(f"input {param.name} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+                    raise self.fail(f"input {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
                 parts.append(f"{param.name}: {param.type.annotation()}")
-                scope.locals[param.name.lower()] = param
+                scope.locals[param.st.lower()] = param
                 continue
             if self._aggregate(param.type):
                 if not scope.pou:
-                    raise self.fail(f"input {param.name} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
+                    raise self.fail(f"input {param.st} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
                 # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
-                scope.by_value.append((param, inits.get(param.name.lower())))
+                scope.by_value.append((param, inits.get(param.st.lower())))
                 parts.append(f"{param.name}: {param.type.annotation()} | None = None")
-                scope.locals[param.name.lower()] = param
+                scope.locals[param.st.lower()] = param
                 continue
-            default = self.initial_value(param.type, inits.get(param.name.lower()), scope) or self.zero(param.type)
+            default = self.initial_value(param.type, inits.get(param.st.lower()), scope) or self.zero(param.type)
             if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
                 # a prototype's input of its own interface type: the class does not exist yet to make its null()
                 self.need("iecoop", "NULL")
                 default = "NULL"
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
-            scope.locals[param.name.lower()] = param
+            scope.locals[param.st.lower()] = param
         return "".join(f", {p}" for p in parts)
 
     def _by_reference_param(self, param: Member, init: Any, scope: Scope) -> str:
         """``nHigh : BYTE`` of VAR_OUTPUT / VAR_IN_OUT: ``nHigh: POINTER_TO[BYTE] = VAR_OUTPUT()``, reached as ``nHigh.deref``."""
         assert param.type is not None
         if param.type.kind == "reference":
-            raise self.fail(f"{param.section} {param.name} of a REFERENCE TO type is not supported")
+            raise self.fail(f"{param.section} {param.st} of a REFERENCE TO type is not supported")
         length = f"length={param.type.length}" if param.type.kind == "string" and param.type.length not in (None, "80") else ""
-        line = self.field_line(Member(param.name, TypeRef("pointer", "POINTER", of=param.type), param.section), None, scope, extra=length)
+        line = self.field_line(Member(param.name, TypeRef("pointer", "POINTER", of=param.type), param.section, st=param.st), None, scope, extra=length)
         if init is not None:
             if param.section == "VAR_IN_OUT":
-                raise self.fail(f"an initial value for VAR_IN_OUT {param.name}")
+                raise self.fail(f"an initial value for VAR_IN_OUT {param.st}")
             # outputs start at their initial value at every call: the first statement of the body sets it
             value = self.initial_value(param.type, init, scope)
             if value is not None:
                 scope.output_inits.append(f"{param.name}.deref = {value}")
-        scope.locals[param.name.lower()] = param
+        scope.locals[param.st.lower()] = param
         return line
 
     def _aggregate(self, type_: TypeRef) -> bool:
@@ -1287,7 +1402,7 @@ class Translator:
         lines = ["", "", f"class {name}(Struct):", f'    """{doc}"""']
         const = Scope(None, "const")
         for member, init in fields:
-            lines.append("    " + self.field_line(Member(member.name, member.type, "VAR"), init, const))
+            lines.append("    " + self.field_line(Member(member.name, member.type, "VAR", st=member.st), init, const))
         self.preamble.extend(lines)
         return name
 
@@ -1305,7 +1420,7 @@ class Translator:
             return "Pointer(0, None)"
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
-            return f"{decl.name}.{decl.values[0]}"
+            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
         if decl is not None and decl.kind == "interface":
             self.need("iecoop", "null")
             return f"null({decl.name})"
@@ -1357,18 +1472,18 @@ class Translator:
             method = scope.pou.split(".", 1)[1]
             for item, name, type_ in statics:  # a VAR_STAT of the block, named after the method
                 self.need("iecoop", "VAR_STAT")
-                field = Member(f"{method}_{name}", type_, "VAR_STAT")
+                field = Member(f"{method}_{python_name(name)}", type_, "VAR_STAT")
                 if self.find_member(owner, field.name) is not None:
                     raise self.fail(f"VAR_STAT {name} of METHOD {scope.pou} clashes with the member {field.name}", item)
                 self.out.insert(self._field_insert_point(), "    " + self.field_line(field, getattr(item, "init", None), Scope(None, "const")))
                 scope.locals[name.lower()] = Member(f"self.{field.name}", type_, "STAT")
             return
-        holder = self._holder(scope, "_VAR_STAT", [(Member(name, type_, "VAR"), getattr(item, "init", None)) for item, name, type_ in statics],
+        holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name, attribute=True), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
                               f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
         instance = f"_{scope.pou}_static"
         self.preamble.extend(["", "", f"{instance} = {holder}()"])
         for _, name, type_ in statics:
-            scope.locals[name.lower()] = Member(f"{instance}.{name}", type_, "STAT")
+            scope.locals[name.lower()] = Member(f"{instance}.{python_name(name, attribute=True)}", type_, "STAT", st=name)
 
     def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
                           statics: list[tuple[Any, str, TypeRef | None]]) -> None:
@@ -1406,52 +1521,54 @@ class Translator:
                     found = self.globals.get(name.lower())
                     if found is None:
                         raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
-                    scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT")
+                    scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT", st=name)
             return True
         return False
 
     def _held_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, arrays: list[tuple[Member, Any]],
                     constant: Any) -> bool:
         """A local the POU's holder makes (an addressed scalar, an ARRAY, an initialised STRUCT); True if it is one."""
+        py = python_name(name)
         enum = getattr(self.decl_of(type_), "kind", None) == "enum"
         if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
             # an output or in-out argument needs the variable's address: a field of the holder has one
-            arrays.append((Member(name, type_, "ADDRESSED"), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member(f"_var.{name}", type_, "STAT")
+            arrays.append((Member(py, type_, "ADDRESSED", st=name), getattr(item, "init", None)))
+            scope.locals[name.lower()] = Member(f"_var.{py}", type_, "STAT", st=name)
             return True
         initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
         if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
             if not scope.pou:
                 raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
-            arrays.append((Member(name, type_, "LOCAL"), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
+            arrays.append((Member(py, type_, "LOCAL", st=name), getattr(item, "init", None)))
+            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
             return True
         return False
 
     def _declare_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, level: int, constant: Any) -> None:
         """Emit the Python local of one ST variable of a method or function body."""
+        py = python_name(name)
         self._need_type(type_)
         init = getattr(item, "init", None)
         if self._local_reference(type_) and getattr(init, "value", None) is None:
             # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
             assert type_.of is not None
-            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
-            self.emit(f"{name}: {type_.of.annotation()}", level)
+            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
+            self.emit(f"{py}: {type_.of.annotation()}", level)
             return
         if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
             self.need("iecoop", "VarInfo")
-            scope.locals[name.lower()] = Member(name, type_, "LOCAL")
-            self.emit(f"{name}: VarInfo", level)
+            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
+            self.emit(f"{py}: VarInfo", level)
             return
         if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
             # a pointer that REF= binds; reached through .deref, as an in-out is
             self.need("iecoop", "POINTER_TO", "Pointer")
-            scope.locals[name.lower()] = ReferenceLocal(name, type_.of, "VAR_IN_OUT")
-            self.emit(f"{name}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
+            scope.locals[name.lower()] = ReferenceLocal(py, type_.of, "VAR_IN_OUT", st=name)
+            self.emit(f"{py}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
             return
         value = self.initial_value(type_, init, scope) or self.zero(type_)
-        scope.locals[name.lower()] = Member(name, type_, "CONSTANT" if constant else "LOCAL")
-        self.emit(f"{name}: {self.local_annotation(type_)} = {value}", level)
+        scope.locals[name.lower()] = Member(py, type_, "CONSTANT" if constant else "LOCAL", st=name)
+        self.emit(f"{py}: {self.local_annotation(type_)} = {value}", level)
 
     def local_annotation(self, type_: TypeRef) -> str:
         return type_.annotation()
@@ -1467,8 +1584,9 @@ class Translator:
         name = str(node.name)
         info = decl.methods[name.lower()]
         lifecycle = _LIFECYCLE.get(name.lower())
-        scope = Scope(decl, "method", return_name=name if info.returns is not None else None)
-        scope.pou = f"{decl.name}.{name}"
+        scope = Scope(decl, "method", return_name=python_name(name) if info.returns is not None else None)
+        scope.return_st = name
+        scope.pou = f"{decl.name}.{info.name}"
         self.emit("", 0)
         self.comments(node, 1)
         decorators = []
@@ -1480,14 +1598,15 @@ class Translator:
         for block in node.declarations:
             if isinstance(block, tf.MethodInstanceVariableDeclarations):
                 for item in block.items:
+                    self.line = item.meta.line if item.meta else self.line
                     for var_name, type_ in self._item_types(item):
                         assert type_ is not None
                         self._need_type(type_)
-                        decl.members[var_name.lower()] = Member(var_name, type_, "VAR_INST")
+                        member = Member(python_name(var_name, attribute=True), type_, "VAR_INST", st=var_name)
+                        self._add_member(decl, member)  # a field of the instance, beside the block's own
                         self.need("iecoop", "VAR_INST")
                         self.out.insert(self._field_insert_point(), "    " + self.field_line(
-                            Member(var_name, type_, "VAR_INST"), getattr(item, "init", None), scope,
-                            extra=f'method="{lifecycle or name}"'))
+                            member, getattr(item, "init", None), scope, extra=f'method="{lifecycle or info.name}"'))
         returns = info.returns
         ret_text = returns.annotation() if returns is not None else "None"
         self._need_type(returns)
@@ -1500,24 +1619,24 @@ class Translator:
                 first = ", init_retains: BOOL, in_copy_code: BOOL"
                 self.need("iecoop", "BOOL")
                 for p, py_name in zip(inputs[:2], ("init_retains", "in_copy_code")):
-                    scope.locals[p.name.lower()] = Member(py_name, p.type, "VAR_INPUT")
+                    scope.locals[p.st.lower()] = Member(py_name, p.type, "VAR_INPUT", st=p.st)
                 params = first + self._params(inputs[2:], node.declarations, scope)
             elif lifecycle == "fb_exit":
                 if info.params:
-                    scope.locals[info.params[0].name.lower()] = Member("in_copy_code", BOOL, "VAR_INPUT")
+                    scope.locals[info.params[0].st.lower()] = Member("in_copy_code", BOOL, "VAR_INPUT", st=info.params[0].st)
                 params = ", in_copy_code: BOOL" + self._params(info.params[1:], node.declarations, scope)
             else:
                 params = ""
             self.emit_def(f"def {lifecycle}(self{params}) -> BOOL:", 1)
             self.need("iecoop", "BOOL")
-            scope.return_name = name
+            scope.return_name = python_name(name)
             returns = TypeRef("elem", "BOOL")
         else:
             decorators.insert(0, self._access_decorator(node.access))
             params = self._params(info.params, node.declarations, scope)
             for decorator in decorators:
                 self.emit(decorator, 1)
-            self.emit_def(f"def {name}(self{params}) -> {ret_text}:", 1)
+            self.emit_def(f"def {info.name}(self{params}) -> {ret_text}:", 1)
         if node.access is not None and node.access & tf.AccessSpecifier.abstract or decl.kind == "interface":
             self.prototype(returns, 2)
             return
@@ -1532,7 +1651,7 @@ class Translator:
             self.emit("", 0)
             self.comments(node, 1)
             self.emit(self._access_decorator(None), 1)
-            self.emit(f"def {name}(self) -> None:", 1)
+            self.emit(f"def {python_name(name, attribute=True)}(self) -> None:", 1)
             self.emit(f'"""ACTION {name}."""', 2)
             self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
 
@@ -1552,14 +1671,15 @@ class Translator:
 
     def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
         if returns is not None and scope.return_name is not None:
-            scope.locals[scope.return_name.lower()] = Member(scope.return_name, returns, "RETURN")
+            key = (scope.return_st or scope.return_name).lower()
+            scope.locals[key] = Member(scope.return_name, returns, "RETURN", st=scope.return_st or scope.return_name)
             if self._local_reference(returns):
                 # REFERENCE TO a STRUCT or block: ``F REF= x`` names the variable itself, which is what Python returns
                 assert returns.of is not None
                 self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
             else:
                 self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
-        in_out = {c.name.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
+        in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
         scope.addressed = set(_by_reference_arguments(node.body, in_out))
         self._local_blocks(node.declarations, scope, level)
         for line in scope.output_inits:
@@ -1594,7 +1714,7 @@ class Translator:
             setter = found.get("set")
             annotation = prop.type.annotation()
             if getter is None:
-                raise self.fail(f"PROPERTY {prop.name} has a Set accessor but no Get (iecoop needs the Get)", setter)
+                raise self.fail(f"PROPERTY {prop.st} has a Set accessor but no Get (iecoop needs the Get)", setter)
             self.emit("", 0)
             self.enter(getter)
             self.comments(getter, 1)
@@ -1607,7 +1727,8 @@ class Translator:
             if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
-                scope = Scope(decl, "getter", return_name=prop.name)
+                scope = Scope(decl, "getter", return_name=python_name(prop.st))
+                scope.return_st = prop.st
                 self._emit_callable_body(getter, scope, prop.type, 2)
             if setter is not None:
                 self.emit("", 0)
@@ -1618,12 +1739,12 @@ class Translator:
                 flags = self._access_decorator(access)
                 if flags != "@method":
                     self.emit(flags, 1)
-                self.emit(f"def {prop.name}(self, {prop.name}: {annotation}) -> None:", 1)
+                self.emit(f"def {prop.name}(self, {python_name(prop.st)}: {annotation}) -> None:", 1)
                 if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
-                    scope.locals[prop.name.lower()] = Member(prop.name, prop.type, "VAR_INPUT")
+                    scope.locals[prop.st.lower()] = Member(python_name(prop.st), prop.type, "VAR_INPUT", st=prop.st)
                     self._emit_callable_body(setter, scope, None, 2)
 
     def _emit_interface(self, decl: Decl) -> None:
@@ -1686,26 +1807,27 @@ class Translator:
         self.line = node.meta.line if node.meta else None
         info = decl.methods["()"]
         scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
+        scope.return_st = decl.st
         scope.pou = decl.name
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)[2:]
         self._need_type(info.returns)
         ret_text = info.returns.annotation() if info.returns is not None else "None"
         statements = statements_of(node.body)
-        is_external = decl.name.lower() in self.externals or not statements or any(
+        is_external = decl.st.lower() in self.externals or not statements or any(
             re.fullmatch(r"\{\s*external\s*\}", p, re.IGNORECASE) for p in self.pragmas(node))
         if is_external:
             self.need("iecoop.st", "external")
-            self.emit(f'@external("{decl.name}")', 0)
+            self.emit(f'@external("{decl.st}")', 0)
             self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
-            self.emit(f'"""FUNCTION {decl.name}: bound to a Python callable at load time."""', 1)
-            self.emit(f'raise NotImplementedError("FUNCTION {decl.name} has no body: pass externals={{\'{decl.name}\': ...}}")', 1)
+            self.emit(f'"""FUNCTION {decl.st}: bound to a Python callable at load time."""', 1)
+            self.emit(f'raise NotImplementedError("FUNCTION {decl.st} has no body: pass externals={{\'{decl.st}\': ...}}")', 1)
             return
         if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") for p in info.params):
             self.need("iecoop", "function")
             self.emit("@function", 0)
         self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
-        self.emit(f'"""FUNCTION {decl.name}."""', 1)
+        self.emit(f'"""FUNCTION {decl.st}."""', 1)
         self._emit_callable_body(node, scope, info.returns, 1)
 
     # --- statements ---
@@ -2322,7 +2444,8 @@ class Translator:
         if key == "this":
             return Ex("self", TypeRef("user", scope.owner.name) if scope.owner else None)
         if key == "super":
-            return Ex("super()", TypeRef("user", scope.owner.bases[0]) if scope.owner and scope.owner.bases else None)
+            base = self.decls.get(scope.owner.bases[0].lower()) if scope.owner and scope.owner.bases else None
+            return Ex("super()", TypeRef("user", base.name) if base is not None else None)
         local = scope.locals.get(key)
         if local is not None:
             if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
@@ -2362,8 +2485,8 @@ class Translator:
         if decl.kind == "enum":
             match = next((v for v in decl.values if v.lower() == field.lower()), None)
             if match is None:
-                raise self.fail(f"enumeration {decl.name} has no value {field!r}", node)
-            return Ex(f"{decl.name}.{match}", TypeRef("user", decl.name))
+                raise self.fail(f"enumeration {decl.st} has no value {field!r}", node)
+            return Ex(f"{decl.name}.{python_name(match, attribute=True)}", TypeRef("user", decl.name))
         found = self.find_member(decl, field)
         if decl.kind == "program" and found is not None and found[0] in ("member", "method") and base.code == decl.name:
             self.named_programs.add(decl.name)
@@ -2539,7 +2662,7 @@ class Translator:
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
                 name = str(param.name.name)
-                match = next((p for p in declared or [] if p.name.lower() == name.lower()), None)
+                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
                 if match is None or match.section != "VAR_OUTPUT":
                     raise self.fail(f"call has no output {name!r}", node)
                 if param.inverted:
@@ -2550,7 +2673,7 @@ class Translator:
             expected = None
             if param.name is not None:
                 name = str(param.name.name)
-                match = next((p for p in declared or [] if p.name.lower() == name.lower()), None)
+                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
                 if declared is not None and match is None:
                     raise self.fail(f"call has no input {name!r}", node)
                 if match is not None and match.section == "VAR_OUTPUT":
@@ -2561,7 +2684,7 @@ class Translator:
                 value = self.expr(param.value, scope)
                 expected = match.type if match is not None else None
                 # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
-                args.append(f"{match.name if match else name}={self.limit(expected, self.coerce(value, expected)).code}")
+                args.append(f"{match.name if match else python_name(name)}={self.limit(expected, self.coerce(value, expected)).code}")
             else:
                 if declared is not None and index < len(declared):
                     if declared[index].section == "VAR_IN_OUT":
@@ -2856,7 +2979,7 @@ class Translator:
             if not isinstance(param, tf.InputParameterAssignment) or param.name is None:
                 raise self.fail(f"__NEW of {decl.name} with a length (an array) is not supported", node)
             name = str(param.name.name)
-            match = next((p.name for p in inputs if p.name.lower() == name.lower()), None)
+            match = next((p.name for p in inputs if p.st.lower() == name.lower()), None)
             if match is None:
                 raise self.fail(f"__NEW of {decl.name}: FB_init has no input {name!r}", node)
             args.append(f"{match}={self.expr(param.value, scope).code}")

@@ -533,9 +533,9 @@ def test_super_property_write_runs_the_base_setter() -> None:
         + "PROPERTY N.Get : INT\nN := SUPER^.N;\nEND_PROPERTY\n")
     block = module.FB_B()
     block(); block()
-    assert (block._n, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
+    assert (block.st_n_, block.nSets) == (10, 0)  # the body writes the base's N, not FB_B's
     block.N = 4
-    assert (block._n, block.nSets, block.N) == (8, 1, 8)
+    assert (block.st_n_, block.nSets, block.N) == (8, 1, 8)
     assert 'super_set(super(), "N", ' in st.to_python(SUPER_PROPERTY)
 
 
@@ -565,7 +565,7 @@ END_PROPERTY
 def test_accessors_marked_get_and_set_as_dump_writes_them() -> None:
     tank = st.load(MARKED_ACCESSORS).FB_Tank()
     tank.Setpoint = 150.0
-    assert (tank._rSetpoint, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
+    assert (tank.st_rSetpoint_, tank.Setpoint, tank.Level) == (100.0, 200.0, 100.0)
     with pytest.raises(AttributeError, match="Level has no Set accessor"):
         tank.Level = 1.0
     python = st.to_python(MARKED_ACCESSORS)

@@ -164,8 +164,6 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
     ("TYPE ST_A : STRUCT n : INT; END_STRUCT END_TYPE\nFUNCTION F : INT\nVAR s : ST_A; r : REFERENCE TO ST_A; END_VAR\n"
      "r REF= s; r REF= 0;\nEND_FUNCTION\n",
      "<st>:4: REF= 0 of r: a local REFERENCE TO a STRUCT, UNION or FB cannot be unbound"),
-    ("INTERFACE IQueryInterface\nEND_INTERFACE\n" + prog("itf : __SYSTEM.IQueryInterface;", ""),
-     "<st>:5: __SYSTEM.IQueryInterface: the source declares its own IQueryInterface"),
 ])
 def test_unsupported_or_wrong_names_raise(source: str, construct: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=construct):
