@@ -24,6 +24,7 @@ from typing import Any
 import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
+from iecoop.st.language import is_reserved
 from iecoop.st._parse import StUnsupportedError, Unit
 
 __all__ = ["translate"]
@@ -111,10 +112,37 @@ def python_name(name: str, attribute: bool = False) -> str:
     end with ``_``). If it starts with ``_`` (after any number of ``st``), it also gets ``st`` in front,
     so no ST name becomes a Python private (``_x``) or special (``__x__``) name. ``in`` is ``in_``,
     ``in_`` is ``in__``, ``_x`` is ``st_x_``, ``__del__`` is ``st__del___``; ``Speed`` is ``Speed``.
+
+    One exception keeps the writer's names: ``TO_`` (how ``st.export`` writes a Python name that is an ST
+    keyword) is ``TO`` again, since no ST name can be ``TO`` and no other name's image lacks the suffix.
     """
+    stem = _keyword_stem(name, attribute)
+    if stem is not None:
+        return stem
     if name not in reserved_names(attribute) and not name.startswith("_") and not name.endswith("_"):
         return name
     return (NAME_PREFIX if _PREFIXED.match(name) else "") + name + NAME_SUFFIX
+
+
+def _keyword_stem(name: str, attribute: bool) -> str | None:
+    """``TO`` for ``TO_``: an ST keyword with one suffix, when the keyword itself is free in Python."""
+    stem = name[: -len(NAME_SUFFIX)]
+    if not name.endswith(NAME_SUFFIX) or not is_reserved(stem) or stem.endswith(NAME_SUFFIX) or stem.startswith("_"):
+        return None
+    return stem if stem not in reserved_names(attribute) else None
+
+
+def st_name_of(python: str) -> str:
+    """The ST name whose Python name is ``python``: the inverse of ``python_name`` (only mapped names end with ``_``).
+
+    ``in_`` is ``in``, ``st_x_`` is ``_x``, ``TO`` is ``TO_``, ``Speed`` is ``Speed``.
+    """
+    if not python.endswith(NAME_SUFFIX):
+        return python + NAME_SUFFIX if is_reserved(python) else python
+    name = python[: -len(NAME_SUFFIX)]
+    if name[: len(NAME_PREFIX)].lower() == NAME_PREFIX and _PREFIXED.match(name, len(NAME_PREFIX)):
+        return name[len(NAME_PREFIX):]
+    return name
 
 
 # --- types --------------------------------------------------------------------------------------

@@ -12,7 +12,8 @@ from hypothesis import strategies as hs
 from iecoop.exceptions import DefinitionError
 
 st = pytest.importorskip("iecoop.st")
-from iecoop.st._translate import python_name, reserved_names  # noqa: E402
+from iecoop.st._translate import python_name, reserved_names, st_name_of  # noqa: E402
+from iecoop.st.language import is_reserved  # noqa: E402
 
 # --- the rule -----------------------------------------------------------------------------------
 
@@ -21,7 +22,8 @@ from iecoop.st._translate import python_name, reserved_names  # noqa: E402
     ("Speed", "Speed"), ("in", "in_"), ("in_", "in__"), ("IN", "IN"), ("T", "T_"), ("t", "t"), ("TON", "TON_"),
     ("adr", "adr_"), ("self", "self_"), ("body", "body_"), ("range", "range_"), ("match", "match_"),
     ("None", "None_"), ("_x", "st_x_"), ("__del__", "st__del___"), ("_fields_", "st_fields__"),
-    ("st_x_", "stst_x__"), ("fb_init", "fb_init_"),
+    ("st_x_", "stst_x__"), ("fb_init", "fb_init_"), ("TO_", "TO"), ("Then_", "Then"), ("INT_", "INT__"),
+    ("TO__", "TO___"),
 ])
 def test_python_name_table(name: str, expected: str) -> None:
     assert python_name(name) == expected
@@ -42,7 +44,8 @@ def test_no_reserved_name_ends_with_the_suffix() -> None:
     assert reserved_names(attribute=True) < reserved_names()
 
 
-IDENTIFIER = hs.from_regex(r"\A_{0,2}[A-Za-z][A-Za-z0-9]{0,3}(_[A-Za-z0-9]{1,2})?_{0,2}\Z")
+IDENTIFIER = hs.from_regex(r"\A_{0,2}[A-Za-z][A-Za-z0-9]{0,3}(_[A-Za-z0-9]{1,2})?_{0,2}\Z").filter(
+    lambda n: not is_reserved(n))  # an ST keyword is no ST name
 SPECIAL = hs.sampled_from(["in", "in_", "_x", "__x__", "__del__", "self", "body", "T", "TON", "adr", "None", "class",
                            "match", "range", "copy", "cls", "fb_init", "_fields_", "st_x_", "_x_", "lambda", "def"])
 NAMES = hs.one_of(SPECIAL, IDENTIFIER)
@@ -56,6 +59,11 @@ def test_python_name_is_injective_and_never_private(names: list[str], attribute:
         assert name.isidentifier() and not name.startswith("_")
         assert not keyword.iskeyword(name)
         assert name not in reserved_names(attribute)
+
+
+@given(NAMES, hs.booleans())
+def test_the_st_name_comes_back_from_the_python_name(name: str, attribute: bool) -> None:
+    assert st_name_of(python_name(name, attribute)) == name
 
 
 # --- the reproduced problems --------------------------------------------------------------------
