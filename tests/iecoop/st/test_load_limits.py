@@ -234,7 +234,8 @@ def program(body: str) -> str:
     return f"PROGRAM MAIN\nVAR\n    n : INT;\n    i : INT;\n    b : BOOL := TRUE;\n    a : ARRAY[0..3] OF INT;\nEND_VAR\n{body}\nEND_PROGRAM\n"
 
 
-OPENERS = {"IF b THEN": "END_IF", "FOR i := 1 TO 1 DO": "END_FOR", "WHILE b DO": "END_WHILE", "CASE n OF 0:": "END_CASE",
+# Each runs its body once: the innermost statement sets n, which ends every WHILE.
+OPENERS = {"IF b THEN": "END_IF", "FOR i := 1 TO 1 DO": "END_FOR", "WHILE n < 1 DO": "END_WHILE", "CASE n OF 0:": "END_CASE",
            "__TRY": "__ENDTRY", "REPEAT": "UNTIL TRUE END_REPEAT"}
 
 
@@ -255,12 +256,12 @@ def test_the_deepest_nesting_allowed_loads_and_runs() -> None:
 
 
 @pytest.mark.parametrize("body, line, words", [
-    ("n := " + "(" * 60 + "1" + ")" * 60 + ";", 9, "nested 17 deep: parentheses, call arguments and subscripts nest at most 16"),
-    ("n := " + "ABS(" * 17 + "1" + ")" * 17 + ";", 9, "at most 16 deep in one expression (MAX_EXPRESSION_NESTING)"),
-    (nested(22, "n := 1;", ["FOR i := 1 TO 1 DO"]), 29, "FOR nested 21 deep: statements (IF, CASE, FOR, WHILE, REPEAT, __TRY) nest at most 20"),
-    (nested(101, "n := 1;", ["IF b THEN"]), 29, "IF nested 21 deep"),
-    (nested(21, "n := 1;"), 29, "IF nested 21 deep"),
-    ("n := " + " + ".join(["1"] * 3000) + ";", 9, "more than 200 operators chained or nested in one expression"),
+    ("n := " + "(" * 60 + "1" + ")" * 60 + ";", 8, "nested 17 deep: parentheses, call arguments and subscripts nest at most 16"),
+    ("n := " + "ABS(" * 17 + "1" + ")" * 17 + ";", 8, "at most 16 deep in one expression (MAX_EXPRESSION_NESTING)"),
+    (nested(22, "n := 1;", ["FOR i := 1 TO 1 DO"]), 28, "FOR nested 21 deep: statements (IF, CASE, FOR, WHILE, REPEAT, __TRY) nest at most 20"),
+    (nested(101, "n := 1;", ["IF b THEN"]), 28, "IF nested 21 deep"),
+    (nested(21, "n := 1;"), 28, "WHILE nested 21 deep"),
+    ("n := " + " + ".join(["1"] * 3000) + ";", 8, "more than 200 operators chained or nested in one expression"),
 ], ids=["parentheses", "calls", "for", "if", "mixed", "chain"])
 def test_nesting_beyond_a_limit_is_refused_naming_line_and_limit(body: str, line: int, words: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=rf"^<st>:{line}: ") as caught:
