@@ -149,7 +149,7 @@ def _read_text(path: pathlib.Path) -> str:
 
 def _read_xml(path: pathlib.Path) -> Any:
     """The root element of a TwinCAT XML file, parsed without DTDs, entities or network access."""
-    import lxml.etree
+    import lxml.etree  # type: ignore[import-untyped]  # installed with blark; ships no type information
 
     data = _read_bytes(path)
     # No DTD is loaded and no entity resolved, so an entity bomb or an external entity stays inert;
@@ -357,8 +357,10 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
     parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
     try:
         result = blark.parse_source_code(text, fn=filename, parser=parser)
-    except (IndexError, ValueError, KeyError) as exc:  # blark's comment scanner on unbalanced (* *) and { }
-        raise StSyntaxError(f"{filename}: Structured Text syntax error: unbalanced comment or pragma ({type(exc).__name__}: {exc})") from None
+    except (IndexError, ValueError, KeyError) as scanned:  # blark's comment scanner on unbalanced (* *) and { }
+        raise StSyntaxError(
+            f"{filename}: Structured Text syntax error: unbalanced comment or pragma ({type(scanned).__name__}: {scanned})"
+        ) from None
     if isinstance(result.exception, RecursionError):
         raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
     if result.exception is not None:
