@@ -109,10 +109,27 @@ def to_python(source: str | os.PathLike[str]) -> str:
         RUN = 5
     <BLANKLINE>
     """
-    translate = _translator()
-
-    text, _ = translate(parse_sources(source))
+    text, _ = _translated(source, [])
     return text
+
+
+def _translated(source: str | os.PathLike[str], externals: list[str]) -> tuple[str, list[tuple[str, str]]]:
+    """The Python module text and top-level names for ``source``; nesting beyond the parser's limits is refused."""
+    translate = _translator()
+    units = parse_sources(source)
+    try:
+        return translate(units, externals=externals)
+    except RecursionError:  # only beyond the limits _parse checks, e.g. when called from a deep stack
+        raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
+
+
+def _generated_failure(source: str | os.PathLike[str], exc: BaseException) -> StUnsupportedError:
+    """The error for generated Python that CPython refuses: it names the ST source, never a raw internal error."""
+    where = _source_name(source)
+    line = getattr(exc, "lineno", None)
+    at = f" (line {line} of the generated Python)" if isinstance(line, int) else ""
+    message = getattr(exc, "msg", None) or str(exc) or type(exc).__name__
+    return StUnsupportedError(f"{where}: the Python generated for it cannot run{at}: {type(exc).__name__}: {message}")
 
 
 def load(
@@ -133,17 +150,19 @@ def load(
     its INTERNAL members; with ``package="plant"`` code in ``plant`` does too.
     """
     from iecoop.profiles import use_profile
-    translate = _translator()
 
     externals = dict(externals or {})
-    text, names = translate(parse_sources(source), externals=list(externals))
+    text, names = _translated(source, list(externals))
     number = next(_counter)
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
     linecache.cache[filename] = (len(text), None, text.splitlines(keepends=True), filename)
-    code = compile(text, filename, "exec")
+    try:
+        code = compile(text, filename, "exec")
+    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits _parse checks keep this rare
+        raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
     module.__file__ = filename
     module.__python__ = text
@@ -152,7 +171,11 @@ def load(
     unbound = []
     with use_profile(profile) if profile is not None else _nothing():
         namespace: dict[str, Any] = module.__dict__
-        exec(code, namespace)
+        try:
+            exec(code, namespace)
+        except (RecursionError, MemoryError) as exc:
+            del sys.modules[module_name]
+            raise _generated_failure(source, exc) from exc
         for key, value in list(namespace.items()):
             marker = getattr(value, "__iecoop_external__", None)
             if marker is not None:

@@ -17,7 +17,6 @@ import functools
 import os
 import pathlib
 import re
-import xml.etree.ElementTree as ElementTree
 from collections.abc import Iterator
 from typing import Any
 
@@ -28,6 +27,26 @@ __all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "parse_sources"]
 #: The TwinCAT file kinds blark reads (POUs, data types, global and I/O lists).
 TWINCAT_SUFFIXES = (".tcpou", ".tcdut", ".tcgvl", ".tcio")
 ST_SUFFIXES = (".st",)
+
+#: What one source may hold. Each limit is checked on the parse tree before Python is generated:
+#: the generated module mirrors the ST's nesting, and CPython allows 20 nested blocks (loops,
+#: ``try``) in one function and 100 levels of indentation; the translator and the parser recurse
+#: once per nested expression and per chained operator.
+MAX_STATEMENT_NESTING = 20
+MAX_EXPRESSION_NESTING = 16
+MAX_EXPRESSION_OPERATORS = 200
+#: A safety net for nesting the two limits above do not count (subscripts in initial values, ...).
+MAX_PARSE_DEPTH = 320
+#: Bytes in one file; real TwinCAT POUs are well below a megabyte.
+MAX_FILE_BYTES = 16 * 1024 * 1024
+
+#: Encodings an ST file is read with, in order (a UTF-8 byte order mark decides at once):
+#: TwinCAT and CODESYS write UTF-8, older projects the Windows code page 1252.
+ST_ENCODINGS = ("utf-8", "cp1252")
+
+#: The TwinCAT XML elements whose ``Name`` attribute becomes ST code (POU, method, action, ...).
+_NAMED_ELEMENTS = frozenset({"POU", "DUT", "GVL", "Itf", "Method", "Property", "Action", "Transition", "Get", "Set"})
+_ST_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 _PROPERTY_NAME = re.compile(
     r"^(\s*PROPERTY\s+(?:(?:PUBLIC|PRIVATE|PROTECTED|INTERNAL|ABSTRACT|FINAL)\s+)*)([A-Za-z_]\w*)", re.IGNORECASE | re.MULTILINE
@@ -65,6 +84,11 @@ class Unit:
         return f"{file}:{real}"
 
 
+def is_st_identifier(name: str) -> bool:
+    """``name`` is an ST identifier: an ASCII letter or ``_`` first, then letters, digits and ``_``."""
+    return _ST_IDENTIFIER.match(name) is not None
+
+
 def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
     """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units."""
     if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
@@ -72,7 +96,9 @@ def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
     path = pathlib.Path(source)
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
-    return [_parse_text(text, name, line_map) for text, name, line_map in _flat_sources(path)]
+    units = [_parse_text(text, name, line_map) for text, name, line_map in _flat_sources(path)]
+    _check_gvl_names(units)
+    return units
 
 
 def _looks_like_path(text: str) -> bool:
@@ -87,7 +113,7 @@ def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tupl
         return
     suffix = path.suffix.lower()
     if suffix in ST_SUFFIXES:
-        yield path.read_text(encoding="utf-8-sig"), str(path), {}
+        yield _read_text(path), str(path), {}
     elif suffix in TWINCAT_SUFFIXES:
         yield _flatten_twincat(path)
     elif suffix == ".plcproj":
@@ -97,20 +123,126 @@ def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tupl
         raise StUnsupportedError(f"{path}: unsupported file kind {path.suffix!r} (use .st, .TcPOU, .TcDUT, .TcGVL, .TcIO, .plcproj or a folder)")
 
 
+def _read_bytes(path: pathlib.Path) -> bytes:
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise StUnsupportedError(f"{path}: {path.stat().st_size} bytes is more than the {MAX_FILE_BYTES} bytes one file may hold")
+    return path.read_bytes()
+
+
+def _read_text(path: pathlib.Path) -> str:
+    """An ST file's text: UTF-8 with a byte order mark, else strict UTF-8, else Windows-1252."""
+    data = _read_bytes(path)
+    if data.startswith(b"\xef\xbb\xbf"):
+        encodings: tuple[str, ...] = ("utf-8-sig",)
+    else:
+        encodings = ST_ENCODINGS
+    for encoding in encodings:
+        try:
+            return data.decode(encoding)
+        except UnicodeDecodeError as exc:
+            failure = exc
+    line = data[: failure.start].count(b"\n") + 1
+    raise StSyntaxError(
+        f"{path}:{line}: cannot decode byte {data[failure.start]:#04x} as {' or '.join(encodings)} (ST files are UTF-8 or Windows-1252)"
+    ) from None
+
+
+def _read_xml(path: pathlib.Path) -> Any:
+    """The root element of a TwinCAT XML file, parsed without DTDs, entities or network access."""
+    import lxml.etree  # type: ignore[import-untyped]  # installed with blark; ships no type information
+
+    data = _read_bytes(path)
+    # No DTD is loaded and no entity resolved, so an entity bomb or an external entity stays inert;
+    # any DOCTYPE at all is refused, as TwinCAT and MSBuild files never carry one.
+    parser = lxml.etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    try:
+        root = lxml.etree.fromstring(data, parser)
+    except lxml.etree.XMLSyntaxError as exc:
+        line = exc.lineno if isinstance(exc.lineno, int) and exc.lineno > 0 else 1
+        raise StSyntaxError(f"{path}:{line}: not well-formed XML: {str(exc.msg).splitlines()[0]}") from None
+    except ValueError as exc:  # lxml refuses some inputs before parsing (a str with an encoding declaration, ...)
+        raise StSyntaxError(f"{path}:1: not well-formed XML: {exc}") from None
+    if root is None:
+        raise StSyntaxError(f"{path}:1: not well-formed XML: no root element")
+    if root.getroottree().docinfo.doctype:
+        at = data.find(b"<!DOCTYPE")
+        line = data[:at].count(b"\n") + 1 if at >= 0 else 1
+        raise StSyntaxError(f"{path}:{line}: a DOCTYPE is not allowed (DTDs and entities are not read)")
+    return root
+
+
+def _check_xml_names(path: pathlib.Path, root: Any) -> None:
+    """Every POU, method, action, property and accessor name in the XML is an ST identifier (it becomes code)."""
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue  # comments and processing instructions
+        name = element.get("Name")
+        if name is not None and element.tag.rsplit("}", 1)[-1] in _NAMED_ELEMENTS and not is_st_identifier(name):
+            raise StSyntaxError(
+                f"{path}:{element.sourceline}: <{element.tag.rsplit('}', 1)[-1]} Name={name!r}> is not an ST identifier "
+                "(an ASCII letter or _ first, then letters, digits and _)"
+            )
+
+
 def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
-    root = ElementTree.parse(path).getroot()
+    """The TwinCAT files a ``.plcproj`` compiles: each must exist and lie below the project's folder."""
+    root = _read_xml(path)
+    folder = path.parent.resolve()
     files = []
     for element in root.iter():
-        if element.tag.rsplit("}", 1)[-1] == "Compile":
-            include = element.get("Include", "")
-            candidate = path.parent / include.replace("\\", "/")
-            if candidate.suffix.lower() in TWINCAT_SUFFIXES and candidate.exists():
-                files.append(candidate)
+        if not isinstance(element.tag, str) or element.tag.rsplit("}", 1)[-1] != "Compile":
+            continue
+        include = element.get("Include", "")
+        where = f"{path}:{element.sourceline}"
+        relative = include.replace("\\", "/")
+        if pathlib.PureWindowsPath(include).is_absolute() or pathlib.PureWindowsPath(include).drive or relative.startswith("/"):
+            raise StSyntaxError(f"{where}: Compile Include={include!r} is an absolute path; a project reads only files below its folder")
+        candidate = path.parent / relative
+        if candidate.suffix.lower() not in TWINCAT_SUFFIXES:
+            continue  # tasks, visualisations, ...: not Structured Text
+        if not candidate.resolve().is_relative_to(folder):
+            raise StSyntaxError(f"{where}: Compile Include={include!r} is outside the project folder {str(folder)!r}")
+        if not candidate.is_file():
+            raise StSyntaxError(f"{where}: Compile Include={include!r}: the file {str(candidate)!r} does not exist")
+        files.append(candidate)
     return files
 
 
+def _check_gvl_names(units: list[Unit]) -> None:
+    """A GVL named after its file has an ASCII ST name, and no POU or type has that name too."""
+    import blark.transform as tf
+
+    declared: dict[str, str] = {}
+    for unit in units:
+        for item in getattr(unit.tree, "items", ()):
+            inner = item.declaration if isinstance(item, tf.DataTypeDeclaration) else item
+            if isinstance(inner, tf.GlobalVariableDeclarations) or getattr(inner, "name", None) is None:
+                continue
+            declared.setdefault(str(inner.name).lower(), f"{type(inner).__name__} {inner.name} ({unit.where(_line(inner))})")
+    for unit in units:
+        for item in getattr(unit.tree, "items", ()):
+            if not isinstance(item, tf.GlobalVariableDeclarations) or item.name is None:
+                continue
+            stem = str(item.name)  # blark names the list after the file
+            for name in dict.fromkeys((stem, stem.split(".")[0])):
+                if name.isidentifier() and not is_st_identifier(name):
+                    raise StSyntaxError(
+                        f"{unit.where(_line(item))}: the GVL takes its name {name!r} from the file name, which is not an ST "
+                        "identifier (an ASCII letter or _ first, then letters, digits and _)"
+                    )
+            clash = declared.get(stem.lower()) if is_st_identifier(stem) else None
+            if clash is not None:
+                raise StSyntaxError(f"{unit.where(_line(item))}: the GVL {stem} (named after its file) has the name of {clash}")
+
+
+def _line(node: Any) -> int | None:
+    meta = getattr(node, "meta", None)
+    line = getattr(meta, "line", None)
+    return line if isinstance(line, int) else None
+
+
 def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str, int]]]:
-    from blark.input import BlarkCompositeSourceItem, load_file_by_name
+    from blark.input import BlarkCompositeSourceItem
 
     lines: list[str] = []
     line_map: dict[int, tuple[str, int]] = {}
@@ -161,7 +293,15 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
             code, inner = item.get_code_and_line_map(include_end=True)
             add(code, inner)
 
-    for item in load_file_by_name(path):
+    from blark.solution import TcSource
+
+    root = _read_xml(path)
+    _check_xml_names(path, root)
+    try:
+        items = TcSource.from_xml(root, filename=path).to_blark()
+    except Exception as exc:  # blark's reader has no error type of its own; any failure means a file it cannot read
+        raise StSyntaxError(f"{path}: not a TwinCAT file blark can read: {type(exc).__name__}: {exc}") from None
+    for item in items:
         walk(item)
     return "\n".join(lines) + "\n", str(path), line_map
 
@@ -215,7 +355,14 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
 
     line_map = dict(line_map_items)
     parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
-    result = blark.parse_source_code(text, fn=filename, parser=parser)
+    try:
+        result = blark.parse_source_code(text, fn=filename, parser=parser)
+    except (IndexError, ValueError, KeyError) as scanned:  # blark's comment scanner on unbalanced (* *) and { }
+        raise StSyntaxError(
+            f"{filename}: Structured Text syntax error: unbalanced comment or pragma ({type(scanned).__name__}: {scanned})"
+        ) from None
+    if isinstance(result.exception, RecursionError):
+        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
     if result.exception is not None:
         exc = result.exception
         line = getattr(exc, "line", None)
@@ -223,10 +370,67 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         where = unit.where(line if isinstance(line, int) and line > 0 else None)
         detail = _syntax_detail(exc, text)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
+    _check_limits(result.tree, Unit(None, filename, line_map))
     try:
         return result.transform(), tuple(result.comments)
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
+    except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
+        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+
+
+#: Grammar rules (blark's ``iec.lark``) that nest one statement list in another.
+_NESTING_STATEMENTS = {
+    "if_statement": "IF", "case_statement": "CASE", "for_statement": "FOR", "while_statement": "WHILE",
+    "repeat_statement": "REPEAT", "try_statement": "__TRY",
+}
+#: Grammar rules of binary operators: ``operand (OPERATOR operand)*``, one nested Python expression per operator.
+_OPERATOR_RULES = frozenset({
+    "expression", "assignment_expression", "or_else_expression", "and_then_expression", "xor_expression",
+    "and_expression", "comparison_expression", "equality_expression", "add_expression", "expression_term",
+})
+
+
+def _check_limits(tree: Any, unit: Unit) -> None:
+    """Refuse a source nested deeper than the ``MAX_*`` limits, walking blark's raw tree without recursion."""
+    import lark
+
+    # node, line, statements, expressions and operators around it, parse depth
+    stack: list[tuple[Any, int | None, int, int, int, int]] = [(tree, None, 0, 0, 0, 1)]
+    while stack:
+        node, line, statements, expressions, operators, depth = stack.pop()
+        line = node.meta.line if not node.meta.empty else line
+        rule = str(node.data)
+        if rule in _NESTING_STATEMENTS:
+            statements += 1
+            if statements > MAX_STATEMENT_NESTING:
+                raise StUnsupportedError(
+                    f"{unit.where(line)}: {_NESTING_STATEMENTS[rule]} nested {statements} deep: statements (IF, CASE, "
+                    f"FOR, WHILE, REPEAT, __TRY) nest at most {MAX_STATEMENT_NESTING} deep (MAX_STATEMENT_NESTING)"
+                )
+        elif rule == "expression":
+            expressions += 1
+            if expressions - 1 > MAX_EXPRESSION_NESTING:
+                raise StUnsupportedError(
+                    f"{unit.where(line)}: an expression nested {expressions - 1} deep: parentheses, call arguments and "
+                    f"subscripts nest at most {MAX_EXPRESSION_NESTING} deep in one expression (MAX_EXPRESSION_NESTING)"
+                )
+        if rule in _OPERATOR_RULES:
+            operators += sum(isinstance(child, lark.Token) for child in node.children)
+            if operators > MAX_EXPRESSION_OPERATORS:
+                raise StUnsupportedError(
+                    f"{unit.where(line)}: more than {MAX_EXPRESSION_OPERATORS} operators chained or nested in one "
+                    "expression (MAX_EXPRESSION_OPERATORS); split it with intermediate variables"
+                )
+        if depth > MAX_PARSE_DEPTH:
+            raise StUnsupportedError(
+                f"{unit.where(line)}: the source nests more than {MAX_PARSE_DEPTH} levels deep in its parse tree "
+                "(MAX_PARSE_DEPTH)"
+            )
+        stack.extend(
+            (child, line, statements, expressions, operators, depth + 1)
+            for child in node.children if isinstance(child, lark.Tree)
+        )
 
 
 def _syntax_detail(exc: Exception, text: str) -> str:

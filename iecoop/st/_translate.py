@@ -2268,7 +2268,7 @@ class Translator:
             return Ex("True" if int(text) else "False", BOOL)
         if type_.is_real:
             return Ex(f"{int(text)}.0", type_)
-        return Ex(text, type_ if node.type_name is not None else None)
+        return Ex(str(int(text)), type_ if node.type_name is not None else None)  # 007 is 7; Python refuses the zeros
 
     def _based(self, node: Any, prefix: str, base: int) -> Ex:
         text = str(node.value).replace("_", "")
