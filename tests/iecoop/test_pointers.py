@@ -496,6 +496,60 @@ def test_memory_operators_reject_bad_arguments() -> None:
         memcpy(cell, adr(cell), 2)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"MEMSET: the byte count"):
         memset(adr(cell), 0, True)
+    with pytest.raises(TypeError, match=r"MEMCMP second buffer needs a pointer from adr\(\.\.\.\), got int"):
+        memcmp(adr(cell), 0, 0)  # type: ignore[arg-type]  # checked even for 0 bytes
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    fill=st.one_of(st.integers(-300, 600), st.floats(allow_nan=True), st.booleans(), st.none(), st.text(max_size=2)),
+    n=st.one_of(st.integers(-4, CELL_SIZE + 4), st.booleans(), st.floats(0, 8)),
+    offset=st.integers(0, CELL_SIZE),
+)
+def test_memset_writes_a_byte_in_bounds_or_nothing(fill: Any, n: Any, offset: int) -> None:
+    cell = Cell()
+    before = raw(cell)
+    target = adr(cell) + offset
+    good_n = isinstance(n, int) and not isinstance(n, bool) and n >= 0
+    good_fill = isinstance(fill, int) and not isinstance(fill, bool) and 0 <= fill <= 255
+    if not good_n:
+        with pytest.raises(TypeError, match=r"MEMSET: the byte count must be a non-negative integer"):
+            memset(target, fill, n)
+    elif not good_fill:
+        with pytest.raises(TypeError, match=r"MEMSET: the fill value is a BYTE, an int 0\.\.255"):
+            memset(target, fill, n)
+    elif n and offset + n > CELL_SIZE:
+        with raises_plc(AV, r"MEMSET destination: .* lies outside its"):
+            memset(target, fill, n)
+    else:
+        assert memset(target, fill, n) == n
+        expected = before[:offset] + bytes([fill]) * n + before[offset + n:]
+        assert raw(cell) == expected
+        return
+    assert raw(cell) == before  # a refused MEMSET writes nothing
+
+
+@settings(max_examples=150, deadline=None)
+@given(n=st.integers(-2, CELL_SIZE + 4), at=st.integers(0, CELL_SIZE), frm=st.integers(0, CELL_SIZE))
+def test_memcpy_and_memcmp_stay_inside_both_blocks(n: int, at: int, frm: int) -> None:
+    source, target = Cell(a=3, b=4, name="x"), Cell()
+    before = raw(target)
+    if n < 0:
+        for op in (memcpy, memcmp):
+            with pytest.raises(TypeError, match="the byte count must be a non-negative integer"):
+                op(adr(target) + at, adr(source) + frm, n)
+        return
+    if n and max(at, frm) + n > CELL_SIZE:
+        with raises_plc(AV, r"lies outside its"):
+            memcpy(adr(target) + at, adr(source) + frm, n)
+        with raises_plc(AV, r"MEMCMP .* lies outside its"):
+            memcmp(adr(target) + at, adr(source) + frm, n)
+        assert raw(target) == before
+        return
+    left, right = raw(target)[at:at + n], raw(source)[frm:frm + n]
+    assert memcmp(adr(target) + at, adr(source) + frm, n) == (left > right) - (left < right)
+    assert memcpy(adr(target) + at, adr(source) + frm, n) == n
+    assert raw(target)[at:at + n] == raw(source)[frm:frm + n]
 
 
 def test_memcpy_copies_pointers_and_references_as_handles() -> None:
@@ -517,7 +571,7 @@ def test_memset_fills_bytes() -> None:
     cell = Cell()
     assert memset(adr(cell, "arr"), 0xFF, 4 * sizeof(INT)) == 8
     assert list(cell.arr) == [-1, -1, -1, -1]
-    memset(adr(cell, "arr", 2), 0x1_01, 2)  # only the low byte of the fill value counts
+    memset(adr(cell, "arr", 2), 0x01, 2)
     assert cell.arr[2] == 0x0101
     memset(adr(cell, "name"), ord("A"), 3)
     assert cell.name == "AAA"
@@ -940,13 +994,13 @@ class MemoryMachine(RuleBasedStateMachine):
             chunk = bytes(source_ref.block.memory[source_ref.offset : source_ref.offset + n])
             target_ref.block.memory[target_ref.offset : target_ref.offset + n] = chunk
 
-    @rule(ref=pointers, fill=st.integers(-300, 600), n=COUNTS)
+    @rule(ref=pointers, fill=st.integers(0, 255), n=COUNTS)
     def fill(self, ref: Ref, fill: int, n: int) -> None:
         valid = n == 0 or ref.valid(n)
         expect(valid)(lambda: memset(ref.pointer, fill, n))
         if valid and n:
             assert ref.block is not None
-            ref.block.memory[ref.offset : ref.offset + n] = bytes([fill & 0xFF]) * n
+            ref.block.memory[ref.offset : ref.offset + n] = bytes([fill]) * n
 
     @rule(left=pointers, right=pointers, n=COUNTS)
     def compare_memory(self, left: Ref, right: Ref, n: int) -> None:
