@@ -23,10 +23,12 @@ from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, MultipleResults, RuleBasedStateMachine, initialize, invariant, multiple, rule
 
 from iecoop import (
-    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
-    DefinitionError, Pointer, Struct, adr, adr_of, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
+    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, FunctionBlock,
+    GlobalVariables, PlcException, Program, DefinitionError, Pointer, Struct, T, adr, adr_of, gvl, is_valid_ref, memcmp,
+    memcpy, memset, ref_assign, sizeof, var_info,
 )
 from iecoop.memory._core import allocation_of, free
+from iecoop.runtime import Runtime, Task
 from iecoop.testing.strategies import ANY_INTS, LATIN_1
 
 AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
@@ -1232,3 +1234,102 @@ def test_an_instance_whose_pointer_points_into_itself_is_collected() -> None:
 def test_a_sibling_address_initial_value_is_checked_at_definition(declaration: str, message: str) -> None:
     with pytest.raises(DefinitionError, match=message):
         exec(f"class Bad(Struct):\n    value: INT = 0\n    {declaration}\n", globals())
+
+
+# ---------------------------------------------------------------------------
+# A POINTER initialised with the address of a global: p : POINTER TO DINT := ADR(foo);
+# ---------------------------------------------------------------------------
+
+
+@gvl
+class GVL_PointerTargets(GlobalVariables):
+    foo: DINT = 7
+    ratio: LREAL = 0.5
+
+
+class PointsAtGlobal(Struct):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+
+
+class BlockPointsAtGlobal(FunctionBlock):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+
+    def body(self) -> None:
+        self.p.deref += 1
+
+
+class ProgramPointsAtGlobal(Program):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+    block: BlockPointsAtGlobal = VAR()
+
+    def body(self) -> None:
+        self.p.deref += 10
+        self.block()
+
+
+def test_a_pointer_starts_aimed_at_a_global_in_a_struct_block_and_program() -> None:
+    GVL_PointerTargets.foo = 7
+    assert PointsAtGlobal().p.deref == 7 and PointsAtGlobal().p == adr(GVL_PointerTargets, "foo")
+    main = ProgramPointsAtGlobal()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms")), main)
+    rt.run(cycles=2)
+    assert GVL_PointerTargets.foo == 7 + 2 * 11  # both pointers write the global
+    memset(adr(main, "p"), 0, sizeof(main, "p"))  # aimed elsewhere at run time ...
+    assert not main.p
+    rt.reset_cold()
+    assert main.p == adr(GVL_PointerTargets, "foo")  # ... and at the global again after a re-initialisation
+    rt.stop()
+
+
+@gvl
+class GVL_Transient(GlobalVariables):
+    value: DINT = 1
+
+
+class HoldsTransient(Struct):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_Transient, "value"))
+
+
+def test_a_pointer_to_a_global_list_that_is_gone_faults_when_used() -> None:
+    global GVL_Transient
+    value = HoldsTransient().p.deref
+    assert value == 1
+    del GVL_Transient  # the list goes (a module unloaded): the declaration does not keep it
+    gc.collect()
+    with raises_plc(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "deleted or no longer exists"):
+        HoldsTransient().p.deref
+
+
+def test_a_pointer_initialiser_must_be_a_global_of_the_pointed_type() -> None:
+    with pytest.raises(DefinitionError, match=r"Wrong\.p: POINTER TO DINT cannot be initialised with the address of a LREAL"):
+        class Wrong(Struct):
+            p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "ratio"))
+    local = Cell()
+    with pytest.raises(DefinitionError, match=r"Local\.p: POINTER TO INT starts as 0, .*adr\(GVL, member\) of a "
+                                              r"global variable; this address is into a Cell instance"):
+        class Local(Struct):
+            p: POINTER_TO[INT] = VAR(adr(local, "a"))
+
+
+def test_st_load_reads_a_pointer_initialised_with_the_address_of_a_global() -> None:
+    from iecoop import st
+
+    module = st.load(
+        """
+        VAR_GLOBAL
+            globalFoo : DINT := 7;
+        END_VAR
+        PROGRAM PRG_Reader
+        VAR
+            p : POINTER TO DINT := ADR(globalFoo);
+            n : DINT;
+        END_VAR
+        n := p^;
+        p^ := n + 1;
+        END_PROGRAM
+        """
+    )
+    reader = module.PRG_Reader
+    reader()
+    assert reader.n == 7 and module.GVL.globalFoo == 8
