@@ -502,7 +502,7 @@ class GlobalAddress(LateInitial):
         if root is None or kind_of(type(root)) is not Kind.GVL:
             what = "deleted memory" if root is None else f"a {type(root).__name__} instance"
             raise DefinitionError(
-                f"{where}: {info.name} starts as 0, as adr_of(member) of a variable beside it, or as "
+                f"{where}: {info.name} starts as 0, or as adr_of(member) of a variable beside it, or as "
                 f"adr(GVL, member) of a global variable; this address is into {what}: bind it at run time"
             )
         target = pointer._target
