@@ -495,7 +495,7 @@ class GlobalAddress(LateInitial):
     gone the pointer starts dangling (using it is RTSEXCPT_ACCESS_VIOLATION).
     """
 
-    __slots__ = ("handle", "offset", "gvl", "text")
+    __slots__ = ("handle", "offset", "gvl", "member", "text")
 
     def __init__(self, pointer: Pointer[Any], info: PointerInfo, where: str) -> None:
         root = target_root(pointer.handle)
@@ -513,7 +513,12 @@ class GlobalAddress(LateInitial):
         self.handle = pointer.handle
         self.offset = pointer.handle & _HANDLE_MASK
         self.gvl = weakref.ref(root)
-        self.text = f"adr({type(root).__name__}, +{self.offset})"
+        fields = getattr(type(root), "_iec_layout_").fields
+        #: the global variable designated (None for an address inside one, an array element say)
+        self.member: str | None = next((f.name for f in fields if f.offset == self.offset and (
+            target is None or f.info.signature == target.signature)), None)
+        name = type(root).__name__
+        self.text = f"adr({name}, {self.member!r})" if self.member else f"adr({name}) + {self.offset}"
 
     def __repr__(self) -> str:
         return self.text
