@@ -492,9 +492,10 @@ class Runtime:
         except WatchdogInterrupt as exc:
             interrupt = exc
         finally:
-            # Nothing is called before the ``try`` below (CPython delivers the interrupt at calls
-            # and loops), and ``end`` retires the cycle and cancels a delivery still pending: an
-            # interrupt lands inside this cycle or not at all.
+            # CPython delivers the interrupt at calls and loops only: from this store on the thread
+            # fires no more, the one delivery still possible lands inside the ``try`` below, and
+            # ``end`` cancels it if it is still pending. An interrupt lands in its cycle or nowhere.
+            cycle.ended = True
             while True:
                 try:
                     fired = watchdog.end(cycle)

@@ -25,7 +25,7 @@ import threading
 
 from iecoop.runtime.clock import Wall
 
-__all__ = ["Watchdog", "WatchdogInterrupt", "finish"]
+__all__ = ["Watchdog", "WatchdogInterrupt"]
 
 # One C function, two prototypes: with an exception class it raises it in the thread, with NULL it
 # clears a pending one.
@@ -47,12 +47,15 @@ class WatchdogInterrupt(BaseException):
 class _Cycle:
     """The cycle being watched: which thread runs it, and when it must have ended (wall ns)."""
 
-    __slots__ = ("thread_id", "deadline_ns", "fired")
+    __slots__ = ("thread_id", "deadline_ns", "fired", "ended")
 
     def __init__(self, thread_id: int, deadline_ns: int) -> None:
         self.thread_id = thread_id
         self.deadline_ns = deadline_ns
         self.fired = False
+        #: set by the running thread when the cycle's code is done (an attribute store: no call, so
+        #: no interrupt can be delivered while setting it); the thread fires no more from then on
+        self.ended = False
 
 
 class Watchdog:
@@ -84,6 +87,7 @@ class Watchdog:
 
     def end(self, cycle: _Cycle) -> bool:
         """Stop watching ``cycle``; True if the watchdog fired in it. Call until it returns (it may be interrupted)."""
+        cycle.ended = True
         self._cycle = None
         with self._lock:
             # A delivery the thread made before the line above is still pending: cancel it.
@@ -118,17 +122,9 @@ class Watchdog:
                 self._wake.wait(min(remaining, self._idle_ns) / 1e9)
                 continue
             with self._lock:
-                if self._cycle is cycle:
+                if self._cycle is cycle and not cycle.ended:
                     cycle.fired = True
                     _set_async_exc(cycle.thread_id, WatchdogInterrupt)
             # Again and again while the cycle goes on: a body catching BaseException gets it next time.
             self._wake.wait(self._idle_ns / 1e9)
 
-
-def finish(watchdog: Watchdog, cycle: _Cycle) -> bool:
-    """``watchdog.end(cycle)``, retried if the interrupt lands inside it; True if the watchdog fired."""
-    while True:
-        try:
-            return watchdog.end(cycle)
-        except WatchdogInterrupt:
-            continue
