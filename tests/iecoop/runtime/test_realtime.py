@@ -199,5 +199,5 @@ def test_real_time_on_the_machine_clock_returns_with_consistent_counts() -> None
     rt.add_task(Task("PlcTask", interval=T("10ms")), main)
     rt.run(cycles=5, realtime=True)
     info = rt.tasks[0].info
-    assert rt.time_ms == 50 and info.CycleCount == main.n >= 1
+    assert rt.time_ms == 50 and info.CycleCount == main.n
     assert info.CycleCount + info.SkippedCycles == 5

@@ -73,7 +73,7 @@ def test_the_watchdog_stops_a_cycle_that_never_ends(realtime: bool, mode: int) -
     rt.add_task(Task("PlcTask", interval=T("10ms"), watchdog=T("50ms")), main)
     with pytest.raises(PlcException, match=r"task PlcTask stopped in cycle 1: .*cycle 1 stopped by the watchdog "
                                            r"after \d+\.\d+ ms, watchdog 50 ms") as exc:
-        rt.run(cycles=5, realtime=realtime)
+        rt.run(cycles=100, realtime=realtime)  # the fault ends the run in the second cycle
     assert exc.value.code == ExceptionCode.RTSEXCPT_WATCHDOG and took(exc) >= 50.0
     assert rt.fault is not None and (rt.fault.task, rt.fault.cycle) == ("PlcTask", 1)
     assert rt.fault.code == ExceptionCode.RTSEXCPT_WATCHDOG
@@ -86,8 +86,11 @@ def test_the_watchdog_stops_a_cycle_that_never_ends(realtime: bool, mode: int) -
         rt.run(cycles=1)  # the exception state holds until a reset
     rt.reset_cold()
     main.hang = False
+    skipped = info.SkippedCycles
     rt.run(cycles=3, realtime=realtime)
-    assert main.n == 3 and getattr(rt, "fault") is None  # (getattr: mypy narrowed it above)
+    # In real time a busy machine may make the runtime skip cycles: each is run or counted.
+    assert main.n == info.CycleCount >= 1 and info.CycleCount + info.SkippedCycles - skipped == 3
+    assert getattr(rt, "fault") is None  # (getattr: mypy narrowed it above)
     rt.stop()
     assert watchdog_threads() == []
 
@@ -130,18 +133,18 @@ def test_sensitivity_counts_consecutive_overruns_of_cycles_that_end() -> None:
 
 
 def test_no_watchdog_no_thread_and_a_dropped_runtime_ends_its_thread() -> None:
-    assert watchdog_threads() == []
+    before = len(watchdog_threads())
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms")), runaway(hang=False))
     rt.run(cycles=3)
-    assert watchdog_threads() == []
+    assert len(watchdog_threads()) == before
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms"), watchdog=T("50ms")), runaway(hang=False))
     rt.run(cycles=3)
-    assert len(watchdog_threads()) == 1
+    assert len(watchdog_threads()) == before + 1
     del rt
     gc.collect()
-    assert watchdog_threads() == []
+    assert len(watchdog_threads()) == before
 
 
 class Edge(Program):
