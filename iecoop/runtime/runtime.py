@@ -664,16 +664,16 @@ class Runtime:
             store.write_persistent(layout, self._gather(blocks))
 
     def stop(self) -> None:
-        """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store.
+        """Orderly shutdown: end the watchdog thread, write PERSISTENT data, run FB_exit, close the store.
 
         A second ``stop()`` does nothing; every other operation after it
         raises RuntimeError.
         """
         if self._stopped:
             return
-        if self._watchdog is not None:
-            self._watchdog.close()
         with self._exclusive("stop"):
+            if self._watchdog is not None:
+                self._watchdog.close()
             self.save_persistent()
             try:
                 with use_profile(self.profile), use_clock(self._clock):
