@@ -16,6 +16,7 @@ import dataclasses
 import os
 import sys
 import typing
+import weakref
 from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any, Final
 
@@ -31,11 +32,14 @@ from iecoop.memory._core import (
     EnumInfo,
     StringInfo,
     TypeInfo,
+    _HANDLE_MASK,
     check_block_size,
+    handle_of,
     resolve_type,
+    target_root,
 )
 from iecoop.memory.interface_references import InterfaceInfo
-from iecoop.memory.pointers import PointerInfo
+from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.references import ReferenceInfo
 
 __all__ = [
@@ -252,6 +256,9 @@ class LayoutBuilder:
             if self.adjust is not None:
                 info = self.adjust(info, spec, where)
             spec = _with_alias_initial(spec, info)
+            if isinstance(info, PointerInfo) and isinstance(spec.initial, Pointer) and spec.initial:
+                spec = copy.copy(spec)
+                spec.initial = GlobalAddress(spec.initial, info, where)
             check_initial(info, spec.initial, where)
             self.pending.append((field, info, spec))
             taken[field] = name
@@ -426,7 +433,11 @@ def check_initial(info: TypeInfo, initial: Any, where: str) -> None:
             return  # checked once the class has all its fields (LateInitial.check)
         elif isinstance(info, (PointerInfo, InterfaceInfo, ReferenceInfo)):
             if initial not in (None, 0):
-                or_sibling = "" if isinstance(info, InterfaceInfo) else ", or as adr_of(member) of a variable beside it"
+                or_sibling = "" if isinstance(info, InterfaceInfo) else (
+                    ", or as adr_of(member) of a variable beside it" + (
+                        ", or as adr(GVL, member) of a global variable" if isinstance(info, PointerInfo) else ""
+                    )
+                )
                 raise TypeError(f"{info.name} starts as 0{or_sibling}; bind it to anything else at run time")
         else:
             info.validate(initial, where)
@@ -473,6 +484,61 @@ class LateInitial:
     def op(self, record: FieldRecord) -> Callable[[Any], None]:
         """The operation that sets ``record`` in a new instance."""
         raise NotImplementedError
+
+
+class GlobalAddress(LateInitial):
+    """The initial value ``ADR(globalVar)`` of a POINTER: ``VAR(adr(GVL_Plant, "counter"))``.
+
+    ST: ``pCounter : POINTER TO DINT := ADR(counter);`` with ``counter`` in a
+    VAR_GLOBAL list. Every (re-)initialisation aims the pointer at the global
+    again; the declaration does not keep the list alive, and once the list is
+    gone the pointer starts dangling (using it is RTSEXCPT_ACCESS_VIOLATION).
+    """
+
+    __slots__ = ("handle", "offset", "gvl", "member", "text")
+
+    def __init__(self, pointer: Pointer[Any], info: PointerInfo, where: str) -> None:
+        root = target_root(pointer.handle)
+        if root is None or kind_of(type(root)) is not Kind.GVL:
+            what = "deleted memory" if root is None else f"a {type(root).__name__} instance"
+            raise DefinitionError(
+                f"{where}: {info.name} starts as 0, or as adr_of(member) of a variable beside it, or as "
+                f"adr(GVL, member) of a global variable; this address is into {what}: bind it at run time"
+            )
+        target = pointer._target
+        if info.target is not None and target is not None and target.signature != info.target.signature:
+            raise DefinitionError(
+                f"{where}: {info.name} cannot be initialised with the address of a {target.name}: the types must match"
+            )
+        self.handle = pointer.handle
+        self.offset = pointer.handle & _HANDLE_MASK
+        self.gvl = weakref.ref(root)
+        fields = getattr(type(root), "_iec_layout_").fields
+        #: the global variable designated (None for an address inside one, an array element say)
+        self.member: str | None = next((f.name for f in fields if f.offset == self.offset and (
+            target is None or f.info.signature == target.signature)), None)
+        name = type(root).__name__
+        self.text = f"adr({name}, {self.member!r})" if self.member else f"adr({name}) + {self.offset}"
+
+    def __repr__(self) -> str:
+        return self.text
+
+    def check(self, record: FieldRecord, layout: ClassLayout) -> None:
+        """Checked when made: nothing depends on the rest of the class."""
+
+    def op(self, record: FieldRecord) -> Callable[[Any], None]:
+        store, offset, where, target = record.info.store, record.offset, record.where, record.info
+        assert isinstance(target, PointerInfo)
+
+        def aim(obj: Any) -> None:
+            gvl = self.gvl()
+            if gvl is None:
+                # The list is gone: keep its old address, which faults when used instead of aiming anywhere.
+                store(obj, offset, Pointer(self.handle, target.target), where)
+            else:
+                store(obj, offset, Pointer(handle_of(gvl, self.offset), target.target, keep=gvl), where)
+
+        return aim
 
 
 def init_op(record: FieldRecord) -> Callable[[Any], None] | None:

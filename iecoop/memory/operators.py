@@ -249,12 +249,19 @@ def _count(n: int, what: str) -> int:
     return n
 
 
+def _fill_byte(value: int) -> int:
+    # ST's fillByte is a BYTE: a float, a BOOL or a wider number is a type error there, not a truncation.
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 0xFF:
+        raise TypeError(f"MEMSET: the fill value is a BYTE, an int 0..255; got {value!r} (nothing was written)")
+    return int(value)
+
+
 def memcpy(dest: Pointer[Any], src: Pointer[Any], n: int) -> int:
     """``MEMCPY(destAddr, srcAddr, n)``: copy n bytes, both ranges checked; returns n."""
     _count(n, "MEMCPY")
+    target, source = _handle(dest, "MEMCPY destination"), _handle(src, "MEMCPY source")
     if n == 0:
         return 0
-    target, source = _handle(dest, "MEMCPY destination"), _handle(src, "MEMCPY source")
     # The roots stay referenced and the table locked until the copy ends: no thread can free
     # or delete either block between the check and the C call.
     with table_lock:
@@ -267,11 +274,11 @@ def memcpy(dest: Pointer[Any], src: Pointer[Any], n: int) -> int:
 
 
 def memset(dest: Pointer[Any], value: int, n: int) -> int:
-    """``MEMSET(destAddr, fillByte, n)``: fill n bytes with ``value``; returns n."""
+    """``MEMSET(destAddr, fillByte, n)``: fill n bytes with the BYTE ``value`` (0..255); returns n."""
     _count(n, "MEMSET")
+    fill = _fill_byte(value)
+    target = _handle(dest, "MEMSET destination")
     if n:
-        target = _handle(dest, "MEMSET destination")
-        fill = int(value) & 0xFF
         with table_lock:
             block, offset = resolve(target, n, "MEMSET destination")
             ctypes.memset(ctypes.addressof(block) + offset, fill, n)
@@ -281,9 +288,9 @@ def memset(dest: Pointer[Any], value: int, n: int) -> int:
 def memcmp(a: Pointer[Any], b: Pointer[Any], n: int) -> int:
     """``MEMCMP(pBuf1, pBuf2, n)``: 0 when equal, 1 when the first differing byte of a is greater, else -1."""
     _count(n, "MEMCMP")
+    first, second = _handle(a, "MEMCMP first buffer"), _handle(b, "MEMCMP second buffer")
     if n == 0:
         return 0
-    first, second = _handle(a, "MEMCMP first buffer"), _handle(b, "MEMCMP second buffer")
     with table_lock:
         left_block, left_offset = resolve(first, n, "MEMCMP first buffer")
         right_block, right_offset = resolve(second, n, "MEMCMP second buffer")

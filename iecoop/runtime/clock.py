@@ -12,6 +12,12 @@ a module-level ``VirtualClock``, so a unit test drives timers by advancing it.
 ``WallClock``        ``time.monotonic_ns()`` relative to its creation
 ===================  ==========================================================
 
+Apart from the task clock, a runtime has a *wall*: what it paces real-time
+cycles by and measures each cycle's execution time with (``TaskInfo``'s
+``LastExecTime``, the watchdog). ``SystemWall`` is the machine's clock;
+``ManualWall`` is a wall a test moves by hand, so real-time behaviour (jitter,
+overruns, skipped cycles) is checked exactly, whatever the machine's load.
+
 A ``WallClock`` is read at every call, so two timers of one cycle can see
 different instants; a runtime that wants the PLC's one instant per cycle
 installs a ``VirtualClock`` and sets it from the wall clock at the cycle start.
@@ -44,8 +50,8 @@ import time
 from types import TracebackType
 
 __all__ = [
-    "Clock", "VirtualClock", "WallClock", "current_clock", "default_clock", "now_ms", "task_clock",
-    "use_clock",
+    "Clock", "ManualWall", "SystemWall", "VirtualClock", "Wall", "WallClock", "current_clock", "default_clock",
+    "now_ms", "task_clock", "use_clock",
 ]
 
 
@@ -115,6 +121,85 @@ class WallClock(Clock):
 
     def __repr__(self) -> str:
         return f"<WallClock {self.now_ns()} ns>"
+
+
+class Wall(abc.ABC):
+    """The time a runtime paces real-time cycles by and measures cycle execution with.
+
+    ``now_ns()`` never decreases; ``sleep(ns)`` returns when ``now_ns()`` has
+    moved at least ``ns`` on (as far as the wall can promise it).
+    """
+
+    __slots__ = ()
+
+    @abc.abstractmethod
+    def now_ns(self) -> int:
+        """The current wall time in nanoseconds (any origin)."""
+
+    @abc.abstractmethod
+    def sleep(self, ns: int) -> None:
+        """Wait ``ns`` nanoseconds."""
+
+
+class SystemWall(Wall):
+    """The machine's clock: ``time.perf_counter_ns()`` and ``time.sleep`` (a runtime's default wall)."""
+
+    __slots__ = ()
+
+    def now_ns(self) -> int:
+        return time.perf_counter_ns()
+
+    def sleep(self, ns: int) -> None:
+        time.sleep(ns / 1e9)
+
+
+class ManualWall(Wall):
+    """A wall that moves only when told to: real-time runs checked exactly, on any machine.
+
+    ``sleep(ns)`` moves it ``ns`` on at once (and records the wait in
+    ``sleeps``); a program body stands for its execution time with
+    ``advance(ns)``.
+
+    >>> from iecoop import DINT, Program, T, VAR
+    >>> from iecoop.runtime import Runtime, Task
+    >>> wall = ManualWall()
+    >>> class Slow(Program):
+    ...     n: DINT = VAR()
+    ...     def body(self) -> None:
+    ...         self.n += 1
+    ...         wall.advance(T("15ms") * 1_000_000)   # this cycle executes for 15 ms
+    >>> rt = Runtime(store=":memory:", wall=wall)
+    >>> rt.add_task(Task("PlcTask", interval=T("10ms")), Slow())
+    >>> rt.run(cycles=4, realtime=True)
+    >>> info = rt.tasks[0].info
+    >>> info.CycleCount, info.SkippedCycles, info.ExceedCounter, info.JitterMax
+    (3, 1, 4, 50000)
+    """
+
+    __slots__ = ("_ns", "sleeps")
+
+    def __init__(self, start_ns: int = 0) -> None:
+        if start_ns < 0:
+            raise ValueError(f"ManualWall: time starts at 0, got {start_ns} ns")
+        self._ns = start_ns
+        #: every wait asked of the wall, in ns, in order
+        self.sleeps: list[int] = []
+
+    def now_ns(self) -> int:
+        return self._ns
+
+    def advance(self, ns: int) -> None:
+        """Move the wall ``ns`` nanoseconds on (the time a body's work takes)."""
+        if ns < 0:
+            raise ValueError(f"ManualWall.advance: time cannot go backwards ({ns} ns)")
+        self._ns += ns
+
+    def sleep(self, ns: int) -> None:
+        self.sleeps.append(ns)
+        self.advance(max(0, ns))
+
+    def __repr__(self) -> str:
+        return f"<ManualWall {self._ns} ns>"
 
 
 _DEFAULT = VirtualClock()

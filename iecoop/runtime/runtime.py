@@ -3,8 +3,9 @@
 A ``Runtime`` holds tasks; each task calls its programs in order every cycle.
 Virtual time is the default: the clock jumps from one task tick to the next,
 so timing logic is exact, deterministic and runs as fast as the CPU allows.
-``realtime=True`` paces the cycles by the wall clock and counts jitter and
-overruns.
+``realtime=True`` paces the cycles by the wall clock and counts jitter,
+overruns and skipped cycles. A task's watchdog stops a cycle that runs too
+long, in either mode.
 
 At each tick the due tasks run in priority order (0 is the highest). At the
 end of every tick the RETAIN image is captured into the store; PERSISTENT
@@ -38,6 +39,7 @@ import time
 import traceback
 import typing
 import warnings
+import weakref
 from pathlib import Path
 from collections.abc import Callable
 from typing import Any, Literal
@@ -48,12 +50,13 @@ from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
 from iecoop.memory.allocations import allocation_for_handle, free, handle_of, registered_allocation, resolve
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
-from iecoop.runtime.clock import VirtualClock, use_clock
+from iecoop.runtime.clock import SystemWall, VirtualClock, Wall, use_clock
 from iecoop.runtime.store import ImageLayout, RemanentStore
 from iecoop.runtime.variables import (
     PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
     translate_offset,
 )
+from iecoop.runtime.watchdog import Watchdog, WatchdogInterrupt
 from iecoop.metadata import Kind, kind_of
 
 __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
@@ -63,7 +66,13 @@ __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
 class TaskInfo:
     """What the PLC reports about a task (TwinCAT ``_TaskInfo`` / ``PlcTaskSystemInfo``).
 
-    Times are in 100 ns units, as TwinCAT reports them.
+    Times are in 100 ns units, as TwinCAT reports them. ``ExceedCounter``
+    counts the cycles that were not on time: every cycle that executed longer
+    than the task's interval, and (in real time) every cycle that never ran
+    because the task was still busy or the runtime started late, which are
+    also counted alone in ``SkippedCycles``. ``CycleTimeExceeded`` says
+    whether the last cycle ran longer than the interval or came after skipped
+    ones.
     """
 
     TaskName: str
@@ -77,13 +86,20 @@ class TaskInfo:
     MaxExecTime: int = 0
     JitterMax: int = 0
     WatchdogHits: int = 0
+    SkippedCycles: int = 0
 
 
 class Task:
     """A cyclic task: ``Task("PlcTask", interval=T("10ms"), priority=20)``.
 
-    ``watchdog`` (a TIME) with ``sensitivity`` raises RTSEXCPT_WATCHDOG when
-    that many consecutive cycles run longer than the watchdog time.
+    ``watchdog`` (a TIME) with ``sensitivity`` faults the task with
+    RTSEXCPT_WATCHDOG when ``sensitivity`` consecutive cycles execute longer
+    than the watchdog time, and stops a running cycle that reaches that
+    fault: one that has run ``watchdog × sensitivity`` (CODESYS's single
+    timeout rule; TwinCAT's sensitivity 1: the watchdog time), or the
+    watchdog time when the cycles before it already overran
+    ``sensitivity - 1`` times. Execution time is wall time, in real and
+    virtual time alike.
     """
 
     def __init__(
@@ -111,6 +127,8 @@ class Task:
         self._steps: list[typing.Callable[[], object]] = []
         self.info = TaskInfo(name, interval * 10_000, priority)
         self._overruns = 0
+        #: ticks of this task were skipped since its last cycle (the next one is late)
+        self._late = False
 
     def __repr__(self) -> str:
         return f"<Task {self.name} {self.interval} ms prio {self.priority}>"
@@ -208,6 +226,8 @@ class Runtime:
     A Runtime runs in one thread at a time; its clock and profile are
     installed in the thread running it, so runtimes in different threads are
     independent. Its store is locked while open: one Runtime per store.
+    ``wall`` is what real time is paced by and execution measured with
+    (default ``SystemWall()``; a test passes a ``ManualWall``).
 
     The application is the programs on its tasks plus the process's global
     data: every GVL (``@gvl``) and every VAR_STAT block. Resets re-initialise
@@ -221,7 +241,15 @@ class Runtime:
         profile: str | Profile = "twincat",
         *,
         durability: Literal["process", "power"] = "process",
+        wall: Wall | None = None,
     ) -> None:
+        if wall is not None and not isinstance(wall, Wall):
+            raise TypeError(f"Runtime: wall must be a Wall (SystemWall, ManualWall), got {type(wall).__name__}")
+        #: what real-time cycles are paced by and execution times measured with (``ManualWall`` in tests)
+        self.wall: Wall = SystemWall() if wall is None else wall
+        # The machine's clock is read directly: no method call per cycle for it.
+        self._now: Callable[[], int] = time.perf_counter_ns if type(self.wall) is SystemWall else self.wall.now_ns
+        self._watchdog: Watchdog | None = None
         self.profile = get_profile(profile)
         self.tasks: list[Task] = []
         self._entries: list[_Entry] = []
@@ -325,12 +353,18 @@ class Runtime:
         priority order; the task clock (what TON / TOF / TP read) is the
         cycle's start.
 
-        ``realtime=True`` paces the ticks by the wall clock: a cycle never
-        starts before its tick, the lateness is the task's jitter
+        ``realtime=True`` paces the ticks by the runtime's ``wall``: a cycle
+        never starts before its tick, the lateness is the task's jitter
         (``TaskInfo.JitterMax``) and is part of the task clock, and a cycle
-        that overruns makes the PLC skip the ticks it missed rather than run
-        them back to back (``CycleTimeExceeded`` / ``ExceedCounter`` count the
-        overruns). Tasks run one after the other in the calling thread.
+        that starts a whole tick late or more (an overrun before it, a busy
+        machine) makes the PLC skip the ticks it missed rather than run them
+        back to back: each task's cycles on those ticks are counted in
+        ``SkippedCycles`` and ``ExceedCounter`` and set ``CycleTimeExceeded``.
+        Tasks run one after the other in the calling thread.
+
+        A task with a ``watchdog`` is watched by a thread of the runtime that
+        stops a cycle running too long (see ``Task``), in real and virtual
+        time: the task faults with RTSEXCPT_WATCHDOG and ``run()`` raises it.
 
         A Runtime runs in one thread at a time: ``run()`` from a second thread
         while it runs, or from inside a cycle (a body calling ``rt.run()``),
@@ -357,7 +391,8 @@ class Runtime:
             self._start()
         tick_ns = tick_ms * 1_000_000
         end_tick = self._tick + cycles
-        wall_start = time.monotonic_ns()
+        wall = self.wall
+        wall_start = wall.now_ns()
         first_tick = self._tick
         with use_profile(self.profile), use_clock(self._clock):
             while self._tick < end_tick:
@@ -365,14 +400,16 @@ class Runtime:
                 jitter = 0
                 if realtime:
                     planned = wall_start + (self._tick - first_tick) * tick_ns
-                    delay = planned - time.monotonic_ns()
+                    delay = planned - wall.now_ns()
                     if delay > 0:
-                        time.sleep(delay / 1e9)
-                    late = time.monotonic_ns() - planned
+                        wall.sleep(delay)
+                    late = wall.now_ns() - planned
                     if late >= tick_ns:
-                        # An overrun: like the PLC, start at the next tick boundary
-                        # instead of running the missed cycles back to back.
-                        self._tick = min(self._tick + late // tick_ns, end_tick)
+                        # Late by a tick or more: like the PLC, start at the next tick boundary
+                        # instead of running the missed cycles back to back, and count them.
+                        resume = min(self._tick + late // tick_ns, end_tick)
+                        self._skip(self._tick, resume, tick_ms)
+                        self._tick = resume
                         continue
                     jitter = max(0, late)
                 # The task clock is the cycle's start, so every timer in the cycle
@@ -388,51 +425,108 @@ class Runtime:
             self.time_ns = self._tick * tick_ns
             self._clock.set(self.time_ns)
 
+    def _skip(self, first: int, resume: int, tick_ms: int) -> None:
+        """Count, per task, its cycles on the base ticks ``first`` .. ``resume - 1`` that will never run."""
+        for task in self.tasks:
+            every = task.interval // tick_ms
+            # the multiples of ``every`` in [first, resume)
+            missed = (resume - 1) // every - (first - 1) // every
+            if missed:
+                info = task.info
+                info.SkippedCycles += missed
+                info.ExceedCounter += missed
+                info.CycleTimeExceeded = True
+                task._late = True
+
     def _run_tick(self, tick_ms: int, jitter: int) -> None:
         now_ms = self._tick * tick_ms
+        now = self._now
         for task in self.tasks:
             if now_ms % task.interval:
                 continue
             info = task.info
             info.JitterMax = max(info.JitterMax, jitter // 100)
             info.FirstCycle = info.CycleCount == 0
-            started = time.perf_counter_ns()
+            interrupt: WatchdogInterrupt | None = None
+            started = now()
             token = _current.set(task)
             try:
-                for step in task._steps:
-                    step()
+                if task.watchdog is None:
+                    for step in task._steps:
+                        step()
+                else:
+                    interrupt = self._watched_steps(task)
             except BaseException as exc:
                 if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                     raise
                 self._enter_fault(task, exc)
             finally:
                 _current.reset(token)
-            elapsed = time.perf_counter_ns() - started
+            elapsed = now() - started
             cycle = info.CycleCount
             info.LastExecTime = elapsed // 100
             info.MaxExecTime = max(info.MaxExecTime, info.LastExecTime)
             info.CycleCount += 1
             exceeded = elapsed > task.interval * 1_000_000
-            info.CycleTimeExceeded = exceeded
+            info.CycleTimeExceeded = exceeded or task._late
+            task._late = False
             if exceeded:
                 info.ExceedCounter += 1
             if task.watchdog is not None:
-                if elapsed > task.watchdog * 1_000_000:
-                    task._overruns += 1
-                    if task._overruns >= task.sensitivity:
-                        info.WatchdogHits += 1
-                        self._enter_fault(
-                            task,
-                            PlcException(
-                                ExceptionCode.RTSEXCPT_WATCHDOG,
-                                f"task {task.name}: cycle {cycle} took {elapsed / 1e6:.3f} ms, "
-                                f"watchdog {task.watchdog} ms",
-                            ),
-                            cycle,
-                        )
-                else:
-                    task._overruns = 0
+                self._check_watchdog(task, cycle, elapsed, interrupt)
         self._capture_retain()
+
+    def _watched_steps(self, task: Task) -> WatchdogInterrupt | None:
+        """Run ``task``'s programs under the watchdog; the interrupt if it stopped them (or fired in them)."""
+        watchdog = self._watchdog
+        if watchdog is None:
+            watchdog = self._watchdog = Watchdog(self.wall)
+            # The thread ends with the runtime, also when nobody calls stop().
+            weakref.finalize(self, watchdog.close)
+        assert task.watchdog is not None
+        cycle = watchdog.begin(task.watchdog * 1_000_000 * (task.sensitivity - task._overruns))
+        interrupt: WatchdogInterrupt | None = None
+        try:
+            for step in task._steps:
+                step()
+        except WatchdogInterrupt as exc:
+            interrupt = exc
+        finally:
+            # CPython delivers the interrupt at calls and loops only: from this store on the thread
+            # fires no more, the one delivery still possible lands inside the ``try`` below, and
+            # ``end`` cancels it if it is still pending. An interrupt lands in its cycle or nowhere.
+            cycle.ended = True
+            while True:
+                try:
+                    fired = watchdog.end(cycle)
+                    break
+                except WatchdogInterrupt as exc:
+                    interrupt = exc
+        if fired and interrupt is None:
+            # A body that caught the interrupt and ended anyway: the watchdog stopped it all the same.
+            interrupt = WatchdogInterrupt()
+        return interrupt
+
+    def _check_watchdog(self, task: Task, cycle: int, elapsed: int, interrupt: WatchdogInterrupt | None) -> None:
+        """Fault ``task`` if its watchdog stopped the cycle or ``sensitivity`` cycles in a row overran it."""
+        assert task.watchdog is not None
+        if interrupt is None and elapsed <= task.watchdog * 1_000_000:
+            task._overruns = 0
+            return
+        task._overruns += 1
+        if interrupt is None and task._overruns < task.sensitivity:
+            return
+        task.info.WatchdogHits += 1
+        limit = f"watchdog {task.watchdog} ms"
+        if task.sensitivity > 1:
+            limit += f", sensitivity {task.sensitivity}"
+        done = "took" if interrupt is None else "stopped by the watchdog after"
+        fault = PlcException(
+            ExceptionCode.RTSEXCPT_WATCHDOG, f"task {task.name}: cycle {cycle} {done} {elapsed / 1e6:.3f} ms, {limit}"
+        )
+        # The interrupt's traceback shows where the cycle was when it was stopped.
+        fault.__cause__ = interrupt
+        self._enter_fault(task, fault, cycle)
 
     def _enter_fault(self, task: Task, exc: BaseException, cycle: int | None = None) -> typing.NoReturn:
         code = _fault_code(exc)
@@ -570,7 +664,7 @@ class Runtime:
             store.write_persistent(layout, self._gather(blocks))
 
     def stop(self) -> None:
-        """Orderly shutdown: write PERSISTENT data, run FB_exit, close the store.
+        """Orderly shutdown: end the watchdog thread, write PERSISTENT data, run FB_exit, close the store.
 
         A second ``stop()`` does nothing; every other operation after it
         raises RuntimeError.
@@ -578,6 +672,8 @@ class Runtime:
         if self._stopped:
             return
         with self._exclusive("stop"):
+            if self._watchdog is not None:
+                self._watchdog.close()
             self.save_persistent()
             try:
                 with use_profile(self.profile), use_clock(self._clock):

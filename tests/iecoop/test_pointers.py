@@ -23,10 +23,12 @@ from hypothesis import strategies as st
 from hypothesis.stateful import Bundle, MultipleResults, RuleBasedStateMachine, initialize, invariant, multiple, rule
 
 from iecoop import (
-    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, PlcException,
-    DefinitionError, Pointer, Struct, adr, adr_of, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
+    ARRAY, DINT, INT, LREAL, NULL, POINTER_TO, REFERENCE_TO, STRING, TYPE_CLASS, VAR, ExceptionCode, FunctionBlock,
+    GlobalVariables, PlcException, Program, DefinitionError, Pointer, Struct, T, adr, adr_of, gvl, is_valid_ref, memcmp,
+    memcpy, memset, ref_assign, sizeof, var_info,
 )
 from iecoop.memory._core import allocation_of, free
+from iecoop.runtime import Runtime, Task
 from iecoop.testing.strategies import ANY_INTS, LATIN_1
 
 AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
@@ -496,6 +498,60 @@ def test_memory_operators_reject_bad_arguments() -> None:
         memcpy(cell, adr(cell), 2)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"MEMSET: the byte count"):
         memset(adr(cell), 0, True)
+    with pytest.raises(TypeError, match=r"MEMCMP second buffer needs a pointer from adr\(\.\.\.\), got int"):
+        memcmp(adr(cell), 0, 0)  # type: ignore[arg-type]  # checked even for 0 bytes
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    fill=st.one_of(st.integers(-300, 600), st.floats(allow_nan=True), st.booleans(), st.none(), st.text(max_size=2)),
+    n=st.one_of(st.integers(-4, CELL_SIZE + 4), st.booleans(), st.floats(0, 8)),
+    offset=st.integers(0, CELL_SIZE),
+)
+def test_memset_writes_a_byte_in_bounds_or_nothing(fill: Any, n: Any, offset: int) -> None:
+    cell = Cell()
+    before = raw(cell)
+    target = adr(cell) + offset
+    good_n = isinstance(n, int) and not isinstance(n, bool) and n >= 0
+    good_fill = isinstance(fill, int) and not isinstance(fill, bool) and 0 <= fill <= 255
+    if not good_n:
+        with pytest.raises(TypeError, match=r"MEMSET: the byte count must be a non-negative integer"):
+            memset(target, fill, n)
+    elif not good_fill:
+        with pytest.raises(TypeError, match=r"MEMSET: the fill value is a BYTE, an int 0\.\.255"):
+            memset(target, fill, n)
+    elif n and offset + n > CELL_SIZE:
+        with raises_plc(AV, r"MEMSET destination: .* lies outside its"):
+            memset(target, fill, n)
+    else:
+        assert memset(target, fill, n) == n
+        expected = before[:offset] + bytes([fill]) * n + before[offset + n:]
+        assert raw(cell) == expected
+        return
+    assert raw(cell) == before  # a refused MEMSET writes nothing
+
+
+@settings(max_examples=150, deadline=None)
+@given(n=st.integers(-2, CELL_SIZE + 4), at=st.integers(0, CELL_SIZE), frm=st.integers(0, CELL_SIZE))
+def test_memcpy_and_memcmp_stay_inside_both_blocks(n: int, at: int, frm: int) -> None:
+    source, target = Cell(a=3, b=4, name="x"), Cell()
+    before = raw(target)
+    if n < 0:
+        for op in (memcpy, memcmp):
+            with pytest.raises(TypeError, match="the byte count must be a non-negative integer"):
+                op(adr(target) + at, adr(source) + frm, n)
+        return
+    if n and max(at, frm) + n > CELL_SIZE:
+        with raises_plc(AV, r"lies outside its"):
+            memcpy(adr(target) + at, adr(source) + frm, n)
+        with raises_plc(AV, r"MEMCMP .* lies outside its"):
+            memcmp(adr(target) + at, adr(source) + frm, n)
+        assert raw(target) == before
+        return
+    left, right = raw(target)[at:at + n], raw(source)[frm:frm + n]
+    assert memcmp(adr(target) + at, adr(source) + frm, n) == (left > right) - (left < right)
+    assert memcpy(adr(target) + at, adr(source) + frm, n) == n
+    assert raw(target)[at:at + n] == raw(source)[frm:frm + n]
 
 
 def test_memcpy_copies_pointers_and_references_as_handles() -> None:
@@ -517,7 +573,7 @@ def test_memset_fills_bytes() -> None:
     cell = Cell()
     assert memset(adr(cell, "arr"), 0xFF, 4 * sizeof(INT)) == 8
     assert list(cell.arr) == [-1, -1, -1, -1]
-    memset(adr(cell, "arr", 2), 0x1_01, 2)  # only the low byte of the fill value counts
+    memset(adr(cell, "arr", 2), 0x01, 2)
     assert cell.arr[2] == 0x0101
     memset(adr(cell, "name"), ord("A"), 3)
     assert cell.name == "AAA"
@@ -940,13 +996,13 @@ class MemoryMachine(RuleBasedStateMachine):
             chunk = bytes(source_ref.block.memory[source_ref.offset : source_ref.offset + n])
             target_ref.block.memory[target_ref.offset : target_ref.offset + n] = chunk
 
-    @rule(ref=pointers, fill=st.integers(-300, 600), n=COUNTS)
+    @rule(ref=pointers, fill=st.integers(0, 255), n=COUNTS)
     def fill(self, ref: Ref, fill: int, n: int) -> None:
         valid = n == 0 or ref.valid(n)
         expect(valid)(lambda: memset(ref.pointer, fill, n))
         if valid and n:
             assert ref.block is not None
-            ref.block.memory[ref.offset : ref.offset + n] = bytes([fill & 0xFF]) * n
+            ref.block.memory[ref.offset : ref.offset + n] = bytes([fill]) * n
 
     @rule(left=pointers, right=pointers, n=COUNTS)
     def compare_memory(self, left: Ref, right: Ref, n: int) -> None:
@@ -1178,3 +1234,102 @@ def test_an_instance_whose_pointer_points_into_itself_is_collected() -> None:
 def test_a_sibling_address_initial_value_is_checked_at_definition(declaration: str, message: str) -> None:
     with pytest.raises(DefinitionError, match=message):
         exec(f"class Bad(Struct):\n    value: INT = 0\n    {declaration}\n", globals())
+
+
+# ---------------------------------------------------------------------------
+# A POINTER initialised with the address of a global: p : POINTER TO DINT := ADR(foo);
+# ---------------------------------------------------------------------------
+
+
+@gvl
+class GVL_PointerTargets(GlobalVariables):
+    foo: DINT = 7
+    ratio: LREAL = 0.5
+
+
+class PointsAtGlobal(Struct):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+
+
+class BlockPointsAtGlobal(FunctionBlock):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+
+    def body(self) -> None:
+        self.p.deref += 1
+
+
+class ProgramPointsAtGlobal(Program):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "foo"))
+    block: BlockPointsAtGlobal = VAR()
+
+    def body(self) -> None:
+        self.p.deref += 10
+        self.block()
+
+
+def test_a_pointer_starts_aimed_at_a_global_in_a_struct_block_and_program() -> None:
+    GVL_PointerTargets.foo = 7
+    assert PointsAtGlobal().p.deref == 7 and PointsAtGlobal().p == adr(GVL_PointerTargets, "foo")
+    main = ProgramPointsAtGlobal()
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms")), main)
+    rt.run(cycles=2)
+    assert GVL_PointerTargets.foo == 7 + 2 * 11  # both pointers write the global
+    memset(adr(main, "p"), 0, sizeof(main, "p"))  # aimed elsewhere at run time ...
+    assert not main.p
+    rt.reset_cold()
+    assert main.p == adr(GVL_PointerTargets, "foo")  # ... and at the global again after a re-initialisation
+    rt.stop()
+
+
+@gvl
+class GVL_Transient(GlobalVariables):
+    value: DINT = 1
+
+
+class HoldsTransient(Struct):
+    p: POINTER_TO[DINT] = VAR(adr(GVL_Transient, "value"))
+
+
+def test_a_pointer_to_a_global_list_that_is_gone_faults_when_used() -> None:
+    global GVL_Transient
+    value = HoldsTransient().p.deref
+    assert value == 1
+    del GVL_Transient  # the list goes (a module unloaded): the declaration does not keep it
+    gc.collect()
+    with raises_plc(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "deleted or no longer exists"):
+        HoldsTransient().p.deref
+
+
+def test_a_pointer_initialiser_must_be_a_global_of_the_pointed_type() -> None:
+    with pytest.raises(DefinitionError, match=r"Wrong\.p: POINTER TO DINT cannot be initialised with the address of a LREAL"):
+        class Wrong(Struct):
+            p: POINTER_TO[DINT] = VAR(adr(GVL_PointerTargets, "ratio"))
+    local = Cell()
+    with pytest.raises(DefinitionError, match=r"Local\.p: POINTER TO INT starts as 0, .*adr\(GVL, member\) of a "
+                                              r"global variable; this address is into a Cell instance"):
+        class Local(Struct):
+            p: POINTER_TO[INT] = VAR(adr(local, "a"))
+
+
+def test_st_load_reads_a_pointer_initialised_with_the_address_of_a_global() -> None:
+    from iecoop import st
+
+    module = st.load(
+        """
+        VAR_GLOBAL
+            globalFoo : DINT := 7;
+        END_VAR
+        PROGRAM PRG_Reader
+        VAR
+            p : POINTER TO DINT := ADR(globalFoo);
+            n : DINT;
+        END_VAR
+        n := p^;
+        p^ := n + 1;
+        END_PROGRAM
+        """
+    )
+    reader = module.PRG_Reader
+    reader()
+    assert reader.n == 7 and module.GVL.globalFoo == 8
