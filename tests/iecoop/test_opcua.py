@@ -301,6 +301,10 @@ def test_reads_never_see_half_a_cycle(opc: Any) -> None:
 
     reader = asyncio.run_coroutine_threadsafe(sample(), client.loop)
     rt.run(cycles=30, realtime=True)  # 300 ms while the client reads as fast as it can
+    for _ in range(300):  # a busy machine serves fewer reads: run on (at most 30 s) until enough came
+        if len(samples) > 10 and len({tuple(s) for s in samples}) > 5:
+            break
+        rt.run(cycles=10, realtime=True)
     stop.set()
     reader.result(TIMEOUT)
     assert len(samples) > 10
@@ -462,10 +466,16 @@ def test_the_plc_runs_in_real_time_in_the_callers_thread_while_a_client_writes(o
     writer.start()
     began = time.monotonic()
     rt.run(cycles=20, realtime=True)
+    assert time.monotonic() - began >= 0.19  # paced: 20 cycles of 10 ms take at least 190 ms
+    for _ in range(1000):  # a busy machine may deliver the write after those 20 cycles: run on until it lands
+        if MAIN.step == 3:
+            break
+        rt.run(cycles=5, realtime=True)
     writer.join(TIMEOUT)
-    assert time.monotonic() - began >= 0.19
     assert MAIN.step == 3 and MAIN.used == 3
-    assert MAIN.count > 20  # ones before the write, threes after it
+    before = MAIN.count
+    rt.run(cycles=2)
+    assert MAIN.count == before + 6  # the written step is what every later cycle counts by
 
 
 def listening(port: int) -> bool:

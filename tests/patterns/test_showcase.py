@@ -297,9 +297,9 @@ def test_the_tour_marks_the_deliberate_faults_as_expected(capsys: pytest.Capture
 
 
 def test_the_tour_runs_every_pattern_quickly_and_readably(capsys: pytest.CaptureFixture[str]) -> None:
-    started = time.perf_counter()
+    started = time.process_time()  # CPU time: what the tour costs, whatever else the machine runs
     status, out, err = run(capsys)
-    elapsed = time.perf_counter() - started
+    elapsed = time.process_time() - started
     assert status == 0 and err == ""
     toured = [entry for entry in entries() if entry.category in TOUR_CATEGORIES]
     assert len(toured) >= 28
@@ -434,19 +434,18 @@ def test_python_m_patterns_showcase() -> None:
 
 @pytest.mark.parametrize(
     "argv",
-    [["list"], ["run", "strategy", "--cycles", "10000000", "--every", "1"], ["show", "state"], []],
+    [["list"], ["run", "strategy", "--cycles", "1000000000", "--every", "1"], ["show", "state"], []],
     ids=["list", "long run", "show", "tour"],
 )
 def test_a_reader_that_stops_early_ends_the_command_quietly(argv: list[str]) -> None:
-    started = time.perf_counter()
     with subprocess.Popen([str(SCRIPT), *argv], stdout=subprocess.PIPE, stderr=subprocess.PIPE) as process:
         assert process.stdout is not None and process.stderr is not None
         first = process.stdout.readline()
         process.stdout.close()  # what head -1 does
-        status = process.wait(timeout=60)
+        # A billion cycles take hours: ending within the wait means they are not run for nobody.
+        status = process.wait(timeout=120)
         err = process.stderr.read().decode()
     assert first and status == 0 and err == ""
-    assert time.perf_counter() - started < 30  # the 10 million cycles are not run for nobody
 
 
 def test_into_a_pipe_the_rows_come_before_the_run_ends() -> None:
