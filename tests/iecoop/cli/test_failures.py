@@ -64,7 +64,7 @@ def test_st_run_of_a_translation_that_does_not_compile_exits_2(
     status, out, err = run(capsys, "st", "run", str(count))
     line = one_line(err)
     assert (status, out) == (2, "")
-    assert line.startswith(f"iecoop st run: {count}: ") and "does not compile" in line and "line 2" in line
+    assert line.startswith(f"iecoop st run: {count}: ") and "cannot run" in line and "line 2" in line
 
 
 def test_st2py_of_a_translation_that_does_not_compile_exits_2_and_prints_no_python(
