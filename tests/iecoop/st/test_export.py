@@ -20,7 +20,7 @@ from iecoop import (
 )
 from iecoop.conversions import MOD, TO_INT
 from iecoop.gvl import GlobalVariables, register_global_list
-from iecoop.st._emit_model import collect
+from iecoop.st.write.model import collect
 from iecoop.st.export import StExportError, dump, export
 from iecoop.stdlib import TON
 from patterns.showcase import catalogue

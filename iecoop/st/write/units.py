@@ -18,8 +18,8 @@ from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
-from iecoop.st._emit_model import (
+from iecoop.st.write.body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
+from iecoop.st.write.model import (
     LIFECYCLE,
     ClassMeta,
     FieldDecl,
@@ -442,7 +442,7 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         elif meta.kind == "gvl":
             found.append(_gvl_unit(meta))
         else:
-            from iecoop.st._emit_body import _fields_of
+            from iecoop.st.write.body import _fields_of
 
             scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions, named_enums)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))

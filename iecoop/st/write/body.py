@@ -39,7 +39,7 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.memory.pointers import PointerInfo
-from iecoop.st._emit_model import StExportError, annotation_info, function_parameters, ident, parameters, return_info, type_text
+from iecoop.st.write.model import StExportError, annotation_info, function_parameters, ident, parameters, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 
 __all__ = ["BodyWriter", "Scope", "literal"]
@@ -174,7 +174,7 @@ class Scope:
 
 def _fields_of(cls: Any) -> dict[str, TypeInfo]:
     """Every variable of a class (inherited ones, VAR_STAT and VAR_EXTERNAL included) by name."""
-    from iecoop.st._emit_model import metadata
+    from iecoop.st.write.model import metadata
 
     found: dict[str, TypeInfo] = {}
     for klass in reversed(getattr(cls, "__mro__", ())):
@@ -1415,7 +1415,7 @@ def _constant_int(node: ast.expr) -> int | None:
 
 def _in_out_names(cls: Any) -> frozenset[str]:
     """The VAR_IN_OUT variables of a block, inherited ones too."""
-    from iecoop.st._emit_model import metadata
+    from iecoop.st.write.model import metadata
 
     found: set[str] = set()
     for klass in getattr(cls, "__mro__", ()):

@@ -32,8 +32,8 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
-from iecoop.st._emit_decl import Part, Unit, initial_text, parameter_groups
-from iecoop.st._emit_model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
+from iecoop.st.write.units import Part, Unit, initial_text, parameter_groups
+from iecoop.st.write.model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
 
 __all__ = ["guid", "plcopen_project", "twincat_file"]
 
