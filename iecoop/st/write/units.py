@@ -18,7 +18,10 @@ from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st.write.body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
+from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
+from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
+from iecoop.st.write.infer import result_info as _result_info
+from iecoop.st.write.statements import BodyWriter
 from iecoop.st.write.model import (
     LIFECYCLE,
     ClassMeta,
@@ -38,6 +41,11 @@ from iecoop.st.write.model import (
 )
 
 __all__ = ["Part", "Unit", "passed_inputs", "units"]
+
+
+def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    """The result type a METHOD, PROPERTY or FUNCTION is written with (see :func:`.infer.result_info`)."""
+    return _result_info(func, where, owner, BodyWriter)
 
 _SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
 #: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
@@ -442,8 +450,6 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         elif meta.kind == "gvl":
             found.append(_gvl_unit(meta))
         else:
-            from iecoop.st.write.body import _fields_of
-
             scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions, named_enums)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
     done: set[str] = set()
