@@ -52,6 +52,53 @@ from iecoop.st.write.model import StExportError, ident, type_text
 
 __all__ = ["ExpressionWriter", "literal"]
 
+#: ST operator precedence, loosest first (parentheses are added where a child binds looser).
+_OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY, _ATOM = range(1, 10)
+
+#: The precedence of each ST binary operator.
+_PRECEDENCE = {"OR": _OR, "XOR": _XOR, "AND": _AND, "=": _EQ, "<>": _EQ, "<": _CMP, "<=": _CMP, ">": _CMP, ">=": _CMP,
+               "+": _ADD, "-": _ADD, "*": _MUL, "/": _MUL, "MOD": _MUL}
+
+#: Python's arithmetic and bit operators with an ST operator (``a += b`` takes these), by the ast class name.
+_BINARY_OPERATORS = {
+    "Add": "+", "Sub": "-", "Mult": "*", "Div": "/", "FloorDiv": "/", "Mod": "MOD", "BitAnd": "AND", "BitOr": "OR", "BitXor": "XOR",
+}
+
+#: Names that are ST words.
+_NAME_WORDS = {"self": "THIS^", "True": "TRUE", "False": "FALSE", "NULL": "0", "None": "0"}
+
+#: Python's comparisons and the ST operator of each (``is`` / ``is not`` compare with 0, NULL, in ST).
+_COMPARE: dict[type, tuple[str, int]] = {
+    ast.Eq: ("=", _EQ), ast.NotEq: ("<>", _EQ), ast.Lt: ("<", _CMP), ast.LtE: ("<=", _CMP),
+    ast.Gt: (">", _CMP), ast.GtE: (">=", _CMP), ast.Is: ("=", _EQ), ast.IsNot: ("<>", _EQ),
+}
+
+_BinaryHandler = Callable[["ExpressionWriter", ast.BinOp, ast.AST], "tuple[str, int]"]
+
+
+def _make_binop(symbol: str) -> _BinaryHandler:
+    """The handler of a Python operator written as the ST operator ``symbol``: ``visit_Add = _make_binop("+")``."""
+
+    def visit(self: ExpressionWriter, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
+        return self.binary(node, symbol)
+
+    return visit
+
+
+def _make_call_operator(function: str) -> _BinaryHandler:
+    """The handler of a Python operator written as an ST function of both operands (``a ** b``: ``EXPT(a, b)``)."""
+
+    def visit(self: ExpressionWriter, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
+        left = self.expr(node.left)[0]
+        if function in ("SHL", "SHR"):
+            value = _constant_int(node.left)
+            # SHL's result has its operand's width: a literal needs one (Python's integers have none).
+            left = f"DWORD#{value}" if value is not None and 0 <= value < 2**32 else left
+        return f"{function}({left}, {self.expr(node.right)[0]})", _ATOM
+
+    return visit
+
+
 class ExpressionWriter(Inference):
     """The ST text of the expressions of one body, and the locals and temporaries they need."""
 
@@ -73,6 +120,16 @@ class ExpressionWriter(Inference):
         if name.lower() in {f.lower() for f in self.fields} and name not in self.params and self.func.__name__ == "body":
             self.temp_name(name)
         self.locals[name] = info
+
+    def declare_once(self, name: str, info: TypeInfo, node: ast.AST) -> None:
+        """Declare the local ``name`` unless it is one already (a local or an input)."""
+        if name not in self.locals and name not in self.params:
+            self.declare(name, info, node)
+
+    def fresh_name(self, stem: str) -> str:
+        """``stem``, ``stem1``, ...: the first that names no local, input or variable yet."""
+        taken = {*self.locals, *self.params, *self.fields}
+        return next(f"{stem}{n or ''}" for n in range(100) if f"{stem}{n or ''}" not in taken)
 
     def temp_name(self, name: str) -> str:
         """The VAR_TEMP name of the body's local ``name``, which a variable of the block already has.
@@ -101,15 +158,88 @@ class ExpressionWriter(Inference):
         return self.rename.get(name) or self.temp_names.get(name) or ident(name)
 
     def expr(self, node: ast.expr, need: int = 0) -> tuple[str, int]:
-        text, prec = self._expr(node)
+        """ST text of an expression and its precedence, in parentheses where it binds looser than ``need``."""
+        text, prec = self.visit(node)
         return (_paren(text, prec, need), _ATOM if prec < need else prec)
 
-    def _expr(self, node: ast.expr) -> tuple[str, int]:
-        """ST text of an expression and its precedence, by the rule for its node type (_EXPR_RULES)."""
-        rule = _EXPR_RULES.get(type(node))
-        if rule is None:
-            self.fail(node, _describe(node))
-        return rule(self, node)
+    def visit(self, node: ast.AST, *args: Any) -> Any:
+        """Write ``node`` by its handler ``visit_<ast class name>`` (as :class:`ast.NodeVisitor` does)."""
+        handler = getattr(self, f"visit_{type(node).__name__}", self.generic_visit)
+        return handler(node, *args)
+
+    def generic_visit(self, node: ast.AST, *args: Any) -> typing.NoReturn:
+        """A construct without a handler has no ST form: StExportError naming the file, the line and the
+        construct, or, when lenient, an ST comment that says the same (see :meth:`StatementWriter.block`)."""
+        self.fail(node, _describe(node))
+
+    # -- one handler per expression: visit_<ast class name>(node) -> (text, precedence) ------------------
+
+    def visit_Constant(self, node: ast.Constant) -> tuple[str, int]:
+        """``3``, ``'text'``, ``True``, ``None``: the ST literal (None is 0)."""
+        if isinstance(node.value, (bool, int, float, str)) or node.value is None:
+            return literal(node.value), _ATOM
+        self.fail(node, f"the constant {node.value!r}")
+
+    def visit_Name(self, node: ast.Name) -> tuple[str, int]:
+        return self.name(node), _ATOM
+
+    def visit_Attribute(self, node: ast.Attribute) -> tuple[str, int]:
+        return self.attribute(node), _ATOM
+
+    def visit_Subscript(self, node: ast.Subscript) -> tuple[str, int]:
+        """``a[i, j]``: ``a[i, j]`` (a slice has no ST form)."""
+        base = self.expr(node.value, _ATOM)[0]
+        index = node.slice
+        parts = index.elts if isinstance(index, ast.Tuple) else [index]
+        if any(isinstance(p, ast.Slice) for p in parts):
+            self.fail(node, "a slice")
+        return f"{base}[{', '.join(self.expr(p)[0] for p in parts)}]", _ATOM
+
+    def visit_Call(self, node: ast.Call) -> tuple[str, int]:
+        return self.call(node)
+
+    def visit_JoinedStr(self, node: ast.JoinedStr) -> tuple[str, int]:
+        return self.fstring(node), _ATOM
+
+    def visit_IfExp(self, node: ast.IfExp) -> tuple[str, int]:
+        """``b if c else a``: ``SEL(c, a, b)`` (SEL gives its first value when the condition is FALSE)."""
+        cond = self.condition(node.test)
+        return f"SEL({cond}, {self.expr(node.orelse)[0]}, {self.expr(node.body)[0]})", _ATOM
+
+    def visit_BoolOp(self, node: ast.BoolOp) -> tuple[str, int]:
+        """``a and b`` / ``a or b``: AND / OR, or AND_THEN / OR_ELSE where a later operand may act."""
+        word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
+        if any(self.may_act(v) for v in node.values[1:]):
+            # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
+            # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
+            word += "_THEN" if word == "AND" else "_ELSE"
+        operands = [self.condition_operand(v, prec) for v in node.values]
+        return f" {word} ".join(operands), prec
+
+    def visit_UnaryOp(self, node: ast.UnaryOp) -> tuple[str, int]:
+        """``not a``, ``-a``, ``+a``, ``~a``: by the operator's handler."""
+        return typing.cast(tuple[str, int], self.visit(node.op, node))
+
+    def visit_Not(self, op: ast.Not, node: ast.UnaryOp) -> tuple[str, int]:
+        info = self.typeof(node.operand)
+        if info is not None and not _is_bool(info):
+            return f"{self.expr(node.operand, _EQ + 1)[0]} = 0", _EQ
+        return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
+
+    def visit_USub(self, op: ast.USub, node: ast.UnaryOp) -> tuple[str, int]:
+        operand = node.operand
+        if isinstance(operand, ast.Constant) and isinstance(operand.value, (int, float)) and not isinstance(operand.value, bool):
+            return literal(-operand.value), _ATOM
+        return f"-{self.expr(operand, _UNARY + 1)[0]}", _UNARY
+
+    def visit_UAdd(self, op: ast.UAdd, node: ast.UnaryOp) -> tuple[str, int]:
+        return self.expr(node.operand)
+
+    def visit_Invert(self, op: ast.Invert, node: ast.UnaryOp) -> tuple[str, int]:
+        return f"NOT {self.expr(node.operand, _UNARY)[0]}", _UNARY
+
+    def visit_Compare(self, node: ast.Compare) -> tuple[str, int]:
+        return self.compare(node)
 
     def fstring(self, node: ast.JoinedStr) -> str:
         """An f-string as nested CONCATs: TwinCAT's and CODESYS's CONCAT take two strings."""
@@ -186,109 +316,146 @@ class ExpressionWriter(Inference):
             return only, (_ATOM if only.startswith("(") and only.endswith(")") else prec)
         return " AND ".join(p if p.startswith("(") else f"({p})" for p in parts), _AND
 
+    def visit_BinOp(self, node: ast.BinOp) -> tuple[str, int]:
+        return self.binop(node, node)
+
     def binop(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
-        if isinstance(node.op, (ast.LShift, ast.RShift)):
-            word = "SHL" if isinstance(node.op, ast.LShift) else "SHR"
-            value = _constant_int(node.left)
-            # SHL's result has its operand's width: a literal needs one (Python's integers have none).
-            operand = f"DWORD#{value}" if value is not None and 0 <= value < 2**32 else self.expr(node.left)[0]
-            return f"{word}({operand}, {self.expr(node.right)[0]})", _ATOM
-        if isinstance(node.op, ast.Pow):
-            return f"EXPT({self.expr(node.left)[0]}, {self.expr(node.right)[0]})", _ATOM
-        op = _BINOPS.get(type(node.op))
-        if op is None:
+        """``a + b``...: by the operator's handler, ``visit_Add(node, where)``; ``where`` is the node a refusal names."""
+        handler = getattr(self, f"visit_{type(node.op).__name__}", None)
+        if handler is None:
             self.fail(where, f"the operator {type(node.op).__name__}")
-        symbol, prec = op
-        left, right = node.left, node.right
-        left_text = self.expr(left, prec)[0]
-        right_text = self.expr(right, prec + 1)[0]
-        if isinstance(node.op, ast.Div):
-            lt, rt = self.typeof(left), self.typeof(right)
-            if _is_whole(lt) and _is_whole(rt):
-                # Python's / on integers (and on TIMEs, which are milliseconds) gives a float; ST's gives
-                # an integer or a TIME.
-                left_text = f"TO_LREAL({self.expr(left)[0]})"
-                if _is_time(rt):
-                    right_text = f"TO_LREAL({self.expr(right)[0]})"
-        if isinstance(node.op, ast.FloorDiv) and (_is_real(self.typeof(left)) or _is_real(self.typeof(right))):
+        return typing.cast(tuple[str, int], handler(node, where))
+
+    def binary(self, node: ast.BinOp, symbol: str, left_text: str | None = None, right_text: str | None = None) -> tuple[str, int]:
+        """``left symbol right``, each side in parentheses where it binds looser (the right one where equal)."""
+        prec = _PRECEDENCE[symbol]
+        left = left_text if left_text is not None else self.expr(node.left, prec)[0]
+        right = right_text if right_text is not None else self.expr(node.right, prec + 1)[0]
+        return f"{left} {symbol} {right}", prec
+
+    visit_Add = _make_binop("+")
+    visit_Sub = _make_binop("-")
+    visit_Mult = _make_binop("*")
+    visit_Mod = _make_binop("MOD")
+    visit_BitAnd = _make_binop("AND")
+    visit_BitOr = _make_binop("OR")
+    visit_BitXor = _make_binop("XOR")
+    visit_LShift = _make_call_operator("SHL")
+    visit_RShift = _make_call_operator("SHR")
+    visit_Pow = _make_call_operator("EXPT")
+
+    def visit_Div(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
+        """``a / b``: Python's / on integers (and on TIMEs, which are milliseconds) gives a float; ST's gives
+        an integer or a TIME, so whole operands go to LREAL first."""
+        left, right = self.typeof(node.left), self.typeof(node.right)
+        if not (_is_whole(left) and _is_whole(right)):
+            return self.binary(node, "/")
+        left_text = f"TO_LREAL({self.expr(node.left)[0]})"
+        right_text = f"TO_LREAL({self.expr(node.right)[0]})" if _is_time(right) else None
+        return self.binary(node, "/", left_text, right_text)
+
+    def visit_FloorDiv(self, node: ast.BinOp, where: ast.AST) -> tuple[str, int]:
+        """``a // b`` on integers: ST's ``/`` (both truncate alike where the operands are not negative)."""
+        if _is_real(self.typeof(node.left)) or _is_real(self.typeof(node.right)):
             self.fail(where, "// on REAL values (ST has no floor division: TRUNC(a / b) is the same where a / b >= 0)")
-        return f"{left_text} {symbol} {right_text}", prec
+        return self.binary(node, "/")
+
 
     def name(self, node: ast.Name) -> str:
+        """A name: a local or input, ``self`` (THIS^), a word (True, None), or a module-level name."""
         name = node.id
         if name in self.rename:
             return self.rename[name]
         if name in self.locals or name in self.params:
             return self.temp_names.get(name) or ident(name)
-        if name == "self":
-            return "THIS^"
-        if name in ("True", "False"):
-            return name.upper()
-        if name in ("NULL", "None"):
-            return "0"
+        if name in _NAME_WORDS:
+            return _NAME_WORDS[name]
         if name in self.globals:
-            value = self.globals[name]
-            if isinstance(value, (bool, int, float, str)) and not isinstance(value, enum.Enum):
-                known = self.scope.constants.get(name, value)
-                if known != value:
-                    raise StExportError(f"{self.where_text(node)}: two module constants named {name} have different values")
-                self.scope.constants[name] = value
-                own = {*self.fields, *self.locals, *self.params, *self.bound, *self.rename.values(), self.st_name}
-                if self.scope.cls is not None:  # its methods and properties, and its interfaces'
-                    own.update(n for klass in self.scope.cls.__mro__ for n in vars(klass) if not n.startswith("_"))
-                if name.lower() in {n.lower() for n in own}:
-                    # ST names ignore case: buttons would hide BUTTONS, so name the list it is declared in.
-                    return f"{_CONSTANTS_GVL}.{ident(name)}"
-                return ident(name)
-            if isinstance(value, type):
-                return value.__name__
-            if kind_of(type(value)) == "gvl":
-                return type(value).__name__
-            if typing.get_origin(value) is typing.Annotated:
-                from iecoop.memory.typeinfo import resolve_type as _resolve
-
-                try:
-                    return type_text(_resolve(value, name))
-                except Exception:
-                    pass
+            text = self.global_name(node, self.globals[name])
+            if text is not None:
+                return text
         self.fail(node, f"the name {name!r}")
 
+    def global_name(self, node: ast.Name, value: Any) -> str | None:
+        """A module-level name: a constant (declared in GVL_Constants), a type, a GVL, an IEC type alias."""
+        if isinstance(value, (bool, int, float, str)) and not isinstance(value, enum.Enum):
+            return self.module_constant(node, value)
+        if isinstance(value, type):
+            return value.__name__
+        if kind_of(type(value)) == "gvl":
+            return type(value).__name__
+        if typing.get_origin(value) is typing.Annotated:
+            from iecoop.memory.typeinfo import resolve_type as _resolve
+
+            try:
+                return type_text(_resolve(value, node.id))
+            except Exception:
+                return None
+        return None
+
+    def module_constant(self, node: ast.Name, value: Any) -> str:
+        """A module constant the body reads: declared once in the constants' GVL."""
+        name = node.id
+        known = self.scope.constants.get(name, value)
+        if known != value:
+            raise StExportError(f"{self.where_text(node)}: two module constants named {name} have different values")
+        self.scope.constants[name] = value
+        own = {*self.fields, *self.locals, *self.params, *self.bound, *self.rename.values(), self.st_name}
+        if self.scope.cls is not None:  # its methods and properties, and its interfaces'
+            own.update(n for klass in self.scope.cls.__mro__ for n in vars(klass) if not n.startswith("_"))
+        if name.lower() in {n.lower() for n in own}:
+            # ST names ignore case: buttons would hide BUTTONS, so name the list it is declared in.
+            return f"{_CONSTANTS_GVL}.{ident(name)}"
+        return ident(name)
+
     def attribute(self, node: ast.Attribute) -> str:
+        """``a.b``: a variable of the block, a dereference, an enumeration value, a member of a value."""
         base = node.value
         attr = node.attr
         if isinstance(base, ast.Name) and base.id == "self" and base.id not in self.locals:
-            # A local, input or the result of the same name (ST ignores case) hides the variable: THIS^ reaches it.
-            hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
-            if attr.lower() in {n.lower() for n in hiding}:
-                return f"THIS^.{ident(attr)}"
-            return ident(attr)
-        if attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
-            return ident(base.id)
+            return self.own_member(attr)
         if attr == "deref":
-            return f"{self.expr(base, _ATOM)[0]}^"
+            return ident(base.id) if isinstance(base, ast.Name) and base.id in self.by_reference else f"{self.expr(base, _ATOM)[0]}^"
         if isinstance(base, ast.Name) and base.id in self.catch_vars and attr == "code":
             return base.id
         owner = self.constant_object(base)
         if owner is not None:
-            if owner is ExceptionCode:
-                return f"__SYSTEM.ExceptionCode.{attr}"
-            if isinstance(owner, type) and issubclass(owner, enum.Enum):
-                return f"{owner.__name__}.{ident(attr)}"
-            self.fail(node, f"the attribute {ast.unparse(node)}")
+            return self.constant_member(node, owner)
         if isinstance(base, ast.Call) and _is_name(base.func, "super"):
             return f"SUPER^.{ident(attr)}"
-        if attr in ("low", "high") and isinstance(self.typeof(base), ArrayInfo):
-            # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
-            bounds = typing.cast(ArrayInfo, self.typeof(base)).bounds
-            if len(bounds) == 1:
-                return str(bounds[0][0 if attr == "low" else 1])
-        if attr == "name" and isinstance(self.typeof(base), EnumInfo):
-            # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
-            self.scope.named_enums.add(typing.cast(EnumInfo, self.typeof(base)).enum_cls)
-            return f"TO_STRING({self.expr(base)[0]})"
+        typed = self.typed_member(node)
+        if typed is not None:
+            return typed
         if isinstance(base, ast.Call):
             return self.call_member(node, base)
         return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
+
+    def own_member(self, attr: str) -> str:
+        """``self.x``: ``x``, or ``THIS^.x`` where a local, input or the result of the same name hides it (ST ignores case)."""
+        hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
+        if attr.lower() in {n.lower() for n in hiding}:
+            return f"THIS^.{ident(attr)}"
+        return ident(attr)
+
+    def constant_member(self, node: ast.Attribute, owner: Any) -> str:
+        """A member of a module-level object: an exception code or an enumeration value."""
+        if owner is ExceptionCode:
+            return f"__SYSTEM.ExceptionCode.{node.attr}"
+        if isinstance(owner, type) and issubclass(owner, enum.Enum):
+            return f"{owner.__name__}.{ident(node.attr)}"
+        self.fail(node, f"the attribute {ast.unparse(node)}")
+
+    def typed_member(self, node: ast.Attribute) -> str | None:
+        """What Python reads of a value that ST writes otherwise: an ARRAY's ``low`` / ``high``, an enumeration value's ``name``."""
+        info = self.typeof(node.value)
+        if node.attr in ("low", "high") and isinstance(info, ArrayInfo) and len(info.bounds) == 1:
+            # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
+            return str(info.bounds[0][0 if node.attr == "low" else 1])
+        if node.attr == "name" and isinstance(info, EnumInfo):
+            # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
+            self.scope.named_enums.add(info.enum_cls)
+            return f"TO_STRING({self.expr(node.value)[0]})"
+        return None
 
     def call_member(self, node: ast.Attribute, call: ast.Call) -> str:
         """``obj.get().x``: TwinCAT reads a member of a returned value, but blark's grammar does not,
@@ -347,29 +514,37 @@ class ExpressionWriter(Inference):
         return self.expr(node)[0]
 
     def call(self, node: ast.Call) -> tuple[str, int]:
+        """A call: of a name (a table of rules by name), of a METHOD, of a block instance."""
         func = node.func
         if isinstance(func, ast.Call) and _is_name(func.func, "super"):
             self.fail(node, "super()()")
-        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and _is_name(func.value.func, "super"):
-            if func.attr == "body":
-                return "SUPER^()", _ATOM
-            return f"SUPER^.{func.attr}({self.arguments(node)})", _ATOM
         if isinstance(func, ast.Name) and func.id not in self.locals and func.id not in self.params:
             return self.named_call(node, func.id)
-        if isinstance(func, ast.Attribute) and self.constant_object(func.value) is not None and isinstance(self.constant_object(func.value), type(inspect)):
-            return self.named_call(node, func.attr)
-        if isinstance(func, ast.Attribute) and func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
-            # Pointer.typed(T): ST converts between POINTER types on assignment.
-            return self.expr(func.value)
-        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Call) and not _is_task_info(self, func.value):
-            # A method of a returned interface: TwinCAT and CODESYS chain the calls (fluent interfaces).
-            return f"{self.call(func.value)[0]}.{ident(func.attr)}({self.arguments(node)})", _ATOM
         if isinstance(func, ast.Attribute):
-            self.python_method(func)
+            found = self.method_call(node, func)
+            if found is not None:
+                return found
         callee = self.expr(func, _ATOM)[0]
         block = self.typeof(func)
         in_outs = _in_out_names(block.cls) if isinstance(block, AggregateInfo) else frozenset()
         return f"{callee}({self.arguments(node, in_outs)})", _ATOM
+
+    def method_call(self, node: ast.Call, func: ast.Attribute) -> tuple[str, int] | None:
+        """``super().m()``, ``module.f()``, ``pointer.typed(T)``, ``a.get().m()``; None for a plain ``obj.m()``."""
+        if isinstance(func.value, ast.Call) and _is_name(func.value.func, "super"):
+            if func.attr == "body":
+                return "SUPER^()", _ATOM
+            return f"SUPER^.{func.attr}({self.arguments(node)})", _ATOM
+        if isinstance(self.constant_object(func.value), type(inspect)):
+            return self.named_call(node, func.attr)
+        if func.attr == "typed" and isinstance(self.typeof(func.value), PointerInfo):
+            # Pointer.typed(T): ST converts between POINTER types on assignment.
+            return self.expr(func.value)
+        if isinstance(func.value, ast.Call) and not _is_task_info(self, func.value):
+            # A method of a returned interface: TwinCAT and CODESYS chain the calls (fluent interfaces).
+            return f"{self.call(func.value)[0]}.{ident(func.attr)}({self.arguments(node)})", _ATOM
+        self.python_method(func)
+        return None
 
     def python_method(self, func: ast.Attribute) -> None:
         """Refuse a Python method of a value (``name.upper()``): ST has no methods on elementary values."""
@@ -481,23 +656,6 @@ class ExpressionWriter(Inference):
             return format_date(D(text))
         return format_ltime(parse_ltime(text)).upper()
 
-
-
-#: ST operator precedence, loosest first (parentheses are added where a child binds looser).
-_OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY, _ATOM = range(1, 10)
-
-
-_BINOPS: dict[type, tuple[str, int]] = {
-    ast.Add: ("+", _ADD), ast.Sub: ("-", _ADD), ast.Mult: ("*", _MUL), ast.Div: ("/", _MUL),
-    ast.FloorDiv: ("/", _MUL), ast.Mod: ("MOD", _MUL), ast.BitAnd: ("AND", _AND), ast.BitOr: ("OR", _OR),
-    ast.BitXor: ("XOR", _XOR),
-}
-
-
-_COMPARE: dict[type, tuple[str, int]] = {
-    ast.Eq: ("=", _EQ), ast.NotEq: ("<>", _EQ), ast.Lt: ("<", _CMP), ast.LtE: ("<=", _CMP),
-    ast.Gt: (">", _CMP), ast.GtE: (">=", _CMP), ast.Is: ("=", _EQ), ast.IsNot: ("<>", _EQ),
-}
 
 
 #: Python builtins and their IEC standard functions.
@@ -755,68 +913,5 @@ _LIBRARY_CALLS: dict[str, _CallRule] = {
 }
 
 
-def _constant_expr(w: ExpressionWriter, node: ast.Constant) -> tuple[str, int]:
-    if isinstance(node.value, (bool, int, float, str)) or node.value is None:
-        return literal(node.value), _ATOM
-    w.fail(node, f"the constant {node.value!r}")
-
-
-def _subscript_expr(w: ExpressionWriter, node: ast.Subscript) -> tuple[str, int]:
-    base = w.expr(node.value, _ATOM)[0]
-    index = node.slice
-    parts = index.elts if isinstance(index, ast.Tuple) else [index]
-    if any(isinstance(p, ast.Slice) for p in parts):
-        w.fail(node, "a slice")
-    return f"{base}[{', '.join(w.expr(p)[0] for p in parts)}]", _ATOM
-
-
-def _unary_expr(w: ExpressionWriter, node: ast.UnaryOp) -> tuple[str, int]:
-    if isinstance(node.op, ast.Not):
-        info = w.typeof(node.operand)
-        if info is not None and not _is_bool(info):
-            return f"{w.expr(node.operand, _EQ + 1)[0]} = 0", _EQ
-        return f"NOT {w.expr(node.operand, _UNARY)[0]}", _UNARY
-    if isinstance(node.op, ast.USub):
-        operand = node.operand
-        if isinstance(operand, ast.Constant) and isinstance(operand.value, (int, float)) and not isinstance(operand.value, bool):
-            return literal(-operand.value), _ATOM
-        return f"-{w.expr(operand, _UNARY + 1)[0]}", _UNARY
-    if isinstance(node.op, ast.UAdd):
-        return w.expr(node.operand)
-    if isinstance(node.op, ast.Invert):
-        return f"NOT {w.expr(node.operand, _UNARY)[0]}", _UNARY
-    w.fail(node, _describe(node))
-
-
-def _boolop_expr(w: ExpressionWriter, node: ast.BoolOp) -> tuple[str, int]:
-    word, prec = ("AND", _AND) if isinstance(node.op, ast.And) else ("OR", _OR)
-    if any(w.may_act(v) for v in node.values[1:]):
-        # Python's and / or stop at the first operand that decides; ST's AND / OR evaluate every
-        # operand, so a call, a dereference or an index after the first is guarded by AND_THEN / OR_ELSE.
-        word += "_THEN" if word == "AND" else "_ELSE"
-    operands = [w.condition_operand(v, prec) for v in node.values]
-    return f" {word} ".join(operands), prec
-
-
-def _ifexp_expr(w: ExpressionWriter, node: ast.IfExp) -> tuple[str, int]:
-    # ST's SEL(g, in0, in1) gives in0 when g is FALSE: the else value comes first
-    cond = w.condition(node.test)
-    return f"SEL({cond}, {w.expr(node.orelse)[0]}, {w.expr(node.body)[0]})", _ATOM
-
-
-#: ST text and precedence of an expression, by its node type (see ExpressionWriter._expr).
-_EXPR_RULES: dict[type, Callable[[ExpressionWriter, Any], tuple[str, int]]] = {
-    ast.Constant: _constant_expr,
-    ast.Name: lambda w, node: (w.name(node), _ATOM),
-    ast.Attribute: lambda w, node: (w.attribute(node), _ATOM),
-    ast.Subscript: _subscript_expr,
-    ast.Call: ExpressionWriter.call,
-    ast.BinOp: lambda w, node: w.binop(node, node),
-    ast.UnaryOp: _unary_expr,
-    ast.BoolOp: _boolop_expr,
-    ast.Compare: ExpressionWriter.compare,
-    ast.IfExp: _ifexp_expr,
-    ast.JoinedStr: lambda w, node: (w.fstring(node), _ATOM),
-}
 
 

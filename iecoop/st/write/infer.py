@@ -71,7 +71,7 @@ class Inference:
         self.first_line = func.__code__.co_firstlineno
         #: Statements that became comments (lenient mode): (line, construct).
         self.untranslated: list[tuple[int, str]] = []
-        #: Statements the next emitted line needs first: a call's result kept in a temporary.
+        #: Statements the next written line needs first: a call's result kept in a temporary.
         self.prelude: list[str] = []
         #: Temporaries of the statement being translated, by the id of the expression they hold.
         self.hoisted: dict[int, str] = {}
@@ -150,17 +150,7 @@ class Inference:
         return info
 
     def _typeof(self, node: ast.expr | None) -> TypeInfo | None:
-        rule = _TYPE_RULES.get(type(node))
-        return rule(self, node) if rule is not None else None
-
-    def name_type(self, node: ast.Name) -> TypeInfo | None:
-        if node.id in self.locals or node.id in self.params:
-            return self._local_info(node.id)
-        if node.id in self.rename:
-            return self.params.get(node.id)
-        if node.id in ("True", "False"):
-            return _BOOL
-        return _constant_type(self.globals.get(node.id))
+        return ExpressionType(self).visit(node)
 
     def may_act(self, node: ast.expr) -> bool:
         """Whether evaluating ``node`` may do more than read variables: call, dereference, index, run a Get."""
@@ -187,43 +177,6 @@ class Inference:
                 return isinstance(klass.__dict__[node.attr], property)
         return False
 
-    def attribute_type(self, node: ast.Attribute) -> TypeInfo | None:
-        base = node.value
-        if _is_name(base, "self") and "self" not in self.locals or isinstance(base, ast.Call) and _is_name(base.func, "super"):
-            return self.member_type(self.scope.cls, node.attr, self.fields)
-        owner = self.constant_object(base)
-        if isinstance(owner, type) and issubclass(owner, enum.Enum):
-            return class_info(owner) if kind_of(owner) == "enum" else None
-        if node.attr == "deref" and isinstance(base, ast.Name) and base.id in self.by_reference:
-            return self.params.get(base.id)
-        inner = self._typeof(base)
-        if node.attr == "deref" and isinstance(inner, PointerInfo):
-            return inner.target
-        if isinstance(inner, ReferenceInfo):
-            inner = inner.target
-        if node.attr == "name" and isinstance(inner, EnumInfo):
-            return _STRING
-        if isinstance(base, ast.Call) and _is_task_info(self, base):
-            return _TASK_INFO.get(node.attr)
-        cls = _class_of(inner)
-        return self.member_type(cls, node.attr, _fields_of(cls)) if cls is not None else None
-
-    def subscript_type(self, node: ast.Subscript) -> TypeInfo | None:
-        inner = self._typeof(node.value)
-        if isinstance(inner, ReferenceInfo):
-            inner = inner.target
-        return inner.elem if isinstance(inner, ArrayInfo) else None
-
-    def binop_type(self, node: ast.BinOp) -> TypeInfo | None:
-        left, right = self._typeof(node.left), self._typeof(node.right)
-        if isinstance(node.op, ast.Div) and _is_whole(left) and _is_whole(right):
-            return _LREAL
-        if _is_real(left):
-            return left
-        if _is_real(right):
-            return right
-        return left or right
-
     def member_type(self, cls: Any, name: str, fields: dict[str, TypeInfo]) -> TypeInfo | None:
         if name in fields:
             return fields[name]
@@ -235,44 +188,6 @@ class Inference:
         if isinstance(value, property):
             return self.result_of(func, f"{owner.__name__}.{name}", owner)
         return None
-
-    def call_type(self, node: ast.Call) -> TypeInfo | None:
-        func = node.func
-        if isinstance(func, ast.Name) and func.id not in self.locals:
-            return self.named_call_type(node, func.id)
-        if isinstance(func, ast.Attribute):
-            return self.method_call_type(func)
-        return None
-
-    def named_call_type(self, node: ast.Call, name: str) -> TypeInfo | None:
-        if name in _CALL_TYPES:
-            return _CALL_TYPES[name]
-        rule = _CALL_TYPE_RULES.get(name)
-        if rule is not None:
-            return rule(self, node)
-        value = self.globals.get(name)
-        if isinstance(value, type) and kind_of(value) == "enum":
-            return class_info(value)
-        signature = self.function_signature(value)
-        if signature is not None:
-            return signature[1]
-        return _library_result(name, value)
-
-    def method_call_type(self, func: ast.Attribute) -> TypeInfo | None:
-        base = func.value
-        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
-            cls = self.scope.cls.__mro__[1]
-        elif _is_name(base, "self") and "self" not in self.locals:
-            cls = self.scope.cls
-        else:
-            cls = _class_of(self._typeof(base))
-        if cls is None:
-            return None
-        found = _member_function(cls, func.attr)
-        if found is None or found[0] is None:
-            return None
-        function, owner = found
-        return self.result_of(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 
@@ -326,9 +241,9 @@ class Scope:
     ) -> None:
         self.cls = cls
         self.fields = fields
-        #: Module constants the bodies use, by name (emitted as a VAR_GLOBAL CONSTANT list).
+        #: Module constants the bodies use, by name (written as a VAR_GLOBAL CONSTANT list).
         self.constants = constants
-        #: Module functions the bodies call, by name (emitted as FUNCTIONs).
+        #: Module functions the bodies call, by name (written as FUNCTIONs).
         self.functions = functions
         #: Enumerations whose component names the bodies read (declared with {attribute 'to_string'}).
         self.named_enums: set[Any] = set() if named_enums is None else named_enums
@@ -425,31 +340,123 @@ def _constant_type(value: Any) -> TypeInfo | None:
     return None
 
 
-def _literal_type(w: Inference, node: ast.Constant) -> TypeInfo | None:
-    return _constant_type(node.value)
+class ExpressionType:
+    """The ST type of a Python expression of a body, by the handler of its node: ``visit_<ast class name>``;
+    None where the writer cannot tell (a name it does not know, an untyped value)."""
 
+    def __init__(self, body: Inference) -> None:
+        self.body = body
 
-def _unary_type(w: Inference, node: ast.UnaryOp) -> TypeInfo | None:
-    return _BOOL if isinstance(node.op, ast.Not) else w._typeof(node.operand)
+    def visit(self, node: ast.AST | None) -> TypeInfo | None:
+        handler = getattr(self, f"visit_{type(node).__name__}", None)
+        return typing.cast("TypeInfo | None", handler(node)) if handler is not None else None
 
+    def visit_Constant(self, node: ast.Constant) -> TypeInfo | None:
+        return _constant_type(node.value)
 
-def _ifexp_type(w: Inference, node: ast.IfExp) -> TypeInfo | None:
-    return w._typeof(node.body) or w._typeof(node.orelse)
+    def visit_UnaryOp(self, node: ast.UnaryOp) -> TypeInfo | None:
+        return _BOOL if isinstance(node.op, ast.Not) else self.visit(node.operand)
 
+    def visit_IfExp(self, node: ast.IfExp) -> TypeInfo | None:
+        return self.visit(node.body) or self.visit(node.orelse)
 
-_TYPE_RULES: dict[type, Callable[[Inference, Any], TypeInfo | None]] = {
-    ast.Constant: _literal_type,
-    ast.Name: Inference.name_type,
-    ast.Attribute: Inference.attribute_type,
-    ast.Subscript: Inference.subscript_type,
-    ast.Call: Inference.call_type,
-    ast.BinOp: Inference.binop_type,
-    ast.Compare: lambda w, node: _BOOL,
-    ast.BoolOp: lambda w, node: _BOOL,
-    ast.UnaryOp: _unary_type,
-    ast.IfExp: _ifexp_type,
-    ast.JoinedStr: lambda w, node: _STRING,
-}
+    def visit_Compare(self, node: ast.Compare) -> TypeInfo | None:
+        return _BOOL
+
+    def visit_BoolOp(self, node: ast.BoolOp) -> TypeInfo | None:
+        return _BOOL
+
+    def visit_JoinedStr(self, node: ast.JoinedStr) -> TypeInfo | None:
+        return _STRING
+
+    def visit_Name(self, node: ast.Name) -> TypeInfo | None:
+        w = self.body
+        if node.id in w.locals or node.id in w.params:
+            return w._local_info(node.id)
+        if node.id in w.rename:
+            return w.params.get(node.id)
+        if node.id in ("True", "False"):
+            return _BOOL
+        return _constant_type(w.globals.get(node.id))
+
+    def visit_Attribute(self, node: ast.Attribute) -> TypeInfo | None:
+        w = self.body
+        base = node.value
+        if _is_name(base, "self") and "self" not in w.locals or isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            return w.member_type(w.scope.cls, node.attr, w.fields)
+        owner = w.constant_object(base)
+        if isinstance(owner, type) and issubclass(owner, enum.Enum):
+            return class_info(owner) if kind_of(owner) == "enum" else None
+        if node.attr == "deref" and isinstance(base, ast.Name) and base.id in w.by_reference:
+            return w.params.get(base.id)
+        inner = self.visit(base)
+        if node.attr == "deref" and isinstance(inner, PointerInfo):
+            return inner.target
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        if node.attr == "name" and isinstance(inner, EnumInfo):
+            return _STRING
+        if isinstance(base, ast.Call) and _is_task_info(w, base):
+            return _TASK_INFO.get(node.attr)
+        cls = _class_of(inner)
+        return w.member_type(cls, node.attr, _fields_of(cls)) if cls is not None else None
+
+    def visit_Subscript(self, node: ast.Subscript) -> TypeInfo | None:
+        inner = self.visit(node.value)
+        if isinstance(inner, ReferenceInfo):
+            inner = inner.target
+        return inner.elem if isinstance(inner, ArrayInfo) else None
+
+    def visit_BinOp(self, node: ast.BinOp) -> TypeInfo | None:
+        left, right = self.visit(node.left), self.visit(node.right)
+        if isinstance(node.op, ast.Div) and _is_whole(left) and _is_whole(right):
+            return _LREAL
+        if _is_real(left):
+            return left
+        if _is_real(right):
+            return right
+        return left or right
+
+    def visit_Call(self, node: ast.Call) -> TypeInfo | None:
+        w = self.body
+        func = node.func
+        if isinstance(func, ast.Name) and func.id not in w.locals:
+            return self.named_call(node, func.id)
+        if isinstance(func, ast.Attribute):
+            return self.method_call(func)
+        return None
+
+    def named_call(self, node: ast.Call, name: str) -> TypeInfo | None:
+        w = self.body
+        if name in _CALL_TYPES:
+            return _CALL_TYPES[name]
+        rule = _CALL_TYPE_RULES.get(name)
+        if rule is not None:
+            return rule(w, node)
+        value = w.globals.get(name)
+        if isinstance(value, type) and kind_of(value) == "enum":
+            return class_info(value)
+        signature = w.function_signature(value)
+        if signature is not None:
+            return signature[1]
+        return _library_result(name, value)
+
+    def method_call(self, func: ast.Attribute) -> TypeInfo | None:
+        w = self.body
+        base = func.value
+        if isinstance(base, ast.Call) and _is_name(base.func, "super"):
+            cls = w.scope.cls.__mro__[1]
+        elif _is_name(base, "self") and "self" not in w.locals:
+            cls = w.scope.cls
+        else:
+            cls = _class_of(self.visit(base))
+        if cls is None:
+            return None
+        found = _member_function(cls, func.attr)
+        if found is None or found[0] is None:
+            return None
+        function, owner = found
+        return w.result_of(function, f"{owner.__name__}.{func.attr}", owner)
 
 
 def _first_argument_type(w: Inference, node: ast.Call) -> TypeInfo | None:

@@ -130,6 +130,11 @@ def metadata(obj: Any) -> ClassMeta:
     if kind == "enum":
         check_unique(f"TYPE {name}", (n for n, _ in enum_members(cls)), "values")
         return ClassMeta(cls, name, kind)
+    return _class_meta(cls, name, kind)
+
+
+def _class_meta(cls: Any, name: str, kind: str) -> ClassMeta:
+    """A STRUCT, UNION, GVL, INTERFACE, FUNCTION_BLOCK or PROGRAM: its variables, members, bases and code."""
     layout = cls.__dict__.get("_iec_layout_")
     outside = _outside_fields(cls) if kind in ("fb", "program") else []
     fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())] + outside

@@ -19,7 +19,7 @@ from typing import Any
 
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
-from iecoop.st.write.expressions import _ADD, _ATOM, _BINOPS, ExpressionWriter, _describe
+from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
 from iecoop.st.write.infer import _DINT, _Untranslated, _constant_int, _fields_of, _from_iecoop, _is_name
 from iecoop.st.write.model import StExportError, annotation_info, type_text
 
@@ -61,7 +61,7 @@ class StatementWriter(ExpressionWriter):
         start = len(self.lines)
         self._block(body, depth, top)
         if not top and all(line.lstrip().startswith("(*") for line in self.lines[start:]):
-            self.emit(depth, ";")  # ST needs a statement where Python had only pass / a docstring
+            self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
         for i, stmt in enumerate(body):
@@ -70,7 +70,7 @@ class StatementWriter(ExpressionWriter):
             saved = (dict(self.locals), set(self.references))
             self.hoisted = {}
             try:
-                self.statement(stmt, depth, last)
+                self.visit(stmt, depth, last)
             except _Untranslated as exc:
                 del self.lines[mark:]
                 self.locals, self.references, self.prelude = saved[0], saved[1], []
@@ -84,9 +84,10 @@ class StatementWriter(ExpressionWriter):
                     part.strip() for part in self.source_lines[stmt.lineno - 1 : (stmt.end_lineno or stmt.lineno)]
                 )
                 text = text.replace("(*", "( *").replace("*)", "* )")
-                self.emit(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
+                self.write(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
 
-    def emit(self, depth: int, text: str) -> None:
+    def write(self, depth: int, text: str) -> None:
+        """Write one line at ``depth``, after the statements it needs first (a call's result kept in a temporary)."""
         pending, self.prelude = self.prelude, []
         for line in pending:
             self.lines.append("    " * depth + line)
@@ -98,57 +99,56 @@ class StatementWriter(ExpressionWriter):
             self.fail(node, "a member of a call's result in a while or elif condition (assign the result to a local first)")
         return text
 
-    def statement(self, node: ast.stmt, depth: int, last: bool) -> None:
-        if isinstance(node, ast.Pass) or (isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)):
-            return
-        if isinstance(node, ast.Expr):
-            self.call_statement(node.value, depth)
-        elif isinstance(node, ast.Assign):
-            self.assign(node, depth)
-        elif isinstance(node, ast.AnnAssign):
-            if not isinstance(node.target, ast.Name):
-                self.fail(node, "an annotated assignment to an attribute")
-            info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
-            if info is None:
-                self.fail(node, "a local annotated None")
-            bound_by_call = isinstance(node.value, ast.Call) and isinstance(self.typeof(node.value), ReferenceInfo)
-            if not (isinstance(info, AggregateInfo) and node.value is not None and (not isinstance(node.value, ast.Call) or bound_by_call)):
-                self.declare(node.target.id, info, node)
-            if node.value is not None:
-                self.assign_one(node.target, node.value, depth, node)
-        elif isinstance(node, ast.AugAssign):
-            target = self.target(node.target)
-            op = _BINOPS.get(type(node.op))
-            if op is None:
-                self.fail(node, f"the operator {type(node.op).__name__}=")
-            value = self.binop(ast.BinOp(node.target, node.op, node.value), node)[0]
-            self.emit(depth, f"{target} := {value};")
-        elif isinstance(node, ast.If):
-            self.if_statement(node, depth)
-        elif isinstance(node, ast.For):
-            self.for_statement(node, depth)
-        elif isinstance(node, ast.While):
-            if node.orelse:
-                self.fail(node, "while ... else")
-            self.emit(depth, f"WHILE {self.once(node, self.condition(node.test))} DO")
-            self.block(node.body, depth + 1)
-            self.emit(depth, "END_WHILE")
-        elif isinstance(node, ast.Break):
-            self.emit(depth, "EXIT;")
-        elif isinstance(node, ast.Continue):
-            self.emit(depth, "CONTINUE;")
-        elif isinstance(node, ast.Return):
-            self.return_statement(node, depth, last)
-        elif isinstance(node, ast.With):
-            self.with_statement(node, depth)
-        elif isinstance(node, ast.Try):
-            self.try_statement(node, depth)
-        elif isinstance(node, ast.Match):
-            self.match_statement(node, depth)
-        else:
-            self.fail(node, _describe(node))
+    # -- one handler per statement: visit_<ast class name>(node, depth, last) ---------------------------
 
-    def return_statement(self, node: ast.Return, depth: int, last: bool) -> None:
+    def visit_Pass(self, node: ast.Pass, depth: int, last: bool) -> None:
+        """``pass``: nothing (a block left empty gets ST's empty statement ``;``)."""
+
+    def visit_Expr(self, node: ast.Expr, depth: int, last: bool) -> None:
+        """A call as a statement; a docstring or other constant is nothing."""
+        if not isinstance(node.value, ast.Constant):
+            self.call_statement(node.value, depth)
+
+    def visit_Assign(self, node: ast.Assign, depth: int, last: bool) -> None:
+        """``a = b`` / ``a, b = b, a``: ``a := b;`` (``REF=`` where Python binds a name to a variable)."""
+        self.assign(node, depth)
+
+    def visit_AnnAssign(self, node: ast.AnnAssign, depth: int, last: bool) -> None:
+        """``n: INT = 3``: the local ``n : INT`` in VAR, and ``n := 3;``."""
+        if not isinstance(node.target, ast.Name):
+            self.fail(node, "an annotated assignment to an attribute")
+        info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
+        if info is None:
+            self.fail(node, "a local annotated None")
+        bound_by_call = isinstance(node.value, ast.Call) and isinstance(self.typeof(node.value), ReferenceInfo)
+        if not (isinstance(info, AggregateInfo) and node.value is not None and (not isinstance(node.value, ast.Call) or bound_by_call)):
+            self.declare(node.target.id, info, node)
+        if node.value is not None:
+            self.assign_one(node.target, node.value, depth, node)
+
+    def visit_AugAssign(self, node: ast.AugAssign, depth: int, last: bool) -> None:
+        """``a += b``: ``a := a + b;``."""
+        if type(node.op).__name__ not in _BINARY_OPERATORS:
+            self.fail(node, f"the operator {type(node.op).__name__}=")
+        target = self.target(node.target)
+        value = self.binop(ast.BinOp(node.target, node.op, node.value), node)[0]
+        self.write(depth, f"{target} := {value};")
+
+    def visit_While(self, node: ast.While, depth: int, last: bool) -> None:
+        """``while c:``: ``WHILE c DO ... END_WHILE``."""
+        if node.orelse:
+            self.fail(node, "while ... else")
+        self.write(depth, f"WHILE {self.once(node, self.condition(node.test))} DO")
+        self.block(node.body, depth + 1)
+        self.write(depth, "END_WHILE")
+
+    def visit_Break(self, node: ast.Break, depth: int, last: bool) -> None:
+        self.write(depth, "EXIT;")
+
+    def visit_Continue(self, node: ast.Continue, depth: int, last: bool) -> None:
+        self.write(depth, "CONTINUE;")
+
+    def visit_Return(self, node: ast.Return, depth: int, last: bool) -> None:
         if node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
             if self.result is None:
                 self.fail(node, "a return value in a block without a result")
@@ -158,27 +158,27 @@ class StatementWriter(ExpressionWriter):
                 if not place:
                     self.fail(node, f"a return of a value that ends with the call, where the result is {type_text(self.result)} "
                               "(the member's first definition hands out a variable: return a variable of the block, a GVL or an input)")
-                self.emit(depth, f"{self.st_name} REF= {self.ref_target(node.value)};")
+                self.write(depth, f"{self.st_name} REF= {self.ref_target(node.value)};")
             else:
-                self.emit(depth, f"{self.st_name} := {self.expr(node.value)[0]};")
+                self.write(depth, f"{self.st_name} := {self.expr(node.value)[0]};")
         if not last:
-            self.emit(depth, "RETURN;")
+            self.write(depth, "RETURN;")
 
-    def if_statement(self, node: ast.If, depth: int) -> None:
-        self.emit(depth, f"IF {self.condition(node.test)} THEN")
+    def visit_If(self, node: ast.If, depth: int, last: bool) -> None:
+        self.write(depth, f"IF {self.condition(node.test)} THEN")
         self.block(node.body, depth + 1)
         orelse = node.orelse
         while len(orelse) == 1 and isinstance(orelse[0], ast.If):
             branch = orelse[0]
-            self.emit(depth, f"ELSIF {self.once(branch, self.condition(branch.test))} THEN")
+            self.write(depth, f"ELSIF {self.once(branch, self.condition(branch.test))} THEN")
             self.block(branch.body, depth + 1)
             orelse = branch.orelse
         if orelse:
-            self.emit(depth, "ELSE")
+            self.write(depth, "ELSE")
             self.block(orelse, depth + 1)
-        self.emit(depth, "END_IF")
+        self.write(depth, "END_IF")
 
-    def for_statement(self, node: ast.For, depth: int) -> None:
+    def visit_For(self, node: ast.For, depth: int, last: bool) -> None:
         if node.orelse:
             self.fail(node, "for ... else")
         it = node.iter
@@ -262,31 +262,25 @@ class StatementWriter(ExpressionWriter):
         aggregate = isinstance(elem, AggregateInfo)
         if aggregate and any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for b in node.body for n in ast.walk(b)):
             self.fail(node, "a loop over an ARRAY of blocks or structs whose body assigns the loop name")
-        if counter is not None and start == low:
-            index = counter.id
-        else:
-            index = next(f"{name}_index{n or ''}" for n in range(100) if f"{name}_index{n or ''}" not in {*self.locals, *self.params, *self.fields})
-        if index not in self.locals and index not in self.params:
-            self.declare(index, _DINT, node)
-        self.emit(depth, f"FOR {self.name_text(index)} := {low} TO {high} DO")
+        index = counter.id if counter is not None and start == low else self.fresh_name(f"{name}_index")
+        self.declare_once(index, _DINT, node)
+        self.write(depth, f"FOR {self.name_text(index)} := {low} TO {high} DO")
         if counter is not None and index != counter.id:
-            if counter.id not in self.locals and counter.id not in self.params:
-                self.declare(counter.id, _DINT, node)
+            self.declare_once(counter.id, _DINT, node)
             offset = start - low
-            self.emit(depth + 1, f"{self.name_text(counter.id)} := {self.name_text(index)} {'+' if offset >= 0 else '-'} {abs(offset)};")
+            self.write(depth + 1, f"{self.name_text(counter.id)} := {self.name_text(index)} {'+' if offset >= 0 else '-'} {abs(offset)};")
         element = f"{self.expr(array, _ATOM)[0]}[{self.name_text(index)}]"
         if aggregate:
             # Python binds the name to the element itself: in ST that is a reference to it.
             if name not in self.references:
                 self.references.add(name)
                 self.declare(name, f"REFERENCE TO {type_text(elem)}", node)
-            self.emit(depth + 1, f"{self.name_text(name)} REF= {element};")
+            self.write(depth + 1, f"{self.name_text(name)} REF= {element};")
         else:
-            if name not in self.locals and name not in self.params:
-                self.declare(name, elem, node)
-            self.emit(depth + 1, f"{self.name_text(name)} := {element};")
+            self.declare_once(name, elem, node)
+            self.write(depth + 1, f"{self.name_text(name)} := {element};")
         self.block(node.body, depth + 1)
-        self.emit(depth, "END_FOR")
+        self.write(depth, "END_FOR")
 
     def range_loop(self, node: ast.For, it: ast.Call, depth: int) -> None:
         args = it.args
@@ -301,13 +295,12 @@ class StatementWriter(ExpressionWriter):
                 self.fail(node, "a range() step that is not a constant integer")
             step = value
         name = typing.cast(ast.Name, node.target).id
-        if name not in self.locals and name not in self.params:
-            self.declare(name, _DINT, node)
+        self.declare_once(name, _DINT, node)
         end = self.end_bound(stop, -1 if step > 0 else 1)
         by = f" BY {step}" if step != 1 else ""
-        self.emit(depth, f"FOR {self.name_text(name)} := {self.expr(start)[0]} TO {end}{by} DO")
+        self.write(depth, f"FOR {self.name_text(name)} := {self.expr(start)[0]} TO {end}{by} DO")
         self.block(node.body, depth + 1)
-        self.emit(depth, "END_FOR")
+        self.write(depth, "END_FOR")
 
     def end_bound(self, stop: ast.expr, delta: int) -> str:
         """``stop + delta`` written simply (``n + 1`` with delta -1 is ``n``)."""
@@ -325,25 +318,25 @@ class StatementWriter(ExpressionWriter):
         text = self.expr(stop, _ADD)[0]
         return f"{text} {'+' if delta > 0 else '-'} {abs(delta)}"
 
-    def with_statement(self, node: ast.With, depth: int) -> None:
+    def visit_With(self, node: ast.With, depth: int, last: bool) -> None:
         if len(node.items) != 1:
             self.fail(node, "a with statement of several items")
         item = node.items[0]
         call = item.context_expr
         if not (isinstance(call, ast.Call) and self.resolves_to(call.func, "try_catch")):
             self.fail(node, "a with statement other than try_catch()")
-        self.emit(depth, "__TRY")
+        self.write(depth, "__TRY")
         self.block(node.body, depth + 1)
         if isinstance(item.optional_vars, ast.Name):
             name = item.optional_vars.id
             self.catch_vars.add(name)
             self.declare(name, "__SYSTEM.ExceptionCode", node)
-            self.emit(depth, f"__CATCH({name})")
+            self.write(depth, f"__CATCH({name})")
         else:
-            self.emit(depth, "__CATCH")
-        self.emit(depth, "__ENDTRY")
+            self.write(depth, "__CATCH")
+        self.write(depth, "__ENDTRY")
 
-    def try_statement(self, node: ast.Try, depth: int) -> None:
+    def visit_Try(self, node: ast.Try, depth: int, last: bool) -> None:
         """``try`` / ``except`` (/ ``finally``) where it means what __TRY / __CATCH (/ __FINALLY) mean."""
         if not node.handlers:
             # The vendors' __TRY ... __FINALLY ... __ENDTRY goes on after __ENDTRY; Python's finally re-raises.
@@ -355,21 +348,21 @@ class StatementWriter(ExpressionWriter):
         if not self.catches_all_faults(handler.type, node.body):
             self.fail(handler, "an except clause other than except PlcException, except (PlcException, ZeroDivisionError) "
                       "or except Exception (__CATCH catches every runtime fault, a division by zero too)")
-        self.emit(depth, "__TRY")
+        self.write(depth, "__TRY")
         self.block(node.body, depth + 1)
         if handler.name is not None:
             self.catch_vars.add(handler.name)
             self.declare(handler.name, "__SYSTEM.ExceptionCode", node)
-            self.emit(depth, f"__CATCH({handler.name})")
+            self.write(depth, f"__CATCH({handler.name})")
         else:
-            name = next(f"exc{n or ''}" for n in range(100) if f"exc{n or ''}" not in {*self.locals, *self.params, *self.fields})
+            name = self.fresh_name("exc")
             self.declare(name, "__SYSTEM.ExceptionCode", node)
-            self.emit(depth, f"__CATCH({name})")
+            self.write(depth, f"__CATCH({name})")
         self.block(handler.body, depth + 1)
         if node.finalbody:
-            self.emit(depth, "__FINALLY")
+            self.write(depth, "__FINALLY")
             self.block(node.finalbody, depth + 1)
-        self.emit(depth, "__ENDTRY")
+        self.write(depth, "__ENDTRY")
 
     def catches_all_faults(self, node: ast.expr | None, body: list[ast.stmt]) -> bool:
         """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch: a
@@ -381,24 +374,24 @@ class StatementWriter(ExpressionWriter):
         divides = any(isinstance(n, (ast.Div, ast.FloorDiv, ast.Mod)) for b in body for n in ast.walk(b))
         return bool({Exception, BaseException} & found) or PlcException in found and (ZeroDivisionError in found or not divides)
 
-    def match_statement(self, node: ast.Match, depth: int) -> None:
+    def visit_Match(self, node: ast.Match, depth: int, last: bool) -> None:
         """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
-        self.emit(depth, f"CASE {self.expr(node.subject)[0]} OF")
+        self.write(depth, f"CASE {self.expr(node.subject)[0]} OF")
         for case in node.cases:
             if case.guard is not None:
                 self.fail(case.guard, "a case with a guard (write an if inside the case)")
             pattern = case.pattern
             if isinstance(pattern, ast.MatchAs) and pattern.pattern is None and pattern.name is None:
-                self.emit(depth, "ELSE")
+                self.write(depth, "ELSE")
                 self.block(case.body, depth + 1)
                 continue
             options = pattern.patterns if isinstance(pattern, ast.MatchOr) else [pattern]
             if not all(isinstance(o, ast.MatchValue) for o in options):
                 self.fail(pattern, "a case pattern other than values, enumeration components and _")
             labels = ", ".join(self.expr(typing.cast(ast.MatchValue, o).value)[0] for o in options)
-            self.emit(depth + 1, f"{labels}:")
+            self.write(depth + 1, f"{labels}:")
             self.block(case.body, depth + 2)
-        self.emit(depth, "END_CASE")
+        self.write(depth, "END_CASE")
 
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
@@ -406,7 +399,7 @@ class StatementWriter(ExpressionWriter):
         func = node.func
         if self.resolves_to(func, "ref_assign"):
             holder, field, target = self.operator_args(node, 3)
-            self.emit(depth, f"{self.member_text(holder, field)} REF= {self.ref_target(target)};")
+            self.write(depth, f"{self.member_text(holder, field)} REF= {self.ref_target(target)};")
             return
         chain = self.set_reset_chain(node)
         if chain is not None:
@@ -415,13 +408,13 @@ class StatementWriter(ExpressionWriter):
             once = len(links) > 1 and any(isinstance(n, ast.Call) for n in ast.walk(condition))
             if once or len(links) > 1 and any(target in reads for target, _ in links):
                 # The condition is evaluated once for the whole chain: ST's a S= b R= c.
-                self.emit(depth, " ".join(f"{text} {word}" for _, (text, word) in links) + f" {self.expr(condition)[0]};")
+                self.write(depth, " ".join(f"{text} {word}" for _, (text, word) in links) + f" {self.expr(condition)[0]};")
             else:
                 # One statement per link, the innermost first as Python runs them (blark reads no chain).
                 for _, (text, word) in reversed(links):
-                    self.emit(depth, f"{text} {word} {self.expr(condition)[0]};")
+                    self.write(depth, f"{text} {word} {self.expr(condition)[0]};")
             return
-        self.emit(depth, f"{self.call(node)[0]};")
+        self.write(depth, f"{self.call(node)[0]};")
 
     def set_reset_chain(self, node: ast.expr) -> tuple[list[tuple[str, tuple[str, str]]], ast.expr] | None:
         """``S(self, "a", R(self, "b", c))``: the links ((Python target, (ST target, S= / R=)), outermost
@@ -459,7 +452,7 @@ class StatementWriter(ExpressionWriter):
                 self.fail(node, "a tuple assignment whose later values read an earlier target of unknown type")
             temp = self.temporary(f"{_stem(names[i])}_new", info, node)
             self.hoisted[id(value)] = temp
-            self.emit(depth, f"{temp} := {self.expr(value)[0]};")
+            self.write(depth, f"{temp} := {self.expr(value)[0]};")
             held[i] = temp
         for i, (t, v) in enumerate(zip(targets, values)):
             self.assign_one(t, ast.Name(held[i], ast.Load()) if i in held else v, depth, node)
@@ -468,63 +461,66 @@ class StatementWriter(ExpressionWriter):
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
             source, _iface = self.operator_args(value, 2)
             self.maybe_declare(target, value, node)
-            self.emit(depth, f"__QUERYINTERFACE({self.expr(source)[0]}, {self.target(target)});")
+            self.write(depth, f"__QUERYINTERFACE({self.expr(source)[0]}, {self.target(target)});")
             return
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
             (source,) = self.operator_args(value, 1)
             self.maybe_declare(target, value, node)
-            self.emit(depth, f"__QUERYPOINTER({self.expr(source)[0]}, {self.target(target)});")
+            self.write(depth, f"__QUERYPOINTER({self.expr(source)[0]}, {self.target(target)});")
             return
         self.maybe_declare(target, value, node)
         if isinstance(target, ast.Name) and target.id in self.references:
-            self.emit(depth, f"{self.name_text(target.id)} REF= {self.expr(value)[0]};")
+            self.write(depth, f"{self.name_text(target.id)} REF= {self.expr(value)[0]};")
             return
         if isinstance(target, ast.Attribute) and self.reads_property(target):
             info = self.typeof(target)
             if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo):
                 # The Set accessor of a REFERENCE TO property is called with REF= (fbSample.MyProp REF= stSet),
                 # as Python's setter gets the object itself; := would write through the Get accessor's reference.
-                self.emit(depth, f"{self.target(target)} REF= {self.expr(value)[0]};")
+                self.write(depth, f"{self.target(target)} REF= {self.expr(value)[0]};")
                 return
         text, _prec = self.expr(value)
-        self.emit(depth, f"{self.target(target)} := {text};")
+        self.write(depth, f"{self.target(target)} := {text};")
 
     def maybe_declare(self, target: ast.expr, value: ast.expr, node: ast.stmt) -> None:
+        """Declare the local a first assignment binds, of the type of its value."""
         if not isinstance(target, ast.Name):
             return
         name = target.id
-        if name in self.locals or name in self.params:
-            return
-        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
-            iface = value.args[1] if len(value.args) > 1 else None
-            cls = self.constant_object(iface) if iface is not None else None
-            if cls is None:
-                self.fail(node, "query_interface() with a target that is not an interface name")
-            self.declare(name, cls.__name__, node)
-            return
-        if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_pointer"):
-            self.declare(name, "PVOID", node)
-            return
-        if isinstance(value, ast.Call) and self.resolves_to(value.func, "var_info"):
-            self.declare(name, "__SYSTEM.VAR_INFO", node)
+        if name in self.locals or name in self.params or self.declare_operator_result(name, value, node):
             return
         info = self.typeof(value)
         if info is None:
             self.fail(node, f"a local {name!r} whose type cannot be inferred (annotate it: {name}: INT = ...)")
-        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and (
-            isinstance(value, ast.Call) or self.reads_property(value)
-        ):
+        gives_reference = isinstance(value, ast.Call) or self.reads_property(value)
+        if isinstance(info, ReferenceInfo) and isinstance(info.target, AggregateInfo) and gives_reference:
             # A METHOD, FUNCTION or PROPERTY that gives REFERENCE TO: Python's name is the variable itself, as ST's REF= binds it.
             self.references.add(name)
             self.declare(name, info, node)
             return
-        if isinstance(info, AggregateInfo) and not isinstance(value, ast.Call) and not self.reads_property(value):
+        if isinstance(info, AggregateInfo) and not gives_reference:
             # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
             # Get gives a value, which has no address: that one is a copy).
             self.references.add(name)
             self.declare(name, f"REFERENCE TO {type_text(info)}", node)
             return
         self.declare(name, info, node)
+
+    def declare_operator_result(self, name: str, value: ast.expr, node: ast.stmt) -> bool:
+        """Declare a local that holds what __QUERYINTERFACE, __QUERYPOINTER or __VARINFO give (True if it is one)."""
+        if not isinstance(value, ast.Call):
+            return False
+        if self.resolves_to(value.func, "query_interface"):
+            iface = value.args[1] if len(value.args) > 1 else None
+            cls = self.constant_object(iface) if iface is not None else None
+            if cls is None:
+                self.fail(node, "query_interface() with a target that is not an interface name")
+            self.declare(name, cls.__name__, node)
+            return True
+        declared = next((text for operator, text in _OPERATOR_LOCALS.items() if self.resolves_to(value.func, operator)), None)
+        if declared is not None:
+            self.declare(name, declared, node)
+        return declared is not None
 
     def is_place(self, node: ast.expr) -> bool:
         """Whether ``node`` names a variable that outlives the call: a variable of the block or of a GVL, an
@@ -552,6 +548,10 @@ class StatementWriter(ExpressionWriter):
             return isinstance(self.typeof(node), ReferenceInfo)
         return False
 
+
+
+#: iecoop operators whose result a local holds, and the ST type of that local.
+_OPERATOR_LOCALS = {"query_pointer": "PVOID", "var_info": "__SYSTEM.VAR_INFO"}
 
 
 def _stem(target: str) -> str:
