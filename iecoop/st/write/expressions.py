@@ -32,7 +32,6 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.st.write.infer import (
-    _MATH,
     Inference,
     _class_of,
     _constant_int,
@@ -48,16 +47,14 @@ from iecoop.st.write.infer import (
     _is_whole,
     _member_function,
 )
+from iecoop.st.language import BUILTIN_FUNCTIONS, INTEGER_TYPES, MATH_BY_PYTHON, OPERATOR_FUNCTIONS, PRECEDENCE
 from iecoop.st.write.model import StExportError, ident, type_text
 
 __all__ = ["ExpressionWriter", "literal"]
 
-#: ST operator precedence, loosest first (parentheses are added where a child binds looser).
-_OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY, _ATOM = range(1, 10)
-
-#: The precedence of each ST binary operator.
-_PRECEDENCE = {"OR": _OR, "XOR": _XOR, "AND": _AND, "=": _EQ, "<>": _EQ, "<": _CMP, "<=": _CMP, ">": _CMP, ">=": _CMP,
-               "+": _ADD, "-": _ADD, "*": _MUL, "/": _MUL, "MOD": _MUL}
+#: ST operator precedence (language.PRECEDENCE), loosest first; an atom (a name, a literal, a call) binds tightest.
+_OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY = (PRECEDENCE[op] for op in ("OR", "XOR", "AND", "=", "<", "+", "*", "NOT"))
+_ATOM = max(PRECEDENCE.values()) + 1
 
 #: Python's arithmetic and bit operators with an ST operator (``a += b`` takes these), by the ast class name.
 _BINARY_OPERATORS = {
@@ -68,10 +65,7 @@ _BINARY_OPERATORS = {
 _NAME_WORDS = {"self": "THIS^", "True": "TRUE", "False": "FALSE", "NULL": "0", "None": "0"}
 
 #: Python's comparisons and the ST operator of each (``is`` / ``is not`` compare with 0, NULL, in ST).
-_COMPARE: dict[type, tuple[str, int]] = {
-    ast.Eq: ("=", _EQ), ast.NotEq: ("<>", _EQ), ast.Lt: ("<", _CMP), ast.LtE: ("<=", _CMP),
-    ast.Gt: (">", _CMP), ast.GtE: (">=", _CMP), ast.Is: ("=", _EQ), ast.IsNot: ("<>", _EQ),
-}
+_COMPARE = {"Eq": "=", "NotEq": "<>", "Lt": "<", "LtE": "<=", "Gt": ">", "GtE": ">=", "Is": "=", "IsNot": "<>"}
 
 _BinaryHandler = Callable[["ExpressionWriter", ast.BinOp, ast.AST], "tuple[str, int]"]
 
@@ -265,7 +259,7 @@ class ExpressionWriter(Inference):
         if isinstance(info, StringInfo) and info.record.name == "STRING":
             return text
         name = getattr(getattr(info, "record", None), "name", None)
-        if name in _INTEGER_NAMES:
+        if name in INTEGER_TYPES:
             return f"{name}_TO_STRING({text})"
         if name == "BOOL":
             return f"SEL({text}, 'False', 'True')"  # Python writes True / False, BOOL_TO_STRING TRUE / FALSE
@@ -307,7 +301,8 @@ class ExpressionWriter(Inference):
                 tests = [f"{lhs} {word} {self.expr(e, _EQ + 1)[0]}" for e in right.elts]
                 parts.append("(" + join.join(tests) + ")" if len(tests) > 1 else tests[0])
             else:
-                symbol, prec = _COMPARE[type(op)]
+                symbol = _COMPARE[type(op).__name__]
+                prec = PRECEDENCE[symbol]
                 parts.append(f"{self.expr(left, prec + 1)[0]} {symbol} {self.expr(right, prec + 1)[0]}")
             left = right
         if len(parts) == 1:
@@ -328,7 +323,7 @@ class ExpressionWriter(Inference):
 
     def binary(self, node: ast.BinOp, symbol: str, left_text: str | None = None, right_text: str | None = None) -> tuple[str, int]:
         """``left symbol right``, each side in parentheses where it binds looser (the right one where equal)."""
-        prec = _PRECEDENCE[symbol]
+        prec = PRECEDENCE[symbol]
         left = left_text if left_text is not None else self.expr(node.left, prec)[0]
         right = right_text if right_text is not None else self.expr(node.right, prec + 1)[0]
         return f"{left} {symbol} {right}", prec
@@ -658,15 +653,6 @@ class ExpressionWriter(Inference):
 
 
 
-#: Python builtins and their IEC standard functions.
-_BUILTINS = {"min": "MIN", "max": "MAX", "abs": "ABS"}
-
-
-#: iecoop operators with an ST operator of another spelling.
-_OPERATORS = {
-    "adr": "ADR", "sizeof": "SIZEOF", "memcpy": "MEMCPY", "memset": "MEMSET", "memcmp": "MEMCMP",
-    "new": "__NEW", "delete": "__DELETE", "test_and_set": "TestAndSet",
-}
 
 
 #: The global variable list the module constants a body reads are declared in.
@@ -748,7 +734,6 @@ def _describe(node: ast.AST) -> str:
 
 
 #: Types whose *_TO_STRING text is the one Python's f-string gives (decimal digits, a minus sign).
-_INTEGER_NAMES = frozenset("SINT INT DINT LINT USINT UINT UDINT ULINT BYTE WORD DWORD LWORD".split())
 
 
 _REAL_IN_TEXT = "round to an integer and write CONCAT(...) with DINT_TO_STRING(...), or LREAL_TO_STRING(...), whose text differs from Python's"
@@ -776,7 +761,7 @@ def _one_argument(node: ast.Call) -> ast.expr | None:
 
 
 def _call_min_max_abs(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
-    return f"{_BUILTINS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+    return f"{BUILTIN_FUNCTIONS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
 
 
 def _call_bool(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
@@ -850,7 +835,7 @@ def _call_math(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
     text = w.expr(arg)[0]
     if typing.cast(ElementaryInfo, info).record.name != "LREAL":
         text = f"TO_LREAL({text})"
-    return f"{_MATH[func.attr]}({text})", _ATOM
+    return f"{MATH_BY_PYTHON[func.attr]}({text})", _ATOM
 
 
 def _call_adr(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
@@ -888,7 +873,7 @@ def _call_mod(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
 
 
 def _call_operator(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
-    return f"{_OPERATORS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
+    return f"{OPERATOR_FUNCTIONS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
 
 
 def _call_current_task(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
@@ -900,13 +885,13 @@ def _call_current_task(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
 _BUILTIN_CALLS: dict[str, _CallRule] = {
     "min": _call_min_max_abs, "max": _call_min_max_abs, "abs": _call_min_max_abs,
     "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len_constant, "round": _call_round,
-    **{name: _call_math for name in _MATH},
+    **{name: _call_math for name in MATH_BY_PYTHON},
 }
 
 
 #: iecoop's operators (only when the name is iecoop's) and their ST form.
 _LIBRARY_CALLS: dict[str, _CallRule] = {
-    **{name: _call_operator for name in _OPERATORS},
+    **{name: _call_operator for name in OPERATOR_FUNCTIONS},
     "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
     "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
     "var_info": _call_var_info,

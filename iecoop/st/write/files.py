@@ -32,6 +32,7 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
+from iecoop.st.language import PLCOPEN_ELEMENTARY
 from iecoop.st.write.units import Part, Unit, initial_text, parameter_groups
 from iecoop.st.write.model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
 
@@ -139,15 +140,11 @@ _CODESYS = "http://www.3s-software.com/plcopenxml/"
 #: A fixed date, so that exporting again gives the same file.
 _DATE = "2000-01-01T00:00:00"
 
-_ELEMENTARY = {
-    "BOOL", "BYTE", "WORD", "DWORD", "LWORD", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT",
-    "REAL", "LREAL", "TIME", "DATE", "DT", "TOD", "LTIME",
-}
-_TC6_NAMES = {"LTIME": None}
 _SECTION_TAGS = {
     "VAR_INPUT": "inputVars", "VAR_OUTPUT": "outputVars", "VAR_IN_OUT": "inOutVars", "VAR": "localVars",
     "VAR_TEMP": "tempVars", "VAR_EXTERNAL": "externalVars", "VAR_STAT": "localVars", "VAR_INST": "localVars",
 }
+#: The order PLCopen XML lists the sections of a POU in.
 _SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR_EXTERNAL", "VAR", "VAR_STAT", "VAR_TEMP")
 
 
@@ -170,7 +167,7 @@ def _type(parent: ET.Element, info: TypeInfo) -> None:
         _type(_sub(array, "baseType"), info.elem)
     elif isinstance(info, PointerInfo) and info.target is not None:
         _type(_sub(_sub(parent, "pointer"), "baseType"), info.target)
-    elif isinstance(info, ElementaryInfo) and info.name in _ELEMENTARY and info.name != "LTIME":
+    elif isinstance(info, ElementaryInfo) and info.name in PLCOPEN_ELEMENTARY:
         _sub(parent, info.name)
     else:
         # Derived types, interfaces, LTIME, REFERENCE TO and PVOID: CODESYS names them.

@@ -31,6 +31,7 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.memory.pointers import PointerInfo
+from iecoop.st.language import MATH_BY_PYTHON
 from iecoop.st.write.model import StExportError, function_parameters, ident, parameters, return_info, type_text
 from iecoop.types import BOOL, DINT, LREAL, LTIME, STRING, TIME
 
@@ -481,9 +482,6 @@ def _adr_type(w: Inference, node: ast.Call) -> TypeInfo | None:
     return PointerInfo(lambda: target, type_text(target) if target is not None else "BYTE")
 
 
-#: Functions of Python's math module and the IEC standard function that computes the same.
-_MATH = {"sin": "SIN", "cos": "COS", "tan": "TAN", "asin": "ASIN", "acos": "ACOS", "atan": "ATAN", "sqrt": "SQRT", "exp": "EXP", "log10": "LOG"}
-
 #: Result types of calls of names that do not depend on the arguments.
 _CALL_TYPES: dict[str, TypeInfo] = {
     "T": _TIME, "LTIME": _LTIME, "float": _LREAL, "int": _DINT, "bool": _BOOL, "is_valid_ref": _BOOL,
@@ -494,7 +492,7 @@ _CALL_TYPES: dict[str, TypeInfo] = {
 #: Result types of calls of names that depend on the arguments.
 _CALL_TYPE_RULES: dict[str, Callable[[Inference, ast.Call], TypeInfo | None]] = {
     "min": _first_argument_type, "max": _first_argument_type, "abs": _first_argument_type,
-    "round": _round_type, "new": _new_type, "adr": _adr_type, **{name: lambda w, node: _LREAL for name in _MATH},
+    "round": _round_type, "new": _new_type, "adr": _adr_type, **{name: lambda w, node: _LREAL for name in MATH_BY_PYTHON},
 }
 
 

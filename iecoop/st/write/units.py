@@ -18,6 +18,7 @@ from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING, FieldSpec
+from iecoop.st.language import SECTION_ORDER
 from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
 from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
 from iecoop.st.write.infer import result_info as _result_info
@@ -47,7 +48,6 @@ def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
     """The result type a METHOD, PROPERTY or FUNCTION is written with (see :func:`.infer.result_info`)."""
     return _result_info(func, where, owner, BodyWriter)
 
-_SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
 #: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
 _LIFECYCLE_INPUTS = {"init_retains": "bInitRetains", "in_copy_code": "bInCopyCode"}
 
@@ -173,7 +173,7 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         section = default or field.section
         qualifier = field.spec.qualifiers if section != "VAR_IN_OUT" else ("CONSTANT" if field.spec.constant else "")
         groups.setdefault((section, qualifier), []).append(field)
-    order = {s: i for i, s in enumerate((*_SECTION_ORDER, "VAR_GLOBAL"))}
+    order = {s: i for i, s in enumerate((*SECTION_ORDER, "VAR_GLOBAL"))}
     for (section, qualifier), members in sorted(groups.items(), key=lambda item: order.get(item[0][0], 99)):
         if section == "VAR_INST" and default is None:
             continue  # declared inside the METHOD it belongs to (which asks with default="VAR_INST")

@@ -658,6 +658,23 @@ def test_math_len_functions_query_tests_and_enumeration_loops_loaded_back_run_as
     same_run(Builtins, 4, "angle", "wave", "root", "size", "is_shown", "not_shown", "modes", types=(Mode, Cell, IShown, Shown))
 
 
+class Logarithms(Program):
+    level: LREAL = VAR(1.0)
+    natural: LREAL = VAR(0.0)
+    decimal: LREAL = VAR(0.0)
+
+    def body(self) -> None:
+        self.level = self.level * 2.0
+        self.natural = math.log(self.level)
+        self.decimal = math.log10(self.level)
+
+
+def test_math_functions_are_the_vocabulary_s_every_one_log_is_ln() -> None:
+    # math.log is the natural logarithm, ST's LN; math.log10 is LOG (iecoop.st.language.MATH_FUNCTIONS).
+    assert body_of(dump([Logarithms]), "Logarithms") == "level := level * 2.0;\nnatural := LN(level);\ndecimal := LOG(level);\n"
+    same_run(Logarithms, 3, "level", "natural", "decimal")
+
+
 class Info(Program):
     cell: Cell = VAR()
     offset: UDINT = VAR(0)
