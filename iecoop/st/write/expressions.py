@@ -110,10 +110,13 @@ class ExpressionWriter(Inference):
                 return name
         self.fail(node, "a statement that needs more than 1000 temporaries")
 
-    def declare(self, name: str, info: TypeInfo | str, node: ast.AST) -> None:
+    def declare(self, name: str, info: TypeInfo | str, node: ast.AST, *, seen_as: TypeInfo | None = None) -> None:
+        """Declare the local ``name`` of ST type ``info``; ``seen_as`` is the type Python sees where it differs."""
         if name.lower() in {f.lower() for f in self.fields} and name not in self.params and self.func.__name__ == "body":
             self.temp_name(name)
         self.locals[name] = info
+        if seen_as is not None:
+            self.local_types[name] = seen_as
 
     def declare_once(self, name: str, info: TypeInfo, node: ast.AST) -> None:
         """Declare the local ``name`` unless it is one already (a local or an input)."""
@@ -290,7 +293,7 @@ class ExpressionWriter(Inference):
             and self.resolves_to(left.func, "query_interface") and _is_none(node.comparators[0])
         ):
             return self.query_test(left, isinstance(node.ops[0], ast.IsNot))
-        parts: list[str] = []
+        parts: list[tuple[str, bool]] = []  # (text, whether it is in parentheses of its own)
         left = node.left
         for op, right in zip(node.ops, node.comparators):
             if isinstance(op, (ast.In, ast.NotIn)):
@@ -299,17 +302,17 @@ class ExpressionWriter(Inference):
                 word, join = ("=", " OR ") if isinstance(op, ast.In) else ("<>", " AND ")
                 lhs = self.expr(left, _EQ + 1)[0]
                 tests = [f"{lhs} {word} {self.expr(e, _EQ + 1)[0]}" for e in right.elts]
-                parts.append("(" + join.join(tests) + ")" if len(tests) > 1 else tests[0])
+                parts.append(("(" + join.join(tests) + ")", True) if len(tests) > 1 else (tests[0], False))
             else:
                 symbol = _COMPARE[type(op).__name__]
                 prec = PRECEDENCE[symbol]
-                parts.append(f"{self.expr(left, prec + 1)[0]} {symbol} {self.expr(right, prec + 1)[0]}")
+                parts.append((f"{self.expr(left, prec + 1)[0]} {symbol} {self.expr(right, prec + 1)[0]}", False))
             left = right
         if len(parts) == 1:
-            only = parts[0]
+            only, grouped = parts[0]
             prec = _EQ if isinstance(node.ops[0], (ast.Eq, ast.NotEq, ast.Is, ast.IsNot)) else _CMP
-            return only, (_ATOM if only.startswith("(") and only.endswith(")") else prec)
-        return " AND ".join(p if p.startswith("(") else f"({p})" for p in parts), _AND
+            return only, (_ATOM if grouped else prec)
+        return " AND ".join(text if grouped else f"({text})" for text, grouped in parts), _AND
 
     def visit_BinOp(self, node: ast.BinOp) -> tuple[str, int]:
         return self.binop(node, node)
@@ -661,7 +664,7 @@ _CONSTANTS_GVL = "GVL_Constants"
 
 def _real_text(value: float) -> str:
     text = repr(float(value))
-    if "inf" in text or "nan" in text:
+    if not math.isfinite(value):
         raise ValueError(f"{value!r} has no ST literal")
     mantissa, _, exponent = text.partition("e")
     if "." not in mantissa:

@@ -63,6 +63,10 @@ class Inference:
         self.rename = dict(rename or {})
         self.lenient = lenient
         self.locals: dict[str, TypeInfo | str] = {}
+        #: The type Python sees of a local whose ST type differs: a REFERENCE TO bound to a block or struct is that block.
+        self.local_types: dict[str, TypeInfo] = {}
+        #: How many statements the body's lines hold (a comment for one left out is none).
+        self.statements_written = 0
         self.references: set[str] = set()
         self.catch_vars: set[str] = set()
         self.fields = _fields_of(scope.cls)
@@ -142,13 +146,10 @@ class Inference:
             return None
 
     def _local_info(self, name: str) -> TypeInfo | None:
+        if name in self.local_types:
+            return self.local_types[name]
         info = self.locals.get(name, self.params.get(name))
-        if isinstance(info, str):
-            if info.startswith("REFERENCE TO "):
-                cls = self.globals.get(info[len("REFERENCE TO ") :])
-                return class_info(cls) if isinstance(cls, type) else None
-            return None
-        return info
+        return None if isinstance(info, str) else info
 
     def _typeof(self, node: ast.expr | None) -> TypeInfo | None:
         return ExpressionType(self).visit(node)

@@ -58,22 +58,22 @@ class StatementWriter(ExpressionWriter):
         return self.lines
 
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
-        start = len(self.lines)
+        start = self.statements_written
         self._block(body, depth, top)
-        if not top and all(line.lstrip().startswith("(*") for line in self.lines[start:]):
+        if not top and self.statements_written == start:
             self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
             mark = len(self.lines)
-            saved = (dict(self.locals), set(self.references))
+            saved = (dict(self.locals), set(self.references), dict(self.local_types))
             self.hoisted = {}
             try:
                 self.visit(stmt, depth, last)
             except _Untranslated as exc:
                 del self.lines[mark:]
-                self.locals, self.references, self.prelude = saved[0], saved[1], []
+                self.locals, self.references, self.local_types, self.prelude = saved[0], saved[1], saved[2], []
                 line = self.first_line + getattr(exc.node, "lineno", 1) - 1
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
@@ -84,7 +84,7 @@ class StatementWriter(ExpressionWriter):
                     part.strip() for part in self.source_lines[stmt.lineno - 1 : (stmt.end_lineno or stmt.lineno)]
                 )
                 text = text.replace("(*", "( *").replace("*)", "* )")
-                self.write(depth, f"(* not translated, {exc.what} (line {line}): {text} *)")
+                self.lines.append("    " * depth + f"(* not translated, {exc.what} (line {line}): {text} *)")
 
     def write(self, depth: int, text: str) -> None:
         """Write one line at ``depth``, after the statements it needs first (a call's result kept in a temporary)."""
@@ -92,6 +92,7 @@ class StatementWriter(ExpressionWriter):
         for line in pending:
             self.lines.append("    " * depth + line)
         self.lines.append("    " * depth + text)
+        self.statements_written += 1
 
     def once(self, node: ast.AST, text: str) -> str:
         """A condition evaluated again and again (WHILE, ELSIF): it cannot use a temporary set before."""
@@ -274,7 +275,7 @@ class StatementWriter(ExpressionWriter):
             # Python binds the name to the element itself: in ST that is a reference to it.
             if name not in self.references:
                 self.references.add(name)
-                self.declare(name, f"REFERENCE TO {type_text(elem)}", node)
+                self.declare(name, ReferenceInfo(elem), node, seen_as=elem)
             self.write(depth + 1, f"{self.name_text(name)} REF= {element};")
         else:
             self.declare_once(name, elem, node)
@@ -404,7 +405,7 @@ class StatementWriter(ExpressionWriter):
         chain = self.set_reset_chain(node)
         if chain is not None:
             links, condition = chain
-            reads = {ast.unparse(n) for n in ast.walk(condition) if isinstance(n, (ast.Attribute, ast.Name))}
+            reads = {_path(n) for n in ast.walk(condition) if isinstance(n, (ast.Attribute, ast.Name))} - {None}
             once = len(links) > 1 and any(isinstance(n, ast.Call) for n in ast.walk(condition))
             if once or len(links) > 1 and any(target in reads for target, _ in links):
                 # The condition is evaluated once for the whole chain: ST's a S= b R= c.
@@ -416,15 +417,17 @@ class StatementWriter(ExpressionWriter):
             return
         self.write(depth, f"{self.call(node)[0]};")
 
-    def set_reset_chain(self, node: ast.expr) -> tuple[list[tuple[str, tuple[str, str]]], ast.expr] | None:
-        """``S(self, "a", R(self, "b", c))``: the links ((Python target, (ST target, S= / R=)), outermost
+    def set_reset_chain(self, node: ast.expr) -> tuple[list[tuple[_Path | None, tuple[str, str]]], ast.expr] | None:
+        """``S(self, "a", R(self, "b", c))``: the links ((the target's path, (ST target, S= / R=)), outermost
         first) and the condition ``c`` they all act on (S and R return their condition)."""
         if not isinstance(node, ast.Call):
             return None
         for op, word in (("S", "S="), ("R", "R=")):
             if self.resolves_to(node.func, op) and _from_iecoop(self.globals.get(op)):
                 holder, field, condition = self.operator_args(node, 3)
-                link = (f"{ast.unparse(holder)}.{getattr(field, 'value', '')}", (self.member_text(holder, field), word))
+                base = _path(holder)
+                target = (*base, (".", str(getattr(field, "value", "")))) if base is not None else None
+                link = (target, (self.member_text(holder, field), word))
                 inner = self.set_reset_chain(condition)
                 return ([link], condition) if inner is None else ([link, *inner[0]], inner[1])
         return None
@@ -441,16 +444,17 @@ class StatementWriter(ExpressionWriter):
     def tuple_assign(self, targets: list[ast.expr], values: list[ast.expr], depth: int, node: ast.stmt) -> None:
         """``a, b = x, y``: one assignment after another; a value that reads an earlier target is kept
         in a temporary first, since Python evaluates every value before it assigns."""
-        names = [ast.unparse(t) for t in targets]
+        paths = [_path(t) for t in targets]
         held: dict[int, str] = {}
         for i, value in enumerate(values):
-            reads = {ast.unparse(n) for n in ast.walk(value) if isinstance(n, (ast.Name, ast.Attribute, ast.Subscript))}
-            if not any(r == n or r.startswith((n + ".", n + "[")) for n in names[:i] for r in reads):
+            reads = [_path(n) for n in ast.walk(value) if isinstance(n, (ast.Name, ast.Attribute, ast.Subscript))]
+            # a read of an earlier target, or of a member or element of it
+            if not any(p is not None and r is not None and r[: len(p)] == p for p in paths[:i] for r in reads):
                 continue
             info = self.typeof(targets[i]) or self.typeof(value)
             if info is None:
                 self.fail(node, "a tuple assignment whose later values read an earlier target of unknown type")
-            temp = self.temporary(f"{_stem(names[i])}_new", info, node)
+            temp = self.temporary(f"{_stem(paths[i])}_new", info, node)
             self.hoisted[id(value)] = temp
             self.write(depth, f"{temp} := {self.expr(value)[0]};")
             held[i] = temp
@@ -502,7 +506,7 @@ class StatementWriter(ExpressionWriter):
             # Python binds a name to the element itself: in ST that is a reference to it (a PROPERTY's
             # Get gives a value, which has no address: that one is a copy).
             self.references.add(name)
-            self.declare(name, f"REFERENCE TO {type_text(info)}", node)
+            self.declare(name, ReferenceInfo(info), node, seen_as=info)
             return
         self.declare(name, info, node)
 
@@ -554,9 +558,33 @@ class StatementWriter(ExpressionWriter):
 _OPERATOR_LOCALS = {"query_pointer": "PVOID", "var_info": "__SYSTEM.VAR_INFO"}
 
 
-def _stem(target: str) -> str:
-    """A name for a temporary from an assignment target's text (``self.a[i]`` gives ``a``)."""
-    return target.removeprefix("self.").split("[", 1)[0].replace(".", "_")
+#: The variable a name, member or element designates, step by step: ``self.a[i]`` is
+#: ``(("", "self"), (".", "a"), ("[", <the syntax tree of i>))``.
+_Path = tuple[tuple[str, str], ...]
+
+
+def _path(node: ast.expr) -> _Path | None:
+    """The path of the variable ``node`` designates (an index by its syntax tree); None for another expression."""
+    if isinstance(node, ast.Name):
+        return (("", node.id),)
+    if isinstance(node, (ast.Attribute, ast.Subscript)):
+        base = _path(node.value)
+        step = (".", node.attr) if isinstance(node, ast.Attribute) else ("[", ast.dump(node.slice))
+        return None if base is None else (*base, step)
+    return None
+
+
+def _stem(path: _Path | None) -> str:
+    """A name for a temporary from an assignment target's path (``self.a[i]`` gives ``a``)."""
+    steps = list(path or (("", "value"),))
+    if steps[0] == ("", "self") and len(steps) > 1:
+        steps = steps[1:]
+    names: list[str] = []
+    for kind, name in steps:
+        if kind == "[":
+            break
+        names.append(name)
+    return "_".join(names)
 
 
 def _escapes(body: list[ast.stmt]) -> bool:

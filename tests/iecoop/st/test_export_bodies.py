@@ -869,3 +869,20 @@ def test_ref_to_a_property_of_another_type_is_refused() -> None:
     )
     with pytest.raises(st.StUnsupportedError, match=r"REF= of self\.holder\.my_prop needs a Sample variable, got self\.n"):
         st.load(text)
+
+
+class Unequal(Program):
+    a: INT = VAR(1)
+    b: INT = VAR(0)
+    c: INT = VAR(2)
+    d: INT = VAR(0)
+    differ: BOOL = VAR(False)
+
+    def body(self) -> None:
+        self.differ = not ((self.a | self.b) == (self.c | self.d))
+
+
+def test_not_of_a_comparison_whose_operands_are_in_parentheses_keeps_the_comparison_whole() -> None:
+    # NOT binds tighter than =: NOT (a OR b) = (c OR d) would compare the bitwise NOT of a OR b.
+    assert body_of(dump([Unequal]), "Unequal") == "differ := NOT ((a OR b) = (c OR d));\n"
+    same_run(Unequal, 1, "differ")
