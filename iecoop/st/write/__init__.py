@@ -3,9 +3,14 @@
 One room per phase, each handing the next its data:
 
 * :mod:`.model` reads what a class exports as (its variables, members, names);
-* :mod:`.body` translates the Python bodies of its POUs, METHODs and PROPERTYs;
-* :mod:`.units` builds each object's declaration and implementation (a ``Unit``);
-* :mod:`.files` writes the units as flat text, TwinCAT XML or PLCopen XML.
+* :mod:`.infer`, :mod:`.expressions` and :mod:`.statements` translate the Python bodies of its POUs,
+  METHODs and PROPERTYs: the types of expressions, then expressions, then statements, each by one
+  handler per syntax node, ``visit_<ast class name>``;
+* :mod:`.units` builds each object's declaration and implementation (a ``Unit``) and the flat text;
+* :mod:`.files` writes the units as TwinCAT XML or PLCopen XML.
+
+The words of ST (keywords, types, operators and their precedence, standard functions) come from
+:mod:`iecoop.st.language`.
 
 :mod:`iecoop.st.export` is the public face (``dump``, ``export``, ``StExportError``).
 """

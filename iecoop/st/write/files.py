@@ -21,10 +21,8 @@ from typing import Any
 from iecoop.members import Access
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import (
-    AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
-    EnumInfo,
     InterfaceInfo,
     ReferenceInfo,
     StringInfo,

@@ -32,7 +32,7 @@ from iecoop.memory.typeinfo import (
     resolve_type,
 )
 from iecoop.memory.pointers import PointerInfo
-from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
+from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.types import elementary_type
 from iecoop.st import language
 from iecoop.st.language import RESERVED

@@ -16,8 +16,8 @@ from typing import Any
 
 from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
-from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
-from iecoop.memory.layout import MISSING, FieldSpec
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.layout import MISSING
 from iecoop.st.language import SECTION_ORDER
 from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
 from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
@@ -37,7 +37,6 @@ from iecoop.st.write.model import (
     enum_members,
     function_parameters,
     parameters,
-    return_info,
     type_text,
 )
 
