@@ -379,7 +379,8 @@ def test_plcopen_declares_every_module_constant_the_flat_text_declares(module: s
     (written,) = export(source, tmp_path, format="plcopen")
     validate_plcopen(written)
     block = next(g for g in ET.parse(written).getroot().iter(f"{{{TC6}}}globalVars") if g.get("name") == "GVL_Constants")
-    found = [(v.get("name"), v.find(f"{{{TC6}}}initialValue/{{{TC6}}}simpleValue").get("value")) for v in block.iter(f"{{{TC6}}}variable")]
+    values = [(v.get("name"), v.find(f"{{{TC6}}}initialValue/{{{TC6}}}simpleValue")) for v in block.iter(f"{{{TC6}}}variable")]
+    found = [(name, value.get("value") if value is not None else None) for name, value in values]
     assert expected and found == expected
     if module.endswith("interpreter"):
         assert block.find(f"{{{TC6}}}variable[@name='WHITESPACE']/{{{TC6}}}type/{{{TC6}}}string") is not None
