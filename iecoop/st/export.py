@@ -10,8 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from iecoop.st._emit_decl import Unit, flat_text, units
-from iecoop.st._emit_model import StExportError, collect, ident, with_dependencies
+from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
 
 __all__ = ["StExportError", "dump", "export"]
 
@@ -50,14 +49,10 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     if format not in ("twincat", "st", "plcopen"):
         raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
     if format == "twincat":
-        from iecoop.st._emit_files import twincat_file
-
         files = [twincat_file(unit) for unit in found]
     elif format == "st":
         files = [(f"{unit.name}.st", flat_text(unit)) for unit in found]
     else:
-        from iecoop.st._emit_files import plcopen_project
-
         name = _project_name(classes_or_module, found)
         files = [(f"{name}.xml", plcopen_project(name, found))]
     # Every file is made before the first is written: a refused name leaves the folder as it was.

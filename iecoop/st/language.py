@@ -34,13 +34,17 @@ __all__ = [
     "ELEMENTARY",
     "GENERIC_TYPES",
     "INTEGER_LAYOUT",
+    "INTEGER_TYPES",
     "KEYWORDS",
     "LIFECYCLE",
     "MATH_BY_PYTHON",
     "MATH_FUNCTIONS",
     "OPERATOR_FUNCTIONS",
+    "PLCOPEN_ELEMENTARY",
+    "PRECEDENCE",
     "REAL_TYPES",
     "RESERVED",
+    "SECTION_ORDER",
     "STANDARD_FBS",
     "STRING_FUNCTIONS",
     "SYSTEM_FUNCTIONS",
@@ -149,3 +153,25 @@ BUILTIN_FUNCTIONS: Final = {"min": "MIN", "max": "MAX", "abs": "ABS"}
 ACCESS_SPECIFIERS: Final = ("PUBLIC", "PRIVATE", "PROTECTED", "INTERNAL", "ABSTRACT", "FINAL")
 #: The lifecycle METHODs: ST name (in capitals) -> iecoop's Python name.
 LIFECYCLE: Final = {"FB_INIT": "fb_init", "FB_REINIT": "fb_reinit", "FB_EXIT": "fb_exit"}
+
+# --- the write wing (Python to ST) ----------------------------------------------------------------
+# What the writer needs beyond the words above: how tightly each operator binds, the order of the
+# VAR sections, and the types PLCopen XML names by an element of their own.
+
+#: ST operator precedence, loosest first (IEC 61131-3, "Operators of the ST language"): an operand
+#: that binds looser than its operator is written in parentheses.
+PRECEDENCE: Final = {
+    "OR": 1, "OR_ELSE": 1, "XOR": 2, "AND": 3, "AND_THEN": 3, "&": 3, "=": 4, "<>": 4, "<": 5, "<=": 5, ">": 5, ">=": 5,
+    "+": 6, "-": 6, "*": 7, "/": 7, "MOD": 7, "**": 8, "NOT": 9,
+}
+#: The integer types (not TIME or a date): those whose ``*_TO_STRING`` writes the digits Python writes.
+INTEGER_TYPES: Final = frozenset(
+    name for name, record in ELEMENTARY_TYPES.items()
+    if isinstance(record, ElementaryType) and record.kind in ("signed", "unsigned")
+)
+#: The elementary types PLCopen XML (TC6 2.01) writes as an element of their own (``<INT/>``); it has no LTIME.
+PLCOPEN_ELEMENTARY: Final = frozenset(
+    name for name, record in ELEMENTARY_TYPES.items() if isinstance(record, ElementaryType)
+) - {"LTIME"}
+#: The VAR sections of a POU in the order its declaration lists them.
+SECTION_ORDER: Final = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +21,7 @@ from iecoop import (
 )
 from iecoop.conversions import MOD, TO_INT
 from iecoop.gvl import GlobalVariables, register_global_list
-from iecoop.st._emit_model import collect
+from iecoop.st.write.model import collect
 from iecoop.st.export import StExportError, dump, export
 from iecoop.stdlib import TON
 from patterns.showcase import catalogue
@@ -366,6 +367,23 @@ def test_plcopen_carries_the_attribute_pragmas(tmp_path: Path) -> None:
     validate_plcopen(single)
     lists = {g.get("name"): _attribute_names(g) for g in ET.parse(single).getroot().iter(f"{{{TC6}}}globalVars")}
     assert lists["GVL_PlantEvents"] == ["qualified_only"] and lists["GVL_Constants"] == []
+
+
+@pytest.mark.parametrize("module", ["patterns.creational.singleton", "patterns.behavioral.interpreter"])
+def test_plcopen_declares_every_module_constant_the_flat_text_declares(module: str, tmp_path: Path) -> None:
+    # Each one, the last too, with its type and value (a STRING constant is a <string/>).
+    source = importlib.import_module(module)
+    flat = dump(source).split("// GVL GVL_Constants\nVAR_GLOBAL CONSTANT\n", 1)[1].split("END_VAR", 1)[0]
+    declared = [line.strip().rstrip(";").split(" : ") for line in flat.splitlines()]
+    expected = [(name, kind.split(" := ")[1]) for name, kind in declared]
+    (written,) = export(source, tmp_path, format="plcopen")
+    validate_plcopen(written)
+    block = next(g for g in ET.parse(written).getroot().iter(f"{{{TC6}}}globalVars") if g.get("name") == "GVL_Constants")
+    values = [(v.get("name"), v.find(f"{{{TC6}}}initialValue/{{{TC6}}}simpleValue")) for v in block.iter(f"{{{TC6}}}variable")]
+    found = [(name, value.get("value") if value is not None else None) for name, value in values]
+    assert expected and found == expected
+    if module.endswith("interpreter"):
+        assert block.find(f"{{{TC6}}}variable[@name='WHITESPACE']/{{{TC6}}}type/{{{TC6}}}string") is not None
 
 
 def test_the_flat_text_names_each_global_list_for_the_reader() -> None:

@@ -658,6 +658,23 @@ def test_math_len_functions_query_tests_and_enumeration_loops_loaded_back_run_as
     same_run(Builtins, 4, "angle", "wave", "root", "size", "is_shown", "not_shown", "modes", types=(Mode, Cell, IShown, Shown))
 
 
+class Logarithms(Program):
+    level: LREAL = VAR(1.0)
+    natural: LREAL = VAR(0.0)
+    decimal: LREAL = VAR(0.0)
+
+    def body(self) -> None:
+        self.level = self.level * 2.0
+        self.natural = math.log(self.level)
+        self.decimal = math.log10(self.level)
+
+
+def test_math_functions_are_the_vocabulary_s_every_one_log_is_ln() -> None:
+    # math.log is the natural logarithm, ST's LN; math.log10 is LOG (iecoop.st.language.MATH_FUNCTIONS).
+    assert body_of(dump([Logarithms]), "Logarithms") == "level := level * 2.0;\nnatural := LN(level);\ndecimal := LOG(level);\n"
+    same_run(Logarithms, 3, "level", "natural", "decimal")
+
+
 class Info(Program):
     cell: Cell = VAR()
     offset: UDINT = VAR(0)
@@ -852,3 +869,20 @@ def test_ref_to_a_property_of_another_type_is_refused() -> None:
     )
     with pytest.raises(st.StUnsupportedError, match=r"REF= of self\.holder\.my_prop needs a Sample variable, got self\.n"):
         st.load(text)
+
+
+class Unequal(Program):
+    a: INT = VAR(1)
+    b: INT = VAR(0)
+    c: INT = VAR(2)
+    d: INT = VAR(0)
+    differ: BOOL = VAR(False)
+
+    def body(self) -> None:
+        self.differ = not ((self.a | self.b) == (self.c | self.d))
+
+
+def test_not_of_a_comparison_whose_operands_are_in_parentheses_keeps_the_comparison_whole() -> None:
+    # NOT binds tighter than =: NOT (a OR b) = (c OR d) would compare the bitwise NOT of a OR b.
+    assert body_of(dump([Unequal]), "Unequal") == "differ := NOT ((a OR b) = (c OR d));\n"
+    same_run(Unequal, 1, "differ")

@@ -320,8 +320,8 @@ def test_plcopen_writes_the_renamed_names_the_bodies_use(tmp_path: Path) -> None
 
 
 def test_the_xml_writers_refuse_a_character_xml_cannot_hold() -> None:
-    from iecoop.st._emit_decl import Unit
-    from iecoop.st._emit_files import plcopen_project, twincat_file
+    from iecoop.st.write.units import Unit
+    from iecoop.st.write.files import plcopen_project, twincat_file
 
     unit = Unit("gvl", "GVL_Raw", "VAR_GLOBAL\n    s : STRING := '\x01';\nEND_VAR\n")
     with pytest.raises(StExportError, match="control character.*XML"):

@@ -26,8 +26,8 @@ from typing import Any
 import pytest
 
 from iecoop.runtime import Runtime
-from iecoop.st._emit_decl import units
-from iecoop.st._emit_model import collect
+from iecoop.st.write.units import units
+from iecoop.st.write.model import collect
 from iecoop.st.export import StExportError
 from iecoop.testing.round_trip import FORMATS, load_back, rebound
 from patterns.showcase import catalogue

@@ -21,10 +21,8 @@ from typing import Any
 from iecoop.members import Access
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import (
-    AggregateInfo,
     ArrayInfo,
     ElementaryInfo,
-    EnumInfo,
     InterfaceInfo,
     ReferenceInfo,
     StringInfo,
@@ -32,8 +30,10 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
-from iecoop.st._emit_decl import Part, Unit, initial_text, parameter_groups
-from iecoop.st._emit_model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
+from iecoop.st.language import PLCOPEN_ELEMENTARY
+from iecoop.st.write.expressions import literal
+from iecoop.st.write.units import Part, Unit, constant_type, initial_text, parameter_groups
+from iecoop.st.write.model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
 
 __all__ = ["guid", "plcopen_project", "twincat_file"]
 
@@ -139,15 +139,11 @@ _CODESYS = "http://www.3s-software.com/plcopenxml/"
 #: A fixed date, so that exporting again gives the same file.
 _DATE = "2000-01-01T00:00:00"
 
-_ELEMENTARY = {
-    "BOOL", "BYTE", "WORD", "DWORD", "LWORD", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT",
-    "REAL", "LREAL", "TIME", "DATE", "DT", "TOD", "LTIME",
-}
-_TC6_NAMES = {"LTIME": None}
 _SECTION_TAGS = {
     "VAR_INPUT": "inputVars", "VAR_OUTPUT": "outputVars", "VAR_IN_OUT": "inOutVars", "VAR": "localVars",
     "VAR_TEMP": "tempVars", "VAR_EXTERNAL": "externalVars", "VAR_STAT": "localVars", "VAR_INST": "localVars",
 }
+#: The order PLCopen XML lists the sections of a POU in.
 _SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR_EXTERNAL", "VAR", "VAR_STAT", "VAR_TEMP")
 
 
@@ -170,7 +166,7 @@ def _type(parent: ET.Element, info: TypeInfo) -> None:
         _type(_sub(array, "baseType"), info.elem)
     elif isinstance(info, PointerInfo) and info.target is not None:
         _type(_sub(_sub(parent, "pointer"), "baseType"), info.target)
-    elif isinstance(info, ElementaryInfo) and info.name in _ELEMENTARY and info.name != "LTIME":
+    elif isinstance(info, ElementaryInfo) and info.name in PLCOPEN_ELEMENTARY:
         _sub(parent, info.name)
     else:
         # Derived types, interfaces, LTIME, REFERENCE TO and PVOID: CODESYS names them.
@@ -193,13 +189,9 @@ def _sections(interface: ET.Element, fields: Sequence[FieldDecl], owner: str) ->
     for section in _SECTION_ORDER:
         members = [f for f in fields if f.section == section]
         for qualifier in sorted({f.spec.qualifiers for f in members}):
-            attrs: dict[str, str] = {}
-            if "CONSTANT" in qualifier:
-                attrs["constant"] = "true"
-            if "RETAIN" in qualifier:
-                attrs["retain"] = "true"
-            if "PERSISTENT" in qualifier:
-                attrs["persistent"] = "true"
+            spec = next(f.spec for f in members if f.spec.qualifiers == qualifier)
+            flags = (("constant", spec.constant), ("retain", spec.retain), ("persistent", spec.persistent))
+            attrs = {name: "true" for name, on in flags if on}
             block = _sub(interface, _SECTION_TAGS[section], **attrs)
             for field in (f for f in members if f.spec.qualifiers == qualifier):
                 info = field.info.target if section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo) else field.info
@@ -221,27 +213,12 @@ def _add_data(parent: ET.Element, name: str) -> ET.Element:
     return _sub(add, "data", name=_CODESYS + name, handleUnknown="implementation")
 
 
-#: ``{attribute 'name'}`` or ``{attribute 'name' := 'value'}`` on a line of its own.
-_PRAGMA = re.compile(r"^\{attribute '([^']+)'(?:\s*:=\s*'([^']*)')?\}$")
-
-
-def _pragmas(text: str) -> list[tuple[str, str]]:
-    """The attribute pragmas written above a declaration's first line, as (name, value)."""
-    found = []
-    for line in text.splitlines():
-        match = _PRAGMA.match(line.strip())
-        if match is None:
-            break
-        found.append((match.group(1), match.group(2) or ""))
-    return found
-
-
-def _attributes(parent: ET.Element, pragmas: Sequence[tuple[str, str]]) -> None:
+def _attributes(parent: ET.Element, names: Sequence[str]) -> None:
     """CODESYS keeps an object's ``{attribute ...}`` pragmas in an addData block of this name."""
-    if pragmas:
+    if names:
         attributes = ET.SubElement(_add_data(parent, "attributes"), _q("Attributes"))
-        for name, value in pragmas:
-            ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": value})
+        for name in names:
+            ET.SubElement(attributes, _q("Attribute"), {"Name": name, "Value": ""})
 
 
 def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
@@ -249,7 +226,7 @@ def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
     if part.result is not None:
         _type(_sub(interface, "returnType"), part.result)
     _parameter_vars(interface, part.inputs, where)
-    _attributes(interface, _pragmas(part.header))
+    _attributes(interface, part.attributes)
     _access_modifiers(interface, part.access)
 
 
@@ -338,7 +315,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         for name, value in enum_members(meta.cls):
             _sub(values, "value", name=ident(name), value=str(value))
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
-        _attributes(data_type, _pragmas(unit.declaration))
+        _attributes(data_type, unit.attributes)
     elif unit.kind == "alias":
         from iecoop.memory.typeinfo import resolve_type
 
@@ -354,7 +331,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
 
 
 def _function_interface(interface: ET.Element, unit: Unit) -> None:
-    """A FUNCTION's result, inputs and locals, read back from its declaration text."""
+    """A FUNCTION's result, inputs and locals (its signature)."""
     assert unit.signature is not None
     result, inputs, temps = unit.signature
     _type(_sub(interface, "returnType"), result)
@@ -401,7 +378,7 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
                 _sections(interface, [f for f in unit.meta.fields if f.section != "VAR_INST"], unit.name)
             else:
                 _function_interface(interface, unit)
-            _attributes(interface, _pragmas(unit.declaration))
+            _attributes(interface, unit.attributes)
             _st_body(pou, unit.implementation)
             _members(pou, unit, True)
             _inheritance(pou, unit)
@@ -419,12 +396,10 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
                     _variable(block, field.name, field.info, field.spec.initial, f"{unit.name}.{field.name}")
             else:
                 block.set("constant", "true")
-                for line in unit.declaration.splitlines()[1:-2]:
-                    var_name, _, rest = line.strip().partition(" : ")
-                    type_name, _, value = rest.rstrip(";").partition(" := ")
-                    var = _sub(block, "variable", name=var_name)
-                    _sub(_sub(var, "type"), type_name if "(" not in type_name else "string")
-                    _sub(_sub(var, "initialValue"), "simpleValue", value=value)
-            _attributes(block, _pragmas(unit.declaration))
+                for constant, value in unit.constants:
+                    var = _sub(block, "variable", name=ident(constant))
+                    _sub(_sub(var, "type"), "string" if isinstance(value, str) else constant_type(value))
+                    _sub(_sub(var, "initialValue"), "simpleValue", value=literal(value))
+            _attributes(block, unit.attributes)
     ET.indent(project, "  ")
     return '<?xml version="1.0" encoding="utf-8"?>\n' + _xml_text(ET.tostring(project, encoding="unicode")) + "\n"

@@ -16,10 +16,14 @@ from typing import Any
 
 from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
-from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, PointerInfo, ReferenceInfo, TypeInfo
-from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.st._emit_body import _BOOL, _CONSTANTS_GVL, BodyWriter, Scope, _body_params, _by_reference, literal, result_info
-from iecoop.st._emit_model import (
+from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
+from iecoop.memory.layout import MISSING
+from iecoop.st.language import SECTION_ORDER
+from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
+from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
+from iecoop.st.write.infer import result_info as _result_info
+from iecoop.st.write.statements import BodyWriter
+from iecoop.st.write.model import (
     LIFECYCLE,
     ClassMeta,
     FieldDecl,
@@ -33,13 +37,16 @@ from iecoop.st._emit_model import (
     enum_members,
     function_parameters,
     parameters,
-    return_info,
     type_text,
 )
 
 __all__ = ["Part", "Unit", "passed_inputs", "units"]
 
-_SECTION_ORDER = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
+
+def result_info(func: Any, where: str, owner: Any) -> TypeInfo | None:
+    """The result type a METHOD, PROPERTY or FUNCTION is written with (see :func:`.infer.result_info`)."""
+    return _result_info(func, where, owner, BodyWriter)
+
 #: ST names of FB_init / FB_exit inputs (TwinCAT and CODESYS call them so).
 _LIFECYCLE_INPUTS = {"init_retains": "bInitRetains", "in_copy_code": "bInCopyCode"}
 
@@ -57,10 +64,17 @@ class Part:
     inputs: tuple[tuple[str, TypeInfo, Any], ...] = ()
     #: PUBLIC, PRIVATE, PROTECTED or INTERNAL: the METHOD's, or the accessor's own
     access: Access = Access.PUBLIC
+    #: The ``{attribute '...'}`` pragmas above the header, by name.
+    attributes: tuple[str, ...] = ()
 
 
-#: The pragma of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
-_CALL_AFTER_INIT = "{attribute 'call_after_init'}"
+#: The attribute of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
+_CALL_AFTER_INIT = "call_after_init"
+
+
+def pragma(attribute: str) -> str:
+    """The ST pragma that sets an attribute: ``{attribute 'qualified_only'}``."""
+    return f"{{attribute '{attribute}'}}"
 
 
 @dataclasses.dataclass
@@ -75,6 +89,15 @@ class Unit:
     meta: ClassMeta | None = None
     #: A FUNCTION's result, inputs and locals.
     signature: tuple[TypeInfo, tuple[tuple[str, TypeInfo, Any], ...], dict[str, TypeInfo | str]] | None = None
+    #: The ``{attribute '...'}`` pragmas the declaration starts with, by name.
+    attributes: list[str] = dataclasses.field(default_factory=list)
+    #: The module constants of the constants' GVL: (Python name, value).
+    constants: list[tuple[str, Any]] = dataclasses.field(default_factory=list)
+
+    def add_attribute(self, attribute: str) -> None:
+        """Set an attribute on the object: its pragma heads the declaration."""
+        self.attributes.insert(0, attribute)
+        self.declaration = f"{pragma(attribute)}\n{self.declaration}"
 
     @property
     def word(self) -> str:
@@ -139,8 +162,10 @@ def _argument(value: Any, where: str) -> str:
         raise StExportError(f"{where}: {exc}") from None
 
 
-def variable_line(name: str, info: TypeInfo, initial: Any, where: str, fb_init: Any = None) -> str:
-    text = f"{ident(name, where.rpartition('.')[0] or where)} : {type_text(info)}"
+def variable_line(name: str, info: TypeInfo, initial: Any, owner: str, fb_init: Any = None, *, python_name: str = "") -> str:
+    """``name : TYPE := initial;`` of a variable of ``owner`` (``python_name``: its name in Python, where it differs)."""
+    where = f"{owner}.{python_name or name}"
+    text = f"{ident(name, owner)} : {type_text(info)}"
     if fb_init and isinstance(fb_init, Mapping):
         args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
         text += f"({args})"
@@ -165,14 +190,14 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         section = default or field.section
         qualifier = field.spec.qualifiers if section != "VAR_IN_OUT" else ("CONSTANT" if field.spec.constant else "")
         groups.setdefault((section, qualifier), []).append(field)
-    order = {s: i for i, s in enumerate((*_SECTION_ORDER, "VAR_GLOBAL"))}
+    order = {s: i for i, s in enumerate((*SECTION_ORDER, "VAR_GLOBAL"))}
     for (section, qualifier), members in sorted(groups.items(), key=lambda item: order.get(item[0][0], 99)):
         if section == "VAR_INST" and default is None:
             continue  # declared inside the METHOD it belongs to (which asks with default="VAR_INST")
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
-            lines.append("    " + variable_line(field.name, _declared_type(field), initial, f"{owner}.{field.name}", field.spec.fb_init))
+            lines.append("    " + variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init))
         lines.append("END_VAR")
     return lines
 
@@ -196,14 +221,14 @@ def _type_unit(meta: ClassMeta) -> Unit:
     extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
     lines = [f"TYPE {name}{extends} :", word]
     for field in meta.fields:
-        lines.append("    " + variable_line(field.name, field.info, field.spec.initial, f"{name}.{field.name}"))
+        lines.append("    " + variable_line(field.name, field.info, field.spec.initial, name))
     lines += [f"END_{word}", "END_TYPE", ""]
     return Unit(meta.kind, name, "\n".join(lines), meta=meta)
 
 
 def _gvl_unit(meta: ClassMeta) -> Unit:
-    lines = ["{attribute 'qualified_only'}", *sections(meta.fields, meta.name, default="VAR_GLOBAL"), ""]
-    return Unit("gvl", meta.name, "\n".join(lines), meta=meta)
+    lines = [pragma("qualified_only"), *sections(meta.fields, meta.name, default="VAR_GLOBAL"), ""]
+    return Unit("gvl", meta.name, "\n".join(lines), meta=meta, attributes=["qualified_only"])
 
 
 def _local_lines(writer: BodyWriter) -> list[str]:
@@ -227,7 +252,7 @@ def _inputs_lines(inputs: Sequence[tuple[str, TypeInfo, Any]], owner: str, renam
         return []
     lines = ["VAR_INPUT"]
     for name, info, default in inputs:
-        lines.append("    " + variable_line(rename.get(name, name), info, default, f"{owner}.{name}"))
+        lines.append("    " + variable_line(rename.get(name, name), info, default, owner, python_name=name))
     lines.append("END_VAR")
     return lines
 
@@ -240,7 +265,7 @@ def _parameter_lines(params: Sequence[tuple[str, TypeInfo, Any]], owner: str, re
         chosen = [(n, info, initial) for n, (sec, info, initial) in by_reference.items() if sec == section]
         if chosen:
             lines.append(section)
-            lines += ["    " + variable_line(n, info, initial, f"{owner}.{n}") for n, info, initial in chosen]
+            lines += ["    " + variable_line(n, info, initial, owner) for n, info, initial in chosen]
             lines.append("END_VAR")
     return lines
 
@@ -276,8 +301,8 @@ class _Writer:
         # Interface prototypes carry no access specifier (they are PUBLIC by definition).
         words = "" if interface else f"{access_words(member.flags)} "
         header = f"METHOD {words}{member.name}" + (f" : {type_text(result)}" if result is not None else "")
-        if getattr(func, "_iec_call_after_init_", False):
-            header = f"{_CALL_AFTER_INIT}\n{header}"
+        attributes = (_CALL_AFTER_INIT,) if getattr(func, "_iec_call_after_init_", False) else ()
+        header = "\n".join([*map(pragma, attributes), header])
         # VAR_INST(method=...) names the METHOD as Python does (``constant``, not ``constant_``).
         inst = [f for f in meta.fields if f.section == "VAR_INST" and f.spec.method == (member.python_name or member.name)]
         declared = passed_inputs(inputs)
@@ -291,7 +316,7 @@ class _Writer:
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags))
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags), attributes)
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -347,10 +372,10 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     name = meta.name
     interface = meta.kind == "interface"
     implementation = ""
-    decl_lines = [_pou_header(meta)]
-    if any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method"):
-        # TwinCAT wants the attribute above the FUNCTION_BLOCK too, not only above the METHOD it calls.
-        decl_lines.insert(0, _CALL_AFTER_INIT)
+    # TwinCAT wants call_after_init above the FUNCTION_BLOCK too, not only above the METHOD it calls.
+    after_init = any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method")
+    attributes = [_CALL_AFTER_INIT] if after_init else []
+    decl_lines = [*map(pragma, attributes), _pou_header(meta)]
     if not interface:
         temps: list[str] = []
         if meta.body is not None:
@@ -361,7 +386,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
                 temps[0] = "VAR_TEMP"
         decl_lines += sections(meta.fields, name) + temps
     parts = _pou_parts(meta, writer, interface)
-    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta)
+    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta, attributes=attributes)
 
 
 def _pou_header(meta: ClassMeta) -> str:
@@ -442,8 +467,6 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
         elif meta.kind == "gvl":
             found.append(_gvl_unit(meta))
         else:
-            from iecoop.st._emit_body import _fields_of
-
             scope = Scope(meta.cls, _fields_of(meta.cls), constants, functions, named_enums)
             found.append(_pou_unit(meta, _Writer(scope, lenient, untranslated)))
     done: set[str] = set()
@@ -458,12 +481,17 @@ def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Un
     if constants:
         lines = ["VAR_GLOBAL CONSTANT"]
         for cname, value in sorted(constants.items()):
-            st_type = "BOOL" if isinstance(value, bool) else "DINT" if isinstance(value, int) else "LREAL" if isinstance(value, float) else f"STRING({max(1, len(value))})"
+            st_type = constant_type(value)
             lines.append(f"    {ident(cname, _CONSTANTS_GVL)} : {st_type} := {literal(value)};{renamed_note(cname)}")
         lines += ["END_VAR", ""]
         index = next((i for i, u in enumerate(found) if u.kind in ("gvl", "interface", "fb", "program")), len(found))
-        found.insert(index, Unit("gvl", _CONSTANTS_GVL, "\n".join(lines)))
+        found.insert(index, Unit("gvl", _CONSTANTS_GVL, "\n".join(lines), constants=sorted(constants.items())))
     return found, untranslated
+
+
+def constant_type(value: Any) -> str:
+    """The ST type a module constant is declared with: BOOL, DINT, LREAL or STRING(n)."""
+    return "BOOL" if isinstance(value, bool) else "DINT" if isinstance(value, int) else "LREAL" if isinstance(value, float) else f"STRING({max(1, len(value))})"
 
 
 def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, untranslated: list[str]) -> None:
@@ -472,7 +500,7 @@ def _mark_named_enums(found: list[Unit], named_enums: set[Any], lenient: bool, u
     for cls in sorted(named_enums, key=lambda c: c.__name__):
         unit = exported.get(cls)
         if unit is not None:
-            unit.declaration = "{attribute 'to_string'}\n" + unit.declaration
+            unit.add_attribute("to_string")
             continue
         # Without the attribute TO_STRING gives the number: the enumeration must come along.
         message = f"{cls.__name__}: its component names are read (TO_STRING needs {{attribute 'to_string'}} on it): export {cls.__name__} too"

@@ -32,8 +32,9 @@ from iecoop.memory.typeinfo import (
     resolve_type,
 )
 from iecoop.memory.pointers import PointerInfo
-from iecoop.memory.layout import MISSING, FieldRecord, FieldSpec
+from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.types import elementary_type
+from iecoop.st import language
 from iecoop.st.language import RESERVED
 
 __all__ = ["RESERVED", "check_unique", "ident", "renamed_note", "type_name", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
@@ -50,8 +51,8 @@ StExportError.__module__ = "iecoop.st.export"
 #: Kinds of declared classes, in the order a project lists them (types first, code last).
 KINDS = ("enum", "alias", "struct", "union", "gvl", "interface", "fb", "program")
 
-#: Lifecycle methods and their ST names.
-LIFECYCLE = {"fb_init": "FB_init", "fb_reinit": "FB_reinit", "fb_exit": "FB_exit"}
+#: Lifecycle methods and their ST names, spelled as TwinCAT and CODESYS write them (``FB_init``).
+LIFECYCLE = {python: "FB_" + python.removeprefix("fb_") for python in language.LIFECYCLE.values()}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -130,6 +131,11 @@ def metadata(obj: Any) -> ClassMeta:
     if kind == "enum":
         check_unique(f"TYPE {name}", (n for n, _ in enum_members(cls)), "values")
         return ClassMeta(cls, name, kind)
+    return _class_meta(cls, name, kind)
+
+
+def _class_meta(cls: Any, name: str, kind: str) -> ClassMeta:
+    """A STRUCT, UNION, GVL, INTERFACE, FUNCTION_BLOCK or PROGRAM: its variables, members, bases and code."""
     layout = cls.__dict__.get("_iec_layout_")
     outside = _outside_fields(cls) if kind in ("fb", "program") else []
     fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())] + outside
