@@ -120,7 +120,7 @@ def st_name(cls: type, member: str | None = None) -> str:
         raise TypeError(f"st_name: {cls!r} is not a class declared with iecoop")
     found = _st_names(cls, record).get(member)
     if found is None:
-        raise AttributeError(f"st_name: {cls.__name__} declares no variable, METHOD, PROPERTY or value {member!r}")
+        raise AttributeError(f"st_name: {st_name(cls)} declares no variable, METHOD, PROPERTY or value {member!r}")
     return found
 
 

@@ -231,8 +231,11 @@ def data_setattr(
             validators[record.name] = validate
             wheres[record.name] = record.where
     constants = {record.name: record.where for record in layout.fields if record.spec.constant}
-    for table in (validators, wheres, constants):
-        table.update({alias: table[python] for alias, python in (aliases or {}).items() if python in table})
+    for alias, python in (aliases or {}).items():
+        if python in validators:
+            validators[alias], wheres[alias] = validators[python], wheres[python]
+        if python in constants:
+            constants[alias] = constants[python]
     setter = object.__setattr__
     # Per field: a value of the field's exact Python type is stored without a validator call.
     fast = {
