@@ -22,6 +22,7 @@ ST                       Python                                           notes
 ``VAR RETAIN``           ``VAR(0, retain=True)``                          survives a warm restart
 ``VAR PERSISTENT``       ``VAR(0, persistent=True)``                      survives a download
 ``VAR CONSTANT``         ``VAR(10, constant=True)``                       cannot be written
+``VAR in : INT;``        ``in_: INT = VAR(st_name="in")``                 an ST name Python cannot spell
 =======================  ===============================================  =========================
 """
 

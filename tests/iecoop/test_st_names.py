@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import pytest
 
@@ -13,6 +13,7 @@ from iecoop import (
 from iecoop import _config
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.metadata import member_named, st_name
+from iecoop.sections import FieldSpec
 
 checked = pytest.mark.skipif(not _config.CHECKS, reason="checked mode refuses the write")
 
@@ -59,7 +60,7 @@ class Point_(Struct, st_name="ST_Point"):
 
 @gvl
 class Globals_(GlobalVariables, st_name="GVL_Names"):
-    in_: INT = VAR(4, st_name="in")
+    from_: INT = VAR(4, st_name="from")
 
 
 def test_the_accessor_gives_st_names_of_classes_and_members_and_python_names_otherwise() -> None:
@@ -90,9 +91,13 @@ def test_a_write_refused_from_outside_names_the_st_variable_and_block() -> None:
     assert "only FB_Gate's own code" in str(info.value) and "st_x_" not in str(info.value)
 
 
-def test_type_errors_and_guarded_members_name_the_st_name() -> None:
+@checked
+def test_a_value_of_the_wrong_type_is_refused_naming_the_st_variable() -> None:
     with pytest.raises(TypeError, match="FB_Gate.in: cannot store str"):
         Gate_().in_ = "x"  # type: ignore[assignment]
+
+
+def test_a_guarded_method_is_refused_naming_the_st_name_in_both_modes() -> None:
     with pytest.raises(AccessError, match="PRIVATE METHOD FB_Gate.body cannot be called"):
         Gate_().body_()
 
@@ -110,7 +115,7 @@ def test_getattr_by_the_st_name_reaches_the_variable_method_and_property() -> No
     assert getattr(gate, "open")() is True and getattr(gate, "None") == 5
     point = Point_()
     setattr(point, "in", 3)
-    assert point.in_ == 3 and getattr(Globals_, "in") == 4
+    assert point.in_ == 3 and getattr(Globals_, "from") == 4
 
 
 def test_the_st_name_alias_is_the_member_itself_and_never_hides_a_name_the_class_has() -> None:
@@ -177,4 +182,4 @@ def test_without_st_name_everything_keeps_the_python_name() -> None:
 
     assert st_name(Valve) == "Valve" and st_name(Valve, "position") == "position"
     assert var_info(Valve(), "position").Symbol == "Valve.position"
-    assert "VAR_OUTPUT(0, st_name='p')" in repr(VAR_OUTPUT(0, st_name="p").as_python())
+    assert cast(FieldSpec, VAR_OUTPUT(0, st_name="p")).as_python() == "VAR_OUTPUT(0, st_name='p')"
