@@ -374,10 +374,11 @@ class _PouBuilder:
         members = self.install_members(cls)
         statics = _install_outside(cls, self.st_name or self.name, self.outside, self.outside_specs, self.scope)
         cls.__dict__["__iec__"].complete(layout=layout, members=members, static_fields=statics)
-        install_st_aliases(cls, {
-            **{record.name: record.st_name for record in (*layout.own, *statics)},
-            **{name: member.st_name for name, member in members.items() if member.owner is cls and member.st_name},
-        })
+        # Variables only, and never a name the block looks up as its own (fb_init): a METHOD or
+        # PROPERTY is reached by its Python name (member_named gives it), so none runs twice or as a hook.
+        install_st_aliases(
+            cls, {record.name: record.st_name for record in (*layout.own, *statics) if record.st_name not in _LIFECYCLE}
+        )
         self.install_runtime(cls, layout)
 
     def install_members(self, cls: Any) -> dict[str, Member]:

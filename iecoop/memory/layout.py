@@ -365,11 +365,13 @@ def install_st_aliases(cls: type, names: Mapping[str, str]) -> None:
     """Let ``getattr(obj, "in")`` reach the member ``in_``: the ST name is a second class attribute, the same object.
 
     ``names`` maps the Python names of the class's own members to their ST names. An ST name the
-    class already has (``body``, a member's Python name) gets no alias. The member's own name keeps
+    class already has (``body``, a member's Python name) gets no alias, nor one that Python or
+    ctypes would read as their own (``__del__``, ``_pack_``, ``_iec...``). The member's own name keeps
     its descriptor, so nothing changes on the way to ``obj.in_``.
     """
     for python, st in names.items():
-        if st != python and _lookup(cls, st) is MISSING:
+        special = st.startswith("_") and st.endswith("_") or st.startswith("_iec")
+        if st != python and not special and _lookup(cls, st) is MISSING:
             setattr(cls, st, cls.__dict__[python])
 
 

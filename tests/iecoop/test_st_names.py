@@ -107,12 +107,14 @@ def test_var_info_symbol_is_the_st_name() -> None:
     assert var_info(Point_(), "in_").Symbol == "ST_Point.in"
 
 
-def test_getattr_by_the_st_name_reaches_the_variable_method_and_property() -> None:
+def test_getattr_by_the_st_name_reaches_a_variable_and_member_named_a_method_or_property() -> None:
     gate = Gate_()
     setattr(gate, "in", 4)
     gate()
     assert getattr(gate, "in") == 4 and getattr(gate, "_x") == 5 and getattr(gate, "T") is True
-    assert getattr(gate, "open")() is True and getattr(gate, "None") == 5
+    assert getattr(gate, member_named(Gate_, "open") or "")() is True
+    assert getattr(gate, member_named(Gate_, "none") or "") == 5
+    assert not hasattr(gate, "None")  # a METHOD or PROPERTY has no second name: none runs twice or as a hook
     point = Point_()
     setattr(point, "in", 3)
     assert point.in_ == 3 and getattr(Globals_, "from") == 4
@@ -123,6 +125,16 @@ def test_the_st_name_alias_is_the_member_itself_and_never_hides_a_name_the_class
     assert Gate_.__dict__["in"] is Gate_.__dict__["in_"]
     # METHOD body keeps its Python name body_: the block's own body is not replaced
     assert Gate_.__dict__["body"] is not Gate_.__dict__["body_"]
+
+
+def test_no_st_name_becomes_a_hook_python_ctypes_or_the_block_would_call() -> None:
+    class Hooks(FunctionBlock):
+        a_: INT = VAR(1, st_name="fb_init")
+        b_: INT = VAR(2, st_name="__del__")
+        c_: INT = VAR(3, st_name="_pack_")
+
+    assert not {"fb_init", "__del__", "_pack_"} & set(vars(Hooks))
+    assert Hooks().a_ == 1 and st_name(Hooks, "b_") == "__del__"
 
 
 @checked
