@@ -301,7 +301,12 @@ def caller_description(frame: Any) -> str:
     code = frame.f_code
     owners = _owners(code)
     if owners:
-        return f"{st_name(owners[-1])}.{code.co_name}"
+        owner = owners[-1]
+        try:
+            shown = st_name(owner, code.co_name)  # a METHOD by its ST name
+        except (AttributeError, TypeError):
+            shown = code.co_name  # the body, a nested function
+        return f"{st_name(owner)}.{shown}"
     module = frame.f_globals.get("__name__", "?")
     return f"{code.co_name} in module {module}" if code.co_name != "<module>" else f"module {module}"
 

@@ -54,7 +54,7 @@ from iecoop.runtime.variables import (
     PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
     translate_offset,
 )
-from iecoop.metadata import Kind, kind_of
+from iecoop.metadata import Kind, kind_of, st_name
 
 __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
 
@@ -276,7 +276,7 @@ class Runtime:
 
     def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
         for program in programs:
-            base = f"{task.name}.{type(program).__name__}"
+            base = f"{task.name}.{st_name(type(program))}"  # the instance path names the PROGRAM in ST
             path = base
             n = 2
             while any(e.path == path for e in self._entries):

@@ -133,3 +133,26 @@ def test_a_global_variable_named_like_a_python_keyword_loads_and_is_reached_by_i
     plc.MAIN.body()
     assert plc.MAIN.n == 5 and getattr(plc.GVL, "in") == 4 and plc.GVL.in_ == 4
     assert var_info(plc.GVL, "in_").Symbol == "GVL.in"
+
+
+@pytest.mark.skipif(not _config.CHECKS, reason="checked mode refuses the write")
+def test_a_renamed_program_and_method_are_named_in_st_by_the_runtime_and_the_refusal() -> None:
+    plc = st.load("""
+FUNCTION_BLOCK FB_Out
+VAR_OUTPUT in : INT; END_VAR
+END_FUNCTION_BLOCK
+PROGRAM in
+VAR fb : FB_Out; END_VAR
+END_PROGRAM
+FUNCTION_BLOCK FB_Writer
+VAR fb : FB_Out; END_VAR
+END_FUNCTION_BLOCK
+METHOD pass : INT
+fb.in := 1;
+END_METHOD
+""")
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms")), getattr(plc, "in"))
+    assert [path for path, _ in rt.tasks[0].programs] == ["PlcTask.in"]
+    with pytest.raises(AccessError, match="VAR_OUTPUT FB_Out.in cannot be written from FB_Writer.pass: only FB_Out's"):
+        plc.FB_Writer().pass_()
