@@ -435,7 +435,7 @@ def _rebind(member: Member, cls: type, base: Member | None) -> Member:
 
 def _check_members(title: str, name: str, own: dict[str, Member], inherited: dict[str, Member], abstract: bool) -> None:
     for member in own.values():
-        label = f"{title}: {member.kind.upper() if member.kind == 'method' else 'PROPERTY'} {member.name}"
+        label = f"{title}: {member.kind.upper() if member.kind == 'method' else 'PROPERTY'} {member.st_name or member.name}"
         flags = member.flags
         if flags & Access.ABSTRACT:
             if visibility(flags) == Access.PRIVATE:

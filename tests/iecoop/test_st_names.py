@@ -7,7 +7,7 @@ from typing import Any, cast
 import pytest
 
 from iecoop import (
-    BOOL, INT, PRIVATE, VAR, VAR_INPUT, VAR_OUTPUT, VAR_STAT, FunctionBlock, GlobalVariables, IecEnum, Interface,
+    ABSTRACT, BOOL, INT, PRIVATE, VAR, VAR_INPUT, VAR_OUTPUT, VAR_STAT, FunctionBlock, GlobalVariables, IecEnum, Interface,
     Struct, gvl, method, prop, var_info,
 )
 from iecoop import _config
@@ -195,3 +195,10 @@ def test_without_st_name_everything_keeps_the_python_name() -> None:
     assert st_name(Valve) == "Valve" and st_name(Valve, "position") == "position"
     assert var_info(Valve(), "position").Symbol == "Valve.position"
     assert cast(FieldSpec, VAR_OUTPUT(0, st_name="p")).as_python() == "VAR_OUTPUT(0, st_name='p')"
+
+
+def test_a_definition_error_about_a_method_names_its_st_name() -> None:
+    with pytest.raises(DefinitionError, match="FUNCTION_BLOCK FB_Valve: METHOD body: ABSTRACT cannot be combined with PRIVATE"):
+        class Valve(FunctionBlock, abstract=True, st_name="FB_Valve"):  # noqa: F841
+            @method(PRIVATE | ABSTRACT, st_name="body")
+            def body_(self) -> None: ...
