@@ -22,6 +22,7 @@ ST                       Python                                           notes
 ``VAR RETAIN``           ``VAR(0, retain=True)``                          survives a warm restart
 ``VAR PERSISTENT``       ``VAR(0, persistent=True)``                      survives a download
 ``VAR CONSTANT``         ``VAR(10, constant=True)``                       cannot be written
+``VAR in : INT;``        ``in_: INT = VAR(st_name="in")``                 an ST name Python cannot spell
 =======================  ===============================================  =========================
 """
 
@@ -48,101 +49,110 @@ __all__ = [
 _T = TypeVar("_T")
 
 
-def _spec(section: Section, initial: Any, **options: Any) -> Any:
-    return FieldSpec(section, initial, **options)
+def _spec(st_name: str | None, section: Section, initial: Any, **options: Any) -> Any:
+    return FieldSpec(section, initial, st_name=st_name, **options)
 
 
 @overload
 def VAR(
     *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
+    st_name: str | None = None,
 ) -> Any: ...
 @overload
 def VAR(
     initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
+    st_name: str | None = None,
 ) -> Any: ...
 @overload
 def VAR(
     initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
+    st_name: str | None = None,
 ) -> _T: ...
 def VAR(
     initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
+    st_name: str | None = None,
 ) -> Any:
     """``VAR``: a local variable of the POU (or a member of a STRUCT).
+
+    Every specifier takes ``st_name=``: the variable's ST name when Python
+    cannot spell it (ST ``in : INT;`` is ``in_: INT = VAR(st_name="in")``);
+    messages, ``var_info``, OPC UA and export show that name.
 
     For a function block member, ``fb_init={...}`` passes FB_init arguments
     (ST: ``motor : FB_Motor(axis_id := 3);``) and a dict initial value sets
     inputs at the declaration (ST: ``motor : FB_Motor := (speed := 1.5);``).
     """
     return _spec(
+        st_name,
         Section.VAR, initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant,
         fb_init=fb_init,
     )
 
 
 @overload
-def VAR_INPUT(*, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any: ...
+def VAR_INPUT(*, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_INPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any: ...
+def VAR_INPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_INPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> _T: ...
-def VAR_INPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any:
+def VAR_INPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> _T: ...
+def VAR_INPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any:
     """``VAR_INPUT``: set by the caller (``fb(IN=True)``), read-only inside by convention."""
-    return _spec(Section.VAR_INPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
+    return _spec(st_name, Section.VAR_INPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
 
 
 @overload
-def VAR_OUTPUT(*, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any: ...
+def VAR_OUTPUT(*, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_OUTPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any: ...
+def VAR_OUTPUT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_OUTPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> _T: ...
-def VAR_OUTPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False) -> Any:
+def VAR_OUTPUT(initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> _T: ...
+def VAR_OUTPUT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False, persistent: bool = False, st_name: str | None = None) -> Any:
     """``VAR_OUTPUT``: written by the POU, read by the caller after the call."""
-    return _spec(Section.VAR_OUTPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
+    return _spec(st_name, Section.VAR_OUTPUT, initial, length=length, bounds=bounds, retain=retain, persistent=persistent)
 
 
-def VAR_IN_OUT(*, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
+def VAR_IN_OUT(*, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> Any:
     """``VAR_IN_OUT`` (``constant=True``: ``VAR_IN_OUT CONSTANT``): passed by reference at every call."""
-    return _spec(Section.VAR_IN_OUT, MISSING, length=length, bounds=bounds, constant=constant)
+    return _spec(st_name, Section.VAR_IN_OUT, MISSING, length=length, bounds=bounds, constant=constant)
 
 
 @overload
-def VAR_STAT(*, length: int | None = None, bounds: object = None, constant: bool = False) -> Any: ...
+def VAR_STAT(*, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_STAT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, constant: bool = False) -> Any: ...
+def VAR_STAT(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_STAT(initial: _T, *, length: int | None = None, bounds: object = None, constant: bool = False) -> _T: ...
-def VAR_STAT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
+def VAR_STAT(initial: _T, *, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> _T: ...
+def VAR_STAT(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> Any:
     """``VAR_STAT``: one variable shared by every instance of the class."""
-    return _spec(Section.VAR_STAT, initial, length=length, bounds=bounds, constant=constant)
+    return _spec(st_name, Section.VAR_STAT, initial, length=length, bounds=bounds, constant=constant)
 
 
 @overload
-def VAR_TEMP(*, length: int | None = None, bounds: object = None) -> Any: ...
+def VAR_TEMP(*, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_TEMP(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None) -> Any: ...
+def VAR_TEMP(initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_TEMP(initial: _T, *, length: int | None = None, bounds: object = None) -> _T: ...
-def VAR_TEMP(initial: Any = MISSING, *, length: int | None = None, bounds: object = None) -> Any:
+def VAR_TEMP(initial: _T, *, length: int | None = None, bounds: object = None, st_name: str | None = None) -> _T: ...
+def VAR_TEMP(initial: Any = MISSING, *, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any:
     """``VAR_TEMP``: re-initialised at every call of the body."""
-    return _spec(Section.VAR_TEMP, initial, length=length, bounds=bounds)
+    return _spec(st_name, Section.VAR_TEMP, initial, length=length, bounds=bounds)
 
 
 @overload
-def VAR_INST(*, method: str, length: int | None = None, bounds: object = None) -> Any: ...
+def VAR_INST(*, method: str, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_INST(initial: list[Any] | dict[str, Any], *, method: str, length: int | None = None, bounds: object = None) -> Any: ...
+def VAR_INST(initial: list[Any] | dict[str, Any], *, method: str, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any: ...
 @overload
-def VAR_INST(initial: _T, *, method: str, length: int | None = None, bounds: object = None) -> _T: ...
-def VAR_INST(initial: Any = MISSING, *, method: str, length: int | None = None, bounds: object = None) -> Any:
+def VAR_INST(initial: _T, *, method: str, length: int | None = None, bounds: object = None, st_name: str | None = None) -> _T: ...
+def VAR_INST(initial: Any = MISSING, *, method: str, length: int | None = None, bounds: object = None, st_name: str | None = None) -> Any:
     """``VAR_INST`` inside METHOD ``method``: kept in the instance, visible to that method only."""
-    return _spec(Section.VAR_INST, initial, length=length, bounds=bounds, method=method)
+    return _spec(st_name, Section.VAR_INST, initial, length=length, bounds=bounds, method=method)
 
 
-def VAR_EXTERNAL(*, length: int | None = None, bounds: object = None, constant: bool = False) -> Any:
+def VAR_EXTERNAL(*, length: int | None = None, bounds: object = None, constant: bool = False, st_name: str | None = None) -> Any:
     """``VAR_EXTERNAL``: refers to the global variable of the same name in a GVL."""
-    return _spec(Section.VAR_EXTERNAL, MISSING, length=length, bounds=bounds, constant=constant)
+    return _spec(st_name, Section.VAR_EXTERNAL, MISSING, length=length, bounds=bounds, constant=constant)

@@ -58,8 +58,10 @@ _BUILDER = DataClassBuilder("GVL", Kind.GVL)
 
 
 class _GvlMeta(_MetaBase):
-    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
-        return super().__new__(mcls, name, bases, _BUILDER.new(name, bases, namespace), **kwargs)
+    def __new__(
+        mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], st_name: str | None = None, **kwargs: Any
+    ) -> Any:
+        return super().__new__(mcls, name, bases, _BUILDER.new(name, bases, namespace, st_name), **kwargs)
 
     def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
         super().__init__(name, bases, namespace)

@@ -34,7 +34,7 @@ from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import class_info, handle_of
 from iecoop.memory.interface_references import NullInterface
 from iecoop.memory.pointers import Pointer
-from iecoop.memory.layout import register_builder, DefinitionScope
+from iecoop.memory.layout import DefinitionScope, class_st_name, register_builder
 from iecoop.members import Member, has_body, members_of_namespace
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import Kind
@@ -84,7 +84,7 @@ class Interface:
     __slots__ = ()
     __iec__: ClassVar[IecClass] = IecClass(Kind.INTERFACE, root=True)
 
-    def __init_subclass__(cls, **kwargs: Any) -> None:
+    def __init_subclass__(cls, st_name: str | None = None, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         own = cls.__dict__.get("__iec__")
         if isinstance(own, IecClass) and own.kind.is_pou:
@@ -92,7 +92,7 @@ class Interface:
         # The first base with a record decides: class IBad(Interface, Recipe) declares an interface.
         inherited = next(b.__dict__["__iec__"].kind for b in cls.__mro__[1:] if "__iec__" in b.__dict__)
         if inherited is Kind.INTERFACE:
-            _build_interface(cls)
+            _build_interface(cls, class_st_name(st_name, f"INTERFACE {cls.__name__}"))
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Any:
         if kind_of(cls) is Kind.INTERFACE:
@@ -100,8 +100,8 @@ class Interface:
         return super().__new__(cls)
 
 
-def _build_interface(cls: type) -> None:
-    name = cls.__name__
+def _build_interface(cls: type, st_name: str = "") -> None:
+    name = st_name or cls.__name__
     for base in cls.__bases__:
         if base is object or base is Interface:
             continue
@@ -134,7 +134,7 @@ def _build_interface(cls: type) -> None:
         if record is not None:
             members.update(record.members)
     members.update(own)
-    record = IecClass(Kind.INTERFACE)
+    record = IecClass(Kind.INTERFACE, st_name=st_name)
     record.complete(members=members)
     type.__setattr__(cls, "__iec__", record)
 

@@ -42,8 +42,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
 
 from iecoop.exceptions import AccessError, DefinitionError
-from iecoop.metadata import Kind, kind_of
-from iecoop.sections import FieldSpec
+from iecoop.metadata import Kind, kind_of, st_name
+from iecoop.sections import FieldSpec, check_st_name
 
 __all__ = [
     "ABSTRACT",
@@ -89,12 +89,14 @@ def visibility(flags: Access) -> Access:
     return Access(flags & _VISIBILITY) or Access.PUBLIC
 
 
-def _mark(func: _F, flags: Access) -> _F:
+def _mark(func: _F, flags: Access, st_name: str | None = None) -> _F:
     vis = Access(flags & _VISIBILITY)
     if bin(int(vis)).count("1") > 1:
         raise DefinitionError(f"{func.__qualname__}: choose one of PUBLIC, PRIVATE, PROTECTED, INTERNAL")
     setattr(func, "_iec_flags_", Access(flags))
     setattr(func, "_iec_method_", True)
+    if st_name is not None:
+        setattr(func, "_iec_st_name_", check_st_name(st_name, f"METHOD {func.__qualname__}"))
     return func
 
 
@@ -103,16 +105,21 @@ def method(func: _F, /) -> _F: ...
 
 
 @overload
-def method(flags: Access, /) -> Callable[[_F], _F]: ...
+def method(flags: Access = ..., /, *, st_name: str | None = None) -> Callable[[_F], _F]: ...
 
 
-def method(arg: Any, /) -> Any:
-    """``METHOD``: ``@method`` (PUBLIC) or ``@method(PRIVATE | FINAL)``."""
+def method(arg: Any = Access.PUBLIC, /, *, st_name: str | None = None) -> Any:
+    """``METHOD``: ``@method`` (PUBLIC) or ``@method(PRIVATE | FINAL)``.
+
+    ``st_name=`` is the ST name when Python cannot spell it (``METHOD body``
+    is ``@method(st_name="body") def body_(self)``); under ``@prop`` it names
+    the PROPERTY.
+    """
     if isinstance(arg, Access):
-        return lambda func: _mark(func, arg)
-    if callable(arg):
+        return lambda func: _mark(func, arg, st_name)
+    if callable(arg) and st_name is None:
         return _mark(arg, Access.PUBLIC)
-    raise TypeError(f"@method takes access flags (PUBLIC, PRIVATE, ...), got {arg!r}")
+    raise TypeError(f"@method takes access flags (PUBLIC, PRIVATE, ...) and st_name=, got {arg!r}")
 
 
 def call_after_init(func: _F) -> _F:
@@ -183,6 +190,11 @@ def super_set(base: super, name: str, value: Any) -> None:
 
 def flags_of(func: Any) -> Access:
     return typing.cast(Access, getattr(func, "_iec_flags_", Access.PUBLIC))
+
+
+def st_name_of(func: Any, name: str) -> str:
+    """The ST name ``@method(st_name=...)`` gave ``func``, else ``name``."""
+    return typing.cast(str, getattr(func, "_iec_st_name_", name))
 
 
 # ---------------------------------------------------------------------------
@@ -289,7 +301,12 @@ def caller_description(frame: Any) -> str:
     code = frame.f_code
     owners = _owners(code)
     if owners:
-        return f"{owners[-1].__name__}.{code.co_name}"
+        owner = owners[-1]
+        try:
+            shown = st_name(owner, code.co_name)  # a METHOD by its ST name
+        except (AttributeError, TypeError):
+            shown = code.co_name  # the body, a nested function
+        return f"{st_name(owner)}.{shown}"
     module = frame.f_globals.get("__name__", "?")
     return f"{code.co_name} in module {module}" if code.co_name != "<module>" else f"module {module}"
 
@@ -316,6 +333,8 @@ class Member:
     has_set: bool = False
     get_flags: Access = Access.PUBLIC
     set_flags: Access = Access.PUBLIC
+    #: The ST name (``@method(st_name=...)``), "" when it is ``name``.
+    st_name: str = ""
 
     @property
     def abstract(self) -> bool:
@@ -331,7 +350,8 @@ class Member:
 
     def describe(self) -> str:
         vis = typing.cast(str, self.visibility.name)
-        return f"{vis} {'METHOD' if self.kind == 'method' else 'PROPERTY'} {self.owner.__name__}.{self.name}"
+        word = "METHOD" if self.kind == "method" else "PROPERTY"
+        return f"{vis} {word} {st_name(self.owner)}.{self.st_name or self.name}"
 
 
 def signature_of(func: Callable[..., Any], resolve: Callable[[str], Any]) -> tuple[Any, ...]:
@@ -467,6 +487,12 @@ def has_body(func: Callable[..., Any]) -> bool:
     return not all(_is_prototype_statement(stmt, i == 0) for i, stmt in enumerate(node.body))
 
 
+def _st_name(func: Any, name: str) -> str:
+    """The ``st_name=`` of ``func`` ("" when it has none or it is ``name``)."""
+    shown = st_name_of(func, name)
+    return "" if shown == name else shown
+
+
 def members_of_namespace(
     owner: type, namespace: dict[str, Any], resolve: Callable[[str], Any], skip: frozenset[str]
 ) -> dict[str, Member]:
@@ -484,10 +510,12 @@ def members_of_namespace(
             flags = Access(get_flags & (Access.FINAL | Access.ABSTRACT)) | visibility(get_flags)
             found[name] = Member(
                 name, "property", owner, flags, signature_of(getter, resolve), True, setter is not None,
-                get_flags, set_flags,
+                get_flags, set_flags, _st_name(getter, name),
             )
         elif isinstance(value, types.FunctionType):
-            found[name] = Member(name, "method", owner, flags_of(value), signature_of(value, resolve))
+            found[name] = Member(
+                name, "method", owner, flags_of(value), signature_of(value, resolve), st_name=_st_name(value, name)
+            )
     return found
 
 
@@ -518,7 +546,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
         def private(*args: Any, **kwargs: Any) -> Any:
             frame = caller()
             if frame.f_code not in owner_ref[0]._iec_own_codes_:  # type: ignore[attr-defined]
-                raise _deny(label, f"PRIVATE members are callable only inside {owner_ref[0].__name__}", frame)
+                raise _deny(label, f"PRIVATE members are callable only inside {st_name(owner_ref[0])}", frame)
             return func(*args, **kwargs)
 
         return private
@@ -542,7 +570,7 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
             frame = caller()
             if not code_within(frame.f_code, declaring_class()):
                 raise _deny(
-                    label, f"PROTECTED members are callable only inside {declaring_class().__name__} and its derived blocks",
+                    label, f"PROTECTED members are callable only inside {st_name(declaring_class())} and its derived blocks",
                     frame,
                 )
             return func(*args, **kwargs)
@@ -569,20 +597,22 @@ def _no_set_accessor(where: str) -> Callable[[Any, Any], None]:
 
 
 def guard_namespace(owner_ref: list[type], name: str, namespace: dict[str, Any]) -> None:
-    """Replace each non-public method / accessor in the class body with its guarded form."""
+    """Replace each non-public method / accessor in the class body with its guarded form (``name``: the class's ST name)."""
     for member_name, value in list(namespace.items()):
         if isinstance(value, property):
             getter, setter = value.fget, value.fset
-            g = guard(getter, f"{visibility(flags_of(getter)).name} PROPERTY {name}.{member_name} (Get)", flags_of(getter), owner_ref) if getter else None
-            s = guard(setter, f"{visibility(flags_of(setter)).name} PROPERTY {name}.{member_name} (Set)", flags_of(setter), owner_ref) if setter else None
+            shown = st_name_of(getter, member_name)
+            g = guard(getter, f"{visibility(flags_of(getter)).name} PROPERTY {name}.{shown} (Get)", flags_of(getter), owner_ref) if getter else None
+            s = guard(setter, f"{visibility(flags_of(setter)).name} PROPERTY {name}.{shown} (Set)", flags_of(setter), owner_ref) if setter else None
             if s is None:
-                s = _no_set_accessor(f"{name}.{member_name}")
+                s = _no_set_accessor(f"{name}.{shown}")
             if g is not getter or s is not setter:
                 namespace[member_name] = type(value)(g, s, value.fdel, value.__doc__)
         elif isinstance(value, types.FunctionType) and not (member_name.startswith("__") and member_name.endswith("__")):
             flags = flags_of(value)
             if visibility(flags) != Access.PUBLIC:
-                namespace[member_name] = guard(value, f"{visibility(flags).name} METHOD {name}.{member_name}", flags, owner_ref)
+                shown = st_name_of(value, member_name)
+                namespace[member_name] = guard(value, f"{visibility(flags).name} METHOD {name}.{shown}", flags, owner_ref)
 
 
 def narrower(child: Access, parent: Access) -> bool:

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from iecoop.members import Member
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
-__all__ = ["IecClass", "Kind", "iec_class", "is_root", "kind_of"]
+__all__ = ["IecClass", "Kind", "iec_class", "is_root", "kind_of", "member_named", "st_name"]
 
 _NO_MEMBERS: Mapping[str, Any] = MappingProxyType({})
 
@@ -55,6 +55,10 @@ class IecClass:
     members: Mapping[str, Member] = dataclasses.field(default_factory=lambda: _NO_MEMBERS)
     #: The VAR_STAT variables this class declares (kept in its static block).
     static_fields: tuple[FieldRecord, ...] = ()
+    #: The class keyword ``st_name=``: the ST name when Python could not spell it ("" : the class name).
+    st_name: str = ""
+    #: An enumeration's ``st_names=``: the ST name of each value Python could not spell.
+    value_names: Mapping[str, str] = dataclasses.field(default_factory=lambda: _NO_MEMBERS)
 
     def complete(self, **changes: Any) -> None:
         """Fill in what the later build phases add (layout, members, statics), while the class is being built.
@@ -87,3 +91,64 @@ def is_root(cls: object) -> bool:
     record = getattr(cls, "__iec__", None)
     # The record is inherited: only a root's own (in its __dict__) says root.
     return isinstance(record, IecClass) and record.root and getattr(cls, "__dict__", {}).get("__iec__") is record
+
+
+def st_name(cls: type, member: str | None = None) -> str:
+    """The ST name of a declared class, or of its variable, METHOD, PROPERTY or enumeration value ``member``.
+
+    It is the ``st_name=`` given at the declaration (``in_: INT = VAR_INPUT(st_name="in")``,
+    ``@method(st_name="body")``, ``class IQueryInterface_(Interface, st_name="IQueryInterface")``,
+    ``class E(IecEnum, st_names={"None_": "None"})``), else the Python name. Read from the
+    class record: nothing is stored on instances and no variable access looks here.
+
+    ST::
+
+        VAR_INPUT in : BOOL; END_VAR
+
+    >>> from iecoop import BOOL, FunctionBlock, VAR_INPUT
+    >>> from iecoop.metadata import st_name
+    >>> class Gate(FunctionBlock, st_name="FB_Gate"):
+    ...     in_: BOOL = VAR_INPUT(st_name="in")
+    >>> st_name(Gate), st_name(Gate, "in_")
+    ('FB_Gate', 'in')
+    """
+    record = getattr(cls, "__dict__", {}).get("__iec__")
+    if member is None:
+        return record.st_name if isinstance(record, IecClass) and record.st_name else cls.__name__
+    record = iec_class(cls)
+    if record is None:
+        raise TypeError(f"st_name: {cls!r} is not a class declared with iecoop")
+    found = _st_names(cls, record).get(member)
+    if found is None:
+        raise AttributeError(f"st_name: {st_name(cls)} declares no variable, METHOD, PROPERTY or value {member!r}")
+    return found
+
+
+def member_named(cls: type, name: str) -> str | None:
+    """The Python name of ``cls``'s member whose ST name is ``name`` (case-insensitive, as ST), or None.
+
+    >>> from iecoop import BOOL, FunctionBlock, VAR_INPUT
+    >>> from iecoop.metadata import member_named
+    >>> class Gate(FunctionBlock):
+    ...     in_: BOOL = VAR_INPUT(st_name="in")
+    >>> member_named(Gate, "IN"), member_named(Gate, "out")
+    ('in_', None)
+    """
+    record = iec_class(cls)
+    if record is None:
+        return None
+    lowered = name.lower()
+    return next((python for python, st in _st_names(cls, record).items() if st.lower() == lowered), None)
+
+
+def _st_names(cls: type, record: IecClass) -> dict[str, str]:
+    """Python name -> ST name of every member of ``cls``, its bases' included."""
+    names: dict[str, str] = {}
+    if record.kind is Kind.ENUM:
+        names.update((python, record.value_names.get(python, python)) for python in getattr(cls, "__members__", {}))
+        return names
+    if record.layout is not None:
+        names.update((field.name, field.st_name) for field in record.layout.fields)
+    names.update((field.name, field.st_name) for field in record.static_fields)
+    names.update((member.name, member.st_name or member.name) for member in record.members.values())
+    return names

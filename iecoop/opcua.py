@@ -52,7 +52,7 @@ from iecoop.gvl import GlobalVariables, global_lists
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
-from iecoop.metadata import Kind, iec_class, kind_of
+from iecoop.metadata import Kind, iec_class, kind_of, st_name
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
 
@@ -422,7 +422,7 @@ class _AddressSpace:
                 continue
             # Program inputs and GVL variables are what an HMI sets; the rest is the PLC's own.
             writable = record.section is Section.VAR_INPUT if inputs_writable else True
-            self._add(f"{path}.{record.name}", record.name, path, record.info, root, record.offset,
+            self._add(f"{path}.{record.st_name}", record.st_name, path, record.info, root, record.offset,
                       writable, record.spec.constant)
 
     def _add_members(self, cls: type, path: str, root: int, base: int, writable: bool, constant: bool) -> None:
@@ -431,7 +431,7 @@ class _AddressSpace:
         for record in cls._iec_layout_.fields:  # type: ignore[attr-defined]
             if record.section in _HIDDEN_SECTIONS:
                 continue
-            self._add(f"{path}.{record.name}", record.name, path, record.info, root, base + record.offset,
+            self._add(f"{path}.{record.st_name}", record.st_name, path, record.info, root, base + record.offset,
                       writable and data, constant or record.spec.constant)
 
     def _add(self, path: str, name: str, parent: str, info: TypeInfo, root: int, offset: int,
@@ -779,15 +779,19 @@ class OpcUaServer:
     @staticmethod
     async def _add_enum_strings(node: Any, variable: _Variable, idx: int) -> None:
         assert isinstance(variable.scalar, EnumInfo)
-        members = list(typing.cast(Iterable[enum.IntEnum], variable.scalar.enum_cls))
+        enum_cls = variable.scalar.enum_cls
+        members = list(typing.cast(Iterable[enum.IntEnum], enum_cls))
         values = sorted(int(m) for m in members)
+        # the values' ST names (an enumeration iecoop did not build has only its Python names)
+        shown = {m.name: st_name(enum_cls, m.name) if iec_class(enum_cls) else m.name for m in members}
         if values == list(range(len(values))):
-            texts = [ua.LocalizedText(m.name) for m in sorted(members, key=int)]
+            texts = [ua.LocalizedText(shown[m.name]) for m in sorted(members, key=int)]
             await node.add_property(ua.NodeId(f"{variable.path}#EnumStrings", idx), ua.QualifiedName("EnumStrings", 0),
                                     texts, _VT.LocalizedText)
         else:
             # Values that are not 0..n-1 need EnumValues (value and name pairs), as OPC UA Part 3 says.
-            pairs = [ua.EnumValueType(Value=int(m), DisplayName=ua.LocalizedText(m.name), Description=ua.LocalizedText(m.name))
+            pairs = [ua.EnumValueType(Value=int(m), DisplayName=ua.LocalizedText(shown[m.name]),
+                                      Description=ua.LocalizedText(shown[m.name]))
                      for m in sorted(members, key=int)]
             await node.add_property(ua.NodeId(f"{variable.path}#EnumValues", idx), ua.QualifiedName("EnumValues", 0),
                                     pairs, _VT.ExtensionObject)

@@ -33,6 +33,7 @@ Python:
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import inspect
 import linecache
 import weakref
@@ -70,10 +71,13 @@ from iecoop.memory.layout import (
     LayoutBuilder,
     build_layout,
     check_unannotated,
+    class_st_name,
     hand_over,
     init_op,
+    install_st_aliases,
     read_annotations,
     register_builder,
+    st_aliases,
     take_over,
 )
 from iecoop.members import (
@@ -154,10 +158,11 @@ class _PouMeta(_PouMetaBase):
         abstract: bool = False,
         final: bool = False,
         internal: bool = False,
+        st_name: str | None = None,
         **kwargs: Any,
     ) -> Any:
         if not namespace.get("_iec_base_class_"):
-            builder = _PouBuilder(name, bases, namespace, abstract, final, internal)
+            builder = _PouBuilder(name, bases, namespace, abstract, final, internal, st_name)
             builder.declare()
             hand_over(namespace, builder)
         return super().__new__(mcls, name, bases, namespace, **kwargs)
@@ -220,7 +225,8 @@ class _PouBuilder:
     """
 
     def __init__(
-        self, name: str, bases: tuple[type, ...], namespace: dict[str, Any], abstract: bool, final: bool, internal: bool
+        self, name: str, bases: tuple[type, ...], namespace: dict[str, Any], abstract: bool, final: bool, internal: bool,
+        st_name: str | None = None,
     ) -> None:
         self.name = name
         self.bases = bases
@@ -228,7 +234,9 @@ class _PouBuilder:
         self.abstract, self.final, self.internal = abstract, final, internal
         self.kind = Kind.PROGRAM if any(kind_of(b) is Kind.PROGRAM for b in bases) else Kind.FUNCTION_BLOCK
         self.word = _kind_word(self.kind)
-        self.title = f"{self.word} {name}"
+        self.st_name = class_st_name(st_name, f"{self.word} {name}")
+        #: The block as messages name it: ``FUNCTION_BLOCK`` and its ST name.
+        self.title = f"{self.word} {self.st_name or name}"
         self.parent: type | None = None
         self.scope = DefinitionScope(namespace)
         self.scope.own_name = name
@@ -322,11 +330,11 @@ class _PouBuilder:
         inside = {f: a for f, a in annotations.items() if f not in self.outside}
         wrap_parameters(self.title, namespace, self.scope.eval)
         self.original_namespace = dict(namespace)
-        guard_namespace(self.owner_ref, self.name, namespace)
-        namespace["__iec__"] = IecClass(self.kind, self.abstract, self.final, self.internal)
+        guard_namespace(self.owner_ref, self.st_name or self.name, namespace)
+        namespace["__iec__"] = IecClass(self.kind, self.abstract, self.final, self.internal, st_name=self.st_name)
         self.layout_builder = LayoutBuilder(
             self.name, self.bases, namespace, kind=self.word, allowed_sections=_POU_SECTIONS, adjust=self.adjust,
-            annotations=inside, scope=self.scope,
+            annotations=inside, scope=self.scope, st_name=self.st_name,
         )
         self.layout_builder.collect()
 
@@ -364,14 +372,19 @@ class _PouBuilder:
         self.layout_builder.lay_out(cls)
         layout = self.layout_builder.install()
         members = self.install_members(cls)
-        statics = _install_outside(cls, self.name, self.outside, self.outside_specs, self.scope)
+        statics = _install_outside(cls, self.st_name or self.name, self.outside, self.outside_specs, self.scope)
         cls.__dict__["__iec__"].complete(layout=layout, members=members, static_fields=statics)
+        # Variables only, and never a name the block looks up as its own (fb_init): a METHOD or
+        # PROPERTY is reached by its Python name (member_named gives it), so none runs twice or as a hook.
+        install_st_aliases(
+            cls, {record.name: record.st_name for record in (*layout.own, *statics) if record.st_name not in _LIFECYCLE}
+        )
         self.install_runtime(cls, layout)
 
     def install_members(self, cls: Any) -> dict[str, Member]:
         self.owner_ref.append(cls)
         register_code(cls, self.original_namespace)
-        own_members = {m.name: _rebind(m, cls) for m in self.own.values()}
+        own_members = {m.name: _rebind(m, cls, self.inherited.get(m.name)) for m in self.own.values()}
         members = {**self.inherited, **own_members}
         _check_interfaces(self.title, cls, members, self.abstract)
         return members
@@ -402,7 +415,7 @@ class _PouBuilder:
         # What a holder's compiled call calls for `self.member(...)` of this class (see _follow_call).
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
-            cls.__setattr__ = pou_setattr(cls, layout)
+            cls.__setattr__ = pou_setattr(cls, layout, st_aliases(cls, layout))
 
 
 def _record(cls: type) -> IecClass:
@@ -415,16 +428,14 @@ def _package(module: str) -> str:
     return module.split(".", 1)[0]
 
 
-def _rebind(member: Member, cls: type) -> Member:
-    return Member(
-        member.name, member.kind, cls, member.flags, member.signature, member.has_get, member.has_set,
-        member.get_flags, member.set_flags,
-    )
+def _rebind(member: Member, cls: type, base: Member | None) -> Member:
+    # An override keeps the ST name of the member it overrides unless it gives its own.
+    return dataclasses.replace(member, owner=cls, st_name=member.st_name or (base.st_name if base else ""))
 
 
 def _check_members(title: str, name: str, own: dict[str, Member], inherited: dict[str, Member], abstract: bool) -> None:
     for member in own.values():
-        label = f"{title}: {member.kind.upper() if member.kind == 'method' else 'PROPERTY'} {member.name}"
+        label = f"{title}: {member.kind.upper() if member.kind == 'method' else 'PROPERTY'} {member.st_name or member.name}"
         flags = member.flags
         if flags & Access.ABSTRACT:
             if visibility(flags) == Access.PRIVATE:
@@ -560,7 +571,9 @@ def _install_outside(
         ns: dict[str, Any] = {"__module__": cls.__module__, "__annotations__": statics}
         for field in statics:
             spec = specs[field]
-            ns[field] = FieldSpec(Section.VAR, spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant)
+            ns[field] = FieldSpec(
+                Section.VAR, spec.initial, length=spec.length, bounds=spec.bounds, constant=spec.constant, st_name=spec.st_name
+            )
 
         def create(n: dict[str, Any]) -> type:
             meta: Any = type(ctypes.Structure)
@@ -586,7 +599,7 @@ def _install_outside(
         raw = getattr(type(block), field)
         raw = raw if record.info.direct else _BlockField(raw)
         validate = record.info.validate if _config.CHECKS else None
-        setattr(cls, field, _Static(raw, block, f"{name}.{field}", validate))
+        setattr(cls, field, _Static(raw, block, f"{name}.{specs[field].st_name or field}", validate))
     return static_fields
 
 

@@ -24,9 +24,12 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import re
 from collections.abc import Mapping, Sequence
 from types import MappingProxyType
 from typing import Any, Final
+
+from iecoop.exceptions import DefinitionError
 
 __all__ = [
     "MISSING",
@@ -40,6 +43,7 @@ __all__ = [
     "SectionRule",
     "Storage",
     "Writer",
+    "check_st_name",
     "sections_of",
 ]
 
@@ -202,6 +206,22 @@ def sections_of(kind: Kind) -> tuple[Section, ...]:
     return tuple(s for s, rule in SECTION_RULES.items() if kind in rule.kinds)
 
 
+_ST_IDENTIFIER: Final = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def check_st_name(st_name: object, where: str) -> str:
+    """``st_name`` if it is an ST identifier (letters, digits and ``_``, not starting with a digit).
+
+    ``where`` (``FUNCTION_BLOCK FB_Valve.in_``) names the declaration in the
+    ``DefinitionError`` that refuses anything else.
+    """
+    if not isinstance(st_name, str) or _ST_IDENTIFIER.fullmatch(st_name) is None:
+        raise DefinitionError(
+            f"{where}: st_name={st_name!r} is not an ST identifier (a letter or _, then letters, digits and _)"
+        )
+    return st_name
+
+
 # A field's declaration lives beside the sections it names: every module that reads one
 # (the builders, the write rules, the member checks) imports it from here without a cycle.
 class _Missing:
@@ -219,7 +239,9 @@ MISSING: Final[Any] = _Missing()
 class FieldSpec:
     """A field's declaration: section, initial value and qualifiers (what ``VAR(...)`` returns)."""
 
-    __slots__ = ("section", "initial", "length", "bounds", "retain", "persistent", "constant", "method", "fb_init")
+    __slots__ = (
+        "section", "initial", "length", "bounds", "retain", "persistent", "constant", "method", "fb_init", "st_name",
+    )
 
     def __init__(
         self,
@@ -233,6 +255,7 @@ class FieldSpec:
         constant: bool = False,
         method: str | None = None,
         fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
+        st_name: str | None = None,
     ) -> None:
         self.section = Section(section)
         self.initial = initial
@@ -242,6 +265,8 @@ class FieldSpec:
         self.persistent = persistent
         self.constant = constant
         self.method = method
+        #: The variable's ST name when Python could not spell it (``in`` for the field ``in_``); checked by the builder.
+        self.st_name = st_name
         # One dict of FB_init inputs, or one per element of an ARRAY OF FB.
         self.fb_init: dict[str, Any] | list[dict[str, Any]] | None
         if not fb_init:
@@ -264,7 +289,7 @@ class FieldSpec:
     def as_python(self) -> str:
         """The specifier call as the user writes it: ``VAR(10, constant=True)``."""
         args = [] if self.initial is MISSING else [repr(self.initial)]
-        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init"):
+        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init", "st_name"):
             value = getattr(self, option)
             if value:
                 args.append(f"{option}={value!r}")

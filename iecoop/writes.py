@@ -33,11 +33,12 @@ ST::
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 from iecoop.exceptions import AccessError
 from iecoop.members import FORWARDING_CODES, caller_description, code_of
+from iecoop.metadata import st_name
 from iecoop.memory._core import AggregateInfo, ArrayInfo, CheckedMemberField, ElementaryInfo, TypeInfo
 from iecoop.sections import SECTION_RULES, Section
 
@@ -88,7 +89,7 @@ def write_rules(cls: Any, layout: ClassLayout) -> dict[str, WriteRule]:
     inside_only = SECTION_RULES[Section.VAR_STAT].inside_only
     for record in cls.__iec__.static_fields:
         # A VAR_STAT is a VAR of its class's static block; the block's descriptor checks the value.
-        where = f"{cls.__name__}.{record.name}"
+        where = record.where
         rules.setdefault(record.name, WriteRule(None, where, Section.VAR_STAT, None, record.spec.constant, inside_only))
     return rules
 
@@ -101,7 +102,7 @@ def _check_rule(holder: Any, rule: WriteRule, frame: Any) -> None:
         if not code_of(frame.f_code, holder):
             raise AccessError(
                 f"{section} {rule.where} cannot be written from {caller_description(frame)}: "
-                f"only {type(holder).__name__}'s own code writes its {section} variables"
+                f"only {st_name(type(holder))}'s own code writes its {section} variables"
             )
         if rule.method is not None and frame.f_code.co_name != rule.method:
             raise AccessError(f"VAR_INST {rule.where} belongs to METHOD {rule.method} (C0576)")
@@ -170,9 +171,13 @@ def fast_writes(layout: ClassLayout, rules: dict[str, WriteRule]) -> dict[str, F
     return fast
 
 
-def pou_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    """The checked ``__setattr__`` of a FUNCTION_BLOCK or PROGRAM; sets ``cls._iec_write_rules_``."""
+def pou_setattr(cls: Any, layout: ClassLayout, aliases: Mapping[str, str] | None = None) -> Callable[[Any, str, Any], None]:
+    """The checked ``__setattr__`` of a FUNCTION_BLOCK or PROGRAM; sets ``cls._iec_write_rules_``.
+
+    A write by an ST name in ``aliases`` (ST name -> Python name) takes the general path with the variable's rule.
+    """
     rules = cls._iec_write_rules_ = write_rules(cls, layout)
+    rules.update({alias: rules[python] for alias, python in (aliases or {}).items()})
     for record in layout.own:
         field = cls.__dict__.get(record.name)
         if isinstance(field, CheckedMemberField):
@@ -211,8 +216,13 @@ def pou_setattr(cls: Any, layout: ClassLayout) -> Callable[[Any, str, Any], None
     return __setattr__
 
 
-def data_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any], None]:
-    """The checked ``__setattr__`` of a STRUCT, UNION or GVL: the value's kind, CONSTANT, unknown members."""
+def data_setattr(
+    cls_name: str, layout: ClassLayout, aliases: Mapping[str, str] | None = None
+) -> Callable[[Any, str, Any], None]:
+    """The checked ``__setattr__`` of a STRUCT, UNION or GVL: the value's kind, CONSTANT, unknown members.
+
+    ``aliases`` (ST name -> Python name) are checked as the variable they name.
+    """
     validators: dict[str, Callable[[Any, str], None]] = {}
     wheres: dict[str, str] = {}
     for record in layout.fields:
@@ -221,6 +231,11 @@ def data_setattr(cls_name: str, layout: ClassLayout) -> Callable[[Any, str, Any]
             validators[record.name] = validate
             wheres[record.name] = record.where
     constants = {record.name: record.where for record in layout.fields if record.spec.constant}
+    for alias, python in (aliases or {}).items():
+        if python in validators:
+            validators[alias], wheres[alias] = validators[python], wheres[python]
+        if python in constants:
+            constants[alias] = constants[python]
     setter = object.__setattr__
     # Per field: a value of the field's exact Python type is stored without a validator call.
     fast = {

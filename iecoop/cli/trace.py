@@ -34,7 +34,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 from iecoop import TYPE_CLASS, FunctionBlock, PlcException, Program, var_info
-from iecoop.metadata import Kind, kind_of
+from iecoop.metadata import Kind, kind_of, st_name
 from iecoop.runtime import Runtime
 from iecoop.sections import Section
 from iecoop.uml import class_diagram
@@ -52,6 +52,7 @@ __all__ = [
     "fault_text",
     "run_cycles",
     "show",
+    "st_path",
     "table",
     "tasks_text",
     "variable_probes",
@@ -100,7 +101,7 @@ def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
     if isinstance(value, bool):
         return "TRUE" if value else "FALSE"
     if isinstance(value, enum.Enum):
-        return value.name
+        return st_name(type(value), value.name) if kind_of(type(value)) is Kind.ENUM else value.name
     if isinstance(value, float):
         return format(value, fmt or ".2f")
     if fmt:
@@ -111,7 +112,7 @@ def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
 def tasks_text(runtime: Runtime) -> str:
     """The runtime's tasks as a trace's header names them: ``Main on PlcTask (10 ms)``."""
     return "; ".join(
-        f"{', '.join(type(program).__name__ for _, program in task.programs)} on {task.name} ({task.interval} ms)"
+        f"{', '.join(st_name(type(program)) for _, program in task.programs)} on {task.name} ({task.interval} ms)"
         for task in runtime.tasks
     )
 
@@ -346,6 +347,15 @@ def elementary_variables(cls: type[Program], limit: int = 5) -> list[tuple[str, 
     return chosen[:limit]
 
 
+def st_path(instance: Any, path: str) -> str:
+    """The dotted Python ``path`` of a variable of ``instance`` in ST names: ``gate.in_`` is ``gate.in``."""
+    names = []
+    for name in path.split("."):
+        names.append(st_name(type(instance), name))
+        instance = getattr(instance, name)
+    return ".".join(names)
+
+
 #: The type classes whose values the trace shows as ``250ms``.
 TIME_CLASSES = (TYPE_CLASS.TYPE_TIME, TYPE_CLASS.TYPE_LTIME)
 
@@ -355,8 +365,9 @@ def variable_probes(program: Program, limit: int = 5) -> list[Probe]:
 
     def probe(path: str, kind: TYPE_CLASS) -> Probe:
         get = operator.attrgetter(path)
+        label = st_path(program, path)
         if kind in TIME_CLASSES:
-            return Probe(path, lambda: f"{int(get(program))}ms")
-        return Probe(path, lambda: show(get(program)))
+            return Probe(label, lambda: f"{int(get(program))}ms")
+        return Probe(label, lambda: show(get(program)))
 
     return [probe(path, kind) for path, kind in elementary_variables(type(program), limit)]

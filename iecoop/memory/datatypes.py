@@ -30,13 +30,15 @@ from __future__ import annotations
 
 import ctypes
 import enum
+from collections.abc import Mapping
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop.exceptions import DefinitionError
 from iecoop.memory.aliases import Alias
-from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, register_builder
+from iecoop.memory.layout import ClassLayout, DataClassBuilder, assign, class_st_name, register_builder
 from iecoop.metadata import IecClass
-from iecoop.sections import Kind
+from iecoop.sections import Kind, check_st_name
 from iecoop.types import INT_T, ElementaryType, elementary_type
 
 register_builder(__file__)
@@ -71,13 +73,15 @@ def _finish(cls: Any, builder: DataClassBuilder) -> None:
 
 
 class _StructMeta(_StructMetaBase):
-    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+    def __new__(
+        mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], st_name: str | None = None, **kwargs: Any
+    ) -> Any:
         parents = [b.__name__ for b in bases if getattr(b, "_iec_layout_", None) is not None]
         if len(parents) > 1:
             raise DefinitionError(
                 f"STRUCT {name} cannot EXTEND both {' and '.join(parents)}: a STRUCT extends one STRUCT at most"
             )
-        return super().__new__(mcls, name, bases, _STRUCT_BUILDER.new(name, bases, namespace), **kwargs)
+        return super().__new__(mcls, name, bases, _STRUCT_BUILDER.new(name, bases, namespace, st_name), **kwargs)
 
     def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
         super().__init__(name, bases, namespace)
@@ -85,10 +89,12 @@ class _StructMeta(_StructMetaBase):
 
 
 class _UnionMeta(_UnionMetaBase):
-    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+    def __new__(
+        mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], st_name: str | None = None, **kwargs: Any
+    ) -> Any:
         if not namespace.get("_iec_base_class_") and any(getattr(b, "_iec_layout_", None) is not None for b in bases):
             raise DefinitionError(f"UNION {name}: a union cannot extend another union")
-        return super().__new__(mcls, name, bases, _UNION_BUILDER.new(name, bases, namespace), **kwargs)
+        return super().__new__(mcls, name, bases, _UNION_BUILDER.new(name, bases, namespace, st_name), **kwargs)
 
     def __init__(cls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> None:
         super().__init__(name, bases, namespace)
@@ -150,9 +156,17 @@ class Union(_DataTypeMixin, _UnionBase, metaclass=_UnionMeta):
 
 class _IecEnumMeta(enum.EnumMeta):
     def __new__(
-        metacls, cls: str, bases: tuple[type, ...], classdict: Any, *, base: Any = None, **kwds: Any
+        metacls, cls: str, bases: tuple[type, ...], classdict: Any, *, base: Any = None,
+        st_name: str | None = None, st_names: Mapping[str, str] | None = None, **kwds: Any,
     ) -> Any:
         enum_cls = super().__new__(metacls, cls, bases, classdict, **kwds)
+        title = f"enumeration {cls}"
+        label = class_st_name(st_name, title)
+        value_names = {}
+        for value_name, value_st in (st_names or {}).items():
+            if value_name not in enum_cls.__members__:
+                raise DefinitionError(f"{title}: st_names= names {value_name!r}, which is no value of {cls}")
+            value_names[value_name] = check_st_name(value_st, f"{title}.{value_name}")
         inherited = getattr(enum_cls, "_iec_base_", INT_T)
         record = elementary_type(base) if base is not None else inherited
         if not isinstance(record, ElementaryType) or record.kind not in ("signed", "unsigned"):
@@ -165,7 +179,7 @@ class _IecEnumMeta(enum.EnumMeta):
                     f"enumeration {cls}: {member.name} := {value} does not fit the base type {record.name}"
                 )
         type.__setattr__(enum_cls, "_iec_base_", record)
-        type.__setattr__(enum_cls, "__iec__", IecClass(Kind.ENUM))
+        type.__setattr__(enum_cls, "__iec__", IecClass(Kind.ENUM, st_name=label, value_names=MappingProxyType(value_names)))
         return enum_cls
 
 

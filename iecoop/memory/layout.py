@@ -23,7 +23,7 @@ from typing import Any, Final
 from iecoop import _config
 from iecoop.exceptions import DefinitionError
 from iecoop.metadata import IecClass, kind_of
-from iecoop.sections import MISSING, FieldSpec, Kind, Section, sections_of
+from iecoop.sections import MISSING, FieldSpec, Kind, Section, check_st_name, sections_of
 from iecoop.writes import data_setattr
 from iecoop.memory._core import (
     AggregateInfo,
@@ -74,8 +74,14 @@ class FieldRecord:
         return self.info.size
 
     @property
+    def st_name(self) -> str:
+        """The ST name (``st_name=`` of the specifier), else the Python name."""
+        return self.spec.st_name or self.name
+
+    @property
     def where(self) -> str:
-        return f"{self.owner}.{self.name}"
+        """``Owner.name`` in ST names, for messages and ``var_info``'s symbol."""
+        return f"{self.owner}.{self.st_name}"
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -210,8 +216,11 @@ class LayoutBuilder:
         adjust: Callable[[TypeInfo, FieldSpec, str], TypeInfo] | None = None,
         annotations: dict[str, Any] | None = None,
         scope: DefinitionScope | None = None,
+        st_name: str | None = None,
     ) -> None:
         self.name = name
+        #: The class as messages name it: its ST name.
+        self.label = st_name or name
         self.bases = bases
         self.namespace = namespace
         self.kind = kind
@@ -240,15 +249,17 @@ class LayoutBuilder:
         for field, annotation in self.annotations.items():
             if _is_classvar(annotation):
                 continue
-            where = f"{name}.{field}"
+            value = namespace.pop(field, MISSING)
+            spec = value if isinstance(value, FieldSpec) else FieldSpec(self.default_section, value)
+            if spec.st_name is not None:
+                check_st_name(spec.st_name, f"{self.kind} {self.label}.{field}")
+            where = f"{self.label}.{spec.st_name or field}"
             if field.startswith("_iec") or field.startswith("__"):
                 raise DefinitionError(f"{where}: names starting with '_iec' or '__' are reserved")
             if field in taken:
                 raise DefinitionError(
                     f"{where}: {field} is already declared in {taken[field]}; a derived type cannot declare it again"
                 )
-            value = namespace.pop(field, MISSING)
-            spec = value if isinstance(value, FieldSpec) else FieldSpec(self.default_section, value)
             if spec.section not in self.allowed_sections:
                 allowed = ", ".join(self.allowed_sections)
                 raise DefinitionError(f"{where}: {spec.section} is not allowed in a {self.kind} (allowed: {allowed})")
@@ -272,17 +283,19 @@ class LayoutBuilder:
 
     def install(self) -> ClassLayout:
         """Phase 3: descriptors where a type needs one, the field records and the layout."""
-        cls, name = self.cls, self.name
+        cls = self.cls
         own: list[FieldRecord] = []
         for field, info, spec in self.pending:
             raw = cls.__dict__[field]
-            descriptor = info.descriptor(raw, field, name)
+            descriptor = info.descriptor(raw, field, self.label)
             if descriptor is not None:
+                if spec.st_name is not None and hasattr(descriptor, "where"):
+                    descriptor.where = f"{self.label}.{spec.st_name}"  # messages name the ST variable
                 setattr(cls, field, descriptor)
                 alias = getattr(descriptor, "alias", None)
                 if alias is not None:
                     setattr(cls, alias, descriptor.cached)
-            own.append(FieldRecord(field, info, spec, name, int(raw.offset), raw))
+            own.append(FieldRecord(field, info, spec, self.label, int(raw.offset), raw))
         all_fields = tuple(self.inherited) + tuple(own)
         layout = ClassLayout(all_fields, tuple(own), {f.name: f for f in all_fields}, ())
         for record in own:
@@ -315,6 +328,11 @@ def _with_alias_initial(spec: FieldSpec, info: TypeInfo) -> FieldSpec:
     return spec
 
 
+def class_st_name(st_name: str | None, title: str) -> str:
+    """The class keyword ``st_name=`` checked ("" when not given): ``class Gate_(FunctionBlock, st_name="Gate")``."""
+    return "" if st_name is None else check_st_name(st_name, title)
+
+
 def check_unannotated(title: str, namespace: Mapping[str, Any], annotations: Mapping[str, Any]) -> None:
     """Reject ``x = VAR_INPUT(0)`` without a type: it would be a plain class attribute, not a variable."""
     for field, value in namespace.items():
@@ -343,6 +361,33 @@ def build_layout(
     builder.lay_out(create(namespace))
     builder.install()
     return typing.cast(type, builder.cls)
+
+
+def _lookup(cls: type, name: str) -> Any:
+    """What ``cls.name`` finds in the class dictionaries (descriptors unresolved), or MISSING."""
+    return next((klass.__dict__[name] for klass in cls.__mro__ if name in klass.__dict__), MISSING)
+
+
+def install_st_aliases(cls: type, names: Mapping[str, str]) -> None:
+    """Let ``getattr(obj, "in")`` reach the member ``in_``: the ST name is a second class attribute, the same object.
+
+    ``names`` maps the Python names of the class's own members to their ST names. An ST name the
+    class already has (``body``, a member's Python name) gets no alias, nor one that Python or
+    ctypes would read as their own (``__del__``, ``_pack_``, ``_iec...``). The member's own name keeps
+    its descriptor, so nothing changes on the way to ``obj.in_``.
+    """
+    for python, st in names.items():
+        special = st.startswith("_") and st.endswith("_") or st.startswith("_iec")
+        if st != python and not special and _lookup(cls, st) is MISSING:
+            setattr(cls, st, cls.__dict__[python])
+
+
+def st_aliases(cls: type, layout: ClassLayout) -> dict[str, str]:
+    """ST name -> Python name of each variable of ``cls`` reachable by its ST name (``install_st_aliases``)."""
+    return {
+        record.st_name: record.name for record in layout.fields
+        if record.st_name != record.name and _lookup(cls, record.st_name) is _lookup(cls, record.name)
+    }
 
 
 _BUILDER_KEY: Final = "_iec_builder_"
@@ -374,13 +419,17 @@ class DataClassBuilder:
         self.iec_kind = kind
         self.allowed_sections = sections_of(kind)
 
-    def new(self, name: str, bases: tuple[type, ...], namespace: dict[str, Any]) -> dict[str, Any]:
+    def new(
+        self, name: str, bases: tuple[type, ...], namespace: dict[str, Any], st_name: str | None = None
+    ) -> dict[str, Any]:
         """Before the class exists: collect and check the fields; return the namespace to create it from."""
         if namespace.get("_iec_base_class_"):
             namespace.setdefault("_fields_", [])
             return namespace
-        namespace["__iec__"] = IecClass(self.iec_kind)
-        builder = LayoutBuilder(name, bases, namespace, kind=self.kind, allowed_sections=self.allowed_sections)
+        namespace["__iec__"] = IecClass(self.iec_kind, st_name=class_st_name(st_name, f"{self.kind} {name}"))
+        builder = LayoutBuilder(
+            name, bases, namespace, kind=self.kind, allowed_sections=self.allowed_sections, st_name=st_name
+        )
         builder.collect()
         hand_over(namespace, builder)
         return namespace
@@ -394,8 +443,9 @@ class DataClassBuilder:
         layout = builder.install()
         cls.__dict__["__iec__"].complete(layout=layout)
         cls._iec_implicit_init_ = layout.implicit_init
+        install_st_aliases(cls, {record.name: record.st_name for record in layout.own})
         if CHECKS:
-            cls.__setattr__ = data_setattr(cls.__name__, layout)
+            cls.__setattr__ = data_setattr(cls.__name__, layout, st_aliases(cls, layout))
         return layout
 
 

@@ -57,7 +57,7 @@ from iecoop.runtime.variables import (
     translate_offset,
 )
 from iecoop.runtime.watchdog import Watchdog, WatchdogInterrupt
-from iecoop.metadata import Kind, kind_of
+from iecoop.metadata import Kind, kind_of, st_name
 
 __all__ = ["Fault", "Runtime", "Task", "TaskInfo", "current_task"]
 
@@ -304,7 +304,7 @@ class Runtime:
 
     def _attach(self, task: Task, programs: tuple[Any, ...]) -> None:
         for program in programs:
-            base = f"{task.name}.{type(program).__name__}"
+            base = f"{task.name}.{st_name(type(program))}"  # the instance path names the PROGRAM in ST
             path = base
             n = 2
             while any(e.path == path for e in self._entries):

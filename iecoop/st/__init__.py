@@ -73,7 +73,11 @@ def external(name: str) -> Callable[[_F], _F]:
 
 
 class StModule(types.ModuleType):
-    """The result of ``load``: ST names as attributes (case-insensitive, as ST names are)."""
+    """The result of ``load``: ST names as attributes (case-insensitive, as ST names are).
+
+    A name Python cannot spell is reached by its ST name through ``getattr``:
+    ``getattr(plc, "in")`` is the FUNCTION_BLOCK ``in`` (``plc.in_``).
+    """
 
     __python__: str
 
@@ -82,6 +86,13 @@ class StModule(types.ModuleType):
         for key, value in self.__dict__.items():
             if key.lower() == lowered and not key.startswith("__"):
                 return value
+        # An ST name the naming rule changed (in -> in_, _x -> st_x_): the key is made from it.
+        from iecoop.st._translate import python_name
+
+        for key, value in self.__dict__.items():
+            for spelled in (key[:-1], key[2:-1]):
+                if spelled.lower() == lowered and key in (python_name(spelled), python_name(spelled, attribute=True)):
+                    return value
         raise AttributeError(f"the loaded Structured Text declares no {name!r}")
 
 

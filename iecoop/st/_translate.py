@@ -145,6 +145,11 @@ def st_name_of(python: str) -> str:
     return name
 
 
+def st_keyword(st: str, python: str, comma: str = ", ") -> str:
+    """``, st_name="in"`` where the naming rule renamed ``st`` to ``python``, else nothing."""
+    return f'{comma}st_name="{st}"' if st != python else ""
+
+
 # --- types --------------------------------------------------------------------------------------
 
 
@@ -970,7 +975,9 @@ class Translator:
             base_kw = f", base={base_type.name}"
         self.need("iecoop", "IecEnum")
         self.comments(node, 0)
-        self.emit(f"class {decl.name}(IecEnum{base_kw}):", 0)
+        renamed = {python_name(v, attribute=True): v for v in decl.values if python_name(v, attribute=True) != v}
+        names_kw = ", st_names={" + ", ".join(f'"{p}": "{v}"' for p, v in renamed.items()) + "}" if renamed else ""
+        self.emit(f"class {decl.name}(IecEnum{base_kw}{st_keyword(decl.st, decl.name)}{names_kw}):", 0)
         self.emit(f'"""TYPE {decl.name} (enumeration)."""', 1)
         value = -1
         scope = Scope(None, "const")
@@ -1038,7 +1045,7 @@ class Translator:
         if not decl.bases:
             self.need("iecoop", base)
         self.comments(node, 0)
-        self.emit(f"class {decl.name}({bases}):", 0)
+        self.emit(f"class {decl.name}({bases}{st_keyword(decl.st, decl.name)}):", 0)
         keyword = "STRUCT" if base == "Struct" else "UNION"
         self.emit(f'"""TYPE {decl.name} : {keyword}."""', 1)
         scope = Scope(decl, "const")
@@ -1092,6 +1099,8 @@ class Translator:
             kwargs.append(f"fb_init={fb_init}")
         if extra:
             kwargs.append(extra)
+        if member.name != member.st and member.name == python_name(member.st, attribute=True):
+            kwargs.append(st_keyword(member.st, member.name, ""))
         section = member.section if member.section != "VAR_GLOBAL" else "VAR"
         note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""
         if plain and not kwargs and value is not None:
@@ -1271,14 +1280,14 @@ class Translator:
                 raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {itf!r}", node)
             bases.append(itf_decl.name)
         self.comments(node, 0)
-        self.emit(f"class {decl.name}({', '.join(bases)}{self._class_kwargs(node.access)}):", 0)
+        self.emit(f"class {decl.name}({', '.join(bases)}{self._class_kwargs(node.access)}{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""FUNCTION_BLOCK {decl.name}."""', 1)
         self._emit_pou(decl, "FUNCTION_BLOCK")
 
     def _emit_program(self, decl: Decl) -> None:
         self.need("iecoop", "Program")
         self.comments(decl.node, 0)
-        self.emit(f"class {decl.name}(Program):", 0)
+        self.emit(f"class {decl.name}(Program{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""PROGRAM {decl.name}."""', 1)
         self._emit_pou(decl, "PROGRAM")
 
@@ -1323,7 +1332,7 @@ class Translator:
                     for name, type_ in self._item_types(item):
                         self._need_type(type_)
                         self.need("iecoop", "VAR_EXTERNAL")
-                        self.emit(f"{python_name(name, attribute=True)}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL()", level)
+                        self.emit(f"{python_name(name, attribute=True)}: {type_.annotation() if type_ else 'object'} = VAR_EXTERNAL({st_keyword(name, python_name(name, attribute=True), '')})", level)
                     self.trail(index, trailing)
                     continue
                 for name, type_ in self._item_types(item):
@@ -1458,7 +1467,7 @@ class Translator:
             return f"{decl.name}()"
         raise self.fail(f"a local or input of type {type_.annotation()} has no zero value here")
 
-    def _access_decorator(self, access: Any, extra: Sequence[str] = ()) -> str:
+    def _access_decorator(self, access: Any, extra: Sequence[str] = (), st: str = "", python: str = "") -> str:
         flags = list(extra)
         if access is not None:
             for spec in tf.AccessSpecifier:
@@ -1467,7 +1476,8 @@ class Translator:
         for flag in flags:
             self.need("iecoop", flag)
         self.need("iecoop", "method")
-        return f"@method({' | '.join(flags)})" if flags else "@method"
+        named = st_keyword(st, python, ", " if flags else "")
+        return f"@method({' | '.join(flags)}{named})" if flags or named else "@method"
 
     def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
         arrays: list[tuple[Member, Any]] = []
@@ -1660,7 +1670,7 @@ class Translator:
             scope.return_name = python_name(name)
             returns = TypeRef("elem", "BOOL")
         else:
-            decorators.insert(0, self._access_decorator(node.access))
+            decorators.insert(0, self._access_decorator(node.access, st=name, python=info.name))
             params = self._params(info.params, node.declarations, scope)
             for decorator in decorators:
                 self.emit(decorator, 1)
@@ -1678,7 +1688,7 @@ class Translator:
             name = str(node.name).rsplit(".", 1)[-1]
             self.emit("", 0)
             self.comments(node, 1)
-            self.emit(self._access_decorator(None), 1)
+            self.emit(self._access_decorator(None, st=name, python=python_name(name, attribute=True)), 1)
             self.emit(f"def {python_name(name, attribute=True)}(self) -> None:", 1)
             self.emit(f'"""ACTION {name}."""', 2)
             self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
@@ -1748,7 +1758,7 @@ class Translator:
             self.comments(getter, 1)
             self.emit("@prop", 1)
             access = accessor_access(getter)
-            flags = self._access_decorator(access)
+            flags = self._access_decorator(access, st=prop.st, python=prop.name)
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
@@ -1793,7 +1803,7 @@ class Translator:
         if node.declarations:
             raise self.fail(f"INTERFACE {decl.name} declares variables; interfaces hold no state", node)
         self.comments(node, 0)
-        self.emit(f"class {decl.name}({', '.join(bases)}):", 0)
+        self.emit(f"class {decl.name}({', '.join(bases)}{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""INTERFACE {decl.name}."""', 1)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
@@ -1804,7 +1814,7 @@ class Translator:
     def _emit_gvl(self, decl: Decl) -> None:
         self.need("iecoop", "GlobalVariables", "gvl")
         self.emit("@gvl", 0)
-        self.emit(f"class {decl.name}(GlobalVariables):", 0)
+        self.emit(f"class {decl.name}(GlobalVariables{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""VAR_GLOBAL list {decl.name}."""', 1)
         scope = Scope(decl, "const")
         for block in decl.node:
@@ -1826,7 +1836,7 @@ class Translator:
                 index = len(self.out)
                 init = item.init
                 for name, type_ in self._item_types(item):
-                    member = Member(name, type_, "VAR")
+                    member = Member(python_name(name, attribute=True), type_, "VAR", st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
                 self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
 
