@@ -218,6 +218,30 @@ class _Entry:
         self.remanent = any(leaf.remanence != PLAIN for leaf in self.leaves)
 
 
+class _Online:
+    """Online writes waiting for the next cycle start, and the forced variables (by location)."""
+
+    __slots__ = ("lock", "writes", "forces", "forced_now")
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.writes: list[tuple[Symbol, Any]] = []
+        self.forces: dict[tuple[int, int], tuple[Symbol, Any]] = {}
+        #: The forces as a cycle applies them: replaced whole under the lock, read without it.
+        self.forced_now: tuple[tuple[Symbol, Any], ...] = ()
+
+
+class _Background:
+    """A background run: its thread, the event that stops it, and what ended it."""
+
+    __slots__ = ("thread", "halt", "error")
+
+    def __init__(self) -> None:
+        self.thread: threading.Thread | None = None
+        self.halt = threading.Event()
+        self.error: BaseException | None = None
+
+
 class Runtime:
     """A PLC runtime: tasks, virtual (or real) time, remanent store, resets.
 
@@ -276,16 +300,12 @@ class Runtime:
         #: server's writes go in before, its consistent image of the cycle is taken after.
         self.on_cycle_start: list[Callable[[], None]] = []
         self.on_cycle_end: list[Callable[[], None]] = []
-        # Online writes waiting for the next cycle start, and the forced variables (by location).
-        self._online_lock = threading.Lock()
-        self._writes: list[tuple[Symbol, Any]] = []
-        self._forces: dict[tuple[int, int], tuple[Symbol, Any]] = {}
-        #: The forces as a cycle applies them: replaced whole under the lock, read without it.
-        self._forced_now: tuple[tuple[Symbol, Any], ...] = ()
-        # The background run: its thread, the event that stops it, and what ended it.
-        self._thread: threading.Thread | None = None
-        self._halt = threading.Event()
-        self._background_error: BaseException | None = None
+        # Few attributes, grouped: an instance with more than 30 loses CPython's fast attribute
+        # reads, and every cycle reads a dozen of them.
+        self._online_access = _Online()
+        #: Writes are waiting or variables are forced: the one test a cycle makes for them.
+        self._online = False
+        self._background = _Background()
 
     # -- configuration -----------------------------------------------------
 
@@ -442,13 +462,16 @@ class Runtime:
         wall = self.wall
         wall_start = wall.now_ns()
         first_tick = self._tick
+        # One test per cycle when there is nothing to watch: the plain run() costs what it did.
+        watched = halt is not None or progress is not None
         with use_profile(self.profile), use_clock(self._clock):
             while self._tick < end_tick:
-                if halt is not None and halt.is_set():
-                    break
-                if progress is not None and self._tick >= report:
-                    report = self._tick + progress_every
-                    progress(self._tick - first_tick, total)
+                if watched:
+                    if halt is not None and halt.is_set():
+                        break
+                    if progress is not None and self._tick >= report:
+                        report = self._tick + progress_every
+                        progress(self._tick - first_tick, total)
                 tick_time = self._tick * tick_ns
                 jitter = 0
                 if realtime:
@@ -471,12 +494,13 @@ class Runtime:
                 self.time_ns = tick_time
                 for hook in self.on_cycle_start:
                     hook()
-                if self._writes or self._forced_now:
+                if self._online:
                     self._apply_online()
                 self._run_tick(tick_ms, jitter)
-                # A forced variable holds its value after the code too, as the outputs are written.
-                for symbol, value in self._forced_now:
-                    symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
+                if self._online:
+                    # A forced variable holds its value after the code too, as the outputs are written.
+                    for symbol, value in self._online_access.forced_now:
+                        symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
                 self._tick += 1
                 for hook in self.on_cycle_end:
                     hook()
@@ -509,13 +533,13 @@ class Runtime:
         """
         self._raise_if_faulted()
         self._check_not_stopped("start")
-        if self._thread is not None:
+        if self._background.thread is not None:
             raise RuntimeError("Runtime.start(): the runtime already runs in the background; "
                                "call stop_running() first")
         total = self._cycle_count("start", cycles, duration, progress_every)
         tick_ms = self.base_tick_ms
-        self._halt.clear()
-        self._background_error = None
+        self._background.halt.clear()
+        self._background.error = None
         held = threading.Event()
         refused: list[BaseException] = []
 
@@ -523,10 +547,10 @@ class Runtime:
             try:
                 with self._exclusive("run"):
                     held.set()
-                    self._run(total, tick_ms, realtime, progress, progress_every, self._halt)
+                    self._run(total, tick_ms, realtime, progress, progress_every, self._background.halt)
             except BaseException as exc:
                 if held.is_set():
-                    self._background_error = exc
+                    self._background.error = exc
                 else:
                     refused.append(exc)
             finally:
@@ -539,16 +563,16 @@ class Runtime:
         if refused:
             thread.join()
             raise refused[0]
-        self._thread = thread
+        self._background.thread = thread
 
     @property
     def is_running(self) -> bool:
         """True while a background run's thread is alive (it ends at its last cycle, a fault or a stop)."""
-        return self._thread is not None and self._thread.is_alive()
+        return self._background.thread is not None and self._background.thread.is_alive()
 
     def join(self, timeout: float | None = None) -> bool:
         """Wait for a background run to end by itself (its cycles done, or a fault); True if it has ended."""
-        thread = self._thread
+        thread = self._background.thread
         if thread is not None:
             thread.join(timeout)
             return not thread.is_alive()
@@ -561,13 +585,13 @@ class Runtime:
         (``fault`` keeps it, and ``run()`` raises it too until a reset). No
         background run: nothing to do.
         """
-        thread = self._thread
+        thread = self._background.thread
         if thread is None:
             return
-        self._halt.set()
+        self._background.halt.set()
         thread.join()
-        self._thread = None
-        error, self._background_error = self._background_error, None
+        self._background.thread = None
+        error, self._background.error = self._background.error, None
         if error is not None:
             raise error
 
@@ -625,8 +649,9 @@ class Runtime:
         self._check_not_stopped("write")
         symbol = self.symbol(path)
         symbol.check(value)
-        with self._online_lock:
-            self._writes.append((symbol, value))
+        with self._online_access.lock:
+            self._online_access.writes.append((symbol, value))
+            self._online = True
 
     def force(self, path: str, value: Any) -> None:
         """Hold ``value`` in the variable until ``release`` (TwinCAT's *Force values*, F7).
@@ -640,37 +665,41 @@ class Runtime:
         symbol = self.symbol(path)
         symbol.check(value)
         key = (id(symbol.block), symbol.offset)
-        with self._online_lock:
-            previous = self._forces.get(key)
+        with self._online_access.lock:
+            previous = self._online_access.forces.get(key)
             # A force of an already forced variable keeps the path it was forced by.
             named = symbol if previous is None else previous[0]
-            self._forces[key] = (named, value)
-            self._forced_now = tuple(self._forces.values())
+            self._online_access.forces[key] = (named, value)
+            self._online_access.forced_now = tuple(self._online_access.forces.values())
+            self._online = True
 
     def release(self, path: str) -> None:
         """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7)."""
         symbol = self.symbol(path)
-        with self._online_lock:
-            if self._forces.pop((id(symbol.block), symbol.offset), None) is None:
+        with self._online_access.lock:
+            if self._online_access.forces.pop((id(symbol.block), symbol.offset), None) is None:
                 raise AccessError(f"{path}: is not forced (forced: {', '.join(self.forced) or 'none'})")
-            self._forced_now = tuple(self._forces.values())
+            self._online_access.forced_now = tuple(self._online_access.forces.values())
+            self._online = bool(self._online_access.writes or self._online_access.forced_now)
 
     def release_all(self) -> None:
         """Stop forcing every variable."""
-        with self._online_lock:
-            self._forces.clear()
-            self._forced_now = ()
+        with self._online_access.lock:
+            self._online_access.forces.clear()
+            self._online_access.forced_now = ()
+            self._online = bool(self._online_access.writes)
 
     @property
     def forced(self) -> dict[str, Any]:
         """The forced variables: path -> value."""
-        return {symbol.path: value for symbol, value in self._forced_now}
+        return {symbol.path: value for symbol, value in self._online_access.forced_now}
 
     def _apply_online(self) -> None:
         """At a cycle start: the writes queued since the last one, in order, then the forces."""
-        with self._online_lock:
-            writes, self._writes = self._writes, []
-        for symbol, value in (*writes, *self._forced_now):
+        with self._online_access.lock:
+            writes, self._online_access.writes = self._online_access.writes, []
+            self._online = bool(self._online_access.forced_now)
+        for symbol, value in (*writes, *self._online_access.forced_now):
             symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
 
     def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> Trace:
@@ -928,12 +957,12 @@ class Runtime:
         """
         if self._stopped:
             return
-        thread = self._thread
+        thread = self._background.thread
         if thread is not None:
             # The PLC STOP ends a background run first; a fault that ended it stays in ``fault``.
-            self._halt.set()
+            self._background.halt.set()
             thread.join()
-            self._thread = None
+            self._background.thread = None
         with self._exclusive("stop"):
             if self._watchdog is not None:
                 self._watchdog.close()

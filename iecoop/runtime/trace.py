@@ -85,7 +85,7 @@ class Trace:
         if cycle % self.every:
             return
         row = (cycle, runtime.time_ms, *[symbol.load() for symbol in self._symbols])
-        forces = runtime._forces
+        forces = runtime._online_access.forces
         forced = tuple(path for path, key in zip(self.paths, self._keys) if key in forces) if forces else ()
         with self._lock:
             self._rows.append(row)

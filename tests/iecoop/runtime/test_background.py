@@ -192,3 +192,25 @@ def test_progress_of_a_background_run() -> None:
     with rt.running(cycles=30, realtime=False, progress=lambda d, t: calls.append((d, t)), progress_every=10):
         assert rt.join(timeout=60)
     assert calls == [(10, 30), (20, 30), (30, 30)]
+
+
+def test_a_runtime_keeps_cpythons_fast_attribute_reads() -> None:
+    # CPython shares the keys of at most 30 instance attributes; past that, every read the
+    # cycle loop makes of the runtime's state goes through a slower path.
+    assert len(vars(Runtime(store=":memory:"))) <= 30
+
+
+@pytest.mark.usefixtures("no_thread_left")
+def test_an_error_in_a_plant_model_ends_the_background_run_and_is_raised_at_stop_running() -> None:
+    rt, _, model = _tank()
+
+    def broken() -> None:
+        if len(model.levels) == 3:
+            raise ValueError("the plant model's own bug")
+
+    rt.on_cycle_end.append(broken)
+    rt.start(realtime=False)
+    assert rt.join(timeout=60)
+    with pytest.raises(ValueError, match="plant model's own bug"):
+        rt.stop_running()
+    assert len(model.levels) == 3
