@@ -31,14 +31,16 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from collections.abc import Mapping
+import threading
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from iecoop.exceptions import AccessError
+from iecoop.gvl import global_lists
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 
-__all__ = ["Symbol", "resolve_symbol"]
+__all__ = ["OnlineTable", "Symbol", "resolve_symbol", "symbol_roots"]
 
 # One step of a path: a name, then any number of ``[i]`` / ``[i, j]`` indices.
 _STEP = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*((?:\[[^\]]*\]\s*)*)$")
@@ -104,6 +106,16 @@ def _root(roots: Mapping[str, Any], path: str, first: str) -> tuple[Any, int]:
     raise AccessError(f"{path}: no program or GVL named {first!r} (known: {known})")
 
 
+def symbol_roots(tasks: Iterable[Any]) -> dict[str, Any]:
+    """Where a symbol path starts: each GVL by name, each task's program by name and by instance path."""
+    roots: dict[str, Any] = dict(global_lists())
+    for task in tasks:
+        for path, program in task.programs:
+            roots[path[len(task.name) + 1 :]] = program
+            roots[path] = program
+    return roots
+
+
 def resolve_symbol(roots: Mapping[str, Any], path: str) -> Symbol:
     """Find the elementary variable ``path`` names among ``roots`` (name -> program or GVL instance).
 
@@ -160,3 +172,71 @@ def _element(info: ArrayInfo, index: str, path: str) -> int:
             raise AccessError(f"{path}: index {number} is outside the bounds {low}..{high} of {info.name}")
         position = position * (high - low + 1) + number - low
     return position
+
+
+class OnlineTable:
+    """A runtime's online writes waiting for the next cycle start, and its forced variables.
+
+    Any thread adds and removes; the PLC's thread reads ``active`` once per
+    cycle and, when it is set, ``take`` s what to store. Forces are keyed by
+    location, so two spellings of one path are one force.
+    """
+
+    __slots__ = ("lock", "writes", "forces", "forced_now", "active")
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.writes: list[tuple[Symbol, Any]] = []
+        self.forces: dict[tuple[int, int], tuple[Symbol, Any]] = {}
+        #: The forces as a cycle stores them: replaced whole under the lock, read without it.
+        self.forced_now: tuple[tuple[Symbol, Any], ...] = ()
+        #: Writes are waiting or variables are forced: the one test a cycle makes.
+        self.active = False
+
+    def _changed(self) -> None:
+        self.forced_now = tuple(self.forces.values())
+        self.active = bool(self.writes or self.forced_now)
+
+    def write(self, symbol: Symbol, value: Any) -> None:
+        with self.lock:
+            self.writes.append((symbol, value))
+            self.active = True
+
+    def force(self, symbol: Symbol, value: Any) -> None:
+        key = (id(symbol.block), symbol.offset)
+        with self.lock:
+            previous = self.forces.get(key)
+            # A force of an already forced variable keeps the path it was first forced by.
+            self.forces[key] = (symbol if previous is None else previous[0], value)
+            self._changed()
+
+    def release(self, symbol: Symbol) -> None:
+        with self.lock:
+            if self.forces.pop((id(symbol.block), symbol.offset), None) is None:
+                forced = ", ".join(path for path in self.forced()) or "none"
+                raise AccessError(f"{symbol.path}: is not forced (forced: {forced})")
+            self._changed()
+
+    def release_all(self) -> None:
+        with self.lock:
+            self.forces.clear()
+            self._changed()
+
+    def forced(self) -> dict[str, Any]:
+        return {symbol.path: value for symbol, value in self.forced_now}
+
+    def is_forced(self, symbol: Symbol) -> bool:
+        return (id(symbol.block), symbol.offset) in self.forces
+
+    def apply(self) -> None:
+        """At a cycle start: the writes queued since the last one, in order, then the forces."""
+        with self.lock:
+            writes, self.writes = self.writes, []
+            self.active = bool(self.forced_now)
+        for symbol, value in (*writes, *self.forced_now):
+            symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
+
+    def hold(self) -> None:
+        """After the cycle's code: the forces again, so readers between cycles see them."""
+        for symbol, value in self.forced_now:
+            symbol.info.store(symbol.block, symbol.offset, value, symbol.path)

@@ -44,14 +44,15 @@ from pathlib import Path
 from collections.abc import Callable
 from typing import Any, Literal
 
-from iecoop.exceptions import AccessError, ExceptionCode, PlcException
+from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
 from iecoop.memory.allocations import allocation_for_handle, free, handle_of, registered_allocation, resolve
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import SystemWall, VirtualClock, Wall, use_clock
-from iecoop.runtime.online import Symbol, resolve_symbol
+from iecoop.runtime.background import Background
+from iecoop.runtime.online import OnlineTable, Symbol, resolve_symbol, symbol_roots
 from iecoop.runtime.store import ImageLayout, RemanentStore
 from iecoop.runtime.trace import DEFAULT_TRACE_SIZE, Trace
 from iecoop.runtime.variables import (
@@ -218,30 +219,6 @@ class _Entry:
         self.remanent = any(leaf.remanence != PLAIN for leaf in self.leaves)
 
 
-class _Online:
-    """Online writes waiting for the next cycle start, and the forced variables (by location)."""
-
-    __slots__ = ("lock", "writes", "forces", "forced_now")
-
-    def __init__(self) -> None:
-        self.lock = threading.Lock()
-        self.writes: list[tuple[Symbol, Any]] = []
-        self.forces: dict[tuple[int, int], tuple[Symbol, Any]] = {}
-        #: The forces as a cycle applies them: replaced whole under the lock, read without it.
-        self.forced_now: tuple[tuple[Symbol, Any], ...] = ()
-
-
-class _Background:
-    """A background run: its thread, the event that stops it, and what ended it."""
-
-    __slots__ = ("thread", "halt", "error")
-
-    def __init__(self) -> None:
-        self.thread: threading.Thread | None = None
-        self.halt = threading.Event()
-        self.error: BaseException | None = None
-
-
 class Runtime:
     """A PLC runtime: tasks, virtual (or real) time, remanent store, resets.
 
@@ -302,10 +279,8 @@ class Runtime:
         self.on_cycle_end: list[Callable[[], None]] = []
         # Few attributes, grouped: an instance with more than 30 loses CPython's fast attribute
         # reads, and every cycle reads a dozen of them.
-        self._online_access = _Online()
-        #: Writes are waiting or variables are forced: the one test a cycle makes for them.
-        self._online = False
-        self._background = _Background()
+        self._online = OnlineTable()
+        self._background = Background()
 
     # -- configuration -----------------------------------------------------
 
@@ -379,13 +354,8 @@ class Runtime:
     # -- running -------------------------------------------------------------
 
     def run(
-        self,
-        cycles: int | None = None,
-        duration: int | None = None,
-        *,
-        realtime: bool = False,
-        progress: Callable[[int, int], object] | None = None,
-        progress_every: int = 1000,
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = False,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
     ) -> None:
         """Run ``cycles`` base ticks, or for ``duration`` (a TIME in ms) of PLC time.
 
@@ -442,15 +412,9 @@ class Runtime:
             raise ValueError("cycles must not be negative")
         return cycles
 
-    def _run(
-        self,
-        cycles: int | None,
-        tick_ms: int,
-        realtime: bool,
-        progress: Callable[[int, int], object] | None = None,
-        progress_every: int = 1000,
-        halt: threading.Event | None = None,
-    ) -> None:
+    def _run(self, cycles: int | None, tick_ms: int, realtime: bool,
+             progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
+             halt: threading.Event | None = None) -> None:
         """Run ``cycles`` base ticks (None: until ``halt`` is set)."""
         if not self._started:
             self._start()
@@ -464,6 +428,7 @@ class Runtime:
         first_tick = self._tick
         # One test per cycle when there is nothing to watch: the plain run() costs what it did.
         watched = halt is not None or progress is not None
+        online = self._online
         with use_profile(self.profile), use_clock(self._clock):
             while self._tick < end_tick:
                 if watched:
@@ -494,13 +459,12 @@ class Runtime:
                 self.time_ns = tick_time
                 for hook in self.on_cycle_start:
                     hook()
-                if self._online:
-                    self._apply_online()
+                if online.active:
+                    online.apply()
                 self._run_tick(tick_ms, jitter)
-                if self._online:
+                if online.active:
                     # A forced variable holds its value after the code too, as the outputs are written.
-                    for symbol, value in self._online_access.forced_now:
-                        symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
+                    online.hold()
                 self._tick += 1
                 for hook in self.on_cycle_end:
                     hook()
@@ -512,104 +476,54 @@ class Runtime:
     # -- in the background ------------------------------------------------------
 
     def start(
-        self,
-        cycles: int | None = None,
-        duration: int | None = None,
-        *,
-        realtime: bool = True,
-        progress: Callable[[int, int], object] | None = None,
-        progress_every: int = 1000,
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = True,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
     ) -> None:
         """Run the tasks in a background (daemon) thread until ``stop_running()``, or for ``cycles`` / ``duration``.
 
-        The PLC runs on its own while the caller writes, forces and traces
-        variables: virtual commissioning. ``realtime=True`` (the default here)
-        paces the cycles by the wall; ``realtime=False`` runs virtual time as
-        fast as the CPU allows, as ``run()`` does. A fault in a cycle ends the
-        thread: ``fault`` shows it at once and ``stop_running()`` raises it.
-        While it runs, ``run()`` and the resets from another thread raise
-        RuntimeError. ``rt.stop()`` (the PLC STOP that saves PERSISTENT data)
-        ends a background run first.
+        ``realtime=False`` runs virtual time as fast as the CPU allows. A fault
+        ends the thread: ``fault`` shows it, ``stop_running()`` raises it.
+        Meanwhile ``run()`` and the resets raise RuntimeError; ``stop()`` ends
+        the background run first.
         """
         self._raise_if_faulted()
         self._check_not_stopped("start")
         if self._background.thread is not None:
-            raise RuntimeError("Runtime.start(): the runtime already runs in the background; "
-                               "call stop_running() first")
+            raise RuntimeError("Runtime.start(): it already runs in the background; call stop_running() first")
         total = self._cycle_count("start", cycles, duration, progress_every)
         tick_ms = self.base_tick_ms
-        self._background.halt.clear()
-        self._background.error = None
-        held = threading.Event()
-        refused: list[BaseException] = []
-
-        def main() -> None:
-            try:
-                with self._exclusive("run"):
-                    held.set()
-                    self._run(total, tick_ms, realtime, progress, progress_every, self._background.halt)
-            except BaseException as exc:
-                if held.is_set():
-                    self._background.error = exc
-                else:
-                    refused.append(exc)
-            finally:
-                held.set()
-
-        thread = threading.Thread(target=main, name=f"iecoop-runtime-{id(self):x}", daemon=True)
-        thread.start()
-        # Return only once the thread holds the runtime: a run() right after start() is refused.
-        held.wait()
-        if refused:
-            thread.join()
-            raise refused[0]
-        self._background.thread = thread
+        self._background.start(
+            f"iecoop-runtime-{id(self):x}",
+            lambda: self._exclusive("run"),
+            lambda halt: self._run(total, tick_ms, realtime, progress, progress_every, halt),
+        )
 
     @property
     def is_running(self) -> bool:
         """True while a background run's thread is alive (it ends at its last cycle, a fault or a stop)."""
-        return self._background.thread is not None and self._background.thread.is_alive()
+        return self._background.alive
 
     def join(self, timeout: float | None = None) -> bool:
         """Wait for a background run to end by itself (its cycles done, or a fault); True if it has ended."""
-        thread = self._background.thread
-        if thread is not None:
-            thread.join(timeout)
-            return not thread.is_alive()
-        return True
+        return self._background.join(timeout)
 
     def stop_running(self) -> None:
-        """End the background run after its current cycle, join its thread, and raise what stopped it.
+        """End the background run after its current cycle, join its thread, and raise what ended it.
 
-        A fault in a background cycle is raised here as its PlcException
-        (``fault`` keeps it, and ``run()`` raises it too until a reset). No
-        background run: nothing to do.
+        A fault is raised as its PlcException (``fault`` keeps it until a reset).
         """
-        thread = self._background.thread
-        if thread is None:
-            return
-        self._background.halt.set()
-        thread.join()
-        self._background.thread = None
-        error, self._background.error = self._background.error, None
+        error = self._background.stop()
         if error is not None:
             raise error
 
     @contextlib.contextmanager
     def running(
-        self,
-        cycles: int | None = None,
-        duration: int | None = None,
-        *,
-        realtime: bool = True,
-        progress: Callable[[int, int], object] | None = None,
-        progress_every: int = 1000,
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = True,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
     ) -> typing.Iterator[Runtime]:
-        """``with rt.running():`` the tasks run in the background for the block; at its end they stop.
+        """``with rt.running():`` runs the tasks in the background for the block; its end is ``stop_running()``.
 
-        At the block's end the thread is stopped and joined, and a fault that
-        stopped it is raised as its PlcException. If the block itself raises,
-        that exception goes on (a fault stays in ``fault``).
+        If the block raises, that exception goes on (a fault stays in ``fault``).
         """
         self.start(cycles, duration, realtime=realtime, progress=progress, progress_every=progress_every)
         try:
@@ -622,23 +536,13 @@ class Runtime:
 
     # -- online write, force and trace by symbol path --------------------------------
 
-    def _roots(self) -> dict[str, Any]:
-        """Where a symbol path starts: each program by name and by instance path, each GVL by name."""
-        roots: dict[str, Any] = {name: block for name, block in global_lists().items()}
-        for task in self.tasks:
-            for path, program in task.programs:
-                roots[path[len(task.name) + 1 :]] = program
-                roots[path] = program
-        return roots
-
     def symbol(self, path: str) -> Symbol:
         """The variable at a TwinCAT symbol path (``MAIN.fbStation.nBottles``, ``GVL_IO.bStart``), resolved once.
 
-        ``symbol.load()`` reads it; ``symbol.store(value)`` writes it at once
-        (from the PLC's thread: a hook). Raises ``AccessError`` naming the path
-        when it names no elementary variable.
+        ``load()`` reads it, ``store(value)`` writes it at once (from a hook);
+        AccessError names a path that names no elementary variable.
         """
-        return resolve_symbol(self._roots(), path)
+        return resolve_symbol(symbol_roots(self.tasks), path)
 
     def write(self, path: str, value: Any) -> None:
         """Write ``value`` once, at the next cycle start (TwinCAT's online *Write values*, Ctrl+F7).
@@ -649,58 +553,31 @@ class Runtime:
         self._check_not_stopped("write")
         symbol = self.symbol(path)
         symbol.check(value)
-        with self._online_access.lock:
-            self._online_access.writes.append((symbol, value))
-            self._online = True
+        self._online.write(symbol, value)
 
     def force(self, path: str, value: Any) -> None:
         """Hold ``value`` in the variable until ``release`` (TwinCAT's *Force values*, F7).
 
-        The forced value is set at every cycle start (after the
-        ``on_cycle_start`` hooks) and again after the tasks' code, so the code
-        reads it and whatever reads the variable between cycles (a plant
-        model, a trace, a server) sees it, whatever the code assigned.
+        Set at every cycle start (after ``on_cycle_start``) and again after the
+        code, so the code and every reader between cycles see it.
         """
         self._check_not_stopped("force")
         symbol = self.symbol(path)
         symbol.check(value)
-        key = (id(symbol.block), symbol.offset)
-        with self._online_access.lock:
-            previous = self._online_access.forces.get(key)
-            # A force of an already forced variable keeps the path it was forced by.
-            named = symbol if previous is None else previous[0]
-            self._online_access.forces[key] = (named, value)
-            self._online_access.forced_now = tuple(self._online_access.forces.values())
-            self._online = True
+        self._online.force(symbol, value)
 
     def release(self, path: str) -> None:
         """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7)."""
-        symbol = self.symbol(path)
-        with self._online_access.lock:
-            if self._online_access.forces.pop((id(symbol.block), symbol.offset), None) is None:
-                raise AccessError(f"{path}: is not forced (forced: {', '.join(self.forced) or 'none'})")
-            self._online_access.forced_now = tuple(self._online_access.forces.values())
-            self._online = bool(self._online_access.writes or self._online_access.forced_now)
+        self._online.release(self.symbol(path))
 
     def release_all(self) -> None:
         """Stop forcing every variable."""
-        with self._online_access.lock:
-            self._online_access.forces.clear()
-            self._online_access.forced_now = ()
-            self._online = bool(self._online_access.writes)
+        self._online.release_all()
 
     @property
     def forced(self) -> dict[str, Any]:
         """The forced variables: path -> value."""
-        return {symbol.path: value for symbol, value in self._online_access.forced_now}
-
-    def _apply_online(self) -> None:
-        """At a cycle start: the writes queued since the last one, in order, then the forces."""
-        with self._online_access.lock:
-            writes, self._online_access.writes = self._online_access.writes, []
-            self._online = bool(self._online_access.forced_now)
-        for symbol, value in (*writes, *self._online_access.forced_now):
-            symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
+        return self._online.forced()
 
     def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> Trace:
         """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows.
@@ -957,12 +834,8 @@ class Runtime:
         """
         if self._stopped:
             return
-        thread = self._background.thread
-        if thread is not None:
-            # The PLC STOP ends a background run first; a fault that ended it stays in ``fault``.
-            self._background.halt.set()
-            thread.join()
-            self._background.thread = None
+        # The PLC STOP ends a background run first; a fault that ended it stays in ``fault``.
+        self._background.stop()
         with self._exclusive("stop"):
             if self._watchdog is not None:
                 self._watchdog.close()

@@ -71,7 +71,6 @@ class Trace:
         self._runtime = runtime
         # Resolved once: a wrong path is refused here, and sampling is one load per path.
         self._symbols = [runtime.symbol(path) for path in self.paths]
-        self._keys = [(id(symbol.block), symbol.offset) for symbol in self._symbols]
         self._rows: collections.deque[Row] = collections.deque(maxlen=size)
         self._forced: collections.deque[tuple[str, ...]] = collections.deque(maxlen=size)
         self._lock = threading.Lock()
@@ -85,8 +84,9 @@ class Trace:
         if cycle % self.every:
             return
         row = (cycle, runtime.time_ms, *[symbol.load() for symbol in self._symbols])
-        forces = runtime._online_access.forces
-        forced = tuple(path for path, key in zip(self.paths, self._keys) if key in forces) if forces else ()
+        online = runtime._online
+        forced = tuple(path for path, symbol in zip(self.paths, self._symbols) if online.is_forced(symbol)) \
+            if online.forced_now else ()
         with self._lock:
             self._rows.append(row)
             self._forced.append(forced)

@@ -110,7 +110,7 @@ def test_run_from_another_thread_is_refused_while_it_runs_in_the_background() ->
     with rt.running(realtime=False):
         with pytest.raises(RuntimeError, match="a Runtime runs in one thread at a time"):
             rt.run(cycles=1)
-        with pytest.raises(RuntimeError, match="already runs in the background"):
+        with pytest.raises(RuntimeError, match="it already runs in the background"):
             rt.start(realtime=False)
         with pytest.raises(RuntimeError, match="one thread at a time"):
             rt.reset_cold()
