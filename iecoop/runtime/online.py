@@ -30,6 +30,7 @@ iecoop.exceptions.AccessError: MAIN.count: 70000 is outside the range of INT (-3
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import threading
 from collections.abc import Iterable, Mapping
@@ -41,6 +42,9 @@ from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 
 __all__ = ["OnlineTable", "Symbol", "resolve_symbol", "symbol_roots"]
+
+#: The largest finite REAL (IEEE 754 single precision).
+_REAL_MAX = 3.4028234663852886e38
 
 # One step of a path: a name, then any number of ``[i]`` / ``[i, j]`` indices.
 _STEP = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*((?:\[[^\]]*\]\s*)*)$")
@@ -73,10 +77,20 @@ class Symbol:
         except (TypeError, ValueError) as exc:
             raise AccessError(str(exc)) from None
         info = self.info
-        if isinstance(info, ElementaryInfo) and info.record.kind not in ("bool", "real"):
+        if isinstance(info, ElementaryInfo) and info.record.kind == "real":
+            # A REAL stores a larger finite number as infinity: not the value that was written.
+            if info.record.size == 4 and math.isfinite(value) and abs(value) > _REAL_MAX:
+                raise AccessError(f"{self.path}: {value} is outside the range of {info.name}")
+        elif isinstance(info, ElementaryInfo) and info.record.kind != "bool":
             low, high = info.record.low, info.record.high
             if low is not None and high is not None and not low <= value <= high:
                 raise AccessError(f"{self.path}: {value} is outside the range of {info.name} ({low}..{high})")
+        elif isinstance(info, StringInfo):
+            # An assignment in code truncates; an online write that does not fit is refused, not cut.
+            if "\x00" in value:
+                raise AccessError(f"{self.path}: {info.name} cannot hold the NUL character (it ends a PLC string)")
+            if len(value) > info.length:
+                raise AccessError(f"{self.path}: {len(value)} characters do not fit {info.name}")
         elif isinstance(info, EnumInfo):
             values = {int(member) for member in info.enum_cls}
             if int(value) not in values:

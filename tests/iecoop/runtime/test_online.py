@@ -9,7 +9,7 @@ from collections.abc import Callable
 import pytest
 
 from iecoop import ARRAY, BOOL, INT, REAL, AccessError, FunctionBlock, GlobalVariables, Program, T, VAR, VAR_INPUT
-from iecoop import VAR_OUTPUT, gvl
+from iecoop import STRING, VAR_OUTPUT, gvl
 from iecoop.runtime import Runtime, Task
 
 
@@ -34,6 +34,7 @@ class Main(Program):
     seen: INT = VAR(0)
     pressed: BOOL = VAR(False)
     speeds: ARRAY[REAL] = VAR(bounds=(1, 3))
+    label: STRING = VAR("", length=5)
 
     def body(self) -> None:
         self.seen = self.out  # what the code reads at its start
@@ -123,6 +124,9 @@ def test_a_forced_variable_overrides_a_plant_model_at_the_cycle_start() -> None:
         ("MAIN.out", 70_000, ["MAIN.out", "outside the range of INT (-32768..32767)"]),
         ("MAIN.out", "7", ["MAIN.out", "cannot store str"]),
         ("MAIN.enable", 1, ["MAIN.enable", "BOOL"]),
+        ("MAIN.speeds[1]", 1e40, ["MAIN.speeds[1]", "outside the range of REAL"]),
+        ("MAIN.label", "too long", ["MAIN.label", "8 characters do not fit STRING(5)"]),
+        ("MAIN.label", "a\x00b", ["MAIN.label", "cannot hold the NUL character"]),
         ("MAIN.a-b", 1, ["'a-b' is not a member name"]),
         ("", 1, ["a symbol path is a dotted name"]),
     ],
@@ -135,7 +139,7 @@ def test_a_wrong_path_or_value_is_refused_at_the_call(path: str, value: object, 
         for word in words:
             assert word in str(caught.value)
     rt.run(cycles=1)  # nothing was queued
-    assert (main.out, rt.forced) == (7, {})
+    assert (main.out, list(main.speeds), main.label, rt.forced) == (7, [0.0, 0.0, 0.0], "", {})
 
 
 def test_release_of_a_variable_not_forced_names_it() -> None:
