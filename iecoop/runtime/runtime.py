@@ -51,7 +51,10 @@ from iecoop.memory.allocations import allocation_for_handle, free, handle_of, re
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import SystemWall, VirtualClock, Wall, use_clock
+from iecoop.runtime.background import Background
+from iecoop.runtime.online import OnlineTable, Symbol, resolve_symbol, symbol_roots
 from iecoop.runtime.store import ImageLayout, RemanentStore
+from iecoop.runtime.trace import DEFAULT_TRACE_SIZE, Trace
 from iecoop.runtime.variables import (
     PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
     translate_offset,
@@ -269,10 +272,15 @@ class Runtime:
         # One thread at a time: the thread running run() / a reset, set under the lock.
         self._busy_lock = threading.Lock()
         self._busy: tuple[int, str, str] | None = None
-        #: Called in the PLC's thread before / after the tasks of each base tick (an OPC UA server's
-        #: writes go in before, its consistent image of the cycle is taken after).
+        #: Called in the PLC's thread before / after the tasks of each base tick: a plant model
+        #: reads the outputs and sets the inputs in ``on_cycle_end`` (see ``running``); an OPC UA
+        #: server's writes go in before, its consistent image of the cycle is taken after.
         self.on_cycle_start: list[Callable[[], None]] = []
         self.on_cycle_end: list[Callable[[], None]] = []
+        # Few attributes, grouped: an instance with more than 30 loses CPython's fast attribute
+        # reads, and every cycle reads a dozen of them.
+        self._online = OnlineTable()
+        self._background = Background()
 
     # -- configuration -----------------------------------------------------
 
@@ -345,7 +353,10 @@ class Runtime:
 
     # -- running -------------------------------------------------------------
 
-    def run(self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = False) -> None:
+    def run(
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = False,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
+    ) -> None:
         """Run ``cycles`` base ticks, or for ``duration`` (a TIME in ms) of PLC time.
 
         The base tick is the greatest common divisor of the task intervals, so
@@ -360,7 +371,13 @@ class Runtime:
         machine) makes the PLC skip the ticks it missed rather than run them
         back to back: each task's cycles on those ticks are counted in
         ``SkippedCycles`` and ``ExceedCounter`` and set ``CycleTimeExceeded``.
-        Tasks run one after the other in the calling thread.
+        Tasks run one after the other in the calling thread (``start()`` /
+        ``running()`` run them in a background thread instead).
+
+        ``progress(cycles_done, cycles_total)`` is called after every
+        ``progress_every`` base ticks and once at the end (a run without end,
+        in the background, passes 0 as the total); without it the loop costs
+        what it did.
 
         A task with a ``watchdog`` is watched by a thread of the runtime that
         stops a cycle running too long (see ``Task``), in real and virtual
@@ -375,27 +392,51 @@ class Runtime:
         self._check_not_stopped("run")
         if (cycles is None) == (duration is None):
             raise ValueError("run() takes either cycles= or duration=")
+        total = self._cycle_count("run", cycles, duration, progress_every)
+        assert total is not None
+        with self._exclusive("run"):
+            self._run(total, self.base_tick_ms, realtime, progress, progress_every)
+
+    def _cycle_count(self, operation: str, cycles: int | None, duration: int | None, every: int) -> int | None:
+        """How many base ticks ``cycles`` or ``duration`` (ms) make, checked; None: no end."""
+        if cycles is not None and duration is not None:
+            raise ValueError(f"{operation}() takes either cycles= or duration=")
+        if not isinstance(every, int) or every < 1:
+            raise ValueError(f"{operation}(): progress_every is a number of cycles >= 1, got {every!r}")
         tick_ms = self.base_tick_ms
-        if cycles is None:
-            assert duration is not None
+        if duration is not None:
             if duration < 0:
                 raise ValueError("duration must not be negative")
             cycles = duration // tick_ms
-        if cycles < 0:
+        if cycles is not None and cycles < 0:
             raise ValueError("cycles must not be negative")
-        with self._exclusive("run"):
-            self._run(cycles, tick_ms, realtime)
+        return cycles
 
-    def _run(self, cycles: int, tick_ms: int, realtime: bool) -> None:
+    def _run(self, cycles: int | None, tick_ms: int, realtime: bool,
+             progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
+             halt: threading.Event | None = None) -> None:
+        """Run ``cycles`` base ticks (None: until ``halt`` is set)."""
         if not self._started:
             self._start()
         tick_ns = tick_ms * 1_000_000
-        end_tick = self._tick + cycles
+        end_tick: float = math.inf if cycles is None else self._tick + cycles
+        # The progress callback's count and total (0: a run without end).
+        total = 0 if cycles is None else cycles
+        report = self._tick + progress_every
         wall = self.wall
         wall_start = wall.now_ns()
         first_tick = self._tick
+        # One test per cycle when there is nothing to watch: the plain run() costs what it did.
+        watched = halt is not None or progress is not None
+        online = self._online
         with use_profile(self.profile), use_clock(self._clock):
             while self._tick < end_tick:
+                if watched:
+                    if halt is not None and halt.is_set():
+                        break
+                    if progress is not None and self._tick >= report:
+                        report = self._tick + progress_every
+                        progress(self._tick - first_tick, total)
                 tick_time = self._tick * tick_ns
                 jitter = 0
                 if realtime:
@@ -407,7 +448,7 @@ class Runtime:
                     if late >= tick_ns:
                         # Late by a tick or more: like the PLC, start at the next tick boundary
                         # instead of running the missed cycles back to back, and count them.
-                        resume = min(self._tick + late // tick_ns, end_tick)
+                        resume = int(min(self._tick + late // tick_ns, end_tick))
                         self._skip(self._tick, resume, tick_ms)
                         self._tick = resume
                         continue
@@ -418,12 +459,134 @@ class Runtime:
                 self.time_ns = tick_time
                 for hook in self.on_cycle_start:
                     hook()
+                if online.active:
+                    online.apply()
                 self._run_tick(tick_ms, jitter)
+                if online.active:
+                    # A forced variable holds its value after the code too, as the outputs are written.
+                    online.hold()
                 self._tick += 1
                 for hook in self.on_cycle_end:
                     hook()
             self.time_ns = self._tick * tick_ns
             self._clock.set(self.time_ns)
+        if progress is not None:
+            progress(self._tick - first_tick, total)
+
+    # -- in the background ------------------------------------------------------
+
+    def start(
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = True,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
+    ) -> None:
+        """Run the tasks in a background (daemon) thread until ``stop_running()``, or for ``cycles`` / ``duration``.
+
+        ``realtime=False`` runs virtual time as fast as the CPU allows. A fault
+        ends the thread: ``fault`` shows it, ``stop_running()`` raises it.
+        Meanwhile ``run()`` and the resets raise RuntimeError; ``stop()`` ends
+        the background run first.
+        """
+        self._raise_if_faulted()
+        self._check_not_stopped("start")
+        if self._background.thread is not None:
+            raise RuntimeError("Runtime.start(): it already runs in the background; call stop_running() first")
+        total = self._cycle_count("start", cycles, duration, progress_every)
+        tick_ms = self.base_tick_ms
+        self._background.start(
+            f"iecoop-runtime-{id(self):x}",
+            lambda: self._exclusive("run"),
+            lambda halt: self._run(total, tick_ms, realtime, progress, progress_every, halt),
+        )
+
+    @property
+    def is_running(self) -> bool:
+        """True while a background run's thread is alive (it ends at its last cycle, a fault or a stop)."""
+        return self._background.alive
+
+    def join(self, timeout: float | None = None) -> bool:
+        """Wait for a background run to end by itself (its cycles done, or a fault); True if it has ended."""
+        return self._background.join(timeout)
+
+    def stop_running(self) -> None:
+        """End the background run after its current cycle, join its thread, and raise what ended it.
+
+        A fault is raised as its PlcException (``fault`` keeps it until a reset).
+        """
+        error = self._background.stop()
+        if error is not None:
+            raise error
+
+    @contextlib.contextmanager
+    def running(
+        self, cycles: int | None = None, duration: int | None = None, *, realtime: bool = True,
+        progress: Callable[[int, int], object] | None = None, progress_every: int = 1000,
+    ) -> typing.Iterator[Runtime]:
+        """``with rt.running():`` runs the tasks in the background for the block; its end is ``stop_running()``.
+
+        If the block raises, that exception goes on (a fault stays in ``fault``).
+        """
+        self.start(cycles, duration, realtime=realtime, progress=progress, progress_every=progress_every)
+        try:
+            yield self
+        except BaseException:
+            with contextlib.suppress(BaseException):
+                self.stop_running()
+            raise
+        self.stop_running()
+
+    # -- online write, force and trace by symbol path --------------------------------
+
+    def symbol(self, path: str) -> Symbol:
+        """The variable at a TwinCAT symbol path (``MAIN.fbStation.nBottles``, ``GVL_IO.bStart``), resolved once.
+
+        ``load()`` reads it, ``store(value)`` writes it at once (from a hook);
+        AccessError names a path that names no elementary variable.
+        """
+        return resolve_symbol(symbol_roots(self.tasks), path)
+
+    def write(self, path: str, value: Any) -> None:
+        """Write ``value`` once, at the next cycle start (TwinCAT's online *Write values*, Ctrl+F7).
+
+        Any variable can be written, inputs, outputs and internals alike, from
+        any thread; the path and the value are checked here, at the call.
+        """
+        self._check_not_stopped("write")
+        symbol = self.symbol(path)
+        symbol.check(value)
+        self._online.write(symbol, value)
+
+    def force(self, path: str, value: Any) -> None:
+        """Hold ``value`` in the variable until ``release`` (TwinCAT's *Force values*, F7).
+
+        Set at every cycle start (after ``on_cycle_start``) and again after the
+        code, so the code and every reader between cycles see it.
+        """
+        self._check_not_stopped("force")
+        symbol = self.symbol(path)
+        symbol.check(value)
+        self._online.force(symbol, value)
+
+    def release(self, path: str) -> None:
+        """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7)."""
+        self._online.release(self.symbol(path))
+
+    def release_all(self) -> None:
+        """Stop forcing every variable."""
+        self._online.release_all()
+
+    @property
+    def forced(self) -> dict[str, Any]:
+        """The forced variables: path -> value."""
+        return self._online.forced()
+
+    def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> Trace:
+        """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows.
+
+        The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it.
+        """
+        found = Trace(self, paths, every=every, size=size)
+        self.on_cycle_end.append(found._sample)
+        return found
 
     def _skip(self, first: int, resume: int, tick_ms: int) -> None:
         """Count, per task, its cycles on the base ticks ``first`` .. ``resume - 1`` that will never run."""
@@ -671,6 +834,8 @@ class Runtime:
         """
         if self._stopped:
             return
+        # The PLC STOP ends a background run first; a fault that ended it stays in ``fault``.
+        self._background.stop()
         with self._exclusive("stop"):
             if self._watchdog is not None:
                 self._watchdog.close()
