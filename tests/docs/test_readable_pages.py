@@ -8,6 +8,7 @@ once into a temporary folder (a minute or two).
 from __future__ import annotations
 
 import html
+import importlib
 import re
 import runpy
 import subprocess
@@ -29,6 +30,16 @@ MIN_TEXT_PX = 10.0
 MAX_LINE = 100
 
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.M | re.S)
+
+
+def _extension() -> Any:
+    """The docs extension ``docs/_ext/iecoop_pages.py``, imported as Sphinx imports it."""
+    pytest.importorskip("sphinx")
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        return importlib.import_module("iecoop_pages")
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
 
 
 @pytest.fixture(scope="module")
@@ -111,6 +122,22 @@ def test_the_st_pages_show_the_st_they_load_as_st_blocks(page: str, at_least: in
         assert any(st_text.strip() in _plain(session) for session in near), f"docs/{page}: differs:\n{st_text}"
 
 
+# -- the names the written ST uses ----------------------------------------------------------------
+
+
+def test_a_pattern_page_says_which_names_its_st_uses() -> None:
+    import patterns.behavioral.state as state
+    import patterns.creational.singleton as singleton
+
+    pages = _extension()
+    section = "\n".join(pages._st_section(state))
+    assert "``IPackMLState`` (not ``I_PackMLState``)" in section and "--format st -o DIR" in section
+    # The note comes before the text, which is the writer's own.
+    assert section.index("(not ``I_PackMLState``)") < section.index("INTERFACE IPackMLState")
+    assert ("PackMLState", "E_PackMLState") in pages.st_names(state)
+    assert all(python != st for python, st in pages.st_names(singleton))
+
+
 # -- the built site ---------------------------------------------------------------------------------
 
 
@@ -178,12 +205,7 @@ def _text_px(svg: str) -> float:
 def test_the_state_diagrams_are_legible_in_the_column(tmp_path: Path) -> None:
     import patterns.behavioral.state as state
 
-    sys.path.insert(0, str(DOCS / "_ext"))
-    try:
-        import iecoop_pages
-    finally:
-        sys.path.remove(str(DOCS / "_ext"))
-    iecoop_pages._state_section(state, tmp_path, "state", set())
+    _extension()._state_section(state, tmp_path, "state", set())
     drawn = {path.name: _text_px(path.read_text(encoding="utf-8")) for path in tmp_path.glob("*.svg")}
     assert len(drawn) == 2 and min(drawn.values()) >= MIN_TEXT_PX, drawn
 
