@@ -44,7 +44,11 @@ def _extension() -> Any:
 
 @pytest.fixture(scope="module")
 def conf() -> dict[str, Any]:
-    return runpy.run_path(str(DOCS / "conf.py"))
+    saved = list(sys.path)  # conf.py puts the repository and docs/_ext on the path, as Sphinx needs
+    try:
+        return runpy.run_path(str(DOCS / "conf.py"))
+    finally:
+        sys.path[:] = saved
 
 
 def copied(text: str, conf: dict[str, Any]) -> str:
