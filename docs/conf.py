@@ -17,15 +17,24 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.viewcode",
+    "sphinx_copybutton",
     "iecoop_pages",
 ]
 myst_enable_extensions = ["colon_fence", "deflist"]
 myst_heading_anchors = 3
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "_ext"]
+exclude_patterns = ["_build", "_ext", "_static"]
 
 html_theme = "furo"
 html_title = "iecoop"
+html_static_path = ["_static"]
+html_css_files = ["iecoop.css"]
+
+# Each code block gets a copy button that copies what a file or a REPL takes: the
+# ">>> " and "... " prompts are stripped and the output lines of an example left out.
+copybutton_prompt_text = r">>> |\.\.\. "
+copybutton_prompt_is_regexp = True
+copybutton_only_copy_prompt_lines = True
 
 # Every cross-reference must land somewhere.
 nitpicky = True

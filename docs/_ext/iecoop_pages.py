@@ -203,7 +203,34 @@ def _st_section(module: types.ModuleType, what: str = "The same design") -> list
         "above (``iecoop export NAME`` writes it as TwinCAT files, ``--format plcopen`` as PLCopen XML). "
         "A Python statement with no ST form is kept as a comment that says so.",
         "",
+        *_names_note(module),
         *_details("The module as Structured Text", _code(dump(module, lenient=True), "iecst")),
+    ]
+
+
+#: ``PackMLState`` (``E_PackMLState``) in a docstring: a Python name with the name a TwinCAT project gives it.
+_NAME_PAIR = re.compile(r"``([A-Za-z_]\w*)`` \(``([A-Za-z_]\w*)``\)")
+
+
+def st_names(module: types.ModuleType) -> list[tuple[str, str]]:
+    """The (Python name, TwinCAT name) pairs the module's docstring gives, where the two differ."""
+    pairs = _NAME_PAIR.findall(inspect.getdoc(module) or "")
+    return list(dict.fromkeys((python, st) for python, st in pairs if python != st))
+
+
+def _names_note(module: types.ModuleType) -> list[str]:
+    """Say which names the written ST uses, where the page's text uses TwinCAT's prefixed names."""
+    pairs = st_names(module)
+    if not pairs:
+        return []
+    shown = ", ".join(f"``{python}`` (not ``{st}``)" for python, st in pairs[:3])
+    return [
+        f"The text keeps the Python names of the classes, {shown}, and of their methods and "
+        "variables, so the ST, the Python and its tests name the same things alike. The prefixed "
+        "names above (``FB_``, ``I_``, ``E_``, CamelCase methods) are the TwinCAT convention a PLC "
+        "project would rename them to. ``iecoop export NAME --format st -o DIR`` writes only this "
+        "text, one file per object (``iecoop show NAME --st`` prints the documentation first).",
+        "",
     ]
 
 

@@ -125,8 +125,13 @@ def _routes(
 
 
 def state_svg(diagram: "StateDiagram") -> str:
-    """A diagram-contained SVG: states on the given grid positions (or a circle), labelled arrows."""
-    box_w, box_h = max(110, 8 * max(len(s) for s in diagram.states) + 20), 34
+    """A diagram-contained SVG: states on the given grid positions (or a circle), labelled arrows.
+
+    Names and labels share one size and the boxes are only as wide as the longest name, so that
+    the five columns of the PackML model fit a 740 px text column with no text under 10 px.
+    """
+    box_w = math.ceil(max(90.0, _CHAR_EM * _STATE_TEXT * max(len(s) for s in diagram.states) + 2 * _PAD))
+    box_h = 34
     centres: dict[str, tuple[float, float]] = {}
     if diagram.positions:
         missing = [s for s in diagram.states if s not in diagram.positions]
@@ -135,20 +140,23 @@ def state_svg(diagram: "StateDiagram") -> str:
         step_x, step_y = box_w + 70, box_h + 70
         for s in diagram.states:
             col, row = diagram.positions[s]
-            centres[s] = (60 + box_w / 2 + col * step_x, 60 + box_h / 2 + row * step_y)
+            centres[s] = (40 + box_w / 2 + col * step_x, 40 + box_h / 2 + row * step_y)
     else:
         radius = max(160.0, len(diagram.states) * (box_w + 30) / (2 * math.pi))
         for i, s in enumerate(diagram.states):
             angle = 2 * math.pi * i / len(diagram.states) - math.pi / 2
             centres[s] = (radius + box_w + 40 + radius * math.cos(angle), radius + 80 + radius * math.sin(angle))
-    width = max(x for x, _ in centres.values()) + box_w / 2 + 60
-    height = max(y for _, y in centres.values()) + box_h / 2 + 60
+    merged = diagram.merged()
+    # A loop and its label stand right of the box; otherwise the right edge is the boxes'.
+    loops = [len(" / ".join(labels)) for (source, target), labels in merged.items() if source == target]
+    right = 30 + _CHAR_EM * _STATE_TEXT * max(loops) + 10 if loops else 24
+    width = max(x for x, _ in centres.values()) + box_w / 2 + right
+    height = max(y for _, y in centres.values()) + box_h / 2 + 40
     out = _SvgWriter(width, height, diagram.title)
     boxes = {s: _Box(s, [], centres[s][0] - box_w / 2, centres[s][1] - box_h / 2, box_w, box_h) for s in diagram.states}
     ix, iy = boxes[diagram.initial].x - 30, boxes[diagram.initial].y + box_h / 2
     out.parts.append(f'<circle cx="{ix:.1f}" cy="{iy:.1f}" r="7" fill="#222"/>')
     out.arrow((ix + 7, iy), (boxes[diagram.initial].x, iy), "open", dashed=False)
-    merged = diagram.merged()
     for (source, target), labels in merged.items():
         label = " / ".join(labels)
         if source == target:
@@ -157,13 +165,13 @@ def state_svg(diagram: "StateDiagram") -> str:
             out.parts.append(
                 f'<path d="M{x:.1f},{y:.1f} c 30,-22 30,42 0,{b.h - 12:.1f}" fill="none" stroke="#333"/>'
             )
-            out.text(x + 26, y + b.h / 2 - 4, label, size=10, anchor="start")
+            out.text(x + 26, y + b.h / 2 - 4, label, size=_STATE_TEXT, anchor="start")
             continue
         shift = 6.0 if (target, source) in merged else 0.0
         start, end = _clip_pair(boxes[source], boxes[target], shift)
         out.arrow(start, end, "open", dashed=False)
         mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
-        out.text(mx, my - 3, label, size=10, halo=True)
+        out.text(mx, my - 3, label, size=_STATE_TEXT, halo=True)
     for box in boxes.values():
         out.state(box)
     return out.finish()
@@ -176,6 +184,8 @@ _CHAR_EM = 0.62
 _ALONG = (0.5, 0.35, 0.65, 0.2, 0.8, 0.1, 0.9)
 _LINE_H = 15.0
 _PAD = 8.0
+#: The size of every text of a state diagram: names and labels alike.
+_STATE_TEXT = 12
 
 
 @dataclasses.dataclass
@@ -348,7 +358,7 @@ class _SvgWriter:
             f'<rect x="{box.x:.1f}" y="{box.y:.1f}" width="{box.w:.1f}" height="{box.h:.1f}" rx="12" '
             f'fill="#eef4fb" stroke="#333"/>'
         )
-        self.text(box.x + box.w / 2, box.y + box.h / 2 + 4, box.name, style="bold")
+        self.text(box.x + box.w / 2, box.y + box.h / 2 + 4, box.name, size=_STATE_TEXT, style="bold")
 
     def arrow(self, start: tuple[float, float], end: tuple[float, float], head: str, *, dashed: bool) -> None:
         dash = ' stroke-dasharray="6,4"' if dashed else ""

@@ -1,0 +1,107 @@
+"""The "What is not (yet)" list of docs/st.md agrees with the ST reader: every row is refused by ``st.load``."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+st = pytest.importorskip("iecoop.st")
+
+ROOT = Path(__file__).resolve().parent.parent.parent
+PAGE = ROOT / "docs" / "st.md"
+
+_FB_A = "FUNCTION_BLOCK FB_A\nVAR n : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+
+#: The start of each row of the list -> sources the row says are refused, one per construct it names.
+REFUSED: dict[str, list[str]] = {
+    "outputs (`=>`) and in-out arguments into a local variable of a PROPERTY accessor": [
+        _FB_A + "METHOD Get : BOOL\nVAR_OUTPUT v : INT; END_VAR\nv := 3;\nGet := TRUE;\nEND_METHOD\n"
+        "PROPERTY P : INT\nVAR q : INT; END_VAR\nGet(v => q);\nP := q;\nEND_PROPERTY",
+        _FB_A + "METHOD Inc : BOOL\nVAR_IN_OUT v : INT; END_VAR\nv := v + 1;\nInc := TRUE;\nEND_METHOD\n"
+        "PROPERTY P : INT\nVAR q : INT; END_VAR\nInc(v := q);\nP := q;\nEND_PROPERTY",
+    ],
+    "ARRAY locals and `VAR_STAT` in a PROPERTY accessor": [
+        _FB_A + "PROPERTY P : INT\nVAR a : ARRAY[0..2] OF INT; END_VAR\nP := a[0];\nEND_PROPERTY",
+        _FB_A + "PROPERTY P : INT\nVAR_STAT k : INT; END_VAR\nP := k;\nEND_PROPERTY",
+    ],
+    "a FUNCTION_BLOCK input passed by value to a METHOD or FUNCTION": [
+        _FB_A + "FUNCTION F : INT\nVAR_INPUT a : FB_A; END_VAR\nF := a.n;\nEND_FUNCTION",
+    ],
+    "`REF= 0` of a local `REFERENCE TO` a STRUCT, UNION or FB": [
+        "TYPE ST_P : STRUCT x : INT; END_STRUCT END_TYPE\n"
+        "FUNCTION F : INT\nVAR r : REFERENCE TO ST_P; END_VAR\nr REF= 0;\nF := 0;\nEND_FUNCTION",
+    ],
+    "a label inside IF, CASE or a loop, and a JMP inside a FOR, WHILE or REPEAT loop": [
+        "PROGRAM MAIN\nVAR i : INT; END_VAR\nIF i = 0 THEN\nL1: i := 1;\nEND_IF\nEND_PROGRAM",
+        "PROGRAM MAIN\nVAR i : INT; END_VAR\nL1: i := 0;\nFOR i := 1 TO 3 DO\nJMP L1;\nEND_FOR\nEND_PROGRAM",
+    ],
+    "a located variable without a name (`AT %IX0.0 : BOOL`) and direct addresses in code": [
+        "PROGRAM MAIN\nVAR\n    AT %IX0.0 : BOOL;\nEND_VAR\nEND_PROGRAM",
+        "PROGRAM MAIN\nVAR b : BOOL; END_VAR\nb := %IX0.0;\nEND_PROGRAM",
+    ],
+    "`R_EDGE` / `F_EDGE` inputs, `ARRAY[*]`": [
+        "FUNCTION_BLOCK FB_E\nVAR_INPUT x : BOOL R_EDGE; END_VAR\nEND_FUNCTION_BLOCK",
+        "FUNCTION_BLOCK FB_E\nVAR_INPUT x : BOOL F_EDGE; END_VAR\nEND_FUNCTION_BLOCK",
+        "FUNCTION F : INT\nVAR_IN_OUT a : ARRAY[*] OF INT; END_VAR\nF := 0;\nEND_FUNCTION",
+    ],
+    "`STRING_TO_DATE`, `STRING_TO_TOD`, `STRING_TO_DT`": [
+        "FUNCTION F : DATE\nF := STRING_TO_DATE('D#2024-01-01');\nEND_FUNCTION",
+        "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
+        "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
+    ],
+}
+
+#: Rows the reader does not refuse yet: it loads them with a different meaning, so the row stays.
+NOT_REFUSED_YET = {
+    # The input is bound to the caller's instance (no copy), and its default instance is shared by all calls.
+    "a FUNCTION_BLOCK input passed by value to a METHOD or FUNCTION",
+}
+
+
+def unsupported_rows() -> list[str]:
+    """The bullets of the page's "What is not (yet)" section, as written."""
+    text = PAGE.read_text(encoding="utf-8")
+    section = re.search(r"^## What is not \(yet\)\n(.*?)(?=^#)", text, re.M | re.S)
+    assert section is not None, "docs/st.md has no 'What is not (yet)' section"
+    return [line[2:] for line in section.group(1).splitlines() if line.startswith("- ")]
+
+
+def _sample_of(row: str) -> str:
+    found = [start for start in REFUSED if row.startswith(start)]
+    assert found, f"docs/st.md lists {row!r} as unsupported, and this test has no ST source to check it with"
+    return found[0]
+
+
+def test_every_row_of_the_list_has_sources_to_check_it_with() -> None:
+    rows = unsupported_rows()
+    assert len(rows) >= 8
+    assert sorted(_sample_of(row) for row in rows) == sorted(REFUSED)
+
+
+@pytest.mark.parametrize(
+    ("row", "source"),
+    [
+        pytest.param(
+            row, source, id=f"{row[:40]}-{number}",
+            marks=[pytest.mark.xfail(reason="the reader loads it", strict=True)] if row in NOT_REFUSED_YET else [],
+        )
+        for row, sources in REFUSED.items()
+        for number, source in enumerate(sources)
+    ],
+)
+def test_each_row_is_refused_by_the_reader(row: str, source: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"^<st>:\d+: .*(not supported|no address|cannot be unbound)"):
+        st.load(source)
+
+
+def test_real_to_string_is_listed_as_supported_and_loads() -> None:
+    rows = "\n".join(unsupported_rows())
+    assert "REAL_TO_STRING" not in rows
+    assert "REAL and LREAL `*_TO_STRING`" in PAGE.read_text(encoding="utf-8")
+    plc = st.load(
+        "FUNCTION F_Label : STRING\nVAR r : REAL := 12.5; END_VAR\n"
+        "F_Label := CONCAT('Volume ', REAL_TO_STRING(r));\nEND_FUNCTION"
+    )
+    assert plc.F_Label() == "Volume 12.5"
