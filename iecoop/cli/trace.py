@@ -79,6 +79,8 @@ class Trace:
     cycles_run: int = 0
     where: str = ""
     tick_ms: int = 0
+    #: Per label, the widest text its probe can give (0: not known before the run).
+    widths: list[int] = dataclasses.field(default_factory=list)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -92,6 +94,17 @@ class Probe:
     label: str
     read: Callable[[], str]
     watch: bool = True
+    #: The widest text the value can take, where its type bounds it (an enumeration's longest name).
+    width: int = 0
+
+
+def widest(value: object) -> int:
+    """The widest text :func:`show` gives for a value of ``value``'s type: an enumeration's longest name, FALSE."""
+    if isinstance(value, bool):
+        return len("FALSE")
+    if isinstance(value, enum.Enum):
+        return max(len(member.name) for member in type(value))
+    return 0
 
 
 def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
@@ -136,7 +149,7 @@ def run_cycles(
     row is handed over as its cycle ends instead of being kept in
     ``trace.rows``, so a run of any length streams in constant memory.
     """
-    trace = Trace([probe.label for probe in probes], where=tasks_text(runtime))
+    trace = Trace([probe.label for probe in probes], where=tasks_text(runtime), widths=[probe.width for probe in probes])
     trace.tick_ms = min((task.interval for task in runtime.tasks), default=0)
     if on_start is not None:
         on_start(trace)
@@ -257,14 +270,17 @@ class RowWriter:
 
     def __init__(
         self, labels: Sequence[str], out: TextIO, *, last_time: int = 0, last_cycle: int = 0,
-        progress: Progress | None = None, clock: Callable[[], float] = time.monotonic,
+        widths: Sequence[int] = (), progress: Progress | None = None, clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.labels = ["time ms", "cycle", *labels]
         self.out = out
         self.progress = progress
         self.clock = clock
         self.flushed_at = clock()
-        self.widths = [len(label) for label in self.labels]
+        # A value whose type bounds its text (an enumeration) gets its widest text from the start,
+        # so that a later, longer name does not shift the rows after it.
+        known = [0, 0, *widths, *[0] * (len(labels) - len(widths))]
+        self.widths = [max(len(label), width) for label, width in zip(self.labels, known)]
         self.widths[0] = max(self.widths[0], len(str(last_time)))
         self.widths[1] = max(self.widths[1], len(str(last_cycle)))
         self.numeric: list[bool] = []
@@ -368,6 +384,6 @@ def variable_probes(program: Program, limit: int = 5) -> list[Probe]:
         label = st_path(program, path)
         if kind in TIME_CLASSES:
             return Probe(label, lambda: f"{int(get(program))}ms")
-        return Probe(label, lambda: show(get(program)))
+        return Probe(label, lambda: show(get(program)), width=widest(get(program)))
 
     return [probe(path, kind) for path, kind in elementary_variables(type(program), limit)]

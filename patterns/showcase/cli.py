@@ -53,7 +53,9 @@ from iecoop.cli import Command, commands
 from iecoop.cli import main as iecoop_main
 from iecoop.cli.base import positive
 from iecoop.cli.export import module_of
-from iecoop.cli.trace import PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, Trace, fault_text, run_cycles, table
+from iecoop.cli.trace import (
+    PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, Trace, fault_text, run_cycles, table, widest,
+)
 from iecoop.st.export import dump
 from patterns.showcase.catalogue import CATEGORIES, NAMES, Entry, build, entries, find, read, show, unknown_name
 from patterns.showcase.text import render_rst
@@ -92,7 +94,7 @@ def run_entry(
         return Trace([column.label for column in entry.columns], fault=exc, fault_message=exc.message)
     probes = [
         Probe(column.label, functools.partial(lambda column: show(read(scenario, column), column.fmt), column),
-              column.watch)
+              column.watch, 0 if column.fmt else widest(read(scenario, column)))
         for column in entry.columns
     ]
     script = entry.script
@@ -200,7 +202,7 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
             what = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles"
         out.write(f"{trace.where}, {args.profile} profile, {cycles} cycles; {what}\n")
         rows.append(RowWriter(trace.labels, out, last_time=(cycles - 1) * trace.tick_ms, last_cycle=cycles,
-                              progress=progress))
+                              widths=trace.widths, progress=progress))
 
     trace: Trace | None = None
     try:
