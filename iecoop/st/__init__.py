@@ -37,7 +37,7 @@ import types
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
-from iecoop.st._parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
 from iecoop.st.export import StExportError, dump, export
 
 __all__ = [
@@ -49,9 +49,9 @@ _counter = itertools.count(1)
 
 
 def _translator() -> Callable[..., tuple[str, list[tuple[str, str]]]]:
-    """``_translate.translate``, or an ImportError naming the extra when blark is not installed."""
+    """``read.translate.translate``, or an ImportError naming the extra when blark is not installed."""
     try:
-        from iecoop.st._translate import translate
+        from iecoop.st.read.translate import translate
     except ModuleNotFoundError as exc:
         missing = (exc.name or "").partition(".")[0]
         if missing not in ("blark", "lark", "lxml"):
@@ -119,7 +119,7 @@ def _translated(source: str | os.PathLike[str], externals: list[str]) -> tuple[s
     units = parse_sources(source)
     try:
         return translate(units, externals=externals)
-    except RecursionError:  # only beyond the limits _parse checks, e.g. when called from a deep stack
+    except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 
 
@@ -161,7 +161,7 @@ def load(
     linecache.cache[filename] = (len(text), None, text.splitlines(keepends=True), filename)
     try:
         code = compile(text, filename, "exec")
-    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits _parse checks keep this rare
+    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
         raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
     module.__file__ = filename

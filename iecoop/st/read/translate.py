@@ -25,7 +25,7 @@ import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
 from iecoop.st.language import is_reserved
-from iecoop.st._parse import StUnsupportedError, Unit
+from iecoop.st.read.parse import StUnsupportedError, Unit
 
 __all__ = ["translate"]
 
