@@ -44,8 +44,10 @@ __all__ = [
     "STANDARD_FBS",
     "STRING_FUNCTIONS",
     "SYSTEM_FUNCTIONS",
+    "TASK_INFO_MEMBERS",
     "TYPE_NAMES",
     "TYPE_SYNONYMS",
+    "VAR_INFO_MEMBERS",
     "WORD_OPERATORS",
     "canonical_type",
     "is_reserved",
@@ -149,3 +151,19 @@ BUILTIN_FUNCTIONS: Final = {"min": "MIN", "max": "MAX", "abs": "ABS"}
 ACCESS_SPECIFIERS: Final = ("PUBLIC", "PRIVATE", "PROTECTED", "INTERNAL", "ABSTRACT", "FINAL")
 #: The lifecycle METHODs: ST name (in capitals) -> iecoop's Python name.
 LIFECYCLE: Final = {"FB_INIT": "fb_init", "FB_REINIT": "fb_reinit", "FB_EXIT": "fb_exit"}
+
+# --- system structures the read wing types ----------------------------------------------------------
+# Kept here because they are TwinCAT vocabulary: ST code reads these members by name
+# (``_TaskInfo[i].CycleCount``, ``__VARINFO(x).Symbol``) and the reader types each from this table.
+
+#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has (times in 100 ns), and their ST types.
+TASK_INFO_MEMBERS: Final = {
+    "CycleTime": "UDINT", "CycleCount": "UDINT", "LastExecTime": "UDINT", "Priority": "UINT",
+    "FirstCycle": "BOOL", "CycleTimeExceeded": "BOOL", "TaskName": "STRING",
+}
+#: The members of ``__SYSTEM.VAR_INFO`` (iecoop's VarInfo) and their ST types; TypeClass compares with TYPE_CLASS values.
+VAR_INFO_MEMBERS: Final = {
+    "Symbol": "STRING", "ByteAddress": "ULINT", "ByteOffset": "UDINT", "Area": "DINT", "BitNr": "UINT",
+    "BitSize": "UDINT", "TypeClass": "DINT", "TypeName": "STRING", "NumElements": "UDINT",
+    "ElemBitSize": "UDINT", "BaseTypeClass": "DINT",
+}

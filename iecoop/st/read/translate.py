@@ -24,26 +24,14 @@ from typing import Any
 import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
-from iecoop.st.language import is_reserved
+from iecoop.st.language import (
+    ACCESS_SPECIFIERS, COMPARISONS, ELEMENTARY, INTEGER_LAYOUT, LIFECYCLE, MATH_FUNCTIONS, REAL_TYPES, STANDARD_FBS,
+    STRING_FUNCTIONS, SYSTEM_FUNCTIONS, TASK_INFO_MEMBERS, TYPE_SYNONYMS, VAR_INFO_MEMBERS, canonical_type, is_reserved,
+)
 from iecoop.st.read.parse import StUnsupportedError, Unit
 
 __all__ = ["translate"]
 
-INTEGER_TYPES = {
-    "SINT": 8, "INT": 16, "DINT": 32, "LINT": 64, "USINT": 8, "UINT": 16, "UDINT": 32, "ULINT": 64,
-    "BYTE": 8, "WORD": 16, "DWORD": 32, "LWORD": 64, "TIME": 32, "LTIME": 64, "DATE": 32, "TOD": 32, "DT": 32,
-}
-REAL_TYPES = {"REAL", "LREAL"}
-ELEMENTARY = {*INTEGER_TYPES, *REAL_TYPES, "BOOL", "STRING", "WSTRING"}
-TYPE_SYNONYMS = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
-#: Standard function blocks of iecoop.stdlib that ST code may instantiate.
-STDLIB_FBS = ("TON", "TOF", "TP", "LTON", "LTOF", "LTP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "CTU_INT",
-              "CTD_INT", "CTUD_INT", "CTU_DINT", "CTU_UDINT", "SR", "RS")
-_MATH = frozenset(("SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"))
-#: TwinCAT's system functions: TIME() and the Tc2_System memory functions (iecoop's memcpy, memset, memcmp),
-#: with their result types.
-_SYSTEM_FUNCTIONS = {"TIME": "TIME", "MEMCPY": "UDINT", "MEMSET": "UDINT", "MEMCMP": "DINT"}
-_STRING_FUNCTIONS = frozenset(("LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND"))
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR",
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
@@ -51,10 +39,6 @@ _SECTION_OF = {
     tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
     tf.ExternalVariableDeclarations: "VAR_EXTERNAL", tf.FunctionVariableDeclarations: "VAR",
 }
-_COMPARE = {"=": "==", "<>": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
-_ACCESS = {"PUBLIC": "PUBLIC", "PRIVATE": "PRIVATE", "PROTECTED": "PROTECTED", "INTERNAL": "INTERNAL",
-           "ABSTRACT": "ABSTRACT", "FINAL": "FINAL"}
-_LIFECYCLE = {"fb_init": "fb_init", "fb_reinit": "fb_reinit", "fb_exit": "fb_exit"}
 
 
 # --- names -------------------------------------------------------------------------------------
@@ -174,7 +158,7 @@ class TypeRef:
 
     @property
     def is_int(self) -> bool:
-        return self.kind == "elem" and self.name in INTEGER_TYPES
+        return self.kind == "elem" and self.name in INTEGER_LAYOUT
 
     @property
     def is_real(self) -> bool:
@@ -364,7 +348,7 @@ class Translator:
     def _stdlib_decls(self) -> None:
         import iecoop.stdlib as stdlib
 
-        for name in STDLIB_FBS:
+        for name in STANDARD_FBS:
             cls = getattr(stdlib, name)
             decl = Decl("stdfb", name)
             for record in cls._iec_layout_.fields:
@@ -372,7 +356,7 @@ class Translator:
             self.decls[name.lower()] = self.by_python[name] = decl
 
     def _elem_or_none(self, name: str) -> TypeRef | None:
-        name = TYPE_SYNONYMS.get(name.upper(), name.upper())
+        name = canonical_type(name)
         if name in ELEMENTARY:
             return TypeRef("string", name, length="80") if name in ("STRING", "WSTRING") else TypeRef("elem", name)
         return None
@@ -1462,7 +1446,7 @@ class Translator:
         flags = list(extra)
         if access is not None:
             for spec in tf.AccessSpecifier:
-                if access & spec and spec.name.upper() in _ACCESS and spec.name.upper() != "PUBLIC":
+                if access & spec and spec.name.upper() in ACCESS_SPECIFIERS and spec.name.upper() != "PUBLIC":
                     flags.append(spec.name.upper())
         for flag in flags:
             self.need("iecoop", flag)
@@ -1611,7 +1595,7 @@ class Translator:
         self.enter(node)
         name = str(node.name)
         info = decl.methods[name.lower()]
-        lifecycle = _LIFECYCLE.get(name.lower())
+        lifecycle = LIFECYCLE.get(name.upper())
         scope = Scope(decl, "method", return_name=python_name(name) if info.returns is not None else None)
         scope.return_st = name
         scope.pou = f"{decl.name}.{info.name}"
@@ -1982,9 +1966,8 @@ class Translator:
 
     def _fits(self, value: Ex, target: TypeRef) -> bool:
         if re.fullmatch(r"-?\d+", value.code):
-            bits = INTEGER_TYPES[target.name]
+            bits, signed = INTEGER_LAYOUT[target.name]
             number = int(value.code)
-            signed = target.name in ("SINT", "INT", "DINT", "LINT")
             low, high = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
             return low <= number <= high
         return value.type is not None and value.type.name == target.name and not value.compound
@@ -2365,8 +2348,8 @@ class Translator:
         right = self.expr(node.right, scope)
         lt = left.type.deref() if left.type is not None else None
         rt = right.type.deref() if right.type is not None else None
-        if op in _COMPARE:
-            py = _COMPARE[op]
+        if op in COMPARISONS:
+            py = COMPARISONS[op]
             for side, other in ((left, right), (right, left)):
                 if other.code == "0" and side.type is not None and self._is_handle(side.type):
                     self.need("iecoop", "NULL")
@@ -2448,7 +2431,7 @@ class Translator:
         if left.is_real or right.is_real:
             return LREAL if "LREAL" in (left.name, right.name) or not (left.is_real and right.is_real) and False else (left if left.is_real else right)
         if left.is_int and right.is_int:
-            return left if INTEGER_TYPES[left.name] >= INTEGER_TYPES[right.name] else right
+            return left if INTEGER_LAYOUT[left.name][0] >= INTEGER_LAYOUT[right.name][0] else right
         return left
 
     # variables
@@ -2537,10 +2520,10 @@ class Translator:
         if base.code == "ExceptionCode":
             return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
         if base.type is not None and base.type.kind == "varinfo":
-            info = next((m for m in _VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
+            info = next((m for m in VAR_INFO_MEMBERS if m.lower() == field.lower()), None)
             if info is None or store:
                 raise self.fail(f"__SYSTEM.VAR_INFO {'member ' + field + ' is read-only' if info else 'has no member ' + repr(field)}", node)
-            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", _VAR_INFO_MEMBERS[info]))
+            return Ex(f"{base.p()}.{info}", STRING if info in ("Symbol", "TypeName") else TypeRef("elem", VAR_INFO_MEMBERS[info]))
         return None
 
     def _super_member_ref(self, kind: str, member: Any, store: bool) -> Ex:
@@ -2594,13 +2577,13 @@ class Translator:
             raise self.fail("_TaskInfo indexed by anything but GETCURTASKINDEXEX() (iecoop knows the running task only)", node)
         field = elements[1].field if len(elements) == 2 and isinstance(elements[1], tf.FieldSelector) else None
         name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
-        member = next((m for m in _TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
+        member = next((m for m in TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
         if member is None:
-            raise self.fail(f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(_TASK_INFO_MEMBERS)}", node)
+            raise self.fail(f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(TASK_INFO_MEMBERS)}", node)
         if store:
             raise self.fail(f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)", node)
         self.need("iecoop.runtime", "current_task")
-        type_ = STRING if member == "TaskName" else TypeRef("elem", _TASK_INFO_MEMBERS[member])
+        type_ = STRING if member == "TaskName" else TypeRef("elem", TASK_INFO_MEMBERS[member])
         return Ex(f"current_task().{member}", type_)
 
     def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
@@ -2819,14 +2802,14 @@ class Translator:
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)  # operands that are types, not values
-        if upper in _SYSTEM_FUNCTIONS:
+        if upper in SYSTEM_FUNCTIONS:
             return self.system_call(upper, node, scope)
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
         if upper == "ABS":
             return self.function_call(upper, codes, first)
-        if upper in _MATH or upper == "EXPT":
+        if upper in MATH_FUNCTIONS or upper == "EXPT":
             return self.function_call(upper, codes, LREAL)
         if upper in ("MIN", "MAX"):
             return self.function_call(upper, codes, self.wider(first, args[1].type if len(args) > 1 else None))
@@ -2890,7 +2873,7 @@ class Translator:
             return Ex("now_ms()", TypeRef("elem", "TIME"))
         codes = [self.expr(p.value, scope).code for p in node.parameters]
         self.need("iecoop", upper.lower())
-        return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", _SYSTEM_FUNCTIONS[upper]))
+        return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", SYSTEM_FUNCTIONS[upper]))
 
     def conversion(self, source: str | None, target: str, args: list[Ex], node: Any) -> Ex:
         from iecoop import conversions
@@ -2924,7 +2907,7 @@ class Translator:
         if source is not None and name not in conversions.__all__:
             if source == "BOOL":
                 name = f"TO_{target}"
-            elif source in INTEGER_TYPES and target in INTEGER_TYPES:
+            elif source in INTEGER_LAYOUT and target in INTEGER_LAYOUT:
                 # reinterpret through the source width, then store in the target width
                 source_type = TypeRef("elem", source)
                 self.need("iecoop.conversions", f"TO_{source}", f"TO_{target}")
@@ -2937,7 +2920,7 @@ class Translator:
         return Ex(f"{name}({value.code})", result_type)
 
     def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
-        if upper not in _STRING_FUNCTIONS:
+        if upper not in STRING_FUNCTIONS:
             return None
         result = TypeRef("elem", "INT") if upper in ("LEN", "FIND") else STRING
         return self.function_call(upper, [a.code for a in args], result)
@@ -3067,17 +3050,6 @@ _OPERATORS: dict[str, Callable[[Translator, str, list[Any], Any, Scope, int | No
     "__QUERYINTERFACE": Translator._op_query,
     "__QUERYPOINTER": Translator._op_query,
 }
-
-
-#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has (times in 100 ns), and their ST types.
-_TASK_INFO_MEMBERS = {"CycleTime": "UDINT", "CycleCount": "UDINT", "LastExecTime": "UDINT", "Priority": "UINT",
-                      "FirstCycle": "BOOL", "CycleTimeExceeded": "BOOL", "TaskName": "STRING"}
-
-
-#: The members of ``__SYSTEM.VAR_INFO`` (iecoop's VarInfo) and their ST types; TypeClass compares with TYPE_CLASS values.
-_VAR_INFO_MEMBERS = {"Symbol": "STRING", "ByteAddress": "ULINT", "ByteOffset": "UDINT", "Area": "DINT", "BitNr": "UINT",
-                     "BitSize": "UDINT", "TypeClass": "DINT", "TypeName": "STRING", "NumElements": "UDINT",
-                     "ElemBitSize": "UDINT", "BaseTypeClass": "DINT"}
 
 
 def _structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
