@@ -28,8 +28,7 @@ names the extra.
 
 from __future__ import annotations
 
-import itertools
-import linecache
+import contextlib
 import os
 import pathlib
 import sys
@@ -37,6 +36,7 @@ import types
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
+from iecoop._codegen import compiled, script_number
 from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
 from iecoop.st.export import StExportError, dump, export
 
@@ -45,7 +45,6 @@ __all__ = [
 ]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
-_counter = itertools.count(1)
 
 
 def _translator() -> Callable[..., tuple[str, list[tuple[str, str]]]]:
@@ -153,14 +152,13 @@ def load(
 
     externals = dict(externals or {})
     text, names = _translated(source, list(externals))
-    number = next(_counter)
+    number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
-    linecache.cache[filename] = (len(text), None, text.splitlines(keepends=True), filename)
     try:
-        code = compile(text, filename, "exec")
+        code = compiled(text, filename)
     except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
         raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
@@ -169,7 +167,7 @@ def load(
     sys.modules[module_name] = module  # annotations resolve through the module, as for an import
     lowered = {k.lower(): v for k, v in externals.items()}
     unbound = []
-    with use_profile(profile) if profile is not None else _nothing():
+    with use_profile(profile) if profile is not None else contextlib.nullcontext():
         namespace: dict[str, Any] = module.__dict__
         try:
             exec(code, namespace)
@@ -194,10 +192,3 @@ def load(
         )
     return module
 
-
-class _nothing:
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(self, *exc: object) -> None:
-        return None
