@@ -12,7 +12,7 @@ from hypothesis import strategies as hs
 from iecoop.exceptions import DefinitionError
 
 st = pytest.importorskip("iecoop.st")
-from iecoop.st.read.translate import python_name, reserved_names, st_name_of  # noqa: E402
+from iecoop.st.read.names import python_name, reserved_names, st_name_of  # noqa: E402
 from iecoop.st.language import is_reserved  # noqa: E402
 
 # --- the rule -----------------------------------------------------------------------------------
