@@ -84,17 +84,17 @@ class Expressions(PyWriter):
         if subrange is None or subrange.limits is None:
             return value
         low, high = subrange.limits
-        if re.fullmatch(r"-?\d+", value.code):
-            if not int(low) <= int(value.code) <= int(high):
+        if isinstance(value.constant, int):
+            if not int(low) <= value.constant <= int(high):
                 raise self.fail(f"{value.code} is outside the subrange {subrange.name}({low}..{high})")
-            return Ex(value.code, subrange)
+            return Ex(value.code, subrange, constant=value.constant)
         self.need("iecoop.functions", "LIMIT")
         return Ex(f"LIMIT({low}, {value.code}, {high})", subrange)
 
     def _fits(self, value: Ex, target: TypeRef) -> bool:
-        if re.fullmatch(r"-?\d+", value.code):
+        if isinstance(value.constant, int):
             bits, signed = INTEGER_LAYOUT[target.name]
-            number = int(value.code)
+            number = value.constant
             low, high = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
             return low <= number <= high
         return value.type is not None and value.type.name == target.name and not value.compound
@@ -123,13 +123,13 @@ class Expressions(PyWriter):
         return result
 
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
-        if type_ is not None and type_.is_real and re.fullmatch(r"-?\d+", value.code):
-            return Ex(f"{value.code}.0", type_)
+        if type_ is not None and type_.is_real and isinstance(value.constant, int):
+            return Ex(f"{value.code}.0", type_, constant=float(value.constant))
         return value
 
     def visit_ParenthesizedExpression(self, node: tf.ParenthesizedExpression, scope: Scope) -> Ex:
         inner = self.expr(node.expr, scope)
-        return Ex(inner.code, inner.type, inner.compound)
+        return Ex(inner.code, inner.type, inner.compound, constant=inner.constant)
 
     def visit_BracketedExpression(self, node: tf.BracketedExpression, scope: Scope) -> Ex:
         return self.expr(node.expression, scope)
@@ -146,8 +146,8 @@ class Expressions(PyWriter):
         if type_.is_bool:
             return Ex("True" if int(text) else "False", BOOL)
         if type_.is_real:
-            return Ex(f"{int(text)}.0", type_)
-        return Ex(str(int(text)), type_ if node.type_name is not None else None)  # 007 is 7; Python refuses the zeros
+            return Ex(f"{int(text)}.0", type_, constant=float(int(text)))
+        return Ex(str(int(text)), type_ if node.type_name is not None else None, constant=int(text))  # 007 is 7; Python refuses the zeros
 
     def _based(self, node: Any, prefix: str, base: int) -> Ex:
         text = str(node.value).replace("_", "")
@@ -179,7 +179,8 @@ class Expressions(PyWriter):
         text = str(node.value).replace("_", "")
         if "." not in text and "e" not in text.lower():
             text += ".0"
-        return Ex(text, self._literal_type(node.type_name, LREAL))
+        plain = re.fullmatch(r"\d+(\.\d+)?", text) is not None  # 2.5, not 2.5e3: -2.5e3 keeps its unary minus
+        return Ex(text, self._literal_type(node.type_name, LREAL), constant=float(text) if plain else None)
 
     def visit_Boolean(self, node: tf.Boolean, scope: Scope) -> Ex:
         return Ex("True" if str(node.value).upper() in ("TRUE", "1") else "False", BOOL)
@@ -227,8 +228,8 @@ class Expressions(PyWriter):
         op = str(node.op).upper()
         inner = self.expr(node.expr, scope)
         if op == "-":
-            if re.fullmatch(r"\d+(\.\d+)?", inner.code):
-                return Ex(f"-{inner.code}", inner.type)
+            if inner.constant is not None and inner.constant >= 0:
+                return Ex(f"-{inner.code}", inner.type, constant=-inner.constant)
             return Ex(f"-{inner.wrap(PRECEDENCE['unary'])}", inner.type, True, PRECEDENCE["unary"])
         if op == "+":
             return inner

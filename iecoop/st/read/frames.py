@@ -19,6 +19,9 @@ class Ex:
     prec: int = 100
     #: ``super().Prop`` as the target of an assignment: written with super_set
     super_property: bool = False
+    #: the value of a numeric literal (``5``, ``-5``, ``2.5``) as the expression visitor read it, else None:
+    #: later phases ask this, never the code, whether a value is a constant
+    constant: int | float | None = None
 
     def __post_init__(self) -> None:
         if self.compound and self.prec == 100:

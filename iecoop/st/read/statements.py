@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import keyword
-import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -236,20 +235,20 @@ class Statements(Calls):
         step = self.expr(node.step, scope) if node.step is not None else None
         if step is None:
             header = f"range({start.code}, {stop.p()} + 1)"
-        elif re.fullmatch(r"-?\d+", step.code):
-            sign = "+ 1" if int(step.code) > 0 else "- 1"
-            if int(step.code) == 0:
+        elif isinstance(step.constant, int):
+            sign = "+ 1" if step.constant > 0 else "- 1"
+            if step.constant == 0:
                 raise self.fail("FOR ... BY 0 never ends", node)
             header = f"range({start.code}, {stop.p()} {sign}, {step.code})"
         else:
             header = f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
         # A loop that ends by its test leaves the variable at the first value that failed it (ST:
         # FOR i := 1 TO 10 leaves 11); after EXIT it keeps the value it had. Python's for ... else.
-        literal = [int(ex.code) if re.fullmatch(r"-?\d+", ex.code) else None for ex in (start, stop, step or Ex("1"))]
+        literal = [ex.constant if isinstance(ex.constant, int) else None for ex in (start, stop, step or Ex("1", constant=1))]
         if None not in literal:
             first, last, by = (n for n in literal if n is not None)
             past = first + by * len(range(first, last + (1 if by > 0 else -1), by))
-            after = Ex(str(past), start.type)
+            after = Ex(str(past), start.type, constant=past)
         else:
             loop = scope.temp("for")
             self.emit(f"{loop} = {header}", level)
