@@ -91,7 +91,7 @@ class Calls(Expressions):
         callee = self.expr(target, scope)
         if node.dereferenced:
             callee = self.deref(callee, node)
-        if callee.code.endswith("super()"):
+        if callee.this == "SUPER":
             return Ex("super().body()", None)
         decl = self.decl_of(callee.type)
         if decl is not None and decl.kind in ("fb", "stdfb") and callee.type is not None and callee.type.kind in ("user", "reference"):

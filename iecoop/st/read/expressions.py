@@ -129,7 +129,7 @@ class Expressions(PyWriter):
 
     def visit_ParenthesizedExpression(self, node: tf.ParenthesizedExpression, scope: Scope) -> Ex:
         inner = self.expr(node.expr, scope)
-        return Ex(inner.code, inner.type, inner.compound, constant=inner.constant)
+        return Ex(inner.code, inner.type, inner.compound, constant=inner.constant, this=inner.this)
 
     def visit_BracketedExpression(self, node: tf.BracketedExpression, scope: Scope) -> Ex:
         return self.expr(node.expression, scope)
@@ -338,7 +338,7 @@ class Expressions(PyWriter):
         return base
 
     def deref(self, base: Ex, node: Any) -> Ex:
-        if base.code in ("self", "super()"):
+        if base.this is not None:  # THIS^ and SUPER^ are the instance
             return base
         target = base.type.of if base.type is not None and base.type.kind == "pointer" else None
         if base.type is not None and base.type.kind != "pointer":
@@ -348,10 +348,10 @@ class Expressions(PyWriter):
     def name_ref(self, name: str, scope: Scope, node: Any) -> Ex:
         key = name.lower()
         if key == "this":
-            return Ex("self", TypeRef("user", scope.owner.name) if scope.owner else None)
+            return Ex("self", TypeRef("user", scope.owner.name) if scope.owner else None, this="THIS")
         if key == "super":
             base = self.decls.get(scope.owner.bases[0].lower()) if scope.owner and scope.owner.bases else None
-            return Ex("super()", TypeRef("user", base.name) if base is not None else None)
+            return Ex("super()", TypeRef("user", base.name) if base is not None else None, this="SUPER")
         local = scope.locals.get(key)
         if local is not None:
             if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
@@ -399,7 +399,7 @@ class Expressions(PyWriter):
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
         kind, member = found
-        if base.code == "super()":
+        if base.this == "SUPER":
             return self._super_member_ref(kind, member, store)
         if kind == "method":
             return Ex(f"{base.p()}.{member.name}", None)

@@ -22,6 +22,8 @@ class Ex:
     #: the value of a numeric literal (``5``, ``-5``, ``2.5``) as the expression visitor read it, else None:
     #: later phases ask this, never the code, whether a value is a constant
     constant: int | float | None = None
+    #: "THIS" or "SUPER" for the instance itself (``self``) or its parent's view of it (``super()``)
+    this: str | None = None
 
     def __post_init__(self) -> None:
         if self.compound and self.prec == 100:
