@@ -51,13 +51,13 @@ Variables - VAR_IN_OUT".
 from __future__ import annotations
 
 import inspect
-import linecache
 import sys
 import types
 import typing
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from iecoop._codegen import compile_source
 from iecoop.exceptions import DefinitionError
 from iecoop.memory._core import access_violation, AggregateInfo, TypeInfo, handle_of, resolve_type
 from iecoop.memory.pointers import Pointer, PointerInfo
@@ -71,7 +71,6 @@ _F = TypeVar("_F", bound=Callable[..., Any])
 _PARAMETER_SECTIONS = ("VAR_OUTPUT", "VAR_IN_OUT")
 
 _NOT_GIVEN: Any = type("_NotGiven", (), {"__repr__": lambda self: "<not given>", "__slots__": ()})()
-_counter = [0]
 
 
 def parameter_sections(func: Callable[..., Any]) -> dict[str, FieldSpec]:
@@ -300,10 +299,7 @@ def _generate(
     lines += exit_
     lines.append("    return _r")
     source = "\n".join(lines) + "\n"
-    _counter[0] += 1
-    filename = f"<iecoop generated {label} #{_counter[0]}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
-    exec(compile(source, filename, "exec"), globs)  # noqa: S102 - code generated from the function's own signature
+    compile_source(source, label, globs)
     wrapper = typing.cast(Callable[..., Any], globs[func.__name__])
     for attribute in ("__module__", "__name__", "__qualname__", "__doc__"):
         setattr(wrapper, attribute, getattr(func, attribute))

@@ -35,7 +35,6 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import inspect
-import linecache
 import weakref
 import sys
 import types
@@ -44,6 +43,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
+from iecoop._codegen import compile_source
 from iecoop._inline import inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
@@ -639,7 +639,6 @@ def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
 # ---------------------------------------------------------------------------
 
 _NOT_GIVEN: Any = type("_NotGiven", (), {"__repr__": lambda self: "<not given>", "__slots__": ()})()
-_script_counter = [0]
 
 
 def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Callable[..., None]:
@@ -722,10 +721,7 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     else:
         signature = ", ".join(["self", "*", *params]) if params else "self"
     source = f"def __call__({signature}) -> None:\n" + "\n".join(lines) + "\n"
-    _script_counter[0] += 1
-    filename = f"<iecoop generated {name}.__call__ #{_script_counter[0]}>"
-    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
-    exec(compile(source, filename, "exec"), globs)  # noqa: S102 - code generated from the class's own fields
+    compile_source(source, f"{name}.__call__", globs)
     call = typing.cast(Callable[..., None], globs["__call__"])
     call.__qualname__ = f"{name}.__call__"
     call.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

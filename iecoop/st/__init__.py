@@ -28,8 +28,7 @@ names the extra.
 
 from __future__ import annotations
 
-import itertools
-import linecache
+import contextlib
 import os
 import pathlib
 import sys
@@ -37,7 +36,9 @@ import types
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
-from iecoop.st._parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop._codegen import compiled, script_number
+from iecoop.st.read.names import python_name
+from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
 from iecoop.st.export import StExportError, dump, export
 
 __all__ = [
@@ -45,13 +46,12 @@ __all__ = [
 ]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
-_counter = itertools.count(1)
 
 
 def _translator() -> Callable[..., tuple[str, list[tuple[str, str]]]]:
-    """``_translate.translate``, or an ImportError naming the extra when blark is not installed."""
+    """``read.translate.translate``, or an ImportError naming the extra when blark is not installed."""
     try:
-        from iecoop.st._translate import translate
+        from iecoop.st.read.translate import translate
     except ModuleNotFoundError as exc:
         missing = (exc.name or "").partition(".")[0]
         if missing not in ("blark", "lark", "lxml"):
@@ -87,8 +87,6 @@ class StModule(types.ModuleType):
             if key.lower() == lowered and not key.startswith("__"):
                 return value
         # An ST name the naming rule changed (in -> in_, _x -> st_x_): the key is made from it.
-        from iecoop.st._translate import python_name
-
         for key, value in self.__dict__.items():
             for spelled in (key[:-1], key[2:-1]):
                 if spelled.lower() == lowered and key in (python_name(spelled), python_name(spelled, attribute=True)):
@@ -130,7 +128,7 @@ def _translated(source: str | os.PathLike[str], externals: list[str]) -> tuple[s
     units = parse_sources(source)
     try:
         return translate(units, externals=externals)
-    except RecursionError:  # only beyond the limits _parse checks, e.g. when called from a deep stack
+    except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 
 
@@ -164,15 +162,14 @@ def load(
 
     externals = dict(externals or {})
     text, names = _translated(source, list(externals))
-    number = next(_counter)
+    number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
-    linecache.cache[filename] = (len(text), None, text.splitlines(keepends=True), filename)
     try:
-        code = compile(text, filename, "exec")
-    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits _parse checks keep this rare
+        code = compiled(text, filename)
+    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
         raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
     module.__file__ = filename
@@ -180,7 +177,7 @@ def load(
     sys.modules[module_name] = module  # annotations resolve through the module, as for an import
     lowered = {k.lower(): v for k, v in externals.items()}
     unbound = []
-    with use_profile(profile) if profile is not None else _nothing():
+    with use_profile(profile) if profile is not None else contextlib.nullcontext():
         namespace: dict[str, Any] = module.__dict__
         try:
             exec(code, namespace)
@@ -205,10 +202,3 @@ def load(
         )
     return module
 
-
-class _nothing:
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(self, *exc: object) -> None:
-        return None

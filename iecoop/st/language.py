@@ -48,8 +48,10 @@ __all__ = [
     "STANDARD_FBS",
     "STRING_FUNCTIONS",
     "SYSTEM_FUNCTIONS",
+    "TASK_INFO_MEMBERS",
     "TYPE_NAMES",
     "TYPE_SYNONYMS",
+    "VAR_INFO_MEMBERS",
     "WORD_OPERATORS",
     "canonical_type",
     "is_reserved",
@@ -175,3 +177,19 @@ PLCOPEN_ELEMENTARY: Final = frozenset(
 ) - {"LTIME"}
 #: The VAR sections of a POU in the order its declaration lists them.
 SECTION_ORDER: Final = ("VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT", "VAR", "VAR_STAT", "VAR_INST", "VAR_EXTERNAL", "VAR_TEMP")
+
+# --- system structures the read wing types ----------------------------------------------------------
+# Kept here because they are TwinCAT vocabulary: ST code reads these members by name
+# (``_TaskInfo[i].CycleCount``, ``__VARINFO(x).Symbol``) and the reader types each from this table.
+
+#: The members of TwinCAT's PlcTaskSystemInfo that iecoop's TaskInfo also has (times in 100 ns), and their ST types.
+TASK_INFO_MEMBERS: Final = {
+    "CycleTime": "UDINT", "CycleCount": "UDINT", "LastExecTime": "UDINT", "Priority": "UINT",
+    "FirstCycle": "BOOL", "CycleTimeExceeded": "BOOL", "TaskName": "STRING",
+}
+#: The members of ``__SYSTEM.VAR_INFO`` (iecoop's VarInfo) and their ST types; TypeClass compares with TYPE_CLASS values.
+VAR_INFO_MEMBERS: Final = {
+    "Symbol": "STRING", "ByteAddress": "ULINT", "ByteOffset": "UDINT", "Area": "DINT", "BitNr": "UINT",
+    "BitSize": "UDINT", "TypeClass": "DINT", "TypeName": "STRING", "NumElements": "UDINT",
+    "ElemBitSize": "UDINT", "BaseTypeClass": "DINT",
+}

@@ -18,7 +18,7 @@ from hypothesis import strategies as hs
 from iecoop import INT, STRING, VAR, VAR_INST, FunctionBlock, GlobalVariables, IecEnum, Interface, Program, Struct, method
 from iecoop.st import load
 from iecoop.st.export import StExportError, dump, export
-from iecoop.st._translate import st_name_of
+from iecoop.st.read.names import st_name_of
 
 FORMATS = ("twincat", "st", "plcopen")
 

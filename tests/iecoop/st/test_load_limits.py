@@ -12,7 +12,7 @@ from hypothesis import strategies
 
 from iecoop.exceptions import DefinitionError
 from iecoop import st
-from iecoop.st import _parse
+from iecoop.st.read import parse
 
 POU = """<?xml version="1.0" encoding="utf-8"?>
 <TcPlcObject Version="1.1.0.1" ProductVersion="3.1.4024.12">
@@ -246,7 +246,7 @@ def nested(depth: int, inner: str, openers: list[str] | None = None) -> str:
 
 
 def test_the_deepest_nesting_allowed_loads_and_runs() -> None:
-    assert (_parse.MAX_STATEMENT_NESTING, _parse.MAX_EXPRESSION_NESTING, _parse.MAX_EXPRESSION_OPERATORS) == (20, 16, 200)
+    assert (parse.MAX_STATEMENT_NESTING, parse.MAX_EXPRESSION_NESTING, parse.MAX_EXPRESSION_OPERATORS) == (20, 16, 200)
     parens = "(" * 16 + "1" + ")" * 16
     chain = " + ".join(["1"] * 184)
     plc = st.load(program(nested(20, f"n := {parens} + ABS(a[ABS(-2)]) + {chain};")))
@@ -278,13 +278,13 @@ def test_a_limit_applies_in_a_twincat_file_at_its_own_line(tmp_path: Path) -> No
 
 def test_generated_python_that_cpython_refuses_is_an_st_error(monkeypatch: pytest.MonkeyPatch) -> None:
     """The last line of defence: without the limit, CPython's own one (20 nested blocks) surfaces as StUnsupportedError."""
-    monkeypatch.setattr(_parse, "MAX_STATEMENT_NESTING", 1000)
+    monkeypatch.setattr(parse, "MAX_STATEMENT_NESTING", 1000)
     with pytest.raises(st.StUnsupportedError, match=r"^st: the Python generated for it cannot run .*SyntaxError: too many statically nested blocks"):
         st.load(program(nested(22, "n := 2;", ["FOR i := 1 TO 1 DO"])))
 
 
 def test_translation_too_deep_for_the_stack_is_an_st_error(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(_parse, "MAX_EXPRESSION_OPERATORS", 10**6)
+    monkeypatch.setattr(parse, "MAX_EXPRESSION_OPERATORS", 10**6)
     with pytest.raises(st.StUnsupportedError, match=r"^st: the source nests too deeply to translate"):
         st.load(program("n := " + " + ".join(["2"] * 3000) + ";"))
 
@@ -314,7 +314,7 @@ def test_a_twincat_file_is_read_in_the_encoding_its_xml_declaration_names(tmp_pa
 
 
 def test_a_file_larger_than_the_limit_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(_parse, "MAX_FILE_BYTES", 100)
+    monkeypatch.setattr(parse, "MAX_FILE_BYTES", 100)
     with pytest.raises(st.StUnsupportedError, match=r"main\.st: \d+ bytes is more than the 100 bytes one file may hold"):
         st.load(write(tmp_path / "main.st", ST_SOURCE + "//" + "x" * 100 + "\n"))
 

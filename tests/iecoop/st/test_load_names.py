@@ -12,7 +12,7 @@ from hypothesis import strategies as hs
 from iecoop.exceptions import DefinitionError
 
 st = pytest.importorskip("iecoop.st")
-from iecoop.st._translate import python_name, reserved_names, st_name_of  # noqa: E402
+from iecoop.st.read.names import python_name, reserved_names, st_name_of  # noqa: E402
 from iecoop.st.language import is_reserved  # noqa: E402
 
 # --- the rule -----------------------------------------------------------------------------------
@@ -217,6 +217,7 @@ END_METHOD
 """
     assume(meth.lower() not in (inp.lower(), local.lower()))  # the METHOD's result variable has its name
     assume(local.lower() != var.lower())  # a METHOD's local hides the block's variable of its name
+    assume(meth.lower() not in ("fb_init", "fb_reinit", "fb_exit"))  # lifecycle METHODs have inputs of their own
     lowered = [n.lower() for n in (pou, f"e_{value}")]
     members = [n.lower() for n in (inp, var, other, meth)]
     duplicate = len(set(lowered)) < 2 or len(set(members)) < 4 or inp.lower() == local.lower()

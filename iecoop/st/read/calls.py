@@ -1,0 +1,407 @@
+"""Pass 2, calls: FB, METHOD and FUNCTION calls, their arguments, and the standard and system functions."""
+
+from __future__ import annotations
+
+import re
+import struct
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import blark.transform as tf
+
+from iecoop.st.language import INTEGER_LAYOUT, MATH_FUNCTIONS, STRING_FUNCTIONS, SYSTEM_FUNCTIONS, TYPE_SYNONYMS
+from iecoop.st.read.expressions import Expressions
+from iecoop.st.read.frames import Ex, Scope
+from iecoop.st.read.names import python_name
+from iecoop.st.read.symbols import BOOL, Callable_, Decl, LREAL, Member, ReferenceLocal, STRING, TypeRef
+from iecoop.st.read.trees import assigned, variables
+
+
+class Calls(Expressions):
+    """Reads calls: the callee, its arguments by name, and the standard functions."""
+
+    def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
+        """Defined by a later phase of the translator."""
+        raise NotImplementedError
+
+    def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
+        args = []
+        for index, param in enumerate(params):
+            if isinstance(param, tf.OutputParameterAssignment):
+                name = str(param.name.name)
+                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
+                if match is None or match.section != "VAR_OUTPUT":
+                    raise self.fail(f"call has no output {name!r}", node)
+                if param.inverted:
+                    raise self.fail("an inverted output (=> NOT) is not supported", node)
+                if param.value is not None:  # `nLow =>` with no variable: the output is dropped
+                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, '=>')}")
+                continue
+            expected = None
+            if param.name is not None:
+                name = str(param.name.name)
+                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
+                if declared is not None and match is None:
+                    raise self.fail(f"call has no input {name!r}", node)
+                if match is not None and match.section == "VAR_OUTPUT":
+                    raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
+                if match is not None and match.section == "VAR_IN_OUT":
+                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}")
+                    continue
+                value = self.expr(param.value, scope)
+                expected = match.type if match is not None else None
+                # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
+                args.append(f"{match.name if match else python_name(name)}={self.limit(expected, self.coerce(value, expected)).code}")
+            else:
+                if declared is not None and index < len(declared):
+                    if declared[index].section == "VAR_IN_OUT":
+                        args.append(self.by_reference_argument(param.value, scope, ":="))
+                        continue
+                    expected = declared[index].type
+                args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
+        return args
+
+    def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:
+        """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""
+        if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
+            local = scope.locals.get(str(value.name).lower())
+            if local is not None and local.section not in ("VAR_OUTPUT", "VAR_IN_OUT", "STAT") and self.decl_of(local.type) is None:
+                raise self.fail(
+                    f"{arrow} {value.name}: a local variable of a {'METHOD or FUNCTION' if scope.pou else 'PROPERTY accessor'} has no address here; "
+                    "declare it in the block, or pass it through the block's own variable", value)
+        return self.address_of(value, scope)
+
+    def call(self, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        target = node.name
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            name = str(target.name)
+            key = name.lower()
+            standard = self.standard_call(name, node, scope, level)
+            if standard is not None:
+                return standard
+            if key == "super" and node.dereferenced or (key == "super"):
+                return Ex("super().body()", None)
+            decl = self.decls.get(key)
+            if decl is not None and decl.kind == "function" and key not in scope.locals:
+                info = decl.methods["()"]
+                args = self.arguments(node.parameters, info.params, scope, node)
+                return Ex(f"{decl.name}({', '.join(args)})", info.returns)
+        if isinstance(target, tf.SimpleVariable) and str(target.name).lower() == "super" and target.dereferenced:
+            return Ex("super().body()", None)
+        callee = self.expr(target, scope)
+        if node.dereferenced:
+            callee = self.deref(callee, node)
+        if callee.this == "SUPER":
+            return Ex("super().body()", None)
+        decl = self.decl_of(callee.type)
+        if decl is not None and decl.kind in ("fb", "stdfb") and callee.type is not None and callee.type.kind in ("user", "reference"):
+            return self.fb_call(callee, decl, node, scope, level)
+        # a method: find its declaration through the owner to type the result
+        method = self.method_info(target, scope)
+        args = self.arguments(node.parameters, method.params if method else None, scope, node)
+        return Ex(f"{callee.code}({', '.join(args)})", method.returns if method else None)
+
+    def method_info(self, target: Any, scope: Scope) -> Callable_ | None:
+        if isinstance(target, tf.SimpleVariable):
+            owner, name = scope.owner, str(target.name)
+        elif isinstance(target, tf.MultiElementVariable) and isinstance(target.elements[-1], tf.FieldSelector):
+            rest = tf.MultiElementVariable(target.name, False, target.elements[:-1]) if len(target.elements) > 1 else target.name
+            owner_ex = self.expr(rest, scope)
+            owner = self.decl_of(owner_ex.type)
+            field = target.elements[-1].field
+            name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+        else:
+            return None
+        if owner is None:
+            return None
+        found = self.find_member(owner, name)
+        if found is not None and found[0] == "method":
+            assert isinstance(found[1], Callable_)
+            return found[1]
+        return None
+
+    def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        inputs, outputs = [], []
+        for param in node.parameters:
+            if param.name is None:
+                raise self.fail(f"a call of function block {callee.code} needs named inputs (name := value)", node)
+            found = self.find_member(decl, str(param.name.name))
+            if found is None or not isinstance(found[1], Member):
+                raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
+            member = found[1]
+            if isinstance(param, tf.OutputParameterAssignment):
+                if param.inverted:
+                    raise self.fail("an inverted output (=> NOT) is not supported", node)
+                outputs.append((member, param.value))
+                continue
+            if member.section == "VAR_IN_OUT":
+                value = self.address_of(param.value, scope)
+            else:
+                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type)).code
+            inputs.append(f"{member.name}={value}")
+        code = f"{callee.code}({', '.join(inputs)})"
+        if outputs:
+            if level is None:
+                raise self.fail(f"outputs (=>) of {callee.code} in an expression", node)
+            self.emit(code, level)
+            for member, target in outputs:
+                self.assign(target, Ex(f"{callee.code}.{member.name}", member.type), scope, level)
+            return None
+        return Ex(code, None)
+
+    def standard_call(self, name: str, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        upper = name.upper()
+        if upper.lower() in scope.locals or (scope.owner is not None and self.find_member(scope.owner, name) is not None):
+            return None
+        if upper.lower() in self.decls and self.decls[upper.lower()].kind != "stdfb":
+            return None
+        if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
+                     "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
+            return self.operator_call(upper, node, scope, level)  # operands that are types, not values
+        if upper in SYSTEM_FUNCTIONS:
+            return self.system_call(upper, node, scope)
+        args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
+        codes = [a.code for a in args]
+        first = args[0].type.deref() if args and args[0].type is not None else None
+        if upper == "ABS":
+            return self.function_call(upper, codes, first)
+        if upper in MATH_FUNCTIONS or upper == "EXPT":
+            return self.function_call(upper, codes, LREAL)
+        if upper in ("MIN", "MAX"):
+            return self.function_call(upper, codes, self.wider(first, args[1].type if len(args) > 1 else None))
+        if upper in ("LIMIT", "SEL", "MUX"):
+            return self.function_call(upper, codes, args[1].type)
+        if upper == "MOVE":
+            return args[0]
+        if upper in ("SHL", "SHR", "ROL", "ROR"):
+            if first is None or not first.is_int:
+                raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
+            self._need_type(first)
+            return self.function_call(upper, [*codes, first.name], first)
+        if upper == "TRUNC":
+            self.need("iecoop.conversions", "TRUNC")
+            return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))
+        conversion = re.fullmatch(r"(?:(\w+?)_)?TO_(\w+)", upper)
+        if conversion is not None:
+            enum_text = self.enum_to_string(conversion.group(1), conversion.group(2), args)
+            if enum_text is not None:
+                return enum_text
+            return self.conversion(conversion.group(1), conversion.group(2), args, node)
+        strings = self.string_call(upper, args, node)
+        if strings is not None:
+            return strings
+        if upper in ("AND", "OR", "XOR", "NOT"):
+            raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
+        return None
+
+    def enum_to_string(self, source: str | None, target: str, args: list[Ex]) -> Ex | None:
+        """``TO_STRING(eMode)``, ``E_Mode_TO_STRING(eMode)``: the component's name when the enumeration has
+        ``{attribute 'to_string'}`` (TwinCAT 3.1.4024, CODESYS), else the number's text; None if not an enumeration."""
+        if target not in ("STRING", "WSTRING") or not args:
+            return None
+        name = source if source is not None else args[0].type.name if args[0].type is not None and args[0].type.kind == "user" else None
+        decl = self.decls.get(name.lower()) if name is not None else None
+        if decl is None or decl.kind != "enum":
+            return None
+        result = self._elem_or_none(target)
+        value = args[0]
+        if not any(re.fullmatch(r"\{\s*attribute\s+'to_string'\s*\}", p, re.IGNORECASE) for p in self._decl_pragmas(decl)):
+            return Ex(f"str(int({value.code}))", result)
+        # a value that names no component (an integer stored in the variable) gives its number's text
+        return Ex(f'str(getattr({value.code}, "name", int({value.code})))', result)
+
+    def _decl_pragmas(self, decl: Decl) -> list[str]:
+        """The pragmas written before the declaration ``decl``, which may be another item than the current one."""
+        saved = self.unit, self.window
+        try:
+            self.unit = decl.unit
+            self.enter(decl.item)
+            return self.pragmas(decl.node)
+        finally:
+            self.unit, self.window = saved
+
+    def system_call(self, upper: str, node: Any, scope: Scope) -> Ex:
+        """TwinCAT's system functions: ``TIME()`` (the task clock in ms, as TON reads it), MEMCPY, MEMSET, MEMCMP."""
+        if upper == "TIME":
+            if node.parameters:
+                raise self.fail("TIME() takes no input", node)
+            self.need("iecoop.runtime", "now_ms")
+            return Ex("now_ms()", TypeRef("elem", "TIME"))
+        codes = [self.expr(p.value, scope).code for p in node.parameters]
+        self.need("iecoop", upper.lower())
+        return Ex(f"{upper.lower()}({', '.join(codes)})", TypeRef("elem", SYSTEM_FUNCTIONS[upper]))
+
+    def conversion(self, source: str | None, target: str, args: list[Ex], node: Any) -> Ex:
+        from iecoop import conversions
+
+        source = TYPE_SYNONYMS.get(source, source) if source else None
+        target = TYPE_SYNONYMS.get(target, target)
+        value = args[0]
+        result_type = self._elem_or_none(target)
+        if result_type is None:
+            raise self.fail(f"conversion to {target} is not supported", node)
+        if target in ("STRING", "WSTRING"):
+            # iecoop's *_TO_STRING write the vendor text (T#1s500ms, 1.5, TRUE); TO_STRING goes by the
+            # argument's declared type, which the Python function cannot see, so it gets the source-named form.
+            # (an enumeration's TO_STRING is enum_to_string's, before this)
+            named = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
+            named = TYPE_SYNONYMS.get(named, named) if named else None
+            form = f"{named}_TO_STRING" if named else ""
+            if form not in conversions.__all__:
+                if value.type is None or not value.type.is_int:
+                    raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
+                form = "TO_STRING"
+            self.need("iecoop.conversions", form)
+            return Ex(f"{form}({value.code})", result_type)
+        if source in ("STRING", "WSTRING"):
+            # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
+            if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
+                raise self.fail(f"{source}_TO_{target} is not supported", node)
+            self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
+            return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)
+        name = f"{source}_TO_{target}" if source else f"TO_{target}"
+        if source is not None and name not in conversions.__all__:
+            if source == "BOOL":
+                name = f"TO_{target}"
+            elif source in INTEGER_LAYOUT and target in INTEGER_LAYOUT:
+                # reinterpret through the source width, then store in the target width
+                source_type = TypeRef("elem", source)
+                self.need("iecoop.conversions", f"TO_{source}", f"TO_{target}")
+                return Ex(f"TO_{target}(TO_{source}({value.code}))", result_type) if source_type else Ex("", None)
+            else:
+                name = f"TO_{target}"
+        if name not in conversions.__all__:
+            raise self.fail(f"conversion {name} is not supported", node)
+        self.need("iecoop.conversions", name)
+        return Ex(f"{name}({value.code})", result_type)
+
+    def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
+        if upper not in STRING_FUNCTIONS:
+            return None
+        result = TypeRef("elem", "INT") if upper in ("LEN", "FIND") else STRING
+        return self.function_call(upper, [a.code for a in args], result)
+
+    def function_call(self, name: str, codes: Sequence[str], type_: TypeRef | None) -> Ex:
+        """A call of the standard function ``name`` of ``iecoop.functions``: the form the Rosetta teaches."""
+        self.need("iecoop.functions", name)
+        return Ex(f"{name}({', '.join(codes)})", type_)
+
+    def operator_call(self, upper: str, node: Any, scope: Scope, level: int | None) -> Ex:
+        """ADR, SIZEOF, __NEW, __DELETE, __ISVALIDREF, TEST_AND_SET, __QUERYINTERFACE, __QUERYPOINTER: operands that are variables or types."""
+        handler = _OPERATORS.get(upper)
+        if handler is None:
+            raise self.fail(f"{upper} is not supported", node)
+        return handler(self, upper, [p.value for p in node.parameters], node, scope, level)
+
+    def _op_adr(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        return Ex(self.address_of(params[0], scope), TypeRef("pointer", "POINTER_TO", of=self.expr(params[0], scope).type))
+
+    def _op_varinfo(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "var_info")
+        holder, field = self.holder_field(params[0], scope)
+        return Ex(f'var_info({holder}, "{field}")', TypeRef("varinfo", "VarInfo"))
+
+    def _op_sizeof(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "sizeof")
+        target = params[0]
+        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
+            of_type = self._sizeof_type(str(target.name))
+            if of_type is not None:
+                return of_type
+        ex = self.expr(target, scope)
+        decl = self.decl_of(ex.type)
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
+            return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
+        holder, field = self.holder_field(target, scope)
+        return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
+
+    def _sizeof_type(self, name: str) -> Ex | None:
+        """``SIZEOF(T)`` of a type name, or None when ``name`` is not one."""
+        elem = self._elem_or_none(name)
+        if elem is not None:
+            self._need_type(elem)
+            return Ex(f"sizeof({elem.name})", TypeRef("elem", "UDINT"))
+        decl = self.decls.get(name.lower())
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb", "alias", "enum"):
+            if decl.kind == "stdfb":
+                self.need("iecoop.stdlib", decl.name)
+            return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
+        return None
+
+    def _op_new(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "new")
+        target = params[0]
+        if not isinstance(target, tf.SimpleVariable):
+            raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
+        decl = self.decls.get(str(target.name).lower())
+        if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
+            raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
+        if decl.kind == "stdfb":
+            self.need("iecoop.stdlib", decl.name)
+        # __NEW(FB_X, a := 1): FB_init's inputs by name, as iecoop's new() takes them
+        fb_init = self.find_member(decl, "FB_init")
+        inputs = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
+        args = [decl.name]
+        for param in node.parameters[1:]:
+            if not isinstance(param, tf.InputParameterAssignment) or param.name is None:
+                raise self.fail(f"__NEW of {decl.name} with a length (an array) is not supported", node)
+            name = str(param.name.name)
+            match = next((p.name for p in inputs if p.st.lower() == name.lower()), None)
+            if match is None:
+                raise self.fail(f"__NEW of {decl.name}: FB_init has no input {name!r}", node)
+            args.append(f"{match}={self.expr(param.value, scope).code}")
+        return Ex(f"new({', '.join(args)})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
+
+    def _op_delete(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        if level is None:
+            raise self.fail("__DELETE inside an expression", node)
+        self.need("iecoop", "delete")
+        pointer = self.expr(params[0], scope)
+        return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
+
+    def _op_isvalidref(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        local = self.local_of(params[0], scope)
+        if isinstance(local, ReferenceLocal):
+            return Ex(f"bool({local.name})", BOOL)
+        self.need("iecoop", "is_valid_ref")
+        holder, field = self.holder_field(params[0], scope)
+        return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
+
+    def _op_test_and_set(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        self.need("iecoop", "test_and_set")
+        # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
+        return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
+
+    def _op_query(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
+        at = scope.statement_level if level is None else level
+        if at is None:
+            raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
+        source = self.expr(params[0], scope)
+        dest = self.expr(params[1], scope, store=True)
+        if upper == "__QUERYPOINTER":
+            self.need("iecoop", "query_pointer")
+            self.emit(f"{dest.code} = query_pointer({source.code})", at)
+            return Ex(f"bool({dest.code})" if level is None else "", BOOL)
+        decl = self.decl_of(dest.type)
+        if decl is None or decl.kind != "interface":
+            raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
+        self.need("iecoop", "query_interface", "null")
+        self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})", at)
+        return Ex(f"bool({dest.code})" if level is None else "", BOOL)
+
+
+#: The operators whose operands are variables or types, not values: ST name -> Calls method.
+_OPERATORS: dict[str, Callable[[Calls, str, list[Any], Any, Scope, int | None], Ex]] = {
+    "ADR": Calls._op_adr,
+    "SIZEOF": Calls._op_sizeof,
+    "__VARINFO": Calls._op_varinfo,
+    "__NEW": Calls._op_new,
+    "__DELETE": Calls._op_delete,
+    "__ISVALIDREF": Calls._op_isvalidref,
+    "TEST_AND_SET": Calls._op_test_and_set,
+    "TESTANDSET": Calls._op_test_and_set,
+    "__QUERYINTERFACE": Calls._op_query,
+    "__QUERYPOINTER": Calls._op_query,
+}
+
+

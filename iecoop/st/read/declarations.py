@@ -1,0 +1,280 @@
+"""Pass 2, data types and fields: enums, aliases, STRUCTs, UNIONs, and the fields and initial values of any class."""
+
+from __future__ import annotations
+
+import keyword
+from collections.abc import Iterator
+from typing import Any
+
+import blark.transform as tf
+
+from iecoop.st.read.frames import Scope
+from iecoop.st.read.names import python_name, st_keyword
+from iecoop.st.read.statements import Statements
+from iecoop.st.read.symbols import Callable_, Decl, Member, TypeRef
+from iecoop.st.read.trees import lark_token_type, python_string, structure_elements
+
+
+class Declarations(Statements):
+    """Writes data types and the fields of classes."""
+
+    # --- data types ---
+
+    def _emit_enum(self, decl: Decl) -> None:
+        node = decl.node
+        self.line = node.meta.line if node.meta else None
+        base = node.init.spec.type_name
+        base_kw = ""
+        if base is not None:
+            base_type = self.type_named(str(base), node)
+            self.need("iecoop", base_type.name)
+            base_kw = f", base={base_type.name}"
+        self.need("iecoop", "IecEnum")
+        self.comments(node, 0)
+        renamed = {python_name(v, attribute=True): v for v in decl.values if python_name(v, attribute=True) != v}
+        names_kw = ", st_names={" + ", ".join(f'"{p}": "{v}"' for p, v in renamed.items()) + "}" if renamed else ""
+        self.emit(f"class {decl.name}(IecEnum{base_kw}{st_keyword(decl.st, decl.name)}{names_kw}):", 0)
+        self.emit(f'"""TYPE {decl.name} (enumeration)."""', 1)
+        value = -1
+        scope = Scope(None, "const")
+        for item in node.init.spec.values or []:
+            if item.value is not None:
+                text = self.expr(item.value, scope).code
+                try:
+                    value = int(eval(text, {}))  # a literal or a constant expression of literals
+                except Exception:
+                    raise self.fail(f"enumeration value {decl.name}.{item.name} := {text} is not a constant", node) from None
+            else:
+                value += 1
+            self.emit(f"{python_name(str(item.name), attribute=True)} = {value}", 1)
+        if node.init.value is not None:
+            raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
+
+    def _emit_alias(self, decl: Decl) -> None:
+        assert decl.alias_of is not None
+        target = decl.alias_of
+        if target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds):
+            raise self.fail(f"alias {decl.name} of {target.annotation()} with a length or bounds is not supported", decl.node)
+        self.need("typing", "Annotated")
+        self.need("iecoop", "Alias")
+        self._need_type(target)
+        self.comments(decl.node, 0)
+        init = getattr(getattr(decl.node, "init", None), "value", None)
+        initial = ""
+        if init is not None:
+            if target.kind != "elem":
+                raise self.fail(f"alias {decl.name} of {target.annotation()} with an initial value is not supported", decl.node)
+            initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
+        elif target.limits is not None:
+            initial = f", initial={target.limits[0]}"  # a subrange starts at its lower limit (IEC 61131-3)
+        self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
+
+    def _emit_struct(self, decl: Decl) -> None:
+        self._emit_datatype(decl, "Struct")
+
+    def _emit_union(self, decl: Decl) -> None:
+        self._emit_datatype(decl, "Union")
+
+    def _emit_datatype(self, decl: Decl, base: str) -> None:
+        node = decl.node
+        bases = decl.bases[0] if decl.bases else base
+        if not decl.bases:
+            self.need("iecoop", base)
+        self.comments(node, 0)
+        self.emit(f"class {decl.name}({bases}{st_keyword(decl.st, decl.name)}):", 0)
+        keyword = "STRUCT" if base == "Struct" else "UNION"
+        self.emit(f'"""TYPE {decl.name} : {keyword}."""', 1)
+        scope = Scope(decl, "const")
+        for element in node.declarations:
+            self.line = element.meta.line if element.meta else self.line
+            trailing = self.comments(element, 1, inline=True)
+            index = len(self.out)
+            members = list(self._element_members(element, decl.kind))
+            init = getattr(element, "init", None)
+            if isinstance(element, tf.UnionElementDeclaration):
+                init = None
+            for member in members:
+                self.emit(self.field_line(member, init, scope, plain=True), 1)
+            self.trail(index, trailing)
+        if not node.declarations:
+            self.emit("pass", 1)
+
+    # --- field declarations ---
+
+    def field_line(self, member: Member, init: Any, scope: Scope, *, plain: bool = False, extra: str = "") -> str:
+        type_ = member.type
+        assert type_ is not None
+        if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
+            # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
+            scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)
+            return f"# {member.st} : __SYSTEM.VAR_INFO (VAR_TEMP) is a local of body()"
+        if type_.kind == "varinfo":
+            raise self.fail(f"{member.section} {member.st} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
+        self._need_type(type_)
+        args: list[str] = []
+        value = self.initial_value(type_, init, scope)
+        if value is not None:
+            args.append(value)
+        kwargs = []
+        if type_.kind == "string" and type_.length not in (None, "80"):
+            kwargs.append(f"length={type_.length}")
+        shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
+        if shape.kind == "array":
+            levels = []
+            while shape.kind == "array" and shape.of is not None:
+                assert shape.bounds is not None
+                pairs = [f"({a}, {b})" for a, b in shape.bounds]
+                levels.append(pairs[0] if len(pairs) == 1 else "(" + ", ".join(pairs) + ")")
+                shape = shape.of
+            # ARRAY OF ARRAY: one bounds entry per level, outermost first
+            kwargs.append(f"bounds={levels[0] if len(levels) == 1 else '(' + ', '.join(levels) + ')'}")
+            if shape.kind == "string" and shape.length not in (None, "80"):
+                kwargs.append(f"length={shape.length}")
+        fb_init = self.fb_init_args(init, scope)
+        if fb_init:
+            kwargs.append(f"fb_init={fb_init}")
+        if extra:
+            kwargs.append(extra)
+        if member.name != member.st and member.name == python_name(member.st, attribute=True):
+            kwargs.append(st_keyword(member.st, member.name, ""))
+        section = member.section if member.section != "VAR_GLOBAL" else "VAR"
+        note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""
+        if plain and not kwargs and value is not None:
+            return f"{member.name}: {type_.annotation()} = {value}{note}"
+        self.need("iecoop", section)
+        return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)}){note}"
+
+    def fb_init_args(self, init: Any, scope: Scope) -> str:
+        call: Any = None
+        if isinstance(init, tf.FunctionBlockInvocationDeclaration):
+            call = init.init
+            type_name, parameters = str(call.name.name), call.parameters
+        elif isinstance(init, tf.TypeInitialization) and isinstance(init.spec, tf.IndirectSimpleSpecification) and init.spec.init_parameters:
+            call = init
+            type_name, parameters = str(init.spec.type.type), init.spec.init_parameters
+        if call is not None:
+            decl = self.decls.get(type_name.lower())
+            fb_init = self.find_member(decl, "FB_init") if decl is not None else None
+            params = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
+            params = [p for p in params if p.st.lower() not in ("binitretains", "bincopycode")]
+            pairs = []
+            for index, param in enumerate(parameters):
+                if isinstance(param, tf.OutputParameterAssignment):
+                    raise self.fail("an output (=>) in an FB_init call of a declaration", init)
+                if param.name is not None:
+                    name = str(param.name.name)
+                    match = next((p.name for p in params if p.st.lower() == name.lower()), python_name(name))
+                elif index < len(params):
+                    match = params[index].name
+                else:
+                    raise self.fail(f"FB_init of {type_name} has no input number {index + 1}", init)
+                pairs.append(f'"{match}": {self.expr(param.value, scope).code}')
+            return "{" + ", ".join(pairs) + "}"
+        return ""
+
+    def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""
+        target = getattr(init, "value", None)
+        if type_.kind == "pointer":
+            if not (isinstance(target, tf.FunctionCall) and str(target.name).upper() == "ADR" and len(target.parameters) == 1):
+                return None
+            target = target.parameters[0].value
+        elif isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
+            target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+        index = ""
+        if isinstance(target, tf.MultiElementVariable) and len(target.elements) == 1 and isinstance(target.elements[0], tf.SubscriptList):
+            subscripts = target.elements[0].subscripts
+            if not all(isinstance(sub, tf.Integer) for sub in subscripts):
+                return None
+            numbers = [self.expr(sub, scope).code for sub in subscripts]
+            index = ", " + (numbers[0] if len(numbers) == 1 else "(" + ", ".join(numbers) + ")")
+            target = target.name
+        if scope.owner is None or not isinstance(target, tf.SimpleVariable) or target.dereferenced:
+            return None
+        found = self.find_member(scope.owner, str(target.name))
+        if found is None or not isinstance(found[1], Member):
+            return None
+        self.need("iecoop", "adr_of")
+        return f'adr_of("{found[1].name}"{index})'
+
+    def initial_value(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        if type_.kind in ("pointer", "reference"):
+            sibling = self.sibling_address(type_, init, scope)
+            if sibling is not None:
+                return sibling
+        if type_.kind == "reference" and getattr(init, "value", None) is not None:
+            if scope.owner is None or scope.kind != "body":
+                raise self.fail("a REFERENCE TO initialised at its declaration is supported in a block's VAR only", init)
+            self.pending_references.append(init.value)
+            return None
+        value: Any = None
+        if isinstance(init, tf.FunctionBlockInvocationDeclaration):
+            value = init.defaults
+        elif isinstance(init, tf.FunctionBlockNameDeclaration):
+            value = init.init
+        elif isinstance(init, tf.InitializedStructure):
+            value = init.init
+        elif init is not None and not isinstance(init, tf.FunctionCall):
+            value = getattr(init, "value", None)
+        if value is None:
+            decl = self.decl_of(type_) if type_.kind == "user" else None
+            if decl is not None and decl.kind == "enum" and decl.values:
+                return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+            if type_.limits is not None:
+                return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
+            return None
+        if self.subrange(type_) is not None:
+            return self.limit(type_, self.expr(value, scope)).code
+        if isinstance(value, lark_token_type()):
+            if type_.kind == "string":
+                return python_string(str(value))
+            raise self.fail(f"initial value {value}", init)
+        return self.init_value(value, type_, scope)
+
+    def init_value(self, value: Any, type_: TypeRef | None, scope: Scope) -> str:
+        if isinstance(value, tf.ArrayInitialization):
+            element = type_.of if type_ is not None and type_.kind == "array" else None
+            return "[" + ", ".join(self._array_elements(value, element, scope)) + "]"
+        elements = structure_elements(value)
+        if elements is not None:
+            decl = self.decl_of(type_)
+            pairs = []
+            for element_name, element_value in elements:
+                if element_name is None:
+                    raise self.fail("a structure initialiser element without a name", value)
+                found = self.find_member(decl, element_name) if decl is not None else None
+                name = found[1].name if found is not None else python_name(element_name, attribute=True)
+                member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
+                pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
+            return "{" + ", ".join(pairs) + "}"
+        if isinstance(value, tf.EnumeratedValue):
+            enum_name = str(value.type_name) if value.type_name is not None else None
+            return self.enum_ref(enum_name, str(value.name), value)
+        return self.coerce(self.expr(value, scope, expected=type_), type_).code
+
+    def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
+        for item in value.elements:
+            count = 1
+            if item.count is not None:
+                count = int(eval(self.expr(item.count, scope).code, {}))
+            if isinstance(item.element, tf.ArrayInitialization) and not item.element.brackets:
+                inner = list(self._array_elements(item.element, element, scope))
+                for _ in range(count):
+                    yield from inner
+                continue
+            text = self.init_value(item.element, element, scope)
+            for _ in range(count):
+                yield text
+
+    # --- POUs ---
+
+    def _class_kwargs(self, access: Any) -> str:
+        kwargs = []
+        if access is not None:
+            if access & tf.AccessSpecifier.abstract:
+                kwargs.append("abstract=True")
+            if access & tf.AccessSpecifier.final:
+                kwargs.append("final=True")
+            if access & tf.AccessSpecifier.internal:
+                kwargs.append("internal=True")
+        return "".join(f", {k}" for k in kwargs)

@@ -1,0 +1,613 @@
+"""Pass 1: every declared name (POUs, data types, GVLs, members, methods, properties) into a symbol table.
+
+The table resolves ST's case-insensitive names to their declared spelling and types each member, so pass 2
+can type each expression and order the classes so a class exists before it is used.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import keyword
+import struct
+from collections.abc import Iterator, Sequence
+from typing import Any, NoReturn
+
+import blark.transform as tf
+
+from iecoop.exceptions import DefinitionError
+from iecoop.st.language import ELEMENTARY, INTEGER_LAYOUT, REAL_TYPES, STANDARD_FBS, canonical_type
+from iecoop.st.read.parse import StUnsupportedError, Unit
+from iecoop.st.read.frames import Ex, Scope
+from iecoop.st.read.names import python_name
+from iecoop.st.read.trees import lark_token_type, signature, variables
+
+_SECTION_OF = {
+    tf.LocatedVariableDeclarations: "VAR",
+    tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
+    tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
+    tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
+    tf.ExternalVariableDeclarations: "VAR_EXTERNAL", tf.FunctionVariableDeclarations: "VAR",
+}
+
+
+# --- types --------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class TypeRef:
+    """A resolved ST type: elementary, STRING(n), ARRAY, POINTER TO, REFERENCE TO or a user type."""
+
+    kind: str  # elem | string | array | pointer | reference | user | interface_null
+    name: str
+    of: TypeRef | None = None
+    length: str | None = None
+    bounds: list[tuple[str, str]] | None = None
+    #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
+    limits: tuple[str, str] | None = None
+
+    def annotation(self) -> str:
+        if self.kind == "array":
+            assert self.of is not None
+            return f"ARRAY[{self.of.annotation()}]"
+        if self.kind == "pointer":
+            assert self.of is not None
+            return f"POINTER_TO[{self.of.annotation()}]"
+        if self.kind == "reference":
+            assert self.of is not None
+            return f"REFERENCE_TO[{self.of.annotation()}]"
+        return self.name
+
+    @property
+    def is_int(self) -> bool:
+        return self.kind == "elem" and self.name in INTEGER_LAYOUT
+
+    @property
+    def is_real(self) -> bool:
+        return self.kind == "elem" and self.name in REAL_TYPES
+
+    @property
+    def is_bool(self) -> bool:
+        return self.kind == "elem" and self.name == "BOOL"
+
+    @property
+    def is_string(self) -> bool:
+        return self.kind == "string"
+
+    def deref(self) -> TypeRef:
+        return self.of if self.kind == "reference" and self.of is not None else self
+
+
+BOOL = TypeRef("elem", "BOOL")
+LINT = TypeRef("elem", "LINT")
+LREAL = TypeRef("elem", "LREAL")
+STRING = TypeRef("string", "STRING", length="80")
+
+
+@dataclasses.dataclass
+class Member:
+    """A variable: ``name`` is its Python code (``python_name`` of the ST name, or how it is reached), ``st`` its ST name."""
+
+    name: str
+    type: TypeRef | None
+    section: str
+    st: str = ""
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
+
+
+class ReferenceLocal(Member):
+    """An elementary ``REFERENCE TO`` local of a METHOD or FUNCTION: a pointer, read and written as an in-out."""
+
+
+@dataclasses.dataclass
+class Callable_:
+    name: str
+    returns: TypeRef | None
+    params: list[Member]
+    st: str = ""
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
+
+
+@dataclasses.dataclass
+class Decl:
+    """Everything the second pass needs to know about one declared name."""
+
+    kind: str  # fb program function interface struct union enum alias gvl stdfb
+    #: the Python name (``python_name`` of the ST name); ``st`` is the ST name
+    name: str
+    node: Any = None
+    unit: Unit | None = None
+    bases: list[str] = dataclasses.field(default_factory=list)
+    members: dict[str, Member] = dataclasses.field(default_factory=dict)
+    methods: dict[str, Callable_] = dataclasses.field(default_factory=dict)
+    props: dict[str, Member] = dataclasses.field(default_factory=dict)
+    method_nodes: list[Any] = dataclasses.field(default_factory=list)
+    action_nodes: list[Any] = dataclasses.field(default_factory=list)
+    prop_nodes: list[Any] = dataclasses.field(default_factory=list)
+    values: list[str] = dataclasses.field(default_factory=list)
+    alias_of: TypeRef | None = None
+    implements: list[str] = dataclasses.field(default_factory=list)
+    #: the top-level item of the source it comes from (its lines hold its comments)
+    item: Any = None
+    #: for a GVL gathered from several sources: the unit of each VAR_GLOBAL block
+    units: dict[int, Unit] = dataclasses.field(default_factory=dict)
+    st: str = ""
+    #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
+    declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.st = self.st or self.name
+
+
+#: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
+#: IQueryInterface, a type wherever a type may stand (its Python name is the key)
+IQUERYINTERFACE = Decl("interface", "IQueryInterface")
+SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
+
+
+class Symbols:
+    """Pass 1's symbol table, and the error and line bookkeeping every phase shares."""
+
+    def expr(self, node: Any, scope: Scope, *, store: bool = False, expected: TypeRef | None = None) -> Ex:
+        """Defined by a later phase of the translator."""
+        raise NotImplementedError
+
+    def __init__(self, units: Sequence[Unit], externals: Sequence[str] = ()) -> None:
+        self.units = units
+        #: ST name (lower case) -> declaration; ``by_python``: the same by Python name (a TypeRef's name)
+        self.decls: dict[str, Decl] = {}
+        self.by_python: dict[str, Decl] = {}
+        #: top-level ST names (lower case) -> what and where they are declared, for the duplicate check
+        self.declared: dict[str, tuple[str, str]] = {}
+        self.enum_values: dict[str, tuple[str, str]] = {}
+        self.globals: dict[str, tuple[str, Member]] = {}
+        self.externals = {name.lower() for name in externals}
+        self.imports: dict[str, set[str]] = {}
+        self.out: list[str] = []
+        #: lines written before the current declaration's class (the helper classes of its local blocks)
+        self.preamble: list[str] = []
+        self.unit: Unit | None = None
+        self.line: int | None = None
+        self.window: tuple[int, int] = (0, 0)
+        self.used_comments: set[int] = set()
+        self.pending_references: list[Any] = []
+        #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
+        self.marked_accessors: dict[int, str] = {}
+        #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
+        self.named_programs: set[str] = set()
+        self._stdlib_decls()
+
+    # --- errors and imports ---
+
+    def fail(self, construct: str, node: Any = None) -> StUnsupportedError:
+        line = getattr(getattr(node, "meta", None), "line", None) or self.line
+        where = self.unit.where(line) if self.unit is not None else "<st>"
+        return StUnsupportedError(f"{where}: {construct}")
+
+    def generic_visit(self, node: Any, kind: str) -> NoReturn:
+        """A ``statement`` or ``expression`` node no ``visit_<blark node>`` reads: named with its file and line."""
+        raise self.fail(f"{kind} {type(node).__name__} is not supported", node)
+
+    # --- pass 1: the symbol table ---
+
+    def _stdlib_decls(self) -> None:
+        import iecoop.stdlib as stdlib
+
+        for name in STANDARD_FBS:
+            cls = getattr(stdlib, name)
+            decl = Decl("stdfb", name)
+            for record in cls._iec_layout_.fields:
+                decl.members[record.name.lower()] = Member(record.name, self._elem_or_none(record.info.name), record.section)
+            self.decls[name.lower()] = self.by_python[name] = decl
+
+    def _elem_or_none(self, name: str) -> TypeRef | None:
+        name = canonical_type(name)
+        if name in ELEMENTARY:
+            return TypeRef("string", name, length="80") if name in ("STRING", "WSTRING") else TypeRef("elem", name)
+        return None
+
+    def collect(self) -> None:
+        for unit in self.units:
+            self.unit = unit
+            current: Decl | None = None
+            for item in unit.tree.items:
+                self.line = item.meta.line if item.meta else None
+                if isinstance(item, (tf.Method, tf.Property)):
+                    if current is None or current.kind not in ("fb", "interface", "program"):
+                        raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
+                    (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    if isinstance(item, tf.Property):
+                        self._mark_accessor(unit, item)
+                    continue
+                if isinstance(item, tf.Action):
+                    if current is None or current.kind not in ("fb", "program"):
+                        raise self.fail(f"ACTION {item.name} does not follow a FUNCTION_BLOCK or PROGRAM", item)
+                    current.action_nodes.append(item)
+                    continue
+                current = self._collect_item(unit, item)
+                if current is not None:
+                    current.item = item
+
+    def _mark_accessor(self, unit: Unit, node: Any) -> None:
+        """Note a PROPERTY block marked by a ``// Get`` or ``// Set`` comment on the line before it.
+
+        Besides ``Name.Get`` / ``Name.Set``, the plain-text form iecoop's ST writer uses
+        (``iecoop.st.dump``) for a property with both accessors: two blocks of the same name.
+        """
+        line = getattr(node.meta, "line", None) if node.meta else None
+        for token in unit.comments:
+            if line is not None and token.line == line - 1:
+                marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
+                if marker in ("get", "set"):
+                    self.marked_accessors[id(node)] = marker
+                    self.used_comments.add(id(token))  # a mark, not a comment to carry over
+
+    def _marked_list_name(self, unit: Unit, node: Any) -> str | None:
+        """The name of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its pragmas), as dump writes it."""
+        line = getattr(node.meta, "line", None) if node.meta else None
+        if line is None:
+            return None
+        above = [t for t in unit.comments if t.line < line]
+        # The mark is on the line right above the block or above the pragmas ({attribute ...}) heading it.
+        expected = line - 1
+        for token in sorted(above, key=lambda t: -t.line):
+            text = str(token).strip()
+            if token.line != expected:
+                return None
+            if text.startswith("{"):
+                expected -= 1
+                continue
+            words = text[2:].split() if text.startswith("//") else []
+            if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier():
+                self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                return words[1]
+            return None
+        return None
+
+    def declare(self, registry: dict[str, tuple[str, str]], what: str, name: str, node: Any = None) -> None:
+        """Note that ``what name`` is declared here; DefinitionError naming both if ``registry`` has it already."""
+        line = getattr(getattr(node, "meta", None), "line", None) or self.line
+        where = self.unit.where(line) if self.unit is not None else "<st>"
+        first = registry.get(name.lower())
+        if first is not None:
+            raise DefinitionError(f"{where}: {what} is declared twice: as {first[0]} at {first[1]} and as {what} at {where} "
+                                  "(ST names are case-insensitive)")
+        registry[name.lower()] = (what, where)
+
+    def _add(self, decl: Decl) -> Decl:
+        keyword = {"fb": "FUNCTION_BLOCK", "gvl": "GVL", "alias": "TYPE"}.get(decl.kind, decl.kind.upper())
+        self.declare(self.declared, f"{keyword} {decl.st}", decl.st, decl.node if decl.kind != "gvl" else decl.node[0])
+        decl.name = python_name(decl.st)
+        self.decls[decl.st.lower()] = self.by_python[decl.name] = decl
+        return decl
+
+    def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
+        if isinstance(item, tf.FunctionBlock):
+            decl = self._add(Decl("fb", str(item.name), item, unit))
+            if item.extends:
+                decl.bases.append(str(item.extends.interfaces[0]))
+            decl.implements = [str(i) for i in item.implements.interfaces] if item.implements else []
+            return decl
+        if isinstance(item, tf.Program):
+            return self._add(Decl("program", str(item.name), item, unit))
+        if isinstance(item, tf.Function):
+            return self._add(Decl("function", str(item.name), item, unit))
+        if isinstance(item, tf.Interface):
+            decl = self._add(Decl("interface", str(item.name), item, unit))
+            if item.extends:
+                decl.bases.extend(str(i) for i in item.extends.interfaces)
+            return decl
+        if isinstance(item, tf.GlobalVariableDeclarations):
+            name = str(item.name or "")
+            if not name.isidentifier():
+                stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
+                name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
+            existing = self.decls.get(str(name).lower())
+            if existing is not None and existing.kind == "gvl":
+                existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
+                existing.units[id(item)] = unit
+                return None
+            decl = self._add(Decl("gvl", str(name), [item], unit))
+            decl.units[id(item)] = unit
+            return None
+        if isinstance(item, tf.DataTypeDeclaration):
+            inner = item.declaration
+            if isinstance(inner, tf.StructureTypeDeclaration):
+                decl = self._add(Decl("struct", str(inner.name), inner, unit))
+                if inner.extends:
+                    decl.bases.append(str(inner.extends.interfaces[0]))
+            elif isinstance(inner, tf.UnionTypeDeclaration):
+                decl = self._add(Decl("union", str(inner.name), inner, unit))
+            elif isinstance(inner, tf.EnumeratedTypeDeclaration):
+                decl = self._add(Decl("enum", str(inner.name), inner, unit))
+                for value in inner.init.spec.values or []:
+                    self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
+                    decl.values.append(str(value.name))
+                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
+            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
+                                    tf.SubrangeTypeDeclaration)):
+                decl = self._add(Decl("alias", str(inner.name), inner, unit))
+            else:
+                raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
+            decl.item = item
+            return None
+        raise self.fail(f"{type(item).__name__} at the top level is not supported", item)
+
+    def resolve_members(self) -> None:
+        """Second half of pass 1: member types, once every type name is known."""
+        for decl in list(self.decls.values()):
+            self.unit = decl.unit
+            if decl.kind in ("fb", "program", "function"):
+                for block in decl.node.declarations:
+                    for member in self._block_members(block, attribute=decl.kind != "function"):
+                        self._add_member(decl, member)
+            elif decl.kind in ("struct", "union"):
+                for element in decl.node.declarations:
+                    for member in self._element_members(element, decl.kind):
+                        self._add_member(decl, member)
+            elif decl.kind == "gvl":
+                for block in decl.node:
+                    self.unit = decl.units.get(id(block), decl.unit)
+                    for member in self._block_members(block, attribute=True):
+                        self._add_member(decl, member)
+                        self.globals[member.st.lower()] = (decl.name, member)
+            elif decl.kind == "alias":
+                decl.alias_of = self._alias_target(decl.node)
+            self.unit = decl.unit
+            for node in decl.method_nodes:
+                name = str(node.name)
+                self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
+                local: dict[str, tuple[str, str]] = {}
+                members = []
+                for block in node.declarations:
+                    for member in self._block_members(block):
+                        self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
+                        members.append(member)
+                returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
+            for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
+                name = str(node.name).rsplit(".", 1)[-1]
+                self.declare(decl.declared, f"ACTION {decl.st}.{name}", name, node)
+                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), None, [], st=name)
+            for node in decl.prop_nodes:
+                name = str(node.name).split(".")[0]
+                if name.lower() not in decl.props:  # its Get and its Set accessor: one PROPERTY
+                    self.declare(decl.declared, f"PROPERTY {decl.st}.{name}", name, node)
+                type_ = self._spec_type(node.return_type.spec, node)
+                decl.props[name.lower()] = Member(python_name(name, attribute=True), type_, "PROPERTY", st=name)
+            if decl.kind == "function":
+                returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
+                params = signature(list(decl.members.values()))
+                decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
+
+    def _add_member(self, decl: Decl, member: Member) -> None:
+        """A variable of ``decl``, refused if ``decl`` declares its name already (its line is ``self.line``)."""
+        self.declare(decl.declared, f"{member.section} {decl.st}.{member.st}", member.st)
+        decl.members[member.st.lower()] = member
+
+    def _alias_target(self, node: Any) -> TypeRef:
+        if isinstance(node, tf.SimpleTypeDeclaration):
+            return self._spec_type(node.init.spec, node)
+        if isinstance(node, tf.StringTypeDeclaration):
+            return self._string_type(node.string_type)
+        if isinstance(node, tf.SubrangeTypeDeclaration):
+            return self.init_type(node.init, node)
+        return self._array_type(node.init.spec, None, node)
+
+    # --- types from blark nodes ---
+
+    def type_named(self, name: str, node: Any) -> TypeRef:
+        elem = self._elem_or_none(name)
+        if elem is not None:
+            return elem
+        if name.upper() == "__SYSTEM.EXCEPTIONCODE":
+            return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
+        if name.upper() == "__SYSTEM.VAR_INFO":
+            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
+            return TypeRef("user", IQUERYINTERFACE.name)
+        decl = self.decls.get(name.lower())
+        if decl is None:
+            raise self.fail(f"unknown type {name!r}", node)
+        return TypeRef("user", decl.name)
+
+    def _string_type(self, spec: Any) -> TypeRef:
+        kind = str(spec.type_name).upper()
+        length = "80"
+        if spec.length is not None:
+            length = self.const_expr(spec.length.length)
+        return TypeRef("string", kind, length=length)
+
+    def _indirect(self, target: TypeRef, indirection: Any) -> TypeRef:
+        if indirection is None:
+            return target
+        if indirection.reference:
+            return TypeRef("reference", "REFERENCE_TO", of=target)
+        for _ in range(indirection.pointer_depth):
+            target = TypeRef("pointer", "POINTER_TO", of=target)
+        return target
+
+    def _spec_type(self, spec: Any, node: Any) -> TypeRef:
+        if isinstance(spec, tf.SimpleSpecification):
+            if isinstance(spec.type, tf.StringTypeSpecification):
+                return self._string_type(spec.type)
+            return self.type_named(str(spec.type), node)
+        if isinstance(spec, tf.IndirectSimpleSpecification):
+            return self._indirect(self._spec_type(spec.type, node), spec.indirection)
+        if isinstance(spec, tf.StringTypeSpecification):
+            return self._string_type(spec)
+        if isinstance(spec, tf.DataType):
+            if isinstance(spec.type_name, tf.StringTypeSpecification):
+                inner = self._string_type(spec.type_name)
+            else:
+                inner = self.type_named(str(spec.type_name), node)
+            return self._indirect(inner, spec.indirection)
+        if isinstance(spec, tf.ArraySpecification):
+            return self._array_type(spec, None, node)
+        if isinstance(spec, lark_token_type()):
+            return self.type_named(str(spec), node)
+        raise self.fail(f"type specification {type(spec).__name__} is not supported", node)
+
+    def _array_type(self, spec: Any, indirection: Any, node: Any) -> TypeRef:
+        bounds = []
+        for sub in spec.subranges:
+            if not isinstance(sub, tf.PartialSubrange):
+                raise self.fail("ARRAY[*] (variable length) is not supported", node)
+            bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
+        element_spec = spec.type
+        if isinstance(element_spec, tf.ArraySpecification):
+            element = self._array_type(element_spec, None, node)
+        else:
+            element = self._spec_type(element_spec, node)
+        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds), indirection)
+
+    def const_expr(self, node: Any) -> str:
+        """A constant expression (ARRAY bounds, STRING length) as Python text."""
+        if isinstance(node, (tf.ParenthesizedExpression, tf.BracketedExpression)):
+            node = node.expr if isinstance(node, tf.ParenthesizedExpression) else node.expression
+        scope = Scope(None, "const")
+        return self.expr(node, scope).code
+
+    def init_type(self, init: Any, node: Any) -> TypeRef:
+        if isinstance(init, tf.ArrayTypeInitialization):
+            return self._array_type(init.spec, init.indirection, node)
+        if isinstance(init, tf.StringTypeInitialization):
+            return self._string_type(init.spec)
+        if isinstance(init, tf.TypeInitialization):
+            return self._spec_type(init.spec, node)
+        if isinstance(init, tf.InitializedStructure):
+            return self.type_named(str(init.name), node)
+        if isinstance(init, tf.EnumeratedTypeInitialization):
+            if init.spec.values:
+                raise self.fail("an inline enumeration in a declaration is not supported (declare a TYPE)", node)
+            return self.type_named(str(init.spec.type_name), node)
+        if isinstance(init, tf.SubrangeTypeInitialization):
+            if init.indirection is not None or not isinstance(init.spec.subrange, tf.PartialSubrange):
+                raise self.fail("a subrange type needs both limits and no POINTER TO / REFERENCE TO", node)
+            base = self.type_named(str(init.spec.type_name), node)
+            if not base.is_int:
+                raise self.fail(f"a subrange of {base.name} (subranges are of integer types)", node)
+            limits = tuple(str(eval(self.const_expr(n), {})) for n in (init.spec.subrange.start, init.spec.subrange.stop))
+            return TypeRef("elem", base.name, limits=(limits[0], limits[1]))
+        raise self.fail(f"declaration {type(init).__name__} is not supported", node)
+
+    def _block_members(self, block: Any, attribute: bool = False) -> Iterator[Member]:
+        """The variables of one VAR block; ``attribute``: of a block or GVL (fields), not of a METHOD or FUNCTION."""
+        section = _SECTION_OF.get(type(block))
+        if isinstance(block, tf.GlobalVariableDeclarations):
+            section = "VAR_GLOBAL"
+        if isinstance(block, tf.LocatedVariableDeclarations):
+            section = "VAR"
+        if section is None:
+            raise self.fail(f"{type(block).__name__} is not supported", block)
+        for item in block.items:
+            self.line = item.meta.line if item.meta else self.line
+            for name, type_ in self._item_types(item):
+                yield Member(python_name(name, attribute), type_, section, st=name)
+
+    def location(self, item: Any) -> str:
+        """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            return str(item.location)
+        spec = getattr(item, "spec", None)
+        if isinstance(spec, tf.GlobalVariableSpec) and spec.location is not None:
+            return str(spec.location)
+        located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
+        return located[0] if located else ""
+
+    def located_section(self, item: Any, section: str) -> str:
+        """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
+        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
+        METHOD's or FUNCTION's inputs stay the ones it declares)."""
+        return "VAR_INPUT" if section == "VAR" and "%I" in self.location(item).upper() else section
+
+    def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
+        if isinstance(item, tf.ExternalVariableDeclaration):
+            yield str(item.name), self._spec_type(item.spec, item)
+            return
+        if isinstance(item, tf.GlobalVariableDeclaration):
+            init = item.init
+            if isinstance(init, tf.FunctionCall):
+                type_ = self.type_named(str(init.name.name), item)
+            else:
+                type_ = self.init_type(init, item)
+            for name in item.spec.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.FunctionBlockNameDeclaration):
+            type_ = self.type_named(str(item.spec), item)
+            for name in item.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.FunctionBlockInvocationDeclaration):
+            type_ = self.type_named(str(item.init.name.name), item)
+            for name in item.variables:
+                yield str(name), type_
+            return
+        if isinstance(item, tf.EdgeDeclaration):
+            raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
+        if isinstance(item, tf.LocatedVariableDeclaration):
+            if item.name is None:
+                raise self.fail(f"a located variable without a name ({item.location}) is not supported: name it", item)
+            yield str(item.name.name), self.init_type(item.init, item)
+            return
+        init = getattr(item, "init", None)
+        type_ = self.init_type(init, item)
+        for var in item.variables:
+            yield str(var.variable.name), type_
+
+    def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
+        self.line = element.meta.line if element.meta else self.line
+        if isinstance(element, tf.UnionElementDeclaration):
+            yield Member(python_name(str(element.name), attribute=True), self._spec_type(element.spec, element), "VAR", st=str(element.name))
+            return
+        init = element.init
+        if isinstance(init, tf.FunctionCall):
+            type_ = self.type_named(str(init.name.name), element)
+        else:
+            type_ = self.init_type(init, element)
+        for var in element.variables:
+            yield Member(python_name(str(var.variable.name), attribute=True), type_, "VAR", st=str(var.variable.name))
+
+    # --- lookups ---
+
+    def decl_of(self, type_: TypeRef | None) -> Decl | None:
+        if type_ is None:
+            return None
+        type_ = type_.deref()
+        if type_.kind != "user":
+            return None
+        decl = self.by_python.get(type_.name) or SYSTEM_DECLS.get(type_.name.lower())
+        while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
+            decl = self.by_python.get(decl.alias_of.name)
+        return decl
+
+    def lineage(self, decl: Decl) -> Iterator[Decl]:
+        seen = set()
+        pending = [decl]
+        while pending:
+            current = pending.pop(0)
+            if current.name in seen:
+                continue
+            seen.add(current.name)
+            yield current
+            for base in current.bases:
+                if base.upper() == "__SYSTEM.IQUERYINTERFACE":
+                    continue
+                found = self.decls.get(base.lower())
+                if found is not None:
+                    pending.append(found)
+
+    def find_member(self, decl: Decl, name: str) -> tuple[str, Member | Callable_] | None:
+        key = name.lower()
+        for current in self.lineage(decl):
+            if key in current.members:
+                return "member", current.members[key]
+            if key in current.props:
+                return "prop", current.props[key]
+            if key in current.methods:
+                return "method", current.methods[key]
+        return None

@@ -1,0 +1,193 @@
+"""Questions asked of blark trees and literals, shared by the phases (no state, no output)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import struct
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING, Any
+
+import blark.transform as tf
+
+if TYPE_CHECKING:  # symbols imports this module
+    from iecoop.st.read.symbols import Member
+
+VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
+
+
+def structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
+    """``(name, value)`` of each element of a structure initialiser, or None if ``value`` is not one.
+
+    blark reads a one-element initialiser, ``(x := 1)``, as a parenthesised assignment, and
+    inside an array initialiser may read ``(a := 1, b := 2, c := 3)`` as ``a := [1, b := 2], c := 3``.
+    """
+    if isinstance(value, tf.StructureInitialization):
+        found: list[tuple[str | None, Any]] = []
+        for element in value.elements:
+            found += misread_elements(str(element.name) if element.name is not None else None, element.value)
+        return found
+    inner = value.expr if isinstance(value, tf.ParenthesizedExpression) else None
+    if isinstance(inner, tf.BinaryOperation) and str(inner.op) == ":=" and isinstance(inner.left, tf.SimpleVariable):
+        return [(str(inner.left.name), inner.right)]
+    return None
+
+
+def misread_elements(name: str | None, value: Any) -> list[tuple[str | None, Any]]:
+    """``name := value`` of a structure initialiser, split again where blark read the next elements into ``value``."""
+    items = value.elements if isinstance(value, tf.ArrayInitialization) and not value.brackets else []
+    rest = items[1:]
+    if len(items) > 1 and items[0].count is None and all(
+        item.count is None and isinstance(item.element, tf.BinaryOperation) and str(item.element.op) == ":="
+        and isinstance(item.element.left, tf.SimpleVariable) for item in rest
+    ):
+        return [(name, items[0].element)] + [(str(item.element.left.name), item.element.right) for item in rest]
+    return [(name, value)]
+
+
+def exact_real(code: str) -> bool:
+    """Whether ``code`` is a number literal that a REAL (32-bit) holds exactly: no TO_REAL needed."""
+    try:
+        number = float(code)
+    except ValueError:
+        return False
+    return bool(struct.unpack("<f", struct.pack("<f", number))[0] == number)
+
+
+VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
+
+
+def accessor_access(node: Any) -> Any:
+    """The access of one PROPERTY accessor: its own specifier, where it has one, in place of the property's.
+
+    TwinCAT keeps an accessor's specifier at the head of the accessor's declaration, so the flat form
+    reads ``PROPERTY PUBLIC Capacity : REAL PRIVATE`` (blark's ``access_override``); ABSTRACT and
+    FINAL stay those of the property.
+    """
+    own = node.access_override
+    if own is None:
+        return node.access
+    kept = node.access & ~VISIBILITY if node.access is not None else tf.AccessSpecifier(0)
+    return kept | own
+
+
+def is_zero(node: Any) -> bool:
+    """Whether ``node`` is the literal 0 (``16#0``, ``UDINT#0`` too): the address of nothing."""
+    return isinstance(node, tf.Integer) and int(str(node.value).replace("_", ""), node.base) == 0
+
+
+def signature(members: Sequence[Member]) -> list[Member]:
+    """A METHOD's / FUNCTION's parameters: inputs and in-outs in declaration order, then the outputs."""
+    inputs = [m for m in members if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
+    return inputs + [m for m in members if m.section == "VAR_OUTPUT"]
+
+
+def variables(node: Any) -> Iterator[Any]:
+    """The variables (``x``, ``fb.Prop``) read by the expression ``node``."""
+    if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
+        yield node
+        if isinstance(node, tf.MultiElementVariable):
+            for element in node.elements:
+                if isinstance(element, tf.SubscriptList):
+                    for subscript in element.subscripts:
+                        yield from variables(subscript)
+        return
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from variables(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from variables(item)
+
+
+def by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
+    """The bare variables (lower case) that the calls in ``node`` get as an output (``=>``), or as an argument of
+    a METHOD or FUNCTION whose name (in ``in_out``) has a VAR_IN_OUT: by name, so never fewer than need an address."""
+    if isinstance(node, tf.FunctionCall):
+        callee = str(node.name).split(".")[-1].lower()
+        for param in node.parameters or []:
+            value = getattr(param, "value", None)
+            if isinstance(value, tf.SimpleVariable) and not value.dereferenced and (
+                    isinstance(param, tf.OutputParameterAssignment) or callee in in_out):
+                yield str(value.name).lower()
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from by_reference_arguments(getattr(node, field.name), in_out)
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from by_reference_arguments(item, in_out)
+
+
+def has_call(node: Any) -> bool:
+    """Whether the expression ``node`` calls a function, method or block (something that may have a side effect)."""
+    if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
+        return True
+    if dataclasses.is_dataclass(node):
+        return any(has_call(getattr(node, field.name)) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(has_call(item) for item in node)
+    return False
+
+
+def assigned(node: Any) -> Iterator[Any]:
+    """The variables the statements in ``node`` assign with ``:=`` (each target of each assignment)."""
+    if isinstance(node, tf.AssignmentStatement):
+        yield from node.variables
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from assigned(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from assigned(item)
+
+
+def jumps_in_loop(node: Any, in_loop: bool = False) -> bool:
+    """Whether a JMP in ``node`` sits inside a FOR, WHILE or REPEAT loop (it would leave the loop)."""
+    if isinstance(node, tf.JumpStatement):
+        return in_loop
+    in_loop = in_loop or isinstance(node, (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement))
+    if dataclasses.is_dataclass(node):
+        return any(jumps_in_loop(getattr(node, field.name), in_loop) for field in dataclasses.fields(node))
+    if isinstance(node, (list, tuple)):
+        return any(jumps_in_loop(item, in_loop) for item in node)
+    return False
+
+
+def statements_of(body: Any) -> list[Any]:
+    """The statements of a POU body (blark gives a lone statement of the grammar overlay as itself)."""
+    if body is None:
+        return []
+    statements = getattr(body, "statements", None)
+    return list(statements) if statements is not None else [body]
+
+
+def lark_token_type() -> type:
+    import lark
+
+    return lark.Token
+
+
+def python_string(text: str) -> str:
+    """An ST string literal ('...' or "...") as a Python literal."""
+    quote = text[0]
+    body = text[1:-1]
+    escapes = {"$$": "$", "$'": "'", '$"': '"', "$L": "\n", "$N": "\n", "$P": "\f", "$R": "\r", "$T": "\t"}
+    out = []
+    i = 0
+    while i < len(body):
+        if body[i] == "$" and i + 1 < len(body):
+            pair = body[i:i + 2].upper() if body[i + 1].isalpha() else body[i:i + 2]
+            if pair in escapes:
+                out.append(escapes[pair])
+                i += 2
+                continue
+            if i + 2 < len(body) and all(c in "0123456789abcdefABCDEF" for c in body[i + 1:i + 3]):
+                out.append(chr(int(body[i + 1:i + 3], 16)))
+                i += 3
+                continue
+        out.append(body[i])
+        i += 1
+    del quote
+    return json.dumps("".join(out), ensure_ascii=False)
+
+
