@@ -59,6 +59,7 @@ from iecoop.cli.trace import (
 from iecoop.st.export import dump
 from patterns.showcase.catalogue import CATEGORIES, NAMES, Entry, build, entries, find, read, show, unknown_name
 from patterns.showcase.text import render_rst
+from patterns.showcase.entry import Column, Scenario
 
 __all__ = [
     "COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "Trace", "main", "run_entry",
@@ -69,6 +70,19 @@ __all__ = [
 TOUR_CATEGORIES = ("creational", "structural", "behavioral", "solid")
 #: Trace rows shown per pattern in the tour (first and last included).
 TOUR_ROWS = 20
+
+
+def _width(scenario: Scenario, column: Column) -> int:
+    """The widest text a column's type allows (an enumeration's longest name), read once before the run.
+
+    A value that cannot be read yet (a pointer the first cycle sets) leaves the column to grow as it goes.
+    """
+    if column.fmt:
+        return 0
+    try:
+        return widest(read(scenario, column))
+    except PlcException:
+        return 0
 
 
 def run_entry(
@@ -94,7 +108,7 @@ def run_entry(
         return Trace([column.label for column in entry.columns], fault=exc, fault_message=exc.message)
     probes = [
         Probe(column.label, functools.partial(lambda column: show(read(scenario, column), column.fmt), column),
-              column.watch, 0 if column.fmt else widest(read(scenario, column)))
+              column.watch, _width(scenario, column))
         for column in entry.columns
     ]
     script = entry.script
