@@ -12,7 +12,7 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.statements import Statements
 from iecoop.st.read.symbols import Callable_, Decl, Member, TypeRef
-from iecoop.st.read.trees import lark_token_type, python_string, structure_elements
+from iecoop.st.read.trees import flag_keywords, lark_token_type, python_string, structure_elements
 
 
 class Declarations(Statements):
@@ -269,12 +269,5 @@ class Declarations(Statements):
     # --- POUs ---
 
     def _class_kwargs(self, access: Any) -> str:
-        kwargs = []
-        if access is not None:
-            if access & tf.AccessSpecifier.abstract:
-                kwargs.append("abstract=True")
-            if access & tf.AccessSpecifier.final:
-                kwargs.append("final=True")
-            if access & tf.AccessSpecifier.internal:
-                kwargs.append("internal=True")
+        kwargs = flag_keywords(access, tf.AccessSpecifier, ("abstract", "final", "internal"))
         return "".join(f", {k}" for k in kwargs)

@@ -14,7 +14,10 @@ from iecoop.st.read.declarations import Declarations
 from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import BOOL, Decl, Member, ReferenceLocal, TypeRef, _SECTION_OF
-from iecoop.st.read.trees import accessor_access, by_reference_arguments, signature, statements_of, variables
+from iecoop.st.read.trees import accessor_access, by_reference_arguments, flag_keywords, signature, statements_of, variables
+
+#: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
+_QUALIFIERS = ("constant", "retain", "persistent")
 
 
 class Pous(Declarations):
@@ -73,15 +76,7 @@ class Pous(Declarations):
         for block in blocks:
             self.comments(block, level)
             section = _SECTION_OF.get(type(block))
-            attrs = getattr(block, "attrs", None)
-            extra = []
-            if attrs is not None:
-                if attrs & tf.VariableAttributes.constant:
-                    extra.append("constant=True")
-                if attrs & tf.VariableAttributes.retain:
-                    extra.append("retain=True")
-                if attrs & tf.VariableAttributes.persistent:
-                    extra.append("persistent=True")
+            extra = flag_keywords(getattr(block, "attrs", None), tf.VariableAttributes, _QUALIFIERS)
             if method is not None and section == "VAR_INST":
                 extra.append(f'method="{method}"')
             for item in block.items:
@@ -566,15 +561,7 @@ class Pous(Declarations):
             self.unit = decl.units.get(id(block), self.unit)
             self.enter(block)
             self.comments(block, 1)
-            attrs = block.attrs
-            extra = []
-            if attrs is not None:
-                if attrs & tf.GlobalVariableAttributes.constant:
-                    extra.append("constant=True")
-                if attrs & tf.GlobalVariableAttributes.retain:
-                    extra.append("retain=True")
-                if attrs & tf.GlobalVariableAttributes.persistent:
-                    extra.append("persistent=True")
+            extra = flag_keywords(block.attrs, tf.GlobalVariableAttributes, _QUALIFIERS)
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
                 trailing = self.comments(item, 1, inline=True)

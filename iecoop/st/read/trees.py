@@ -57,6 +57,13 @@ def exact_real(code: str) -> bool:
 VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
 
 
+def flag_keywords(flags: Any, kind: Any, names: Sequence[str]) -> list[str]:
+    """``name=True`` for each of ``names`` set in blark's ``flags`` of enum ``kind`` (``CONSTANT RETAIN`` ...)."""
+    if flags is None:
+        return []
+    return [f"{name}=True" for name in names if flags & getattr(kind, name)]
+
+
 def accessor_access(node: Any) -> Any:
     """The access of one PROPERTY accessor: its own specifier, where it has one, in place of the property's.
 
