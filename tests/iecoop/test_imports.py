@@ -19,7 +19,7 @@ PACKAGE = ROOT / "iecoop"
 
 #: Packages above the runtime that use only the public API below them (and the process-wide switch,
 #: and the one compiler of generated Python, so its scripts are numbered and registered in one place).
-OUTER = ("iecoop.opcua", "iecoop.uml", "iecoop.stdlib", "iecoop.testing", "iecoop.st", "iecoop.runtime")
+OUTER = ("iecoop.opcua", "iecoop.uml", "iecoop.stdlib", "iecoop.testing", "iecoop.st", "iecoop.runtime", "iecoop.libraries")
 ALLOWED_PRIVATE = frozenset({"iecoop._config", "iecoop._codegen"})
 
 
