@@ -10,6 +10,7 @@ refuses the plain use. The generated Python imports what it uses from the librar
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import inspect
 import os
@@ -25,7 +26,7 @@ from iecoop.exceptions import DefinitionError
 from iecoop.metadata import Kind, iec_class, kind_of
 from iecoop.parameters import parameter_sections
 from iecoop.st.read.names import python_name
-from iecoop.st.read.parse import LibraryReference
+from iecoop.st.read.parse import LibraryReference, Unit
 
 if typing.TYPE_CHECKING:
     from iecoop.st.read.symbols import Decl, Member, Symbols, TypeRef
@@ -83,6 +84,10 @@ class Lookup(dict[str, _V]):
         self.imports: dict[str, set[str]] = {}
         #: ``tc2_standard.concat`` -> ``CONCAT``: a library's name for a function the translator has built in
         self.builtin: dict[str, str] = {}
+        #: the namespaces of the bound libraries (lower case)
+        self.namespaces: set[str] = set()
+        #: id of a library declaration -> its library's namespace as the project spells it
+        self.namespace_of: dict[int, str] = {}
 
     def bind(self, key: str, value: _V, decl: Decl) -> None:
         dict.__setitem__(self, key, value)
@@ -166,6 +171,7 @@ class _Binder:
         plain: dict[str, list[tuple[BoundLibrary, Decl]]] = {}
         made: list[tuple[BoundLibrary, Decl, Any]] = []
         for library in self.libraries:
+            symbols.decls.namespaces.add(library.namespace.lower())
             for st_name in library.names():
                 value = getattr(library.module, st_name, None)
                 kind = _kind(value)
@@ -179,6 +185,7 @@ class _Binder:
                 if decl is None:
                     decl = Decl(kind, python_name(st_name), st=st_name)
                     decl.library = library.import_from
+                    symbols.decls.namespace_of[id(decl)] = library.namespace
                     self.by_object[id(value)] = decl
                     made.append((library, decl, value))
                 self._register(f"{library.namespace}.{st_name}".lower(), decl)
@@ -203,7 +210,7 @@ class _Binder:
         for library, decl, value in made:
             if counts[decl.name] > 1 or decl.name in self.symbols.by_python:
                 decl.name = f"{library.namespace}_{decl.name}"
-            self._import_as(decl, getattr(value, "__name__", None) or decl.st)
+            self._import_as(decl, decl.st)
             self.symbols.by_python.bind(decl.name, decl, decl)
 
     @staticmethod
@@ -224,17 +231,18 @@ class _Binder:
                                            f"qualified_only (write {library.namespace}.{decl.st})")
             return
         self._register(key, decl)
-        if decl.kind == "gvl" and key not in library.qualified:
-            for member in decl.members.values():
-                self.symbols.globals.bind(member.st.lower(), (decl.name, member), decl)
-        if decl.kind == "enum" and key not in library.qualified:
-            for value in decl.values:
-                self.symbols.enum_values.bind(value.lower(), (decl.name, python_name(value, attribute=True)), decl)
-        elif decl.kind in ("gvl", "enum"):
-            for name in (m.st for m in decl.members.values()) if decl.kind == "gvl" else decl.values:
-                rule = (f"{name} needs its list's name: {decl.kind.upper()} {library.namespace}.{decl.st} "
-                        f"is qualified_only (write {decl.st}.{name})")
-                (self.symbols.globals if decl.kind == "gvl" else self.symbols.enum_values).refuse(name.lower(), rule)
+        if decl.kind not in ("gvl", "enum"):
+            return
+        table = self.symbols.globals if decl.kind == "gvl" else self.symbols.enum_values
+        for name in [m.st for m in decl.members.values()] if decl.kind == "gvl" else decl.values:
+            if key in library.qualified:
+                what = "GVL" if decl.kind == "gvl" else "enumeration"
+                table.refuse(name.lower(), f"{name} needs its {what}'s name: {what} {library.namespace}.{decl.st} "
+                                           f"is qualified_only (write {decl.st}.{name})")
+            elif decl.kind == "gvl":
+                table.bind(name.lower(), (decl.name, decl.members[name.lower()]), decl)
+            else:
+                table.bind(name.lower(), (decl.name, python_name(name, attribute=True)), decl)
 
     # --- members ---
 
@@ -353,7 +361,7 @@ def rename_shadowed(symbols: Symbols) -> None:
     for key, (decl, _) in list(symbols.by_python.bound.items()):
         if dict.get(symbols.by_python, key) is decl:
             continue
-        namespace = next((k.rpartition(".")[0] for k, (v, _) in symbols.decls.bound.items() if v is decl and "." in k), "lib")
+        namespace = symbols.decls.namespace_of[id(decl)]
         attribute = decl.import_spec.split(" as ")[0]
         decl.name = f"{namespace}_{attribute}"
         _Binder._import_as(decl, attribute)
@@ -367,7 +375,7 @@ def rename_shadowed(symbols: Symbols) -> None:
 # --- qualified names in expressions ------------------------------------------------------------------
 
 
-def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
+def collapse_namespaces(units: Iterable[Unit], decls: Lookup[Any]) -> None:
     """``Lib.F_Add(1)``, ``Lib.GVL_C.cMax``: the namespace and the name it qualifies become one name, ``Lib.F_Add``.
 
     blark reads a qualified name in an expression as a variable ``Lib`` and its field; the symbol table
@@ -380,17 +388,17 @@ def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
         namespace, _, name = key.rpartition(".")
         if namespace:
             namespaces.setdefault(namespace, {})[name] = decls.builtin.get(key)
-    for tree in trees:
-        for holder, key, node in _slots(tree):
-            if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+    if not namespaces:
+        return
+    for unit in units:
+        if not any(_qualified(node, namespaces) for _, _, node in _slots(unit.tree)):
+            continue
+        unit.tree = copy.deepcopy(unit.tree)  # parsed trees are cached and shared: change a copy
+        for holder, key, node in _slots(unit.tree):
+            declared = _qualified(node, namespaces)
+            if declared is None:
                 continue
-            head, first = node.name, node.elements[0]
-            if not isinstance(head, tf.SimpleVariable) or not isinstance(first, tf.FieldSelector):
-                continue
-            declared = namespaces.get(str(head.name).lower())
-            field = first.field
-            if declared is None or not isinstance(field, tf.SimpleVariable) or str(field.name).lower() not in declared:
-                continue
+            head, field = node.name, node.elements[0].field
             token = head.name
             spelled = declared[str(field.name).lower()] or f"{head.name}.{field.name}"
             joined = token.update(value=spelled) if hasattr(token, "update") else spelled
@@ -404,6 +412,20 @@ def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
             else:
                 node.name = name
                 node.elements = node.elements[1:]
+
+
+def _qualified(node: Any, namespaces: dict[str, dict[str, str | None]]) -> dict[str, str | None] | None:
+    """The names of the namespace ``node`` starts with, when it is ``Namespace.Name...`` of a bound library."""
+    if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+        return None
+    head, first = node.name, node.elements[0]
+    if not isinstance(head, tf.SimpleVariable) or not isinstance(first, tf.FieldSelector):
+        return None
+    declared = namespaces.get(str(head.name).lower())
+    field = first.field
+    if declared is None or not isinstance(field, tf.SimpleVariable) or str(field.name).lower() not in declared:
+        return None
+    return declared
 
 
 def _slots(tree: Any) -> Iterator[tuple[Any, Any, Any]]:
@@ -423,8 +445,7 @@ def unknown_name(what: str, name: str, decls: Lookup[Any]) -> str:
     namespace, _, last = name.rpartition(".")
     if not namespace:
         return f"unknown {what} {name!r}"
-    bound = {key.rpartition(".")[0] for key in decls.bound if "." in key}
-    if namespace.lower() in bound:
+    if namespace.lower() in decls.namespaces:
         return f"unknown {what} {name!r}: library {namespace} declares no {last}"
     return (f"unknown {what} {name!r}: {namespace!r} is no namespace of a bound library "
             f"(the project's references and libraries= name them)")
