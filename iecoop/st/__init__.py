@@ -82,6 +82,7 @@ class StModule(types.ModuleType):
     """
 
     __python__: str
+    __all__: list[str]
     __qualified_only__: list[str]
 
     def __getattr__(self, name: str) -> Any:
@@ -239,8 +240,8 @@ def load(
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    bound = _bound_libraries(source, libraries, library_path, profile)
-    text, names, qualified = _translated(source, list(externals), bound)
+    used = _bound_libraries(source, libraries, library_path, profile)
+    text, names, qualified = _translated(source, list(externals), used)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")

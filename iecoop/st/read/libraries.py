@@ -117,7 +117,7 @@ class Lookup(dict[str, _V]):
             raise self.on_refused(self.refused[key])
         return self._found(key)
 
-    def get(self, key: str, default: Any = None) -> Any:  # type: ignore[override]
+    def get(self, key: str, default: Any = None) -> Any:
         if dict.__contains__(self, key):
             return self._found(key)
         if key in self.refused:
@@ -181,8 +181,10 @@ class _Binder:
                     # the translator writes the standard functions itself (typed by their operands)
                     symbols.decls.builtin[f"{library.namespace}.{st_name}".lower()] = st_name.upper()
                     continue
-                decl = self.standard.get(id(value)) or self.by_object.get(id(value))
-                if decl is None:
+                found = self.standard.get(id(value)) or self.by_object.get(id(value))
+                if found is not None:
+                    decl = found
+                else:
                     decl = Decl(kind, python_name(st_name), st=st_name)
                     decl.library = library.import_from
                     symbols.decls.namespace_of[id(decl)] = library.namespace
@@ -193,8 +195,8 @@ class _Binder:
         self._python_names(made)
         for _library, decl, value in made:
             self._fill(decl, value)
-        for key, found in plain.items():
-            self._plain(key, found)
+        for key, candidates in plain.items():
+            self._plain(key, candidates)
 
     def _register(self, key: str, decl: Decl) -> None:
         if decl.library:
@@ -233,16 +235,17 @@ class _Binder:
         self._register(key, decl)
         if decl.kind not in ("gvl", "enum"):
             return
-        table = self.symbols.globals if decl.kind == "gvl" else self.symbols.enum_values
+        globals_, values = self.symbols.globals, self.symbols.enum_values
         for name in [m.st for m in decl.members.values()] if decl.kind == "gvl" else decl.values:
             if key in library.qualified:
                 what = "GVL" if decl.kind == "gvl" else "enumeration"
-                table.refuse(name.lower(), f"{name} needs its {what}'s name: {what} {library.namespace}.{decl.st} "
-                                           f"is qualified_only (write {decl.st}.{name})")
+                (globals_ if decl.kind == "gvl" else values).refuse(
+                    name.lower(), f"{name} needs its {what}'s name: {what} {library.namespace}.{decl.st} "
+                                  f"is qualified_only (write {decl.st}.{name})")
             elif decl.kind == "gvl":
-                table.bind(name.lower(), (decl.name, decl.members[name.lower()]), decl)
+                globals_.bind(name.lower(), (decl.name, decl.members[name.lower()]), decl)
             else:
-                table.bind(name.lower(), (decl.name, python_name(name, attribute=True)), decl)
+                values.bind(name.lower(), (decl.name, python_name(name, attribute=True)), decl)
 
     # --- members ---
 

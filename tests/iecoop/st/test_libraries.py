@@ -190,7 +190,7 @@ def test_qualified_only_gvl_and_enumeration_of_an_st_library_need_their_names() 
 
 def test_a_name_two_libraries_declare_is_ambiguous_when_used_plain() -> None:
     other = types.ModuleType("fs_other")
-    other.__all__ = ["F_Twice"]
+    other.__all__ = ["F_Twice"]  # type: ignore[attr-defined]
     other.F_Twice = lambda nValue: nValue  # type: ignore[attr-defined]
     other.F_Twice.__annotations__ = {"nValue": "DINT", "return": "DINT"}
     import sys
