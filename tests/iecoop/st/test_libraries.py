@@ -267,3 +267,34 @@ def test_libraries_maps_a_name_to_a_folder_module_or_nothing_else() -> None:
         st.load("PROGRAM P END_PROGRAM", libraries={"X": "nowhere"})
     with pytest.raises(DefinitionError, match=r"library X: libraries= maps a name to a folder, .plcproj or module, got int"):
         st.load("PROGRAM P END_PROGRAM", libraries={"X": 5})  # type: ignore[dict-item]
+
+
+# --- export -----------------------------------------------------------------------------------------
+
+
+def test_an_export_references_the_libraries_its_classes_use_and_loads_again(tmp_path: pathlib.Path) -> None:
+    plc = st.load("""
+    FUNCTION_BLOCK FB_Blink
+    VAR_INPUT bEnable : BOOL; END_VAR
+    VAR_OUTPUT nToggles : INT; END_VAR
+    VAR fbOn : Tc2_Standard.TON; END_VAR
+    fbOn(IN := bEnable AND NOT fbOn.Q, PT := T#20MS);
+    IF fbOn.Q THEN nToggles := nToggles + 1; END_IF
+    END_FUNCTION_BLOCK
+    """, libraries={"Tc2_Standard": tc2_standard})
+    files = st.export([plc.FB_Blink], tmp_path)
+    assert [f.name for f in files] == ["FB_Blink.TcPOU", "FB_Blink.plcproj"]
+    project = (tmp_path / "FB_Blink.plcproj").read_text()
+    assert '<Compile Include="FB_Blink.TcPOU">' in project
+    assert "TON" not in project  # the library is referenced, its body is not written
+    assert [(r.name, r.namespace, r.version, r.company) for r in library_references(tmp_path)] == [
+        ("Tc2_Standard", "Tc2_Standard", "*", "Beckhoff Automation GmbH")]
+    assert not (tmp_path / "TON.TcPOU").exists()
+    back = st.load(tmp_path)
+    assert "from iecoop.stdlib import TON" in back.__python__
+    assert type(back.FB_Blink().fbOn) is tc2_standard.TON
+
+
+def test_an_export_that_uses_no_library_writes_no_project_file(tmp_path: pathlib.Path) -> None:
+    plc = st.load("FUNCTION_BLOCK FB_Plain VAR n : INT; END_VAR n := n + 1; END_FUNCTION_BLOCK")
+    assert [f.name for f in st.export([plc.FB_Plain], tmp_path)] == ["FB_Plain.TcPOU"]
