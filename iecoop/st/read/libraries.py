@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import enum
 import inspect
 import os
 import pathlib
@@ -157,6 +158,9 @@ class _Binder:
         #: id of a library class -> its Decl (types of members resolve through it)
         self.by_object: dict[int, Decl] = {}
         self.standard: dict[int, Decl] = {}
+        #: namespace -> the declaration standing for a Python module's constants; plain name -> its namespace
+        self.constants: dict[str, Decl] = {}
+        self.constant_of: dict[str, str] = {}
 
     def run(self) -> None:
         import iecoop.functions as functions
@@ -175,6 +179,9 @@ class _Binder:
             for st_name in library.names():
                 value = getattr(library.module, st_name, None)
                 kind = _kind(value)
+                if isinstance(value, (bool, int, float, str)) and not isinstance(value, enum.Enum):
+                    self._constant(library, st_name, value)
+                    continue
                 if value is None or kind is None:
                     continue
                 if kind == "function" and getattr(functions, st_name.upper(), None) is value:
@@ -197,6 +204,35 @@ class _Binder:
             self._fill(decl, value)
         for key, candidates in plain.items():
             self._plain(key, candidates)
+
+    def _constant(self, library: BoundLibrary, st_name: str, value: bool | int | float | str) -> None:
+        """A module-level constant (``cMaxAxes = 8``): a global read as ``<module>.cMaxAxes``, plain or qualified."""
+        from iecoop.st.read.symbols import Decl, Member, TypeRef
+
+        package, _, leaf = library.import_from.rpartition(".")
+        if not package:
+            raise DefinitionError(f"library {library.namespace}: the constant {st_name} of module {library.import_from}, "
+                                  "which is in no package, cannot be imported by name (move the module into a package, "
+                                  "or the constant into a GVL)")
+        holder = self.constants.get(library.namespace)
+        if holder is None:
+            holder = self.constants[library.namespace] = Decl("gvl", f"lib_{library.namespace}", st=library.namespace)
+            holder.library, holder.import_spec = package, f"{leaf} as lib_{library.namespace}"
+        type_ = (TypeRef("elem", "BOOL") if isinstance(value, bool) else TypeRef("elem", "LINT") if isinstance(value, int)
+                 else TypeRef("elem", "LREAL") if isinstance(value, float) else TypeRef("string", "STRING", length=str(max(len(value), 1))))
+        member = Member(st_name, type_, "VAR_GLOBAL", st=st_name)
+        globals_ = self.symbols.globals
+        globals_.bind(f"{library.namespace}.{st_name}".lower(), (holder.name, member), holder)
+        key = st_name.lower()
+        if library.qualified_only:
+            globals_.refuse(key, f"{st_name} needs its namespace: library {library.namespace} is qualified_only "
+                                 f"(write {library.namespace}.{st_name})")
+        elif key in self.constant_of and self.constant_of[key] != library.namespace:
+            globals_.refuse(key, f"{st_name} is ambiguous: {self.constant_of[key]}.{st_name} and {library.namespace}.{st_name} "
+                                 "both declare it (qualify it with the library's namespace)")
+        else:
+            self.constant_of[key] = library.namespace
+            globals_.bind(key, (holder.name, member), holder)
 
     def _register(self, key: str, decl: Decl) -> None:
         if decl.library:
@@ -378,7 +414,7 @@ def rename_shadowed(symbols: Symbols) -> None:
 # --- qualified names in expressions ------------------------------------------------------------------
 
 
-def collapse_namespaces(units: Iterable[Unit], decls: Lookup[Any]) -> None:
+def collapse_namespaces(units: Iterable[Unit], decls: Lookup[Any], globals_: Lookup[Any]) -> None:
     """``Lib.F_Add(1)``, ``Lib.GVL_C.cMax``: the namespace and the name it qualifies become one name, ``Lib.F_Add``.
 
     blark reads a qualified name in an expression as a variable ``Lib`` and its field; the symbol table
@@ -387,7 +423,7 @@ def collapse_namespaces(units: Iterable[Unit], decls: Lookup[Any]) -> None:
     variable named like a namespace keeps its fields.
     """
     namespaces: dict[str, dict[str, str | None]] = {}
-    for key in [*decls.bound, *decls.builtin]:
+    for key in [*decls.bound, *decls.builtin, *globals_.bound]:
         namespace, _, name = key.rpartition(".")
         if namespace:
             namespaces.setdefault(namespace, {})[name] = decls.builtin.get(key)

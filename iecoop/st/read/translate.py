@@ -70,7 +70,7 @@ class Translator(Pous):
         return order
 
     def translate(self) -> str:
-        collapse_namespaces(self.units, self.decls)
+        collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
         rename_shadowed(self)
         self.resolve_members()

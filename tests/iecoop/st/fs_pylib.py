@@ -9,7 +9,7 @@ ST::
     INTERFACE I_Named  METHOD Name : STRING
     FUNCTION F_Split : INT  (VAR_INPUT nValue; VAR_OUTPUT nRest)
     FUNCTION F_Twice : DINT
-    VAR_GLOBAL CONSTANT GVL_Py.cScale : REAL := 2.5;
+    VAR_GLOBAL CONSTANT GVL_Py.cScale : REAL := 2.5; cMaxAxes : LINT := 8;
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from iecoop import (
     IecEnum, Interface, Struct, function, gvl, method, prop,
 )
 
-__all__ = ["E_Dir", "FB_Scaler", "F_Split", "F_Twice", "GVL_Py", "I_Named", "ST_Range", "T_Speed"]
+__all__ = ["E_Dir", "FB_Scaler", "F_Split", "F_Twice", "GVL_Py", "I_Named", "ST_Range", "T_Speed", "cMaxAxes"]
 
 
 class ST_Range(Struct):
@@ -75,3 +75,6 @@ def F_Twice(nValue: DINT) -> DINT:
 @gvl
 class GVL_Py(GlobalVariables):
     cScale: REAL = VAR(2.5)
+
+#: a module-level constant: ``FsPy.cMaxAxes`` or ``cMaxAxes`` in ST
+cMaxAxes = 8

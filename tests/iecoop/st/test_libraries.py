@@ -167,13 +167,24 @@ def test_a_python_module_library_binds_plain_and_qualified_names() -> None:
     assert "from tests.iecoop.st.fs_pylib import" in plc.__python__
 
 
+def test_a_python_module_s_constant_is_a_global_plain_and_qualified() -> None:
+    plc = st.load("PROGRAM P VAR n, m : LINT; END_VAR n := FsPy.cMaxAxes + 1; m := cMaxAxes * 2; END_PROGRAM",
+                  libraries={"FsPy": fs_pylib})
+    plc.P()
+    assert (plc.P.n, plc.P.m) == (9, 16)
+    assert "from tests.iecoop.st import fs_pylib as lib_FsPy" in plc.__python__
+
+
 def test_qualified_only_in_a_python_module_refuses_the_plain_name(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(fs_pylib, "QUALIFIED_ONLY", True, raising=False)
     with pytest.raises(DefinitionError, match=r"FB_Scaler needs its namespace: library FsPy is qualified_only"):
         st.load(PY_PROJECT, libraries={"FsPy": fs_pylib})
-    plc = st.load("PROGRAM P VAR n : DINT; END_VAR n := FsPy.F_Twice(4); END_PROGRAM", libraries={"FsPy": fs_pylib})
+    with pytest.raises(DefinitionError, match=r"cMaxAxes needs its namespace: library FsPy is qualified_only"):
+        st.load("PROGRAM P VAR n : LINT; END_VAR n := cMaxAxes; END_PROGRAM", libraries={"FsPy": fs_pylib})
+    plc = st.load("PROGRAM P VAR n : DINT; END_VAR n := FsPy.F_Twice(4) + FsPy.cMaxAxes; END_PROGRAM",
+                  libraries={"FsPy": fs_pylib})
     plc.P()
-    assert plc.P.n == 8
+    assert plc.P.n == 16
 
 
 def test_qualified_only_gvl_and_enumeration_of_an_st_library_need_their_names() -> None:
