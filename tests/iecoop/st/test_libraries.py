@@ -60,6 +60,12 @@ def test_the_generated_python_imports_library_names_from_their_modules() -> None
     assert "class F_Clamp" not in text and "class ST_Count" not in text  # the library's body is not copied
 
 
+def test_to_python_binds_libraries_as_load_does() -> None:
+    text = st.to_python(LINE, library_path=[PROJECTS])
+    assert "class FB_Station(FunctionBlock, I_Runnable):" in text
+    assert "nLimit = F_Clamp(nValue=100, nLow=0, nHigh=GVL_Util.cMaxParts)" in text
+
+
 def test_the_environment_variable_finds_a_library(monkeypatch: pytest.MonkeyPatch, tmp_path: pathlib.Path) -> None:
     monkeypatch.setenv("IECOOP_LIBRARY_PATH", f"{tmp_path}{__import__('os').pathsep}{PROJECTS}")
     plc = st.load(LINE)
