@@ -32,7 +32,9 @@ from iecoop.st.read.parse import LibraryReference, Unit
 if typing.TYPE_CHECKING:
     from iecoop.st.read.symbols import Decl, Member, Symbols, TypeRef
 
-__all__ = ["BoundLibrary", "Lookup", "bind", "collapse_namespaces", "rename_shadowed"]
+__all__ = [
+    "BoundLibrary", "Lookup", "bind", "collapse_namespaces", "library_folders", "rename_shadowed", "resolve", "unknown_name",
+]
 
 _V = TypeVar("_V")
 
@@ -303,7 +305,9 @@ class _Binder:
         for base in cls.__mro__[1:]:
             base_decl = self.by_object.get(id(base)) or self.standard.get(id(base))
             if base_decl is not None:
-                (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(base_decl.st)
+                # qualified, so a project name that hides the base's plain name does not change the lineage
+                name = f"{self.symbols.decls.namespace_of[id(base_decl)]}.{base_decl.st}" if base_decl.library else base_decl.st
+                (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(name)
                 if base_decl.kind != "interface":
                     break
         record = iec_class(cls)
