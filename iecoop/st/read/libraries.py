@@ -112,6 +112,14 @@ class Lookup(dict[str, _V]):
         self.refused.pop(key, None)  # the project's own name comes first
         dict.__setitem__(self, key, value)
 
+    def setdefault(self, key: str, default: _V) -> _V:  # type: ignore[override]
+        """The project's value unless the project set one already: a library's gives way to it."""
+        bound = self.bound.get(key)
+        if dict.__contains__(self, key) and (bound is None or dict.__getitem__(self, key) is not bound[0]):
+            return dict.__getitem__(self, key)
+        self[key] = default
+        return default
+
     def __contains__(self, key: object) -> bool:
         return dict.__contains__(self, key) or key in self.refused
 

@@ -234,15 +234,20 @@ def test_the_project_s_own_name_hides_a_library_s_plain_name() -> None:
     F_Twice := nValue * 3;
     END_FUNCTION
 
+    TYPE E_Local : (FORWARD := 7, AHEAD := 8) INT; END_TYPE
+
     PROGRAM P
-    VAR nOwn, nLibrary : DINT; END_VAR
+    VAR nOwn, nLibrary : DINT; eOwn : E_Local; eLibrary : E_Dir; END_VAR
     nOwn := F_Twice(5);
     nLibrary := FsPy.F_Twice(5);
+    eOwn := FORWARD;
+    eLibrary := FsPy.E_Dir.FORWARD;
     END_PROGRAM
     """
     plc = st.load(source, libraries={"FsPy": fs_pylib})
     plc.P()
     assert (plc.P.nOwn, plc.P.nLibrary) == (15, 10)
+    assert (int(plc.P.eOwn), int(plc.P.eLibrary)) == (7, 1)  # the project's enumeration value FORWARD first
     assert "F_Twice as FsPy_F_Twice" in plc.__python__
 
 
