@@ -112,7 +112,7 @@ class Lookup(dict[str, _V]):
         self.refused.pop(key, None)  # the project's own name comes first
         dict.__setitem__(self, key, value)
 
-    def setdefault(self, key: str, default: _V) -> _V:  # type: ignore[override]
+    def setdefault(self, key: str, default: _V) -> _V:
         """The project's value unless the project set one already: a library's gives way to it."""
         bound = self.bound.get(key)
         if dict.__contains__(self, key) and (bound is None or dict.__getitem__(self, key) is not bound[0]):
