@@ -149,9 +149,9 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
 def _argument(value: Any, where: str) -> str:
     """An FB_init argument: a literal, or the global instance it designates."""
     if kind_of(type(value)) in ("fb", "program"):
-        from iecoop.gvl import global_lists
+        from iecoop.gvl import all_global_lists
 
-        for instance in global_lists().values():
+        for instance in all_global_lists():
             for record in type(instance)._iec_layout_.fields:
                 if isinstance(record.info, AggregateInfo) and getattr(instance, record.name) == value:
                     return ident(record.name)
