@@ -14,6 +14,7 @@ import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from iecoop import NullInterface
 from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
@@ -143,7 +144,7 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
         return value == 0 and not isinstance(value, bool) or value is False
     if isinstance(value, str):
         return value == ""
-    return value is None
+    return value is None or isinstance(value, NullInterface)  # a null interface reference is the zero
 
 
 def _argument(value: Any, where: str) -> str:
