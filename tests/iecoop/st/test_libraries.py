@@ -29,6 +29,18 @@ def test_a_plcproj_s_references_are_read_with_title_namespace_version_and_compan
     assert library_references("PROGRAM P END_PROGRAM") == []
 
 
+def test_a_reference_without_namespace_uses_its_title_and_a_bad_one_names_its_line(tmp_path: pathlib.Path) -> None:
+    project = tmp_path / "P.plcproj"
+    project.write_text('<?xml version="1.0" encoding="utf-8"?>\n<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">'
+                       '<ItemGroup>\n<LibraryReference Include="Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)" />\n'
+                       '</ItemGroup></Project>\n')
+    assert [(r.name, r.namespace, r.version, r.company) for r in library_references(project)] == [
+        ("Tc2_MC2", "Tc2_MC2", "3.3.52.0", "Beckhoff Automation GmbH")]
+    project.write_text(project.read_text().replace("Tc2_MC2, 3.3.52.0", "Tc2 MC2; 3.3"))
+    with pytest.raises(DefinitionError, match=r"P.plcproj:3: library reference 'Tc2 MC2; 3.3 \(Beckhoff Automation GmbH\)' names no library"):
+        library_references(project)
+
+
 def test_the_project_runs_with_its_libraries_over_several_cycles() -> None:
     plc = st.load(LINE, library_path=[PROJECTS])
     rt = Runtime(store=":memory:")
