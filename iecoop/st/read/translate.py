@@ -18,7 +18,8 @@ import blark.transform as tf
 
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
-from iecoop.st.read.libraries import BoundLibrary, collapse_namespaces, rename_shadowed
+from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
+from iecoop.st.read.lookup import BoundLibrary
 from iecoop.st.read.symbols import Decl
 
 _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
@@ -70,6 +71,7 @@ class Translator(Pous):
         return order
 
     def translate(self) -> str:
+        bind(self, self.libraries)
         collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
         rename_shadowed(self)
