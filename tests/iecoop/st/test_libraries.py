@@ -263,6 +263,26 @@ def test_the_project_s_own_name_hides_a_library_s_plain_name() -> None:
     assert "F_Twice as FsPy_F_Twice" in plc.__python__
 
 
+def test_a_project_gvl_named_like_a_library_s_leaves_the_library_s_globals_reachable() -> None:
+    source = """
+    // GVL GVL_Py
+    VAR_GLOBAL
+        nLocal : INT := 3;
+    END_VAR
+
+    PROGRAM P
+    VAR fQualified, fPlain : REAL; nOwn : INT; END_VAR
+    fQualified := FsPy.GVL_Py.cScale;
+    fPlain := cScale * 2.0;
+    nOwn := GVL_Py.nLocal;
+    END_PROGRAM
+    """
+    plc = st.load(source, libraries={"FsPy": fs_pylib})
+    plc.P()
+    assert (plc.P.fQualified, plc.P.fPlain, plc.P.nOwn) == (2.5, 5.0, 3)
+    assert "GVL_Py as FsPy_GVL_Py" in plc.__python__
+
+
 # --- ST libraries that reference others ------------------------------------------------------------
 
 
