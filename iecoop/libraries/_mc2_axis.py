@@ -723,9 +723,14 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         self._publish()
 
     def _reset(self) -> None:
-        """MC_Reset: leave ErrorStop (to Standstill when enabled, else Disabled) once the axis stands."""
+        """MC_Reset: leave ErrorStop (to Standstill when enabled, else Disabled); also lifts MC_Stop's lock."""
         sim = self.Sim
+        if sim.StopLocked:
+            sim.StopLocked = False
+            if sim.State == _STATES.MC_AXISSTATE_STOPPING and not sim.Running:
+                sim.State = _STATES.MC_AXISSTATE_STANDSTILL
         if sim.State != _STATES.MC_AXISSTATE_ERRORSTOP:
+            self._publish()
             return
         self._end_profile(self.NcToPlc.SetPos)
         sim.ErrorId = 0

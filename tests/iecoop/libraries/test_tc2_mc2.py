@@ -271,6 +271,19 @@ def test_mc_stop_holds_the_axis_in_stopping_and_refuses_moves_until_execute_fall
     assert rig.state == S.MC_AXISSTATE_DISCRETEMOTION
 
 
+def test_reset_lifts_the_lock_of_mc_stop() -> None:
+    rig = Rig()
+    rig.cell.do_stop = True
+    rig.cycle(2)
+    assert rig.state == S.MC_AXISSTATE_STOPPING and rig.axis.Sim.StopLocked
+    rig.cell.do_reset = True
+    rig.cycle()
+    assert rig.state == S.MC_AXISSTATE_STANDSTILL
+    rig.cell.target, rig.cell.do_move = 1.0, True
+    rig.cycle()
+    assert pins(rig.cell.move, "Busy", "Error") == {"Busy": True, "Error": False}
+
+
 def test_power_off_during_motion_stops_the_axis_disables_it_and_aborts_the_move() -> None:
     rig = Rig()
     rig.cell.target, rig.cell.do_move = 100.0, True
