@@ -9,6 +9,7 @@ move from rest reaches ``500 t^2`` after ``t`` seconds of acceleration.
 from __future__ import annotations
 
 import math
+import pathlib
 from typing import Any
 
 import pytest
@@ -601,3 +602,45 @@ def test_the_simulated_axis_never_exceeds_its_limits_and_reaches_the_target(dist
         if rig.cell.move.Done:
             break
     assert rig.cell.move.Done and rig.axis.NcToPlc.SetPos == pytest.approx(distance, abs=1e-9)
+
+
+# ---------------------------------------------------------------------------
+# A TwinCAT project that references Tc2_MC2
+# ---------------------------------------------------------------------------
+
+MOTION_CELL = pathlib.Path(__file__).parent / "data" / "MotionCell" / "MotionCell.plcproj"
+
+
+def _motion_cell(**configure: Any) -> tuple[Any, Runtime]:
+    from iecoop import st
+
+    project = st.load(MOTION_CELL)
+    main = project.MAIN
+    main.Axis1.configure(max_velocity=100.0, acceleration=1000.0, deceleration=1000.0, **configure)
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), main)
+    return main, runtime
+
+
+def test_an_st_project_referencing_tc2_mc2_shuttles_its_axis_between_two_stations() -> None:
+    main, runtime = _motion_cell()
+    trace = []
+    for _ in range(26):
+        runtime.run(cycles=1)
+        trace.append((main.fActPos, main.fSetVelo))
+    # Cycles 0-2: the TON delays the enable; 3: Status shows StandStill; 4: the move to 2.5 starts;
+    # 5-14: the triangle to 2.5 (peak 50 at cycle 9); 15: back to 0.0, reached at cycle 25.
+    assert approx(trace[4:15]) == [
+        (0.0, 0.0), (0.05, 10.0), (0.2, 20.0), (0.45, 30.0), (0.8, 40.0), (1.25, 50.0),
+        (1.7, 40.0), (2.05, 30.0), (2.3, 20.0), (2.45, 10.0), (2.5, 0.0),
+    ]
+    assert approx(trace[20:26]) == [(1.25, -50.0), (0.8, -40.0), (0.45, -30.0), (0.2, -20.0), (0.05, -10.0), (0.0, 0.0)]
+    assert main.fbShuttle.nTrips == 2
+    assert main.eState == S.MC_AXISSTATE_STANDSTILL
+
+
+def test_an_st_project_sees_the_software_limit_refusal_as_the_nc_error_code() -> None:
+    main, runtime = _motion_cell(soft_limit_max=2.0)
+    runtime.run(cycles=6)
+    assert pins(main.fbShuttle, "bError", "nErrorId", "nTrips") == {"bError": True, "nErrorId": 0x4461, "nTrips": 0}
+    assert main.eState == S.MC_AXISSTATE_ERRORSTOP
