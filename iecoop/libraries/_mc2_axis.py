@@ -281,6 +281,11 @@ _RESULTS = 8
 _STATES = MC_AxisStates
 
 
+def _dint(value: int) -> int:
+    """``value`` wrapped into DINT, as the PLC's integer arithmetic would store it."""
+    return (value + 0x8000_0000) % 0x1_0000_0000 - 0x8000_0000
+
+
 class ST_SimAxisState(Struct):  # noqa: N801
     """The simulation's own state of an axis (iecoop's): state machine, commands, running profile."""
 
@@ -349,7 +354,6 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         self._sync()
         sim, status, nc = self.Sim, self.Status, self.NcToPlc
         state = sim.State
-        sim.CycleCounter += 1
         status.CycleCounter = sim.CycleCounter
         status.NcCycleCounter = sim.CycleCounter
         status.MotionState = state
@@ -458,6 +462,7 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         if now <= sim.LastNs:
             return  # this instant is done (or a clock behind the axis' own time: the axis does not go back)
         sim.LastNs = now
+        sim.CycleCounter += 1
         if sim.Running:
             self._advance(now)
         self._apply_enable()
@@ -592,10 +597,12 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         nc.ErrorCode = sim.ErrorId
         nc.PosDiff = nc.SetPos - nc.ActPos
         modulo = p.ModuloFactor
-        nc.ModuloActTurns = math.floor(nc.ActPos / modulo)
-        nc.ModuloActPos = nc.ActPos - nc.ModuloActTurns * modulo
-        nc.ModuloSetTurns = math.floor(nc.SetPos / modulo)
-        nc.ModuloSetPos = nc.SetPos - nc.ModuloSetTurns * modulo
+        act_turns = math.floor(nc.ActPos / modulo)
+        set_turns = math.floor(nc.SetPos / modulo)
+        nc.ModuloActPos = nc.ActPos - act_turns * modulo
+        nc.ModuloSetPos = nc.SetPos - set_turns * modulo
+        nc.ModuloActTurns = _dint(act_turns)
+        nc.ModuloSetTurns = _dint(set_turns)
         nc.CmdNo = sim.ActiveCmd & 0xFFFF
         nc.HomingState = 1 if sim.Homed else 0
         velocity = nc.SetVelo

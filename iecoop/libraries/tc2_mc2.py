@@ -58,7 +58,7 @@ from iecoop.libraries._mc2_axis import (
     MC_AxisParameter, MC_AxisStates, MC_BufferMode, MC_Direction, MC_HomingMode, ST_AxisStatus,
 )
 from iecoop.pou import FunctionBlock
-from iecoop.types import BOOL, LREAL, SINT, UDINT
+from iecoop.types import BOOL, LREAL, UDINT
 
 __all__ = [
     "AXIS_REF", "E_JogMode", "E_ReadMode", "MC_AxisParameter", "MC_AxisStates", "MC_BufferMode", "MC_Direction",
@@ -518,7 +518,6 @@ class MC_Jog(_AxisBlock):  # noqa: N801
     PrevExecute: BOOL = VAR(False)
     Shown: BOOL = VAR(False)
     CmdNo: UDINT = VAR(0)
-    Direction: SINT = VAR(0)
     Stopping: BOOL = VAR(False)
 
     def body(self) -> None:
@@ -526,7 +525,6 @@ class MC_Jog(_AxisBlock):  # noqa: N801
         held = self.JogForward != self.JogBackwards  # the handshake's Execute: one jog button held
         if self._edge(held):
             direction = 1.0 if self.JogForward else -1.0
-            self.Direction = int(direction)
             self.Stopping = False
             mode = self.Mode
             params = axis.Parameters
