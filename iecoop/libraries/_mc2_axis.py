@@ -20,7 +20,7 @@ from iecoop.types import BOOL, BYTE, DINT, DWORD, LINT, LREAL, SINT, UDINT, UINT
 
 __all__ = [
     "AXIS_REF", "E_JogMode", "E_ReadMode", "MC_AxisParameter", "MC_AxisStates", "MC_BufferMode", "MC_Direction",
-    "MC_HomingMode", "NCTOPLC_AXIS_REF", "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_SimAxisParameters",
+    "MC_HomingMode", "NCTOPLC_AXIS_REF", "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions", "ST_SimAxisParameters",
     "ST_SimAxisState", "ST_SimSegment",
 ]
 
@@ -241,6 +241,15 @@ class ST_AxisStatus(Struct):  # noqa: N801
     PositiveDirection: BOOL = False
     NegativeDirection: BOOL = False
     NotMoving: BOOL = False
+
+
+class ST_MoveOptions(Struct):  # noqa: N801
+    """Rarely used settings of a motion command (Beckhoff's ST_MoveOptions); accepted, not simulated."""
+
+    EnableBlendingPosition: BOOL = False
+    BlendingPosition: LREAL = 0.0
+    IgnorePositionMonitoring: BOOL = False
+    EnableStopPositionMonitoring: BOOL = False
 
 
 class ST_SimAxisParameters(Struct):  # noqa: N801

@@ -55,7 +55,7 @@ from iecoop.libraries import _motion
 from iecoop.libraries._mc2_axis import (
     _ABORTED, _ACTIVE, _DONE, _HALT, _HOME, _IN_VELOCITY, _MOVE, _PENDING, _STATES, _STOP, _VELOCITY, AXIS_REF,
     ERR_INVALID_MODE, ERR_NOT_PERMITTED, ERR_PARAMETER, NCTOPLC_AXIS_REF, PLCTONC_AXIS_REF, E_JogMode, E_ReadMode,
-    MC_AxisParameter, MC_AxisStates, MC_BufferMode, MC_Direction, MC_HomingMode, ST_AxisStatus,
+    MC_AxisParameter, MC_AxisStates, MC_BufferMode, MC_Direction, MC_HomingMode, ST_AxisStatus, ST_MoveOptions,
 )
 from iecoop.pou import FunctionBlock
 from iecoop.types import BOOL, LREAL, UDINT
@@ -65,7 +65,7 @@ __all__ = [
     "MC_Halt", "MC_Home", "MC_HomingMode", "MC_Jog", "MC_MoveAbsolute", "MC_MoveModulo", "MC_MoveRelative",
     "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition", "MC_ReadActualVelocity", "MC_ReadAxisError",
     "MC_ReadParameter", "MC_ReadStatus", "MC_Reset", "MC_SetPosition", "MC_Stop", "NCTOPLC_AXIS_REF",
-    "PLCTONC_AXIS_REF", "ST_AxisStatus",
+    "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions",
 ]
 
 # ---------------------------------------------------------------------------
@@ -257,6 +257,7 @@ class MC_MoveAbsolute(_Command):  # noqa: N801
     Deceleration: LREAL = VAR_INPUT(0.0)
     Jerk: LREAL = VAR_INPUT(0.0)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_MoveOptions = VAR_INPUT()
     Done: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -286,6 +287,7 @@ class MC_MoveRelative(_Command):  # noqa: N801
     Deceleration: LREAL = VAR_INPUT(0.0)
     Jerk: LREAL = VAR_INPUT(0.0)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_MoveOptions = VAR_INPUT()
     Done: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -323,6 +325,7 @@ class MC_MoveModulo(_Command):  # noqa: N801
     Jerk: LREAL = VAR_INPUT(0.0)
     Direction: MC_Direction = VAR_INPUT(MC_Direction.MC_Positive_Direction)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_MoveOptions = VAR_INPUT()
     Done: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -380,6 +383,7 @@ class MC_MoveVelocity(_Command):  # noqa: N801
     Jerk: LREAL = VAR_INPUT(0.0)
     Direction: MC_Direction = VAR_INPUT(MC_Direction.MC_Positive_Direction)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_MoveOptions = VAR_INPUT()
     InVelocity: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -416,6 +420,7 @@ class MC_Halt(_Command):  # noqa: N801
     Deceleration: LREAL = VAR_INPUT(0.0)
     Jerk: LREAL = VAR_INPUT(0.0)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_MoveOptions = VAR_INPUT()
     Done: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -439,6 +444,7 @@ class MC_Stop(_Command):  # noqa: N801
 
     Deceleration: LREAL = VAR_INPUT(0.0)
     Jerk: LREAL = VAR_INPUT(0.0)
+    Options: ST_MoveOptions = VAR_INPUT()
     Done: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
