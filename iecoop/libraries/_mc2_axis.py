@@ -449,8 +449,9 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
 
     def simulate_position_lag(self, lag: float) -> None:
         """Let the actual position trail the set position by ``lag`` (``PosDiff``) from now on."""
-        self.Sim.Lag = float(lag)
         self._sync()
+        self.Sim.Lag = float(lag)
+        self.NcToPlc.ActPos = self.NcToPlc.SetPos - self.Sim.Lag
         self._check_lag()
         self._publish()
 

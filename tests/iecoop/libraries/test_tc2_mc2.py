@@ -359,10 +359,12 @@ def test_a_position_lag_beyond_the_maximum_stops_the_axis_at_once_with_0x4550() 
     rig.cell.do_velo = True
     rig.cycle(11)
     rig.axis.simulate_position_lag(4.0)
+    assert rig.axis.NcToPlc.PosDiff == pytest.approx(4.0)  # at once, not only from the next cycle
     rig.cycle()
     assert rig.axis.NcToPlc.PosDiff == pytest.approx(4.0) and rig.state == S.MC_AXISSTATE_CONTINOUSMOTION
     rig.axis.simulate_position_lag(6.0)
     assert rig.state == S.MC_AXISSTATE_ERRORSTOP and rig.axis.NcToPlc.SetVelo == 0.0
+    assert rig.axis.NcToPlc.PosDiff == pytest.approx(6.0)
     rig.cycle()
     assert rig.cell.velo.Error and rig.cell.velo.ErrorID == 0x4550
     assert rig.cell.read_error.AxisErrorID == 0x4550
