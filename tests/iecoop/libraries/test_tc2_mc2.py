@@ -530,6 +530,31 @@ def test_readers_and_read_status_report_the_axis() -> None:
     assert rig.axis.NcToPlc.StateDWord & 0b11101 == 0b11101  # Operational, NotMoving, InPositionArea, InTarget
 
 
+def test_read_parameter_answers_the_configured_values_and_refuses_an_unknown_number() -> None:
+    rig = Rig(soft_limit_max=250.0, max_position_lag=2.5, target_position_window=0.1)
+    expected = {
+        MC_AxisParameter.SWLimitPos: 250.0, MC_AxisParameter.EnableLimitPos: 1.0,
+        MC_AxisParameter.EnableLimitNeg: 0.0, MC_AxisParameter.MaxPositionLag: 2.5,
+        MC_AxisParameter.AxisTargetPositionWindow: 0.1, MC_AxisParameter.MaxDecelerationAppl: 1000.0,
+    }
+    for number, value in expected.items():
+        rig.cell.parameter = number
+        rig.cycle()
+        assert pins(rig.cell.read_param, "Valid", "Error", "Value") == {"Valid": True, "Error": False, "Value": value}
+    rig.cell.read_param(Axis=rig.axis, Enable=True, ParameterNumber=MC_AxisParameter.AxisPositionRangeWindow)
+    assert pins(rig.cell.read_param, "Valid", "Error", "ErrorID") == {"Valid": False, "Error": True, "ErrorID": 0x4B05}
+
+
+def test_power_off_at_standstill_is_the_disabled_state() -> None:
+    rig = Rig()
+    rig.cycle()
+    assert rig.cell.read_status.StandStill and rig.cell.power.Status
+    rig.cell.enable = False
+    rig.cycle(2)
+    assert pins(rig.cell.read_status, "Disabled", "StandStill") == {"Disabled": True, "StandStill": False}
+    assert rig.axis.NcToPlc.StateDWord & 1 == 0  # not Operational
+
+
 def test_the_axis_is_integrated_once_per_cycle_however_many_blocks_call_it() -> None:
     rig = Rig()
     rig.cell.target, rig.cell.do_move = 100.0, True
