@@ -39,11 +39,11 @@ from typing import Any, TextIO
 from iecoop import PlcException, T
 from iecoop.cli.base import Command, Names, Served, UsageError, usage_errors
 from iecoop.cli.st import load_program, plc_task, translated
+from iecoop.cli.trace import add_trace_arguments, check_trace_options, write_trace
 from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Trace
 
-__all__ = ["HELP", "add_arguments", "add_trace_arguments", "command", "located_in", "serve", "trace_for",
-           "write_trace"]
+__all__ = ["HELP", "add_arguments", "command", "located_in", "serve", "trace_for"]
 
 #: The PLC time one ``Runtime.run`` call covers when serving until interrupted.
 _SLICE = T("1s")
@@ -73,14 +73,6 @@ def _port(text: str) -> int:
     if not 0 <= value <= 65535:
         raise argparse.ArgumentTypeError(f"a TCP port is a number 0..65535, got {value}")
     return value
-
-
-def add_trace_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--trace VARS --csv FILE --plot FILE``: record symbol paths every cycle, then write them."""
-    parser.add_argument("--trace", metavar="VARS", type=lambda text: [p.strip() for p in text.split(",") if p.strip()],
-                        help="symbol paths to record every cycle, comma-separated (MAIN.nCount,GVL_IO.bStart)")
-    parser.add_argument("--csv", metavar="FILE", help="write the traced values to FILE as CSV at the end")
-    parser.add_argument("--plot", metavar="FILE", help="draw the traced values to FILE (.png or .svg) at the end")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -161,32 +153,13 @@ def located_in(source: str, program: str) -> dict[str, str]:
 
 def trace_for(runtime: Runtime, args: argparse.Namespace) -> Trace | None:
     """The runtime trace ``--trace`` asks for (None without it); UsageError for a path or an option that is wrong."""
+    check_trace_options(args)
     if not args.trace:
-        if args.csv or args.plot:
-            raise UsageError("--csv and --plot write what --trace records: name the variables with --trace")
         return None
-    if args.plot and pathlib.Path(args.plot).suffix.lower() not in (".png", ".svg"):
-        raise UsageError(f"--plot {args.plot}: the file must end in .png or .svg")
     try:
         return runtime.trace(args.trace)
     except AccessError as exc:
         raise UsageError(f"--trace: {exc}") from None
-
-
-def write_trace(trace: Trace | None, args: argparse.Namespace, out: TextIO) -> None:
-    """Write ``--csv`` / ``--plot`` of ``trace`` and say where."""
-    if trace is None:
-        return
-    trace.detach()
-    try:
-        if args.csv:
-            trace.to_csv(args.csv)
-            out.write(f"trace: {len(trace.rows)} rows written to {args.csv}\n")
-        if args.plot:
-            trace.plot(args.plot)
-            out.write(f"trace: plotted to {args.plot}\n")
-    except (OSError, ImportError) as exc:
-        raise UsageError(f"the trace cannot be written: {exc}") from None
 
 
 def command(names: Names | None = None) -> Command:
