@@ -181,6 +181,7 @@ class SymbolTable:
         self._by_root = {root.name.casefold(): index for index, root in enumerate(self.roots)}
         self._cache: dict[str, AdsSymbol] = {}
         self.top = [symbol for index in range(len(self.roots)) for symbol in self._top(index)]
+        self._upload = b"".join(symbol.entry() for symbol in self.top)
         matched = {pattern for pattern in self._patterns if any(self._named(s.name, pattern) for s in self._walk_all())}
         for pattern in self._patterns:
             if pattern not in matched:
@@ -283,7 +284,7 @@ class SymbolTable:
 
     def upload(self) -> bytes:
         """The symbol upload (SYM_UPLOAD): every top-level variable's entry."""
-        return b"".join(symbol.entry() for symbol in self.top)
+        return self._upload
 
     # -- by address ----------------------------------------------------------------
 
