@@ -44,6 +44,7 @@ import logging
 import re
 import struct
 import threading
+import typing
 from collections.abc import Mapping, Sequence
 from types import TracebackType
 from typing import Any
@@ -217,7 +218,9 @@ class ModbusServer:
                     raise ValueError(f"ModbusServer: {variable.path} ({variable.address}) and {other.path} "
                                      f"({other.address}) are both at {key[0].value} {key[1]}")
                 self._cells[key] = (variable, part)
-        self._image: dict[tuple[Table, int], int] = self._capture()
+        self._loads = [variable.symbol.load for variable in self.variables]
+        self._index = {id(variable): index for index, variable in enumerate(self.variables)}
+        self._values: tuple[Any, ...] = self._capture()
         self._pending: collections.deque[list[tuple[Symbol, Any]]] = collections.deque()
         self._echo: dict[tuple[Table, int], int] = {}
         self._thread: threading.Thread | None = None
@@ -249,15 +252,12 @@ class ModbusServer:
 
     # -- the PLC thread ----------------------------------------------------------
 
-    def _capture(self) -> dict[tuple[Table, int], int]:
-        image: dict[tuple[Table, int], int] = {}
-        for variable in self.variables:
-            for part, cell in enumerate(variable.cell_values(variable.symbol.load())):
-                image[(variable.table, variable.first + part)] = cell
-        return image
+    def _capture(self) -> tuple[Any, ...]:
+        # The values only: the PLC's thread pays one load a variable; the server makes the cells.
+        return tuple(load() for load in self._loads)
 
     def _cycle_end(self) -> None:
-        self._image = self._capture()
+        self._values = self._capture()
 
     def _cycle_start(self) -> None:
         pending = self._pending
@@ -268,13 +268,15 @@ class ModbusServer:
     # -- the server thread (pymodbus's datastore calls) -----------------------------
 
     def _read(self, table: Table, address: int, count: int) -> list[int] | list[bool] | ExcCodes:
-        image = self._image
-        keys = [(table, a) for a in range(address, address + count)]
-        if not all(key in image for key in keys):
+        values, cells, index = self._values, self._cells, self._index
+        found = [cells.get((table, a)) for a in range(address, address + count)]
+        if any(cell is None for cell in found):
             return ExcCodes.ILLEGAL_ADDRESS
+        words = [variable.cell_values(values[index[id(variable)]])[part]
+                 for variable, part in typing.cast(list[tuple[_Located, int]], found)]
         if table in (Table.COILS, Table.DISCRETE_INPUTS):
-            return [bool(image[key]) for key in keys]
-        return [image[key] for key in keys]
+            return [bool(word) for word in words]
+        return words
 
     def _write(self, table: Table, address: int, values: list[int]) -> ExcCodes | None:
         cells = {(table, address + i): value for i, value in enumerate(values)}
@@ -333,7 +335,7 @@ class ModbusServer:
             raise RuntimeError("ModbusServer: already started")
         self._error = None
         self._ready.clear()
-        self._image = self._capture()
+        self._values = self._capture()
         self._thread = threading.Thread(target=self._thread_main, name=f"iecoop Modbus {self.host}:{self.port}",
                                         daemon=True)
         self._thread.start()
