@@ -51,7 +51,7 @@ from typing import Any
 
 try:
     from pymodbus.constants import ExcCodes
-    from pymodbus.server import ModbusTcpServer
+    from pymodbus.server import ModbusBaseServer, ModbusTcpServer
     from pymodbus.simulator import SimData, SimDevice
     from pymodbus.simulator.simcore import SimCore
 except ImportError as exc:  # pragma: no cover - exercised without the extra installed
@@ -318,6 +318,10 @@ class ModbusServer:
         finally:
             self._loop = None
             await server.shutdown()  # type: ignore[no-untyped-call]  # unannotated in pymodbus
+            # pymodbus keeps the last server started in a class attribute: let this one, and the runtime
+            # it reaches, go.
+            if ModbusBaseServer.active_server is server:
+                ModbusBaseServer.active_server = None
 
     def _thread_main(self) -> None:
         try:

@@ -6,9 +6,11 @@ taken by the server at once and stored at the next cycle start.
 
 from __future__ import annotations
 
+import gc
 import socket
 import struct
 import threading
+import weakref
 from collections.abc import Iterator
 from typing import Any
 
@@ -176,3 +178,18 @@ def test_a_stop_leaves_no_thread_and_no_port(rt: Runtime) -> None:
         probe.bind(("127.0.0.1", port))
         probe.listen()
     assert rt.on_cycle_start == [] and rt.on_cycle_end == []
+
+
+def test_a_stopped_server_keeps_nothing_alive() -> None:
+    """Nothing of pymodbus holds the server, its runtime or the GVLs that runtime reaches once it is stopped."""
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), MbMain())
+    server = ModbusServer(runtime, port=0, located={"MAIN.bStart": "%IX0.0"})
+    server.start()
+    runtime.run(cycles=1)
+    server.stop()
+    runtime.stop()
+    gone = weakref.ref(runtime)
+    del runtime, server
+    gc.collect()
+    assert gone() is None

@@ -9,9 +9,11 @@ port (48898 otherwise), so each test's server takes a free one.
 
 from __future__ import annotations
 
+import gc
 import socket
 import struct
 import threading
+import weakref
 import time
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -331,3 +333,18 @@ def test_the_stream_is_framed_whatever_the_segments(server: AdsServer) -> None:
 def test_the_symbol_table_rejects_a_pattern_matching_nothing(rt: Runtime) -> None:
     with pytest.raises(ValueError, match="'MAIN.nope' matches no variable"):
         AdsServer(rt, writable=["MAIN.nope"])
+
+
+def test_a_stopped_server_keeps_nothing_alive() -> None:
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), AdsMain())
+    with AdsServer(runtime, port=0) as server:
+        plc = pyads.Connection(server.net_id, 851, f"127.0.0.1:{server.port}")
+        plc.open()
+        assert plc.read_by_name("MAIN.nSetpoint") == 0
+        plc.close()
+    runtime.stop()
+    gone = weakref.ref(runtime)
+    del runtime, server
+    gc.collect()
+    assert gone() is None
