@@ -43,7 +43,9 @@ from typing import TextIO, TypeVar
 
 from iecoop import DefinitionError, Program, T, st
 from iecoop.cli.base import UsageError, positive, usage_errors
-from iecoop.cli.trace import fault_text, run_cycles, table, variable_probes
+from iecoop.cli.trace import (
+    add_trace_arguments, check_trace_options, fault_text, run_cycles, table, variable_probes, write_trace,
+)
 from iecoop.runtime import Runtime, Task
 
 __all__ = [
@@ -77,6 +79,7 @@ def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--every", type=positive, default=None, metavar="K",
                         help="show every K-th cycle instead of the changes")
     parser.add_argument("--profile", default="twincat", choices=("twincat", "codesys"))
+    add_trace_arguments(parser)
 
 
 def add_st_arguments(parser: argparse.ArgumentParser) -> None:
@@ -217,13 +220,15 @@ def load_program(source: str, name: str, profile: str) -> Program:
 @usage_errors("iecoop st run")
 def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
+    check_trace_options(args)
     program = load_program(args.source, args.program, args.profile)
     runtime = Runtime(store=":memory:", profile=args.profile)
     runtime.add_task(plc_task(), program)
-    trace = run_cycles(runtime, variable_probes(program), args.cycles, every=args.every)
+    trace = run_cycles(runtime, variable_probes(program), args.cycles, every=args.every, paths=args.trace or ())
     rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
     header = f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {rows}"
     out.write("\n".join([header, *table(trace)]) + "\n")
+    write_trace(trace.source, args, out)
     if trace.fault is None:
         return 0
     err.write(f"iecoop st run: {fault_text(trace)}\n")

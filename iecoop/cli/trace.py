@@ -1,7 +1,10 @@
 """The trace a run prints: cycles run in virtual time, the values that matter, as an aligned table.
 
 :func:`run_cycles` runs a runtime cycle by cycle and samples its
-:class:`Probe` s after each cycle; :func:`table` and :class:`RowWriter` print
+:class:`Probe` s after each cycle into a :class:`TraceTable`; given symbol
+paths instead, the table is a view of the runtime's own
+:class:`iecoop.runtime.Trace` of them (``TraceTable.source``), which
+``--csv`` and ``--plot`` write. :func:`table` and :class:`RowWriter` print
 the rows (all at once, or streamed as the cycles run); :class:`Progress` is
 the line a long run redraws on a terminal. Cycles are counted from 1, in the
 rows and in a fault report.
@@ -25,29 +28,37 @@ time ms  cycle  count
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import enum
 import operator
+import pathlib
 import re
 import time
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 from iecoop import TYPE_CLASS, FunctionBlock, PlcException, Program, var_info
+from iecoop.cli.base import UsageError
+from iecoop.exceptions import AccessError
+from iecoop.memory.typeinfo import ElementaryInfo
 from iecoop.metadata import Kind, kind_of, st_name
-from iecoop.runtime import Runtime
+from iecoop.runtime import Runtime, Trace
 from iecoop.sections import Section
 from iecoop.uml import class_diagram
 
 __all__ = [
     "FLUSH_EVERY",
+    "add_trace_arguments",
+    "check_trace_options",
+    "write_trace",
     "PROGRESS_THRESHOLD",
     "Probe",
     "Progress",
     "Row",
     "RowWriter",
     "TIME_CLASSES",
-    "Trace",
+    "TraceTable",
     "elementary_variables",
     "fault_text",
     "run_cycles",
@@ -68,8 +79,9 @@ Row = tuple[int, int, list[str]]
 
 
 @dataclasses.dataclass
-class Trace:
-    """The rows of one run; ``fault`` is set if the PLC stopped, ``fault_cycle`` counts from 1 like the rows."""
+class TraceTable:
+    """The rows of one run as the command prints them; ``fault`` is set if the PLC stopped, ``fault_cycle``
+    counts from 1 like the rows; ``source`` is the runtime trace the table shows, when it shows one."""
 
     labels: list[str]
     rows: list[Row] = dataclasses.field(default_factory=list)
@@ -81,6 +93,8 @@ class Trace:
     tick_ms: int = 0
     #: Per label, the widest text its probe can give (0: not known before the run).
     widths: list[int] = dataclasses.field(default_factory=list)
+    #: The runtime trace whose values the rows show (``--trace``), or None.
+    source: Trace | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -138,9 +152,10 @@ def run_cycles(
     every: int | None = None,
     before_cycle: Callable[[int], None] | None = None,
     progress: Callable[[int], None] | None = None,
-    on_start: Callable[[Trace], None] | None = None,
+    on_start: Callable[[TraceTable], None] | None = None,
     on_row: Callable[[Row], None] | None = None,
-) -> Trace:
+    paths: Sequence[str] = (),
+) -> TraceTable:
     """Run ``cycles`` cycles; keep every ``every``-th row, or the rows where a watched probe changed.
 
     The first and the last cycle are always kept. ``before_cycle`` is called
@@ -148,8 +163,19 @@ def run_cycles(
     events); ``on_start`` once, before the first cycle; with ``on_row`` each
     row is handed over as its cycle ends instead of being kept in
     ``trace.rows``, so a run of any length streams in constant memory.
+    With symbol ``paths`` (``--trace``), the runtime traces them every cycle
+    (``trace.source``) and the table shows them instead of ``probes``;
+    UsageError names a path that is no variable.
     """
-    trace = Trace([probe.label for probe in probes], where=tasks_text(runtime), widths=[probe.width for probe in probes])
+    source: Trace | None = None
+    if paths:
+        try:
+            source = runtime.trace(list(paths))
+            probes = [_symbol_probe(runtime, path) for path in source.paths]
+        except AccessError as exc:
+            raise UsageError(f"--trace: {exc}") from None
+    trace = TraceTable([probe.label for probe in probes], where=tasks_text(runtime), widths=[probe.width for probe in probes],
+                       source=source)
     trace.tick_ms = min((task.interval for task in runtime.tasks), default=0)
     if on_start is not None:
         on_start(trace)
@@ -179,7 +205,49 @@ def run_cycles(
     return trace
 
 
-def fault_text(trace: Trace) -> str:
+def _symbol_probe(runtime: Runtime, path: str) -> Probe:
+    """The table column of a traced symbol path: the value the runtime trace records after the same cycle."""
+    symbol = runtime.symbol(path)
+    info = symbol.info
+    if isinstance(info, ElementaryInfo) and info.record.kind == "time":
+        unit = info.record.unit
+        return Probe(path, lambda: f"{int(symbol.load())}{unit}")
+    return Probe(path, lambda: show(symbol.load()), width=widest(symbol.load()))
+
+
+def add_trace_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--trace VARS --csv FILE --plot FILE``: record symbol paths every cycle, then write them."""
+    parser.add_argument("--trace", metavar="VARS", type=lambda text: [p.strip() for p in text.split(",") if p.strip()],
+                        help="symbol paths to record every cycle, comma-separated (MAIN.nCount,GVL_IO.bStart)")
+    parser.add_argument("--csv", metavar="FILE", help="write the traced values to FILE as CSV at the end")
+    parser.add_argument("--plot", metavar="FILE", help="draw the traced values to FILE (.png or .svg) at the end")
+
+
+def check_trace_options(args: argparse.Namespace) -> None:
+    """UsageError for ``--csv`` / ``--plot`` without ``--trace``, or a plot file of another kind."""
+    if not args.trace and (args.csv or args.plot):
+        raise UsageError("--csv and --plot write what --trace records: name the variables with --trace")
+    if args.plot and pathlib.Path(args.plot).suffix.lower() not in (".png", ".svg"):
+        raise UsageError(f"--plot {args.plot}: the file must end in .png or .svg")
+
+
+def write_trace(source: Trace | None, args: argparse.Namespace, out: TextIO) -> None:
+    """Write ``--csv`` / ``--plot`` of the runtime trace ``source`` and say where; UsageError if it cannot be."""
+    if source is None:
+        return
+    source.detach()
+    try:
+        if args.csv:
+            source.to_csv(args.csv)
+            out.write(f"trace: {len(source.rows)} rows written to {args.csv}\n")
+        if args.plot:
+            source.plot(args.plot)
+            out.write(f"trace: plotted to {args.plot}\n")
+    except (OSError, ImportError) as exc:
+        raise UsageError(f"the trace cannot be written: {exc}") from None
+
+
+def fault_text(trace: TraceTable) -> str:
     """``PLC fault in cycle 3: RTSEXCPT_DIVIDEBYZERO (...)``, or ``at start-up`` before the first cycle."""
     assert trace.fault is not None
     where = f"in cycle {trace.fault_cycle}" if trace.fault_cycle else "at start-up"
@@ -204,7 +272,7 @@ def _line(cells: Sequence[str], widths: Sequence[int], numeric: Sequence[bool]) 
     return "  ".join(parts).rstrip()
 
 
-def table(trace: Trace, limit: int | None = None) -> list[str]:
+def table(trace: TraceTable, limit: int | None = None) -> list[str]:
     """The trace as aligned text lines; with ``limit``, at most that many rows (the last one kept)."""
     labels = ["time ms", "cycle", *trace.labels]
     rows = [_cells(row) for row in trace.rows]

@@ -21,7 +21,7 @@ from typing import Any
 
 #: The names of :mod:`patterns.showcase.cli` that this package hands out.
 _CLI = frozenset(
-    ["COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "Trace", "main", "run_entry",
+    ["COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "TraceTable", "main", "run_entry",
      "table"]
 )
 

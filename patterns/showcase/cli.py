@@ -43,7 +43,7 @@ from __future__ import annotations
 import argparse
 import functools
 import inspect
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import TextIO
@@ -51,10 +51,11 @@ from typing import TextIO
 from iecoop import PlcException
 from iecoop.cli import Command, commands
 from iecoop.cli import main as iecoop_main
-from iecoop.cli.base import positive
+from iecoop.cli.base import positive, usage_errors
 from iecoop.cli.export import module_of
 from iecoop.cli.trace import (
-    PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, Trace, fault_text, run_cycles, table, widest,
+    PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, TraceTable, add_trace_arguments, check_trace_options,
+    fault_text, run_cycles, table, widest, write_trace,
 )
 from iecoop.st.export import dump
 from patterns.showcase.catalogue import CATEGORIES, NAMES, Entry, build, entries, find, read, show, unknown_name
@@ -62,13 +63,13 @@ from patterns.showcase.text import render_rst
 from patterns.showcase.entry import Column, Scenario
 
 __all__ = [
-    "COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "Trace", "main", "run_entry",
+    "COMMANDS", "Command", "Progress", "RowWriter", "SHOW_SECTIONS", "TOUR_CATEGORIES", "TraceTable", "main", "run_entry",
     "st_text", "table",
 ]
 
 #: The tour's categories (the course examples are listed and run, not toured).
 TOUR_CATEGORIES = ("creational", "structural", "behavioral", "solid")
-#: Trace rows shown per pattern in the tour (first and last included).
+#: TraceTable rows shown per pattern in the tour (first and last included).
 TOUR_ROWS = 20
 
 
@@ -92,10 +93,14 @@ def run_entry(
     every: int | None = None,
     profile: str = "twincat",
     progress: Callable[[int], None] | None = None,
-    on_start: Callable[[Trace], None] | None = None,
+    on_start: Callable[[TraceTable], None] | None = None,
     on_row: Callable[[Row], None] | None = None,
-) -> Trace:
+    paths: Sequence[str] = (),
+) -> TraceTable:
     """Build ``entry`` and run it ``cycles`` cycles; keep every ``every``-th row, or the rows that changed.
+
+    With symbol ``paths`` the table shows them, recorded by a runtime trace
+    (``trace.source``), instead of the entry's columns.
 
     The first and the last cycle are always kept. ``on_start`` is called once
     the scenario is built (``trace.where`` names its tasks); with ``on_row``
@@ -105,7 +110,7 @@ def run_entry(
     try:
         scenario = build(entry, profile)
     except PlcException as exc:
-        return Trace([column.label for column in entry.columns], fault=exc, fault_message=exc.message)
+        return TraceTable([column.label for column in entry.columns], fault=exc, fault_message=exc.message)
     probes = [
         Probe(column.label, functools.partial(lambda column: show(read(scenario, column), column.fmt), column),
               column.watch, _width(scenario, column))
@@ -113,7 +118,7 @@ def run_entry(
     ]
     script = entry.script
     return run_cycles(
-        scenario.runtime, probes, cycles, every=every, progress=progress, on_start=on_start, on_row=on_row,
+        scenario.runtime, probes, cycles, every=every, progress=progress, on_start=on_start, on_row=on_row, paths=paths,
         before_cycle=None if script is None else lambda cycle: script(scenario, cycle),
     )
 
@@ -201,6 +206,7 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     if entry.demo:
         return _run_demo(entry, out, err)
     cycles = args.cycles if args.cycles is not None else entry.cycles
+    check_trace_options(args)
     out.write(f"{entry.name} -- {entry.heading()}\n")
     for note in _expected(entry):
         out.write(f"  {note}\n")
@@ -210,7 +216,7 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     progress = Progress(cycles, screen) if screen is not None and cycles >= PROGRESS_THRESHOLD else None
     rows: list[RowWriter] = []
 
-    def start(trace: Trace) -> None:
+    def start(trace: TraceTable) -> None:
         what = "rows where a traced value changed"
         if args.every:
             what = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles"
@@ -218,11 +224,12 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         rows.append(RowWriter(trace.labels, out, last_time=(cycles - 1) * trace.tick_ms, last_cycle=cycles,
                               widths=trace.widths, progress=progress))
 
-    trace: Trace | None = None
+    trace: TraceTable | None = None
     try:
         trace = run_entry(
             entry, cycles, every=args.every, profile=args.profile, on_start=start,
             on_row=lambda row: rows[0].row(row), progress=progress.update if progress is not None else None,
+            paths=args.trace or (),
         )
     except KeyboardInterrupt:
         if rows:
@@ -233,6 +240,7 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     finally:
         if rows:
             rows[0].close()
+    write_trace(trace.source, args, out)
     if trace.fault is not None:
         err.write(f"iecoop: {entry.name}: {fault_text(trace)}\n")
         return 1
@@ -299,6 +307,7 @@ def _run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cycles", type=positive, metavar="N", help="cycles of 10 ms to run (default: the entry's)")
     parser.add_argument("--every", type=positive, metavar="K", help="print every K-th cycle (default: the changes)")
     parser.add_argument("--profile", choices=("twincat", "codesys"), default="twincat", help="the PLC profile")
+    add_trace_arguments(parser)
 
 
 def _no_arguments(parser: argparse.ArgumentParser) -> None:
@@ -310,7 +319,8 @@ COMMANDS: dict[str, Command] = {
     "tour": Command("a short run of every pattern (the default)", _no_arguments, _cmd_tour),
     "list": Command("the names of the patterns, principles and examples, by category", _no_arguments, _cmd_list),
     "show": Command("the documentation of one pattern or example, and where its file is", _show_arguments, _cmd_show),
-    "run": Command("run one pattern or example, printing its trace rows as the cycles run", _run_arguments, _cmd_run),
+    "run": Command("run one pattern or example, printing its trace rows as the cycles run", _run_arguments,
+                   usage_errors("iecoop run")(_cmd_run)),
     **commands(NAMES),
 }
 DEFAULT_COMMAND = "tour"
