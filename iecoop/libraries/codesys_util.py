@@ -21,7 +21,7 @@ the time since their last call as their TM input, as CODESYS documents.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.memory import ARRAY, Struct
@@ -127,20 +127,37 @@ class LIMITALARM(FunctionBlock):
 # --- function manipulators ----------------------------------------------------------------------
 
 
-def _ramp(self: Any, elapsed_s: float) -> float:
-    """The next output of a ramp: toward IN by at most ASCEND / DESCEND per TIMEBASE (per call at T#0s)."""
-    target = float(self.IN)
-    if self.RESET or not self.RAMPING:
-        self.RAMPING = True
-        return target
-    share = 1.0 if self.TIMEBASE <= 0 else elapsed_s * 1000.0 / self.TIMEBASE
-    current = float(self.VALUE)
-    if target > current:
-        return min(target, current + abs(float(self.ASCEND)) * share)
-    return max(target, current - abs(float(self.DESCEND)) * share)
+class _Ramp(_Clocked, abstract=True):
+    """What RAMP_REAL and RAMP_INT share: the ramp's value (kept as LREAL) and its step."""
+
+    VALUE: LREAL = VAR(0.0)
+    RAMPING: BOOL = VAR(False)
+
+    if TYPE_CHECKING:
+        IN: float
+        ASCEND: float
+        DESCEND: float
+        TIMEBASE: int
+        RESET: bool
+
+    def step(self) -> float:
+        """Move VALUE toward IN by at most ASCEND / DESCEND per TIMEBASE (per call at T#0s); the new VALUE."""
+        elapsed_s = self.elapsed_s()
+        target = float(self.IN)
+        if self.RESET or not self.RAMPING:
+            self.RAMPING = True
+            self.VALUE = target
+            return target
+        share = 1.0 if self.TIMEBASE <= 0 else elapsed_s * 1000.0 / self.TIMEBASE
+        current = float(self.VALUE)
+        if target > current:
+            self.VALUE = min(target, current + abs(float(self.ASCEND)) * share)
+        else:
+            self.VALUE = max(target, current - abs(float(self.DESCEND)) * share)
+        return float(self.VALUE)
 
 
-class RAMP_REAL(_Clocked):  # noqa: N801 - the ST name
+class RAMP_REAL(_Ramp):  # noqa: N801 - the ST name
     """``RAMP_REAL``: OUT follows IN, rising at most ASCEND and falling at most DESCEND per TIMEBASE.
 
     ST: ``VAR_INPUT IN, ASCEND, DESCEND : REAL; TIMEBASE : TIME; RESET : BOOL; END_VAR
@@ -154,15 +171,12 @@ class RAMP_REAL(_Clocked):  # noqa: N801 - the ST name
     TIMEBASE: TIME = VAR_INPUT(0)
     RESET: BOOL = VAR_INPUT(False)
     OUT: REAL = VAR_OUTPUT(0.0)
-    VALUE: LREAL = VAR(0.0)
-    RAMPING: BOOL = VAR(False)
 
     def body(self) -> None:
-        self.VALUE = _ramp(self, self.elapsed_s())
-        self.OUT = self.VALUE
+        self.OUT = self.step()
 
 
-class RAMP_INT(_Clocked):  # noqa: N801 - the ST name
+class RAMP_INT(_Ramp):  # noqa: N801 - the ST name
     """``RAMP_INT``: RAMP_REAL for INT values; OUT is the ramp's value rounded toward zero.
 
     ST: ``VAR_INPUT IN, ASCEND, DESCEND : INT; TIMEBASE : TIME; RESET : BOOL; END_VAR  VAR_OUTPUT OUT : INT; END_VAR``
@@ -174,12 +188,9 @@ class RAMP_INT(_Clocked):  # noqa: N801 - the ST name
     TIMEBASE: TIME = VAR_INPUT(0)
     RESET: BOOL = VAR_INPUT(False)
     OUT: INT = VAR_OUTPUT(0)
-    VALUE: LREAL = VAR(0.0)
-    RAMPING: BOOL = VAR(False)
 
     def body(self) -> None:
-        self.VALUE = _ramp(self, self.elapsed_s())
-        self.OUT = int(self.VALUE)
+        self.OUT = int(self.step())
 
 
 class POINT(Struct):
