@@ -93,6 +93,7 @@ FOPEN_MODETEXT = 0x20  #: 't'
 ADSERR_TARGET_MACHINE_NOT_FOUND = 0x7  #: sNetId names another system (iecoop has no ADS route)
 ADSERR_DEVICE_ERROR = 0x700  #: any other failure of the file system
 ADSERR_DEVICE_INVALIDACCESS = 0x704  #: a path outside the sandbox, a link, a directory, a read-only file
+ADSERR_DEVICE_NOMEMORY = 0x70A  #: MAX_OPEN_FILES files are open already
 ADSERR_DEVICE_INVALIDPARM = 0x70B  #: an unknown hFile, an nMode without r / w / a, a null buffer
 ADSERR_DEVICE_NOTFOUND = 0x70C  #: no such file or folder, or no sandbox folder set
 ADSERR_DEVICE_EXISTS = 0x70F  #: the object already exists
@@ -405,6 +406,9 @@ def _os_error(exc: OSError) -> _AdsError:
 
 
 _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
+_CHUNK = 65536
+#: The most files the file blocks keep open at once; one more is refused with ADSERR_DEVICE_NOMEMORY.
+MAX_OPEN_FILES = 256
 _OPEN_FLAGS = {
     ("r", False): (os.O_RDONLY, "rb"),
     ("r", True): (os.O_RDWR, "r+b"),
@@ -422,6 +426,8 @@ def _open(name: str, mode: int) -> int:
         raise _AdsError(ADSERR_DEVICE_INVALIDPARM)
     flags, py_mode = _OPEN_FLAGS[(kinds[0], bool(mode & FOPEN_MODEPLUS))]
     path = sandbox_path(name)
+    if len(_files) >= MAX_OPEN_FILES:
+        raise _AdsError(ADSERR_DEVICE_NOMEMORY)
     try:
         # O_NOFOLLOW: a link put in place after the check is refused by the system, not followed.
         fd = os.open(path, flags | _NOFOLLOW, 0o666)
@@ -564,12 +570,19 @@ class FB_FileRead(_FileRequest):
         file = _file(self.hFile)
         if not self.pReadBuff:
             raise _AdsError(ADSERR_DEVICE_INVALIDPARM)
-        data = file.read(self.cbReadLen)
         target = self.pReadBuff.typed(BYTE)
-        for i, value in enumerate(data):
-            (target + i).deref = value
-        self.cbRead = len(data)
-        self.bEOF = len(data) < self.cbReadLen
+        done = 0
+        # In chunks, so a huge cbReadLen costs no more memory than a chunk; a buffer
+        # smaller than cbReadLen faults at its end (RTSEXCPT_ACCESS_VIOLATION), as on the PLC.
+        while done < self.cbReadLen:
+            data = file.read(min(self.cbReadLen - done, _CHUNK))
+            if not data:
+                break
+            for i, value in enumerate(data, done):
+                (target + i).deref = value
+            done += len(data)
+        self.cbRead = done
+        self.bEOF = done < self.cbReadLen
 
     def failed(self) -> None:
         self.cbRead = 0

@@ -365,3 +365,36 @@ def test_no_path_name_reaches_a_file_outside_the_sandbox(tmp_path: Path, name: s
     assert sorted(p.name for p in tmp_path.iterdir()) == before
     for path in root.rglob("*"):
         assert os.path.realpath(path).startswith(str(root)) or path.is_symlink()
+
+
+def test_open_files_are_limited(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(tc2, "MAX_OPEN_FILES", 3)
+    opener = tc2.FB_FileOpen()
+    with tc2.file_root(tmp_path):
+        handles = []
+        for i in range(4):
+            finish(opener, sPathName=f"f{i}.txt", nMode=tc2.FOPEN_MODEWRITE)
+            handles.append((opener.hFile, opener.nErrId))
+        assert [code for _, code in handles] == [0, 0, 0, 0x70A]
+        closer = tc2.FB_FileClose()
+        finish(closer, hFile=handles[0][0])
+        finish(opener, sPathName="f3.txt", nMode=tc2.FOPEN_MODEWRITE)
+        assert not opener.bError
+
+
+def test_a_read_longer_than_the_buffer_faults_at_its_end(tmp_path: Path) -> None:
+    from iecoop import ExceptionCode, PlcException, Struct
+
+    class Small(Struct):
+        data: ARRAY[BYTE] = VAR(bounds=(0, 3))
+
+    (tmp_path / "big.bin").write_bytes(bytes(range(100)))
+    small = Small()
+    opener, reader = tc2.FB_FileOpen(), tc2.FB_FileRead()
+    with tc2.file_root(tmp_path):
+        finish(opener, sPathName="big.bin", nMode=tc2.FOPEN_MODEREAD)
+        reader(hFile=opener.hFile, pReadBuff=adr(small, "data"), cbReadLen=50, bExecute=True)
+        with pytest.raises(PlcException) as info:
+            reader()
+    assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+    assert [small.data[i] for i in range(4)] == [0, 1, 2, 3]

@@ -115,6 +115,17 @@ def test_integer_fields_match_c_printf(value: int, width: int, flags: str) -> No
     assert fmt(spec, tu.F_DINT(value)) == (spec % value, False, 0)
 
 
+@given(
+    value=st.floats(-1e12, 1e12, allow_nan=False),
+    width=st.integers(0, 20),
+    precision=st.integers(0, 8),
+    flags=st.sampled_from(["", "-", "+", "0", " ", "#", "+0"]),
+)
+def test_float_fields_match_c_printf(value: float, width: int, precision: int, flags: str) -> None:
+    spec = f"%{flags}{width or ''}.{precision}f"
+    assert fmt(spec, tu.F_LREAL(value)) == (spec % value, False, 0)
+
+
 def test_format_string_reads_arguments_set_in_st_style_in_a_program() -> None:
     class Main(Program):
         count: DINT = VAR(0)
