@@ -162,6 +162,8 @@ class AdsLogMessage:
 
 
 _log = logging.getLogger("iecoop.libraries.tc2_system")
+# A library leaves output to the application's logging setup: no last-resort printing of warnings.
+_log.addHandler(logging.NullHandler())
 _adslog: list[AdsLogMessage] = []
 
 
