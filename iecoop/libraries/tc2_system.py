@@ -29,6 +29,7 @@ simulated (see the "Tc2_System" library page for each name):
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import dataclasses
 import logging
@@ -164,11 +165,13 @@ class AdsLogMessage:
 _log = logging.getLogger("iecoop.libraries.tc2_system")
 # A library leaves output to the application's logging setup: no last-resort printing of warnings.
 _log.addHandler(logging.NullHandler())
-_adslog: list[AdsLogMessage] = []
+#: How many ADS log messages ``adslog_messages()`` keeps (the oldest go first), so a long run's memory stays bounded.
+ADSLOG_KEEP = 10_000
+_adslog: collections.deque[AdsLogMessage] = collections.deque(maxlen=ADSLOG_KEEP)
 
 
 def adslog_messages() -> list[AdsLogMessage]:
-    """The messages the ADSLOG functions wrote since the last ``clear_adslog()``, oldest first."""
+    """The messages the ADSLOG functions wrote since the last ``clear_adslog()``, oldest first (the last ADSLOG_KEEP)."""
     return list(_adslog)
 
 

@@ -398,3 +398,11 @@ def test_a_read_longer_than_the_buffer_faults_at_its_end(tmp_path: Path) -> None
             reader()
     assert info.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
     assert [small.data[i] for i in range(4)] == [0, 1, 2, 3]
+
+
+def test_the_adslog_list_keeps_the_latest_messages() -> None:
+    for i in range(tc2.ADSLOG_KEEP + 5):
+        tc2.ADSLOGDINT(tc2.ADSLOG_MSGTYPE_HINT, "%d", i)
+    messages = tc2.adslog_messages()
+    assert len(messages) == tc2.ADSLOG_KEEP
+    assert (messages[0].text, messages[-1].text) == ("5", str(tc2.ADSLOG_KEEP + 4))
