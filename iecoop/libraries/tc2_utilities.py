@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import collections
 import datetime
-from typing import Any
+from typing import Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.libraries._printf import Arg, FormatError, render
@@ -32,7 +32,7 @@ from iecoop.libraries.tc2_system import (
     DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
 )
 from iecoop.members import method
-from iecoop.memory import POINTER_TO, IecEnum, Pointer, Struct, adr
+from iecoop.memory import POINTER_TO, Alias, IecEnum, Pointer, Struct, adr
 from iecoop.parameters import function
 from iecoop.pou import FunctionBlock
 from iecoop.runtime.clock import current_clock
@@ -43,11 +43,11 @@ from iecoop.types import (
 
 __all__ = [
     "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam", "FB_FormatString",
-    "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD",
+    "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD",
     "F_FormatArgToStr", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL",
     "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD",
-    "LREAL_TO_FMTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_STRING",
-    "TIMESTRUCT", "T_Arg", "T_FILETIME", "stLibVersion_Tc2_Utilities",
+    "LREAL_TO_FMTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64",
+    "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -551,6 +551,21 @@ def SYSTEMTIME_TO_FILETIME(systemTime: TIMESTRUCT) -> T_FILETIME:  # noqa: N802,
     moment = _moment(systemTime)
     ticks = 0 if moment is None else (moment - _FILETIME_EPOCH) // datetime.timedelta(microseconds=1) * 10
     return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
+
+
+#: ``TYPE T_FILETIME64 : ULINT``: a FILETIME in one 64-bit number.
+T_FILETIME64 = Annotated[ULINT, Alias("T_FILETIME64")]
+
+
+def FILETIME64_TO_SYSTEMTIME(in_: T_FILETIME64) -> TIMESTRUCT:  # noqa: N802 - the ST name
+    """``FILETIME64_TO_SYSTEMTIME(in)``: a T_FILETIME64 as a TIMESTRUCT."""
+    return FILETIME_TO_SYSTEMTIME(T_FILETIME(dwLowDateTime=in_ & 0xFFFF_FFFF, dwHighDateTime=in_ >> 32))
+
+
+def SYSTEMTIME_TO_FILETIME64(in_: TIMESTRUCT) -> T_FILETIME64:  # noqa: N802 - the ST name
+    """``SYSTEMTIME_TO_FILETIME64(in)``: a TIMESTRUCT as a T_FILETIME64 (an invalid date: 0)."""
+    filetime = SYSTEMTIME_TO_FILETIME(in_)
+    return (filetime.dwHighDateTime << 32) | filetime.dwLowDateTime
 
 
 def _now() -> TIMESTRUCT:

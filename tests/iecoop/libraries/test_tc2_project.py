@@ -46,3 +46,4 @@ def test_the_project_runs_on_a_runtime_with_the_libraries_values() -> None:
     assert main.fFirst == first.Num  # Tc2_System.DRAND, the same sequence from the same seed
     # The third cycle starts 20 ms after the first, at the task clock's 0 = 1970-01-01.
     assert main.nSystemTime == 116_444_736_000_000_000 + 200_000
+    assert main.sStamp == "1970-01-01-00:00:00.020"  # Tc2_Utilities.T_FILETIME64 and its conversions

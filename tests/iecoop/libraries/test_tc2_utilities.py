@@ -190,6 +190,8 @@ def test_filetime_conversions() -> None:
     assert (filetime.dwHighDateTime << 32) | filetime.dwLowDateTime == 116_444_736_000_000_000 + 15_000_000
     back = tu.FILETIME_TO_SYSTEMTIME(filetime)
     assert tu.SYSTEMTIME_TO_STRING(back) == "1970-01-01-00:00:01.500"
+    assert tu.SYSTEMTIME_TO_FILETIME64(stamp) == 116_444_736_000_000_000 + 15_000_000
+    assert tu.SYSTEMTIME_TO_STRING(tu.FILETIME64_TO_SYSTEMTIME(116_444_736_000_000_000)) == "1970-01-01-00:00:00.000"
 
 
 def test_nt_get_time_is_busy_one_call_then_gives_the_task_clock() -> None:
