@@ -139,12 +139,12 @@ def _translated(
 ) -> tuple[str, list[tuple[str, str]], set[str]]:
     """The Python module text, top-level names and qualified-only names for ``source``; nesting beyond the
     parser's limits is refused."""
-    _translator()
-    from iecoop.st.read.translate import translate_library
-
+    translate = _translator()
     units = parse_sources(source)
+    qualified: set[str] = set()
     try:
-        return translate_library(units, externals, libraries)
+        text, names = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
+        return text, names, qualified
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 

@@ -29,6 +29,18 @@ def test_a_plcproj_s_references_are_read_with_title_namespace_version_and_compan
     assert library_references("PROGRAM P END_PROGRAM") == []
 
 
+def test_a_reference_without_namespace_uses_its_title_and_a_bad_one_names_its_line(tmp_path: pathlib.Path) -> None:
+    project = tmp_path / "P.plcproj"
+    project.write_text('<?xml version="1.0" encoding="utf-8"?>\n<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">'
+                       '<ItemGroup>\n<LibraryReference Include="Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)" />\n'
+                       '</ItemGroup></Project>\n')
+    assert [(r.name, r.namespace, r.version, r.company) for r in library_references(project)] == [
+        ("Tc2_MC2", "Tc2_MC2", "3.3.52.0", "Beckhoff Automation GmbH")]
+    project.write_text(project.read_text().replace("Tc2_MC2, 3.3.52.0", "Tc2 MC2; 3.3"))
+    with pytest.raises(DefinitionError, match=r"P.plcproj:3: library reference 'Tc2 MC2; 3.3 \(Beckhoff Automation GmbH\)' names no library"):
+        library_references(project)
+
+
 def test_the_project_runs_with_its_libraries_over_several_cycles() -> None:
     plc = st.load(LINE, library_path=[PROJECTS])
     rt = Runtime(store=":memory:")
@@ -234,16 +246,41 @@ def test_the_project_s_own_name_hides_a_library_s_plain_name() -> None:
     F_Twice := nValue * 3;
     END_FUNCTION
 
+    TYPE E_Local : (FORWARD := 7, AHEAD := 8) INT; END_TYPE
+
     PROGRAM P
-    VAR nOwn, nLibrary : DINT; END_VAR
+    VAR nOwn, nLibrary : DINT; eOwn : E_Local; eLibrary : E_Dir; END_VAR
     nOwn := F_Twice(5);
     nLibrary := FsPy.F_Twice(5);
+    eOwn := FORWARD;
+    eLibrary := FsPy.E_Dir.FORWARD;
     END_PROGRAM
     """
     plc = st.load(source, libraries={"FsPy": fs_pylib})
     plc.P()
     assert (plc.P.nOwn, plc.P.nLibrary) == (15, 10)
+    assert (int(plc.P.eOwn), int(plc.P.eLibrary)) == (7, 1)  # the project's enumeration value FORWARD first
     assert "F_Twice as FsPy_F_Twice" in plc.__python__
+
+
+def test_a_project_gvl_named_like_a_library_s_leaves_the_library_s_globals_reachable() -> None:
+    source = """
+    // GVL GVL_Py
+    VAR_GLOBAL
+        nLocal : INT := 3;
+    END_VAR
+
+    PROGRAM P
+    VAR fQualified, fPlain : REAL; nOwn : INT; END_VAR
+    fQualified := FsPy.GVL_Py.cScale;
+    fPlain := cScale * 2.0;
+    nOwn := GVL_Py.nLocal;
+    END_PROGRAM
+    """
+    plc = st.load(source, libraries={"FsPy": fs_pylib})
+    plc.P()
+    assert (plc.P.fQualified, plc.P.fPlain, plc.P.nOwn) == (2.5, 5.0, 3)
+    assert "GVL_Py as FsPy_GVL_Py" in plc.__python__
 
 
 # --- ST libraries that reference others ------------------------------------------------------------
