@@ -1,0 +1,734 @@
+"""Tc2_Utilities: Beckhoff's utility library (formatting, time structures, strings, ring buffers).
+
+Written from Beckhoff's documentation (Infosys, "TwinCAT 3 PLC Lib:
+Tc2_Utilities"); the "Tc2_Utilities" library page lists every name with what
+is simulated.
+
+* ``FB_FormatString`` formats up to ten ``T_Arg`` arguments as Beckhoff's
+  format specification says (``%[flags][width][.precision]type``), with its
+  format error codes; ``F_INT``, ``F_LREAL``, ``F_STRING``... make the
+  arguments.
+* Time blocks (``NT_GetTime``, ``FB_LocalSystemTime``) read the task clock,
+  whose 0 is 1970-01-01 00:00:00 (see Tc2_System); the local time is UTC.
+
+>>> fmt = FB_FormatString()
+>>> fmt(sFormat="X: %+.3f mm, step %d of %s", arg1=F_LREAL(12.5), arg2=F_INT(3), arg3=F_STRING("ten"))
+>>> fmt.sOut, fmt.bError
+('X: +12.500 mm, step 3 of ten', False)
+>>> from iecoop.literals import parse_dt
+>>> SYSTEMTIME_TO_STRING(DT_TO_SYSTEMTIME(parse_dt("DT#2024-02-29-13:45:07")))
+'2024-02-29-13:45:07.000'
+"""
+
+from __future__ import annotations
+
+import collections
+import datetime
+from typing import Annotated, Any
+
+from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
+from iecoop.libraries._printf import Arg, FormatError, render
+from iecoop.libraries.tc2_system import (
+    DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
+)
+from iecoop.members import method
+from iecoop.memory import POINTER_TO, Alias, IecEnum, Pointer, Struct, adr
+from iecoop.parameters import function
+from iecoop.pou import FunctionBlock
+from iecoop.runtime.clock import current_clock
+from iecoop.types import (
+    BOOL, BYTE, DINT, DT, DWORD, INT, LINT, LREAL, LWORD, REAL, SINT, STRING, TIME, UDINT, UINT, ULINT, USINT,
+    WORD,
+)
+
+__all__ = [
+    "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam", "FB_FormatString",
+    "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD",
+    "F_FormatArgToStr", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL",
+    "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD",
+    "LREAL_TO_FMTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64",
+    "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
+]
+
+#: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
+stLibVersion_Tc2_Utilities = lib_version("Tc2_Utilities")
+
+
+def F_GetVersionTcUtilities(nVersionElement: INT) -> UINT:  # noqa: N802, N803 - the ST names
+    """``F_GetVersionTcUtilities(nVersionElement)``: 1 the major, 2 the minor, 3 the build number of Tc2_Utilities."""
+    return version_element(stLibVersion_Tc2_Utilities, nVersionElement)
+
+
+# --- T_Arg and its helpers ----------------------------------------------------------------------
+
+
+class E_ArgType(IecEnum):  # noqa: N801 - the ST name
+    """``E_ArgType``: the type of the data a ``T_Arg`` points to."""
+
+    ARGTYPE_UNKNOWN = 0
+    ARGTYPE_BYTE = 1
+    ARGTYPE_WORD = 2
+    ARGTYPE_DWORD = 3
+    ARGTYPE_REAL = 4
+    ARGTYPE_LREAL = 5
+    ARGTYPE_SINT = 6
+    ARGTYPE_INT = 7
+    ARGTYPE_DINT = 8
+    ARGTYPE_USINT = 9
+    ARGTYPE_UINT = 10
+    ARGTYPE_UDINT = 11
+    ARGTYPE_STRING = 12
+    ARGTYPE_BOOL = 13
+    ARGTYPE_BIGTYPE = 14
+    ARGTYPE_ULARGE = 15
+    ARGTYPE_UHUGE = 16
+    ARGTYPE_LARGE = 17
+    ARGTYPE_HUGE = 18
+
+
+class T_Arg(Struct):  # noqa: N801 - the ST name
+    """``T_Arg``: one argument of FB_FormatString: its type, byte length and address.
+
+    For a STRING, cbLen is the length plus 1 (the terminating null).
+    """
+
+    eType: E_ArgType = E_ArgType.ARGTYPE_UNKNOWN
+    cbLen: UDINT = 0
+    pData: Pointer[Any] = VAR()
+
+
+class _BoxBYTE(Struct):
+    value: BYTE = 0
+
+
+class _BoxWORD(Struct):
+    value: WORD = 0
+
+
+class _BoxDWORD(Struct):
+    value: DWORD = 0
+
+
+class _BoxLWORD(Struct):
+    value: LWORD = 0
+
+
+class _BoxSINT(Struct):
+    value: SINT = 0
+
+
+class _BoxINT(Struct):
+    value: INT = 0
+
+
+class _BoxDINT(Struct):
+    value: DINT = 0
+
+
+class _BoxLINT(Struct):
+    value: LINT = 0
+
+
+class _BoxUSINT(Struct):
+    value: USINT = 0
+
+
+class _BoxUINT(Struct):
+    value: UINT = 0
+
+
+class _BoxUDINT(Struct):
+    value: UDINT = 0
+
+
+class _BoxULINT(Struct):
+    value: ULINT = 0
+
+
+class _BoxREAL(Struct):
+    value: REAL = 0.0
+
+
+class _BoxLREAL(Struct):
+    value: LREAL = 0.0
+
+
+class _BoxBOOL(Struct):
+    value: BOOL = False
+
+
+class _BoxSTRING(Struct):
+    value: T_MaxString = ""
+
+
+# The data a T_Arg points to. On the PLC it is the helper function's own
+# variable, valid until the next call; here the most recent ones are kept.
+_recent: collections.deque[Struct] = collections.deque(maxlen=4096)
+
+#: ST type, the box that holds it, its E_ArgType and its byte size (0: a STRING, its length + 1)
+_ARG_TYPES: dict[str, tuple[type[Struct], E_ArgType, int]] = {
+    "BYTE": (_BoxBYTE, E_ArgType.ARGTYPE_BYTE, 1),
+    "WORD": (_BoxWORD, E_ArgType.ARGTYPE_WORD, 2),
+    "DWORD": (_BoxDWORD, E_ArgType.ARGTYPE_DWORD, 4),
+    "LWORD": (_BoxLWORD, E_ArgType.ARGTYPE_ULARGE, 8),
+    "SINT": (_BoxSINT, E_ArgType.ARGTYPE_SINT, 1),
+    "INT": (_BoxINT, E_ArgType.ARGTYPE_INT, 2),
+    "DINT": (_BoxDINT, E_ArgType.ARGTYPE_DINT, 4),
+    "LINT": (_BoxLINT, E_ArgType.ARGTYPE_LARGE, 8),
+    "USINT": (_BoxUSINT, E_ArgType.ARGTYPE_USINT, 1),
+    "UINT": (_BoxUINT, E_ArgType.ARGTYPE_UINT, 2),
+    "UDINT": (_BoxUDINT, E_ArgType.ARGTYPE_UDINT, 4),
+    "ULINT": (_BoxULINT, E_ArgType.ARGTYPE_ULARGE, 8),
+    "REAL": (_BoxREAL, E_ArgType.ARGTYPE_REAL, 4),
+    "LREAL": (_BoxLREAL, E_ArgType.ARGTYPE_LREAL, 8),
+    "BOOL": (_BoxBOOL, E_ArgType.ARGTYPE_BOOL, 1),
+    "STRING": (_BoxSTRING, E_ArgType.ARGTYPE_STRING, 0),
+}
+
+#: How FB_FormatString reads each E_ArgType: the ST type the formatter sees and the box type that reads it.
+_READ_AS: dict[int, tuple[str, Any]] = {
+    E_ArgType.ARGTYPE_BYTE: ("BYTE", BYTE), E_ArgType.ARGTYPE_WORD: ("WORD", WORD),
+    E_ArgType.ARGTYPE_DWORD: ("DWORD", DWORD), E_ArgType.ARGTYPE_REAL: ("REAL", REAL),
+    E_ArgType.ARGTYPE_LREAL: ("LREAL", LREAL), E_ArgType.ARGTYPE_SINT: ("SINT", SINT),
+    E_ArgType.ARGTYPE_INT: ("INT", INT), E_ArgType.ARGTYPE_DINT: ("DINT", DINT),
+    E_ArgType.ARGTYPE_USINT: ("USINT", USINT), E_ArgType.ARGTYPE_UINT: ("UINT", UINT),
+    E_ArgType.ARGTYPE_UDINT: ("UDINT", UDINT), E_ArgType.ARGTYPE_BOOL: ("BOOL", BOOL),
+    E_ArgType.ARGTYPE_ULARGE: ("ULINT", ULINT), E_ArgType.ARGTYPE_LARGE: ("LINT", LINT),
+}
+
+
+def _make_arg(type_name: str, value: object) -> T_Arg:
+    box_type, arg_type, size = _ARG_TYPES[type_name]
+    box: Any = box_type(value=value)
+    _recent.append(box)
+    if not size:
+        size = len(box.value.encode("latin-1")) + 1
+    arg = T_Arg(eType=arg_type, cbLen=size)
+    arg.pData = adr(box, "value")
+    return arg
+
+
+def F_BYTE(in_: BYTE) -> T_Arg:  # noqa: N802 - the ST name
+    """``F_BYTE(in)``: a BYTE as a T_Arg."""
+    return _make_arg("BYTE", in_)
+
+
+def F_WORD(in_: WORD) -> T_Arg:  # noqa: N802
+    """``F_WORD(in)``: a WORD as a T_Arg."""
+    return _make_arg("WORD", in_)
+
+
+def F_DWORD(in_: DWORD) -> T_Arg:  # noqa: N802
+    """``F_DWORD(in)``: a DWORD as a T_Arg."""
+    return _make_arg("DWORD", in_)
+
+
+def F_LWORD(in_: LWORD) -> T_Arg:  # noqa: N802
+    """``F_LWORD(in)``: an LWORD as a T_Arg (ARGTYPE_ULARGE)."""
+    return _make_arg("LWORD", in_)
+
+
+def F_SINT(in_: SINT) -> T_Arg:  # noqa: N802
+    """``F_SINT(in)``: a SINT as a T_Arg."""
+    return _make_arg("SINT", in_)
+
+
+def F_INT(in_: INT) -> T_Arg:  # noqa: N802
+    """``F_INT(in)``: an INT as a T_Arg."""
+    return _make_arg("INT", in_)
+
+
+def F_DINT(in_: DINT) -> T_Arg:  # noqa: N802
+    """``F_DINT(in)``: a DINT as a T_Arg."""
+    return _make_arg("DINT", in_)
+
+
+def F_LINT(in_: LINT) -> T_Arg:  # noqa: N802
+    """``F_LINT(in)``: an LINT as a T_Arg (ARGTYPE_LARGE)."""
+    return _make_arg("LINT", in_)
+
+
+def F_USINT(in_: USINT) -> T_Arg:  # noqa: N802
+    """``F_USINT(in)``: a USINT as a T_Arg."""
+    return _make_arg("USINT", in_)
+
+
+def F_UINT(in_: UINT) -> T_Arg:  # noqa: N802
+    """``F_UINT(in)``: a UINT as a T_Arg."""
+    return _make_arg("UINT", in_)
+
+
+def F_UDINT(in_: UDINT) -> T_Arg:  # noqa: N802
+    """``F_UDINT(in)``: a UDINT as a T_Arg."""
+    return _make_arg("UDINT", in_)
+
+
+def F_ULINT(in_: ULINT) -> T_Arg:  # noqa: N802
+    """``F_ULINT(in)``: a ULINT as a T_Arg (ARGTYPE_ULARGE)."""
+    return _make_arg("ULINT", in_)
+
+
+def F_REAL(in_: REAL) -> T_Arg:  # noqa: N802
+    """``F_REAL(in)``: a REAL as a T_Arg (stored as 32 bits, as on the PLC)."""
+    return _make_arg("REAL", in_)
+
+
+def F_LREAL(in_: LREAL) -> T_Arg:  # noqa: N802
+    """``F_LREAL(in)``: an LREAL as a T_Arg."""
+    return _make_arg("LREAL", in_)
+
+
+def F_BOOL(in_: BOOL) -> T_Arg:  # noqa: N802
+    """``F_BOOL(in)``: a BOOL as a T_Arg (``%s`` prints TRUE / FALSE)."""
+    return _make_arg("BOOL", in_)
+
+
+def F_STRING(in_: T_MaxString) -> T_Arg:  # noqa: N802
+    """``F_STRING(in)``: a STRING as a T_Arg (cbLen: its length + 1)."""
+    return _make_arg("STRING", in_)
+
+
+def _read_arg(arg: T_Arg) -> Arg | None:
+    """The formatter's view of ``arg``: its type and value read at pData, or None when it was never set."""
+    kind = int(arg.eType)
+    if kind == E_ArgType.ARGTYPE_UNKNOWN:
+        return None
+    if not arg.pData:
+        return Arg("POINTER", 0)  # no data: the formatter refuses it as a type mismatch
+    if kind == E_ArgType.ARGTYPE_STRING:
+        data = arg.pData.typed(BYTE)
+        raw = bytearray()
+        for i in range(max(0, arg.cbLen - 1)):
+            byte = (data + i).deref
+            if not byte:
+                break
+            raw.append(byte)
+        return Arg("STRING", raw.decode("latin-1"))
+    read = _READ_AS.get(kind)
+    if read is None:
+        return Arg(E_ArgType(kind).name, 0)
+    return Arg(read[0], arg.pData.typed(read[1]).deref)
+
+
+# --- FB_FormatString, F_FormatArgToStr ----------------------------------------------------------
+
+
+class FB_FormatString(FunctionBlock):
+    """``FB_FormatString``: sFormat with up to ten arguments formatted into sOut, in the same call.
+
+    ST: ``VAR_INPUT sFormat : T_MaxString; arg1 .. arg10 : T_Arg; END_VAR
+    VAR_OUTPUT bError : BOOL; nErrId : UDINT; sOut : T_MaxString; END_VAR``.
+    On a format error sOut is empty and nErrId is Beckhoff's format error
+    code: a class (16#10 '%' misplaced ... 16#8000 sOut overflow) plus the
+    number of the argument being formatted.
+
+    >>> fmt = FB_FormatString()
+    >>> fmt(sFormat="%d %q", arg1=F_INT(1), arg2=F_INT(2))
+    >>> fmt.bError, hex(fmt.nErrId), fmt.sOut
+    (True, '0x802', '')
+    """
+
+    sFormat: T_MaxString = VAR_INPUT("")
+    arg1: T_Arg = VAR_INPUT()
+    arg2: T_Arg = VAR_INPUT()
+    arg3: T_Arg = VAR_INPUT()
+    arg4: T_Arg = VAR_INPUT()
+    arg5: T_Arg = VAR_INPUT()
+    arg6: T_Arg = VAR_INPUT()
+    arg7: T_Arg = VAR_INPUT()
+    arg8: T_Arg = VAR_INPUT()
+    arg9: T_Arg = VAR_INPUT()
+    arg10: T_Arg = VAR_INPUT()
+    bError: BOOL = VAR_OUTPUT(False)
+    nErrId: UDINT = VAR_OUTPUT(0)
+    sOut: T_MaxString = VAR_OUTPUT("")
+
+    def body(self) -> None:
+        args = [
+            _read_arg(a) for a in (
+                self.arg1, self.arg2, self.arg3, self.arg4, self.arg5,
+                self.arg6, self.arg7, self.arg8, self.arg9, self.arg10,
+            )
+        ]
+        try:
+            self.sOut = render(self.sFormat, args, MAX_STRING_LENGTH)
+        except FormatError as exc:
+            self.bError, self.nErrId, self.sOut = True, exc.code, ""
+        else:
+            self.bError, self.nErrId = False, 0
+
+
+class E_TypeFieldParam(IecEnum):  # noqa: N801 - the ST name
+    """``E_TypeFieldParam``: the type field of ``F_FormatArgToStr``."""
+
+    TYPEFIELD_UNKNOWN = 0
+    TYPEFIELD_B = 1
+    TYPEFIELD_O = 2
+    TYPEFIELD_U = 3
+    TYPEFIELD_C = 4
+    TYPEFIELD_F = 5
+    TYPEFIELD_D = 6
+    TYPEFIELD_S = 7
+    TYPEFIELD_XU = 8
+    TYPEFIELD_XL = 9
+    TYPEFIELD_EU = 10
+    TYPEFIELD_EL = 11
+
+
+_TYPE_LETTER = {
+    E_TypeFieldParam.TYPEFIELD_B: "b", E_TypeFieldParam.TYPEFIELD_O: "o", E_TypeFieldParam.TYPEFIELD_U: "u",
+    E_TypeFieldParam.TYPEFIELD_C: "c", E_TypeFieldParam.TYPEFIELD_F: "f", E_TypeFieldParam.TYPEFIELD_D: "d",
+    E_TypeFieldParam.TYPEFIELD_S: "s", E_TypeFieldParam.TYPEFIELD_XU: "X", E_TypeFieldParam.TYPEFIELD_XL: "x",
+    E_TypeFieldParam.TYPEFIELD_EU: "E", E_TypeFieldParam.TYPEFIELD_EL: "e",
+}
+
+
+@function
+def F_FormatArgToStr(  # noqa: N802 - the ST names
+    bSign: BOOL, bBlank: BOOL, bNull: BOOL, bHash: BOOL, bLAlign: BOOL,  # noqa: N803
+    bWidth: BOOL, iWidth: INT, bPrecision: BOOL, iPrecision: INT,  # noqa: N803
+    eFmtType: E_TypeFieldParam, args: T_Arg,  # noqa: N803
+    sOut: POINTER_TO[T_MaxString] = VAR_IN_OUT(),  # noqa: N803
+) -> UDINT:
+    """``F_FormatArgToStr``: one argument formatted by the fields given one by one; the format error code (0: none).
+
+    The flags are '+' (bSign), ' ' (bBlank), '0' (bNull), '#' (bHash), '-'
+    (bLAlign); iWidth and iPrecision count when bWidth / bPrecision are TRUE.
+    """
+    letter = _TYPE_LETTER.get(eFmtType)
+    if letter is None:
+        return 0x800 + 1  # invalid (unsupported) type field value, argument 1
+    flags = "".join(f for f, on in (("+", bSign), (" ", bBlank), ("0", bNull), ("#", bHash), ("-", bLAlign)) if on)
+    width = str(iWidth) if bWidth else ""
+    precision = f".{iPrecision}" if bPrecision else ""
+    try:
+        sOut.deref = render(f"%{flags}{width}{precision}{letter}", [_read_arg(args)], MAX_STRING_LENGTH)
+    except FormatError as exc:
+        return exc.code
+    return 0
+
+
+def LREAL_TO_FMTSTR(in_: LREAL, iPrecision: INT, bRound: BOOL) -> T_MaxString:  # noqa: N802, N803
+    """``LREAL_TO_FMTSTR(in, iPrecision, bRound)``: ``in`` with iPrecision decimals, rounded or cut.
+
+    iPrecision is clipped to 0..15 (Beckhoff's MAX_DECIMAL_PLACES); an
+    infinite value is '#INF' / '-#INF', not-a-number '#QNAN'.
+
+    >>> LREAL_TO_FMTSTR(2.71828, 3, True), LREAL_TO_FMTSTR(2.71828, 3, False), LREAL_TO_FMTSTR(-0.5, 0, True)
+    ('2.718', '2.718', '-1')
+    """
+    precision = min(max(int(iPrecision), 0), 15)
+    if in_ != in_:
+        return "#QNAN"
+    if in_ in (float("inf"), float("-inf")):
+        return "#INF" if in_ > 0 else "-#INF"
+    if not bRound:
+        scale = 10 ** precision
+        in_ = int(in_ * scale) / scale
+        return f"{in_:.{precision}f}"
+    # Half away from zero, as Beckhoff's rounding, not Python's half to even.
+    scaled = abs(in_) * 10 ** precision
+    whole = int(scaled + 0.5)
+    text = f"{whole / 10 ** precision:.{precision}f}"
+    return "-" + text if in_ < 0 and whole else text
+
+
+def F_ToLCase(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
+    """``F_ToLCase(in)``: ``in`` with A..Z made a..z (other characters unchanged)."""
+    return in_.translate(_LOWER)
+
+
+def F_ToUCase(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
+    """``F_ToUCase(in)``: ``in`` with a..z made A..Z (other characters unchanged)."""
+    return in_.translate(_UPPER)
+
+
+_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
+_UPPER = str.maketrans("abcdefghijklmnopqrstuvwxyz", "ABCDEFGHIJKLMNOPQRSTUVWXYZ")
+
+
+def F_LTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
+    """``F_LTrim(in)``: ``in`` without its leading blanks."""
+    return in_.lstrip(" ")
+
+
+def F_RTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
+    """``F_RTrim(in)``: ``in`` without its trailing blanks."""
+    return in_.rstrip(" ")
+
+
+def DWORD_TO_HEXSTR(in_: DWORD, iPrecision: INT, bLoCase: BOOL) -> T_MaxString:  # noqa: N802, N803
+    """``DWORD_TO_HEXSTR(in, iPrecision, bLoCase)``: ``in`` in hexadecimal, at least iPrecision digits.
+
+    >>> DWORD_TO_HEXSTR(0xA1, 4, False), DWORD_TO_HEXSTR(0xA1, 0, True)
+    ('00A1', 'a1')
+    """
+    text = format(in_ & 0xFFFF_FFFF, "x" if bLoCase else "X")
+    return text.rjust(max(0, int(iPrecision)), "0")
+
+
+# --- time ---------------------------------------------------------------------------------------
+
+
+class TIMESTRUCT(Struct):
+    """``TIMESTRUCT``: a date and time in fields (Windows' SYSTEMTIME); wDayOfWeek 0 is Sunday."""
+
+    wYear: WORD = 0
+    wMonth: WORD = 0
+    wDayOfWeek: WORD = 0
+    wDay: WORD = 0
+    wHour: WORD = 0
+    wMinute: WORD = 0
+    wSecond: WORD = 0
+    wMilliseconds: WORD = 0
+
+
+class T_FILETIME(Struct):  # noqa: N801 - the ST name
+    """``T_FILETIME``: 100 ns intervals since 1601-01-01, in two DWORDs."""
+
+    dwLowDateTime: DWORD = 0
+    dwHighDateTime: DWORD = 0
+
+
+class E_TimeZoneID(IecEnum):  # noqa: N801 - the ST name
+    """``E_TimeZoneID``: which time zone rule FB_LocalSystemTime's time follows."""
+
+    eTimeZoneID_Invalid = -1
+    eTimeZoneID_Unknown = 0
+    eTimeZoneID_Standard = 1
+    eTimeZoneID_Daylight = 2
+
+
+_EPOCH = datetime.datetime(1970, 1, 1)
+_FILETIME_EPOCH = datetime.datetime(1601, 1, 1)
+
+
+def _timestruct(moment: datetime.datetime) -> TIMESTRUCT:
+    return TIMESTRUCT(
+        wYear=moment.year, wMonth=moment.month, wDayOfWeek=(moment.weekday() + 1) % 7, wDay=moment.day,
+        wHour=moment.hour, wMinute=moment.minute, wSecond=moment.second, wMilliseconds=moment.microsecond // 1000,
+    )
+
+
+def _moment(value: TIMESTRUCT) -> datetime.datetime | None:
+    try:
+        return datetime.datetime(
+            value.wYear, value.wMonth, value.wDay, value.wHour, value.wMinute, value.wSecond, value.wMilliseconds * 1000
+        )
+    except ValueError:
+        return None
+
+
+def DT_TO_SYSTEMTIME(DTIN: DT) -> TIMESTRUCT:  # noqa: N802, N803 - the ST names
+    """``DT_TO_SYSTEMTIME(DTIN)``: a DT (seconds since 1970) as a TIMESTRUCT (milliseconds 0)."""
+    return _timestruct(_EPOCH + datetime.timedelta(seconds=int(DTIN)))
+
+
+def SYSTEMTIME_TO_DT(TIMESTR: TIMESTRUCT) -> DT:  # noqa: N802, N803 - the ST names
+    """``SYSTEMTIME_TO_DT(TIMESTR)``: a TIMESTRUCT as a DT; milliseconds are dropped, an invalid date is DT#1970-01-01-00:00."""
+    moment = _moment(TIMESTR)
+    if moment is None or moment < _EPOCH:
+        return 0
+    return int((moment - _EPOCH).total_seconds()) & 0xFFFF_FFFF
+
+
+def SYSTEMTIME_TO_STRING(in_: TIMESTRUCT) -> STRING:  # noqa: N802 - the ST name
+    """``SYSTEMTIME_TO_STRING(in)``: 'YYYY-MM-DD-hh:mm:ss.xxx'."""
+    return (
+        f"{in_.wYear:04d}-{in_.wMonth:02d}-{in_.wDay:02d}-"
+        f"{in_.wHour:02d}:{in_.wMinute:02d}:{in_.wSecond:02d}.{in_.wMilliseconds:03d}"
+    )
+
+
+def FILETIME_TO_SYSTEMTIME(fileTime: T_FILETIME) -> TIMESTRUCT:  # noqa: N802, N803 - the ST names
+    """``FILETIME_TO_SYSTEMTIME(fileTime)``: a T_FILETIME as a TIMESTRUCT."""
+    ticks = (fileTime.dwHighDateTime << 32) | fileTime.dwLowDateTime
+    return _timestruct(_FILETIME_EPOCH + datetime.timedelta(microseconds=ticks // 10))
+
+
+def SYSTEMTIME_TO_FILETIME(systemTime: TIMESTRUCT) -> T_FILETIME:  # noqa: N802, N803 - the ST names
+    """``SYSTEMTIME_TO_FILETIME(systemTime)``: a TIMESTRUCT as a T_FILETIME (an invalid date: 0)."""
+    moment = _moment(systemTime)
+    ticks = 0 if moment is None else (moment - _FILETIME_EPOCH) // datetime.timedelta(microseconds=1) * 10
+    return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
+
+
+#: ``TYPE T_FILETIME64 : ULINT``: a FILETIME in one 64-bit number.
+T_FILETIME64 = Annotated[ULINT, Alias("T_FILETIME64")]
+
+
+def FILETIME64_TO_SYSTEMTIME(in_: T_FILETIME64) -> TIMESTRUCT:  # noqa: N802 - the ST name
+    """``FILETIME64_TO_SYSTEMTIME(in)``: a T_FILETIME64 as a TIMESTRUCT."""
+    return FILETIME_TO_SYSTEMTIME(T_FILETIME(dwLowDateTime=in_ & 0xFFFF_FFFF, dwHighDateTime=in_ >> 32))
+
+
+def SYSTEMTIME_TO_FILETIME64(in_: TIMESTRUCT) -> T_FILETIME64:  # noqa: N802 - the ST name
+    """``SYSTEMTIME_TO_FILETIME64(in)``: a TIMESTRUCT as a T_FILETIME64 (an invalid date: 0)."""
+    filetime = SYSTEMTIME_TO_FILETIME(in_)
+    return (filetime.dwHighDateTime << 32) | filetime.dwLowDateTime
+
+
+def _now() -> TIMESTRUCT:
+    return _timestruct(_FILETIME_EPOCH + datetime.timedelta(microseconds=filetime_now() // 10))
+
+
+class NT_GetTime(FunctionBlock):  # noqa: N801 - the ST name
+    """``NT_GetTime``: read the local time of the system; an ADS request, busy for one call.
+
+    ST: ``VAR_INPUT NETID : T_AmsNetId; START : BOOL; TMOUT : TIME; END_VAR
+    VAR_OUTPUT BUSY : BOOL; ERR : BOOL; ERRID : UDINT; TIMESTR : TIMESTRUCT; END_VAR``.
+    A rising edge of START sets BUSY; the next call sets TIMESTR (the task
+    clock, see the module) and drops BUSY.
+    """
+
+    NETID: T_AmsNetId = VAR_INPUT("")
+    START: BOOL = VAR_INPUT(False)
+    TMOUT: TIME = VAR_INPUT(DEFAULT_ADS_TIMEOUT)
+    BUSY: BOOL = VAR_OUTPUT(False)
+    ERR: BOOL = VAR_OUTPUT(False)
+    ERRID: UDINT = VAR_OUTPUT(0)
+    TIMESTR: TIMESTRUCT = VAR_OUTPUT()
+    PREV_START: BOOL = VAR(False)
+
+    def body(self) -> None:
+        if self.BUSY:
+            self.BUSY = False
+            self.TIMESTR = _now()
+        elif self.START and not self.PREV_START:
+            self.BUSY, self.ERR, self.ERRID = True, False, 0
+        self.PREV_START = self.START
+
+
+class FB_LocalSystemTime(FunctionBlock):  # noqa: N801 - the ST name
+    """``FB_LocalSystemTime``: the local time, kept current every call while bEnable is TRUE.
+
+    ST: ``VAR_INPUT sNetID : T_AmsNetId; bEnable : BOOL; dwCycle : DWORD := 5; dwOpt : DWORD := 1;
+    tTimeout : TIME; END_VAR  VAR_OUTPUT bValid : BOOL; systemTime : TIMESTRUCT; tzID : E_TimeZoneID; END_VAR``.
+    The first synchronisation takes one call (bValid FALSE); after it,
+    systemTime is the task clock at every call. The local time is UTC here,
+    so tzID is eTimeZoneID_Unknown.
+    """
+
+    sNetID: T_AmsNetId = VAR_INPUT("")
+    bEnable: BOOL = VAR_INPUT(False)
+    dwCycle: DWORD = VAR_INPUT(5)
+    dwOpt: DWORD = VAR_INPUT(1)
+    tTimeout: TIME = VAR_INPUT(DEFAULT_ADS_TIMEOUT)
+    bValid: BOOL = VAR_OUTPUT(False)
+    systemTime: TIMESTRUCT = VAR_OUTPUT()
+    tzID: E_TimeZoneID = VAR_OUTPUT(E_TimeZoneID.eTimeZoneID_Unknown)
+    SYNCING: BOOL = VAR(False)
+
+    def body(self) -> None:
+        if not self.bEnable:
+            self.SYNCING = False
+            self.bValid = False
+            return
+        if self.bValid or self.SYNCING:
+            self.bValid, self.SYNCING = True, False
+            self.systemTime = _now()
+        else:
+            self.SYNCING = True
+
+
+# --- FB_MemRingBuffer ---------------------------------------------------------------------------
+
+_HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
+
+
+class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
+    """``FB_MemRingBuffer``: a FIFO of byte records of any length in a buffer the caller gives.
+
+    ST: ``VAR_INPUT pWrite : PVOID; cbWrite : UDINT; pRead : PVOID; cbRead : UDINT;
+    pBuffer : PVOID; cbBuffer : UDINT; END_VAR  VAR_OUTPUT bOk : BOOL; nCount : UDINT;
+    cbSize : UDINT; cbReturn : UDINT; END_VAR`` and the actions A_AddTail,
+    A_RemoveHead, A_GetHead, A_Reset (methods here: set the inputs, then call
+    ``buffer.A_AddTail()``). Each entry takes 4 bytes (its length) plus its
+    data in the buffer. bOk FALSE: the buffer is full (A_AddTail) or empty;
+    with cbReturn > 0 it says pRead's cbRead bytes are too few for the entry,
+    whose size cbReturn is.
+    """
+
+    pWrite: Pointer[Any] = VAR_INPUT()
+    cbWrite: UDINT = VAR_INPUT(0)
+    pRead: Pointer[Any] = VAR_INPUT()
+    cbRead: UDINT = VAR_INPUT(0)
+    pBuffer: Pointer[Any] = VAR_INPUT()
+    cbBuffer: UDINT = VAR_INPUT(0)
+    bOk: BOOL = VAR_OUTPUT(False)
+    nCount: UDINT = VAR_OUTPUT(0)
+    cbSize: UDINT = VAR_OUTPUT(0)
+    cbReturn: UDINT = VAR_OUTPUT(0)
+    idxFirst: UDINT = VAR(0)
+    idxLast: UDINT = VAR(0)
+
+    def body(self) -> None:
+        """Calling the block itself changes nothing; its actions do the work."""
+
+    def _byte(self, index: int) -> Any:
+        return self.pBuffer.typed(BYTE) + index % self.cbBuffer
+
+    def _copy_in(self, index: int, data: bytes) -> None:
+        for i, value in enumerate(data):
+            self._byte(index + i).deref = value
+
+    def _copy_out(self, index: int, size: int) -> bytes:
+        return bytes(self._byte(index + i).deref for i in range(size))
+
+    @method
+    def A_AddTail(self) -> None:  # noqa: N802 - the ST name
+        """Append cbWrite bytes from pWrite; bOk FALSE when they do not fit."""
+        self.cbReturn = 0
+        need = _HEADER + self.cbWrite
+        if not self.pBuffer or not self.cbBuffer or (self.cbWrite and not self.pWrite) or self.cbSize + need > self.cbBuffer:
+            self.bOk = False
+            return
+        data = self.cbWrite.to_bytes(4, "little")
+        if self.cbWrite:
+            source = self.pWrite.typed(BYTE)
+            data += bytes((source + i).deref for i in range(self.cbWrite))
+        self._copy_in(self.idxLast, data)
+        self.idxLast = (self.idxLast + need) % self.cbBuffer
+        self.nCount += 1
+        self.cbSize += need
+        self.bOk = True
+
+    def _head(self, remove: bool) -> None:
+        self.cbReturn = 0
+        if not self.nCount or not self.pBuffer or not self.cbBuffer:
+            self.bOk = False
+            return
+        size = int.from_bytes(self._copy_out(self.idxFirst, _HEADER), "little")
+        if size > self.cbRead or (size and not self.pRead):
+            self.bOk, self.cbReturn = False, size
+            return
+        data = self._copy_out(self.idxFirst + _HEADER, size)
+        target = self.pRead.typed(BYTE) if size else None
+        for i, value in enumerate(data):
+            assert target is not None
+            (target + i).deref = value
+        self.cbReturn = size
+        self.bOk = True
+        if remove:
+            self.idxFirst = (self.idxFirst + _HEADER + size) % self.cbBuffer
+            self.nCount -= 1
+            self.cbSize -= _HEADER + size
+            if not self.nCount:
+                self.idxFirst = self.idxLast = 0
+
+    @method
+    def A_RemoveHead(self) -> None:  # noqa: N802 - the ST name
+        """Copy the oldest entry to pRead (cbRead bytes at most) and remove it; cbReturn is its size."""
+        self._head(remove=True)
+
+    @method
+    def A_GetHead(self) -> None:  # noqa: N802 - the ST name
+        """Copy the oldest entry to pRead without removing it."""
+        self._head(remove=False)
+
+    @method
+    def A_Reset(self) -> None:  # noqa: N802 - the ST name
+        """Empty the buffer."""
+        self.idxFirst = self.idxLast = self.nCount = self.cbSize = self.cbReturn = 0
+        self.bOk = True
+
