@@ -65,6 +65,8 @@ nitpick_ignore = [
     ("py:class", "iecoop.memory.arrays._T"),
     ("py:class", "iecoop.memory.pointers._T"),
     ("py:class", "iecoop.testing._P"),
+    # The runtime's own table a Trace is given by Runtime.trace (users never make a Trace themselves).
+    ("py:class", "iecoop.runtime.online.OnlineTable"),
 ]
 
 autodoc_member_order = "bysource"
