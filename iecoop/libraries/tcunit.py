@@ -71,13 +71,14 @@ import contextlib
 import contextvars
 import dataclasses
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Literal
 
 from iecoop import ARRAY, BOOL, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
-from iecoop.memory import adr
+from iecoop.generics import ANY, AnyType
+from iecoop.memory import TYPE_CLASS, adr, memcmp
 from iecoop.metadata import iec_class, st_name
 from iecoop.pou import FunctionBlock
 from iecoop.runtime.clock import Clock, task_clock
@@ -177,7 +178,7 @@ class TestRecord:
     @property
     def duration_ns(self) -> int:
         """PLC time from its first to its last cycle (0 before it finished)."""
-        return max(0, self.finished_ns - self.started_ns) if self.finished_ns >= 0 else 0
+        return max(0, self.finished_ns - self.started_ns) if self.finished_ns >= 0 and self.started_ns >= 0 else 0
 
 
 class SuiteState:
@@ -498,6 +499,11 @@ def forget_unscoped() -> None:
     _unscoped.clear()
 
 
+def unscoped_registry() -> Registry | None:
+    """The registry of the last runtime that called RUN() outside ``registry()`` (None before one did)."""
+    return _unscoped[0] if _unscoped else None
+
+
 def current_registry() -> Registry:
     """The registry RUN() uses here: the active one, else the one of the runtime running this cycle."""
     active = _active.get()
@@ -530,7 +536,7 @@ def _register(suite: FB_TestSuite) -> None:
 
 _BIT_STRINGS = frozenset({"BYTE", "WORD", "DWORD", "LWORD"})
 _FORMATS = {"TIME": format_time, "LTIME": format_ltime, "DATE": format_date, "TIME_OF_DAY": format_tod,
-            "DATE_AND_TIME": format_dt}
+            "TOD": format_tod, "DATE_AND_TIME": format_dt, "DT": format_dt}
 #: The elementary type behind each TcUnit type suffix.
 _ELEMENTARY = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
 
@@ -558,10 +564,20 @@ def _text(type_name: str, value: Any) -> str:
     return str(value)
 
 
-def _any_text(value: Any) -> str:
-    if isinstance(value, bool):
-        return "TRUE" if value else "FALSE"
-    return repr(value) if isinstance(value, (float, str)) else str(value)
+_TEXT_CLASSES = frozenset({TYPE_CLASS.TYPE_STRING, TYPE_CLASS.TYPE_WSTRING})
+#: The type classes AssertEquals(ANY) compares by value; the others (STRUCT, ARRAY, blocks ...) byte by byte.
+_ELEMENTARY_CLASSES = frozenset(TYPE_CLASS(n) for n in range(0, 22)) | {TYPE_CLASS.TYPE_LTIME, TYPE_CLASS.TYPE_ENUM}
+
+
+def _any_text(value: AnyType) -> str:
+    """An ANY argument's value as ST text."""
+    if value.TypeClass in _ELEMENTARY_CLASSES:
+        return _text(value.type_name.split("(")[0], value.value)
+    return f"{value.type_name} ({value.diSize} bytes)"
+
+
+def _typed_text(value: AnyType) -> str:
+    return f"({value.type_name}) {_any_text(value)}"
 
 
 def _differs(type_name: str, expected: Any, actual: Any, delta: float | None) -> bool:
@@ -624,6 +640,7 @@ def _equals(type_name: str, with_delta: bool = False) -> Any:
         if _differs(type_name, expected, actual, _stored(type_name, Delta) if with_delta else None):
             self._registry().record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual))
 
+    function: Callable[..., None]
     if not with_delta:
         def assert_equals_plain(self: FB_TestSuite, Expected: Any, Actual: Any, Message: Any = "") -> None:
             assert_equals(self, Expected, Actual, 0.0, Message)
@@ -663,6 +680,7 @@ def _array_equals(type_name: str, depth: int = 1, with_delta: bool = False) -> A
                 registry.record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual), f"[{where}]")
                 return
 
+    function: Callable[..., None]
     if not with_delta:
         def assert_array_plain(self: FB_TestSuite, Expecteds: Any, Actuals: Any, Message: Any = "") -> None:
             assert_array_equals(self, Expecteds, Actuals, 0.0, Message)
@@ -676,7 +694,8 @@ def _array_equals(type_name: str, depth: int = 1, with_delta: bool = False) -> A
         f"{type_name} arrays differ in size or in an element (the first differing index is reported)."
     )
     element = getattr(types, type_name)
-    function.__annotations__ = {"Expecteds": ARRAY[element], "Actuals": ARRAY[element], "Message": STRING, "return": None}
+    array: Any = ARRAY  # ARRAY[*] OF <type>: the element type is only known here
+    function.__annotations__ = {"Expecteds": array[element], "Actuals": array[element], "Message": STRING, "return": None}
     if with_delta:
         function.__annotations__["Delta"] = element
     return method(function)
@@ -713,24 +732,24 @@ class FB_TestSuite(FunctionBlock):
             self._registry().record(self, "AssertFalse", str(Message), "FALSE", "TRUE")
 
     @method
-    def AssertEquals(self, Expected: Any, Actual: Any, Message: STRING = "") -> None:
+    def AssertEquals(self, Expected: ANY, Actual: ANY, Message: STRING = "") -> None:
         """``AssertEquals(Expected, Actual : ANY, Message)``: fails when the types or the values differ.
 
-        From Python, the values' Python types stand for the ST types (a BOOL is not an
-        integer, an INT and a REAL differ in type); iecoop structs and arrays compare by value.
+        Both arrive as ``AnyType``: values of different types (an INT and a DINT, a
+        BOOL and an integer) fail with both types shown; strings compare as text,
+        other elementary values by value, STRUCTs, blocks and ARRAYs byte by byte.
+        From Python, a value's kind gives its type (``int`` is DINT, ``float`` LREAL).
         """
-        expected_type, actual_type = type(Expected), type(Actual)
-        if expected_type is not actual_type and not (
-            isinstance(Expected, (int, float)) and isinstance(Actual, (int, float))
-            and not isinstance(Expected, bool) and not isinstance(Actual, bool)
-            and isinstance(Expected, float) == isinstance(Actual, float)
-        ):
-            self._registry().record(
-                self, "AssertEquals", str(Message),
-                f"(type={expected_type.__name__}) {_any_text(Expected)}", f"(type={actual_type.__name__}) {_any_text(Actual)}",
-            )
-        elif Expected != Actual:
-            self._registry().record(self, "AssertEquals", str(Message), _any_text(Expected), _any_text(Actual))
+        expected, actual = AnyType.of(Expected), AnyType.of(Actual)
+        same_type = expected.TypeClass == actual.TypeClass and (
+            expected.TypeClass in _TEXT_CLASSES or expected.diSize == actual.diSize)
+        if not same_type:
+            self._registry().record(self, "AssertEquals", str(Message), _typed_text(expected), _typed_text(actual))
+        elif expected.TypeClass in _ELEMENTARY_CLASSES:
+            if expected.value != actual.value:
+                self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
+        elif memcmp(expected.pValue, actual.pValue, expected.diSize) != 0:
+            self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
 
     AssertEquals_BOOL = _equals("BOOL")
     AssertEquals_BYTE = _equals("BYTE")
