@@ -78,7 +78,7 @@ from iecoop import ARRAY, BOOL, STRING, TIME, UDINT, UINT, VAR, GlobalVariables,
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
 from iecoop.generics import ANY, AnyType
-from iecoop.memory import TYPE_CLASS, adr, memcmp
+from iecoop.memory import TYPE_CLASS, Pointer, adr, memcmp
 from iecoop.metadata import iec_class, st_name
 from iecoop.pou import FunctionBlock
 from iecoop.runtime.clock import Clock, task_clock
@@ -592,6 +592,8 @@ def _elements(values: Any, depth: int, where: str) -> tuple[list[int], list[tupl
 
     ST indices are used for an iecoop ARRAY (its declared bounds), 0-based ones for a Python list.
     """
+    if isinstance(values, Pointer):  # a VAR_IN_OUT passed by address: the array it points at
+        values = values.deref
     bounds = getattr(values, "bounds", None)
     if bounds is not None:
         if len(bounds) != depth:

@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from iecoop import ARRAY, INT, LREAL, REAL, PlcException, Program, Struct, T, VAR, D
+from iecoop import ARRAY, INT, LREAL, REAL, PlcException, Program, Struct, T, VAR, D, adr
 from iecoop.libraries import KNOWN, known, module_of, tcunit
 from iecoop.libraries.tcunit import FB_TestSuite, GVL_Param_TcUnit
 from iecoop.literals import parse_dt, parse_ltime, parse_tod
@@ -371,6 +371,47 @@ def test_each_runtime_gets_a_fresh_registry_without_registry_scope() -> None:
     assert first is not second
     assert [len(r.suites) for r in registries] == [1, 1]
     assert second.done and len(second.tests()) == 1
+
+
+def test_arrays_passed_by_address_are_compared_as_the_arrays_they_point_at() -> None:
+    class FB_ByAddress(FB_TestSuite):
+        a: ARRAY[INT] = VAR([1, 2], bounds=(0, 1))
+        b: ARRAY[INT] = VAR([1, 3], bounds=(0, 1))
+
+        def body(self) -> None:
+            tcunit.TEST("InOut")
+            self.AssertArrayEquals_INT(adr(self, "a"), adr(self, "b"), "by address")
+            tcunit.TEST_FINISHED()
+
+    class PRG_TEST(Program):
+        fbByAddress: FB_ByAddress = VAR()
+
+        def body(self) -> None:
+            tcunit.RUN()
+
+    failure = only(run_programs(PRG_TEST)).failures[0]
+    assert (failure.index, failure.expected, failure.actual) == ("[1]", "2", "3")
+
+
+def test_a_plc_fault_in_a_suite_ends_the_run_and_is_reported() -> None:
+    class FB_Divides(FB_TestSuite):
+        zero: INT = VAR(0)
+        n: INT = VAR(1)
+
+        def body(self) -> None:
+            tcunit.TEST("Divides")
+            self.n = self.n // self.zero
+
+    class PRG_TEST(Program):
+        fbDivides: FB_Divides = VAR()
+
+        def body(self) -> None:
+            tcunit.RUN()
+
+    result = run_programs(PRG_TEST)
+    assert "PLC fault in cycle 1" in result.fault and "RTSEXCPT_DIVIDEBYZERO" in result.fault
+    assert not result.passed
+    assert only(result).error == "the run ended before the test finished (TEST_FINISHED() was never called)"
 
 
 def test_test_outside_a_running_suite_is_a_plc_exception() -> None:
