@@ -95,6 +95,7 @@ class TcUnitProject(pytest.File):
     """A project's TcUnit tests: the project runs once, at collection, and each test becomes an item."""
 
     def collect(self) -> Iterator[pytest.Item]:
+        """One item per TcUnit test of the project, which runs once (and is kept for the session)."""
         from iecoop.testing.tcunit import TestResult, run_project
 
         results = self.config.stash[_RESULTS]
@@ -119,17 +120,20 @@ class TcUnitItem(pytest.Item):
         self.test = test
 
     def runtest(self) -> None:
+        """Pass, fail with the test's report, or skip a ``disabled_`` test."""
         if self.test.status == "skipped":
             pytest.skip(f"TcUnit: {self.test.name} is disabled (the disabled_ prefix)")
         if self.test.status != "passed":
             raise TcUnitFailure(self.test.report())
 
     def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> str:
+        """The failed asserts, one line each: message, expected and actual values, index and cycle."""
         if isinstance(excinfo.value, TcUnitFailure):
             return f"TcUnit test {self.test.suite}@{self.test.name} failed:\n{excinfo.value}"
         return str(super().repr_failure(excinfo, style))
 
     def reportinfo(self) -> tuple[os.PathLike[str] | str, int | None, str]:
+        """The project file and ``Suite::Test``."""
         return self.path, None, f"{self.test.suite}::{self.test.name}"
 
 
