@@ -29,14 +29,16 @@ names the extra.
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import os
 import pathlib
 import sys
 import types
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeVar
 
 from iecoop._codegen import compiled, script_number
+from iecoop.exceptions import DefinitionError
 from iecoop.st.read.names import python_name
 from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
 from iecoop.st.export import StExportError, dump, export
@@ -80,6 +82,7 @@ class StModule(types.ModuleType):
     """
 
     __python__: str
+    __qualified_only__: list[str]
 
     def __getattr__(self, name: str) -> Any:
         lowered = name.lower()
@@ -118,18 +121,70 @@ def to_python(source: str | os.PathLike[str]) -> str:
         RUN = 5
     <BLANKLINE>
     """
-    text, _ = _translated(source, [])
+    text, _, _ = _translated(source, [])
     return text
 
 
-def _translated(source: str | os.PathLike[str], externals: list[str]) -> tuple[str, list[tuple[str, str]]]:
-    """The Python module text and top-level names for ``source``; nesting beyond the parser's limits is refused."""
-    translate = _translator()
+def _translated(
+    source: str | os.PathLike[str], externals: list[str], libraries: Sequence[Any] = ()
+) -> tuple[str, list[tuple[str, str]], set[str]]:
+    """The Python module text, top-level names and qualified-only names for ``source``; nesting beyond the
+    parser's limits is refused."""
+    _translator()
+    from iecoop.st.read.translate import translate_library
+
     units = parse_sources(source)
     try:
-        return translate(units, externals=externals)
+        return translate_library(units, externals, libraries)
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
+
+
+#: the libraries being loaded (resolved paths), innermost last: a reference back to one is a cycle
+_loading: contextvars.ContextVar[tuple[pathlib.Path, ...]] = contextvars.ContextVar("iecoop_st_loading", default=())
+#: the libraries one top-level ``load`` has loaded, by resolved path (a library two others use is loaded once)
+_loaded: contextvars.ContextVar[dict[pathlib.Path, StModule] | None] = contextvars.ContextVar("iecoop_st_loaded", default=None)
+
+
+def _bound_libraries(
+    source: str | os.PathLike[str],
+    libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None,
+    library_path: Sequence[str | os.PathLike[str]] | None,
+    profile: str | None,
+) -> list[Any]:
+    """The libraries ``source`` uses (its ``.plcproj`` references and ``libraries=``), ST ones loaded."""
+    _translator()  # the ImportError naming the extra, before the reader is imported
+    from iecoop.st.read.libraries import resolve
+    from iecoop.st.read.parse import library_references
+
+    def load_library(path: pathlib.Path) -> types.ModuleType:
+        key = path.resolve()
+        chain = _loading.get()
+        if key in chain:
+            names = " -> ".join(p.name for p in (*chain[chain.index(key):], key))
+            raise DefinitionError(f"{path}: libraries reference each other in a cycle: {names}")
+        cache = _loaded.get()
+        if cache is not None and key in cache:
+            return cache[key]
+        token = _loading.set((*chain, key))
+        try:
+            module = load(path, profile=profile, library_path=library_path)
+        finally:
+            _loading.reset(token)
+        if cache is not None:
+            cache[key] = module
+        return module
+
+    references = library_references(source)
+    if not references and not libraries:
+        return []
+    top = _loaded.get() is None
+    token = _loaded.set({}) if top else None
+    try:
+        return resolve(references, libraries, library_path, load_library)
+    finally:
+        if token is not None:
+            _loaded.reset(token)
 
 
 def _generated_failure(source: str | os.PathLike[str], exc: BaseException) -> StUnsupportedError:
@@ -147,6 +202,8 @@ def load(
     profile: str | None = None,
     externals: Mapping[str, Callable[..., Any]] | None = None,
     package: str | None = None,
+    libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None = None,
+    library_path: Sequence[str | os.PathLike[str]] | None = None,
 ) -> StModule:
     """Load Structured Text as live iecoop classes and instances (see the module docstring).
 
@@ -157,11 +214,23 @@ def load(
     checked against (a TwinCAT PLC project or library is one namespace): by
     default the text is a namespace of its own, so only its own code reaches
     its INTERNAL members; with ``package="plant"`` code in ``plant`` does too.
+
+    Libraries: the names a library declares resolve plain (``TON``) and qualified by its namespace
+    (``Tc2_Standard.TON``). A ``.plcproj``'s ``<PlaceholderReference>`` / ``<LibraryReference>`` items
+    are bound, each found in this order: ``libraries`` (title or namespace -> a folder or ``.plcproj``
+    of ST, loaded as a library with its own references, or a module of iecoop classes whose
+    ``__all__`` lists its ST names), the folders of ``library_path``, those of the environment
+    variable ``IECOOP_LIBRARY_PATH`` (``os.pathsep``-separated; a library is ``<Name>/``,
+    ``<Name>.plcproj`` or ``<Name>/<Name>.plcproj`` there), then the libraries iecoop ships
+    (``iecoop.libraries.KNOWN``). Every entry of ``libraries`` is bound too, under its key as
+    namespace, so plain ST text can use one. A reference found nowhere, or libraries that reference
+    each other in a cycle, is a DefinitionError.
     """
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    text, names = _translated(source, list(externals))
+    bound = _bound_libraries(source, libraries, library_path, profile)
+    text, names, qualified = _translated(source, list(externals), bound)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
@@ -174,6 +243,9 @@ def load(
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
     module.__file__ = filename
     module.__python__ = text
+    # what a project that uses this one as a library binds: its ST names, and those needing the namespace
+    module.__all__ = [name for _kind, name in names]
+    module.__qualified_only__ = sorted(qualified)
     sys.modules[module_name] = module  # annotations resolve through the module, as for an import
     lowered = {k.lower(): v for k, v in externals.items()}
     unbound = []

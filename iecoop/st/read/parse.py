@@ -208,6 +208,56 @@ def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
     return files
 
 
+@dataclasses.dataclass(frozen=True)
+class LibraryReference:
+    """A library a ``.plcproj`` references: ``<PlaceholderReference>`` or ``<LibraryReference>``.
+
+    ``name`` is its title (``Tc2_Standard``), ``namespace`` what qualified names use (``<Namespace>``,
+    else the title), ``version`` and ``company`` as the reference resolves it (``*``: the newest).
+    """
+
+    name: str
+    namespace: str
+    version: str
+    company: str
+    where: str
+
+
+#: ``Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)``: title, version, company
+_RESOLUTION = re.compile(r"\s*([^,()]+?)\s*(?:,\s*([^()]*?)\s*)?(?:\(([^()]*)\))?\s*\Z")
+
+
+def library_references(source: str | os.PathLike[str]) -> list[LibraryReference]:
+    """The libraries a ``.plcproj`` (or the one ``.plcproj`` directly in a folder) references; [] for other sources."""
+    if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
+        return []
+    path = pathlib.Path(source)
+    if path.is_dir():
+        projects = sorted(path.glob("*.plcproj"))
+        if len(projects) != 1:
+            return []
+        path = projects[0]
+    if path.suffix.lower() != ".plcproj" or not path.is_file():
+        return []
+    references = []
+    for element in _read_xml(path).iter():
+        if not isinstance(element.tag, str) or element.tag.rsplit("}", 1)[-1] not in ("PlaceholderReference", "LibraryReference"):
+            continue
+        children = {child.tag.rsplit("}", 1)[-1]: (child.text or "").strip() for child in element if isinstance(child.tag, str)}
+        # A placeholder names the library it resolves to in <DefaultResolution>; a plain reference in Include.
+        resolution = children.get("DefaultResolution") or element.get("Include", "")
+        match = _RESOLUTION.match(resolution)
+        where = f"{path}:{element.sourceline}"
+        if match is None or not is_st_identifier(match.group(1).strip()):
+            raise StSyntaxError(f"{where}: library reference {resolution!r} names no library (Title, version (company))")
+        name = match.group(1).strip()
+        namespace = children.get("Namespace") or element.get("Include", "").split(",")[0].strip() or name
+        if not is_st_identifier(namespace):
+            raise StSyntaxError(f"{where}: library {name}: namespace {namespace!r} is not an ST identifier")
+        references.append(LibraryReference(name, namespace, (match.group(2) or "*").strip(), (match.group(3) or "").strip(), where))
+    return references
+
+
 def _check_gvl_names(units: list[Unit]) -> None:
     """A GVL named after its file has an ASCII ST name, and no POU or type has that name too."""
     import blark.transform as tf

@@ -18,6 +18,7 @@ from iecoop.exceptions import DefinitionError
 from iecoop.st.language import ELEMENTARY, INTEGER_LAYOUT, REAL_TYPES, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
+from iecoop.st.read.libraries import BoundLibrary, Lookup, bind, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.trees import lark_token_type, signature, variables
 
@@ -137,6 +138,10 @@ class Decl:
     st: str = ""
     #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
     declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+    #: a bound library's declaration: the module the generated code imports it from, and the import
+    #: (``TON``, or ``FB_Log as TCU_FB_Log`` when the name is taken); never emitted
+    library: str = ""
+    import_spec: str = ""
 
     def __post_init__(self) -> None:
         self.st = self.st or self.name
@@ -155,15 +160,15 @@ class Symbols:
         """Defined by a later phase of the translator."""
         raise NotImplementedError
 
-    def __init__(self, units: Sequence[Unit], externals: Sequence[str] = ()) -> None:
+    def __init__(self, units: Sequence[Unit], externals: Sequence[str] = (), libraries: Sequence[BoundLibrary] = ()) -> None:
         self.units = units
         #: ST name (lower case) -> declaration; ``by_python``: the same by Python name (a TypeRef's name)
-        self.decls: dict[str, Decl] = {}
-        self.by_python: dict[str, Decl] = {}
+        self.decls: Lookup[Decl] = Lookup()
+        self.by_python: Lookup[Decl] = Lookup()
         #: top-level ST names (lower case) -> what and where they are declared, for the duplicate check
         self.declared: dict[str, tuple[str, str]] = {}
-        self.enum_values: dict[str, tuple[str, str]] = {}
-        self.globals: dict[str, tuple[str, Member]] = {}
+        self.enum_values: Lookup[tuple[str, str]] = Lookup()
+        self.globals: Lookup[tuple[str, Member]] = Lookup()
         self.externals = {name.lower() for name in externals}
         self.imports: dict[str, set[str]] = {}
         self.out: list[str] = []
@@ -179,6 +184,7 @@ class Symbols:
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
         self._stdlib_decls()
+        bind(self, libraries)
 
     # --- errors and imports ---
 
@@ -305,8 +311,8 @@ class Symbols:
             if not name.isidentifier():
                 stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
                 name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
-            existing = self.decls.get(str(name).lower())
-            if existing is not None and existing.kind == "gvl":
+            existing = dict.get(self.decls, str(name).lower())
+            if existing is not None and existing.kind == "gvl" and not existing.library:
                 existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
                 existing.units[id(item)] = unit
                 return None
@@ -339,6 +345,8 @@ class Symbols:
     def resolve_members(self) -> None:
         """Second half of pass 1: member types, once every type name is known."""
         for decl in list(self.decls.values()):
+            if decl.library:
+                continue
             self.unit = decl.unit
             if decl.kind in ("fb", "program", "function"):
                 for block in decl.node.declarations:
@@ -411,7 +419,7 @@ class Symbols:
             return TypeRef("user", IQUERYINTERFACE.name)
         decl = self.decls.get(name.lower())
         if decl is None:
-            raise self.fail(f"unknown type {name!r}", node)
+            raise self.fail(unknown_name("type", name, self.decls), node)
         return TypeRef("user", decl.name)
 
     def _string_type(self, spec: Any) -> TypeRef:

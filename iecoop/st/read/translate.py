@@ -11,13 +11,17 @@ the file, line and construct; nothing is dropped silently.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator, Sequence
 
 import blark.transform as tf
 
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
+from iecoop.st.read.libraries import BoundLibrary, collapse_namespaces, rename_shadowed
 from iecoop.st.read.symbols import Decl
+
+_QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
 
 
 class Translator(Pous):
@@ -50,7 +54,7 @@ class Translator(Pous):
 
         def visit(decl: Decl) -> None:
             key = decl.name
-            if state.get(key) == 2 or decl.kind == "stdfb":
+            if state.get(key) == 2 or decl.kind == "stdfb" or decl.library:
                 return
             if state.get(key) == 1:
                 return  # a cycle through a pointer or interface: annotations are strings, order does not matter
@@ -66,7 +70,9 @@ class Translator(Pous):
         return order
 
     def translate(self) -> str:
+        collapse_namespaces((unit.tree for unit in self.units), self.decls)
         self.collect()
+        rename_shadowed(self)
         self.resolve_members()
         body: list[str] = []
         for decl in self.ordered():
@@ -114,9 +120,24 @@ class Translator(Pous):
         return "\n".join(header + body) + "\n"
 
 
-def translate(units: Sequence[Unit], externals: Sequence[str] = ()) -> tuple[str, list[tuple[str, str]]]:
-    """The Python module text for ``units`` and the ``(kind, name)`` of each top-level ST name."""
-    translator = Translator(units, externals)
-    text = translator.translate()
-    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb"]
+def translate(
+    units: Sequence[Unit], externals: Sequence[str] = (), libraries: Sequence[BoundLibrary] = ()
+) -> tuple[str, list[tuple[str, str]]]:
+    """The Python module text for ``units`` and the ``(kind, name)`` of each top-level ST name.
+
+    ``libraries``: the libraries the source uses, their names resolved plain and qualified.
+    """
+    text, names, _ = translate_library(units, externals, libraries)
     return text, names
+
+
+def translate_library(
+    units: Sequence[Unit], externals: Sequence[str] = (), libraries: Sequence[BoundLibrary] = ()
+) -> tuple[str, list[tuple[str, str]], set[str]]:
+    """``translate``, and the ST names of the GVLs and enumerations marked ``{attribute 'qualified_only'}``."""
+    translator = Translator(units, externals, libraries)
+    text = translator.translate()
+    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb" and not d.library]
+    qualified = {d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
+                 and any(_QUALIFIED_ONLY.fullmatch(p) for p in translator._decl_pragmas(d))}
+    return text, names, qualified

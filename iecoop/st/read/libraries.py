@@ -1,0 +1,529 @@
+"""Bound libraries: what a library module declares, as the declarations pass 1 uses.
+
+A library is a Python module of iecoop classes whose ``__all__`` lists its ST names (iecoop's shipped
+libraries, a user's module, or a folder of ST loaded with ``st.load``). Its names resolve plain
+(``TON``) and qualified by the namespace the project gives it (``Tc2_Standard.TON``), ST's way:
+case-insensitively, the project's own names first. A name two libraries both declare is ambiguous
+when used plain; ``{attribute 'qualified_only'}`` (or ``QUALIFIED_ONLY = True`` in a Python module)
+refuses the plain use. The generated Python imports what it uses from the library's module.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import os
+import pathlib
+import types
+import typing
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from typing import Any, TypeVar
+
+import blark.transform as tf
+
+from iecoop.exceptions import DefinitionError
+from iecoop.metadata import Kind, iec_class, kind_of
+from iecoop.parameters import parameter_sections
+from iecoop.st.read.names import python_name
+from iecoop.st.read.parse import LibraryReference
+
+if typing.TYPE_CHECKING:
+    from iecoop.st.read.symbols import Decl, Member, Symbols, TypeRef
+
+__all__ = ["BoundLibrary", "Lookup", "bind", "collapse_namespaces", "rename_shadowed"]
+
+_V = TypeVar("_V")
+
+#: the ``st.load`` keyword and environment variable an unresolved reference's message points at
+HOW_TO_RESOLVE = ("pass libraries={name: folder, .plcproj or module}, library_path=[folder, ...] "
+                  "or set IECOOP_LIBRARY_PATH to folders holding <name>/ or <name>.plcproj")
+
+
+@dataclasses.dataclass(frozen=True)
+class BoundLibrary:
+    """A library a project uses: its namespace (``Tc2_Standard``, or ``TCU`` for a renamed one) and its module.
+
+    ``qualified_only``: every name needs the namespace; ``qualified``: the ST names (lower case) of the
+    GVLs and enumerations marked ``{attribute 'qualified_only'}``, whose variables and values need it.
+    """
+
+    namespace: str
+    module: types.ModuleType
+    title: str = ""
+    qualified_only: bool = False
+    qualified: frozenset[str] = frozenset()
+
+    @property
+    def import_from(self) -> str:
+        return self.module.__name__
+
+    def names(self) -> list[str]:
+        """The ST names the library declares (its module's ``__all__``)."""
+        listed = getattr(self.module, "__all__", None)
+        if listed is None:
+            raise DefinitionError(f"library {self.namespace}: module {self.import_from} has no __all__ listing its ST names")
+        return [str(name) for name in listed]
+
+
+class Lookup(dict[str, _V]):
+    """A table of ST names (lower case) that notes which library declaration a lookup resolved to.
+
+    A name bound from a library is imported by the generated module once a lookup finds it (and the
+    project has not declared the name itself); a refused name (ambiguous, qualified only) raises its
+    rule when looked up, so each use is reported at its own line.
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        #: key -> (the value bound from a library, the library declaration the generated code imports for it)
+        self.bound: dict[str, tuple[Any, Decl]] = {}
+        #: key -> the rule that refuses the plain name
+        self.refused: dict[str, str] = {}
+        self.on_refused: Callable[[str], Exception] = DefinitionError
+        self.imports: dict[str, set[str]] = {}
+        #: ``tc2_standard.concat`` -> ``CONCAT``: a library's name for a function the translator has built in
+        self.builtin: dict[str, str] = {}
+
+    def bind(self, key: str, value: _V, decl: Decl) -> None:
+        dict.__setitem__(self, key, value)
+        self.bound[key] = (value, decl)
+
+    def refuse(self, key: str, rule: str) -> None:
+        if dict.__contains__(self, key):
+            dict.__delitem__(self, key)
+        self.refused[key] = rule
+
+    def _found(self, key: str) -> _V:
+        value = dict.__getitem__(self, key)
+        bound = self.bound.get(key)
+        if bound is not None and bound[0] is value:
+            self.imports.setdefault(bound[1].library, set()).add(bound[1].import_spec)
+        return value
+
+    def __setitem__(self, key: str, value: _V) -> None:
+        self.refused.pop(key, None)  # the project's own name comes first
+        dict.__setitem__(self, key, value)
+
+    def __contains__(self, key: object) -> bool:
+        return dict.__contains__(self, key) or key in self.refused
+
+    def __getitem__(self, key: str) -> _V:
+        if not dict.__contains__(self, key) and key in self.refused:
+            raise self.on_refused(self.refused[key])
+        return self._found(key)
+
+    def get(self, key: str, default: Any = None) -> Any:  # type: ignore[override]
+        if dict.__contains__(self, key):
+            return self._found(key)
+        if key in self.refused:
+            raise self.on_refused(self.refused[key])
+        return default
+
+
+# --- a module's declarations ---------------------------------------------------------------------
+
+_KINDS = {Kind.FUNCTION_BLOCK: "fb", Kind.PROGRAM: "program", Kind.STRUCT: "struct", Kind.UNION: "union",
+          Kind.INTERFACE: "interface", Kind.ENUM: "enum"}
+
+
+def _kind(value: Any) -> str | None:
+    """The Decl kind of what a library module lists, or None for what ST cannot name."""
+    if isinstance(value, type):
+        kind = kind_of(value)
+        return _KINDS.get(kind) if kind is not None else None
+    kind = kind_of(type(value))
+    if kind is Kind.GVL:
+        return "gvl"
+    if kind is Kind.PROGRAM:
+        return "program"
+    if typing.get_origin(value) is typing.Annotated and any(type(m).__name__ == "Alias" for m in value.__metadata__):
+        return "alias"
+    if callable(value) and not isinstance(value, type):
+        return "function"
+    return None
+
+
+class _Binder:
+    """Makes the Decls of the bound libraries and registers their names in the symbol table."""
+
+    def __init__(self, symbols: Symbols, libraries: Sequence[BoundLibrary]) -> None:
+        self.symbols = symbols
+        self.libraries = libraries
+        #: id of a library class -> its Decl (types of members resolve through it)
+        self.by_object: dict[int, Decl] = {}
+        self.standard: dict[int, Decl] = {}
+
+    def run(self) -> None:
+        import iecoop.functions as functions
+        import iecoop.stdlib as stdlib
+
+        from iecoop.st.read.symbols import Decl
+
+        symbols = self.symbols
+        for decl in list(symbols.decls.values()):
+            if decl.kind == "stdfb":
+                self.standard[id(getattr(stdlib, decl.name))] = decl
+        plain: dict[str, list[tuple[BoundLibrary, Decl]]] = {}
+        made: list[tuple[BoundLibrary, Decl, Any]] = []
+        for library in self.libraries:
+            for st_name in library.names():
+                value = getattr(library.module, st_name, None)
+                kind = _kind(value)
+                if value is None or kind is None:
+                    continue
+                if kind == "function" and getattr(functions, st_name.upper(), None) is value:
+                    # the translator writes the standard functions itself (typed by their operands)
+                    symbols.decls.builtin[f"{library.namespace}.{st_name}".lower()] = st_name.upper()
+                    continue
+                decl = self.standard.get(id(value)) or self.by_object.get(id(value))
+                if decl is None:
+                    decl = Decl(kind, python_name(st_name), st=st_name)
+                    decl.library = library.import_from
+                    self.by_object[id(value)] = decl
+                    made.append((library, decl, value))
+                self._register(f"{library.namespace}.{st_name}".lower(), decl)
+                plain.setdefault(st_name.lower(), []).append((library, decl))
+        self._python_names(made)
+        for _library, decl, value in made:
+            self._fill(decl, value)
+        for key, found in plain.items():
+            self._plain(key, found)
+
+    def _register(self, key: str, decl: Decl) -> None:
+        if decl.library:
+            self.symbols.decls.bind(key, decl, decl)
+        else:
+            dict.__setitem__(self.symbols.decls, key, decl)
+
+    def _python_names(self, made: list[tuple[BoundLibrary, Decl, Any]]) -> None:
+        """Two libraries' declarations of one name get their namespace in front (``TCU_FB_TestSuite``)."""
+        counts: dict[str, int] = {}
+        for _library, decl, _value in made:
+            counts[decl.name] = counts.get(decl.name, 0) + 1
+        for library, decl, value in made:
+            if counts[decl.name] > 1 or decl.name in self.symbols.by_python:
+                decl.name = f"{library.namespace}_{decl.name}"
+            self._import_as(decl, getattr(value, "__name__", None) or decl.st)
+            self.symbols.by_python.bind(decl.name, decl, decl)
+
+    @staticmethod
+    def _import_as(decl: Decl, attribute: str) -> None:
+        decl.import_spec = attribute if attribute == decl.name else f"{attribute} as {decl.name}"
+
+    def _plain(self, key: str, found: list[tuple[BoundLibrary, Decl]]) -> None:
+        """The plain name: one library's declaration, or refused (ambiguous, qualified only)."""
+        decls = {id(d): (lib, d) for lib, d in found}
+        if len(decls) > 1:
+            names = " and ".join(f"{lib.namespace}.{d.st}" for lib, d in decls.values())
+            self.symbols.decls.refuse(key, f"{found[0][1].st} is ambiguous: {names} both declare it "
+                                           "(qualify it with the library's namespace)")
+            return
+        library, decl = found[0]
+        if library.qualified_only:
+            self.symbols.decls.refuse(key, f"{decl.st} needs its namespace: library {library.namespace} is "
+                                           f"qualified_only (write {library.namespace}.{decl.st})")
+            return
+        self._register(key, decl)
+        if decl.kind == "gvl" and key not in library.qualified:
+            for member in decl.members.values():
+                self.symbols.globals.bind(member.st.lower(), (decl.name, member), decl)
+        if decl.kind == "enum" and key not in library.qualified:
+            for value in decl.values:
+                self.symbols.enum_values.bind(value.lower(), (decl.name, python_name(value, attribute=True)), decl)
+        elif decl.kind in ("gvl", "enum"):
+            for name in (m.st for m in decl.members.values()) if decl.kind == "gvl" else decl.values:
+                rule = (f"{name} needs its list's name: {decl.kind.upper()} {library.namespace}.{decl.st} "
+                        f"is qualified_only (write {decl.st}.{name})")
+                (self.symbols.globals if decl.kind == "gvl" else self.symbols.enum_values).refuse(name.lower(), rule)
+
+    # --- members ---
+
+    def _fill(self, decl: Decl, value: Any) -> None:
+        from iecoop.st.read.symbols import Callable_, Member
+
+        if decl.kind == "function":
+            decl.methods["()"] = Callable_(decl.name, self._returns(value), self._params(value), st=decl.st)
+            return
+        if decl.kind == "alias":
+            decl.alias_of = self._annotation_type(value)
+            return
+        if decl.kind == "enum":
+            record = iec_class(value)
+            spelled = dict(record.value_names) if record is not None else {}
+            decl.values = [spelled.get(item.name, item.name) for item in value]
+            return
+        cls = value if isinstance(value, type) else type(value)
+        for base in cls.__mro__[1:]:
+            base_decl = self.by_object.get(id(base)) or self.standard.get(id(base))
+            if base_decl is not None:
+                (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(base_decl.st)
+                if base_decl.kind != "interface":
+                    break
+        record = iec_class(cls)
+        if record is None:
+            return
+        for field in record.layout.fields if record.layout is not None else ():
+            section = str(field.section.value if hasattr(field.section, "value") else field.section)
+            decl.members[field.st_name.lower()] = Member(field.name, self._info_type(field.info), section, st=field.st_name)
+        for name, member in record.members.items():
+            st = member.st_name or name
+            function = getattr(cls, name, None)
+            if member.kind == "method" and function is not None:
+                decl.methods[st.lower()] = Callable_(name, self._returns(function), self._params(function, skip_self=True), st=st)
+            elif member.kind == "property":
+                getter = getattr(inspect.getattr_static(cls, name, None), "fget", None)
+                type_ = self._returns(getter) if getter is not None else None
+                decl.props[st.lower()] = Member(name, type_, "PROPERTY", st=st)
+
+    def _params(self, function: Any, skip_self: bool = False) -> list[Member]:
+        from iecoop.st.read.symbols import Member
+        from iecoop.st.read.trees import signature
+
+        sections = parameter_sections(function)
+        hints = self._hints(function)
+        members = []
+        try:
+            params = list(inspect.signature(inspect.unwrap(function)).parameters.values())
+        except (TypeError, ValueError):
+            return []
+        for param in params[1 if skip_self else 0:]:
+            if param.kind in (param.VAR_POSITIONAL, param.VAR_KEYWORD):
+                continue
+            spec = sections.get(param.name)
+            section = str(spec.section.value) if spec is not None else "VAR_INPUT"
+            annotation = hints.get(param.name)
+            type_ = self._annotation_type(annotation) if annotation is not None else None
+            if spec is not None and type_ is not None and type_.kind == "pointer" and type_.of is not None:
+                type_ = type_.of  # an output or in-out reaches its variable through a pointer
+            members.append(Member(param.name, type_, section, st=param.name))
+        return signature(members)
+
+    def _returns(self, function: Any) -> TypeRef | None:
+        annotation = self._hints(function).get("return")
+        return self._annotation_type(annotation) if annotation is not None else None
+
+    @staticmethod
+    def _hints(function: Any) -> dict[str, Any]:
+        try:
+            return typing.get_type_hints(inspect.unwrap(function), include_extras=True)
+        except Exception:  # an annotation the module cannot resolve: the parameter stays untyped
+            return {}
+
+    def _annotation_type(self, annotation: Any) -> TypeRef | None:
+        from iecoop.memory._core import resolve_type
+
+        try:
+            info = resolve_type(annotation, "library")
+        except (DefinitionError, TypeError, ValueError):
+            return None
+        return self._info_type(info)
+
+    def _info_type(self, info: Any) -> TypeRef | None:
+        from iecoop.st.read.symbols import TypeRef
+
+        for attribute in ("cls", "enum_cls", "iface"):
+            target = getattr(info, attribute, None)
+            if target is not None:
+                decl = self.by_object.get(id(target)) or self.standard.get(id(target))
+                return TypeRef("user", decl.name) if decl is not None else None
+        record = getattr(info, "record", None)
+        length = getattr(info, "length", None)
+        if record is not None and length is not None:
+            return TypeRef("string", str(record.name), length=str(length))
+        if record is not None:
+            return TypeRef("elem", str(record.name))
+        inner = getattr(info, "target", None) or getattr(info, "element", None)
+        for kind, name in (("pointer", "POINTER_TO"), ("reference", "REFERENCE_TO")):
+            if type(info).__name__.lower().startswith(kind):
+                of = self._info_type(inner) if inner is not None else None
+                return TypeRef(kind, name, of=of) if of is not None else None
+        return None
+
+
+def bind(symbols: Symbols, libraries: Sequence[BoundLibrary]) -> None:
+    """Register what ``libraries`` declare in ``symbols`` (qualified and plain), before the project's names."""
+    for table in (symbols.decls, symbols.by_python, symbols.globals, symbols.enum_values):
+        table.on_refused = symbols.fail
+        table.imports = symbols.imports
+    _Binder(symbols, libraries).run()
+
+
+def rename_shadowed(symbols: Symbols) -> None:
+    """A library declaration whose Python name the project's own declaration took gets its namespace in front."""
+    for key, (decl, _) in list(symbols.by_python.bound.items()):
+        if dict.get(symbols.by_python, key) is decl:
+            continue
+        namespace = next((k.rpartition(".")[0] for k, (v, _) in symbols.decls.bound.items() if v is decl and "." in k), "lib")
+        attribute = decl.import_spec.split(" as ")[0]
+        decl.name = f"{namespace}_{attribute}"
+        _Binder._import_as(decl, attribute)
+        symbols.by_python.bind(decl.name, decl, decl)
+        for table in (symbols.globals, symbols.enum_values):
+            for bound_key, (value, owner) in list(table.bound.items()):
+                if owner is decl:  # (list name, member) and (enum name, value) name the class
+                    table.bind(bound_key, (decl.name, value[1]), decl)
+
+
+# --- qualified names in expressions ------------------------------------------------------------------
+
+
+def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
+    """``Lib.F_Add(1)``, ``Lib.GVL_C.cMax``: the namespace and the name it qualifies become one name, ``Lib.F_Add``.
+
+    blark reads a qualified name in an expression as a variable ``Lib`` and its field; the symbol table
+    knows the qualified name, so the two parts become one (a standard function the translator has built
+    in, ``Tc2_Standard.LEN``, becomes ``LEN``). Only names a bound library declares are joined, so a
+    variable named like a namespace keeps its fields.
+    """
+    namespaces: dict[str, dict[str, str | None]] = {}
+    for key in [*decls.bound, *decls.builtin]:
+        namespace, _, name = key.rpartition(".")
+        if namespace:
+            namespaces.setdefault(namespace, {})[name] = decls.builtin.get(key)
+    for tree in trees:
+        for holder, key, node in _slots(tree):
+            if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+                continue
+            head, first = node.name, node.elements[0]
+            if not isinstance(head, tf.SimpleVariable) or not isinstance(first, tf.FieldSelector):
+                continue
+            declared = namespaces.get(str(head.name).lower())
+            field = first.field
+            if declared is None or not isinstance(field, tf.SimpleVariable) or str(field.name).lower() not in declared:
+                continue
+            token = head.name
+            spelled = declared[str(field.name).lower()] or f"{head.name}.{field.name}"
+            joined = token.update(value=spelled) if hasattr(token, "update") else spelled
+            name = tf.SimpleVariable(name=joined, dereferenced=field.dereferenced)
+            name.meta = head.meta
+            if len(node.elements) == 1 and not node.dereferenced:
+                if isinstance(holder, list):
+                    holder[key] = name
+                else:
+                    setattr(holder, str(key), name)
+            else:
+                node.name = name
+                node.elements = node.elements[1:]
+
+
+def _slots(tree: Any) -> Iterator[tuple[Any, Any, Any]]:
+    """Every node below ``tree`` with the object that holds it and its field name or index there."""
+    pending: list[tuple[Any, Any, Any]] = [(None, None, tree)]
+    while pending:
+        holder, key, current = pending.pop()
+        yield holder, key, current
+        if dataclasses.is_dataclass(current) and not isinstance(current, type):
+            pending.extend((current, f.name, getattr(current, f.name)) for f in dataclasses.fields(current) if f.name != "meta")
+        elif isinstance(current, list):
+            pending.extend((current, index, item) for index, item in enumerate(current))
+
+
+def unknown_name(what: str, name: str, decls: Lookup[Any]) -> str:
+    """The message for an unknown ``what`` (type, ...) ``name``; a qualified name says whether its namespace is bound."""
+    namespace, _, last = name.rpartition(".")
+    if not namespace:
+        return f"unknown {what} {name!r}"
+    bound = {key.rpartition(".")[0] for key in decls.bound if "." in key}
+    if namespace.lower() in bound:
+        return f"unknown {what} {name!r}: library {namespace} declares no {last}"
+    return (f"unknown {what} {name!r}: {namespace!r} is no namespace of a bound library "
+            f"(the project's references and libraries= name them)")
+
+
+# --- resolving a project's references -----------------------------------------------------------------
+
+#: what ``libraries=`` may map a name to: a folder or ``.plcproj`` of ST, or a module of iecoop classes
+LibrarySource = typing.Union[str, "os.PathLike[str]", types.ModuleType]
+#: loads a folder or ``.plcproj`` of ST as a library module (``st.load`` with the same search settings)
+Loader = Callable[[pathlib.Path], types.ModuleType]
+
+
+def library_folders(library_path: Iterable[str | os.PathLike[str]] | None) -> list[pathlib.Path]:
+    """The folders searched for libraries: ``library_path``, then those of ``IECOOP_LIBRARY_PATH``."""
+    folders = [pathlib.Path(p) for p in library_path or ()]
+    folders += [pathlib.Path(p) for p in os.environ.get("IECOOP_LIBRARY_PATH", "").split(os.pathsep) if p]
+    return folders
+
+
+def _in_folder(folder: pathlib.Path, name: str) -> pathlib.Path | None:
+    """``<name>.plcproj``, ``<name>/<name>.plcproj`` or the folder ``<name>/`` (names compared case-insensitively)."""
+    if not folder.is_dir():
+        return None
+    lowered = name.lower()
+    for child in sorted(folder.iterdir()):
+        if child.name.lower() == f"{lowered}.plcproj" and child.is_file():
+            return child
+    for child in sorted(folder.iterdir()):
+        if child.name.lower() == lowered and child.is_dir():
+            inner = _in_folder(child, name)
+            return inner if inner is not None and inner.suffix == ".plcproj" else child
+    return None
+
+
+def resolve(
+    references: Sequence[LibraryReference],
+    libraries: typing.Mapping[str, LibrarySource] | None,
+    library_path: Iterable[str | os.PathLike[str]] | None,
+    loader: Loader,
+) -> list[BoundLibrary]:
+    """The libraries a source uses: its references, and every entry of ``libraries=``, each found and loaded.
+
+    A reference is looked up in ``libraries=`` (by title or namespace), then in ``library_path``, then in
+    ``IECOOP_LIBRARY_PATH``, then among the libraries iecoop ships; one that is nowhere is a DefinitionError
+    naming the ``.plcproj``, the title, version and company, and how to provide it.
+    """
+    from iecoop.libraries import known, module_of
+
+    given = {str(key).lower(): value for key, value in (libraries or {}).items()}
+    folders = library_folders(library_path)
+    bound: list[BoundLibrary] = []
+    used: set[str] = set()
+    for reference in references:
+        value = given.get(reference.name.lower())
+        key = reference.name.lower()
+        if value is None and reference.namespace.lower() in given:
+            key = reference.namespace.lower()
+            value = given[key]
+        used.add(key)
+        module: types.ModuleType | None = None
+        if value is not None:
+            module = _module(value, loader, reference.name)
+        else:
+            for folder in folders:
+                found = _in_folder(folder, reference.name)
+                if found is not None:
+                    module = loader(found)
+                    break
+        if module is None:
+            shipped = known(reference.name)
+            if shipped is not None:
+                try:
+                    module = module_of(shipped)
+                except ImportError:
+                    module = None
+        if module is None:
+            version = f", version {reference.version}" if reference.version else ""
+            company = f" ({reference.company})" if reference.company else ""
+            raise DefinitionError(f"{reference.where}: library {reference.name}{version}{company} is not found: {HOW_TO_RESOLVE}")
+        bound.append(_bound(reference.namespace, module, reference.name))
+    for key, value in (libraries or {}).items():
+        if str(key).lower() not in used:
+            bound.append(_bound(str(key), _module(value, loader, str(key)), str(key)))
+    return bound
+
+
+def _module(value: LibrarySource, loader: Loader, name: str) -> types.ModuleType:
+    if isinstance(value, types.ModuleType):
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        path = pathlib.Path(value)
+        if not path.exists():
+            raise DefinitionError(f"library {name}: {str(path)!r} does not exist (libraries= maps a name to a folder, "
+                                  ".plcproj or module)")
+        return loader(path)
+    raise DefinitionError(f"library {name}: libraries= maps a name to a folder, .plcproj or module, got {type(value).__name__}")
+
+
+def _bound(namespace: str, module: types.ModuleType, title: str) -> BoundLibrary:
+    qualified = frozenset(str(n).lower() for n in getattr(module, "__qualified_only__", ()))
+    return BoundLibrary(namespace, module, title, bool(getattr(module, "QUALIFIED_ONLY", False)), qualified)
