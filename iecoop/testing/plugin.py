@@ -39,7 +39,7 @@ if TYPE_CHECKING:  # the TcUnit library is imported when a project is collected,
     from iecoop.testing.tcunit import RunResult, TestResult
 
 __all__ = [
-    "StProject", "TcUnitItem", "TcUnitProject", "plc", "plc_runtime", "pytest_addoption", "pytest_collect_file",
+    "StProject", "TcUnitItem", "TcUnitProject", "TcUnitSuite", "plc", "plc_runtime", "pytest_addoption", "pytest_collect_file",
     "pytest_configure", "st_project",
 ]
 
@@ -94,7 +94,7 @@ class TcUnitFailure(Exception):
 class TcUnitProject(pytest.File):
     """A project's TcUnit tests: the project runs once, at collection, and each test becomes an item."""
 
-    def collect(self) -> Iterator[pytest.Item]:
+    def collect(self) -> Iterator[pytest.Item | pytest.Collector]:
         """One item per TcUnit test of the project, which runs once (and is kept for the session)."""
         from iecoop.testing.tcunit import TestResult, run_project
 
@@ -105,11 +105,27 @@ class TcUnitProject(pytest.File):
                 result = results[self.path] = run_project(self.path, limit_ms=_limit(self.config))
             except LookupError as exc:
                 raise self.CollectError(str(exc.args[0])) from None
+        suites: dict[str, list[TestResult]] = {}
         for test in result.tests:
-            yield TcUnitItem.from_parent(self, name=test.nodeid, test=test)
+            suites.setdefault(test.suite, []).append(test)
         if result.fault or result.errors:
-            yield TcUnitItem.from_parent(self, name="TcUnit", test=TestResult(
-                "TcUnit", "run", "failed", error="\n".join(filter(None, [result.fault, *result.errors]))))
+            problem = "\n".join(filter(None, [result.fault, *result.errors]))
+            suites.setdefault("TcUnit", []).append(TestResult("TcUnit", "run", "failed", error=problem))
+        for suite, tests in suites.items():
+            yield TcUnitSuite.from_parent(self, name=suite, tests=tests)
+
+
+class TcUnitSuite(pytest.Collector):
+    """A suite instance of the project (``PRG_TEST.fbMath``): its tests are its items."""
+
+    def __init__(self, *, tests: list[TestResult], **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.tests = tests
+
+    def collect(self) -> Iterator[pytest.Item]:
+        """One item per test of the suite, in the order the suite declared them."""
+        for test in self.tests:
+            yield TcUnitItem.from_parent(self, name=test.name, test=test)
 
 
 class TcUnitItem(pytest.Item):
