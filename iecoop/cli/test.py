@@ -62,8 +62,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _load(path: str) -> Any:
-    def load(source: Any, profile: str) -> Any:
-        return translated(path, lambda p: st.load(p, profile=profile))
+    def load(source: Any, **options: Any) -> Any:
+        return translated(path, lambda p: st.load(p, **options))
 
     return load
 

@@ -194,14 +194,18 @@ def run_project(
     """Load ``source`` and run its TcUnit suites in virtual time (see the module docstring).
 
     ``load`` is how the project is read (default ``iecoop.st.load``); a project
-    that does not load raises its ``DefinitionError`` / ``StSyntaxError``.
+    that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
+    ``.plcproj`` binds the libraries it references; a folder or ST file gets
+    TcUnit bound (``TcUnit.RUN()`` and the plain names work).
     """
     if load is None:
         from iecoop import st
 
         load = st.load
+    # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here.
+    extra: dict[str, Any] = {} if pathlib.Path(source).suffix.lower() == ".plcproj" else {"libraries": {"TcUnit": tcunit}}
     with tcunit.registry(limit_ms) as registry:
-        module = load(source, profile=profile)
+        module = load(source, profile=profile, **extra)
         test_program = find_test_program(module, program)
         return _drive(registry, test_program, limit_ms, profile, interval, pathlib.Path(source).name)
 
