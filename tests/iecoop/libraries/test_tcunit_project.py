@@ -149,3 +149,14 @@ def test_projects_listed_in_the_ini_are_collected_and_st_project_loads_one(pytes
     """)
     result = pytester.runpytest("-p", "no:cacheprovider")
     result.assert_outcomes(passed=9, failed=3, skipped=1)
+
+
+def test_a_folder_without_its_plcproj_gets_tcunit_bound(capsys: pytest.CaptureFixture[str]) -> None:
+    status = main(["test", str(DEMO / "Test"), str(DEMO / "POUs"), "-k", "fbCounter_Test"])
+    out = capsys.readouterr()
+    # the two folders load separately: the tests alone do not find FB_Counter, which lives in POUs
+    assert status == 2 and "FB_Counter" in out.err
+    status = main(["test", str(DEMO), "-k", "fbCounter_Test"])
+    out = capsys.readouterr()
+    assert status == 1
+    assert "PRG_TEST.fbCounter_Test::CountsDown PASSED" in out.out and "Tests: 3" in out.out.splitlines()
