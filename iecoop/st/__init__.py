@@ -82,6 +82,7 @@ class StModule(types.ModuleType):
     """
 
     __python__: str
+    __all__: list[str]
     __qualified_only__: list[str]
 
     def __getattr__(self, name: str) -> Any:
@@ -158,7 +159,7 @@ def _bound_libraries(
     from iecoop.st.read.parse import library_references
 
     def load_library(path: pathlib.Path) -> types.ModuleType:
-        key = path.resolve()
+        key = _library_key(path)
         chain = _loading.get()
         if key in chain:
             names = " -> ".join(p.name for p in (*chain[chain.index(key):], key))
@@ -180,11 +181,21 @@ def _bound_libraries(
         return []
     top = _loaded.get() is None
     token = _loaded.set({}) if top else None
+    outer = _loading.set((_library_key(pathlib.Path(source)),)) if top and not isinstance(source, str) or (
+        isinstance(source, str) and top and "\n" not in source and pathlib.Path(source).exists()) else None
     try:
         return resolve(references, libraries, library_path, load_library)
     finally:
+        if outer is not None:
+            _loading.reset(outer)
         if token is not None:
             _loaded.reset(token)
+
+
+def _library_key(path: pathlib.Path) -> pathlib.Path:
+    """A library's identity: its ``.plcproj`` (the one in its folder, if the folder has one), resolved."""
+    projects = sorted(path.glob("*.plcproj")) if path.is_dir() else []
+    return (projects[0] if len(projects) == 1 else path).resolve()
 
 
 def _generated_failure(source: str | os.PathLike[str], exc: BaseException) -> StUnsupportedError:
@@ -229,8 +240,8 @@ def load(
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    bound = _bound_libraries(source, libraries, library_path, profile)
-    text, names, qualified = _translated(source, list(externals), bound)
+    used = _bound_libraries(source, libraries, library_path, profile)
+    text, names, qualified = _translated(source, list(externals), used)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")

@@ -10,6 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from iecoop.st.write.references import plcproj, used_libraries
 from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
 
 __all__ = ["StExportError", "dump", "export"]
@@ -37,6 +38,9 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     interface, with ids derived from the names, so exporting again writes
     the same bytes. ``format="plcopen"``: one PLCopen XML file (TC6 2.01).
     ``format="st"``: the flat text of :func:`dump`, one ``.st`` file per object.
+    A TwinCAT export whose classes use a library iecoop ships (TON: Tc2_Standard) also writes a
+    ``.plcproj`` that compiles the files and references each library (``<PlaceholderReference>``);
+    the library's own classes are never written.
 
     Files are written only directly in ``folder``, never through a symbolic link,
     and only once every one of them is made. A name that is not an ST identifier
@@ -50,6 +54,10 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
         raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
     if format == "twincat":
         files = [twincat_file(unit) for unit in found]
+        libraries = used_libraries(unit.meta for unit in found if unit.meta is not None)
+        if libraries:  # a project file, so loading the folder binds the libraries again
+            name = _project_name(classes_or_module, found)
+            files.append((f"{name}.plcproj", plcproj(name, [file_name for file_name, _ in files], libraries)))
     elif format == "st":
         files = [(f"{unit.name}.st", flat_text(unit)) for unit in found]
     else:

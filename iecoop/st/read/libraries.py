@@ -10,7 +10,9 @@ refuses the plain use. The generated Python imports what it uses from the librar
 
 from __future__ import annotations
 
+import copy
 import dataclasses
+import enum
 import inspect
 import os
 import pathlib
@@ -25,7 +27,7 @@ from iecoop.exceptions import DefinitionError
 from iecoop.metadata import Kind, iec_class, kind_of
 from iecoop.parameters import parameter_sections
 from iecoop.st.read.names import python_name
-from iecoop.st.read.parse import LibraryReference
+from iecoop.st.read.parse import LibraryReference, Unit
 
 if typing.TYPE_CHECKING:
     from iecoop.st.read.symbols import Decl, Member, Symbols, TypeRef
@@ -83,6 +85,10 @@ class Lookup(dict[str, _V]):
         self.imports: dict[str, set[str]] = {}
         #: ``tc2_standard.concat`` -> ``CONCAT``: a library's name for a function the translator has built in
         self.builtin: dict[str, str] = {}
+        #: the namespaces of the bound libraries (lower case)
+        self.namespaces: set[str] = set()
+        #: id of a library declaration -> its library's namespace as the project spells it
+        self.namespace_of: dict[int, str] = {}
 
     def bind(self, key: str, value: _V, decl: Decl) -> None:
         dict.__setitem__(self, key, value)
@@ -112,7 +118,7 @@ class Lookup(dict[str, _V]):
             raise self.on_refused(self.refused[key])
         return self._found(key)
 
-    def get(self, key: str, default: Any = None) -> Any:  # type: ignore[override]
+    def get(self, key: str, default: Any = None) -> Any:
         if dict.__contains__(self, key):
             return self._found(key)
         if key in self.refused:
@@ -152,6 +158,9 @@ class _Binder:
         #: id of a library class -> its Decl (types of members resolve through it)
         self.by_object: dict[int, Decl] = {}
         self.standard: dict[int, Decl] = {}
+        #: namespace -> the declaration standing for a Python module's constants; plain name -> its namespace
+        self.constants: dict[str, Decl] = {}
+        self.constant_of: dict[str, str] = {}
 
     def run(self) -> None:
         import iecoop.functions as functions
@@ -166,19 +175,26 @@ class _Binder:
         plain: dict[str, list[tuple[BoundLibrary, Decl]]] = {}
         made: list[tuple[BoundLibrary, Decl, Any]] = []
         for library in self.libraries:
+            symbols.decls.namespaces.add(library.namespace.lower())
             for st_name in library.names():
                 value = getattr(library.module, st_name, None)
                 kind = _kind(value)
+                if isinstance(value, (bool, int, float, str)) and not isinstance(value, enum.Enum):
+                    self._constant(library, st_name, value)
+                    continue
                 if value is None or kind is None:
                     continue
                 if kind == "function" and getattr(functions, st_name.upper(), None) is value:
                     # the translator writes the standard functions itself (typed by their operands)
                     symbols.decls.builtin[f"{library.namespace}.{st_name}".lower()] = st_name.upper()
                     continue
-                decl = self.standard.get(id(value)) or self.by_object.get(id(value))
-                if decl is None:
+                found = self.standard.get(id(value)) or self.by_object.get(id(value))
+                if found is not None:
+                    decl = found
+                else:
                     decl = Decl(kind, python_name(st_name), st=st_name)
                     decl.library = library.import_from
+                    symbols.decls.namespace_of[id(decl)] = library.namespace
                     self.by_object[id(value)] = decl
                     made.append((library, decl, value))
                 self._register(f"{library.namespace}.{st_name}".lower(), decl)
@@ -186,8 +202,37 @@ class _Binder:
         self._python_names(made)
         for _library, decl, value in made:
             self._fill(decl, value)
-        for key, found in plain.items():
-            self._plain(key, found)
+        for key, candidates in plain.items():
+            self._plain(key, candidates)
+
+    def _constant(self, library: BoundLibrary, st_name: str, value: bool | int | float | str) -> None:
+        """A module-level constant (``cMaxAxes = 8``): a global read as ``<module>.cMaxAxes``, plain or qualified."""
+        from iecoop.st.read.symbols import Decl, Member, TypeRef
+
+        package, _, leaf = library.import_from.rpartition(".")
+        if not package:
+            raise DefinitionError(f"library {library.namespace}: the constant {st_name} of module {library.import_from}, "
+                                  "which is in no package, cannot be imported by name (move the module into a package, "
+                                  "or the constant into a GVL)")
+        holder = self.constants.get(library.namespace)
+        if holder is None:
+            holder = self.constants[library.namespace] = Decl("gvl", f"lib_{library.namespace}", st=library.namespace)
+            holder.library, holder.import_spec = package, f"{leaf} as lib_{library.namespace}"
+        type_ = (TypeRef("elem", "BOOL") if isinstance(value, bool) else TypeRef("elem", "LINT") if isinstance(value, int)
+                 else TypeRef("elem", "LREAL") if isinstance(value, float) else TypeRef("string", "STRING", length=str(max(len(value), 1))))
+        member = Member(st_name, type_, "VAR_GLOBAL", st=st_name)
+        globals_ = self.symbols.globals
+        globals_.bind(f"{library.namespace}.{st_name}".lower(), (holder.name, member), holder)
+        key = st_name.lower()
+        if library.qualified_only:
+            globals_.refuse(key, f"{st_name} needs its namespace: library {library.namespace} is qualified_only "
+                                 f"(write {library.namespace}.{st_name})")
+        elif key in self.constant_of and self.constant_of[key] != library.namespace:
+            globals_.refuse(key, f"{st_name} is ambiguous: {self.constant_of[key]}.{st_name} and {library.namespace}.{st_name} "
+                                 "both declare it (qualify it with the library's namespace)")
+        else:
+            self.constant_of[key] = library.namespace
+            globals_.bind(key, (holder.name, member), holder)
 
     def _register(self, key: str, decl: Decl) -> None:
         if decl.library:
@@ -203,7 +248,7 @@ class _Binder:
         for library, decl, value in made:
             if counts[decl.name] > 1 or decl.name in self.symbols.by_python:
                 decl.name = f"{library.namespace}_{decl.name}"
-            self._import_as(decl, getattr(value, "__name__", None) or decl.st)
+            self._import_as(decl, decl.st)
             self.symbols.by_python.bind(decl.name, decl, decl)
 
     @staticmethod
@@ -224,17 +269,19 @@ class _Binder:
                                            f"qualified_only (write {library.namespace}.{decl.st})")
             return
         self._register(key, decl)
-        if decl.kind == "gvl" and key not in library.qualified:
-            for member in decl.members.values():
-                self.symbols.globals.bind(member.st.lower(), (decl.name, member), decl)
-        if decl.kind == "enum" and key not in library.qualified:
-            for value in decl.values:
-                self.symbols.enum_values.bind(value.lower(), (decl.name, python_name(value, attribute=True)), decl)
-        elif decl.kind in ("gvl", "enum"):
-            for name in (m.st for m in decl.members.values()) if decl.kind == "gvl" else decl.values:
-                rule = (f"{name} needs its list's name: {decl.kind.upper()} {library.namespace}.{decl.st} "
-                        f"is qualified_only (write {decl.st}.{name})")
-                (self.symbols.globals if decl.kind == "gvl" else self.symbols.enum_values).refuse(name.lower(), rule)
+        if decl.kind not in ("gvl", "enum"):
+            return
+        globals_, values = self.symbols.globals, self.symbols.enum_values
+        for name in [m.st for m in decl.members.values()] if decl.kind == "gvl" else decl.values:
+            if key in library.qualified:
+                what = "GVL" if decl.kind == "gvl" else "enumeration"
+                (globals_ if decl.kind == "gvl" else values).refuse(
+                    name.lower(), f"{name} needs its {what}'s name: {what} {library.namespace}.{decl.st} "
+                                  f"is qualified_only (write {decl.st}.{name})")
+            elif decl.kind == "gvl":
+                globals_.bind(name.lower(), (decl.name, decl.members[name.lower()]), decl)
+            else:
+                values.bind(name.lower(), (decl.name, python_name(name, attribute=True)), decl)
 
     # --- members ---
 
@@ -353,7 +400,7 @@ def rename_shadowed(symbols: Symbols) -> None:
     for key, (decl, _) in list(symbols.by_python.bound.items()):
         if dict.get(symbols.by_python, key) is decl:
             continue
-        namespace = next((k.rpartition(".")[0] for k, (v, _) in symbols.decls.bound.items() if v is decl and "." in k), "lib")
+        namespace = symbols.decls.namespace_of[id(decl)]
         attribute = decl.import_spec.split(" as ")[0]
         decl.name = f"{namespace}_{attribute}"
         _Binder._import_as(decl, attribute)
@@ -367,7 +414,7 @@ def rename_shadowed(symbols: Symbols) -> None:
 # --- qualified names in expressions ------------------------------------------------------------------
 
 
-def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
+def collapse_namespaces(units: Iterable[Unit], decls: Lookup[Any], globals_: Lookup[Any]) -> None:
     """``Lib.F_Add(1)``, ``Lib.GVL_C.cMax``: the namespace and the name it qualifies become one name, ``Lib.F_Add``.
 
     blark reads a qualified name in an expression as a variable ``Lib`` and its field; the symbol table
@@ -376,21 +423,21 @@ def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
     variable named like a namespace keeps its fields.
     """
     namespaces: dict[str, dict[str, str | None]] = {}
-    for key in [*decls.bound, *decls.builtin]:
+    for key in [*decls.bound, *decls.builtin, *globals_.bound]:
         namespace, _, name = key.rpartition(".")
         if namespace:
             namespaces.setdefault(namespace, {})[name] = decls.builtin.get(key)
-    for tree in trees:
-        for holder, key, node in _slots(tree):
-            if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+    if not namespaces:
+        return
+    for unit in units:
+        if not any(_qualified(node, namespaces) for _, _, node in _slots(unit.tree)):
+            continue
+        unit.tree = copy.deepcopy(unit.tree)  # parsed trees are cached and shared: change a copy
+        for holder, key, node in _slots(unit.tree):
+            declared = _qualified(node, namespaces)
+            if declared is None:
                 continue
-            head, first = node.name, node.elements[0]
-            if not isinstance(head, tf.SimpleVariable) or not isinstance(first, tf.FieldSelector):
-                continue
-            declared = namespaces.get(str(head.name).lower())
-            field = first.field
-            if declared is None or not isinstance(field, tf.SimpleVariable) or str(field.name).lower() not in declared:
-                continue
+            head, field = node.name, node.elements[0].field
             token = head.name
             spelled = declared[str(field.name).lower()] or f"{head.name}.{field.name}"
             joined = token.update(value=spelled) if hasattr(token, "update") else spelled
@@ -404,6 +451,20 @@ def collapse_namespaces(trees: Iterable[Any], decls: Lookup[Any]) -> None:
             else:
                 node.name = name
                 node.elements = node.elements[1:]
+
+
+def _qualified(node: Any, namespaces: dict[str, dict[str, str | None]]) -> dict[str, str | None] | None:
+    """The names of the namespace ``node`` starts with, when it is ``Namespace.Name...`` of a bound library."""
+    if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+        return None
+    head, first = node.name, node.elements[0]
+    if not isinstance(head, tf.SimpleVariable) or not isinstance(first, tf.FieldSelector):
+        return None
+    declared = namespaces.get(str(head.name).lower())
+    field = first.field
+    if declared is None or not isinstance(field, tf.SimpleVariable) or str(field.name).lower() not in declared:
+        return None
+    return declared
 
 
 def _slots(tree: Any) -> Iterator[tuple[Any, Any, Any]]:
@@ -423,8 +484,7 @@ def unknown_name(what: str, name: str, decls: Lookup[Any]) -> str:
     namespace, _, last = name.rpartition(".")
     if not namespace:
         return f"unknown {what} {name!r}"
-    bound = {key.rpartition(".")[0] for key in decls.bound if "." in key}
-    if namespace.lower() in bound:
+    if namespace.lower() in decls.namespaces:
         return f"unknown {what} {name!r}: library {namespace} declares no {last}"
     return (f"unknown {what} {name!r}: {namespace!r} is no namespace of a bound library "
             f"(the project's references and libraries= name them)")

@@ -70,7 +70,7 @@ class Translator(Pous):
         return order
 
     def translate(self) -> str:
-        collapse_namespaces((unit.tree for unit in self.units), self.decls)
+        collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
         rename_shadowed(self)
         self.resolve_members()
@@ -139,5 +139,22 @@ def translate_library(
     text = translator.translate()
     names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb" and not d.library]
     qualified = {d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
-                 and any(_QUALIFIED_ONLY.fullmatch(p) for p in translator._decl_pragmas(d))}
+                 and any(_QUALIFIED_ONLY.fullmatch(p) for p in _pragmas(translator, d))}
     return text, names, qualified
+
+
+def _pragmas(translator: Translator, decl: Decl) -> list[str]:
+    """The pragmas of a declaration; a GVL's are those right above any of its VAR_GLOBAL blocks."""
+    if decl.kind != "gvl":
+        return translator._decl_pragmas(decl)
+    found = []
+    for block in decl.node:
+        unit = decl.units.get(id(block), decl.unit)
+        expected = block.meta.line if block.meta else None
+        for token in sorted((t for t in unit.comments if expected is not None and t.line <= expected) if unit else (),
+                            key=lambda t: -t.line):
+            if expected is None or token.line < expected - 1 or not str(token).strip().startswith("{"):
+                break
+            found.append(str(token).strip())
+            expected = token.line
+    return found
