@@ -232,6 +232,8 @@ class Registry:
         self.clock: Clock | None = None
         self.started_ns = -1
         self.finished_ns = -1
+        #: the PLC time of the last RUN() call: what close() dates the end with, outside a cycle
+        self.last_ns = 0
         #: RUN_IN_SEQUENCE: the suite running, and when the next may start
         self._sequence = 0
         self._next_start_ns = 0
@@ -297,7 +299,7 @@ class Registry:
 
     def run(self, in_sequence: bool) -> None:
         self.cycle += 1
-        now = self._now_ns()
+        now = self.last_ns = self._now_ns()
         if self.started_ns < 0:
             self.started_ns = now
         if self.done:
@@ -346,23 +348,24 @@ class Registry:
                     f"the test did not finish within {format_time(self.limit_ms)} of PLC time "
                     f"(the per-test limit); TEST_FINISHED() was never called"
                 )
-                self._finish(test)
+                self._finish(test, now)
 
-    def _finish(self, test: TestRecord) -> None:
+    def _finish(self, test: TestRecord, now: int | None = None) -> None:
         if not test.finished:
             test.finished = True
             test.finished_cycle = self.cycle
-            test.finished_ns = self._now_ns()
+            test.finished_ns = self._now_ns() if now is None else now
 
     def close(self) -> None:
         """End the run where it is: every open test fails as unfinished, and the summary is logged."""
+        # After the cycles the task clock is no longer the runtime's: the end is the last RUN() call.
         for test in self.tests():
             if not test.finished:
                 test.error = test.error or "the run ended before the test finished (TEST_FINISHED() was never called)"
-                self._finish(test)
+                self._finish(test, self.last_ns)
         if not self.done:
             self.done = True
-            self.finished_ns = self._now_ns() if self.clock is None else self.clock.now_ns()
+            self.finished_ns = self.last_ns
             self.log.extend(self.summary())
 
     def summary(self) -> list[str]:
@@ -580,7 +583,7 @@ def _typed_text(value: AnyType) -> str:
     return f"({value.type_name}) {_any_text(value)}"
 
 
-def _differs(type_name: str, expected: Any, actual: Any, delta: float | None) -> bool:
+def _differs(expected: Any, actual: Any, delta: float | None) -> bool:
     if delta is not None:
         difference = abs(expected - actual)
         return not (difference <= abs(delta)) and not (math.isinf(expected) and expected == actual)
@@ -639,7 +642,7 @@ def _equals(type_name: str, with_delta: bool = False) -> Any:
 
     def assert_equals(self: FB_TestSuite, Expected: Any, Actual: Any, Delta: Any = 0.0, Message: Any = "") -> None:
         expected, actual = _stored(type_name, Expected), _stored(type_name, Actual)
-        if _differs(type_name, expected, actual, _stored(type_name, Delta) if with_delta else None):
+        if _differs(expected, actual, _stored(type_name, Delta) if with_delta else None):
             self._registry().record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual))
 
     function: Callable[..., None]
@@ -677,7 +680,7 @@ def _array_equals(type_name: str, depth: int = 1, with_delta: bool = False) -> A
         tolerance = _stored(type_name, Delta) if with_delta else None
         for (index, expected), (actual_index, actual) in zip(expecteds, actuals):
             expected, actual = _stored(type_name, expected), _stored(type_name, actual)
-            if _differs(type_name, expected, actual, tolerance):
+            if _differs(expected, actual, tolerance):
                 where = ", ".join(map(str, actual_index))
                 registry.record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual), f"[{where}]")
                 return
@@ -716,9 +719,6 @@ class FB_TestSuite(FunctionBlock):
         return True
 
     def _registry(self) -> Registry:
-        active = _active.get()
-        if active is not None:
-            return active
         return current_registry()
 
     @method

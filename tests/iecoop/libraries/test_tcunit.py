@@ -267,7 +267,8 @@ def test_a_test_that_never_finishes_fails_with_the_limit_it_hit() -> None:
     hangs, quick = result.tests
     assert (hangs.status, quick.status) == ("failed", "passed")
     assert "did not finish within T#500ms of PLC time" in hangs.error
-    assert result.time_ms == 510
+    assert (hangs.duration_ms, hangs.cycles) == (500.0, 51)
+    assert result.time_ms == 510 and "Duration: 0.500 s of PLC time" in result.log
 
 
 def test_finished_named_and_is_test_finished() -> None:
