@@ -112,7 +112,9 @@ class RunResult:
 def _calls_run(program: Any) -> bool:
     body = getattr(type(program), "body", None)
     code = getattr(body, "__code__", None)
-    return code is not None and any(name in code.co_names for name in _RUNNERS)
+    # RUN, or RUN under the namespace prefix the reader gives a name two libraries share (TcUnit_RUN)
+    return code is not None and any(
+        name == runner or name.endswith("_" + runner) for name in code.co_names for runner in _RUNNERS)
 
 
 def find_test_program(module: types.ModuleType, name: str | None = None) -> Any:

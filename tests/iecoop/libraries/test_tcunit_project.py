@@ -160,3 +160,41 @@ def test_a_folder_without_its_plcproj_gets_tcunit_bound(capsys: pytest.CaptureFi
     out = capsys.readouterr()
     assert status == 1
     assert "PRG_TEST.fbCounter_Test::CountsDown PASSED" in out.out and "Tests: 3" in out.out.splitlines()
+
+
+def _tcpou(name: str, declaration: str, implementation: str) -> str:
+    return (
+        '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
+        f'  <POU Name="{name}"><Declaration><![CDATA[{declaration}]]></Declaration>\n'
+        f'    <Implementation><ST><![CDATA[{implementation}]]></ST></Implementation></POU>\n</TcPlcObject>\n'
+    )
+
+
+def test_a_cfunit_project_binds_the_same_library(tmp_path: Path) -> None:
+    (tmp_path / "FB_Cf_Test.TcPOU").write_text(_tcpou(
+        "FB_Cf_Test", "FUNCTION_BLOCK FB_Cf_Test EXTENDS CfUnit.FB_TestSuite\nVAR nValue : DINT := 7; END_VAR\n",
+        "CfUnit.TEST('Seven');\nAssertEquals_DINT(Expected := 7, Actual := nValue, Message := 'seven');\n"
+        "CfUnit.TEST_FINISHED();\nTEST('Eight');\nAssertEquals_DINT(Expected := 8, Actual := nValue, Message := 'eight');\n"
+        "TEST_FINISHED();\n"))
+    (tmp_path / "PRG_CF.TcPOU").write_text(_tcpou(
+        "PRG_CF", "PROGRAM PRG_CF\nVAR fbCf : FB_Cf_Test; END_VAR\n", "CfUnit.RUN_IN_SEQUENCE();\n"))
+    (tmp_path / "Cf.plcproj").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n'
+        '<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">\n'
+        '  <ItemGroup><Compile Include="FB_Cf_Test.TcPOU" /><Compile Include="PRG_CF.TcPOU" /></ItemGroup>\n'
+        '  <ItemGroup><PlaceholderReference Include="CfUnit"><DefaultResolution>CfUnit, * (www.cfunit.org)'
+        '</DefaultResolution><Namespace>CfUnit</Namespace></PlaceholderReference></ItemGroup>\n</Project>\n')
+    result = run_project(tmp_path / "Cf.plcproj")
+    assert [(t.nodeid, t.status) for t in result.tests] == [("PRG_CF.fbCf::Seven", "passed"), ("PRG_CF.fbCf::Eight", "failed")]
+    assert result.tests[1].failures[0].line() == "FAILED TEST 'PRG_CF.fbCf@Eight', EXP: 8, ACT: 7, MSG: eight"
+
+
+def test_a_project_without_a_test_program_is_a_usage_error_naming_its_programs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "main.st").write_text("PROGRAM MAIN\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
+    assert main(["test", str(tmp_path / "main.st")]) == 2
+    err = capsys.readouterr().err
+    assert "no PROGRAM calls TcUnit.RUN() or RUN_IN_SEQUENCE() (the project declares: MAIN)" in err
+    assert main(["test", str(tmp_path / "main.st"), "--program", "PRG_TEST"]) == 2
+    assert "no PROGRAM PRG_TEST (the project declares: MAIN)" in capsys.readouterr().err
