@@ -38,7 +38,7 @@ from iecoop.sections import Kind
 
 register_builder(__file__)
 
-__all__ = ["GlobalVariables", "find_global", "gvl", "global_lists", "register_global_list"]
+__all__ = ["GlobalVariables", "all_global_lists", "find_global", "gvl", "global_lists", "namespace_of", "register_global_list"]
 
 _G = TypeVar("_G")
 
@@ -49,9 +49,17 @@ else:
     _Base = ctypes.Structure
     _MetaBase = type(ctypes.Structure)
 
-#: Every live GVL instance by name, in definition order. Weak: a list defined in a function
-#: (a test, a notebook cell) goes when nothing holds it; a POU's VAR_EXTERNAL holds its list.
-_lists: weakref.WeakValueDictionary[str, Any] = weakref.WeakValueDictionary()
+#: Every live GVL instance by (namespace, name), in definition order. Weak: a list defined in a
+#: function (a test, a notebook cell) goes when nothing holds it; a POU's VAR_EXTERNAL holds its list.
+#: The namespace is the top-level package of the list's module (a PLC project: its own code, one
+#: ``st.load`` of a project, or the Python package it is loaded into), so two projects in one
+#: process may each have a ``GVL_IO`` and each its own global ``bStart``.
+_lists: weakref.WeakValueDictionary[tuple[str, str], Any] = weakref.WeakValueDictionary()
+
+
+def namespace_of(module: str) -> str:
+    """The namespace a class of ``module`` declares its globals in: the module's top-level package."""
+    return module.split(".", 1)[0]
 
 
 _BUILDER = DataClassBuilder("GVL", Kind.GVL)
@@ -86,9 +94,10 @@ def gvl(cls: type[_G]) -> _G:
     layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
     if layout is None:
         raise DefinitionError(f"@gvl needs a GlobalVariables subclass with variables, got {cls.__name__}")
+    namespace = namespace_of(cls.__module__)
     for record in layout.fields:
-        for other_name, other in list(_lists.items()):
-            if other_name != cls.__name__ and record.name in type(other)._iec_layout_.by_name:
+        for (other_space, other_name), other in list(_lists.items()):
+            if other_space == namespace and other_name != cls.__name__ and record.name in type(other)._iec_layout_.by_name:
                 raise DefinitionError(
                     f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
                 )
@@ -98,13 +107,18 @@ def gvl(cls: type[_G]) -> _G:
     cls_any._iec_children_ = tuple(fb_children(layout))
     cls_any._iec_call_after_init_ = ()
     initialise(instance, init_retains=True, in_copy_code=False)
-    _lists[cls.__name__] = instance
+    _lists[namespace, cls.__name__] = instance
     return typing.cast(_G, instance)
 
 
 def global_lists() -> dict[str, Any]:
-    """Every global variable list by name."""
-    return dict(_lists.items())
+    """Every global variable list by name (of two lists of one name, the one registered last)."""
+    return {name: instance for (_space, name), instance in list(_lists.items())}
+
+
+def all_global_lists() -> list[Any]:
+    """Every global variable list of every namespace, in definition order."""
+    return list(_lists.values())
 
 
 def register_global_list(instance: GlobalVariables) -> None:
@@ -114,13 +128,28 @@ def register_global_list(instance: GlobalVariables) -> None:
     same name (loading an exported project back, say) gives the original its
     place again with this.
     """
-    _lists[type(instance).__name__] = instance
+    cls = type(instance)
+    _lists.pop((namespace_of(cls.__module__), cls.__name__), None)  # re-inserted last: it wins by name
+    _lists[namespace_of(cls.__module__), cls.__name__] = instance
 
 
-def find_global(name: str, where: str) -> tuple[Any, FieldRecord]:
-    """The GVL instance and variable a VAR_EXTERNAL named ``name`` refers to."""
-    for instance in list(_lists.values()):
-        record = type(instance)._iec_layout_.by_name.get(name)
-        if record is not None:
-            return instance, record
+def find_global(name: str, where: str, module: str = "") -> tuple[Any, FieldRecord]:
+    """The GVL instance and variable a VAR_EXTERNAL named ``name`` in a class of ``module`` refers to.
+
+    The lists of the class's own namespace come first; elsewhere, the name must be declared once.
+    """
+    namespace = namespace_of(module)
+    found = [
+        (space, instance, record)
+        for (space, _name), instance in list(_lists.items())
+        if (record := type(instance)._iec_layout_.by_name.get(name)) is not None
+    ]
+    own = [(instance, record) for space, instance, record in found if space == namespace]
+    if own:
+        return own[-1]
+    if len(found) == 1:
+        return found[0][1], found[0][2]
+    if found:
+        spaces = ", ".join(sorted(f"{type(i).__name__} ({s})" for s, i, _r in found))
+        raise DefinitionError(f"{where}: VAR_EXTERNAL {name!r} is declared by several global lists outside its namespace: {spaces}")
     raise DefinitionError(f"{where}: VAR_EXTERNAL {name!r} has no global variable of that name in any @gvl list")

@@ -595,7 +595,7 @@ def _install_outside(
         static_fields = block_cls._iec_layout_.fields
     externals = [f for f in outside if SECTION_RULES[specs[f].section].storage is Storage.GLOBAL]
     for field in externals:
-        block, record = find_global(field, f"{name}.{field}")
+        block, record = find_global(field, f"{name}.{field}", cls.__module__)
         raw = getattr(type(block), field)
         raw = raw if record.info.direct else _BlockField(raw)
         validate = record.info.validate if _config.CHECKS else None

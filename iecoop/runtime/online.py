@@ -37,7 +37,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from iecoop.exceptions import AccessError
-from iecoop.gvl import global_lists
+from iecoop.gvl import all_global_lists, global_lists, namespace_of
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 
@@ -122,7 +122,13 @@ def _root(roots: Mapping[str, Any], path: str, first: str) -> tuple[Any, int]:
 
 def symbol_roots(tasks: Iterable[Any]) -> dict[str, Any]:
     """Where a symbol path starts: each GVL by name, each task's program by name and by instance path."""
+    tasks = list(tasks)
     roots: dict[str, Any] = dict(global_lists())
+    # Of two lists of one name (two projects loaded in one process), the one of the programs' own project.
+    spaces = {namespace_of(type(program).__module__) for task in tasks for _path, program in task.programs}
+    for instance in all_global_lists():
+        if namespace_of(type(instance).__module__) in spaces:
+            roots[type(instance).__name__] = instance
     for task in tasks:
         for path, program in task.programs:
             roots[path[len(task.name) + 1 :]] = program

@@ -584,7 +584,8 @@ class Runtime:
 
         The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it.
         """
-        found = Trace(self, paths, every=every, size=size)
+        found = Trace(paths, self.symbol, stamp=lambda: (self._tick, self.time_ms), online=self._online,
+                      hooks=self.on_cycle_end, every=every, size=size)
         self.on_cycle_end.append(found._sample)
         return found
 

@@ -38,8 +38,7 @@ import typing
 from pathlib import Path
 from typing import Any
 
-if typing.TYPE_CHECKING:
-    from iecoop.runtime.runtime import Runtime
+from iecoop.runtime.online import OnlineTable, Symbol
 
 __all__ = ["DEFAULT_TRACE_SIZE", "Trace"]
 
@@ -57,8 +56,11 @@ class Trace:
     runtime runs in the background.
     """
 
-    def __init__(self, runtime: Runtime, paths: typing.Sequence[str], *, every: int = 1,
-                 size: int = DEFAULT_TRACE_SIZE) -> None:
+    def __init__(self, paths: typing.Sequence[str], resolve: typing.Callable[[str], Symbol], *,
+                 stamp: typing.Callable[[], tuple[int, int]], online: OnlineTable,
+                 hooks: list[typing.Callable[[], None]], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> None:
+        """``resolve`` finds a path's variable, ``stamp`` gives ``(cycle, time_ms)`` of the cycle that just ran,
+        ``online`` says which variables are forced, and ``hooks`` is the list of end-of-cycle hooks it leaves."""
         if isinstance(paths, str):
             raise TypeError(f"Runtime.trace(): paths is a list of symbol paths, got the string {paths!r}")
         if not isinstance(every, int) or every < 1:
@@ -68,9 +70,11 @@ class Trace:
         self.paths: tuple[str, ...] = tuple(paths)
         self.every = every
         self.size = size
-        self._runtime = runtime
+        self._stamp = stamp
+        self._online = online
+        self._hooks = hooks
         # Resolved once: a wrong path is refused here, and sampling is one load per path.
-        self._symbols = [runtime.symbol(path) for path in self.paths]
+        self._symbols = [resolve(path) for path in self.paths]
         self._rows: collections.deque[Row] = collections.deque(maxlen=size)
         self._forced: collections.deque[tuple[str, ...]] = collections.deque(maxlen=size)
         self._lock = threading.Lock()
@@ -79,12 +83,11 @@ class Trace:
         return f"<Trace {', '.join(self.paths)}: {len(self._rows)} rows>"
 
     def _sample(self) -> None:
-        runtime = self._runtime
-        cycle = runtime._tick
+        cycle, time_ms = self._stamp()
         if cycle % self.every:
             return
-        row = (cycle, runtime.time_ms, *[symbol.load() for symbol in self._symbols])
-        online = runtime._online
+        row = (cycle, time_ms, *[symbol.load() for symbol in self._symbols])
+        online = self._online
         forced = tuple(path for path, symbol in zip(self.paths, self._symbols) if online.is_forced(symbol)) \
             if online.forced_now else ()
         with self._lock:
@@ -93,7 +96,7 @@ class Trace:
 
     def detach(self) -> None:
         """Stop recording (the rows stay)."""
-        hooks = self._runtime.on_cycle_end
+        hooks = self._hooks
         if self._sample in hooks:
             hooks.remove(self._sample)
 

@@ -104,8 +104,16 @@ def _source_name(source: str | os.PathLike[str]) -> str:
     return "st"
 
 
-def to_python(source: str | os.PathLike[str]) -> str:
+def to_python(
+    source: str | os.PathLike[str],
+    *,
+    libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None = None,
+    library_path: Sequence[str | os.PathLike[str]] | None = None,
+) -> str:
     """The readable Python module for ``source``: iecoop code, ST names kept, comments carried over.
+
+    ``libraries`` and ``library_path`` bind the libraries the source uses, as for ``load``; the module
+    imports what it uses from them.
 
     >>> from iecoop import st
     >>> print(st.to_python("TYPE E_Mode : (IDLE, RUN := 5) INT; END_TYPE"))
@@ -122,7 +130,7 @@ def to_python(source: str | os.PathLike[str]) -> str:
         RUN = 5
     <BLANKLINE>
     """
-    text, _, _ = _translated(source, [])
+    text, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None))
     return text
 
 
@@ -131,12 +139,12 @@ def _translated(
 ) -> tuple[str, list[tuple[str, str]], set[str]]:
     """The Python module text, top-level names and qualified-only names for ``source``; nesting beyond the
     parser's limits is refused."""
-    _translator()
-    from iecoop.st.read.translate import translate_library
-
+    translate = _translator()
     units = parse_sources(source)
+    qualified: set[str] = set()
     try:
-        return translate_library(units, externals, libraries)
+        text, names = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
+        return text, names, qualified
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 

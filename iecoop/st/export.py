@@ -38,9 +38,9 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     interface, with ids derived from the names, so exporting again writes
     the same bytes. ``format="plcopen"``: one PLCopen XML file (TC6 2.01).
     ``format="st"``: the flat text of :func:`dump`, one ``.st`` file per object.
-    A TwinCAT export whose classes use a library iecoop ships (TON: Tc2_Standard) also writes a
-    ``.plcproj`` that compiles the files and references each library (``<PlaceholderReference>``);
-    the library's own classes are never written.
+    A TwinCAT export whose classes use a library iecoop ships (``iecoop.libraries``, beyond the
+    standard blocks every project has) also writes a ``.plcproj`` that compiles the files and
+    references each library (``<PlaceholderReference>``); the library's own classes are never written.
 
     Files are written only directly in ``folder``, never through a symbolic link,
     and only once every one of them is made. A name that is not an ST identifier

@@ -19,7 +19,7 @@ import pathlib
 import types
 import typing
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from typing import Any, TypeVar
+from typing import Any
 
 import blark.transform as tf
 
@@ -27,103 +27,16 @@ from iecoop.exceptions import DefinitionError
 from iecoop.metadata import Kind, iec_class, kind_of
 from iecoop.parameters import parameter_sections
 from iecoop.st.read.names import python_name
+from iecoop.st.read.lookup import BoundLibrary, Lookup
 from iecoop.st.read.parse import LibraryReference, Unit
+from iecoop.st.read.symbols import Callable_, Decl, Member, Symbols, TypeRef
+from iecoop.st.read.trees import signature
 
-if typing.TYPE_CHECKING:
-    from iecoop.st.read.symbols import Decl, Member, Symbols, TypeRef
-
-__all__ = ["BoundLibrary", "Lookup", "bind", "collapse_namespaces", "rename_shadowed"]
-
-_V = TypeVar("_V")
+__all__ = ["bind", "collapse_namespaces", "library_folders", "rename_shadowed", "resolve"]
 
 #: the ``st.load`` keyword and environment variable an unresolved reference's message points at
 HOW_TO_RESOLVE = ("pass libraries={name: folder, .plcproj or module}, library_path=[folder, ...] "
                   "or set IECOOP_LIBRARY_PATH to folders holding <name>/ or <name>.plcproj")
-
-
-@dataclasses.dataclass(frozen=True)
-class BoundLibrary:
-    """A library a project uses: its namespace (``Tc2_Standard``, or ``TCU`` for a renamed one) and its module.
-
-    ``qualified_only``: every name needs the namespace; ``qualified``: the ST names (lower case) of the
-    GVLs and enumerations marked ``{attribute 'qualified_only'}``, whose variables and values need it.
-    """
-
-    namespace: str
-    module: types.ModuleType
-    title: str = ""
-    qualified_only: bool = False
-    qualified: frozenset[str] = frozenset()
-
-    @property
-    def import_from(self) -> str:
-        return self.module.__name__
-
-    def names(self) -> list[str]:
-        """The ST names the library declares (its module's ``__all__``)."""
-        listed = getattr(self.module, "__all__", None)
-        if listed is None:
-            raise DefinitionError(f"library {self.namespace}: module {self.import_from} has no __all__ listing its ST names")
-        return [str(name) for name in listed]
-
-
-class Lookup(dict[str, _V]):
-    """A table of ST names (lower case) that notes which library declaration a lookup resolved to.
-
-    A name bound from a library is imported by the generated module once a lookup finds it (and the
-    project has not declared the name itself); a refused name (ambiguous, qualified only) raises its
-    rule when looked up, so each use is reported at its own line.
-    """
-
-    def __init__(self) -> None:
-        super().__init__()
-        #: key -> (the value bound from a library, the library declaration the generated code imports for it)
-        self.bound: dict[str, tuple[Any, Decl]] = {}
-        #: key -> the rule that refuses the plain name
-        self.refused: dict[str, str] = {}
-        self.on_refused: Callable[[str], Exception] = DefinitionError
-        self.imports: dict[str, set[str]] = {}
-        #: ``tc2_standard.concat`` -> ``CONCAT``: a library's name for a function the translator has built in
-        self.builtin: dict[str, str] = {}
-        #: the namespaces of the bound libraries (lower case)
-        self.namespaces: set[str] = set()
-        #: id of a library declaration -> its library's namespace as the project spells it
-        self.namespace_of: dict[int, str] = {}
-
-    def bind(self, key: str, value: _V, decl: Decl) -> None:
-        dict.__setitem__(self, key, value)
-        self.bound[key] = (value, decl)
-
-    def refuse(self, key: str, rule: str) -> None:
-        if dict.__contains__(self, key):
-            dict.__delitem__(self, key)
-        self.refused[key] = rule
-
-    def _found(self, key: str) -> _V:
-        value = dict.__getitem__(self, key)
-        bound = self.bound.get(key)
-        if bound is not None and bound[0] is value:
-            self.imports.setdefault(bound[1].library, set()).add(bound[1].import_spec)
-        return value
-
-    def __setitem__(self, key: str, value: _V) -> None:
-        self.refused.pop(key, None)  # the project's own name comes first
-        dict.__setitem__(self, key, value)
-
-    def __contains__(self, key: object) -> bool:
-        return dict.__contains__(self, key) or key in self.refused
-
-    def __getitem__(self, key: str) -> _V:
-        if not dict.__contains__(self, key) and key in self.refused:
-            raise self.on_refused(self.refused[key])
-        return self._found(key)
-
-    def get(self, key: str, default: Any = None) -> Any:
-        if dict.__contains__(self, key):
-            return self._found(key)
-        if key in self.refused:
-            raise self.on_refused(self.refused[key])
-        return default
 
 
 # --- a module's declarations ---------------------------------------------------------------------
@@ -166,7 +79,6 @@ class _Binder:
         import iecoop.functions as functions
         import iecoop.stdlib as stdlib
 
-        from iecoop.st.read.symbols import Decl
 
         symbols = self.symbols
         for decl in list(symbols.decls.values()):
@@ -207,7 +119,6 @@ class _Binder:
 
     def _constant(self, library: BoundLibrary, st_name: str, value: bool | int | float | str) -> None:
         """A module-level constant (``cMaxAxes = 8``): a global read as ``<module>.cMaxAxes``, plain or qualified."""
-        from iecoop.st.read.symbols import Decl, Member, TypeRef
 
         package, _, leaf = library.import_from.rpartition(".")
         if not package:
@@ -286,7 +197,6 @@ class _Binder:
     # --- members ---
 
     def _fill(self, decl: Decl, value: Any) -> None:
-        from iecoop.st.read.symbols import Callable_, Member
 
         if decl.kind == "function":
             decl.methods["()"] = Callable_(decl.name, self._returns(value), self._params(value), st=decl.st)
@@ -303,7 +213,9 @@ class _Binder:
         for base in cls.__mro__[1:]:
             base_decl = self.by_object.get(id(base)) or self.standard.get(id(base))
             if base_decl is not None:
-                (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(base_decl.st)
+                # qualified, so a project name that hides the base's plain name does not change the lineage
+                name = f"{self.symbols.decls.namespace_of[id(base_decl)]}.{base_decl.st}" if base_decl.library else base_decl.st
+                (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(name)
                 if base_decl.kind != "interface":
                     break
         record = iec_class(cls)
@@ -323,8 +235,6 @@ class _Binder:
                 decl.props[st.lower()] = Member(name, type_, "PROPERTY", st=st)
 
     def _params(self, function: Any, skip_self: bool = False) -> list[Member]:
-        from iecoop.st.read.symbols import Member
-        from iecoop.st.read.trees import signature
 
         sections = parameter_sections(function)
         hints = self._hints(function)
@@ -366,7 +276,6 @@ class _Binder:
         return self._info_type(info)
 
     def _info_type(self, info: Any) -> TypeRef | None:
-        from iecoop.st.read.symbols import TypeRef
 
         for attribute in ("cls", "enum_cls", "iface"):
             target = getattr(info, attribute, None)
@@ -397,7 +306,8 @@ def bind(symbols: Symbols, libraries: Sequence[BoundLibrary]) -> None:
 
 def rename_shadowed(symbols: Symbols) -> None:
     """A library declaration whose Python name the project's own declaration took gets its namespace in front."""
-    for key, (decl, _) in list(symbols.by_python.bound.items()):
+    for key, (value, _) in list(symbols.by_python.bound.items()):
+        decl: Decl = value
         if dict.get(symbols.by_python, key) is decl:
             continue
         namespace = symbols.decls.namespace_of[id(decl)]
@@ -406,9 +316,9 @@ def rename_shadowed(symbols: Symbols) -> None:
         _Binder._import_as(decl, attribute)
         symbols.by_python.bind(decl.name, decl, decl)
         for table in (symbols.globals, symbols.enum_values):
-            for bound_key, (value, owner) in list(table.bound.items()):
+            for bound_key, (entry, owner) in list(table.bound.items()):
                 if owner is decl:  # (list name, member) and (enum name, value) name the class
-                    table.bind(bound_key, (decl.name, value[1]), decl)
+                    table.bind(bound_key, (value.name, entry[1]), decl)
 
 
 # --- qualified names in expressions ------------------------------------------------------------------
@@ -477,17 +387,6 @@ def _slots(tree: Any) -> Iterator[tuple[Any, Any, Any]]:
             pending.extend((current, f.name, getattr(current, f.name)) for f in dataclasses.fields(current) if f.name != "meta")
         elif isinstance(current, list):
             pending.extend((current, index, item) for index, item in enumerate(current))
-
-
-def unknown_name(what: str, name: str, decls: Lookup[Any]) -> str:
-    """The message for an unknown ``what`` (type, ...) ``name``; a qualified name says whether its namespace is bound."""
-    namespace, _, last = name.rpartition(".")
-    if not namespace:
-        return f"unknown {what} {name!r}"
-    if namespace.lower() in decls.namespaces:
-        return f"unknown {what} {name!r}: library {namespace} declares no {last}"
-    return (f"unknown {what} {name!r}: {namespace!r} is no namespace of a bound library "
-            f"(the project's references and libraries= name them)")
 
 
 # --- resolving a project's references -----------------------------------------------------------------

@@ -18,7 +18,7 @@ from iecoop.exceptions import DefinitionError
 from iecoop.st.language import ELEMENTARY, INTEGER_LAYOUT, REAL_TYPES, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
-from iecoop.st.read.libraries import BoundLibrary, Lookup, bind, unknown_name
+from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.trees import lark_token_type, signature, variables
 
@@ -183,8 +183,9 @@ class Symbols:
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
+        #: the libraries the source uses, bound before pass 1 (``read.libraries``)
+        self.libraries = libraries
         self._stdlib_decls()
-        bind(self, libraries)
 
     # --- errors and imports ---
 

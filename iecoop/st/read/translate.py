@@ -18,7 +18,8 @@ import blark.transform as tf
 
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
-from iecoop.st.read.libraries import BoundLibrary, collapse_namespaces, rename_shadowed
+from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
+from iecoop.st.read.lookup import BoundLibrary
 from iecoop.st.read.symbols import Decl
 
 _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
@@ -70,6 +71,7 @@ class Translator(Pous):
         return order
 
     def translate(self) -> str:
+        bind(self, self.libraries)
         collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
         rename_shadowed(self)
@@ -121,26 +123,24 @@ class Translator(Pous):
 
 
 def translate(
-    units: Sequence[Unit], externals: Sequence[str] = (), libraries: Sequence[BoundLibrary] = ()
+    units: Sequence[Unit],
+    externals: Sequence[str] = (),
+    libraries: Sequence[BoundLibrary] = (),
+    qualified_only: set[str] | None = None,
 ) -> tuple[str, list[tuple[str, str]]]:
     """The Python module text for ``units`` and the ``(kind, name)`` of each top-level ST name.
 
     ``libraries``: the libraries the source uses, their names resolved plain and qualified.
+    ``qualified_only`` gets the ST names of the GVLs and enumerations marked ``{attribute 'qualified_only'}``
+    (what a project using this source as a library must qualify).
     """
-    text, names, _ = translate_library(units, externals, libraries)
-    return text, names
-
-
-def translate_library(
-    units: Sequence[Unit], externals: Sequence[str] = (), libraries: Sequence[BoundLibrary] = ()
-) -> tuple[str, list[tuple[str, str]], set[str]]:
-    """``translate``, and the ST names of the GVLs and enumerations marked ``{attribute 'qualified_only'}``."""
     translator = Translator(units, externals, libraries)
     text = translator.translate()
     names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb" and not d.library]
-    qualified = {d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
-                 and any(_QUALIFIED_ONLY.fullmatch(p) for p in _pragmas(translator, d))}
-    return text, names, qualified
+    if qualified_only is not None:
+        qualified_only.update(d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
+                              and any(_QUALIFIED_ONLY.fullmatch(p) for p in _pragmas(translator, d)))
+    return text, names
 
 
 def _pragmas(translator: Translator, decl: Decl) -> list[str]:

@@ -112,6 +112,8 @@ class ExpressionWriter(Inference):
 
     def declare(self, name: str, info: TypeInfo | str, node: ast.AST, *, seen_as: TypeInfo | None = None) -> None:
         """Declare the local ``name`` of ST type ``info``; ``seen_as`` is the type Python sees where it differs."""
+        if name == self.result_local:
+            return  # the member's result: ST declares it by the member itself
         if name.lower() in {f.lower() for f in self.fields} and name not in self.params and self.func.__name__ == "body":
             self.temp_name(name)
         self.locals[name] = info
@@ -364,6 +366,8 @@ class ExpressionWriter(Inference):
         name = node.id
         if name in self.rename:
             return self.rename[name]
+        if name == self.result_local:
+            return self.st_name
         if name in self.locals or name in self.params:
             return self.temp_names.get(name) or ident(name)
         if name in _NAME_WORDS:
@@ -898,6 +902,8 @@ _LIBRARY_CALLS: dict[str, _CallRule] = {
     "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
     "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
     "var_info": _call_var_info,
+    # null(ITF): the null reference of an interface; ST writes 0 for every interface type.
+    "null": lambda w, node: ("0", _ATOM),
 }
 
 

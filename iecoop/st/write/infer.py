@@ -59,6 +59,8 @@ class Inference:
         self.by_reference = set(by_reference or ())
         self.st_name = st_name
         self.result = result
+        #: The local the ST reader names like the member to hold its result (see BodyWriter.translate)
+        self.result_local: str | None = None
         self.params = dict(params or {})
         self.rename = dict(rename or {})
         self.lenient = lenient
@@ -146,6 +148,8 @@ class Inference:
             return None
 
     def _local_info(self, name: str) -> TypeInfo | None:
+        if name == self.result_local:
+            return self.result
         if name in self.local_types:
             return self.local_types[name]
         info = self.locals.get(name, self.params.get(name))

@@ -174,7 +174,7 @@ def _outside_fields(cls: Any) -> list[FieldDecl]:
     statics = {r.name for r in own_statics}
     for name, value in cls.__dict__.items():
         if type(value).__name__ == "_Static" and name not in statics:
-            _block, record = find_global(name, f"{cls.__name__}.{name}")
+            _block, record = find_global(name, f"{cls.__name__}.{name}", cls.__module__)
             found.append(FieldDecl(name, "VAR_EXTERNAL", record.info, FieldSpec("VAR_EXTERNAL")))
     return found
 
@@ -447,7 +447,7 @@ def _uses(meta: ClassMeta) -> Iterable[Any]:
     for field in meta.fields:
         yield from _classes_in(field.info)
         if field.section == "VAR_EXTERNAL":
-            yield find_global(field.name, f"{meta.name}.{field.name}")[0]
+            yield find_global(field.name, f"{meta.name}.{field.name}", cls.__module__)[0]
     functions: list[Any] = []
     for member in meta.members:
         functions += [member.function] if member.kind == "method" else [f for f in (member.getter, member.setter) if f is not None]

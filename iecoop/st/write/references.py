@@ -1,9 +1,8 @@
 """The libraries an export uses: referenced from its ``.plcproj``, never written into it.
 
-A class of a library iecoop ships (``iecoop.stdlib``'s TON is TwinCAT's Tc2_Standard, a class of
-``iecoop.libraries.tc2_mc2`` is Tc2_MC2) is on the PLC already: the export names the library in a
-``<PlaceholderReference>`` of the project file, as TwinCAT XAE writes one, and loading the folder binds
-it again (``st.load``).
+A class of a library iecoop ships (a class of ``iecoop.libraries.tc2_mc2`` is Tc2_MC2's) is on the PLC
+already: the export names the library in a ``<PlaceholderReference>`` of the project file, as TwinCAT
+XAE writes one, and loading the folder binds it again (``st.load``).
 """
 
 from __future__ import annotations
@@ -22,7 +21,11 @@ _STANDARD = "Tc2_Standard"
 
 
 def used_libraries(metas: Iterable[ClassMeta]) -> list[Library]:
-    """The shipped libraries whose classes ``metas`` use, in the order they are first used."""
+    """The shipped libraries whose classes ``metas`` use, in the order they are first used.
+
+    iecoop's standard blocks (TON, R_TRIG...) need no reference on their own: every PLC project has them
+    and the ST reader knows them. Beside another library they are named too (as Tc2_Standard).
+    """
     by_module = {library.module: library for library in KNOWN}
     standard = next(library for library in KNOWN if library.name == _STANDARD)
     found: list[Library] = []
@@ -32,7 +35,7 @@ def used_libraries(metas: Iterable[ClassMeta]) -> list[Library]:
             library = by_module.get(module) or (standard if module.split(".")[:2] == ["iecoop", "stdlib"] else None)
             if library is not None and library not in found:
                 found.append(library)
-    return found
+    return found if any(library is not standard for library in found) else []
 
 
 def plcproj(name: str, files: Sequence[str], libraries: Sequence[Library]) -> str:

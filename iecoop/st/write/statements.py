@@ -53,6 +53,14 @@ class StatementWriter(ExpressionWriter):
             body = body[1:]
         if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
             body = []
+        # The result variable as the ST reader writes it: a local named like the member (``Start: BOOL =
+        # False`` ... ``return Start``) is the member's own result, which ST declares by the member itself.
+        self.result_local = next(
+            (stmt.target.id for stmt in body
+             if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and stmt.target.id == self.st_name
+             and self.result is not None and not isinstance(self.result, ReferenceInfo)),
+            None,
+        )
         # A final `return x` needs no RETURN after the result assignment.
         self.block(body, 0, top=True)
         return self.lines
@@ -118,6 +126,11 @@ class StatementWriter(ExpressionWriter):
         """``n: INT = 3``: the local ``n : INT`` in VAR, and ``n := 3;``."""
         if not isinstance(node.target, ast.Name):
             self.fail(node, "an annotated assignment to an attribute")
+        if node.target.id == self.result_local:
+            # The result starts at its type's zero on every call: only another initial value is written.
+            if node.value is not None and not _is_zero(node.value):
+                self.write(depth, f"{self.st_name} := {self.expr(node.value)[0]};")
+            return
         info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
         if info is None:
             self.fail(node, "a local annotated None")
@@ -150,7 +163,9 @@ class StatementWriter(ExpressionWriter):
         self.write(depth, "CONTINUE;")
 
     def visit_Return(self, node: ast.Return, depth: int, last: bool) -> None:
-        if node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
+        if _is_name(node.value, self.result_local or ""):
+            pass  # ``return Start``: the result variable holds it already
+        elif node.value is not None and not (isinstance(node.value, ast.Constant) and node.value.value is None and self.result is None):
             if self.result is None:
                 self.fail(node, "a return value in a block without a result")
             place = self.is_place(node.value)
@@ -608,3 +623,8 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
 
 #: The writer of a body (its statements, expressions and types).
 BodyWriter = StatementWriter
+
+
+def _is_zero(value: ast.expr) -> bool:
+    """A literal zero of any elementary type (``False``, ``0``, ``0.0``, ``""``): the value a result starts with."""
+    return isinstance(value, ast.Constant) and value.value in (False, 0, 0.0, "") and value.value is not None

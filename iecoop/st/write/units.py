@@ -14,6 +14,7 @@ import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from iecoop import NullInterface
 from iecoop.metadata import is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
@@ -143,15 +144,15 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
         return value == 0 and not isinstance(value, bool) or value is False
     if isinstance(value, str):
         return value == ""
-    return value is None
+    return value is None or isinstance(value, NullInterface)  # a null interface reference is the zero
 
 
 def _argument(value: Any, where: str) -> str:
     """An FB_init argument: a literal, or the global instance it designates."""
     if kind_of(type(value)) in ("fb", "program"):
-        from iecoop.gvl import global_lists
+        from iecoop.gvl import all_global_lists
 
-        for instance in global_lists().values():
+        for instance in all_global_lists():
             for record in type(instance)._iec_layout_.fields:
                 if isinstance(record.info, AggregateInfo) and getattr(instance, record.name) == value:
                     return ident(record.name)

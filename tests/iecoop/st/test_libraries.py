@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import pathlib
+import sys
 import types
 
 import pytest
 
-from iecoop import T, st
+from iecoop import BOOL, INT, VAR_INPUT, VAR_OUTPUT, FunctionBlock, T, st
 from iecoop.exceptions import DefinitionError
-from iecoop.libraries import tc2_standard
+from iecoop.libraries import KNOWN, Library, tc2_standard
+from iecoop.st.write import references
 from iecoop.runtime import Runtime, Task
 from iecoop.st.read.parse import LibraryReference, library_references
 from tests.iecoop.st import fs_pylib
@@ -27,6 +29,18 @@ def test_a_plcproj_s_references_are_read_with_title_namespace_version_and_compan
     assert all(isinstance(r, LibraryReference) and r.where.startswith(str(LINE)) for r in references)
     assert library_references(LINE.parent) == references  # the folder holding the one .plcproj
     assert library_references("PROGRAM P END_PROGRAM") == []
+
+
+def test_a_reference_without_namespace_uses_its_title_and_a_bad_one_names_its_line(tmp_path: pathlib.Path) -> None:
+    project = tmp_path / "P.plcproj"
+    project.write_text('<?xml version="1.0" encoding="utf-8"?>\n<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">'
+                       '<ItemGroup>\n<LibraryReference Include="Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)" />\n'
+                       '</ItemGroup></Project>\n')
+    assert [(r.name, r.namespace, r.version, r.company) for r in library_references(project)] == [
+        ("Tc2_MC2", "Tc2_MC2", "3.3.52.0", "Beckhoff Automation GmbH")]
+    project.write_text(project.read_text().replace("Tc2_MC2, 3.3.52.0", "Tc2 MC2; 3.3"))
+    with pytest.raises(DefinitionError, match=r"P.plcproj:3: library reference 'Tc2 MC2; 3.3 \(Beckhoff Automation GmbH\)' names no library"):
+        library_references(project)
 
 
 def test_the_project_runs_with_its_libraries_over_several_cycles() -> None:
@@ -58,6 +72,12 @@ def test_the_generated_python_imports_library_names_from_their_modules() -> None
     assert "F_Clamp, GVL_Util, I_Runnable, ST_Count" in text
     assert "class FB_Station(FunctionBlock, I_Runnable):" in text
     assert "class F_Clamp" not in text and "class ST_Count" not in text  # the library's body is not copied
+
+
+def test_to_python_binds_libraries_as_load_does() -> None:
+    text = st.to_python(LINE, library_path=[PROJECTS])
+    assert "class FB_Station(FunctionBlock, I_Runnable):" in text
+    assert "nLimit = F_Clamp(nValue=100, nLow=0, nHigh=GVL_Util.cMaxParts)" in text
 
 
 def test_the_environment_variable_finds_a_library(monkeypatch: pytest.MonkeyPatch, tmp_path: pathlib.Path) -> None:
@@ -204,8 +224,6 @@ def test_a_name_two_libraries_declare_is_ambiguous_when_used_plain() -> None:
     other.__all__ = ["F_Twice"]  # type: ignore[attr-defined]
     other.F_Twice = lambda nValue: nValue  # type: ignore[attr-defined]
     other.F_Twice.__annotations__ = {"nValue": "DINT", "return": "DINT"}
-    import sys
-
     sys.modules["fs_other"] = other
     try:
         source = "PROGRAM P VAR n : DINT; END_VAR n := F_Twice(4); END_PROGRAM"
@@ -228,16 +246,41 @@ def test_the_project_s_own_name_hides_a_library_s_plain_name() -> None:
     F_Twice := nValue * 3;
     END_FUNCTION
 
+    TYPE E_Local : (FORWARD := 7, AHEAD := 8) INT; END_TYPE
+
     PROGRAM P
-    VAR nOwn, nLibrary : DINT; END_VAR
+    VAR nOwn, nLibrary : DINT; eOwn : E_Local; eLibrary : E_Dir; END_VAR
     nOwn := F_Twice(5);
     nLibrary := FsPy.F_Twice(5);
+    eOwn := FORWARD;
+    eLibrary := FsPy.E_Dir.FORWARD;
     END_PROGRAM
     """
     plc = st.load(source, libraries={"FsPy": fs_pylib})
     plc.P()
     assert (plc.P.nOwn, plc.P.nLibrary) == (15, 10)
+    assert (int(plc.P.eOwn), int(plc.P.eLibrary)) == (7, 1)  # the project's enumeration value FORWARD first
     assert "F_Twice as FsPy_F_Twice" in plc.__python__
+
+
+def test_a_project_gvl_named_like_a_library_s_leaves_the_library_s_globals_reachable() -> None:
+    source = """
+    // GVL GVL_Py
+    VAR_GLOBAL
+        nLocal : INT := 3;
+    END_VAR
+
+    PROGRAM P
+    VAR fQualified, fPlain : REAL; nOwn : INT; END_VAR
+    fQualified := FsPy.GVL_Py.cScale;
+    fPlain := cScale * 2.0;
+    nOwn := GVL_Py.nLocal;
+    END_PROGRAM
+    """
+    plc = st.load(source, libraries={"FsPy": fs_pylib})
+    plc.P()
+    assert (plc.P.fQualified, plc.P.fPlain, plc.P.nOwn) == (2.5, 5.0, 3)
+    assert "GVL_Py as FsPy_GVL_Py" in plc.__python__
 
 
 # --- ST libraries that reference others ------------------------------------------------------------
@@ -283,29 +326,53 @@ def test_libraries_maps_a_name_to_a_folder_module_or_nothing_else() -> None:
 # --- export -----------------------------------------------------------------------------------------
 
 
-def test_an_export_references_the_libraries_its_classes_use_and_loads_again(tmp_path: pathlib.Path) -> None:
+class FB_Axis(FunctionBlock):
+    """A block of a library iecoop ships (the table of shipped libraries is given one for the test)."""
+
+    __module__ = "iecoop.libraries.fs_axes"
+    bEnable: BOOL = VAR_INPUT()
+    nSteps: INT = VAR_OUTPUT()
+
+    def body(self) -> None:
+        if self.bEnable:
+            self.nSteps += 1
+
+
+FS_AXES = Library("Fs_Axes", "iecoop.libraries.fs_axes", "Fs Tools", "1.0.0.0", "https://example.invalid/fs_axes", "FSA")
+
+
+def test_an_export_references_the_libraries_its_classes_use_and_loads_again(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(references, "KNOWN", (*KNOWN, FS_AXES))
+    axes = types.ModuleType("iecoop.libraries.fs_axes")
+    axes.__all__ = ["FB_Axis"]  # type: ignore[attr-defined]
+    axes.FB_Axis = FB_Axis  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "iecoop.libraries.fs_axes", axes)
     plc = st.load("""
-    FUNCTION_BLOCK FB_Blink
-    VAR_INPUT bEnable : BOOL; END_VAR
-    VAR_OUTPUT nToggles : INT; END_VAR
-    VAR fbOn : Tc2_Standard.TON; END_VAR
-    fbOn(IN := bEnable AND NOT fbOn.Q, PT := T#20MS);
-    IF fbOn.Q THEN nToggles := nToggles + 1; END_IF
+    FUNCTION_BLOCK FB_Cell
+    VAR_OUTPUT nSteps : INT; END_VAR
+    VAR fbAxis : FSA.FB_Axis; fbDelay : TON; END_VAR
+    fbAxis(bEnable := TRUE);
+    fbDelay(IN := TRUE, PT := T#1S);
+    nSteps := fbAxis.nSteps;
     END_FUNCTION_BLOCK
-    """, libraries={"Tc2_Standard": tc2_standard})
-    files = st.export([plc.FB_Blink], tmp_path)
-    assert [f.name for f in files] == ["FB_Blink.TcPOU", "FB_Blink.plcproj"]
-    project = (tmp_path / "FB_Blink.plcproj").read_text()
-    assert '<Compile Include="FB_Blink.TcPOU">' in project
-    assert "TON" not in project  # the library is referenced, its body is not written
+    """, libraries={"FSA": axes})
+    files = st.export([plc.FB_Cell], tmp_path)
+    assert [f.name for f in files] == ["FB_Cell.TcPOU", "FB_Cell.plcproj"]
+    project = (tmp_path / "FB_Cell.plcproj").read_text()
+    assert '<Compile Include="FB_Cell.TcPOU">' in project
+    assert "FB_Axis" not in project and not (tmp_path / "FB_Axis.TcPOU").exists()  # referenced, never written
     assert [(r.name, r.namespace, r.version, r.company) for r in library_references(tmp_path)] == [
-        ("Tc2_Standard", "Tc2_Standard", "*", "Beckhoff Automation GmbH")]
-    assert not (tmp_path / "TON.TcPOU").exists()
-    back = st.load(tmp_path)
-    assert "from iecoop.stdlib import TON" in back.__python__
-    assert type(back.FB_Blink().fbOn) is tc2_standard.TON
+        ("Fs_Axes", "FSA", "*", "Fs Tools"), ("Tc2_Standard", "Tc2_Standard", "*", "Beckhoff Automation GmbH")]
+    back = st.load(tmp_path, libraries={"Fs_Axes": axes})
+    cell = back.FB_Cell()
+    cell()
+    cell()
+    assert cell.nSteps == 2 and type(cell.fbAxis) is FB_Axis
 
 
-def test_an_export_that_uses_no_library_writes_no_project_file(tmp_path: pathlib.Path) -> None:
-    plc = st.load("FUNCTION_BLOCK FB_Plain VAR n : INT; END_VAR n := n + 1; END_FUNCTION_BLOCK")
+def test_an_export_that_uses_only_the_standard_blocks_writes_no_project_file(tmp_path: pathlib.Path) -> None:
+    plc = st.load("FUNCTION_BLOCK FB_Plain VAR fbDelay : Tc2_Standard.TON; END_VAR fbDelay(IN := TRUE); END_FUNCTION_BLOCK",
+                  libraries={"Tc2_Standard": tc2_standard})
     assert [f.name for f in st.export([plc.FB_Plain], tmp_path)] == ["FB_Plain.TcPOU"]
