@@ -52,6 +52,12 @@ nitpick_ignore = [
     ("py:class", "hypothesis.strategies.SearchStrategy"),
     ("py:class", "_pytest.config.Config"),
     ("py:class", "_pytest.fixtures.FixtureRequest"),
+    ("py:class", "_pytest.nodes.Item"),
+    ("py:class", "_pytest.nodes.Collector"),
+    ("py:class", "_pytest.config.argparsing.Parser"),
+    ("py:class", "_pytest._code.code.ExceptionInfo"),
+    # A TcUnit failure record: documented with the library ({doc}`/libraries/tcunit`), not in the API pages.
+    ("py:class", "iecoop.libraries.tcunit.AssertFailure"),
     # Type variables of generic signatures (typing internals, not API).
     ("py:class", "iecoop.declarations._T"),
     ("py:class", "iecoop.functions._N"),

@@ -5,6 +5,7 @@ from iecoop.gvl import GlobalVariables, gvl
 from iecoop.interfaces import NULL, Interface, IQueryInterface, null, query_interface, query_pointer
 from iecoop.lifecycle import delete, new
 from iecoop.parameters import function
+from iecoop.generics import ANY, ANY_BIT, ANY_DATE, ANY_ELEMENTARY, ANY_INT, ANY_NUM, ANY_REAL, ANY_STRING, AnyType
 from iecoop.members import ABSTRACT, FINAL, INTERNAL, PRIVATE, PROTECTED, PUBLIC, Access, call_after_init, method, prop, super_set
 from iecoop.pou import FunctionBlock, Program
 from iecoop.stdlib import CriticalSection, test_and_set
@@ -21,6 +22,7 @@ from iecoop.types import (
 )
 
 __all__ = [
+    "ANY", "ANY_BIT", "ANY_DATE", "ANY_ELEMENTARY", "ANY_INT", "ANY_NUM", "ANY_REAL", "ANY_STRING", "AnyType",
     "ABSTRACT", "Access", "FINAL", "NULL", "FunctionBlock", "GlobalVariables", "INTERNAL", "IQueryInterface", "Interface",
     "PRIVATE", "PROTECTED", "PUBLIC", "Program", "call_after_init", "delete", "function", "gvl", "method", "new", "prop",
     "null", "query_interface", "query_pointer", "super_set", "CriticalSection", "test_and_set",

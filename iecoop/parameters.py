@@ -59,6 +59,7 @@ from typing import Any, TypeVar
 
 from iecoop._codegen import compile_source
 from iecoop.exceptions import DefinitionError
+from iecoop.generics import with_generics
 from iecoop.memory._core import access_violation, AggregateInfo, TypeInfo, handle_of, resolve_type
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.layout import MISSING, FieldSpec
@@ -118,7 +119,8 @@ def function(func: _F) -> _F:
 
 
 def with_parameters(func: _F, label: str, resolve: Callable[[str], Any] | None = None) -> _F:
-    """``func`` itself when it has no VAR_OUTPUT / VAR_IN_OUT parameter, else its generated wrapper."""
+    """``func`` itself when it has no VAR_OUTPUT / VAR_IN_OUT or generic parameter, else its wrapper."""
+    func = with_generics(func, label, resolve)
     sections = parameter_sections(func)
     if not sections:
         return func

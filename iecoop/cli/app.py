@@ -14,13 +14,16 @@ import os
 import sys
 from collections.abc import Mapping
 
-from iecoop.cli import export, serve, st
+from iecoop.cli import export, serve, st, test
 from iecoop.cli.base import Command, Names
 
 __all__ = ["COMMANDS", "DESCRIPTION", "commands", "main", "parser"]
 
 #: What ``iecoop --help`` says of the command without a plugged-in catalogue.
-DESCRIPTION = "Structured Text to Python and back, ST programs run with a trace or behind an OPC UA server."
+DESCRIPTION = (
+    "Structured Text to Python and back, ST programs run with a trace or behind an OPC UA server, "
+    "TcUnit tests run in virtual time."
+)
 
 
 def commands(names: Names | None = None) -> dict[str, Command]:
@@ -30,6 +33,7 @@ def commands(names: Names | None = None) -> dict[str, Command]:
         "st2py": Command(st.ST2PY_HELP, st.add_st2py_arguments, st.st2py_command),
         "st": Command(st.ST_HELP, st.add_st_arguments, st.st_command),
         "export": export.command(names),
+        "test": test.command(),
     }
 
 

@@ -25,6 +25,11 @@ class Calls(Expressions):
         raise NotImplementedError
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
+        named = next((p for p in params if p.name is not None), None)
+        if named is not None and any(p.name is None for p in params[params.index(named):]):
+            raise self.fail(
+                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
+                "first named one (TwinCAT and CODESYS refuse the mix)", node)
         args = []
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):

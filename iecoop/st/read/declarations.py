@@ -77,12 +77,19 @@ class Declarations(Statements):
 
     def _emit_datatype(self, decl: Decl, base: str) -> None:
         node = decl.node
+        keyword = "STRUCT" if base == "Struct" else "UNION"
         bases = decl.bases[0] if decl.bases else base
-        if not decl.bases:
+        if decl.bases:
+            base_decl = self.decls.get(bases.lower())
+            if base_decl is None or base_decl.kind != decl.kind:
+                raise self.fail(f"{keyword} {decl.st} EXTENDS {bases}, which is no declared {keyword}", node)
+            bases = base_decl.name
+        else:
             self.need("iecoop", base)
+        if not node.declarations and not decl.bases:
+            raise self.fail(f"{keyword} {decl.st} has no members; declare at least one (an empty STRUCT has no layout)", node)
         self.comments(node, 0)
         self.emit(f"class {decl.name}({bases}{st_keyword(decl.st, decl.name)}):", 0)
-        keyword = "STRUCT" if base == "Struct" else "UNION"
         self.emit(f'"""TYPE {decl.name} : {keyword}."""', 1)
         scope = Scope(decl, "const")
         for element in node.declarations:

@@ -37,15 +37,29 @@ class Pous(Declarations):
             bases[0] = base_decl.name
             if base_decl.kind == "stdfb":
                 self.need("iecoop.stdlib", base_decl.name)
+        named: list[Decl] = []
         for itf in node.implements.interfaces if node.implements else []:
             itf_decl = self.decls.get(str(itf).lower())
             if itf_decl is None or itf_decl.kind != "interface":
                 raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {itf!r}", node)
-            bases.append(itf_decl.name)
+            named.append(itf_decl)
+        # IMPLEMENTS I_A, I_B with I_B EXTENDS I_A is legal ST; a Python class cannot list a base after its subclass.
+        bases += [d.name for d in named if not any(d is not o and any(d is a for a in self._interface_ancestors(o)) for o in named)]
         self.comments(node, 0)
         self.emit(f"class {decl.name}({', '.join(bases)}{self._class_kwargs(node.access)}{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""FUNCTION_BLOCK {decl.name}."""', 1)
         self._emit_pou(decl, "FUNCTION_BLOCK")
+
+    def _interface_ancestors(self, decl: Decl) -> list[Decl]:
+        """The interfaces ``decl`` EXTENDS, directly or through others (a cycle stops the walk)."""
+        found: list[Decl] = []
+        pending = list(decl.bases)
+        while pending:
+            base = self.decls.get(pending.pop().lower())
+            if base is not None and base.kind == "interface" and not any(base is f for f in found):
+                found.append(base)
+                pending += base.bases
+        return found
 
     def _emit_program(self, decl: Decl) -> None:
         self.need("iecoop", "Program")

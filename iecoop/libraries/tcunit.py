@@ -1,0 +1,869 @@
+"""TcUnit (and CfUnit, its CODESYS port): unit tests for PLC code, written in ST, run by iecoop.
+
+A test suite is a FUNCTION_BLOCK that ``EXTENDS FB_TestSuite``; its body calls
+its tests, and each test opens with ``TEST('Name')``, asserts, and closes with
+``TEST_FINISHED()``. A test PROGRAM declares the suites and calls ``RUN()``:
+every suite instance registers itself when it is created (its FB_init), and
+``RUN()`` calls their bodies each cycle until every test has finished, then
+logs TcUnit's summary. Only failed asserts are recorded.
+
+ST::
+
+    FUNCTION_BLOCK FB_Math_Test EXTENDS TcUnit.FB_TestSuite
+    TEST('OnePlusOne');
+    AssertEquals_INT(Expected := 2, Actual := 1 + 1, Message := 'sum');
+    TEST_FINISHED();
+    END_FUNCTION_BLOCK
+
+    PROGRAM PRG_TEST
+    VAR fbMath : FB_Math_Test; END_VAR
+    TcUnit.RUN();
+    END_PROGRAM
+
+Python:
+
+>>> from iecoop import INT, Program, VAR
+>>> from iecoop.libraries import tcunit
+>>> from iecoop.testing import VirtualPlc
+>>> class FB_Math_Test(tcunit.FB_TestSuite):
+...     def body(self) -> None:
+...         tcunit.TEST("OnePlusOne")
+...         self.AssertEquals_INT(Expected=2, Actual=1 + 1, Message="sum")
+...         tcunit.TEST_FINISHED()
+...         tcunit.TEST("Wrong")
+...         self.AssertEquals_INT(Expected=3, Actual=1 + 1, Message="sum")
+...         tcunit.TEST_FINISHED()
+>>> with tcunit.registry() as tests:
+...     class PRG_TEST(Program):
+...         fbMath: FB_Math_Test = VAR()
+...         def body(self) -> None:
+...             tcunit.RUN()
+...     plc = VirtualPlc()
+...     prg = plc.add(PRG_TEST())
+...     tests.name_suites(prg)          # instance paths, as TcUnit reports them
+...     plc.run_cycles(2)
+>>> tests.done, [(t.name, t.status) for t in tests.suites[0].tests]
+(True, [('OnePlusOne', 'passed'), ('Wrong', 'failed')])
+>>> print(tests.suites[0].tests[1].failures[0].line())
+FAILED TEST 'PRG_TEST.fbMath@Wrong', EXP: 3, ACT: 2, MSG: sum
+
+Registration is per registry: the one ``registry()`` makes active (the runner
+and the pytest plugin make one per run), else the one of the runtime whose
+cycle calls ``RUN()`` (a fresh runtime starts a fresh one). Semantics follow
+TcUnit's documentation (https://tcunit.org, "API" and "FAQ"):
+
+- a test stays open over cycles until ``TEST_FINISHED()``; asserts made after
+  it are ignored;
+- ``TEST_ORDERED`` tests run one after another, in the order of their first
+  call: it returns TRUE only for the first one not finished;
+- ``RUN_IN_SEQUENCE()`` runs the suites one after another, in declaration
+  order, ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution`` apart;
+- asserts identical in test, values, message and cycle are reported once;
+- a test named with the prefix ``disabled_`` is not run and is reported as
+  skipped;
+- a test that never finishes runs until the registry's per-test limit (PLC
+  time; ``limit_ms``, set by the runner) and then fails naming that limit.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import dataclasses
+import math
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any, Literal
+
+from iecoop import ARRAY, BOOL, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
+from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
+from iecoop.generics import ANY, AnyType
+from iecoop.memory import TYPE_CLASS, Pointer, adr, memcmp
+from iecoop.metadata import iec_class, st_name
+from iecoop.pou import FunctionBlock
+from iecoop.runtime.clock import Clock, task_clock
+from iecoop import types
+from iecoop.types import ELEMENTARY_TYPES, ElementaryType
+
+__all__ = [
+    "FB_TestSuite", "GVL_Param_TcUnit", "IS_TEST_FINISHED", "RUN", "RUN_IN_SEQUENCE", "TEST", "TEST_FINISHED",
+    "TEST_FINISHED_NAMED", "TEST_ORDERED",
+]
+
+#: The prefix TcUnit reads as "do not run this test" (TcUnit FAQ, "disable a test").
+DISABLED_PREFIX = "disabled_"
+
+
+@gvl
+class GVL_Param_TcUnit(GlobalVariables):
+    """TcUnit's library parameters (``VAR_GLOBAL CONSTANT``), with TcUnit's documented defaults.
+
+    ``MaxNumberOfTestsForEachTestSuite`` and ``MaxNumberOfAssertsForEachTestSuite``
+    bound what a suite records; a test past the bound fails naming the parameter.
+    ``TimeBetweenTestSuitesExecution`` is the pause ``RUN_IN_SEQUENCE`` makes between
+    suites. The xUnit and ADS log parameters are there for source compatibility:
+    iecoop writes its results through ``iecoop test --junitxml`` and pytest instead.
+    """
+
+    MaxNumberOfTestSuites: UINT = VAR(1000, constant=True)
+    MaxNumberOfTestsForEachTestSuite: UINT = VAR(100, constant=True)
+    MaxNumberOfAssertsForEachTestSuite: UINT = VAR(1000, constant=True)
+    TimeBetweenTestSuitesExecution: TIME = VAR(0, constant=True)
+    LogExtendedResults: BOOL = VAR(True, constant=True)
+    AdsLogMessageFifoRingBufferSize: UINT = VAR(2000, constant=True)
+    xUnitEnablePublish: BOOL = VAR(False, constant=True)
+    xUnitFilePath: STRING = VAR("C:\\tmp\\xUnitTestResults.xml", length=255, constant=True)
+    xUnitBufferSize: UDINT = VAR(65535, constant=True)
+
+
+# --- results ----------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class AssertFailure:
+    """One failed assert: the assert's name, its message, the expected and actual values as ST text.
+
+    ``index`` is where two arrays first differ (``[3]``, ``[1, 2]``; empty for a
+    size difference or a scalar); ``cycle`` is the RUN() cycle it was made in (from 1).
+    """
+
+    test: str
+    suite: str
+    assertion: str
+    message: str
+    expected: str
+    actual: str
+    cycle: int
+    index: str = ""
+
+    def line(self) -> str:
+        """The line TcUnit logs for it: ``FAILED TEST 'PRG_TEST.fbSuite@Test', EXP: 3, ACT: 2, MSG: sum``."""
+        at = f" at index {self.index}" if self.index else ""
+        return f"FAILED TEST '{self.suite}@{self.test}', EXP: {self.expected}, ACT: {self.actual}{at}, MSG: {self.message}"
+
+
+Status = Literal["passed", "failed", "skipped", "open"]
+
+
+@dataclasses.dataclass(eq=False)
+class TestRecord:
+    """One test of a suite, as TcUnit records it."""
+
+    __test__ = False  # a record, not a pytest test class
+
+    name: str
+    suite: str
+    ordered: bool = False
+    finished: bool = False
+    skipped: bool = False
+    #: why the test failed besides its asserts (the limit it hit, a duplicate name)
+    error: str = ""
+    failures: list[AssertFailure] = dataclasses.field(default_factory=list)
+    #: the RUN() cycles (from 1) it started and finished in; 0: not yet
+    started_cycle: int = 0
+    finished_cycle: int = 0
+    started_ns: int = -1
+    finished_ns: int = -1
+    _seen: set[tuple[Any, ...]] = dataclasses.field(default_factory=set, repr=False)
+
+    @property
+    def status(self) -> Status:
+        """``passed``, ``failed``, ``skipped`` or ``open`` (still running)."""
+        if self.skipped:
+            return "skipped"
+        if self.failures or self.error:
+            return "failed"
+        return "passed" if self.finished else "open"
+
+    @property
+    def duration_ns(self) -> int:
+        """PLC time from its first to its last cycle (0 before it finished)."""
+        return max(0, self.finished_ns - self.started_ns) if self.finished_ns >= 0 and self.started_ns >= 0 else 0
+
+
+class SuiteState:
+    """A registered suite instance: its tests in the order of their first call, and the one running."""
+
+    def __init__(self, instance: FB_TestSuite, key: int, number: int) -> None:
+        self.instance = instance
+        self.key = key
+        #: the instance path TcUnit reports (``PRG_TEST.fbMath``); the runner names it, else the type and its number
+        self.path = f"{st_name(type(instance))}#{number}"
+        self.tests: list[TestRecord] = []
+        self.by_name: dict[str, TestRecord] = {}
+        self.current: TestRecord | None = None
+        self.errors: list[str] = []
+        self.asserts = 0
+
+    def reset(self) -> None:
+        self.tests.clear()
+        self.by_name.clear()
+        self.current = None
+        self.errors.clear()
+        self.asserts = 0
+
+    @property
+    def finished(self) -> bool:
+        """Every test finished (a suite whose body declares none is finished once called)."""
+        return all(t.finished for t in self.tests)
+
+    def rename(self, path: str) -> None:
+        self.path = path
+        for test in self.tests:
+            test.suite = path
+
+
+class Registry:
+    """The test suites of one load / runtime, their results, and where RUN() is.
+
+    ``limit_ms`` (PLC time, None: none, as on the PLC) fails a test still open
+    that long after it started; ``log`` collects the lines TcUnit would write
+    to the ADS log, ``done`` is set once every test has finished.
+    """
+
+    def __init__(self, limit_ms: int | None = None) -> None:
+        self.suites: list[SuiteState] = []
+        self._by_key: dict[int, SuiteState] = {}
+        self.limit_ms = limit_ms
+        self.running: SuiteState | None = None
+        self.cycle = 0
+        self.done = False
+        self.log: list[str] = []
+        self.clock: Clock | None = None
+        self.started_ns = -1
+        self.finished_ns = -1
+        #: the PLC time of the last RUN() call: what close() dates the end with, outside a cycle
+        self.last_ns = 0
+        #: RUN_IN_SEQUENCE: the suite running, and when the next may start
+        self._sequence = 0
+        self._next_start_ns = 0
+
+    def add(self, suite: FB_TestSuite) -> None:
+        key = int(adr(suite))
+        known = self._by_key.get(key)
+        if known is not None:  # FB_init again (a reset): the suite starts over
+            known.instance = suite
+            known.reset()
+            self.done = False
+            return
+        state = SuiteState(suite, key, len(self.suites) + 1)
+        self.suites.append(state)
+        self._by_key[key] = state
+
+    def name_suites(self, program: Any, path: str | None = None) -> None:
+        """Name the registered suites inside ``program`` by instance path, as TcUnit reports them (``PRG_TEST.fbMath``)."""
+        self._name_in(program, st_name(type(program)) if path is None else path, 8)
+
+    def _name_in(self, block: Any, path: str, depth: int) -> None:
+        record = iec_class(type(block))
+        if record is None or record.layout is None or depth == 0:
+            return
+        for field in record.layout.fields:
+            value = getattr(block, field.name)
+            name = f"{path}.{st_name(type(block), field.name)}"
+            bounds = getattr(value, "bounds", None)
+            if isinstance(value, FunctionBlock):
+                state = self._by_key.get(int(adr(value)))
+                if state is not None:
+                    state.rename(name)
+                self._name_in(value, name, depth - 1)
+            elif bounds is not None and len(bounds) == 1:
+                for i in range(bounds[0][0], bounds[0][1] + 1):
+                    element = value[i]
+                    if not isinstance(element, FunctionBlock):
+                        break
+                    state = self._by_key.get(int(adr(element)))
+                    if state is not None:
+                        state.rename(f"{name}[{i}]")
+
+    def state_of(self, suite: FB_TestSuite) -> SuiteState:
+        state = self._by_key.get(int(adr(suite)))
+        if state is None:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
+                f"TcUnit: {st_name(type(suite))} is not a registered test suite (it was created outside this registry)",
+            )
+        return state
+
+    def tests(self) -> list[TestRecord]:
+        """Every test of every suite, suite by suite."""
+        return [test for suite in self.suites for test in suite.tests]
+
+    def failed_asserts(self) -> int:
+        return sum(len(test.failures) for test in self.tests())
+
+    # -- what RUN() does ------------------------------------------------------------------------
+
+    def _now_ns(self) -> int:
+        return task_clock.get().now_ns()
+
+    def run(self, in_sequence: bool) -> None:
+        self.cycle += 1
+        now = self.last_ns = self._now_ns()
+        if self.started_ns < 0:
+            self.started_ns = now
+        if self.done:
+            return
+        if in_sequence:
+            self._run_sequence(now)
+        else:
+            for suite in self.suites:
+                self._call(suite, now)
+        if all(suite.finished for suite in self.suites):
+            self.done = True
+            self.finished_ns = now
+            self.log.extend(self.summary())
+
+    def _run_sequence(self, now: int) -> None:
+        while self._sequence < len(self.suites):
+            suite = self.suites[self._sequence]
+            if now < self._next_start_ns:
+                return
+            self._call(suite, now)
+            if not suite.finished:
+                return
+            self._sequence += 1
+            self._next_start_ns = now + GVL_Param_TcUnit.TimeBetweenTestSuitesExecution * 1_000_000
+            if GVL_Param_TcUnit.TimeBetweenTestSuitesExecution:
+                return
+
+    def _call(self, suite: SuiteState, now: int) -> None:
+        if suite.finished and suite.tests:
+            return
+        self.running = suite
+        suite.current = None
+        try:
+            suite.instance()
+        finally:
+            self.running = None
+            suite.current = None
+        self._apply_limit(suite, now)
+
+    def _apply_limit(self, suite: SuiteState, now: int) -> None:
+        if self.limit_ms is None:
+            return
+        for test in suite.tests:
+            if not test.finished and test.started_ns >= 0 and now - test.started_ns >= self.limit_ms * 1_000_000:
+                test.error = (
+                    f"the test did not finish within {format_time(self.limit_ms)} of PLC time "
+                    f"(the per-test limit); TEST_FINISHED() was never called"
+                )
+                self._finish(test, now)
+
+    def _finish(self, test: TestRecord, now: int | None = None) -> None:
+        if not test.finished:
+            test.finished = True
+            test.finished_cycle = self.cycle
+            test.finished_ns = self._now_ns() if now is None else now
+
+    def close(self) -> None:
+        """End the run where it is: every open test fails as unfinished, and the summary is logged."""
+        # After the cycles the task clock is no longer the runtime's: the end is the last RUN() call.
+        for test in self.tests():
+            if not test.finished:
+                test.error = test.error or "the run ended before the test finished (TEST_FINISHED() was never called)"
+                self._finish(test, self.last_ns)
+        if not self.done:
+            self.done = True
+            self.finished_ns = self.last_ns
+            self.log.extend(self.summary())
+
+    def summary(self) -> list[str]:
+        """TcUnit's summary lines, after its FAILED TEST lines."""
+        tests = self.tests()
+        failed = [t for t in tests if t.status == "failed"]
+        skipped = [t for t in tests if t.status == "skipped"]
+        lines = [failure.line() for test in tests for failure in test.failures]
+        lines += [f"FAILED TEST '{t.suite}@{t.name}', {t.error}" for t in tests if t.error]
+        for suite in self.suites:
+            lines += [f"ERROR in '{suite.path}': {error}" for error in suite.errors]
+        seconds = max(0, self.finished_ns - self.started_ns) / 1e9 if self.started_ns >= 0 else 0.0
+        lines += [
+            "==========TESTS FINISHED RUNNING==========",
+            f"Test suites: {len(self.suites)}",
+            f"Tests: {len(tests)}",
+            f"Successful tests: {len(tests) - len(failed) - len(skipped)}",
+            f"Failed tests: {len(failed)}",
+            f"Disabled tests: {len(skipped)}",
+            f"Unsuccessful assertions: {self.failed_asserts()}",
+            f"Duration: {seconds:.3f} s of PLC time",
+            "==================RESULT==================",
+            "SOME TESTS FAILED" if failed else "ALL TESTS SUCCEEDED",
+        ]
+        return lines
+
+    # -- what TEST() and the asserts do ---------------------------------------------------------
+
+    def suite_running(self, what: str) -> SuiteState:
+        if self.running is None:
+            raise PlcException(
+                ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
+                f"TcUnit.{what}: called outside a test suite that RUN() or RUN_IN_SEQUENCE() is running",
+            )
+        return self.running
+
+    def open_test(self, name: str, ordered: bool) -> TestRecord | None:
+        suite = self.suite_running("TEST_ORDERED" if ordered else "TEST")
+        test = suite.by_name.get(name)
+        if test is None:
+            if len(suite.tests) >= GVL_Param_TcUnit.MaxNumberOfTestsForEachTestSuite:
+                suite.errors.append(
+                    f"test {name!r} is one more than GVL_Param_TcUnit.MaxNumberOfTestsForEachTestSuite "
+                    f"({GVL_Param_TcUnit.MaxNumberOfTestsForEachTestSuite}) allows; it is not run"
+                )
+                suite.by_name[name] = test = TestRecord(name, suite.path, ordered, finished=True, skipped=True)
+                return None
+            test = TestRecord(name, suite.path, ordered)
+            suite.tests.append(test)
+            suite.by_name[name] = test
+            if name.startswith(DISABLED_PREFIX):
+                test.skipped = True
+                self._finish(test)
+        if test.skipped or test.finished:
+            suite.current = test
+            return test
+        if ordered:
+            turn = next((t for t in suite.tests if t.ordered and not t.finished), None)
+            if turn is not test:
+                suite.current = None
+                return None
+        if test.started_ns < 0:
+            test.started_ns = self._now_ns()
+            test.started_cycle = self.cycle
+        suite.current = test
+        return test
+
+    def finish_current(self) -> bool:
+        suite = self.suite_running("TEST_FINISHED")
+        if suite.current is None:
+            return False
+        self._finish(suite.current)
+        return True
+
+    def finish_named(self, name: str) -> bool:
+        suite = self.suite_running("TEST_FINISHED_NAMED")
+        test = suite.by_name.get(name)
+        if test is None or test not in suite.tests:
+            return False
+        self._finish(test)
+        return True
+
+    def is_finished(self, name: str) -> bool:
+        suite = self.suite_running("IS_TEST_FINISHED")
+        test = suite.by_name.get(name)
+        return test is not None and test.finished
+
+    def record(self, suite_fb: FB_TestSuite, assertion: str, message: str, expected: str, actual: str,
+               index: str = "") -> None:
+        """Record a failed assert of the suite's current test (ignored when no test is open)."""
+        suite = self.state_of(suite_fb)
+        test = suite.current
+        if test is None or test.finished or test.skipped:
+            return
+        key = (assertion, message, expected, actual, index, self.cycle)
+        if key in test._seen:
+            return
+        test._seen.add(key)
+        suite.asserts += 1
+        if suite.asserts > GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite:
+            if suite.asserts == GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite + 1:
+                suite.errors.append(
+                    "more failed asserts than GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite "
+                    f"({GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite}); the rest are not recorded"
+                )
+            test.error = test.error or "failed asserts beyond GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite"
+            return
+        test.failures.append(AssertFailure(test.name, suite.path, assertion, message, expected, actual, self.cycle, index))
+
+
+# --- which registry ---------------------------------------------------------------------------
+
+_active: contextvars.ContextVar[Registry | None] = contextvars.ContextVar("iecoop_tcunit_registry", default=None)
+#: Suites created outside ``registry()``: the next runtime whose cycle calls RUN() takes them.
+_pending: list[FB_TestSuite] = []
+#: The registry the last runtime (by its task clock) runs without ``registry()``.
+_unscoped: list[Registry] = []
+
+
+@contextlib.contextmanager
+def registry(limit_ms: int | None = None) -> Iterator[Registry]:
+    """Make a fresh :class:`Registry` the one suites register with and RUN() runs, inside the block."""
+    fresh = Registry(limit_ms)
+    token = _active.set(fresh)
+    try:
+        yield fresh
+    finally:
+        _active.reset(token)
+
+
+def forget_unscoped() -> None:
+    """Drop the suites and registry kept outside ``registry()`` (the pytest plugin does this between tests)."""
+    _pending.clear()
+    _unscoped.clear()
+
+
+def unscoped_registry() -> Registry | None:
+    """The registry of the last runtime that called RUN() outside ``registry()`` (None before one did)."""
+    return _unscoped[0] if _unscoped else None
+
+
+def current_registry() -> Registry:
+    """The registry RUN() uses here: the active one, else the one of the runtime running this cycle."""
+    active = _active.get()
+    if active is not None:
+        return active
+    clock = task_clock.get()
+    if _unscoped and _unscoped[0].clock is clock:
+        found = _unscoped[0]
+    else:  # a fresh runtime: a fresh registry, with the suites created since the last one
+        found = Registry()
+        found.clock = clock
+        _unscoped[:] = [found]
+    for suite in _pending:
+        found.add(suite)
+    _pending.clear()
+    return found
+
+
+def _register(suite: FB_TestSuite) -> None:
+    active = _active.get()
+    if active is not None:
+        active.add(suite)
+    elif _unscoped and _unscoped[0].running is not None:  # created during a run (__NEW in a test)
+        _unscoped[0].add(suite)
+    else:
+        _pending.append(suite)
+
+
+# --- comparing and printing values ------------------------------------------------------------
+
+_BIT_STRINGS = frozenset({"BYTE", "WORD", "DWORD", "LWORD"})
+_FORMATS = {"TIME": format_time, "LTIME": format_ltime, "DATE": format_date, "TIME_OF_DAY": format_tod,
+            "TOD": format_tod, "DATE_AND_TIME": format_dt, "DT": format_dt}
+#: The elementary type behind each TcUnit type suffix.
+_ELEMENTARY = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
+
+
+def _stored(type_name: str, value: Any) -> Any:
+    record = ELEMENTARY_TYPES[_ELEMENTARY.get(type_name, type_name)]
+    if isinstance(record, ElementaryType):
+        return record.store(value)
+    return str(value)
+
+
+def _text(type_name: str, value: Any) -> str:
+    """``value`` as TcUnit prints it: TRUE / FALSE, 16#.. for bit strings, ST literals for times and dates."""
+    if type_name == "BOOL":
+        return "TRUE" if value else "FALSE"
+    if type_name in _BIT_STRINGS:
+        return f"16#{value:X}"
+    if type_name in _FORMATS:
+        try:
+            return _FORMATS[type_name](value)
+        except ValueError:
+            return str(value)
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
+
+
+_TEXT_CLASSES = frozenset({TYPE_CLASS.TYPE_STRING, TYPE_CLASS.TYPE_WSTRING})
+#: The type classes AssertEquals(ANY) compares by value; the others (STRUCT, ARRAY, blocks ...) byte by byte.
+_ELEMENTARY_CLASSES = frozenset(TYPE_CLASS(n) for n in range(0, 22)) | {TYPE_CLASS.TYPE_LTIME, TYPE_CLASS.TYPE_ENUM}
+
+
+def _any_text(value: AnyType) -> str:
+    """An ANY argument's value as ST text."""
+    if value.TypeClass in _ELEMENTARY_CLASSES:
+        return _text(value.type_name.split("(")[0], value.value)
+    return f"{value.type_name} ({value.diSize} bytes)"
+
+
+def _typed_text(value: AnyType) -> str:
+    return f"({value.type_name}) {_any_text(value)}"
+
+
+def _differs(expected: Any, actual: Any, delta: float | None) -> bool:
+    if delta is not None:
+        difference = abs(expected - actual)
+        return not (difference <= abs(delta)) and not (math.isinf(expected) and expected == actual)
+    return bool(expected != actual)
+
+
+def _elements(values: Any, depth: int, where: str) -> tuple[list[int], list[tuple[tuple[int, ...], Any]]]:
+    """The shape (elements per dimension) and (index, value) pairs of an ARRAY or nested sequence.
+
+    ST indices are used for an iecoop ARRAY (its declared bounds), 0-based ones for a Python list.
+    """
+    if isinstance(values, Pointer):  # a VAR_IN_OUT passed by address: the array it points at
+        values = values.deref
+    bounds = getattr(values, "bounds", None)
+    if bounds is not None:
+        if len(bounds) != depth:
+            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                               f"TcUnit.{where}: expects {depth}-dimensional arrays, got ARRAY[{bounds}]")
+        shape = [hi - lo + 1 for lo, hi in bounds]
+        pairs: list[tuple[tuple[int, ...], Any]] = []
+        indices: list[tuple[int, ...]] = [()]
+        for lo, hi in bounds:
+            indices = [(*prefix, i) for prefix in indices for i in range(lo, hi + 1)]
+        for index in indices:
+            pairs.append((index, values[index if depth > 1 else index[0]]))
+        return shape, pairs
+    shape = []
+    level: Any = values
+    for _ in range(depth):
+        if not isinstance(level, Sequence) or isinstance(level, str):
+            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                               f"TcUnit.{where}: expects {depth}-dimensional arrays (lists or ARRAYs), got {values!r}")
+        shape.append(len(level))
+        level = level[0] if len(level) else []
+
+    def walk(node: Any, prefix: tuple[int, ...], left: int) -> Iterator[tuple[tuple[int, ...], Any]]:
+        if left == 0:
+            yield prefix, node
+            return
+        if not isinstance(node, Sequence) or isinstance(node, str) or len(node) != shape[depth - left]:
+            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                               f"TcUnit.{where}: the nested lists are not rectangular at index {list(prefix)}")
+        for i, item in enumerate(node):
+            yield from walk(item, (*prefix, i), left - 1)
+
+    return shape, list(walk(values, (), depth))
+
+
+# --- FB_TestSuite -----------------------------------------------------------------------------
+
+
+def _equals(type_name: str, with_delta: bool = False) -> Any:
+    """``METHOD AssertEquals_<type>(Expected, Actual[, Delta], Message)``: one per TcUnit type."""
+    annotation = getattr(types, _ELEMENTARY.get(type_name, type_name))
+    name = f"AssertEquals_{type_name}"
+
+    def assert_equals(self: FB_TestSuite, Expected: Any, Actual: Any, Delta: Any = 0.0, Message: Any = "") -> None:
+        expected, actual = _stored(type_name, Expected), _stored(type_name, Actual)
+        if _differs(expected, actual, _stored(type_name, Delta) if with_delta else None):
+            self._registry().record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual))
+
+    function: Callable[..., None]
+    if not with_delta:
+        def assert_equals_plain(self: FB_TestSuite, Expected: Any, Actual: Any, Message: Any = "") -> None:
+            assert_equals(self, Expected, Actual, 0.0, Message)
+
+        function = assert_equals_plain
+    else:
+        function = assert_equals
+    function.__name__ = function.__qualname__ = name
+    function.__doc__ = (
+        f"``{name}(Expected, Actual{', Delta' if with_delta else ''}, Message)``: fails when the two "
+        f"{type_name} values differ{' by more than Delta' if with_delta else ''}."
+    )
+    function.__annotations__ = {"Expected": annotation, "Actual": annotation, "Message": STRING, "return": None}
+    if with_delta:
+        function.__annotations__["Delta"] = annotation
+    return method(function)
+
+
+def _array_equals(type_name: str, depth: int = 1, with_delta: bool = False) -> Any:
+    """``METHOD AssertArray[2d|3d]Equals_<type>(Expecteds, Actuals : ARRAY[*] OF <type> (VAR_IN_OUT), [Delta,] Message)``."""
+    dims = {1: "", 2: "2d", 3: "3d"}[depth]
+    name = f"AssertArray{dims}Equals_{type_name}"
+
+    def assert_array_equals(self: FB_TestSuite, Expecteds: Any, Actuals: Any, Delta: Any = 0.0, Message: Any = "") -> None:
+        registry = self._registry()
+        expected_shape, expecteds = _elements(Expecteds, depth, name)
+        actual_shape, actuals = _elements(Actuals, depth, name)
+        if expected_shape != actual_shape:
+            registry.record(self, name, str(Message), "SIZE " + " x ".join(map(str, expected_shape)),
+                            "SIZE " + " x ".join(map(str, actual_shape)))
+            return
+        tolerance = _stored(type_name, Delta) if with_delta else None
+        for (index, expected), (actual_index, actual) in zip(expecteds, actuals):
+            expected, actual = _stored(type_name, expected), _stored(type_name, actual)
+            if _differs(expected, actual, tolerance):
+                where = ", ".join(map(str, actual_index))
+                registry.record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual), f"[{where}]")
+                return
+
+    function: Callable[..., None]
+    if not with_delta:
+        def assert_array_plain(self: FB_TestSuite, Expecteds: Any, Actuals: Any, Message: Any = "") -> None:
+            assert_array_equals(self, Expecteds, Actuals, 0.0, Message)
+
+        function = assert_array_plain
+    else:
+        function = assert_array_equals
+    function.__name__ = function.__qualname__ = name
+    function.__doc__ = (
+        f"``{name}(Expecteds, Actuals{', Delta' if with_delta else ''}, Message)``: fails when the "
+        f"{type_name} arrays differ in size or in an element (the first differing index is reported)."
+    )
+    element = getattr(types, type_name)
+    array: Any = ARRAY  # ARRAY[*] OF <type>: the element type is only known here
+    function.__annotations__ = {"Expecteds": array[element], "Actuals": array[element], "Message": STRING, "return": None}
+    if with_delta:
+        function.__annotations__["Delta"] = element
+    return method(function)
+
+
+class FB_TestSuite(FunctionBlock):
+    """``FUNCTION_BLOCK FB_TestSuite``: the base of a test suite; its asserts are METHODs.
+
+    An instance registers itself when created (FB_init), so ``RUN()`` finds it.
+    The body of the derived suite calls its tests; ``RUN()`` calls that body.
+    Every assert records only a failure, for the test currently open.
+    """
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
+        _register(self)
+        return True
+
+    def _registry(self) -> Registry:
+        return current_registry()
+
+    @method
+    def AssertTrue(self, Condition: BOOL, Message: STRING = "") -> None:
+        """``AssertTrue(Condition, Message)``: fails when Condition is FALSE."""
+        if not Condition:
+            self._registry().record(self, "AssertTrue", str(Message), "TRUE", "FALSE")
+
+    @method
+    def AssertFalse(self, Condition: BOOL, Message: STRING = "") -> None:
+        """``AssertFalse(Condition, Message)``: fails when Condition is TRUE."""
+        if Condition:
+            self._registry().record(self, "AssertFalse", str(Message), "FALSE", "TRUE")
+
+    @method
+    def AssertEquals(self, Expected: ANY, Actual: ANY, Message: STRING = "") -> None:
+        """``AssertEquals(Expected, Actual : ANY, Message)``: fails when the types or the values differ.
+
+        Both arrive as ``AnyType``: values of different types (an INT and a DINT, a
+        BOOL and an integer) fail with both types shown; strings compare as text,
+        other elementary values by value, STRUCTs, blocks and ARRAYs byte by byte.
+        From Python, a value's kind gives its type (``int`` is DINT, ``float`` LREAL).
+        """
+        expected, actual = AnyType.of(Expected), AnyType.of(Actual)
+        same_type = expected.TypeClass == actual.TypeClass and (
+            expected.TypeClass in _TEXT_CLASSES or expected.diSize == actual.diSize)
+        if not same_type:
+            self._registry().record(self, "AssertEquals", str(Message), _typed_text(expected), _typed_text(actual))
+        elif expected.TypeClass in _ELEMENTARY_CLASSES:
+            if expected.value != actual.value:
+                self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
+        elif memcmp(expected.pValue, actual.pValue, expected.diSize) != 0:
+            self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
+
+    AssertEquals_BOOL = _equals("BOOL")
+    AssertEquals_BYTE = _equals("BYTE")
+    AssertEquals_WORD = _equals("WORD")
+    AssertEquals_DWORD = _equals("DWORD")
+    AssertEquals_LWORD = _equals("LWORD")
+    AssertEquals_SINT = _equals("SINT")
+    AssertEquals_USINT = _equals("USINT")
+    AssertEquals_INT = _equals("INT")
+    AssertEquals_UINT = _equals("UINT")
+    AssertEquals_DINT = _equals("DINT")
+    AssertEquals_UDINT = _equals("UDINT")
+    AssertEquals_LINT = _equals("LINT")
+    AssertEquals_ULINT = _equals("ULINT")
+    AssertEquals_REAL = _equals("REAL", with_delta=True)
+    AssertEquals_LREAL = _equals("LREAL", with_delta=True)
+    AssertEquals_STRING = _equals("STRING")
+    AssertEquals_WSTRING = _equals("WSTRING")
+    AssertEquals_TIME = _equals("TIME")
+    AssertEquals_LTIME = _equals("LTIME")
+    AssertEquals_DATE = _equals("DATE")
+    AssertEquals_TIME_OF_DAY = _equals("TIME_OF_DAY")
+    AssertEquals_DATE_AND_TIME = _equals("DATE_AND_TIME")
+
+    AssertArrayEquals_BOOL = _array_equals("BOOL")
+    AssertArrayEquals_BYTE = _array_equals("BYTE")
+    AssertArrayEquals_WORD = _array_equals("WORD")
+    AssertArrayEquals_DWORD = _array_equals("DWORD")
+    AssertArrayEquals_LWORD = _array_equals("LWORD")
+    AssertArrayEquals_SINT = _array_equals("SINT")
+    AssertArrayEquals_USINT = _array_equals("USINT")
+    AssertArrayEquals_INT = _array_equals("INT")
+    AssertArrayEquals_UINT = _array_equals("UINT")
+    AssertArrayEquals_DINT = _array_equals("DINT")
+    AssertArrayEquals_UDINT = _array_equals("UDINT")
+    AssertArrayEquals_LINT = _array_equals("LINT")
+    AssertArrayEquals_ULINT = _array_equals("ULINT")
+    AssertArrayEquals_REAL = _array_equals("REAL", with_delta=True)
+    AssertArrayEquals_LREAL = _array_equals("LREAL", with_delta=True)
+    AssertArray2dEquals_REAL = _array_equals("REAL", 2, with_delta=True)
+    AssertArray2dEquals_LREAL = _array_equals("LREAL", 2, with_delta=True)
+    AssertArray3dEquals_REAL = _array_equals("REAL", 3, with_delta=True)
+    AssertArray3dEquals_LREAL = _array_equals("LREAL", 3, with_delta=True)
+
+    # -- what a suite can read of its tests -----------------------------------------------------
+
+    @method
+    def GetNumberOfTests(self) -> UINT:
+        """``GetNumberOfTests()``: the tests this suite has declared so far."""
+        return len(self._registry().state_of(self).tests)
+
+    @method
+    def GetNumberOfFailedTests(self) -> UINT:
+        """``GetNumberOfFailedTests()``: its tests with a failed assert (or that hit a limit)."""
+        return sum(t.status == "failed" for t in self._registry().state_of(self).tests)
+
+    @method
+    def GetNumberOfSuccessfulTests(self) -> UINT:
+        """``GetNumberOfSuccessfulTests()``: its finished tests with no failed assert."""
+        return sum(t.status == "passed" for t in self._registry().state_of(self).tests)
+
+    @method
+    def GetNumberOfSkippedTests(self) -> UINT:
+        """``GetNumberOfSkippedTests()``: its ``disabled_`` tests."""
+        return sum(t.status == "skipped" for t in self._registry().state_of(self).tests)
+
+    @method
+    def AreAllTestsFinished(self) -> BOOL:
+        """``AreAllTestsFinished()``: every test of this suite has finished."""
+        return self._registry().state_of(self).finished
+
+    @method
+    def GetInstancePath(self) -> STRING:
+        """``GetInstancePath()``: the suite's instance path (``PRG_TEST.fbMath``)."""
+        return self._registry().state_of(self).path
+
+
+# --- the global functions ---------------------------------------------------------------------
+
+
+def TEST(TestName: STRING) -> BOOL:
+    """``TEST('Name')``: open (or continue) the test ``Name`` of the suite running; its asserts follow."""
+    current_registry().open_test(str(TestName), ordered=False)
+    return True
+
+
+def TEST_ORDERED(TestName: STRING) -> BOOL:
+    """``TEST_ORDERED('Name')``: TRUE when it is this test's turn (the first not finished, in call order)."""
+    test = current_registry().open_test(str(TestName), ordered=True)
+    return test is not None and not test.finished
+
+
+def TEST_FINISHED() -> BOOL:
+    """``TEST_FINISHED()``: the test opened last in this suite has finished; later asserts of it are ignored."""
+    return current_registry().finish_current()
+
+
+def TEST_FINISHED_NAMED(TestName: STRING) -> BOOL:
+    """``TEST_FINISHED_NAMED('Name')``: the named test of this suite has finished (FALSE: no such test)."""
+    return current_registry().finish_named(str(TestName))
+
+
+def IS_TEST_FINISHED(TestName: STRING) -> BOOL:
+    """``IS_TEST_FINISHED('Name')``: whether the named test of this suite has finished."""
+    return current_registry().is_finished(str(TestName))
+
+
+def RUN() -> None:
+    """``TcUnit.RUN()``: call every registered suite each cycle until all tests finish, then log the results."""
+    current_registry().run(in_sequence=False)
+
+
+def RUN_IN_SEQUENCE() -> None:
+    """``TcUnit.RUN_IN_SEQUENCE()``: as RUN(), one suite after another in declaration order."""
+    current_registry().run(in_sequence=True)

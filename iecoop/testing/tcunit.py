@@ -1,0 +1,320 @@
+"""Run a project's TcUnit (or CfUnit) tests in virtual time: what ``iecoop test`` and pytest both use.
+
+``run_project(path)`` loads the project (``st.load``: a ``.plcproj``, a folder
+or ST files), finds the PROGRAM whose body calls ``RUN()`` or
+``RUN_IN_SEQUENCE()``, puts it on a 10 ms task and runs it until every test
+has finished. A test still open ``limit_ms`` of PLC time after it started
+(default :data:`DEFAULT_LIMIT_MS`, 10 s) fails naming that limit, so a test
+that never calls ``TEST_FINISHED()`` cannot hang the run. The result holds
+one :class:`TestResult` per test: suite (instance path), name, status, and
+each failed assert with its message, expected and actual values, the first
+differing index of arrays, and the cycle.
+
+>>> from iecoop import Program, VAR
+>>> from iecoop.libraries import tcunit
+>>> class FB_Flag_Test(tcunit.FB_TestSuite):
+...     def body(self) -> None:
+...         tcunit.TEST("FlagIsSet")
+...         self.AssertTrue(True, "flag")
+...         tcunit.TEST_FINISHED()
+>>> class PRG_TEST(Program):
+...     fbFlag: FB_Flag_Test = VAR()
+...     def body(self) -> None:
+...         tcunit.RUN()
+>>> result = run_programs(PRG_TEST)
+>>> [(r.nodeid, r.status) for r in result.tests], result.passed
+([('PRG_TEST.fbFlag::FlagIsSet', 'passed')], True)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import pathlib
+import re
+import types
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from iecoop.exceptions import PlcException
+from iecoop.libraries import tcunit
+from iecoop.metadata import Kind, kind_of, st_name
+from iecoop.testing import VirtualPlc
+
+__all__ = [
+    "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
+    "run_programs", "run_project", "write_junit",
+]
+
+#: How long a test may stay open, in ms of PLC time, unless told otherwise (``--timeout``).
+DEFAULT_LIMIT_MS = 10_000
+
+#: The names whose call in a PROGRAM's body makes it the test program.
+_RUNNERS = ("RUN", "RUN_IN_SEQUENCE")
+
+
+@dataclasses.dataclass(frozen=True)
+class TestResult:
+    """One test's outcome: ``status`` is passed, failed or skipped."""
+
+    __test__ = False  # a result, not a pytest test class
+
+    suite: str
+    name: str
+    status: str
+    failures: tuple[tcunit.AssertFailure, ...] = ()
+    error: str = ""
+    duration_ms: float = 0.0
+    cycles: int = 0
+
+    @property
+    def nodeid(self) -> str:
+        """``Suite::Test``, the part after the project in a pytest node id."""
+        return f"{self.suite}::{self.name}"
+
+    def report(self) -> str:
+        """What failed, one line each: the assert, its message, expected and actual values, index and cycle."""
+        lines = []
+        for failure in self.failures:
+            at = f" at index {failure.index}" if failure.index else ""
+            lines.append(
+                f"{failure.assertion} failed{at} in cycle {failure.cycle}: expected {failure.expected}, "
+                f"actual {failure.actual}" + (f", message: {failure.message}" if failure.message else "")
+            )
+        if self.error:
+            lines.append(self.error)
+        return "\n".join(lines)
+
+
+@dataclasses.dataclass
+class RunResult:
+    """A whole run: the tests, TcUnit's log lines, and the PLC time it took."""
+
+    source: str
+    tests: list[TestResult]
+    log: list[str]
+    suites: int
+    time_ms: int
+    #: the PLC fault that stopped the run, if one did
+    fault: str = ""
+    #: what a suite did wrong besides its tests (more tests or asserts than GVL_Param_TcUnit allows)
+    errors: list[str] = dataclasses.field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return not self.fault and not self.errors and all(t.status != "failed" for t in self.tests)
+
+    def failed_asserts(self) -> int:
+        return sum(len(t.failures) for t in self.tests)
+
+
+def _calls_run(program: Any) -> bool:
+    body = getattr(type(program), "body", None)
+    code = getattr(body, "__code__", None)
+    # RUN, or RUN under the namespace prefix the reader gives a name two libraries share (TcUnit_RUN)
+    return code is not None and any(
+        name == runner or name.endswith("_" + runner) for name in code.co_names for runner in _RUNNERS)
+
+
+def find_test_program(module: types.ModuleType, name: str | None = None) -> Any:
+    """The PROGRAM instance of ``module`` whose body calls ``RUN()`` / ``RUN_IN_SEQUENCE()`` (or the one named ``name``)."""
+    programs = {
+        key: value for key, value in vars(module).items()
+        if not key.startswith("_") and not isinstance(value, type) and kind_of(type(value)) is Kind.PROGRAM
+    }
+    source = getattr(module, "__file__", module.__name__)
+    if name is not None:
+        for key, value in programs.items():
+            if key.lower() == name.lower() or st_name(type(value)).lower() == name.lower():
+                return value
+        raise LookupError(f"{source}: no PROGRAM {name} (the project declares: {', '.join(programs) or 'none'})")
+    callers = [value for value in programs.values() if _calls_run(value)]
+    if len(callers) == 1:
+        return callers[0]
+    if not callers:
+        raise LookupError(
+            f"{source}: no PROGRAM calls TcUnit.RUN() or RUN_IN_SEQUENCE() "
+            f"(the project declares: {', '.join(programs) or 'no PROGRAM'})"
+        )
+    names = ", ".join(st_name(type(p)) for p in callers)
+    raise LookupError(f"{source}: several PROGRAMs call TcUnit.RUN(): {names}; name the one to run")
+
+
+def _results(registry: tcunit.Registry) -> list[TestResult]:
+    return [
+        TestResult(
+            test.suite, test.name, test.status, tuple(test.failures), test.error,
+            test.duration_ns / 1e6, max(0, test.finished_cycle - test.started_cycle + 1) if test.started_cycle else 0,
+        )
+        for test in registry.tests()
+    ]
+
+
+def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str, interval: int,
+           source: str) -> RunResult:
+    registry.name_suites(program)
+    plc = VirtualPlc(profile=profile)
+    plc.add(program, interval=interval)
+    fault = ""
+    try:
+        while not registry.done:
+            # Each test has limit_ms from its start; ordered tests and sequenced suites start one after
+            # another, so the whole run is bounded by the limit once per test and suite (and a margin).
+            bound = limit_ms * (len(registry.tests()) + len(registry.suites) + 2)
+            if plc.time_ms > bound:
+                break
+            plc.run_cycles(1)
+    except PlcException as exc:
+        fault = f"PLC fault in cycle {registry.cycle}: {exc}"
+    finally:
+        registry.close()
+    errors = [f"{suite.path}: {error}" for suite in registry.suites for error in suite.errors]
+    return RunResult(source, _results(registry), list(registry.log), len(registry.suites), plc.time_ms, fault, errors)
+
+
+def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS, profile: str = "twincat",
+                 interval: int = 10) -> RunResult:
+    """Run the TcUnit suites of ``program``: a Program class, or a function making the test program.
+
+    It is called here, so that the suites it creates register with this run.
+    """
+    if kind_of(type(program)) is not None:
+        raise TypeError(
+            f"run_programs takes the Program class (or a function making it), not the instance {program!r}: "
+            "its suites must be created inside the run to register with it"
+        )
+    with tcunit.registry(limit_ms) as registry:
+        instance = program()
+        return _drive(registry, instance, limit_ms, profile, interval, st_name(type(instance)))
+
+
+def run_project(
+    source: str | os.PathLike[str], *, limit_ms: int = DEFAULT_LIMIT_MS, program: str | None = None,
+    profile: str = "twincat", interval: int = 10, load: Callable[..., types.ModuleType] | None = None,
+) -> RunResult:
+    """Load ``source`` and run its TcUnit suites in virtual time (see the module docstring).
+
+    ``load`` is how the project is read (default ``iecoop.st.load``); a project
+    that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
+    ``.plcproj`` binds the libraries it references; a folder or ST file gets
+    TcUnit bound (``TcUnit.RUN()`` and the plain names work).
+    """
+    if load is None:
+        from iecoop import st
+
+        load = st.load
+    # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here.
+    extra: dict[str, Any] = {} if pathlib.Path(source).suffix.lower() == ".plcproj" else {"libraries": {"TcUnit": tcunit}}
+    with tcunit.registry(limit_ms) as registry:
+        module = load(source, profile=profile, **extra)
+        test_program = find_test_program(module, program)
+        return _drive(registry, test_program, limit_ms, profile, interval, pathlib.Path(source).name)
+
+
+# --- -k expressions ---------------------------------------------------------------------------
+
+
+class KeywordError(ValueError):
+    """A ``-k`` expression that does not parse."""
+
+
+_TOKEN = re.compile(r"\s*(?:(\()|(\))|(\S[^\s()]*))")
+
+
+def keyword_matcher(expression: str) -> Callable[[str], bool]:
+    """A test of ``-k EXPR`` as pytest reads it: substrings (case-insensitive) joined by ``and`` / ``or`` / ``not``.
+
+    >>> match = keyword_matcher("Timer and not Slow")
+    >>> match("PRG_TEST.fbTimer::Elapses"), match("PRG_TEST.fbTimer::SlowStart")
+    (True, False)
+    """
+    tokens: list[str] = []
+    position = 0
+    text = expression.strip()
+    while position < len(text):
+        found = _TOKEN.match(text, position)
+        if found is None:
+            break
+        tokens.append(found.group(0).strip())
+        position = found.end()
+    if not tokens:
+        return lambda _: True
+    index = 0
+
+    def peek() -> str | None:
+        return tokens[index] if index < len(tokens) else None
+
+    def take() -> str:
+        nonlocal index
+        if index >= len(tokens):
+            raise KeywordError(f"-k {expression!r}: the expression ends too early")
+        index += 1
+        return tokens[index - 1]
+
+    def disjunction() -> Callable[[str], bool]:
+        terms = [conjunction()]
+        while peek() == "or":
+            take()
+            terms.append(conjunction())
+        return lambda name: any(term(name) for term in terms)
+
+    def conjunction() -> Callable[[str], bool]:
+        factors = [negation()]
+        while peek() == "and":
+            take()
+            factors.append(negation())
+        return lambda name: all(factor(name) for factor in factors)
+
+    def negation() -> Callable[[str], bool]:
+        if peek() == "not":
+            take()
+            inner = negation()
+            return lambda name: not inner(name)
+        token = take()
+        if token == "(":
+            inner = disjunction()
+            if take() != ")":
+                raise KeywordError(f"-k {expression!r}: a '(' is not closed")
+            return inner
+        if token in (")", "and", "or"):
+            raise KeywordError(f"-k {expression!r}: unexpected {token!r}")
+        word = token.lower()
+        return lambda name: word in name.lower()
+
+    matcher = disjunction()
+    if index != len(tokens):
+        raise KeywordError(f"-k {expression!r}: unexpected {tokens[index]!r}")
+    return matcher
+
+
+# --- JUnit XML --------------------------------------------------------------------------------
+
+
+def write_junit(result: RunResult, path: str | os.PathLike[str], tests: Iterable[TestResult] | None = None) -> None:
+    """Write ``result`` as JUnit XML (one ``testsuite`` per suite), as CI servers read it."""
+    chosen = list(result.tests if tests is None else tests)
+    root = ET.Element("testsuites", name=result.source)
+    by_suite: dict[str, list[TestResult]] = {}
+    for test in chosen:
+        by_suite.setdefault(test.suite, []).append(test)
+    for suite, members in by_suite.items():
+        element = ET.SubElement(
+            root, "testsuite", name=suite, tests=str(len(members)),
+            failures=str(sum(t.status == "failed" for t in members)),
+            skipped=str(sum(t.status == "skipped" for t in members)),
+            time=f"{sum(t.duration_ms for t in members) / 1000:.3f}",
+        )
+        for test in members:
+            case = ET.SubElement(element, "testcase", classname=suite, name=test.name, time=f"{test.duration_ms / 1000:.3f}")
+            if test.status == "failed":
+                first = test.failures[0] if test.failures else None
+                message = (f"{first.assertion}: expected {first.expected}, actual {first.actual}; {first.message}"
+                           if first is not None else test.error)
+                failure = ET.SubElement(case, "failure", message=message, type="AssertionError")
+                failure.text = test.report()
+            elif test.status == "skipped":
+                ET.SubElement(case, "skipped", message="disabled_ test")
+    if result.fault:
+        ET.SubElement(root, "error", message=result.fault)
+    ET.ElementTree(root).write(os.fspath(path), encoding="utf-8", xml_declaration=True)

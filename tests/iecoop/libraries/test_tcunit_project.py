@@ -1,0 +1,200 @@
+"""The TcUnitDemo project (TwinCAT layout, three ST suites) through ``iecoop test`` and through pytest."""
+
+from __future__ import annotations
+
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from iecoop.cli import main
+from iecoop.testing.tcunit import run_project
+
+pytest_plugins = ["pytester"]
+
+DEMO = Path(__file__).parent / "data" / "TcUnitDemo"
+PROJECT = DEMO / "TcUnitDemo.plcproj"
+
+#: Every test of the project and its outcome, worked out by hand from the ST.
+EXPECTED = {
+    "PRG_TEST.fbStartDelay_Test::RunsAfterTheDelay": "passed",
+    "PRG_TEST.fbStartDelay_Test::StopsAtOnce": "passed",
+    "PRG_TEST.fbStartDelay_Test::StartsTooLate": "failed",
+    "PRG_TEST.fbStartDelay_Test::disabled_WaitsForever": "skipped",
+    "PRG_TEST.fbCounter_Test::CountsUp": "passed",
+    "PRG_TEST.fbCounter_Test::CountsDown": "passed",
+    "PRG_TEST.fbCounter_Test::NeverBelowZero": "failed",
+    "PRG_TEST.fbScaler_Test::ScalesEveryValue": "passed",
+    "PRG_TEST.fbScaler_Test::SumWithinDelta": "passed",
+    "PRG_TEST.fbScaler_Test::GridWithinDelta": "passed",
+    "PRG_TEST.fbScaler_Test::WrongExpectation": "failed",
+}
+
+
+def test_the_runner_gives_every_test_its_outcome_and_failure_details() -> None:
+    result = run_project(PROJECT)
+    assert {t.nodeid: t.status for t in result.tests} == EXPECTED
+    by_id = {t.nodeid: t for t in result.tests}
+    (late,) = by_id["PRG_TEST.fbStartDelay_Test::StartsTooLate"].failures
+    # TON with PT 200 ms starts timing in cycle 1 (t = 0) and is done in the cycle at t = 200 ms
+    assert (late.expected, late.actual, late.cycle, late.message) == ("10", "21", 21, "the motor should run after 100 ms")
+    (below,) = by_id["PRG_TEST.fbCounter_Test::NeverBelowZero"].failures
+    assert (below.expected, below.actual) == ("-1", "0")
+    (wrong,) = by_id["PRG_TEST.fbScaler_Test::WrongExpectation"].failures
+    assert (wrong.assertion, wrong.index, wrong.expected, wrong.actual) == ("AssertArrayEquals_REAL", "[3]", "2.5", "25.0")
+    assert by_id["PRG_TEST.fbStartDelay_Test::RunsAfterTheDelay"].cycles == 51
+    assert result.suites == 3 and not result.passed
+    assert "Unsuccessful assertions: 3" in result.log
+
+
+def test_iecoop_test_prints_a_line_per_test_and_the_summary(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    junit = tmp_path / "results.xml"
+    status = main(["test", str(PROJECT), "--junitxml", str(junit)])
+    out = capsys.readouterr().out
+    assert status == 1
+    assert "PRG_TEST.fbCounter_Test::CountsUp PASSED" in out
+    assert ("PRG_TEST.fbCounter_Test::NeverBelowZero FAILED - AssertEquals_INT failed in cycle "
+            in out)
+    assert "expected -1, actual 0, message: counted below zero" in out
+    assert "PRG_TEST.fbStartDelay_Test::disabled_WaitsForever SKIPPED" in out
+    for line in ("Test suites: 3", "Tests: 11", "Successful tests: 7", "Failed tests: 3", "Disabled tests: 1",
+                 "Unsuccessful assertions: 3", "SOME TESTS FAILED"):
+        assert line in out.splitlines(), line
+    root = ET.parse(junit).getroot()
+    cases = {(c.get("classname"), c.get("name")): c for c in root.iter("testcase")}
+    assert len(cases) == 11
+    failure = cases[("PRG_TEST.fbScaler_Test", "WrongExpectation")].find("failure")
+    assert failure is not None and "expected 2.5, actual 25.0" in (failure.get("message") or "")
+    assert cases[("PRG_TEST.fbStartDelay_Test", "disabled_WaitsForever")].find("skipped") is not None
+
+
+def test_iecoop_test_exits_0_when_the_chosen_tests_pass(capsys: pytest.CaptureFixture[str]) -> None:
+    status = main(["test", str(PROJECT), "-k", "Counter and not Zero or SumWithin"])
+    out = capsys.readouterr().out
+    assert status == 0
+    assert "Tests: 3" in out.splitlines() and "ALL TESTS SUCCEEDED" in out
+    assert "WrongExpectation" not in out
+
+
+def test_iecoop_test_names_a_bad_keyword_expression_and_a_missing_path(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["test", str(PROJECT), "-k", "Counter and"]) == 2
+    assert "ends too early" in capsys.readouterr().err
+    assert main(["test", str(DEMO / "Missing.plcproj")]) == 2
+    assert "Missing.plcproj: does not exist" in capsys.readouterr().err
+
+
+def test_a_test_that_hits_the_timeout_fails_naming_it(capsys: pytest.CaptureFixture[str]) -> None:
+    status = main(["test", str(PROJECT), "--timeout", "300ms", "-k", "RunsAfterTheDelay"])
+    out = capsys.readouterr().out
+    assert status == 1
+    assert "did not finish within T#300ms of PLC time" in out
+
+
+def _copy_demo(pytester: pytest.Pytester) -> Path:
+    target = pytester.path / "TcUnitDemo"
+    shutil.copytree(DEMO, target)
+    return target / "TcUnitDemo.plcproj"
+
+
+def test_pytest_collects_one_item_per_test_with_the_documented_node_ids(pytester: pytest.Pytester) -> None:
+    project = _copy_demo(pytester)
+    result = pytester.runpytest(str(project), "--collect-only", "-q", "-p", "no:cacheprovider")
+    for nodeid in EXPECTED:
+        result.stdout.fnmatch_lines([f"TcUnitDemo/TcUnitDemo.plcproj::{nodeid}"])
+
+
+def test_pytest_reports_failures_with_message_expected_and_actual(pytester: pytest.Pytester) -> None:
+    project = _copy_demo(pytester)
+    junit = pytester.path / "junit.xml"
+    result = pytester.runpytest(str(project), f"--junitxml={junit}", "-p", "no:cacheprovider")
+    result.assert_outcomes(passed=7, failed=3, skipped=1)
+    assert result.ret == 1
+    result.stdout.fnmatch_lines([
+        "*AssertArrayEquals_REAL failed at index [[]3[]] in cycle 1: expected 2.5, actual 25.0, message: a wrong table*",
+    ])
+    assert len(list(ET.parse(junit).getroot().iter("testcase"))) == 11
+
+
+def test_pytest_k_x_and_last_failed_work_on_tcunit_items(pytester: pytest.Pytester) -> None:
+    project = _copy_demo(pytester)
+    chosen = pytester.runpytest(str(project), "-k", "Scaler and not Wrong", "-p", "no:cacheprovider")
+    chosen.assert_outcomes(passed=3)
+    assert chosen.ret == 0
+    first = pytester.runpytest(str(project), "-x", "-p", "cacheprovider")
+    first.assert_outcomes(passed=2, failed=1)
+    again = pytester.runpytest(str(project), "--lf", "-p", "cacheprovider")
+    again.assert_outcomes(failed=1, deselected=10)
+
+
+def test_projects_listed_in_the_ini_are_collected_and_st_project_loads_one(pytester: pytest.Pytester) -> None:
+    _copy_demo(pytester)
+    pytester.makeini("[pytest]\niecoop_projects = TcUnitDemo/TcUnitDemo.plcproj\n")
+    pytester.makepyfile(test_counter="""
+        from iecoop.testing.plugin import StProject
+
+        def test_a_fresh_counter_each_test(st_project: StProject) -> None:
+            counter = st_project.new("FB_Counter")
+            counter.Up(); counter.Up()
+            assert counter.nCount == 2
+
+        def test_the_test_program_on_a_fresh_plc(st_project: StProject) -> None:
+            prg = st_project.add("PRG_TEST")
+            assert st_project.plc.time_ms == 0
+            st_project.plc.run_cycles(51)
+            assert prg.fbStartDelay_Test.fbDelay.bRunning
+            st_project.force("PlcTask.PRG_TEST.fbCounter_Test.nStep", 7)
+            st_project.plc.run_cycles(1)
+            assert prg.fbCounter_Test.nStep == 7
+    """)
+    result = pytester.runpytest("-p", "no:cacheprovider")
+    result.assert_outcomes(passed=9, failed=3, skipped=1)
+
+
+def test_a_folder_without_its_plcproj_gets_tcunit_bound(capsys: pytest.CaptureFixture[str]) -> None:
+    status = main(["test", str(DEMO / "Test"), str(DEMO / "POUs"), "-k", "fbCounter_Test"])
+    out = capsys.readouterr()
+    # the two folders load separately: the tests alone do not find FB_Counter, which lives in POUs
+    assert status == 2 and "FB_Counter" in out.err
+    status = main(["test", str(DEMO), "-k", "fbCounter_Test"])
+    out = capsys.readouterr()
+    assert status == 1
+    assert "PRG_TEST.fbCounter_Test::CountsDown PASSED" in out.out and "Tests: 3" in out.out.splitlines()
+
+
+def _tcpou(name: str, declaration: str, implementation: str) -> str:
+    return (
+        '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
+        f'  <POU Name="{name}"><Declaration><![CDATA[{declaration}]]></Declaration>\n'
+        f'    <Implementation><ST><![CDATA[{implementation}]]></ST></Implementation></POU>\n</TcPlcObject>\n'
+    )
+
+
+def test_a_cfunit_project_binds_the_same_library(tmp_path: Path) -> None:
+    (tmp_path / "FB_Cf_Test.TcPOU").write_text(_tcpou(
+        "FB_Cf_Test", "FUNCTION_BLOCK FB_Cf_Test EXTENDS CfUnit.FB_TestSuite\nVAR nValue : DINT := 7; END_VAR\n",
+        "CfUnit.TEST('Seven');\nAssertEquals_DINT(Expected := 7, Actual := nValue, Message := 'seven');\n"
+        "CfUnit.TEST_FINISHED();\nTEST('Eight');\nAssertEquals_DINT(Expected := 8, Actual := nValue, Message := 'eight');\n"
+        "TEST_FINISHED();\n"))
+    (tmp_path / "PRG_CF.TcPOU").write_text(_tcpou(
+        "PRG_CF", "PROGRAM PRG_CF\nVAR fbCf : FB_Cf_Test; END_VAR\n", "CfUnit.RUN_IN_SEQUENCE();\n"))
+    (tmp_path / "Cf.plcproj").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n'
+        '<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">\n'
+        '  <ItemGroup><Compile Include="FB_Cf_Test.TcPOU" /><Compile Include="PRG_CF.TcPOU" /></ItemGroup>\n'
+        '  <ItemGroup><PlaceholderReference Include="CfUnit"><DefaultResolution>CfUnit, * (www.cfunit.org)'
+        '</DefaultResolution><Namespace>CfUnit</Namespace></PlaceholderReference></ItemGroup>\n</Project>\n')
+    result = run_project(tmp_path / "Cf.plcproj")
+    assert [(t.nodeid, t.status) for t in result.tests] == [("PRG_CF.fbCf::Seven", "passed"), ("PRG_CF.fbCf::Eight", "failed")]
+    assert result.tests[1].failures[0].line() == "FAILED TEST 'PRG_CF.fbCf@Eight', EXP: 8, ACT: 7, MSG: eight"
+
+
+def test_a_project_without_a_test_program_is_a_usage_error_naming_its_programs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "main.st").write_text("PROGRAM MAIN\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
+    assert main(["test", str(tmp_path / "main.st")]) == 2
+    err = capsys.readouterr().err
+    assert "no PROGRAM calls TcUnit.RUN() or RUN_IN_SEQUENCE() (the project declares: MAIN)" in err
+    assert main(["test", str(tmp_path / "main.st"), "--program", "PRG_TEST"]) == 2
+    assert "no PROGRAM PRG_TEST (the project declares: MAIN)" in capsys.readouterr().err
