@@ -394,8 +394,6 @@ class Expressions(PyWriter):
                 raise self.fail(f"enumeration {decl.st} has no value {field!r}", node)
             return Ex(f"{decl.name}.{python_name(match, attribute=True)}", TypeRef("user", decl.name))
         found = self.find_member(decl, field)
-        if decl.kind == "program" and found is not None and found[0] in ("member", "method") and base.code == decl.name:
-            self.named_programs.add(decl.name)
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
         kind, member = found

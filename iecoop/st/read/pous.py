@@ -50,6 +50,8 @@ class Pous(Declarations):
     def _emit_program(self, decl: Decl) -> None:
         self.need("iecoop", "Program")
         self.comments(decl.node, 0)
+        if decl.name in self.named_programs:
+            self.emit("@_program_instance", 0)  # other POUs read it by name: the class name is its one instance
         self.emit(f"class {decl.name}(Program{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""PROGRAM {decl.name}."""', 1)
         self._emit_pou(decl, "PROGRAM")
@@ -59,6 +61,7 @@ class Pous(Declarations):
         scope = Scope(decl, "body")
         self.pending_references = []
         self._emit_fields(decl, node.declarations, scope, 1)
+        self._emit_method_instance_fields(decl)
         self._emit_reference_inits(decl, scope)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
@@ -95,6 +98,40 @@ class Pous(Declarations):
                     member = Member(python_name(name, attribute=True), type_, self.located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
                 self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
+
+    def _emit_method_instance_fields(self, decl: Decl) -> None:
+        """The VAR_INST of each METHOD: fields of the instance, after the block's own (pass 1 declared them)."""
+        for node in decl.method_nodes:
+            method = decl.methods[str(node.name).lower()]
+            scope = Scope(decl, "method")
+            scope.pou = f"{decl.name}.{method.name}"
+            for block in node.declarations:
+                if not isinstance(block, tf.MethodInstanceVariableDeclarations):
+                    continue
+                for item in block.items:
+                    self.line = item.meta.line if item.meta else self.line
+                    for var_name, _ in self._item_types(item):
+                        member = decl.members[var_name.lower()]
+                        self._need_type(member.type)
+                        self.need("iecoop", "VAR_INST")
+                        extra = f'method="{LIFECYCLE.get(method.st.upper()) or method.name}"'
+                        self.emit(self.field_line(member, getattr(item, "init", None), scope, extra=extra), 1)
+            if not (decl.kind == "interface" or node.access is not None and node.access & tf.AccessSpecifier.abstract):
+                self._emit_method_statics(decl, node, method.name)  # a prototype has no body, so no VAR_STAT
+
+    def _emit_method_statics(self, decl: Decl, node: Any, method: str) -> None:
+        """VAR_STAT of a METHOD: a VAR_STAT of the block named after the method, one for every instance and call."""
+        for block in node.declarations:
+            if not isinstance(block, tf.StaticDeclarations):
+                continue
+            for item in block.items:
+                self.line = item.meta.line if item.meta else self.line
+                for name, type_ in self._item_types(item):
+                    self.need("iecoop", "VAR_STAT")
+                    field = Member(f"{method}_{python_name(name)}", type_, "VAR_STAT")
+                    if self.find_member(decl, field.name) is not None:
+                        raise self.fail(f"VAR_STAT {name} of METHOD {decl.name}.{method} clashes with the member {field.name}", item)
+                    self.emit(self.field_line(field, getattr(item, "init", None), Scope(None, "const")), 1)
 
     def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
         """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
@@ -252,14 +289,11 @@ class Pous(Declarations):
         """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
         owner = scope.owner
         if owner is not None:
+            if scope.kind != "method":
+                raise self.fail(f"VAR_STAT in a PROPERTY accessor of {owner.st} is not supported (declare it in the block)")
             method = scope.pou.split(".", 1)[1]
-            for item, name, type_ in statics:  # a VAR_STAT of the block, named after the method
-                self.need("iecoop", "VAR_STAT")
-                field = Member(f"{method}_{python_name(name)}", type_, "VAR_STAT")
-                if self.find_member(owner, field.name) is not None:
-                    raise self.fail(f"VAR_STAT {name} of METHOD {scope.pou} clashes with the member {field.name}", item)
-                self.out.insert(self._field_insert_point(), "    " + self.field_line(field, getattr(item, "init", None), Scope(None, "const")))
-                scope.locals[name.lower()] = Member(f"self.{field.name}", type_, "STAT")
+            for _, name, type_ in statics:  # a VAR_STAT of the block, named after the method (its field is written with the block's)
+                scope.locals[name.lower()] = Member(f"self.{method}_{python_name(name)}", type_, "STAT")
             return
         holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name, attribute=True), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
                               f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
@@ -372,19 +406,6 @@ class Pous(Declarations):
             if re.fullmatch(r"\{\s*attribute\s+'call_after_init'\s*\}", pragma, re.IGNORECASE):
                 self.need("iecoop", "call_after_init")
                 decorators.append("@call_after_init")
-        # the method's VAR_INST live in the instance
-        for block in node.declarations:
-            if isinstance(block, tf.MethodInstanceVariableDeclarations):
-                for item in block.items:
-                    self.line = item.meta.line if item.meta else self.line
-                    for var_name, type_ in self._item_types(item):
-                        assert type_ is not None
-                        self._need_type(type_)
-                        member = Member(python_name(var_name, attribute=True), type_, "VAR_INST", st=var_name)
-                        self._add_member(decl, member)  # a field of the instance, beside the block's own
-                        self.need("iecoop", "VAR_INST")
-                        self.out.insert(self._field_insert_point(), "    " + self.field_line(
-                            member, getattr(item, "init", None), scope, extra=f'method="{lifecycle or info.name}"'))
         returns = info.returns
         ret_text = returns.annotation() if returns is not None else "None"
         self._need_type(returns)
@@ -436,16 +457,6 @@ class Pous(Declarations):
     def prototype(self, returns: TypeRef | None, level: int) -> None:
         """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
         self.emit("..." if returns is None else "raise NotImplementedError", level)
-
-    def _field_insert_point(self) -> int:
-        """Just after the last field line of the class being written."""
-        index = len(self.out)
-        for i, line in enumerate(self.out):
-            if line.startswith("    ") and not line.startswith("        ") and re.match(r"    \w+: .+ = ", line):
-                index = i + 1
-            if line.startswith("    def ") or line.startswith("    @"):
-                break
-        return index
 
     def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
         if returns is not None and scope.return_name is not None:
@@ -545,6 +556,7 @@ class Pous(Declarations):
         self.comments(node, 0)
         self.emit(f"class {decl.name}({', '.join(bases)}{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""INTERFACE {decl.name}."""', 1)
+        self._emit_method_instance_fields(decl)
         for method in decl.method_nodes:
             self._emit_method(decl, method)
         self._emit_properties(decl)

@@ -10,7 +10,7 @@ import dataclasses
 import keyword
 import struct
 from collections.abc import Iterator, Sequence
-from typing import Any, NoReturn
+from typing import Any, NoReturn, TypeVar
 
 import blark.transform as tf
 
@@ -30,10 +30,75 @@ _SECTION_OF = {
 }
 
 
+# --- the table, frozen after pass 1 ---------------------------------------------------------------
+
+_K = TypeVar("_K")
+_V = TypeVar("_V")
+_T = TypeVar("_T")
+
+
+class FrozenTableError(TypeError):
+    """A phase after pass 1 tried to change the symbol table: pass 1 must collect what that phase needs."""
+
+
+def _refuse(what: object) -> NoReturn:
+    raise FrozenTableError(f"the symbol table is read-only after pass 1: {what} cannot be changed; "
+                           "collect it in pass 1 (iecoop.st.read.symbols)")
+
+
+class _ReadOnly:
+    """What the frozen containers share: each writing method refuses."""
+
+    def _refuse_call(self, *args: Any, **kwargs: Any) -> NoReturn:
+        _refuse(f"the {type(self).__name__.removeprefix('Frozen').lower()}")
+
+
+class FrozenDict(_ReadOnly, dict[_K, _V]):
+    """A mapping of the frozen table: read as any dict, and a write raises ``FrozenTableError``."""
+
+    def __setitem__(self, key: Any, value: Any) -> NoReturn:
+        _refuse(f"the entry {key!r}")
+
+    def __delitem__(self, key: Any) -> NoReturn:
+        _refuse(f"the entry {key!r}")
+
+    def __ior__(self, other: Any) -> NoReturn:  # type: ignore[misc]  # never returns: refused
+        _refuse("the dict")
+
+    update = setdefault = pop = popitem = clear = _ReadOnly._refuse_call
+
+
+class FrozenSet(_ReadOnly, set[_T]):
+    """A set of the frozen table: read as any set, and a write raises ``FrozenTableError``."""
+
+    add = discard = remove = pop = clear = update = _ReadOnly._refuse_call
+    __ior__ = __iand__ = __isub__ = __ixor__ = _ReadOnly._refuse_call
+    difference_update = intersection_update = symmetric_difference_update = _ReadOnly._refuse_call
+
+
+class FrozenList(_ReadOnly, list[_T]):
+    """A list of the frozen table: read as any list, and a write raises ``FrozenTableError``."""
+
+    __setitem__ = __delitem__ = __iadd__ = __imul__ = _ReadOnly._refuse_call
+    append = extend = insert = remove = pop = clear = sort = reverse = _ReadOnly._refuse_call
+
+
+def _nodes(node: Any) -> Iterator[Any]:
+    """``node`` and every blark node below it."""
+    if isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _nodes(item)
+    elif dataclasses.is_dataclass(node):
+        yield node
+        for field in dataclasses.fields(node):
+            if field.name != "meta":
+                yield from _nodes(getattr(node, field.name))
+
+
 # --- types --------------------------------------------------------------------------------------
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class TypeRef:
     """A resolved ST type: elementary, STRING(n), ARRAY, POINTER TO, REFERENCE TO or a user type."""
 
@@ -83,7 +148,7 @@ LREAL = TypeRef("elem", "LREAL")
 STRING = TypeRef("string", "STRING", length="80")
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class Member:
     """A variable: ``name`` is its Python code (``python_name`` of the ST name, or how it is reached), ``st`` its ST name."""
 
@@ -93,14 +158,14 @@ class Member:
     st: str = ""
 
     def __post_init__(self) -> None:
-        self.st = self.st or self.name
+        object.__setattr__(self, "st", self.st or self.name)
 
 
 class ReferenceLocal(Member):
     """An elementary ``REFERENCE TO`` local of a METHOD or FUNCTION: a pointer, read and written as an in-out."""
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class Callable_:
     name: str
     returns: TypeRef | None
@@ -108,7 +173,7 @@ class Callable_:
     st: str = ""
 
     def __post_init__(self) -> None:
-        self.st = self.st or self.name
+        object.__setattr__(self, "st", self.st or self.name)
 
 
 @dataclasses.dataclass
@@ -137,15 +202,33 @@ class Decl:
     st: str = ""
     #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
     declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+    #: set by ``freeze`` at the end of pass 1: from then on every field and mapping is read-only
+    frozen: bool = dataclasses.field(default=False, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         self.st = self.st or self.name
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if getattr(self, "frozen", False):
+            _refuse(f"{self.kind} {self.st}.{name}")
+        super().__setattr__(name, value)
+
+    def freeze(self) -> None:
+        """Make the declaration read-only: pass 1 is done with it."""
+        for field in dataclasses.fields(self):
+            value = getattr(self, field.name)
+            if isinstance(value, dict) and not isinstance(value, FrozenDict):
+                super().__setattr__(field.name, FrozenDict(value))
+            elif isinstance(value, list) and not isinstance(value, FrozenList):
+                super().__setattr__(field.name, FrozenList(value))
+        super().__setattr__("frozen", True)
 
 
 #: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
 #: IQueryInterface, a type wherever a type may stand (its Python name is the key)
 IQUERYINTERFACE = Decl("interface", "IQueryInterface")
-SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
+IQUERYINTERFACE.freeze()
+SYSTEM_DECLS: dict[str, Decl] = FrozenDict({IQUERYINTERFACE.name.lower(): IQUERYINTERFACE})
 
 
 class Symbols:
@@ -172,6 +255,9 @@ class Symbols:
         self.unit: Unit | None = None
         self.line: int | None = None
         self.window: tuple[int, int] = (0, 0)
+        #: ids of the comment tokens pass 1 read as marks (``// Get``, ``// GVL name``): never carried over
+        self.marks: set[int] = set()
+        #: ids of the comment tokens pass 2 has written (or that are marks)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
         #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
@@ -243,7 +329,7 @@ class Symbols:
                 marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
                 if marker in ("get", "set"):
                     self.marked_accessors[id(node)] = marker
-                    self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                    self.marks.add(id(token))  # a mark, not a comment to carry over
 
     def _marked_list_name(self, unit: Unit, node: Any) -> str | None:
         """The name of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its pragmas), as dump writes it."""
@@ -262,7 +348,7 @@ class Symbols:
                 continue
             words = text[2:].split() if text.startswith("//") else []
             if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier():
-                self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                self.marks.add(id(token))  # a mark, not a comment to carry over
                 return words[1]
             return None
         return None
@@ -382,6 +468,42 @@ class Symbols:
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = signature(list(decl.members.values()))
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
+            for node in decl.method_nodes:  # a METHOD's VAR_INST: fields of the instance, beside the block's own
+                for block in node.declarations:
+                    if isinstance(block, tf.MethodInstanceVariableDeclarations):
+                        for member in self._block_members(block, attribute=True):
+                            self._add_member(decl, member)
+
+    def collect_named_programs(self) -> None:
+        """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
+
+        Known before any class is written, so the class is written with its decorator.
+        """
+        for unit in self.units:
+            for node in _nodes(unit.tree.items):
+                if not (isinstance(node, tf.MultiElementVariable) and isinstance(node.name, tf.SimpleVariable)
+                        and node.elements and isinstance(node.elements[0], tf.FieldSelector)):
+                    continue
+                decl = self.decls.get(str(node.name.name).lower())
+                if decl is None or decl.kind != "program":
+                    continue
+                found = self.find_member(decl, str(node.elements[0].field))
+                if found is not None and found[0] in ("member", "method"):
+                    self.named_programs.add(decl.name)
+
+    def freeze(self) -> None:
+        """End of pass 1: the table is complete; from now on a write to it raises ``FrozenTableError``."""
+        for decl in self.decls.values():
+            decl.freeze()
+        self.decls = FrozenDict(self.decls)
+        self.by_python = FrozenDict(self.by_python)
+        self.declared = FrozenDict(self.declared)
+        self.enum_values = FrozenDict(self.enum_values)
+        self.globals = FrozenDict(self.globals)
+        self.marked_accessors = FrozenDict(self.marked_accessors)
+        self.marks = FrozenSet(self.marks)
+        self.named_programs = FrozenSet(self.named_programs)
+        self.used_comments = set(self.marks)
 
     def _add_member(self, decl: Decl, member: Member) -> None:
         """A variable of ``decl``, refused if ``decl`` declares its name already (its line is ``self.line``)."""

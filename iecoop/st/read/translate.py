@@ -68,6 +68,8 @@ class Translator(Pous):
     def translate(self) -> str:
         self.collect()
         self.resolve_members()
+        self.collect_named_programs()
+        self.freeze()
         body: list[str] = []
         for decl in self.ordered():
             self.unit = decl.unit
@@ -78,11 +80,9 @@ class Translator(Pous):
             body.extend(self.preamble + ["", ""] + self.out)
         if self.named_programs:
             # P_Count.counter from another POU names the program's instance, as in ST: one per PROGRAM. A class
-            # decorator makes it (as @gvl does), which mypy accepts where rebinding the class name is refused.
+            # decorator makes it (as @gvl does), which mypy accepts where rebinding the class name is refused;
+            # _emit_program writes it, since pass 1 knows these programs.
             self.need("typing", "TypeVar")
-            for name in self.named_programs:
-                index = body.index(f"class {name}(Program):")
-                body.insert(index, "@_program_instance")
             body[:0] = ["", "", '_P = TypeVar("_P", bound=Program)', "", "",
                         "def _program_instance(cls: type[_P]) -> _P:",
                         '    """A PROGRAM other POUs read by name (P_Count.counter): as in ST, the name is its one instance."""',
