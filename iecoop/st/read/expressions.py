@@ -343,7 +343,7 @@ class Expressions(PyWriter):
         target = base.type.of if base.type is not None and base.type.kind == "pointer" else None
         if base.type is not None and base.type.kind != "pointer":
             raise self.fail(f"^ applied to {base.code}, which is not a POINTER", node)
-        return Ex(f"{base.p()}.deref", target)
+        return Ex.attribute(base.p(), "deref", target)
 
     def name_ref(self, name: str, scope: Scope, node: Any) -> Ex:
         key = name.lower()
@@ -355,19 +355,19 @@ class Expressions(PyWriter):
         local = scope.locals.get(key)
         if local is not None:
             if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-                return Ex(f"{local.name}.deref", local.type)
-            return Ex(local.name, local.type)
+                return Ex.attribute(local.name, "deref", local.type)
+            return Ex(local.name, local.type, place=local.place)
         if scope.owner is not None and scope.owner.kind in ("fb", "program", "interface", "struct", "union"):
             found = self.find_member(scope.owner, name)
             if found is not None and not (scope.kind == "const" and scope.owner.kind in ("struct", "union")):
                 kind, member = found
                 if kind == "method":
-                    return Ex(f"self.{member.name}", None)
+                    return Ex.attribute("self", member.name, None)
                 assert isinstance(member, Member)
-                return Ex(f"self.{member.name}", member.type)
+                return Ex.attribute("self", member.name, member.type)
         if key in self.globals:
             gvl_name, member = self.globals[key]
-            return Ex(f"{gvl_name}.{member.name}", member.type)
+            return Ex.attribute(gvl_name, member.name, member.type)
         decl = self.decls.get(key)
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
@@ -400,9 +400,9 @@ class Expressions(PyWriter):
         if base.this == "SUPER":
             return self._super_member_ref(kind, member, store)
         if kind == "method":
-            return Ex(f"{base.p()}.{member.name}", None)
+            return Ex.attribute(base.p(), member.name, None)
         assert isinstance(member, Member)
-        return Ex(f"{base.p()}.{member.name}", member.type)
+        return Ex.attribute(base.p(), member.name, member.type)
 
     def _system_member_ref(self, base: Ex, field: str, node: Any, store: bool) -> Ex | None:
         """``__SYSTEM.ExceptionCode``, its values, and the members of a ``__SYSTEM.VAR_INFO``; None for any other base."""
@@ -422,15 +422,15 @@ class Expressions(PyWriter):
     def _super_member_ref(self, kind: str, member: Any, store: bool) -> Ex:
         """``SUPER^.name``: the parent's method or property; a variable is the instance's own."""
         if kind == "method":
-            return Ex(f"super().{member.name}", None)
+            return Ex.attribute("super()", member.name, None)
         if kind == "member":
             assert isinstance(member, Member)
-            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+            return Ex.attribute("self", member.name, member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
         assert isinstance(member, Member)
         if store:
             self.need("iecoop", "super_set")
-            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
-        return Ex(f"super().{member.name}", member.type)
+            return Ex.attribute("super()", member.name, member.type, super_property=True)  # written as super_set(super(), ...)
+        return Ex.attribute("super()", member.name, member.type)
 
     def visit_MultiElementVariable(self, node: tf.MultiElementVariable, scope: Scope, store: bool = False) -> Ex:
         if str(node.name.name).lower() == "_taskinfo":
@@ -500,10 +500,10 @@ class Expressions(PyWriter):
             ex = self.expr(node, scope)
         else:
             raise self.fail("this variable has no holder to take its address from", node)
-        if "." not in ex.code or ex.code.endswith(")"):
-            raise self.fail(f"{ex.code} is a local variable; ADR / REF= need a variable of a block, struct or GVL", node)
-        holder, field = ex.code.rsplit(".", 1)
-        return holder, field
+        if ex.place is None:
+            what = "a local variable" if isinstance(node, tf.SimpleVariable) and str(node.name).lower() in scope.locals else "no variable"
+            raise self.fail(f"{ex.code} is {what}; ADR / REF= need a variable of a block, struct or GVL", node)
+        return ex.place
 
     def address_of(self, node: Any, scope: Scope) -> str:
         prop = self._reference_property(node, scope)

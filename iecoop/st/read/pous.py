@@ -154,7 +154,7 @@ class Pous(Declarations):
                 for var in item.variables:
                     self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
 
-    def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> str:
+    def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> list[str]:
         inits: dict[str, Any] = {}
         for block in blocks:
             if isinstance(block, (tf.InputDeclarations, tf.OutputDeclarations)):
@@ -195,7 +195,7 @@ class Pous(Declarations):
                 default = "NULL"
             parts.append(f"{param.name}: {param.type.annotation()} = {default}")
             scope.locals[param.st.lower()] = param
-        return "".join(f", {p}" for p in parts)
+        return parts
 
     def _by_reference_param(self, param: Member, init: Any, scope: Scope) -> str:
         """``nHigh : BYTE`` of VAR_OUTPUT / VAR_IN_OUT: ``nHigh: POINTER_TO[BYTE] = VAR_OUTPUT()``, reached as ``nHigh.deref``."""
@@ -293,14 +293,14 @@ class Pous(Declarations):
                 raise self.fail(f"VAR_STAT in a PROPERTY accessor of {owner.st} is not supported (declare it in the block)")
             method = scope.pou.split(".", 1)[1]
             for _, name, type_ in statics:  # a VAR_STAT of the block, named after the method (its field is written with the block's)
-                scope.locals[name.lower()] = Member(f"self.{method}_{python_name(name)}", type_, "STAT")
+                scope.locals[name.lower()] = Member.field_of("self", f"{method}_{python_name(name)}", type_, "STAT")
             return
         holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name, attribute=True), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
                               f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
         instance = f"_{scope.pou}_static"
         self.preamble.extend(["", "", f"{instance} = {holder}()"])
         for _, name, type_ in statics:
-            scope.locals[name.lower()] = Member(f"{instance}.{python_name(name, attribute=True)}", type_, "STAT", st=name)
+            scope.locals[name.lower()] = Member.field_of(instance, python_name(name, attribute=True), type_, "STAT", st=name)
 
     def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
                           statics: list[tuple[Any, str, TypeRef | None]]) -> None:
@@ -338,7 +338,7 @@ class Pous(Declarations):
                     found = self.globals.get(name.lower())
                     if found is None:
                         raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
-                    scope.locals[name.lower()] = Member(f"{found[0]}.{found[1].name}", found[1].type, "STAT", st=name)
+                    scope.locals[name.lower()] = Member.field_of(found[0], found[1].name, found[1].type, "STAT", st=name)
             return True
         return False
 
@@ -350,7 +350,7 @@ class Pous(Declarations):
         if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
             # an output or in-out argument needs the variable's address: a field of the holder has one
             arrays.append((Member(py, type_, "ADDRESSED", st=name), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member(f"_var.{py}", type_, "STAT", st=name)
+            scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)
             return True
         initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
         if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
@@ -415,7 +415,7 @@ class Pous(Declarations):
                 if len(inputs) < 2:
                     raise self.fail(f"METHOD FB_init of {decl.name} needs the inputs bInitRetains and bInCopyCode", node)
                 # iecoop names the two implicit inputs in PEP 8; the ST names still resolve to them
-                first = ", init_retains: BOOL, in_copy_code: BOOL"
+                first = ["self", "init_retains: BOOL", "in_copy_code: BOOL"]
                 self.need("iecoop", "BOOL")
                 for p, py_name in zip(inputs[:2], ("init_retains", "in_copy_code")):
                     scope.locals[p.st.lower()] = Member(py_name, p.type, "VAR_INPUT", st=p.st)
@@ -423,19 +423,19 @@ class Pous(Declarations):
             elif lifecycle == "fb_exit":
                 if info.params:
                     scope.locals[info.params[0].st.lower()] = Member("in_copy_code", BOOL, "VAR_INPUT", st=info.params[0].st)
-                params = ", in_copy_code: BOOL" + self._params(info.params[1:], node.declarations, scope)
+                params = ["self", "in_copy_code: BOOL", *self._params(info.params[1:], node.declarations, scope)]
             else:
-                params = ""
-            self.emit_def(f"def {lifecycle}(self{params}) -> BOOL:", 1)
+                params = ["self"]
+            self.emit_def(lifecycle, params, "BOOL", 1)
             self.need("iecoop", "BOOL")
             scope.return_name = python_name(name)
             returns = TypeRef("elem", "BOOL")
         else:
             decorators.insert(0, self._access_decorator(node.access, st=name, python=info.name))
-            params = self._params(info.params, node.declarations, scope)
+            params = ["self", *self._params(info.params, node.declarations, scope)]
             for decorator in decorators:
                 self.emit(decorator, 1)
-            self.emit_def(f"def {info.name}(self{params}) -> {ret_text}:", 1)
+            self.emit_def(info.name, params, ret_text, 1)
         if node.access is not None and node.access & tf.AccessSpecifier.abstract or decl.kind == "interface":
             self.prototype(returns, 2)
             return
@@ -592,7 +592,7 @@ class Pous(Declarations):
         scope.return_st = decl.st
         scope.pou = decl.name
         self.comments(node, 0)
-        params = self._params(info.params, node.declarations, scope)[2:]
+        params = self._params(info.params, node.declarations, scope)
         self._need_type(info.returns)
         ret_text = info.returns.annotation() if info.returns is not None else "None"
         statements = statements_of(node.body)
@@ -601,13 +601,13 @@ class Pous(Declarations):
         if is_external:
             self.need("iecoop.st", "external")
             self.emit(f'@external("{decl.st}")', 0)
-            self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
+            self.emit_def(decl.name, params, ret_text, 0)
             self.emit(f'"""FUNCTION {decl.st}: bound to a Python callable at load time."""', 1)
             self.emit(f'raise NotImplementedError("FUNCTION {decl.st} has no body: pass externals={{\'{decl.st}\': ...}}")', 1)
             return
         if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") for p in info.params):
             self.need("iecoop", "function")
             self.emit("@function", 0)
-        self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)
+        self.emit_def(decl.name, params, ret_text, 0)
         self.emit(f'"""FUNCTION {decl.st}."""', 1)
         self._emit_callable_body(node, scope, info.returns, 1)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 from iecoop.st.read.symbols import SYSTEM_DECLS, Symbols, TypeRef
@@ -18,25 +19,16 @@ class PyWriter(Symbols):
     def emit(self, text: str, level: int) -> None:
         self.out.append("    " * level + text if text else "")
 
-    def emit_def(self, text: str, level: int) -> None:
-        """A ``def`` line; one parameter per line when it would be longer than 110 characters."""
+    def emit_def(self, name: str, params: Sequence[str], returns: str, level: int) -> None:
+        """``def name(params) -> returns:``; one parameter per line when it would be longer than 110 characters."""
+        text = f"def {name}({', '.join(params)}) -> {returns}:"
         if len(text) + 4 * level <= 110:
             self.emit(text, level)
             return
-        head, rest = text.split("(", 1)
-        inner, tail = rest.rsplit(") ->", 1)
-        params, depth, start = [], 0, 0
-        for index, char in enumerate(inner):
-            depth += char in "([{"
-            depth -= char in ")]}"
-            if char == "," and depth == 0:
-                params.append(inner[start:index].strip())
-                start = index + 1
-        params.append(inner[start:].strip())
-        self.emit(f"{head}(", level)
+        self.emit(f"def {name}(", level)
         for param in params:
             self.emit(f"{param},", level + 1)
-        self.emit(f") ->{tail}", level)
+        self.emit(f") -> {returns}:", level)
 
     def enter(self, node: Any) -> None:
         """Comments are taken from the source lines of the top-level item ``node`` from now on."""

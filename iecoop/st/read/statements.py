@@ -73,7 +73,8 @@ class Statements(Calls):
             return
         lhs = self.expr(target, scope, store=True)
         if lhs.super_property:  # SUPER^.Prop := value: Python's super() refuses attribute writes
-            name = lhs.code.split(".", 1)[1]
+            assert lhs.place is not None  # made by Ex.attribute("super()", name)
+            name = lhs.place[1]
             self.emit(f'super_set(super(), "{name}", {self.store_value(lhs.type, value, False)})', level)
             return
         local = self.local_of(target, scope)
@@ -229,7 +230,7 @@ class Statements(Calls):
         name = str(node.control.name).lower() if isinstance(node.control, tf.SimpleVariable) else None
         if any(isinstance(t, tf.SimpleVariable) and str(t.name).lower() == name for t in assigned(node.statements)):
             # IEC 61131-3: the repeated statements shall not alter the control variable (a Python for would undo it)
-            raise self.fail(f"the FOR loop writes its control variable {control.code.rsplit('.', 1)[-1]}", node)
+            raise self.fail(f"the FOR loop writes its control variable {node.control.name}", node)
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None

@@ -156,9 +156,16 @@ class Member:
     type: TypeRef | None
     section: str
     st: str = ""
+    #: ``(holder code, field name)`` when ``name`` is the field of something (a local kept in ``_var``, a VAR_STAT)
+    place: tuple[str, str] | None = dataclasses.field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "st", self.st or self.name)
+
+    @classmethod
+    def field_of(cls, holder: str, field: str, type_: TypeRef | None, section: str, st: str = "") -> Member:
+        """A variable reached as ``holder.field``."""
+        return cls(f"{holder}.{field}", type_, section, st=st, place=(holder, field))
 
 
 class ReferenceLocal(Member):

@@ -11,7 +11,7 @@ the file, line and construct; nothing is dropped silently.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import blark.transform as tf
 
@@ -76,7 +76,7 @@ class Translator(Pous):
             self.out = []
             self.preamble = []
             self.enter(decl.item)
-            getattr(self, f"_emit_{decl.kind}")(decl)
+            _WRITERS[decl.kind](self, decl)
             body.extend(self.preamble + ["", ""] + self.out)
         if self.named_programs:
             # P_Count.counter from another POU names the program's instance, as in ST: one per PROGRAM. A class
@@ -112,6 +112,14 @@ class Translator(Pous):
             else:
                 header.append(line)
         return "\n".join(header + body) + "\n"
+
+
+#: Each kind of declaration -> the pass 2 writer of its class (or alias, or function).
+_WRITERS: dict[str, Callable[[Translator, Decl], None]] = {
+    "fb": Pous._emit_fb, "program": Pous._emit_program, "function": Pous._emit_function,
+    "interface": Pous._emit_interface, "gvl": Pous._emit_gvl, "struct": Pous._emit_struct,
+    "union": Pous._emit_union, "enum": Pous._emit_enum, "alias": Pous._emit_alias,
+}
 
 
 def translate(units: Sequence[Unit], externals: Sequence[str] = ()) -> tuple[str, list[tuple[str, str]]]:

@@ -85,3 +85,22 @@ def test_the_var_inst_is_written_after_the_blocks_fields_and_the_named_program_w
     assert lines[count + 1] == '    calls: DINT = VAR_INST(5, method="Step")'
     assert lines[lines.index("class P_Count(Program):") - 1] == "@_program_instance"
     assert "@_program_instance" not in lines[lines.index("class MAIN(Program):") - 1]
+
+
+def test_a_named_program_whose_python_name_differs_gets_its_decorator() -> None:
+    # The decorator is written with the class, not looked for later in the text (which has st_name= here).
+    text = st.to_python("PROGRAM lambda\nVAR x : INT; END_VAR\nx := x + 1;\nEND_PROGRAM\n"
+                        "PROGRAM MAIN\nVAR y : INT; END_VAR\ny := lambda.x;\nEND_PROGRAM\n")
+    lines = text.splitlines()
+    assert lines[lines.index('class lambda_(Program, st_name="lambda"):') - 1] == "@_program_instance"
+    assert "y = lambda_.x" in text
+
+
+def test_decisions_are_made_on_the_expression_record_not_its_printed_code() -> None:
+    from iecoop.st import StUnsupportedError
+
+    with pytest.raises(StUnsupportedError, match="writes its control variable lambda$"):  # the ST name
+        st.to_python("PROGRAM P\nVAR lambda : INT; END_VAR\nFOR lambda := 1 TO 3 DO lambda := 2; END_FOR\nEND_PROGRAM\n")
+    with pytest.raises(StUnsupportedError, match="E_Mode.RUN is no variable; ADR / REF= need a variable"):
+        st.to_python("TYPE E_Mode : (IDLE, RUN); END_TYPE\n"
+                     "PROGRAM P\nVAR p : POINTER TO E_Mode; END_VAR\np := ADR(E_Mode.RUN);\nEND_PROGRAM\n")
