@@ -15,6 +15,7 @@ from typing import Any, NoReturn, TypeVar
 import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
+from iecoop.metadata import fields_of
 from iecoop.st.language import ELEMENTARY, INTEGER_LAYOUT, REAL_TYPES, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
@@ -292,7 +293,7 @@ class Symbols:
         for name in STANDARD_FBS:
             cls = getattr(stdlib, name)
             decl = Decl("stdfb", name)
-            for record in cls._iec_layout_.fields:
+            for record in fields_of(cls):
                 decl.members[record.name.lower()] = Member(record.name, self._elem_or_none(record.info.name), record.section)
             self.decls[name.lower()] = self.by_python[name] = decl
 
