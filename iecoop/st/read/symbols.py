@@ -379,6 +379,7 @@ class Symbols:
         return decl
 
     def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
+        """Declare one top-level item; the POU that its METHODs, PROPERTYs and ACTIONs follow, or None."""
         if isinstance(item, tf.FunctionBlock):
             decl = self._add(Decl("fb", str(item.name), item, unit))
             if item.extends:
@@ -395,73 +396,55 @@ class Symbols:
                 decl.bases.extend(str(i) for i in item.extends.interfaces)
             return decl
         if isinstance(item, tf.GlobalVariableDeclarations):
-            name = str(item.name or "")
-            if not name.isidentifier():
-                stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
-                name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
-            existing = self.decls.get(str(name).lower())
-            if existing is not None and existing.kind == "gvl":
-                existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
-                existing.units[id(item)] = unit
-                return None
-            decl = self._add(Decl("gvl", str(name), [item], unit))
-            decl.units[id(item)] = unit
+            self._collect_global_list(unit, item)
             return None
         if isinstance(item, tf.DataTypeDeclaration):
-            inner = item.declaration
-            if isinstance(inner, tf.StructureTypeDeclaration):
-                decl = self._add(Decl("struct", str(inner.name), inner, unit))
-                if inner.extends:
-                    decl.bases.append(str(inner.extends.interfaces[0]))
-            elif isinstance(inner, tf.UnionTypeDeclaration):
-                decl = self._add(Decl("union", str(inner.name), inner, unit))
-            elif isinstance(inner, tf.EnumeratedTypeDeclaration):
-                decl = self._add(Decl("enum", str(inner.name), inner, unit))
-                for value in inner.init.spec.values or []:
-                    self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
-                    decl.values.append(str(value.name))
-                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
-            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
-                                    tf.SubrangeTypeDeclaration)):
-                decl = self._add(Decl("alias", str(inner.name), inner, unit))
-            else:
-                raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
-            decl.item = item
+            self._collect_data_type(unit, item).item = item
             return None
         raise self.fail(f"{type(item).__name__} at the top level is not supported", item)
+
+    def _collect_global_list(self, unit: Unit, item: Any) -> None:
+        """A VAR_GLOBAL block: its list, named by the block, a ``// GVL name`` mark, or its file."""
+        name = str(item.name or "")
+        if not name.isidentifier():
+            stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
+            name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
+        existing = self.decls.get(str(name).lower())
+        if existing is not None and existing.kind == "gvl":
+            existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
+            existing.units[id(item)] = unit
+            return
+        decl = self._add(Decl("gvl", str(name), [item], unit))
+        decl.units[id(item)] = unit
+
+    def _collect_data_type(self, unit: Unit, item: Any) -> Decl:
+        """A TYPE: STRUCT, UNION, enumeration (its values are names too) or alias."""
+        inner = item.declaration
+        if isinstance(inner, tf.StructureTypeDeclaration):
+            decl = self._add(Decl("struct", str(inner.name), inner, unit))
+            if inner.extends:
+                decl.bases.append(str(inner.extends.interfaces[0]))
+            return decl
+        if isinstance(inner, tf.UnionTypeDeclaration):
+            return self._add(Decl("union", str(inner.name), inner, unit))
+        if isinstance(inner, tf.EnumeratedTypeDeclaration):
+            decl = self._add(Decl("enum", str(inner.name), inner, unit))
+            for value in inner.init.spec.values or []:
+                self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
+                decl.values.append(str(value.name))
+                self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
+            return decl
+        if isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration, tf.SubrangeTypeDeclaration)):
+            return self._add(Decl("alias", str(inner.name), inner, unit))
+        raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
 
     def resolve_members(self) -> None:
         """Second half of pass 1: member types, once every type name is known."""
         for decl in list(self.decls.values()):
             self.unit = decl.unit
-            if decl.kind in ("fb", "program", "function"):
-                for block in decl.node.declarations:
-                    for member in self._block_members(block, attribute=decl.kind != "function"):
-                        self._add_member(decl, member)
-            elif decl.kind in ("struct", "union"):
-                for element in decl.node.declarations:
-                    for member in self._element_members(element, decl.kind):
-                        self._add_member(decl, member)
-            elif decl.kind == "gvl":
-                for block in decl.node:
-                    self.unit = decl.units.get(id(block), decl.unit)
-                    for member in self._block_members(block, attribute=True):
-                        self._add_member(decl, member)
-                        self.globals[member.st.lower()] = (decl.name, member)
-            elif decl.kind == "alias":
-                decl.alias_of = self._alias_target(decl.node)
+            self._resolve_variables(decl)
             self.unit = decl.unit
-            for node in decl.method_nodes:
-                name = str(node.name)
-                self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
-                local: dict[str, tuple[str, str]] = {}
-                members = []
-                for block in node.declarations:
-                    for member in self._block_members(block):
-                        self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
-                        members.append(member)
-                returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
-                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
+            self._resolve_methods(decl)
             for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
                 name = str(node.name).rsplit(".", 1)[-1]
                 self.declare(decl.declared, f"ACTION {decl.st}.{name}", name, node)
@@ -481,6 +464,39 @@ class Symbols:
                     if isinstance(block, tf.MethodInstanceVariableDeclarations):
                         for member in self._block_members(block, attribute=True):
                             self._add_member(decl, member)
+
+    def _resolve_variables(self, decl: Decl) -> None:
+        """The variables of a POU, STRUCT, UNION or GVL, and an alias's target type."""
+        if decl.kind in ("fb", "program", "function"):
+            for block in decl.node.declarations:
+                for member in self._block_members(block, attribute=decl.kind != "function"):
+                    self._add_member(decl, member)
+        elif decl.kind in ("struct", "union"):
+            for element in decl.node.declarations:
+                for member in self._element_members(element, decl.kind):
+                    self._add_member(decl, member)
+        elif decl.kind == "gvl":
+            for block in decl.node:
+                self.unit = decl.units.get(id(block), decl.unit)
+                for member in self._block_members(block, attribute=True):
+                    self._add_member(decl, member)
+                    self.globals[member.st.lower()] = (decl.name, member)
+        elif decl.kind == "alias":
+            decl.alias_of = self._alias_target(decl.node)
+
+    def _resolve_methods(self, decl: Decl) -> None:
+        """Each METHOD's signature; its locals are checked for duplicates."""
+        for node in decl.method_nodes:
+            name = str(node.name)
+            self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
+            local: dict[str, tuple[str, str]] = {}
+            members = []
+            for block in node.declarations:
+                for member in self._block_members(block):
+                    self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
+                    members.append(member)
+            returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
+            decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
     def collect_named_programs(self) -> None:
         """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
