@@ -6,7 +6,7 @@ import dataclasses
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # symbols imports this module
-    from iecoop.st.read.symbols import Decl, Member, TypeRef
+    from iecoop.st.read.table import Decl, Member, TypeRef
 
 @dataclasses.dataclass
 class Ex:

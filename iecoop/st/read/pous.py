@@ -3,24 +3,36 @@
 from __future__ import annotations
 
 import re
-import struct
 from collections.abc import Sequence
 from typing import Any
 
 import blark.transform as tf
 
 from iecoop.st.language import ACCESS_SPECIFIERS, LIFECYCLE
-from iecoop.st.read.declarations import Declarations
+from iecoop.st.read.locals import Locals
 from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
-from iecoop.st.read.symbols import BOOL, Decl, Member, ReferenceLocal, TypeRef, _SECTION_OF
+from iecoop.st.read.symbols import _SECTION_OF
+from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
 from iecoop.st.read.trees import accessor_access, by_reference_arguments, flag_keywords, signature, statements_of, variables
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
 
 
-class Pous(Declarations):
+def _parameter_inits(blocks: Sequence[Any]) -> dict[str, Any]:
+    """ST name (lower case) -> the declaration of each VAR_INPUT and VAR_OUTPUT (its initial value)."""
+    inits: dict[str, Any] = {}
+    for block in blocks:
+        if isinstance(block, (tf.InputDeclarations, tf.OutputDeclarations)):
+            for item in block.items:
+                for var in getattr(item, "variables", []):
+                    name = str(var.variable.name if hasattr(var, "variable") else var)
+                    inits[name.lower()] = getattr(item, "init", None)
+    return inits
+
+
+class Pous(Locals):
     """Writes POUs and their members as Python classes."""
 
     def _emit_fb(self, decl: Decl) -> None:
@@ -155,47 +167,44 @@ class Pous(Declarations):
                     self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> list[str]:
-        inits: dict[str, Any] = {}
-        for block in blocks:
-            if isinstance(block, (tf.InputDeclarations, tf.OutputDeclarations)):
-                for item in block.items:
-                    for var in getattr(item, "variables", []):
-                        name = str(var.variable.name if hasattr(var, "variable") else var)
-                        inits[name.lower()] = getattr(item, "init", None)
+        """The Python parameters of a METHOD or FUNCTION, in order; each becomes a name of ``scope``."""
+        inits = _parameter_inits(blocks)
         parts = []
         last_reference = max((i for i, p in enumerate(params) if p.type is not None and p.type.kind == "reference"), default=-1)
         for index, param in enumerate(params):
             assert param.type is not None
             self._need_type(param.type)
+            init = inits.get(param.st.lower())
             if param.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
                 if index < last_reference:
                     raise self.fail(f"{param.section} {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
-                parts.append(self._by_reference_param(param, inits.get(param.st.lower()), scope))
-                continue
-            if index <= last_reference:
-                # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python:
-                # that one is required too, as in a Python signature (a STRUCT by value needs its default)
-                if param.type.kind != "reference" and self._aggregate(param.type):
-                    raise self.fail(f"input {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
-                parts.append(f"{param.name}: {param.type.annotation()}")
+                parts.append(self._by_reference_param(param, init, scope))
+            else:
+                parts.append(self._input_param(param, init, index <= last_reference, scope))
                 scope.locals[param.st.lower()] = param
-                continue
-            if self._aggregate(param.type):
-                if not scope.pou:
-                    raise self.fail(f"input {param.st} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
-                # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
-                scope.by_value.append((param, inits.get(param.st.lower())))
-                parts.append(f"{param.name}: {param.type.annotation()} | None = None")
-                scope.locals[param.st.lower()] = param
-                continue
-            default = self.initial_value(param.type, inits.get(param.st.lower()), scope) or self.zero(param.type)
-            if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
-                # a prototype's input of its own interface type: the class does not exist yet to make its null()
-                self.need("iecoop", "NULL")
-                default = "NULL"
-            parts.append(f"{param.name}: {param.type.annotation()} = {default}")
-            scope.locals[param.st.lower()] = param
         return parts
+
+    def _input_param(self, param: Member, init: Any, required: bool, scope: Scope) -> str:
+        """A VAR_INPUT: required (before a REFERENCE TO input), a copy when passed by value, or with its default."""
+        assert param.type is not None
+        if required:
+            # a REFERENCE TO input has no default (ST requires it), nor can an input before it in Python:
+            # that one is required too, as in a Python signature (a STRUCT by value needs its default)
+            if param.type.kind != "reference" and self._aggregate(param.type):
+                raise self.fail(f"input {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
+            return f"{param.name}: {param.type.annotation()}"
+        if self._aggregate(param.type):
+            if not scope.pou:
+                raise self.fail(f"input {param.st} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
+            # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
+            scope.by_value.append((param, init))
+            return f"{param.name}: {param.type.annotation()} | None = None"
+        default = self.initial_value(param.type, init, scope) or self.zero(param.type)
+        if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
+            # a prototype's input of its own interface type: the class does not exist yet to make its null()
+            self.need("iecoop", "NULL")
+            default = "NULL"
+        return f"{param.name}: {param.type.annotation()} = {default}"
 
     def _by_reference_param(self, param: Member, init: Any, scope: Scope) -> str:
         """``nHigh : BYTE`` of VAR_OUTPUT / VAR_IN_OUT: ``nHigh: POINTER_TO[BYTE] = VAR_OUTPUT()``, reached as ``nHigh.deref``."""
@@ -214,41 +223,6 @@ class Pous(Declarations):
         scope.locals[param.st.lower()] = param
         return line
 
-    def _holder(self, scope: Scope, suffix: str, fields: Sequence[tuple[Member, Any]], doc: str) -> str:
-        """A module-level STRUCT that holds ``fields`` of the METHOD or FUNCTION ``scope``, written before its POU."""
-        name = "_" + scope.pou.replace(".", "_") + suffix
-        self.need("iecoop", "Struct")
-        lines = ["", "", f"class {name}(Struct):", f'    """{doc}"""']
-        const = Scope(None, "const")
-        for member, init in fields:
-            lines.append("    " + self.field_line(Member(member.name, member.type, "VAR", st=member.st), init, const))
-        self.preamble.extend(lines)
-        return name
-
-    def zero(self, type_: TypeRef) -> str:
-        if type_.is_bool:
-            return "False"
-        if type_.is_real:
-            return "0.0"
-        if type_.is_int:
-            return "0"
-        if type_.kind == "string":
-            return '""'
-        if type_.kind == "pointer":
-            self.need("iecoop", "Pointer")
-            return "Pointer(0, None)"
-        decl = self.decl_of(type_)
-        if decl is not None and decl.kind == "enum":
-            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
-        if decl is not None and decl.kind == "interface":
-            self.need("iecoop", "null")
-            return f"null({decl.name})"
-        if decl is not None and decl.kind == "alias" and decl.alias_of is not None:
-            return self.zero(decl.alias_of)
-        if decl is not None and decl.kind in ("struct", "union", "fb"):
-            return f"{decl.name}()"
-        raise self.fail(f"a local or input of type {type_.annotation()} has no zero value here")
-
     def _access_decorator(self, access: Any, extra: Sequence[str] = (), st: str = "", python: str = "") -> str:
         flags = list(extra)
         if access is not None:
@@ -260,135 +234,6 @@ class Pous(Declarations):
         self.need("iecoop", "method")
         named = st_keyword(st, python, ", " if flags else "")
         return f"@method({' | '.join(flags)}{named})" if flags or named else "@method"
-
-    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
-        arrays: list[tuple[Member, Any]] = []
-        statics: list[tuple[Any, str, TypeRef | None]] = []
-        self._locals_of_blocks(blocks, scope, level, arrays, statics)
-        if statics:
-            self._statics(scope, statics)
-        held = scope.by_value + arrays
-        if held:
-            # ARRAY and structured locals, and the copies of such inputs passed by value, live in a STRUCT
-            # made at each call: initialised as declared, and the caller's variables never written
-            addressed = " and the locals passed by address" if any(m.section == "ADDRESSED" for m, _ in held) else ""
-            holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}{addressed}: new at every call.")
-            self.emit(f"_var = {holder}()", level)
-            for member, _ in scope.by_value:
-                self.emit(f"if {member.name} is not None:", level)
-                self.emit(f"_var.{member.name} = {member.name}  # passed by value: a copy", level + 1)
-            for member, _ in held:
-                assert member.type is not None
-                self._need_type(member.type)
-                if member.section == "ADDRESSED":
-                    continue  # read and written as _var.name
-                annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
-                self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
-
-    def _statics(self, scope: Scope, statics: Sequence[tuple[Any, str, TypeRef | None]]) -> None:
-        """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
-        owner = scope.owner
-        if owner is not None:
-            if scope.kind != "method":
-                raise self.fail(f"VAR_STAT in a PROPERTY accessor of {owner.st} is not supported (declare it in the block)")
-            method = scope.pou.split(".", 1)[1]
-            for _, name, type_ in statics:  # a VAR_STAT of the block, named after the method (its field is written with the block's)
-                scope.locals[name.lower()] = Member.field_of("self", f"{method}_{python_name(name)}", type_, "STAT")
-            return
-        holder = self._holder(scope, "_VAR_STAT", [(Member(python_name(name, attribute=True), type_, "VAR", st=name), getattr(item, "init", None)) for item, name, type_ in statics],
-                              f"VAR_STAT of FUNCTION {scope.pou}: one for every call.")
-        instance = f"_{scope.pou}_static"
-        self.preamble.extend(["", "", f"{instance} = {holder}()"])
-        for _, name, type_ in statics:
-            scope.locals[name.lower()] = Member.field_of(instance, python_name(name, attribute=True), type_, "STAT", st=name)
-
-    def _locals_of_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, arrays: list[tuple[Member, Any]],
-                          statics: list[tuple[Any, str, TypeRef | None]]) -> None:
-        for block in blocks:
-            if self._non_local_block(block, scope, statics):
-                continue
-            constant = getattr(block, "attrs", None) is not None and block.attrs & tf.VariableAttributes.constant
-            for item in block.items:
-                self.line = item.meta.line if item.meta else self.line
-                trailing = self.comments(item, level, inline=True)
-                index = len(self.out)
-                for name, type_ in self._item_types(item):
-                    assert type_ is not None
-                    if not self._held_local(item, name, type_, scope, arrays, constant):
-                        self._declare_local(item, name, type_, scope, level, constant)
-                self.trail(index, trailing)
-
-    def _non_local_block(self, block: Any, scope: Scope, statics: list[tuple[Any, str, TypeRef | None]]) -> bool:
-        """Handle a VAR section that declares no plain local (parameters, VAR_STAT, VAR_EXTERNAL); True if handled."""
-        section = _SECTION_OF.get(type(block))
-        if section in ("VAR_INPUT", "VAR_INST"):
-            return True
-        if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-            if scope.kind in ("method", "function"):
-                return True  # parameters (see _by_reference_param)
-            raise self.fail(f"{section} in a {scope.kind} is not supported", block)
-        if section == "VAR_STAT":
-            if not scope.pou:
-                raise self.fail(f"VAR_STAT in a {scope.kind} is not supported", block)
-            statics.extend((item, name, type_) for item in block.items for name, type_ in self._item_types(item))
-            return True
-        if section == "VAR_EXTERNAL":  # the global itself, read and written in place (never a local copy)
-            for item in block.items:
-                for name, _ in self._item_types(item):
-                    found = self.globals.get(name.lower())
-                    if found is None:
-                        raise self.fail(f"VAR_EXTERNAL {name} of {scope.pou or scope.kind} names no VAR_GLOBAL", item)
-                    scope.locals[name.lower()] = Member.field_of(found[0], found[1].name, found[1].type, "STAT", st=name)
-            return True
-        return False
-
-    def _held_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, arrays: list[tuple[Member, Any]],
-                    constant: Any) -> bool:
-        """A local the POU's holder makes (an addressed scalar, an ARRAY, an initialised STRUCT); True if it is one."""
-        py = python_name(name)
-        enum = getattr(self.decl_of(type_), "kind", None) == "enum"
-        if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
-            # an output or in-out argument needs the variable's address: a field of the holder has one
-            arrays.append((Member(py, type_, "ADDRESSED", st=name), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)
-            return True
-        initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
-        if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
-            if not scope.pou:
-                raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
-            arrays.append((Member(py, type_, "LOCAL", st=name), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
-            return True
-        return False
-
-    def _declare_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, level: int, constant: Any) -> None:
-        """Emit the Python local of one ST variable of a method or function body."""
-        py = python_name(name)
-        self._need_type(type_)
-        init = getattr(item, "init", None)
-        if self._local_reference(type_) and getattr(init, "value", None) is None:
-            # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
-            assert type_.of is not None
-            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
-            self.emit(f"{py}: {type_.of.annotation()}", level)
-            return
-        if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
-            self.need("iecoop", "VarInfo")
-            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
-            self.emit(f"{py}: VarInfo", level)
-            return
-        if type_.kind == "reference" and type_.of is not None and type_.of.kind in ("elem", "string") and getattr(init, "value", None) is None:
-            # a pointer that REF= binds; reached through .deref, as an in-out is
-            self.need("iecoop", "POINTER_TO", "Pointer")
-            scope.locals[name.lower()] = ReferenceLocal(py, type_.of, "VAR_IN_OUT", st=name)
-            self.emit(f"{py}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
-            return
-        value = self.initial_value(type_, init, scope) or self.zero(type_)
-        scope.locals[name.lower()] = Member(py, type_, "CONSTANT" if constant else "LOCAL", st=name)
-        self.emit(f"{py}: {self.local_annotation(type_)} = {value}", level)
-
-    def local_annotation(self, type_: TypeRef) -> str:
-        return type_.annotation()
 
     def _emit_method(self, decl: Decl, node: Any) -> None:
         self.line = node.meta.line if node.meta else None

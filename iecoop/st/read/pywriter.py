@@ -5,7 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from iecoop.st.read.symbols import SYSTEM_DECLS, Symbols, TypeRef
+from iecoop.st.read.symbols import Symbols
+from iecoop.st.read.table import SYSTEM_DECLS, TypeRef
 
 
 class PyWriter(Symbols):

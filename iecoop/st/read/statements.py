@@ -10,7 +10,7 @@ import blark.transform as tf
 
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
-from iecoop.st.read.symbols import Member, ReferenceLocal, TypeRef
+from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
 from iecoop.st.read.trees import assigned, exact_real, is_zero, jumps_in_loop
 
 
@@ -97,22 +97,29 @@ class Statements(Calls):
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
-        if target.is_bool and value.type is not None and value.type.is_int:
-            return f"bool({value.code})"
-        if target.is_int and value.type is not None and value.type.is_real:
-            self.need("iecoop.conversions", f"TO_{target.name}")
-            return f"TO_{target.name}({value.code})"
-        if is_local and target.is_int and not self._fits(value, target):
-            self.need("iecoop.conversions", f"TO_{target.name}")
-            return f"TO_{target.name}({value.code})"
-        if is_local and target.name == "REAL" and not exact_real(value.code) and not (
-            value.type is not None and value.type.name == "REAL" and not value.compound
-        ):
-            self.need("iecoop.conversions", "TO_REAL")
-            return f"TO_REAL({value.code})"
-        if target.is_real and value.type is not None and value.type.is_int and is_local:
-            return f"float({value.code})"
-        return value.code
+        function = self._implicit_conversion(target, value, is_local)
+        if function is None:
+            return value.code
+        if function.startswith("TO_"):
+            self.need("iecoop.conversions", function)
+        return f"{function}({value.code})"
+
+    def _implicit_conversion(self, target: TypeRef, value: Ex, is_local: bool) -> str | None:
+        """The function a stored value goes through: ST's implicit conversion, or the width a Python local lacks."""
+        source = value.type
+        if target.is_bool and source is not None and source.is_int:
+            return "bool"
+        if target.is_int and source is not None and source.is_real:
+            return f"TO_{target.name}"
+        if not is_local:
+            return None
+        if target.is_int and not self._fits(value, target):
+            return f"TO_{target.name}"
+        if target.name == "REAL" and not exact_real(value.code) and not (source is not None and source.name == "REAL" and not value.compound):
+            return "TO_REAL"
+        if target.is_real and source is not None and source.is_int:
+            return "float"
+        return None
 
     def visit_SetStatement(self, node: tf.SetStatement, scope: Scope, level: int) -> None:
         self._set_reset("S", True, node, scope, level)

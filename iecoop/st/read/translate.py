@@ -17,7 +17,7 @@ import blark.transform as tf
 
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
-from iecoop.st.read.symbols import Decl
+from iecoop.st.read.table import Decl
 
 
 class Translator(Pous):

@@ -8,7 +8,7 @@ pytest.importorskip("blark")
 
 from iecoop import st  # noqa: E402
 from iecoop.st.read.parse import parse_sources  # noqa: E402
-from iecoop.st.read.symbols import FrozenTableError, Member  # noqa: E402
+from iecoop.st.read.table import FrozenTableError, Member  # noqa: E402
 from iecoop.st.read.translate import Translator  # noqa: E402
 
 SOURCE = """
