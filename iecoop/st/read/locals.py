@@ -85,8 +85,6 @@ class Locals(Declarations):
         """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
         owner = scope.owner
         if owner is not None:
-            if scope.kind != "method":
-                raise self.fail(f"VAR_STAT in a PROPERTY accessor of {owner.st} is not supported (declare it in the block)")
             method = scope.pou.split(".", 1)[1]
             for _, name, type_ in statics:  # a VAR_STAT of the block, named after the method (its field is written with the block's)
                 scope.locals[name.lower()] = Member.field_of("self", f"{method}_{python_name(name)}", type_, "STAT")
