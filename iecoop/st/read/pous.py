@@ -71,6 +71,7 @@ class Pous(Locals):
     def _emit_pou(self, decl: Decl, kind: str) -> None:
         node = decl.node
         scope = Scope(decl, "body")
+        written = self.code_lines  # the class line and its docstring
         self.pending_references = []
         self._emit_fields(decl, node.declarations, scope, 1)
         self._emit_method_instance_fields(decl)
@@ -84,7 +85,7 @@ class Pous(Locals):
             self.emit("", 0)
             self.emit("def body(self) -> None:", 1)
             self._emit_statements(statements, scope, 2)
-        if len(self.out) and self.out[-1].strip().startswith('"""') and self.out[-1].strip().endswith('"""'):
+        if self.code_lines == written:
             self.emit("pass", 1)
 
     def _emit_fields(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None = None) -> None:

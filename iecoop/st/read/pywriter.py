@@ -18,7 +18,13 @@ class PyWriter(Symbols):
     # --- pass 2: emission ---
 
     def emit(self, text: str, level: int) -> None:
+        """A line of code (or a blank line, for an empty ``text``) at ``level``."""
         self.out.append("    " * level + text if text else "")
+        self.code_lines += bool(text)
+
+    def emit_comment(self, text: str, level: int) -> None:
+        """A comment line: no code, so a body holding only comments still needs its ``pass``."""
+        self.out.append("    " * level + f"# {text}".rstrip())
 
     def emit_def(self, name: str, params: Sequence[str], returns: str, level: int) -> None:
         """``def name(params) -> returns:``; one parameter per line when it would be longer than 110 characters."""
@@ -77,7 +83,7 @@ class PyWriter(Symbols):
                 trailing = body[0]
                 continue
             for part in body:
-                self.emit(f"# {part}".rstrip(), level)
+                self.emit_comment(part, level)
         return trailing
 
     def trail(self, index: int, comment: str) -> None:

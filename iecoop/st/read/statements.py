@@ -27,14 +27,14 @@ class Statements(Calls):
         if not statements:
             self.emit("pass", level)
             return
-        start = len(self.out)
+        start = self.code_lines
         for statement in statements:
             self.line = statement.meta.line if statement.meta else self.line
             trailing = self.comments(statement, level, inline=True)
             index = len(self.out)
             self.statement(statement, scope, level)
             self.trail(index, trailing)
-        if all(line.strip().startswith("#") or not line.strip() for line in self.out[start:]):
+        if self.code_lines == start:  # only comments: a Python block needs a statement
             self.emit("pass", level)
 
     def statement(self, node: Any, scope: Scope, level: int) -> None:

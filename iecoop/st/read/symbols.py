@@ -63,6 +63,8 @@ class Symbols:
         self.externals = {name.lower() for name in externals}
         self.imports: dict[str, set[str]] = {}
         self.out: list[str] = []
+        #: how many lines of code (not comments, not blank) have been written: "is a body still empty?" asks this
+        self.code_lines = 0
         #: lines written before the current declaration's class (the helper classes of its local blocks)
         self.preamble: list[str] = []
         self.unit: Unit | None = None
