@@ -34,7 +34,8 @@ if TYPE_CHECKING:
     from iecoop.members import Member
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
-__all__ = ["IecClass", "Kind", "iec_class", "is_root", "kind_of", "member_named", "st_name"]
+__all__ = ["IecClass", "Kind", "field_record", "fields_of", "iec_class", "is_root", "kind_of", "layout_of", "member_named",
+           "st_name"]
 
 _NO_MEMBERS: Mapping[str, Any] = MappingProxyType({})
 
@@ -84,6 +85,43 @@ def kind_of(cls: object) -> Kind | None:
     """The kind of a declared class (``Kind.FUNCTION_BLOCK``...), or None for any other object."""
     record = getattr(cls, "__iec__", None)
     return record.kind if isinstance(record, IecClass) else None
+
+
+def layout_of(cls: object, *, own: bool = False) -> ClassLayout | None:
+    """The memory layout of a declared STRUCT, UNION, FUNCTION_BLOCK, PROGRAM or GVL class, or None for any other.
+
+    Its ``fields`` are every variable, base fields first, and ``by_name`` finds one by Python name.
+    With ``own``, only a layout the class itself declares (not one inherited from its base).
+
+    >>> from iecoop import INT, Struct
+    >>> from iecoop.metadata import layout_of
+    >>> class Limits(Struct):
+    ...     low: INT = 0
+    >>> [record.name for record in layout_of(Limits).fields], layout_of(int)
+    (['low'], None)
+    """
+    if own:
+        layout: ClassLayout | None = getattr(cls, "__dict__", {}).get("_iec_layout_")
+    else:
+        layout = getattr(cls, "_iec_layout_", None)
+    return layout
+
+
+def _required_layout(cls: object) -> ClassLayout:
+    layout = layout_of(cls)
+    if layout is None:
+        raise TypeError(f"{cls!r} is not a STRUCT, UNION, FUNCTION_BLOCK, PROGRAM or GVL class declared with iecoop")
+    return layout
+
+
+def fields_of(cls: object) -> tuple[FieldRecord, ...]:
+    """The record of every variable of a class with a layout (see ``layout_of``), base fields first."""
+    return _required_layout(cls).fields
+
+
+def field_record(cls: object, name: str) -> FieldRecord:
+    """The record of the variable ``name`` (its Python name) of a class with a layout; KeyError if it has none."""
+    return _required_layout(cls).by_name[name]
 
 
 def is_root(cls: object) -> bool:

@@ -52,7 +52,7 @@ from iecoop.gvl import GlobalVariables, global_lists
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.runtime import Runtime
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
-from iecoop.metadata import Kind, iec_class, kind_of, st_name
+from iecoop.metadata import Kind, fields_of, iec_class, kind_of, layout_of, st_name
 
 __all__ = ["NAMESPACE", "OpcUaServer"]
 
@@ -307,7 +307,7 @@ class _ListFinder:
         for klass in cls.__mro__:
             if iec_class(klass) is None or not _user_code(klass) or not self._first(klass):
                 continue
-            layout = getattr(klass, "_iec_layout_", None)
+            layout = layout_of(klass)
             for record in layout.fields if layout is not None else ():
                 info = record.info.elem if isinstance(record.info, ArrayInfo) else record.info
                 if isinstance(info, AggregateInfo):
@@ -316,7 +316,7 @@ class _ListFinder:
                 if name.startswith(("_iec", "__")):
                     continue  # what the builders generate: no code of the user's
                 static = getattr(value, "block", None)  # a VAR_EXTERNAL's global list, a VAR_STAT's block
-                if static is not None and getattr(type(static), "_iec_layout_", None) is not None:
+                if static is not None and layout_of(type(static)) is not None:
                     self.value(static)
                 # Its body and METHODs, its PROPERTYs' accessors.
                 for attribute in ("fget", "fset", "__func__"):
@@ -345,7 +345,7 @@ class _ListFinder:
             self.function(value)
         elif isinstance(value, type):
             self.block_class(value)
-        elif getattr(type(value), "_iec_layout_", None) is not None:
+        elif layout_of(type(value)) is not None:
             self.block_class(type(value))
 
 
@@ -414,7 +414,7 @@ class _AddressSpace:
         self._add_object(path, name, parent)
         self.blocks.append(block)
         root = len(self.blocks) - 1
-        layout = getattr(type(block), "_iec_layout_", None)
+        layout = layout_of(type(block))
         if layout is None:
             return
         for record in layout.fields:
@@ -428,7 +428,7 @@ class _AddressSpace:
     def _add_members(self, cls: type, path: str, root: int, base: int, writable: bool, constant: bool) -> None:
         # The members of an FB instance follow the FB's own rules: read-only unless named writable.
         data = kind_of(cls) in (Kind.STRUCT, Kind.UNION)
-        for record in cls._iec_layout_.fields:  # type: ignore[attr-defined]
+        for record in fields_of(cls):
             if record.section in _HIDDEN_SECTIONS:
                 continue
             self._add(f"{path}.{record.st_name}", record.st_name, path, record.info, root, base + record.offset,

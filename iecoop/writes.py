@@ -22,10 +22,11 @@ ST::
     fbAxis.bDone := TRUE;   (* C0037: VAR_OUTPUT bDone is not an input of FB_Axis *)
 
 >>> from iecoop import BOOL, FunctionBlock, VAR_OUTPUT
+>>> from iecoop.metadata import field_record
 >>> from iecoop.writes import write_rule
 >>> class Axis(FunctionBlock):
 ...     done: BOOL = VAR_OUTPUT(False)
->>> rule = write_rule(Axis._iec_layout_.by_name["done"])
+>>> rule = write_rule(field_record(Axis, "done"))
 >>> rule.section, rule.inside_only, rule.constant
 (<Section.VAR_OUTPUT: 'VAR_OUTPUT'>, True, False)
 """

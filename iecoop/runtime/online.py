@@ -39,6 +39,7 @@ from typing import Any
 from iecoop.exceptions import AccessError
 from iecoop.gvl import all_global_lists, global_lists, namespace_of
 from iecoop.memory.layout import ClassLayout, FieldRecord
+from iecoop.metadata import layout_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 
 __all__ = ["OnlineTable", "Symbol", "resolve_symbol", "symbol_roots"]
@@ -148,7 +149,7 @@ def resolve_symbol(roots: Mapping[str, Any], path: str) -> Symbol:
         raise AccessError(f"a symbol path is a dotted name such as 'MAIN.nCount', got {path!r}")
     parts = path.split(".")
     block, used = _root(roots, path, parts[0])
-    layout: ClassLayout | None = getattr(type(block), "_iec_layout_", None)
+    layout = layout_of(type(block))
     owner = type(block).__name__
     info: TypeInfo | None = None
     offset = 0
@@ -168,7 +169,7 @@ def resolve_symbol(roots: Mapping[str, Any], path: str) -> Symbol:
                 raise AccessError(f"{path}: {match[1]} is {array.name}, not an ARRAY; it takes no index")
             offset += _element(array, index, path) * array.elem.size
             info = array.elem
-        layout = getattr(info.cls, "_iec_layout_", None) if isinstance(info, AggregateInfo) else None
+        layout = layout_of(info.cls) if isinstance(info, AggregateInfo) else None
         owner = info.name
     if info is None:
         raise AccessError(f"{path}: names a program or GVL, not a variable; add a member ('{path}.nCount')")

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-import ctypes
 import dataclasses
 import math
 import os
@@ -38,7 +37,6 @@ import threading
 import time
 import traceback
 import typing
-import warnings
 import weakref
 from pathlib import Path
 from collections.abc import Callable
@@ -46,8 +44,7 @@ from typing import Any, Literal
 
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.gvl import global_lists
-from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
-from iecoop.memory.allocations import allocation_for_handle, free, handle_of, registered_allocation, resolve
+from iecoop.lifecycle import finalise, initialise
 from iecoop.pou import static_blocks
 from iecoop.profiles import Profile, get_profile, use_profile
 from iecoop.runtime.clock import SystemWall, VirtualClock, Wall, use_clock
@@ -55,10 +52,9 @@ from iecoop.runtime.background import Background
 from iecoop.runtime.online import OnlineTable, Symbol, resolve_symbol, symbol_roots
 from iecoop.runtime.store import ImageLayout, RemanentStore
 from iecoop.runtime.trace import DEFAULT_TRACE_SIZE, Trace
-from iecoop.runtime.variables import (
-    PERSISTENT, PLAIN, RETAIN, Leaf, copy_matching, format_directory, handle_offsets, leaves, nodes, parse_directory,
-    translate_offset,
-)
+from iecoop.runtime.variables import PERSISTENT, RETAIN
+from iecoop.runtime import remanence, resets
+from iecoop.runtime.remanence import Entry
 from iecoop.runtime.watchdog import Watchdog, WatchdogInterrupt
 from iecoop.metadata import Kind, kind_of, st_name
 
@@ -207,16 +203,6 @@ def _fault_code(exc: BaseException) -> ExceptionCode:
     return ExceptionCode.RTSEXCPT_UNKNOWN
 
 
-class _Entry:
-    """One program instance in a task, with its instance path and variable directory."""
-
-    __slots__ = ("path", "program", "leaves", "remanent")
-
-    def __init__(self, path: str, program: Any) -> None:
-        self.path = path
-        self.program = program
-        self.leaves: list[Leaf] = leaves(type(program))
-        self.remanent = any(leaf.remanence != PLAIN for leaf in self.leaves)
 
 
 class Runtime:
@@ -255,8 +241,8 @@ class Runtime:
         self._watchdog: Watchdog | None = None
         self.profile = get_profile(profile)
         self.tasks: list[Task] = []
-        self._entries: list[_Entry] = []
-        self._globals: list[_Entry] = []
+        self._entries: list[Entry] = []
+        self._globals: list[Entry] = []
         self._globals_key: tuple[int, ...] = ()
         self.time_ns = 0
         self.fault: Fault | None = None
@@ -318,23 +304,23 @@ class Runtime:
             while any(e.path == path for e in self._entries):
                 path = f"{base}_{n}"
                 n += 1
-            entry = _Entry(path, program)
+            entry = Entry(path, program)
             self._entries.append(entry)
             task._set_programs([*task.programs, (path, program)])
         self._retain_plan = None
 
-    def _global_entries(self) -> list[_Entry]:
+    def _global_entries(self) -> list[Entry]:
         """The application's global data: every GVL (path: its name) and VAR_STAT block (``Class.VAR_STAT``)."""
         current = [(name, block) for name, block in global_lists().items()]
         current += [(f"{cls.__qualname__}.VAR_STAT", block) for cls, block in static_blocks()]
         key = tuple(id(block) for _, block in current)
         if key != self._globals_key:
             self._globals_key = key
-            self._globals = [_Entry(path, block) for path, block in current]
+            self._globals = [Entry(path, block) for path, block in current]
             self._retain_plan = None
         return self._globals
 
-    def _all_entries(self) -> list[_Entry]:
+    def _all_entries(self) -> list[Entry]:
         return self._entries + self._global_entries()
 
     def programs(self) -> dict[str, Any]:
@@ -745,87 +731,17 @@ class Runtime:
                 f"to start again (stop() ran FB_exit and closed the store)"
             )
 
-    # -- remanent data ---------------------------------------------------------
-
-    def _store_or_none(self) -> RemanentStore | None:
-        if self._store_path is None:
-            return None
-        if self._store is None:
-            self._store = RemanentStore(self._store_path, durability=self._durability)
-        return self._store
+    # -- remanent data (iecoop.runtime.remanence) ----------------------------------
 
     def _start(self) -> None:
-        """Controller start: restore RETAIN and PERSISTENT data that still match.
-
-        Addresses (POINTER, REFERENCE, interface variables) inside restored
-        data are not restored: they keep what initialisation gave them.
-        """
-        if not any(e.remanent for e in self._all_entries()):
-            self._started = True
-            return
-        # Opening the store takes its lock; if that fails the runtime has not started.
-        store = self._store_or_none()
-        self._started = True
-        if store is None:
-            return
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            retain = store.load_retain()
-            persistent = store.load_persistent()
-        self.boot_report = [str(w.message) for w in caught]
-        for message in self.boot_report:
-            warnings.warn(message, RuntimeWarning, stacklevel=3)
-        if retain is not None:
-            self._apply_image(retain.values(), {RETAIN})
-        if persistent is not None:
-            self._apply_image(persistent.values(), {PERSISTENT})
-
-    def _apply_image(self, values: dict[str, tuple[str, bytes]], classes: set[int]) -> None:
-        for entry in self._all_entries():
-            stored = values.get(entry.path)
-            if stored is None:
-                continue
-            directory, data = stored
-            try:
-                old_leaves = parse_directory(directory)
-            except ValueError as exc:
-                self.boot_report.append(f"{entry.path}: stored directory rejected ({exc})")
-                continue
-            copy_matching(data, old_leaves, entry.program, entry.leaves, classes, addresses=False)
-
-    def _plan(self, classes: set[int]) -> tuple[ImageLayout, list[Any]]:
-        """The layout of an image of the given classes and the program blocks it copies."""
-        entries = []
-        blocks = []
-        for entry in self._all_entries():
-            kept = [leaf for leaf in entry.leaves if leaf.remanence in classes]
-            if kept:
-                entries.append((entry.path, format_directory(kept), ctypes.sizeof(entry.program)))
-                blocks.append(entry.program)
-        return ImageLayout(tuple(entries)), blocks
-
-    @staticmethod
-    def _gather(blocks: list[Any]) -> bytes:
-        """One C-level copy per program block: the image data."""
-        return b"".join(ctypes.string_at(ctypes.addressof(b), ctypes.sizeof(b)) for b in blocks)
+        remanence.start(self)
 
     def _capture_retain(self) -> None:
-        if self._retain_plan is None:
-            self._retain_plan = self._plan({RETAIN})
-        layout, blocks = self._retain_plan
-        if not blocks:
-            return
-        store = self._store_or_none()
-        if store is not None:
-            store.write_retain(layout, self._gather(blocks))
+        remanence.capture_retain(self)
 
     def save_persistent(self) -> None:
         """Write the PERSISTENT image now (TwinCAT ``FB_WritePersistentData``)."""
-        self._check_not_stopped("save_persistent")
-        layout, blocks = self._plan({PERSISTENT})
-        store = self._store_or_none() if blocks else None
-        if store is not None:
-            store.write_persistent(layout, self._gather(blocks))
+        remanence.save_persistent(self)
 
     def stop(self) -> None:
         """Orderly shutdown: end the watchdog thread, write PERSISTENT data, run FB_exit, close the store.
@@ -850,47 +766,7 @@ class Runtime:
                 if self._store is not None:
                     self._store.close()
 
-    # -- resets, download, online change -----------------------------------------
-
-    def _snapshot(self, entry: _Entry) -> bytes:
-        return ctypes.string_at(ctypes.addressof(entry.program), ctypes.sizeof(entry.program))
-
-    def _reinit(self, operation: str, kept: set[int], init_retains: bool) -> None:
-        """Re-initialise the whole application (programs, GVLs, VAR_STAT blocks), keeping ``kept`` classes.
-
-        If an FB_exit or FB_init raises, the reset stops there: every block it
-        reached gets its RETAIN and PERSISTENT data back (a failed reset loses
-        no remanent data, and the store is not touched), and the runtime
-        enters the exception state with that exception.
-        """
-        self._check_not_stopped(operation)
-        with self._exclusive(operation), use_profile(self.profile), use_clock(self._clock):
-            entries = self._all_entries()
-            saved: list[bytes] = []
-            try:
-                for entry in entries:
-                    saved.append(self._snapshot(entry))
-                    finalise(entry.program, in_copy_code=False)
-                    # The instance's declaration (constructor) FB_init inputs hold on every re-initialisation.
-                    args = entry.program.__dict__.get("_iec_init_args_")
-                    initialise(entry.program, init_retains=init_retains, in_copy_code=False, args=args, zero=True)
-                    if kept:
-                        copy_matching(saved[-1], entry.leaves, entry.program, entry.leaves, kept)
-            except BaseException as exc:
-                for entry, image in zip(entries, saved):
-                    copy_matching(image, entry.leaves, entry.program, entry.leaves, {RETAIN, PERSISTENT})
-                if isinstance(exc, (KeyboardInterrupt, SystemExit)):
-                    raise
-                failed = entries[len(saved) - 1].path if saved else "(start)"
-                self._enter_operation_fault(operation, failed, exc)
-        self.fault = None
-        for task in self.tasks:
-            task.info.FirstCycle = True
-            task.info.CycleCount = 0
-            task._overruns = 0
-        if RETAIN not in kept and self._started:
-            # The store must not bring back RETAIN values this reset has re-initialised.
-            self._capture_retain()
+    # -- resets, download, online change (iecoop.runtime.resets) ----------------------
 
     def _enter_operation_fault(self, operation: str, path: str, exc: BaseException) -> typing.NoReturn:
         code = _fault_code(exc)
@@ -901,63 +777,19 @@ class Runtime:
 
     def reset_cold(self) -> None:
         """Reset cold: plain variables re-initialised; RETAIN per profile; PERSISTENT kept."""
-        kept = {PERSISTENT}
-        if self.profile.retain_on_reset_cold:
-            kept.add(RETAIN)
-        self._reinit("reset_cold", kept, init_retains=RETAIN not in kept)
+        resets.reset_cold(self)
 
     def reset_warm(self) -> None:
         """Reset warm (CODESYS only): plain variables re-initialised, RETAIN and PERSISTENT kept."""
-        if not self.profile.has_reset_warm:
-            raise RuntimeError(f"the {self.profile.name} profile has no reset warm (TwinCAT 3 offers reset cold and reset origin)")
-        self._reinit("reset_warm", {RETAIN, PERSISTENT}, init_retains=False)
+        resets.reset_warm(self)
 
     def reset_origin(self) -> None:
         """Reset origin: everything re-initialised, the store cleared."""
-        self._reinit("reset_origin", set(), init_retains=True)
-        # Only a store that exists holds anything to clear; do not create one for it.
-        exists = self._store is not None or (self._store_path is not None and self._store_path.exists())
-        store = self._store_or_none() if exists else None
-        if store is not None:
-            store.clear_retain()
-            store.clear_persistent()
+        resets.reset_origin(self)
 
     def download(self) -> None:
         """A (re-)download of the project: plain re-initialised; RETAIN per profile; PERSISTENT kept."""
-        kept = {PERSISTENT}
-        if self.profile.retain_on_download:
-            kept.add(RETAIN)
-        self._reinit("download", kept, init_retains=RETAIN not in kept)
-
-    def _retarget(self, old: Any, new: Any) -> None:
-        """Online change: pointers, references and interfaces into the old instance now designate the new one.
-
-        Every address held by the application's programs, GVLs and VAR_STAT
-        blocks, and by every block ``new()`` created, is adjusted by instance
-        path; one whose target is gone becomes 0. The old instance's memory is
-        then released, so an address nobody could adjust (a ``Pointer`` kept
-        by Python) faults with RTSEXCPT_ACCESS_VIOLATION instead of writing
-        into the orphan.
-        """
-        old_alloc = registered_allocation(old)
-        if old_alloc is None or old is new:
-            return  # nobody took an address of the old instance, or it was not replaced
-        old_nodes, new_nodes = nodes(type(old)), nodes(type(new))
-        blocks = [entry.program for entry in self._all_entries()] + heap_blocks()
-        for block in blocks:
-            for offset in handle_offsets(type(block)):
-                cell = ctypes.c_uint64.from_buffer(block, offset)
-                handle = cell.value
-                if not handle or allocation_for_handle(handle) is not old_alloc:
-                    continue
-                try:
-                    _, position = resolve(handle, 0, "online change")
-                except PlcException:
-                    moved = None  # moved outside its block by pointer arithmetic: designates no variable
-                else:
-                    moved = translate_offset(old_nodes, new_nodes, position)
-                cell.value = 0 if moved is None else handle_of(new, moved)
-        free(old_alloc)
+        resets.download(self)
 
     def online_change(self, replace: dict[str, Any] | None = None) -> None:
         """An online change: every variable kept.
@@ -970,29 +802,4 @@ class Runtime:
         instance gets FB_exit(TRUE), the new one FB_init(FALSE, TRUE), the data
         is copied by path and type, then FB_reinit runs.
         """
-        self._check_not_stopped("online_change")
-        if not replace:
-            return
-        with self._exclusive("online_change"), use_profile(self.profile), use_clock(self._clock):
-            for path, replacement in replace.items():
-                entry = next((e for e in self._entries if e.path == path), None)
-                if entry is None:
-                    raise KeyError(f"online change: no program at {path!r} (known: {', '.join(self.programs())})")
-                if isinstance(replacement, type):
-                    if kind_of(replacement) not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
-                        raise TypeError(f"online change: {replacement.__name__} is not a Program class")
-                    new_program: Any = typing.cast(Any, replacement).__new__(replacement)
-                else:
-                    new_program = replacement
-                saved = self._snapshot(entry)
-                finalise(entry.program, in_copy_code=True)
-                initialise(new_program, init_retains=False, in_copy_code=True, zero=True)
-                new_entry = _Entry(path, new_program)
-                copy_matching(saved, entry.leaves, new_program, new_entry.leaves, {PLAIN, RETAIN, PERSISTENT})
-                index = self._entries.index(entry)
-                self._entries[index] = new_entry
-                self._retarget(entry.program, new_program)
-                reinitialise(new_program)
-                for task in self.tasks:
-                    task._set_programs((p, new_program if p == path else prog) for p, prog in task.programs)
-        self._retain_plan = None
+        resets.online_change(self, replace)

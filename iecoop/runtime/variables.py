@@ -13,7 +13,7 @@ import ctypes
 import dataclasses
 from typing import Any
 
-from iecoop.memory.layout import ClassLayout
+from iecoop.metadata import fields_of, layout_of
 from iecoop.memory.typeinfo import (
     AggregateInfo, ArrayInfo, ElementaryInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo,
 )
@@ -50,7 +50,7 @@ def describe(info: TypeInfo) -> str:
     >>> T_Speed = Annotated[REAL, Alias("T_Speed")]
     >>> class Limits(Struct):
     ...     speed: T_Speed = 0.0
-    >>> describe(Limits._iec_layout_.fields[0].info)
+    >>> describe(fields_of(Limits)[0].info)
     'REAL'
     """
     if isinstance(info, ElementaryInfo):
@@ -59,7 +59,7 @@ def describe(info: TypeInfo) -> str:
         dims = ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
         return f"ARRAY[{dims}] OF {describe(info.elem)}"
     if isinstance(info, AggregateInfo):
-        layout: ClassLayout | None = getattr(info.cls, "_iec_layout_", None)
+        layout = layout_of(info.cls)
         if layout is None:
             return info.signature
         return info.name + "{" + ",".join(f"{f.name}:{describe(f.info)}" for f in layout.fields) + "}"
@@ -68,7 +68,7 @@ def describe(info: TypeInfo) -> str:
 
 def leaves(cls: type, prefix: str = "", base: int = 0, remanence: int = PLAIN) -> list[Leaf]:
     """Every leaf variable of an instance of ``cls`` (offsets relative to the instance)."""
-    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    layout = layout_of(cls)
     found: list[Leaf] = []
     if layout is None:
         return found
@@ -152,7 +152,7 @@ def parse_directory(text: str) -> list[Leaf]:
 def nodes(cls: type, prefix: str = "", base: int = 0) -> dict[str, tuple[int, int]]:
     """Every variable of an instance of ``cls``, leaves and the blocks / structs above them: path -> (offset, size)."""
     found: dict[str, tuple[int, int]] = {}
-    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    layout = layout_of(cls)
     if layout is None:
         return found
     for record in layout.fields:
@@ -173,7 +173,7 @@ def nodes(cls: type, prefix: str = "", base: int = 0) -> dict[str, tuple[int, in
 def handle_offsets(cls: type, base: int = 0) -> list[int]:
     """Where an instance of ``cls`` holds addresses: POINTER TO, REFERENCE TO and interface variables."""
     found: list[int] = []
-    layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+    layout = layout_of(cls)
     if layout is None:
         return found
     for record in layout.fields:

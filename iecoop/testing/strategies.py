@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 from iecoop.memory import IecEnum
 from iecoop.sections import Section
 from iecoop.types import iec_type_name
-from iecoop.metadata import Kind, kind_of
+from iecoop.metadata import Kind, field_record, kind_of, layout_of
 from iecoop.st.language import INTEGER_LAYOUT as ST_INTEGER_LAYOUT
 
 __all__ = [
@@ -218,7 +218,7 @@ def iec_values(annotation: object, *, length: int | None = None) -> st.SearchStr
 
 
 def _field_values(cls: type, name: str) -> st.SearchStrategy[Any]:
-    record = getattr(cls, "_iec_layout_").by_name[name]
+    record = field_record(cls, name)
     info = record.info
     enum_cls = getattr(info, "enum_cls", None)
     if enum_cls is not None:
@@ -241,7 +241,7 @@ def fb_inputs(fb_class: type, inputs: list[str] | None = None) -> st.SearchStrat
 
     Elementary, STRING and enumeration inputs are drawn from their whole range.
     """
-    layout = getattr(fb_class, "_iec_layout_", None)
+    layout = layout_of(fb_class)
     if layout is None or kind_of(fb_class) not in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         raise TypeError(f"{fb_class!r} is not a function block class")
     if inputs is None:

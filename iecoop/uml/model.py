@@ -14,7 +14,7 @@ from typing import Any
 
 from iecoop.members import Access, Member, format_signature
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, EnumInfo, InterfaceInfo, PointerInfo, ReferenceInfo, TypeInfo
-from iecoop.metadata import iec_class, kind_of
+from iecoop.metadata import iec_class, kind_of, layout_of
 from iecoop.sections import SECTION_RULES, Section
 from iecoop.uml import text as _text
 
@@ -189,7 +189,7 @@ def _describe(cls: type, detailed: bool) -> UmlClass:
         for item in cls:
             fields.append(UmlField("+", item.name, str(int(item.value)), "value"))
     else:
-        layout = getattr(cls, "_iec_layout_", None)
+        layout = layout_of(cls)
         own = layout.own if layout is not None else ()
         for record in own:
             if record.name.startswith("_iec"):
@@ -215,7 +215,7 @@ def _relations(cls: type) -> list[tuple[type, Relation]]:
             found.append((base, Relation(base.__name__, cls.__name__, "implements")))
         else:
             found.append((base, Relation(base.__name__, cls.__name__, "extends")))
-    layout = getattr(cls, "_iec_layout_", None)
+    layout = layout_of(cls)
     if kind != "enum" and layout is not None:
         for record in layout.own:
             target, relation, multiplicity = _referenced(record.info)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import pytest
 
@@ -101,3 +102,31 @@ def test_a_derived_block_gets_a_record_of_its_own() -> None:
 
     assert Base.__iec__.abstract and not Derived.__iec__.abstract
     assert Derived.__iec__ is not Base.__iec__ and isinstance(Derived.__iec__, IecClass)
+
+
+def test_layout_of_fields_of_and_field_record_read_a_class_layout() -> None:
+    from iecoop.metadata import field_record, fields_of, layout_of
+
+    class Base(Struct):
+        low: INT = 0
+
+    class Derived(Base):
+        high: INT = 10
+
+    assert [r.name for r in fields_of(Derived)] == ["low", "high"]
+    assert field_record(Derived, "high").spec.initial == 10
+    assert layout_of(Derived, own=True) is layout_of(Derived) and layout_of(object) is None
+    with pytest.raises(TypeError, match="is not a STRUCT, UNION, FUNCTION_BLOCK, PROGRAM or GVL class"):
+        fields_of(int)
+
+
+def test_only_the_builders_read_the_layout_attribute() -> None:
+    # Everything else asks iecoop.metadata (layout_of, fields_of, field_record): one place knows where it is kept.
+    import iecoop
+
+    root = Path(iecoop.__file__).parent
+    builders = {root / "pou.py", root / "metadata.py", root / "gvl.py"}
+    readers = [str(path.relative_to(root)) for path in sorted(root.rglob("*.py"))
+               if path not in builders and "memory" not in path.relative_to(root).parts
+               and "_iec_layout_" in path.read_text(encoding="utf-8")]
+    assert readers == []

@@ -13,7 +13,7 @@ from iecoop.st.language import INTEGER_LAYOUT, MATH_FUNCTIONS, STRING_FUNCTIONS,
 from iecoop.st.read.expressions import Expressions
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.names import python_name
-from iecoop.st.read.symbols import BOOL, Callable_, Decl, LREAL, Member, ReferenceLocal, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, ReferenceLocal, STRING, TypeRef
 from iecoop.st.read.trees import assigned, variables
 
 
@@ -25,6 +25,7 @@ class Calls(Expressions):
         raise NotImplementedError
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
+        """The Python arguments of a METHOD or FUNCTION call; ``declared``: its parameters, None when unknown."""
         named = next((p for p in params if p.name is not None), None)
         if named is not None and any(p.name is None for p in params[params.index(named):]):
             raise self.fail(
@@ -33,38 +34,42 @@ class Calls(Expressions):
         args = []
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
-                name = str(param.name.name)
-                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
-                if match is None or match.section != "VAR_OUTPUT":
-                    raise self.fail(f"call has no output {name!r}", node)
-                if param.inverted:
-                    raise self.fail("an inverted output (=> NOT) is not supported", node)
-                if param.value is not None:  # `nLow =>` with no variable: the output is dropped
-                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, '=>')}")
-                continue
-            expected = None
-            if param.name is not None:
-                name = str(param.name.name)
-                match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
-                if declared is not None and match is None:
-                    raise self.fail(f"call has no input {name!r}", node)
-                if match is not None and match.section == "VAR_OUTPUT":
-                    raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
-                if match is not None and match.section == "VAR_IN_OUT":
-                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}")
-                    continue
-                value = self.expr(param.value, scope)
-                expected = match.type if match is not None else None
-                # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
-                args.append(f"{match.name if match else python_name(name)}={self.limit(expected, self.coerce(value, expected)).code}")
+                args.extend(self._output_argument(param, declared, scope, node))
+            elif param.name is not None:
+                args.append(self._named_argument(param, declared, scope, node))
+            elif declared is not None and index < len(declared) and declared[index].section == "VAR_IN_OUT":
+                args.append(self.by_reference_argument(param.value, scope, ":="))
             else:
-                if declared is not None and index < len(declared):
-                    if declared[index].section == "VAR_IN_OUT":
-                        args.append(self.by_reference_argument(param.value, scope, ":="))
-                        continue
-                    expected = declared[index].type
+                expected = declared[index].type if declared is not None and index < len(declared) else None
                 args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
         return args
+
+    def _output_argument(self, param: Any, declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
+        """``nLow => x``: the output bound to the caller's variable (none for ``nLow =>``, which drops it)."""
+        name = str(param.name.name)
+        match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
+        if match is None or match.section != "VAR_OUTPUT":
+            raise self.fail(f"call has no output {name!r}", node)
+        if param.inverted:
+            raise self.fail("an inverted output (=> NOT) is not supported", node)
+        if param.value is None:
+            return []
+        return [f"{match.name}={self.by_reference_argument(param.value, scope, '=>')}"]
+
+    def _named_argument(self, param: Any, declared: Sequence[Member] | None, scope: Scope, node: Any) -> str:
+        """``name := value``: an input by value, or an in-out bound to the caller's variable."""
+        name = str(param.name.name)
+        match = next((p for p in declared or [] if p.st.lower() == name.lower()), None)
+        if declared is not None and match is None:
+            raise self.fail(f"call has no input {name!r}", node)
+        if match is not None and match.section == "VAR_OUTPUT":
+            raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
+        if match is not None and match.section == "VAR_IN_OUT":
+            return f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}"
+        value = self.expr(param.value, scope)
+        expected = match.type if match is not None else None
+        # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
+        return f"{match.name if match else python_name(name)}={self.limit(expected, self.coerce(value, expected)).code}"
 
     def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:
         """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""
@@ -76,23 +81,31 @@ class Calls(Expressions):
                     "declare it in the block, or pass it through the block's own variable", value)
         return self.address_of(value, scope)
 
+    def _named_call(self, node: Any, scope: Scope, level: int | None) -> Ex | None:
+        """A call of a bare name: a standard function, SUPER, a FUNCTION; None for any other callee."""
+        target = node.name
+        if not isinstance(target, tf.SimpleVariable):
+            return None
+        key = str(target.name).lower()
+        if key == "super":
+            return Ex("super().body()", None)
+        if target.dereferenced:
+            return None
+        standard = self.standard_call(str(target.name), node, scope, level)
+        if standard is not None:
+            return standard
+        decl = self.decls.get(key)
+        if decl is not None and decl.kind == "function" and key not in scope.locals:
+            info = decl.methods["()"]
+            args = self.arguments(node.parameters, info.params, scope, node)
+            return Ex(f"{decl.name}({', '.join(args)})", info.returns)
+        return None
+
     def call(self, node: Any, scope: Scope, level: int | None) -> Ex | None:
         target = node.name
-        if isinstance(target, tf.SimpleVariable) and not target.dereferenced:
-            name = str(target.name)
-            key = name.lower()
-            standard = self.standard_call(name, node, scope, level)
-            if standard is not None:
-                return standard
-            if key == "super" and node.dereferenced or (key == "super"):
-                return Ex("super().body()", None)
-            decl = self.decls.get(key)
-            if decl is not None and decl.kind == "function" and key not in scope.locals:
-                info = decl.methods["()"]
-                args = self.arguments(node.parameters, info.params, scope, node)
-                return Ex(f"{decl.name}({', '.join(args)})", info.returns)
-        if isinstance(target, tf.SimpleVariable) and str(target.name).lower() == "super" and target.dereferenced:
-            return Ex("super().body()", None)
+        named = self._named_call(node, scope, level)
+        if named is not None:
+            return named
         callee = self.expr(target, scope)
         if node.dereferenced:
             callee = self.deref(callee, node)
@@ -154,11 +167,16 @@ class Calls(Expressions):
             return None
         return Ex(code, None)
 
+    def _user_named(self, name: str, scope: Scope) -> bool:
+        """Whether ``name`` is a local, a member or a user declaration: then it is no standard function."""
+        key = name.lower()
+        if key in scope.locals or (scope.owner is not None and self.find_member(scope.owner, name) is not None):
+            return True
+        return key in self.decls and self.decls[key].kind != "stdfb"
+
     def standard_call(self, name: str, node: Any, scope: Scope, level: int | None) -> Ex | None:
         upper = name.upper()
-        if upper.lower() in scope.locals or (scope.owner is not None and self.find_member(scope.owner, name) is not None):
-            return None
-        if upper.lower() in self.decls and self.decls[upper.lower()].kind != "stdfb":
+        if self._user_named(name, scope):
             return None
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
@@ -166,6 +184,24 @@ class Calls(Expressions):
         if upper in SYSTEM_FUNCTIONS:
             return self.system_call(upper, node, scope)
         args = [self.expr(p.value, scope) for p in node.parameters if isinstance(p, tf.InputParameterAssignment)]
+        numeric = self._numeric_call(upper, args, node)
+        if numeric is not None:
+            return numeric
+        conversion = re.fullmatch(r"(?:(\w+?)_)?TO_(\w+)", upper)
+        if conversion is not None:
+            enum_text = self.enum_to_string(conversion.group(1), conversion.group(2), args)
+            if enum_text is not None:
+                return enum_text
+            return self.conversion(conversion.group(1), conversion.group(2), args, node)
+        strings = self.string_call(upper, args, node)
+        if strings is not None:
+            return strings
+        if upper in ("AND", "OR", "XOR", "NOT"):
+            raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
+        return None
+
+    def _numeric_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
+        """ABS, the math functions, MIN / MAX / LIMIT / SEL / MUX, MOVE, the shifts and rotations, TRUNC; else None."""
         codes = [a.code for a in args]
         first = args[0].type.deref() if args and args[0].type is not None else None
         if upper == "ABS":
@@ -186,17 +222,6 @@ class Calls(Expressions):
         if upper == "TRUNC":
             self.need("iecoop.conversions", "TRUNC")
             return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))
-        conversion = re.fullmatch(r"(?:(\w+?)_)?TO_(\w+)", upper)
-        if conversion is not None:
-            enum_text = self.enum_to_string(conversion.group(1), conversion.group(2), args)
-            if enum_text is not None:
-                return enum_text
-            return self.conversion(conversion.group(1), conversion.group(2), args, node)
-        strings = self.string_call(upper, args, node)
-        if strings is not None:
-            return strings
-        if upper in ("AND", "OR", "XOR", "NOT"):
-            raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
         return None
 
     def enum_to_string(self, source: str | None, target: str, args: list[Ex]) -> Ex | None:
@@ -246,18 +271,7 @@ class Calls(Expressions):
         if result_type is None:
             raise self.fail(f"conversion to {target} is not supported", node)
         if target in ("STRING", "WSTRING"):
-            # iecoop's *_TO_STRING write the vendor text (T#1s500ms, 1.5, TRUE); TO_STRING goes by the
-            # argument's declared type, which the Python function cannot see, so it gets the source-named form.
-            # (an enumeration's TO_STRING is enum_to_string's, before this)
-            named = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
-            named = TYPE_SYNONYMS.get(named, named) if named else None
-            form = f"{named}_TO_STRING" if named else ""
-            if form not in conversions.__all__:
-                if value.type is None or not value.type.is_int:
-                    raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
-                form = "TO_STRING"
-            self.need("iecoop.conversions", form)
-            return Ex(f"{form}({value.code})", result_type)
+            return self._to_string(source, target, value, result_type, node)
         if source in ("STRING", "WSTRING"):
             # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
             if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
@@ -270,15 +284,32 @@ class Calls(Expressions):
                 name = f"TO_{target}"
             elif source in INTEGER_LAYOUT and target in INTEGER_LAYOUT:
                 # reinterpret through the source width, then store in the target width
-                source_type = TypeRef("elem", source)
                 self.need("iecoop.conversions", f"TO_{source}", f"TO_{target}")
-                return Ex(f"TO_{target}(TO_{source}({value.code}))", result_type) if source_type else Ex("", None)
+                return Ex(f"TO_{target}(TO_{source}({value.code}))", result_type)
             else:
                 name = f"TO_{target}"
         if name not in conversions.__all__:
             raise self.fail(f"conversion {name} is not supported", node)
         self.need("iecoop.conversions", name)
         return Ex(f"{name}({value.code})", result_type)
+
+    def _to_string(self, source: str | None, target: str, value: Ex, result_type: TypeRef, node: Any) -> Ex:
+        """``*_TO_STRING``: iecoop's write the vendor text (T#1s500ms, 1.5, TRUE).
+
+        TO_STRING goes by the argument's declared type, which the Python function cannot see, so it gets the
+        source-named form (an enumeration's TO_STRING is enum_to_string's, before this).
+        """
+        from iecoop import conversions
+
+        named = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
+        named = TYPE_SYNONYMS.get(named, named) if named else None
+        form = f"{named}_TO_STRING" if named else ""
+        if form not in conversions.__all__:
+            if value.type is None or not value.type.is_int:
+                raise self.fail(f"{source or 'ANY'}_TO_{target} is not supported", node)
+            form = "TO_STRING"
+        self.need("iecoop.conversions", form)
+        return Ex(f"{form}({value.code})", result_type)
 
     def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
         if upper not in STRING_FUNCTIONS:

@@ -11,8 +11,40 @@ import blark.transform as tf
 from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.statements import Statements
-from iecoop.st.read.symbols import Callable_, Decl, Member, TypeRef
+from iecoop.st.read.table import Callable_, Decl, Member, TypeRef
 from iecoop.st.read.trees import flag_keywords, lark_token_type, python_string, structure_elements
+
+
+def _declared_value(init: Any) -> Any:
+    """The value node a declaration gives its variable (``:= 5``, ``:= (a := 1)``, a block's inputs), or None."""
+    if isinstance(init, tf.FunctionBlockInvocationDeclaration):
+        return init.defaults
+    if isinstance(init, (tf.FunctionBlockNameDeclaration, tf.InitializedStructure)):
+        return init.init
+    if init is not None and not isinstance(init, tf.FunctionCall):
+        return getattr(init, "value", None)
+    return None
+
+
+def _shape_keywords(type_: TypeRef) -> list[str]:
+    """``length=`` of a STRING(n), ``bounds=`` (and the element's ``length=``) of an ARRAY or a pointer to one."""
+    kwargs = []
+    if type_.kind == "string" and type_.length not in (None, "80"):
+        kwargs.append(f"length={type_.length}")
+    shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
+    if shape.kind != "array":
+        return kwargs
+    levels = []
+    while shape.kind == "array" and shape.of is not None:
+        assert shape.bounds is not None
+        pairs = [f"({a}, {b})" for a, b in shape.bounds]
+        levels.append(pairs[0] if len(pairs) == 1 else "(" + ", ".join(pairs) + ")")
+        shape = shape.of
+    # ARRAY OF ARRAY: one bounds entry per level, outermost first
+    kwargs.append(f"bounds={levels[0] if len(levels) == 1 else '(' + ', '.join(levels) + ')'}")
+    if shape.kind == "string" and shape.length not in (None, "80"):
+        kwargs.append(f"length={shape.length}")
+    return kwargs
 
 
 class Declarations(Statements):
@@ -122,21 +154,7 @@ class Declarations(Statements):
         value = self.initial_value(type_, init, scope)
         if value is not None:
             args.append(value)
-        kwargs = []
-        if type_.kind == "string" and type_.length not in (None, "80"):
-            kwargs.append(f"length={type_.length}")
-        shape = type_.of if type_.kind in ("pointer", "reference") and type_.of is not None and type_.of.kind == "array" else type_
-        if shape.kind == "array":
-            levels = []
-            while shape.kind == "array" and shape.of is not None:
-                assert shape.bounds is not None
-                pairs = [f"({a}, {b})" for a, b in shape.bounds]
-                levels.append(pairs[0] if len(pairs) == 1 else "(" + ", ".join(pairs) + ")")
-                shape = shape.of
-            # ARRAY OF ARRAY: one bounds entry per level, outermost first
-            kwargs.append(f"bounds={levels[0] if len(levels) == 1 else '(' + ', '.join(levels) + ')'}")
-            if shape.kind == "string" and shape.length not in (None, "80"):
-                kwargs.append(f"length={shape.length}")
+        kwargs = _shape_keywords(type_)
         fb_init = self.fb_init_args(init, scope)
         if fb_init:
             kwargs.append(f"fb_init={fb_init}")
@@ -214,22 +232,9 @@ class Declarations(Statements):
                 raise self.fail("a REFERENCE TO initialised at its declaration is supported in a block's VAR only", init)
             self.pending_references.append(init.value)
             return None
-        value: Any = None
-        if isinstance(init, tf.FunctionBlockInvocationDeclaration):
-            value = init.defaults
-        elif isinstance(init, tf.FunctionBlockNameDeclaration):
-            value = init.init
-        elif isinstance(init, tf.InitializedStructure):
-            value = init.init
-        elif init is not None and not isinstance(init, tf.FunctionCall):
-            value = getattr(init, "value", None)
+        value = _declared_value(init)
         if value is None:
-            decl = self.decl_of(type_) if type_.kind == "user" else None
-            if decl is not None and decl.kind == "enum" and decl.values:
-                return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
-            if type_.limits is not None:
-                return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
-            return None
+            return self._implicit_initial_value(type_)
         if self.subrange(type_) is not None:
             return self.limit(type_, self.expr(value, scope)).code
         if isinstance(value, lark_token_type()):
@@ -237,6 +242,15 @@ class Declarations(Statements):
                 return python_string(str(value))
             raise self.fail(f"initial value {value}", init)
         return self.init_value(value, type_, scope)
+
+    def _implicit_initial_value(self, type_: TypeRef) -> str | None:
+        """Where no value is declared: an enumeration's first value, a subrange's lower limit, else None (zero)."""
+        decl = self.decl_of(type_) if type_.kind == "user" else None
+        if decl is not None and decl.kind == "enum" and decl.values:
+            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+        if type_.limits is not None:
+            return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
+        return None
 
     def init_value(self, value: Any, type_: TypeRef | None, scope: Scope) -> str:
         if isinstance(value, tf.ArrayInitialization):

@@ -14,8 +14,13 @@ from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, V
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.pywriter import PyWriter
-from iecoop.st.read.symbols import BOOL, Callable_, LINT, LREAL, Member, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, LINT, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, python_string, variables
+
+
+def _plain(type_: TypeRef | None) -> TypeRef | None:
+    """The type an operand is computed in: a REFERENCE TO's target."""
+    return type_.deref() if type_ is not None else None
 
 
 class Expressions(PyWriter):
@@ -243,45 +248,51 @@ class Expressions(PyWriter):
         op = str(node.op).upper()
         left = self.expr(node.left, scope)
         right = self.expr(node.right, scope)
-        lt = left.type.deref() if left.type is not None else None
-        rt = right.type.deref() if right.type is not None else None
         if op in COMPARISONS:
-            py = COMPARISONS[op]
-            for side, other in ((left, right), (right, left)):
-                if other.code == "0" and side.type is not None and self._is_handle(side.type):
-                    self.need("iecoop", "NULL")
-                    return Ex(f"{side.p()} {py} NULL", BOOL, True)
-            level = PRECEDENCE["compare"]  # both sides wrapped when they compare too: Python would chain them
-            return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
+            return self._comparison(COMPARISONS[op], left, right)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
-            logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
-            if op in ("AND", "&", "OR") and logical and self._has_effect(node.right, scope):
-                # ST evaluates both operands of AND / OR (only AND_THEN / OR_ELSE stop early): a call on
-                # the right runs even when the left decides, so the operands are combined with & / |
-                symbol = "&" if op != "OR" else "|"
-                level = PRECEDENCE[symbol]
-                return Ex(f"{self._as_bool(left).wrap(level)} {symbol} {self._as_bool(right).wrap(level + 1)}", BOOL, True, level)
-            if op in ("AND_THEN", "OR_ELSE") or logical:
-                word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or", "XOR": "!="}[op]
-                level = PRECEDENCE[word] if word != "!=" else PRECEDENCE["compare"]
-                if word == "!=":
-                    return Ex(f"{left.wrap(level + 1)} != {right.wrap(level + 1)}", BOOL, True, level)
-                return Ex(f"{left.wrap(level)} {word} {right.wrap(level + 1)}", BOOL, True, level)
-            symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
+            return self._logical(op, node, left, right, scope)
+        return self._arithmetic(op, node, left, right)
+
+    def _comparison(self, py: str, left: Ex, right: Ex) -> Ex:
+        for side, other in ((left, right), (right, left)):
+            if isinstance(other.constant, int) and other.constant == 0 and side.type is not None and self._is_handle(side.type):
+                self.need("iecoop", "NULL")
+                return Ex(f"{side.p()} {py} NULL", BOOL, True)
+        level = PRECEDENCE["compare"]  # both sides wrapped when they compare too: Python would chain them
+        return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
+
+    def _logical(self, op: str, node: tf.BinaryOperation, left: Ex, right: Ex, scope: Scope) -> Ex:
+        """AND, OR, XOR (and AND_THEN, OR_ELSE): Python's ``and`` / ``or`` on BOOL, bit operators on bit strings."""
+        lt, rt = _plain(left.type), _plain(right.type)
+        logical = (lt is None or lt.is_bool) and (rt is None or rt.is_bool)
+        if op in ("AND", "&", "OR") and logical and self._has_effect(node.right, scope):
+            # ST evaluates both operands of AND / OR (only AND_THEN / OR_ELSE stop early): a call on
+            # the right runs even when the left decides, so the operands are combined with & / |
+            symbol = "&" if op != "OR" else "|"
             level = PRECEDENCE[symbol]
-            return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
-        if op in ("+", "-", "*"):
+            return Ex(f"{self._as_bool(left).wrap(level)} {symbol} {self._as_bool(right).wrap(level + 1)}", BOOL, True, level)
+        if op == "XOR" and logical:
+            level = PRECEDENCE["compare"]
+            return Ex(f"{left.wrap(level + 1)} != {right.wrap(level + 1)}", BOOL, True, level)
+        if op in ("AND_THEN", "OR_ELSE") or logical:
+            word = {"AND": "and", "&": "and", "AND_THEN": "and", "OR": "or", "OR_ELSE": "or"}[op]
+            level = PRECEDENCE[word]
+            return Ex(f"{left.wrap(level)} {word} {right.wrap(level + 1)}", BOOL, True, level)
+        symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
+        level = PRECEDENCE[symbol]
+        return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+
+    def _arithmetic(self, op: str, node: tf.BinaryOperation, left: Ex, right: Ex) -> Ex:
+        lt, rt = _plain(left.type), _plain(right.type)
+        if op == "/" and not ((lt is not None and lt.is_real) or (rt is not None and rt.is_real)):
+            op = "DIV"  # ST's / on integers truncates
+        if op in ("+", "-", "*", "/"):
             level = PRECEDENCE[op]
             return Ex(f"{left.wrap(level)} {op} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
-        if op == "/":
-            if (lt is not None and lt.is_real) or (rt is not None and rt.is_real):
-                level = PRECEDENCE["/"]
-                return Ex(f"{left.wrap(level)} / {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
-            self.need("iecoop.conversions", "DIV")
-            return Ex(f"DIV({left.code}, {right.code})", self.wider(lt, rt))
-        if op == "MOD":
-            self.need("iecoop.conversions", "MOD")
-            return Ex(f"MOD({left.code}, {right.code})", self.wider(lt, rt))
+        if op in ("DIV", "MOD"):
+            self.need("iecoop.conversions", op)
+            return Ex(f"{op}({left.code}, {right.code})", self.wider(lt, rt))
         if op == "**":
             level = PRECEDENCE["**"]
             return Ex(f"{left.wrap(level + 1)} ** {right.wrap(level)}", LREAL, True, level)
@@ -343,31 +354,38 @@ class Expressions(PyWriter):
         target = base.type.of if base.type is not None and base.type.kind == "pointer" else None
         if base.type is not None and base.type.kind != "pointer":
             raise self.fail(f"^ applied to {base.code}, which is not a POINTER", node)
-        return Ex(f"{base.p()}.deref", target)
+        return Ex.attribute(base.p(), "deref", target)
 
-    def name_ref(self, name: str, scope: Scope, node: Any) -> Ex:
-        key = name.lower()
+    def _instance_ref(self, key: str, scope: Scope) -> Ex | None:
+        """THIS (``self``) and SUPER (``super()``), typed by the block and its parent; None for any other name."""
         if key == "this":
             return Ex("self", TypeRef("user", scope.owner.name) if scope.owner else None, this="THIS")
         if key == "super":
             base = self.decls.get(scope.owner.bases[0].lower()) if scope.owner and scope.owner.bases else None
             return Ex("super()", TypeRef("user", base.name) if base is not None else None, this="SUPER")
+        return None
+
+    def name_ref(self, name: str, scope: Scope, node: Any) -> Ex:
+        key = name.lower()
+        instance = self._instance_ref(key, scope)
+        if instance is not None:
+            return instance
         local = scope.locals.get(key)
         if local is not None:
             if local.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
-                return Ex(f"{local.name}.deref", local.type)
-            return Ex(local.name, local.type)
+                return Ex.attribute(local.name, "deref", local.type)
+            return Ex(local.name, local.type, place=local.place)
         if scope.owner is not None and scope.owner.kind in ("fb", "program", "interface", "struct", "union"):
             found = self.find_member(scope.owner, name)
             if found is not None and not (scope.kind == "const" and scope.owner.kind in ("struct", "union")):
                 kind, member = found
                 if kind == "method":
-                    return Ex(f"self.{member.name}", None)
+                    return Ex.attribute("self", member.name, None)
                 assert isinstance(member, Member)
-                return Ex(f"self.{member.name}", member.type)
+                return Ex.attribute("self", member.name, member.type)
         if key in self.globals:
             gvl_name, member = self.globals[key]
-            return Ex(f"{gvl_name}.{member.name}", member.type)
+            return Ex.attribute(gvl_name, member.name, member.type)
         decl = self.decls.get(key)
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
@@ -394,17 +412,15 @@ class Expressions(PyWriter):
                 raise self.fail(f"enumeration {decl.st} has no value {field!r}", node)
             return Ex(f"{decl.name}.{python_name(match, attribute=True)}", TypeRef("user", decl.name))
         found = self.find_member(decl, field)
-        if decl.kind == "program" and found is not None and found[0] in ("member", "method") and base.code == decl.name:
-            self.named_programs.add(decl.name)
         if found is None:
             raise self.fail(f"{decl.name} has no member {field!r}", node)
         kind, member = found
         if base.this == "SUPER":
             return self._super_member_ref(kind, member, store)
         if kind == "method":
-            return Ex(f"{base.p()}.{member.name}", None)
+            return Ex.attribute(base.p(), member.name, None)
         assert isinstance(member, Member)
-        return Ex(f"{base.p()}.{member.name}", member.type)
+        return Ex.attribute(base.p(), member.name, member.type)
 
     def _system_member_ref(self, base: Ex, field: str, node: Any, store: bool) -> Ex | None:
         """``__SYSTEM.ExceptionCode``, its values, and the members of a ``__SYSTEM.VAR_INFO``; None for any other base."""
@@ -424,15 +440,15 @@ class Expressions(PyWriter):
     def _super_member_ref(self, kind: str, member: Any, store: bool) -> Ex:
         """``SUPER^.name``: the parent's method or property; a variable is the instance's own."""
         if kind == "method":
-            return Ex(f"super().{member.name}", None)
+            return Ex.attribute("super()", member.name, None)
         if kind == "member":
             assert isinstance(member, Member)
-            return Ex(f"self.{member.name}", member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
+            return Ex.attribute("self", member.name, member.type)  # a variable is not virtual: SUPER^.x is THIS^.x
         assert isinstance(member, Member)
         if store:
             self.need("iecoop", "super_set")
-            return Ex(f"super().{member.name}", member.type, super_property=True)  # written as super_set(super(), ...)
-        return Ex(f"super().{member.name}", member.type)
+            return Ex.attribute("super()", member.name, member.type, super_property=True)  # written as super_set(super(), ...)
+        return Ex.attribute("super()", member.name, member.type)
 
     def visit_MultiElementVariable(self, node: tf.MultiElementVariable, scope: Scope, store: bool = False) -> Ex:
         if str(node.name.name).lower() == "_taskinfo":
@@ -502,10 +518,10 @@ class Expressions(PyWriter):
             ex = self.expr(node, scope)
         else:
             raise self.fail("this variable has no holder to take its address from", node)
-        if "." not in ex.code or ex.code.endswith(")"):
-            raise self.fail(f"{ex.code} is a local variable; ADR / REF= need a variable of a block, struct or GVL", node)
-        holder, field = ex.code.rsplit(".", 1)
-        return holder, field
+        if ex.place is None:
+            what = "a local variable" if isinstance(node, tf.SimpleVariable) and str(node.name).lower() in scope.locals else "no variable"
+            raise self.fail(f"{ex.code} is {what}; ADR / REF= need a variable of a block, struct or GVL", node)
+        return ex.place
 
     def address_of(self, node: Any, scope: Scope) -> str:
         prop = self._reference_property(node, scope)
@@ -523,6 +539,10 @@ class Expressions(PyWriter):
             # ADR(a[i]^), ADR(s.p^): the pointer itself
             last = dataclasses.replace(node.elements[-1], dereferenced=False)
             return self.expr(tf.MultiElementVariable(node.name, node.dereferenced, [*node.elements[:-1], last]), scope).code
+        return self._adr(node, scope)
+
+    def _adr(self, node: Any, scope: Scope) -> str:
+        """``adr(...)`` of a variable: an element of an ARRAY, the instance, a local STRUCT or block, or a field."""
         self.need("iecoop", "adr")
         if isinstance(node, tf.MultiElementVariable) and isinstance(node.elements[-1], tf.SubscriptList) and len(node.elements[-1].subscripts) == 1:
             rest = tf.MultiElementVariable(node.name, False, node.elements[:-1]) if len(node.elements) > 1 else node.name

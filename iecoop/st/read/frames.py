@@ -6,7 +6,7 @@ import dataclasses
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # symbols imports this module
-    from iecoop.st.read.symbols import Decl, Member, TypeRef
+    from iecoop.st.read.table import Decl, Member, TypeRef
 
 @dataclasses.dataclass
 class Ex:
@@ -24,6 +24,14 @@ class Ex:
     constant: int | float | None = None
     #: "THIS" or "SUPER" for the instance itself (``self``) or its parent's view of it (``super()``)
     this: str | None = None
+    #: ``(holder code, field name)`` when the code reads the field of something (``self.count``, ``GVL.x``,
+    #: ``p.deref``): ADR, REF= and __VARINFO take the address from it
+    place: tuple[str, str] | None = None
+
+    @classmethod
+    def attribute(cls, holder: str, field: str, type_: TypeRef | None, **kwargs: Any) -> Ex:
+        """``holder.field``: the code, and the place it names."""
+        return cls(f"{holder}.{field}", type_, place=(holder, field), **kwargs)
 
     def __post_init__(self) -> None:
         if self.compound and self.prec == 100:

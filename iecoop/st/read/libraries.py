@@ -29,7 +29,8 @@ from iecoop.parameters import parameter_sections
 from iecoop.st.read.names import python_name
 from iecoop.st.read.lookup import BoundLibrary, Lookup
 from iecoop.st.read.parse import LibraryReference, Unit
-from iecoop.st.read.symbols import Callable_, Decl, Member, Symbols, TypeRef
+from iecoop.st.read.symbols import Symbols
+from iecoop.st.read.table import Callable_, Decl, Member, TypeRef
 from iecoop.st.read.trees import signature
 
 __all__ = ["bind", "collapse_namespaces", "library_folders", "rename_shadowed", "resolve"]
@@ -197,19 +198,23 @@ class _Binder:
     # --- members ---
 
     def _fill(self, decl: Decl, value: Any) -> None:
-
+        """What pass 1 knows of a library name: a FUNCTION's signature, an alias's target, an enumeration's
+        values, or a class's lineage, variables, METHODs and PROPERTYs."""
         if decl.kind == "function":
             decl.methods["()"] = Callable_(decl.name, self._returns(value), self._params(value), st=decl.st)
-            return
-        if decl.kind == "alias":
+        elif decl.kind == "alias":
             decl.alias_of = self._annotation_type(value)
-            return
-        if decl.kind == "enum":
+        elif decl.kind == "enum":
             record = iec_class(value)
             spelled = dict(record.value_names) if record is not None else {}
             decl.values = [spelled.get(item.name, item.name) for item in value]
-            return
-        cls = value if isinstance(value, type) else type(value)
+        else:
+            cls = value if isinstance(value, type) else type(value)
+            self._fill_lineage(decl, cls)
+            self._fill_members(decl, cls)
+
+    def _fill_lineage(self, decl: Decl, cls: type) -> None:
+        """EXTENDS and IMPLEMENTS of a library class, from the library classes in its MRO."""
         for base in cls.__mro__[1:]:
             base_decl = self.by_object.get(id(base)) or self.standard.get(id(base))
             if base_decl is not None:
@@ -218,6 +223,9 @@ class _Binder:
                 (decl.implements if base_decl.kind == "interface" and decl.kind != "interface" else decl.bases).append(name)
                 if base_decl.kind != "interface":
                     break
+
+    def _fill_members(self, decl: Decl, cls: type) -> None:
+        """The variables, METHODs and PROPERTYs of a library class, by their ST names."""
         record = iec_class(cls)
         if record is None:
             return
@@ -267,7 +275,7 @@ class _Binder:
             return {}
 
     def _annotation_type(self, annotation: Any) -> TypeRef | None:
-        from iecoop.memory._core import resolve_type
+        from iecoop.memory.typeinfo import resolve_type
 
         try:
             info = resolve_type(annotation, "library")

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from typing import Any, Protocol, TypeVar
 
 from iecoop.exceptions import DefinitionError
+from iecoop.st.read.table import FrozenTableError
 
 __all__ = ["BoundLibrary", "Lookup", "unknown_name"]
 
@@ -62,6 +63,7 @@ class Lookup(dict[str, _V]):
 
     def __init__(self) -> None:
         super().__init__()
+        self.frozen = False
         #: key -> (the value bound from a library, the library declaration the generated code imports for it)
         self.bound: dict[str, tuple[Any, _Imported]] = {}
         #: key -> the rule that refuses the plain name
@@ -75,11 +77,21 @@ class Lookup(dict[str, _V]):
         #: id of a library declaration -> its library's namespace as the project spells it
         self.namespace_of: dict[int, str] = {}
 
+    def freeze(self) -> None:
+        """End of pass 1: the names are all known; a write raises ``FrozenTableError`` (lookups still note imports)."""
+        self.frozen = True
+
+    def _check_open(self, key: str) -> None:
+        if getattr(self, "frozen", False):
+            raise FrozenTableError(f"the symbol table is frozen after pass 1: the entry {key!r} cannot be written")
+
     def bind(self, key: str, value: _V, decl: _Imported) -> None:
+        self._check_open(key)
         dict.__setitem__(self, key, value)
         self.bound[key] = (value, decl)
 
     def refuse(self, key: str, rule: str) -> None:
+        self._check_open(key)
         if dict.__contains__(self, key):
             dict.__delitem__(self, key)
         self.refused[key] = rule
@@ -92,6 +104,7 @@ class Lookup(dict[str, _V]):
         return value
 
     def __setitem__(self, key: str, value: _V) -> None:
+        self._check_open(key)
         self.refused.pop(key, None)  # the project's own name comes first
         dict.__setitem__(self, key, value)
 

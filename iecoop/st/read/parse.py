@@ -229,33 +229,43 @@ _RESOLUTION = re.compile(r"\s*([^,()]+?)\s*(?:,\s*([^()]*?)\s*)?(?:\(([^()]*)\))
 
 def library_references(source: str | os.PathLike[str]) -> list[LibraryReference]:
     """The libraries a ``.plcproj`` (or the one ``.plcproj`` directly in a folder) references; [] for other sources."""
-    if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
+    path = _project_file(source)
+    if path is None:
         return []
+    return [
+        _library_reference(path, element)
+        for element in _read_xml(path).iter()
+        if isinstance(element.tag, str) and element.tag.rsplit("}", 1)[-1] in ("PlaceholderReference", "LibraryReference")
+    ]
+
+
+def _project_file(source: str | os.PathLike[str]) -> pathlib.Path | None:
+    """The ``.plcproj`` a source names (itself, or the only one in a folder), or None."""
+    if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
+        return None
     path = pathlib.Path(source)
     if path.is_dir():
         projects = sorted(path.glob("*.plcproj"))
         if len(projects) != 1:
-            return []
+            return None
         path = projects[0]
-    if path.suffix.lower() != ".plcproj" or not path.is_file():
-        return []
-    references = []
-    for element in _read_xml(path).iter():
-        if not isinstance(element.tag, str) or element.tag.rsplit("}", 1)[-1] not in ("PlaceholderReference", "LibraryReference"):
-            continue
-        children = {child.tag.rsplit("}", 1)[-1]: (child.text or "").strip() for child in element if isinstance(child.tag, str)}
-        # A placeholder names the library it resolves to in <DefaultResolution>; a plain reference in Include.
-        resolution = children.get("DefaultResolution") or element.get("Include", "")
-        match = _RESOLUTION.match(resolution)
-        where = f"{path}:{element.sourceline}"
-        if match is None or not is_st_identifier(match.group(1).strip()):
-            raise StSyntaxError(f"{where}: library reference {resolution!r} names no library (Title, version (company))")
-        name = match.group(1).strip()
-        namespace = children.get("Namespace") or element.get("Include", "").split(",")[0].strip() or name
-        if not is_st_identifier(namespace):
-            raise StSyntaxError(f"{where}: library {name}: namespace {namespace!r} is not an ST identifier")
-        references.append(LibraryReference(name, namespace, (match.group(2) or "*").strip(), (match.group(3) or "").strip(), where))
-    return references
+    return path if path.suffix.lower() == ".plcproj" and path.is_file() else None
+
+
+def _library_reference(path: pathlib.Path, element: Any) -> LibraryReference:
+    """One ``PlaceholderReference`` / ``LibraryReference`` element: title, namespace, version, company."""
+    children = {child.tag.rsplit("}", 1)[-1]: (child.text or "").strip() for child in element if isinstance(child.tag, str)}
+    # A placeholder names the library it resolves to in <DefaultResolution>; a plain reference in Include.
+    resolution = children.get("DefaultResolution") or element.get("Include", "")
+    match = _RESOLUTION.match(resolution)
+    where = f"{path}:{element.sourceline}"
+    if match is None or not is_st_identifier(match.group(1).strip()):
+        raise StSyntaxError(f"{where}: library reference {resolution!r} names no library (Title, version (company))")
+    name = match.group(1).strip()
+    namespace = children.get("Namespace") or element.get("Include", "").split(",")[0].strip() or name
+    if not is_st_identifier(namespace):
+        raise StSyntaxError(f"{where}: library {name}: namespace {namespace!r} is not an ST identifier")
+    return LibraryReference(name, namespace, (match.group(2) or "*").strip(), (match.group(3) or "").strip(), where)
 
 
 def _check_gvl_names(units: list[Unit]) -> None:

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
-from iecoop.st.read.symbols import SYSTEM_DECLS, Symbols, TypeRef
+from iecoop.st.read.symbols import Symbols
+from iecoop.st.read.table import SYSTEM_DECLS, TypeRef
 
 
 class PyWriter(Symbols):
@@ -16,27 +18,24 @@ class PyWriter(Symbols):
     # --- pass 2: emission ---
 
     def emit(self, text: str, level: int) -> None:
+        """A line of code (or a blank line, for an empty ``text``) at ``level``."""
         self.out.append("    " * level + text if text else "")
+        self.code_lines += bool(text)
 
-    def emit_def(self, text: str, level: int) -> None:
-        """A ``def`` line; one parameter per line when it would be longer than 110 characters."""
+    def emit_comment(self, text: str, level: int) -> None:
+        """A comment line: no code, so a body holding only comments still needs its ``pass``."""
+        self.out.append("    " * level + f"# {text}".rstrip())
+
+    def emit_def(self, name: str, params: Sequence[str], returns: str, level: int) -> None:
+        """``def name(params) -> returns:``; one parameter per line when it would be longer than 110 characters."""
+        text = f"def {name}({', '.join(params)}) -> {returns}:"
         if len(text) + 4 * level <= 110:
             self.emit(text, level)
             return
-        head, rest = text.split("(", 1)
-        inner, tail = rest.rsplit(") ->", 1)
-        params, depth, start = [], 0, 0
-        for index, char in enumerate(inner):
-            depth += char in "([{"
-            depth -= char in ")]}"
-            if char == "," and depth == 0:
-                params.append(inner[start:index].strip())
-                start = index + 1
-        params.append(inner[start:].strip())
-        self.emit(f"{head}(", level)
+        self.emit(f"def {name}(", level)
         for param in params:
             self.emit(f"{param},", level + 1)
-        self.emit(f") ->{tail}", level)
+        self.emit(f") -> {returns}:", level)
 
     def enter(self, node: Any) -> None:
         """Comments are taken from the source lines of the top-level item ``node`` from now on."""
@@ -84,7 +83,7 @@ class PyWriter(Symbols):
                 trailing = body[0]
                 continue
             for part in body:
-                self.emit(f"# {part}".rstrip(), level)
+                self.emit_comment(part, level)
         return trailing
 
     def trail(self, index: int, comment: str) -> None:

@@ -10,7 +10,7 @@ import blark.transform as tf
 
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
-from iecoop.st.read.symbols import Member, ReferenceLocal, TypeRef
+from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
 from iecoop.st.read.trees import assigned, exact_real, is_zero, jumps_in_loop
 
 
@@ -27,14 +27,14 @@ class Statements(Calls):
         if not statements:
             self.emit("pass", level)
             return
-        start = len(self.out)
+        start = self.code_lines
         for statement in statements:
             self.line = statement.meta.line if statement.meta else self.line
             trailing = self.comments(statement, level, inline=True)
             index = len(self.out)
             self.statement(statement, scope, level)
             self.trail(index, trailing)
-        if all(line.strip().startswith("#") or not line.strip() for line in self.out[start:]):
+        if self.code_lines == start:  # only comments: a Python block needs a statement
             self.emit("pass", level)
 
     def statement(self, node: Any, scope: Scope, level: int) -> None:
@@ -73,7 +73,8 @@ class Statements(Calls):
             return
         lhs = self.expr(target, scope, store=True)
         if lhs.super_property:  # SUPER^.Prop := value: Python's super() refuses attribute writes
-            name = lhs.code.split(".", 1)[1]
+            assert lhs.place is not None  # made by Ex.attribute("super()", name)
+            name = lhs.place[1]
             self.emit(f'super_set(super(), "{name}", {self.store_value(lhs.type, value, False)})', level)
             return
         local = self.local_of(target, scope)
@@ -96,22 +97,29 @@ class Statements(Calls):
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
-        if target.is_bool and value.type is not None and value.type.is_int:
-            return f"bool({value.code})"
-        if target.is_int and value.type is not None and value.type.is_real:
-            self.need("iecoop.conversions", f"TO_{target.name}")
-            return f"TO_{target.name}({value.code})"
-        if is_local and target.is_int and not self._fits(value, target):
-            self.need("iecoop.conversions", f"TO_{target.name}")
-            return f"TO_{target.name}({value.code})"
-        if is_local and target.name == "REAL" and not exact_real(value.code) and not (
-            value.type is not None and value.type.name == "REAL" and not value.compound
-        ):
-            self.need("iecoop.conversions", "TO_REAL")
-            return f"TO_REAL({value.code})"
-        if target.is_real and value.type is not None and value.type.is_int and is_local:
-            return f"float({value.code})"
-        return value.code
+        function = self._implicit_conversion(target, value, is_local)
+        if function is None:
+            return value.code
+        if function.startswith("TO_"):
+            self.need("iecoop.conversions", function)
+        return f"{function}({value.code})"
+
+    def _implicit_conversion(self, target: TypeRef, value: Ex, is_local: bool) -> str | None:
+        """The function a stored value goes through: ST's implicit conversion, or the width a Python local lacks."""
+        source = value.type
+        if target.is_bool and source is not None and source.is_int:
+            return "bool"
+        if target.is_int and source is not None and source.is_real:
+            return f"TO_{target.name}"
+        if not is_local:
+            return None
+        if target.is_int and not self._fits(value, target):
+            return f"TO_{target.name}"
+        if target.name == "REAL" and not exact_real(value.code) and not (source is not None and source.name == "REAL" and not value.compound):
+            return "TO_REAL"
+        if target.is_real and source is not None and source.is_int:
+            return "float"
+        return None
 
     def visit_SetStatement(self, node: tf.SetStatement, scope: Scope, level: int) -> None:
         self._set_reset("S", True, node, scope, level)
@@ -229,7 +237,7 @@ class Statements(Calls):
         name = str(node.control.name).lower() if isinstance(node.control, tf.SimpleVariable) else None
         if any(isinstance(t, tf.SimpleVariable) and str(t.name).lower() == name for t in assigned(node.statements)):
             # IEC 61131-3: the repeated statements shall not alter the control variable (a Python for would undo it)
-            raise self.fail(f"the FOR loop writes its control variable {control.code.rsplit('.', 1)[-1]}", node)
+            raise self.fail(f"the FOR loop writes its control variable {node.control.name}", node)
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None

@@ -7,20 +7,22 @@ can type each expression and order the classes so a class exists before it is us
 from __future__ import annotations
 
 import dataclasses
-import keyword
-import struct
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
 import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
-from iecoop.st.language import ELEMENTARY, INTEGER_LAYOUT, REAL_TYPES, STANDARD_FBS, canonical_type
+from iecoop.metadata import fields_of
+from iecoop.st.language import ELEMENTARY, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
-from iecoop.st.read.trees import lark_token_type, signature, variables
+from iecoop.st.read.table import (
+    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
+)
+from iecoop.st.read.trees import lark_token_type, signature
 
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR",
@@ -31,126 +33,16 @@ _SECTION_OF = {
 }
 
 
-# --- types --------------------------------------------------------------------------------------
-
-
-@dataclasses.dataclass
-class TypeRef:
-    """A resolved ST type: elementary, STRING(n), ARRAY, POINTER TO, REFERENCE TO or a user type."""
-
-    kind: str  # elem | string | array | pointer | reference | user | interface_null
-    name: str
-    of: TypeRef | None = None
-    length: str | None = None
-    bounds: list[tuple[str, str]] | None = None
-    #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
-    limits: tuple[str, str] | None = None
-
-    def annotation(self) -> str:
-        if self.kind == "array":
-            assert self.of is not None
-            return f"ARRAY[{self.of.annotation()}]"
-        if self.kind == "pointer":
-            assert self.of is not None
-            return f"POINTER_TO[{self.of.annotation()}]"
-        if self.kind == "reference":
-            assert self.of is not None
-            return f"REFERENCE_TO[{self.of.annotation()}]"
-        return self.name
-
-    @property
-    def is_int(self) -> bool:
-        return self.kind == "elem" and self.name in INTEGER_LAYOUT
-
-    @property
-    def is_real(self) -> bool:
-        return self.kind == "elem" and self.name in REAL_TYPES
-
-    @property
-    def is_bool(self) -> bool:
-        return self.kind == "elem" and self.name == "BOOL"
-
-    @property
-    def is_string(self) -> bool:
-        return self.kind == "string"
-
-    def deref(self) -> TypeRef:
-        return self.of if self.kind == "reference" and self.of is not None else self
-
-
-BOOL = TypeRef("elem", "BOOL")
-LINT = TypeRef("elem", "LINT")
-LREAL = TypeRef("elem", "LREAL")
-STRING = TypeRef("string", "STRING", length="80")
-
-
-@dataclasses.dataclass
-class Member:
-    """A variable: ``name`` is its Python code (``python_name`` of the ST name, or how it is reached), ``st`` its ST name."""
-
-    name: str
-    type: TypeRef | None
-    section: str
-    st: str = ""
-
-    def __post_init__(self) -> None:
-        self.st = self.st or self.name
-
-
-class ReferenceLocal(Member):
-    """An elementary ``REFERENCE TO`` local of a METHOD or FUNCTION: a pointer, read and written as an in-out."""
-
-
-@dataclasses.dataclass
-class Callable_:
-    name: str
-    returns: TypeRef | None
-    params: list[Member]
-    st: str = ""
-
-    def __post_init__(self) -> None:
-        self.st = self.st or self.name
-
-
-@dataclasses.dataclass
-class Decl:
-    """Everything the second pass needs to know about one declared name."""
-
-    kind: str  # fb program function interface struct union enum alias gvl stdfb
-    #: the Python name (``python_name`` of the ST name); ``st`` is the ST name
-    name: str
-    node: Any = None
-    unit: Unit | None = None
-    bases: list[str] = dataclasses.field(default_factory=list)
-    members: dict[str, Member] = dataclasses.field(default_factory=dict)
-    methods: dict[str, Callable_] = dataclasses.field(default_factory=dict)
-    props: dict[str, Member] = dataclasses.field(default_factory=dict)
-    method_nodes: list[Any] = dataclasses.field(default_factory=list)
-    action_nodes: list[Any] = dataclasses.field(default_factory=list)
-    prop_nodes: list[Any] = dataclasses.field(default_factory=list)
-    values: list[str] = dataclasses.field(default_factory=list)
-    alias_of: TypeRef | None = None
-    implements: list[str] = dataclasses.field(default_factory=list)
-    #: the top-level item of the source it comes from (its lines hold its comments)
-    item: Any = None
-    #: for a GVL gathered from several sources: the unit of each VAR_GLOBAL block
-    units: dict[int, Unit] = dataclasses.field(default_factory=dict)
-    st: str = ""
-    #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
-    declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
-    #: a bound library's declaration: the module the generated code imports it from, and the import
-    #: (``TON``, or ``FB_Log as TCU_FB_Log`` when the name is taken); never emitted
-    library: str = ""
-    import_spec: str = ""
-
-    def __post_init__(self) -> None:
-        self.st = self.st or self.name
-
-
-#: ``__SYSTEM.IQueryInterface``, the interface TwinCAT and CODESYS give ``__QUERYINTERFACE``: iecoop's
-#: IQueryInterface, a type wherever a type may stand (its Python name is the key)
-IQUERYINTERFACE = Decl("interface", "IQueryInterface")
-SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
+def _nodes(node: Any) -> Iterator[Any]:
+    """``node`` and every blark node below it."""
+    if isinstance(node, (list, tuple)):
+        for item in node:
+            yield from _nodes(item)
+    elif dataclasses.is_dataclass(node):
+        yield node
+        for field in dataclasses.fields(node):
+            if field.name != "meta":
+                yield from _nodes(getattr(node, field.name))
 
 
 class Symbols:
@@ -169,22 +61,27 @@ class Symbols:
         self.declared: dict[str, tuple[str, str]] = {}
         self.enum_values: Lookup[tuple[str, str]] = Lookup()
         self.globals: Lookup[tuple[str, Member]] = Lookup()
+        #: the libraries the source uses, bound before pass 1 (``read.libraries``)
+        self.libraries = libraries
         self.externals = {name.lower() for name in externals}
         self.imports: dict[str, set[str]] = {}
         self.out: list[str] = []
+        #: how many lines of code (not comments, not blank) have been written: "is a body still empty?" asks this
+        self.code_lines = 0
         #: lines written before the current declaration's class (the helper classes of its local blocks)
         self.preamble: list[str] = []
         self.unit: Unit | None = None
         self.line: int | None = None
         self.window: tuple[int, int] = (0, 0)
+        #: ids of the comment tokens pass 1 read as marks (``// Get``, ``// GVL name``): never carried over
+        self.marks: set[int] = set()
+        #: ids of the comment tokens pass 2 has written (or that are marks)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
         #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
-        #: the libraries the source uses, bound before pass 1 (``read.libraries``)
-        self.libraries = libraries
         self._stdlib_decls()
 
     # --- errors and imports ---
@@ -206,7 +103,7 @@ class Symbols:
         for name in STANDARD_FBS:
             cls = getattr(stdlib, name)
             decl = Decl("stdfb", name)
-            for record in cls._iec_layout_.fields:
+            for record in fields_of(cls):
                 decl.members[record.name.lower()] = Member(record.name, self._elem_or_none(record.info.name), record.section)
             self.decls[name.lower()] = self.by_python[name] = decl
 
@@ -250,7 +147,7 @@ class Symbols:
                 marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
                 if marker in ("get", "set"):
                     self.marked_accessors[id(node)] = marker
-                    self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                    self.marks.add(id(token))  # a mark, not a comment to carry over
 
     def _marked_list_name(self, unit: Unit, node: Any) -> str | None:
         """The name of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its pragmas), as dump writes it."""
@@ -269,7 +166,7 @@ class Symbols:
                 continue
             words = text[2:].split() if text.startswith("//") else []
             if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier():
-                self.used_comments.add(id(token))  # a mark, not a comment to carry over
+                self.marks.add(id(token))  # a mark, not a comment to carry over
                 return words[1]
             return None
         return None
@@ -292,6 +189,7 @@ class Symbols:
         return decl
 
     def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
+        """Declare one top-level item; the POU that its METHODs, PROPERTYs and ACTIONs follow, or None."""
         if isinstance(item, tf.FunctionBlock):
             decl = self._add(Decl("fb", str(item.name), item, unit))
             if item.extends:
@@ -308,40 +206,47 @@ class Symbols:
                 decl.bases.extend(str(i) for i in item.extends.interfaces)
             return decl
         if isinstance(item, tf.GlobalVariableDeclarations):
-            name = str(item.name or "")
-            if not name.isidentifier():
-                stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
-                name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
-            existing = dict.get(self.decls, str(name).lower())
-            if existing is not None and existing.kind == "gvl" and not existing.library:
-                existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
-                existing.units[id(item)] = unit
-                return None
-            decl = self._add(Decl("gvl", str(name), [item], unit))
-            decl.units[id(item)] = unit
+            self._collect_global_list(unit, item)
             return None
         if isinstance(item, tf.DataTypeDeclaration):
-            inner = item.declaration
-            if isinstance(inner, tf.StructureTypeDeclaration):
-                decl = self._add(Decl("struct", str(inner.name), inner, unit))
-                if inner.extends:
-                    decl.bases.append(str(inner.extends.interfaces[0]))
-            elif isinstance(inner, tf.UnionTypeDeclaration):
-                decl = self._add(Decl("union", str(inner.name), inner, unit))
-            elif isinstance(inner, tf.EnumeratedTypeDeclaration):
-                decl = self._add(Decl("enum", str(inner.name), inner, unit))
-                for value in inner.init.spec.values or []:
-                    self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
-                    decl.values.append(str(value.name))
-                    self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
-            elif isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration,
-                                    tf.SubrangeTypeDeclaration)):
-                decl = self._add(Decl("alias", str(inner.name), inner, unit))
-            else:
-                raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
-            decl.item = item
+            self._collect_data_type(unit, item).item = item
             return None
         raise self.fail(f"{type(item).__name__} at the top level is not supported", item)
+
+    def _collect_global_list(self, unit: Unit, item: Any) -> None:
+        """A VAR_GLOBAL block: its list, named by the block, a ``// GVL name`` mark, or its file."""
+        name = str(item.name or "")
+        if not name.isidentifier():
+            stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
+            name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
+        existing = dict.get(self.decls, str(name).lower())
+        if existing is not None and existing.kind == "gvl" and not existing.library:
+            existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
+            existing.units[id(item)] = unit
+            return
+        decl = self._add(Decl("gvl", str(name), [item], unit))
+        decl.units[id(item)] = unit
+
+    def _collect_data_type(self, unit: Unit, item: Any) -> Decl:
+        """A TYPE: STRUCT, UNION, enumeration (its values are names too) or alias."""
+        inner = item.declaration
+        if isinstance(inner, tf.StructureTypeDeclaration):
+            decl = self._add(Decl("struct", str(inner.name), inner, unit))
+            if inner.extends:
+                decl.bases.append(str(inner.extends.interfaces[0]))
+            return decl
+        if isinstance(inner, tf.UnionTypeDeclaration):
+            return self._add(Decl("union", str(inner.name), inner, unit))
+        if isinstance(inner, tf.EnumeratedTypeDeclaration):
+            decl = self._add(Decl("enum", str(inner.name), inner, unit))
+            for value in inner.init.spec.values or []:
+                self.declare(decl.declared, f"enumeration value {decl.st}.{value.name}", str(value.name), value)
+                decl.values.append(str(value.name))
+                self.enum_values.setdefault(str(value.name).lower(), (decl.name, python_name(str(value.name), attribute=True)))
+            return decl
+        if isinstance(inner, (tf.SimpleTypeDeclaration, tf.StringTypeDeclaration, tf.ArrayTypeDeclaration, tf.SubrangeTypeDeclaration)):
+            return self._add(Decl("alias", str(inner.name), inner, unit))
+        raise self.fail(f"TYPE {type(inner).__name__} is not supported", item)
 
     def resolve_members(self) -> None:
         """Second half of pass 1: member types, once every type name is known."""
@@ -349,34 +254,9 @@ class Symbols:
             if decl.library:
                 continue
             self.unit = decl.unit
-            if decl.kind in ("fb", "program", "function"):
-                for block in decl.node.declarations:
-                    for member in self._block_members(block, attribute=decl.kind != "function"):
-                        self._add_member(decl, member)
-            elif decl.kind in ("struct", "union"):
-                for element in decl.node.declarations:
-                    for member in self._element_members(element, decl.kind):
-                        self._add_member(decl, member)
-            elif decl.kind == "gvl":
-                for block in decl.node:
-                    self.unit = decl.units.get(id(block), decl.unit)
-                    for member in self._block_members(block, attribute=True):
-                        self._add_member(decl, member)
-                        self.globals[member.st.lower()] = (decl.name, member)
-            elif decl.kind == "alias":
-                decl.alias_of = self._alias_target(decl.node)
+            self._resolve_variables(decl)
             self.unit = decl.unit
-            for node in decl.method_nodes:
-                name = str(node.name)
-                self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
-                local: dict[str, tuple[str, str]] = {}
-                members = []
-                for block in node.declarations:
-                    for member in self._block_members(block):
-                        self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
-                        members.append(member)
-                returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
-                decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
+            self._resolve_methods(decl)
             for node in decl.action_nodes:  # an ACTION is called as a method without inputs or result
                 name = str(node.name).rsplit(".", 1)[-1]
                 self.declare(decl.declared, f"ACTION {decl.st}.{name}", name, node)
@@ -391,6 +271,74 @@ class Symbols:
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = signature(list(decl.members.values()))
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
+            for node in decl.method_nodes:  # a METHOD's VAR_INST: fields of the instance, beside the block's own
+                for block in node.declarations:
+                    if isinstance(block, tf.MethodInstanceVariableDeclarations):
+                        for member in self._block_members(block, attribute=True):
+                            self._add_member(decl, member)
+
+    def _resolve_variables(self, decl: Decl) -> None:
+        """The variables of a POU, STRUCT, UNION or GVL, and an alias's target type."""
+        if decl.kind in ("fb", "program", "function"):
+            for block in decl.node.declarations:
+                for member in self._block_members(block, attribute=decl.kind != "function"):
+                    self._add_member(decl, member)
+        elif decl.kind in ("struct", "union"):
+            for element in decl.node.declarations:
+                for member in self._element_members(element, decl.kind):
+                    self._add_member(decl, member)
+        elif decl.kind == "gvl":
+            for block in decl.node:
+                self.unit = decl.units.get(id(block), decl.unit)
+                for member in self._block_members(block, attribute=True):
+                    self._add_member(decl, member)
+                    self.globals[member.st.lower()] = (decl.name, member)
+        elif decl.kind == "alias":
+            decl.alias_of = self._alias_target(decl.node)
+
+    def _resolve_methods(self, decl: Decl) -> None:
+        """Each METHOD's signature; its locals are checked for duplicates."""
+        for node in decl.method_nodes:
+            name = str(node.name)
+            self.declare(decl.declared, f"METHOD {decl.st}.{name}", name, node)
+            local: dict[str, tuple[str, str]] = {}
+            members = []
+            for block in node.declarations:
+                for member in self._block_members(block):
+                    self.declare(local, f"{member.section} {member.st} of METHOD {decl.st}.{name}", member.st)
+                    members.append(member)
+            returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
+            decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
+
+    def collect_named_programs(self) -> None:
+        """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
+
+        Known before any class is written, so the class is written with its decorator.
+        """
+        for unit in self.units:
+            for node in _nodes(unit.tree.items):
+                if not (isinstance(node, tf.MultiElementVariable) and isinstance(node.name, tf.SimpleVariable)
+                        and node.elements and isinstance(node.elements[0], tf.FieldSelector)):
+                    continue
+                decl = self.decls.get(str(node.name.name).lower())
+                if decl is None or decl.kind != "program":
+                    continue
+                found = self.find_member(decl, str(node.elements[0].field))
+                if found is not None and found[0] in ("member", "method"):
+                    self.named_programs.add(decl.name)
+
+    def freeze(self) -> None:
+        """End of pass 1: the table is complete; from now on a write to it raises ``FrozenTableError``."""
+        for decl in self.decls.values():
+            decl.freeze()
+        # The name tables stay lookups (a lookup of a library's name notes the import the module needs).
+        for table in (self.decls, self.by_python, self.enum_values, self.globals):
+            table.freeze()
+        self.declared = FrozenDict(self.declared)
+        self.marked_accessors = FrozenDict(self.marked_accessors)
+        self.marks = FrozenSet(self.marks)
+        self.named_programs = FrozenSet(self.named_programs)
+        self.used_comments = set(self.marks)
 
     def _add_member(self, decl: Decl, member: Member) -> None:
         """A variable of ``decl``, refused if ``decl`` declares its name already (its line is ``self.line``)."""

@@ -12,7 +12,7 @@ the file, line and construct; nothing is dropped silently.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import blark.transform as tf
 
@@ -20,7 +20,7 @@ from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
 from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
 from iecoop.st.read.lookup import BoundLibrary
-from iecoop.st.read.symbols import Decl
+from iecoop.st.read.table import Decl
 
 _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
 
@@ -76,21 +76,21 @@ class Translator(Pous):
         self.collect()
         rename_shadowed(self)
         self.resolve_members()
+        self.collect_named_programs()
+        self.freeze()
         body: list[str] = []
         for decl in self.ordered():
             self.unit = decl.unit
             self.out = []
             self.preamble = []
             self.enter(decl.item)
-            getattr(self, f"_emit_{decl.kind}")(decl)
+            _WRITERS[decl.kind](self, decl)
             body.extend(self.preamble + ["", ""] + self.out)
         if self.named_programs:
             # P_Count.counter from another POU names the program's instance, as in ST: one per PROGRAM. A class
-            # decorator makes it (as @gvl does), which mypy accepts where rebinding the class name is refused.
+            # decorator makes it (as @gvl does), which mypy accepts where rebinding the class name is refused;
+            # _emit_program writes it, since pass 1 knows these programs.
             self.need("typing", "TypeVar")
-            for name in self.named_programs:
-                index = body.index(f"class {name}(Program):")
-                body.insert(index, "@_program_instance")
             body[:0] = ["", "", '_P = TypeVar("_P", bound=Program)', "", "",
                         "def _program_instance(cls: type[_P]) -> _P:",
                         '    """A PROGRAM other POUs read by name (P_Count.counter): as in ST, the name is its one instance."""',
@@ -120,6 +120,14 @@ class Translator(Pous):
             else:
                 header.append(line)
         return "\n".join(header + body) + "\n"
+
+
+#: Each kind of declaration -> the pass 2 writer of its class (or alias, or function).
+_WRITERS: dict[str, Callable[[Translator, Decl], None]] = {
+    "fb": Pous._emit_fb, "program": Pous._emit_program, "function": Pous._emit_function,
+    "interface": Pous._emit_interface, "gvl": Pous._emit_gvl, "struct": Pous._emit_struct,
+    "union": Pous._emit_union, "enum": Pous._emit_enum, "alias": Pous._emit_alias,
+}
 
 
 def translate(

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import blark.transform as tf
 
 if TYPE_CHECKING:  # symbols imports this module
-    from iecoop.st.read.symbols import Member
+    from iecoop.st.read.table import Member
 
 VISIBILITY = tf.AccessSpecifier.public | tf.AccessSpecifier.private | tf.AccessSpecifier.protected | tf.AccessSpecifier.internal
 

@@ -19,7 +19,7 @@ import typing
 from typing import Any
 
 from iecoop.members import Access
-from iecoop.metadata import kind_of
+from iecoop.metadata import fields_of, kind_of
 from iecoop.memory.typeinfo import (
     ArrayInfo,
     ElementaryInfo,
@@ -323,8 +323,7 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
     else:
         # TC6 2.01 has no STRUCT EXTENDS and no UNION: the members are listed whole (base members first).
         struct = _sub(base, "struct")
-        layout = getattr(meta.cls, "_iec_layout_")
-        for record in layout.fields:
+        for record in fields_of(meta.cls):
             _variable(struct, record.name, record.info, record.spec.initial, f"{unit.name}.{record.name}")
         if unit.kind == "union":
             _add_data(data_type, "union")

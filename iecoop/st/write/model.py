@@ -18,7 +18,7 @@ import typing
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from iecoop.metadata import IecClass, iec_class, is_root, kind_of
+from iecoop.metadata import IecClass, iec_class, is_root, kind_of, layout_of
 from iecoop.exceptions import DefinitionError
 from iecoop.gvl import GlobalVariables, find_global
 from iecoop.interfaces import Interface, IQueryInterface
@@ -136,7 +136,7 @@ def metadata(obj: Any) -> ClassMeta:
 
 def _class_meta(cls: Any, name: str, kind: str) -> ClassMeta:
     """A STRUCT, UNION, GVL, INTERFACE, FUNCTION_BLOCK or PROGRAM: its variables, members, bases and code."""
-    layout = cls.__dict__.get("_iec_layout_")
+    layout = layout_of(cls, own=True)
     outside = _outside_fields(cls) if kind in ("fb", "program") else []
     fields = [FieldDecl(r.name, r.section, r.info, r.spec) for r in (layout.own if layout is not None else ())] + outside
     record = _record(cls)

@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from iecoop import NullInterface
-from iecoop.metadata import is_root, kind_of
+from iecoop.metadata import field_record, fields_of, is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING
@@ -120,12 +120,10 @@ def initial_text(info: TypeInfo, value: Any, where: str) -> str:
         return "[" + ", ".join(initial_text(info.elem, v, where) for v in value) + "]"
     if isinstance(info, AggregateInfo):
         if isinstance(value, dict):
-            layout = getattr(info.cls, "_iec_layout_")
-            parts = [f"{ident(k, where)} := {initial_text(layout.by_name[k].info, v, f'{where}.{k}')}" for k, v in value.items()]
+            parts = [f"{ident(k, where)} := {initial_text(field_record(info.cls, k).info, v, f'{where}.{k}')}" for k, v in value.items()]
             return "(" + ", ".join(parts) + ")"
         if isinstance(value, info.cls):
-            layout = getattr(info.cls, "_iec_layout_")
-            parts = [f"{ident(f.name)} := {initial_text(f.info, getattr(value, f.name), where)}" for f in layout.fields]
+            parts = [f"{ident(f.name)} := {initial_text(f.info, getattr(value, f.name), where)}" for f in fields_of(info.cls)]
             return "(" + ", ".join(parts) + ")"
     try:
         return literal(value, info)
@@ -153,7 +151,7 @@ def _argument(value: Any, where: str) -> str:
         from iecoop.gvl import all_global_lists
 
         for instance in all_global_lists():
-            for record in type(instance)._iec_layout_.fields:
+            for record in fields_of(type(instance)):
                 if isinstance(record.info, AggregateInfo) and getattr(instance, record.name) == value:
                     return ident(record.name)
         raise StExportError(f"{where}: an FB_init argument that is a block instance must be a global one")

@@ -9,6 +9,7 @@ import pytest
 
 from iecoop.st import language
 from iecoop.st.write import expressions, infer, statements
+from tests.iecoop.st.layout import oversized
 
 WING = Path(statements.__file__).parent
 ROOMS = sorted(WING.glob("*.py"))
@@ -16,12 +17,7 @@ ROOMS = sorted(WING.glob("*.py"))
 
 @pytest.mark.parametrize("room", ROOMS, ids=lambda p: p.name)
 def test_no_room_over_1000_lines_and_no_class_over_600(room: Path) -> None:
-    text = room.read_text(encoding="utf-8")
-    assert len(text.splitlines()) <= 1000, f"{room.name} has {len(text.splitlines())} lines"
-    for node in ast.walk(ast.parse(text)):
-        if isinstance(node, ast.ClassDef):
-            size = (node.end_lineno or node.lineno) - node.lineno + 1
-            assert size <= 600, f"{room.name}: class {node.name} has {size} lines"
+    assert oversized(room, module_lines=1000, class_lines=600) == []
 
 
 def test_every_statement_and_expression_has_its_visit_handler() -> None:
