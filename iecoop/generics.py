@@ -225,6 +225,8 @@ def generic_parameters(func: Callable[..., Any], resolve: Callable[[str], Any] |
 
 def _received(value: Any, family: AnyFamily, label: str, name: str) -> AnyType:
     """What the body gets for ``value``: its AnyType, once the family admits its type."""
+    if value is None:
+        raise AccessError(f"{label}: VAR_INPUT {name} : {family.name} must be given at every call")
     try:
         given = AnyType.of(value)
     except AccessError as exc:

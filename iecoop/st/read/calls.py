@@ -9,6 +9,8 @@ from typing import Any
 
 import blark.transform as tf
 
+from iecoop.exceptions import DefinitionError
+
 from iecoop.st.language import INTEGER_LAYOUT, MATH_FUNCTIONS, STRING_FUNCTIONS, SYSTEM_FUNCTIONS, TYPE_SYNONYMS
 from iecoop.st.read.expressions import Expressions
 from iecoop.st.read.frames import Ex, Scope
@@ -53,6 +55,9 @@ class Calls(Expressions):
                 if match is not None and match.section == "VAR_IN_OUT":
                     args.append(f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}")
                     continue
+                if match is not None and match.type is not None and match.type.kind == "any":
+                    args.append(f"{match.name}={self.generic_argument(param.value, match, scope)}")
+                    continue
                 value = self.expr(param.value, scope)
                 expected = match.type if match is not None else None
                 # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
@@ -62,9 +67,60 @@ class Calls(Expressions):
                     if declared[index].section == "VAR_IN_OUT":
                         args.append(self.by_reference_argument(param.value, scope, ":="))
                         continue
+                    generic = declared[index].type
+                    if generic is not None and generic.kind == "any":
+                        args.append(self.generic_argument(param.value, declared[index], scope))
+                        continue
                     expected = declared[index].type
                 args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
         return args
+
+    def generic_argument(self, value: Any, param: Member, scope: Scope) -> str:
+        """The ``AnyType`` a generic input (``x : ANY_NUM``) gets: the caller's variable where it has an address,
+        else a copy of the value; a type outside the family is refused here, as the compilers refuse it."""
+        from iecoop.generics import FAMILIES
+
+        assert param.type is not None
+        family = FAMILIES[param.type.name]
+        ex = self.expr(value, scope)
+        if ex.type is not None and ex.type.kind == "any":
+            return ex.code  # a generic input handed on: its AnyType as it is
+        type_class = self.type_class_of(ex.type)
+        if type_class is not None and not family.admits(type_class):
+            shown = ex.type.annotation() if ex.type is not None else "?"
+            raise DefinitionError(f"{self.unit.where(self.line) if self.unit else '<st>'}: VAR_INPUT {param.st} : {family.name} "
+                                  f"takes {family.takes}, not {shown} ({ex.code})")
+        self.need("iecoop", "AnyType")
+        if isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)) and not value.dereferenced:
+            root = value.name if isinstance(value, tf.MultiElementVariable) else value
+            local = scope.locals.get(str(getattr(root, "name", root)).lower())
+            bit = isinstance(value, tf.MultiElementVariable) and isinstance(value.elements[-1], tf.FieldSelector) \
+                and not isinstance(value.elements[-1].field, tf.SimpleVariable)
+            if not bit and (local is None or local.section in ("STAT", "VAR_OUTPUT", "VAR_IN_OUT")):
+                return f"AnyType.at({self.address_of(value, scope)})"
+        if ex.type is not None and ex.type.kind in ("elem", "string"):
+            self._need_type(ex.type)
+            return f"AnyType.of({ex.code}, {ex.type.name})"
+        return f"AnyType.of({ex.code})"
+
+    def type_class_of(self, type_: TypeRef | None) -> Any:
+        """The ``TYPE_CLASS`` of a value of ``type_`` (None when the type is not known here)."""
+        from iecoop.memory.operators import TYPE_CLASS
+
+        if type_ is None:
+            return None
+        type_ = type_.deref()
+        if type_.kind in ("elem", "string"):
+            name = {"DT": "DATEANDTIME", "TOD": "TIMEOFDAY"}.get(type_.name, type_.name)
+            return TYPE_CLASS.__members__.get(f"TYPE_{name}")
+        if type_.kind in ("pointer", "array"):
+            return TYPE_CLASS.TYPE_POINTER if type_.kind == "pointer" else TYPE_CLASS.TYPE_ARRAY
+        decl = self.decl_of(type_)
+        if decl is None:
+            return None
+        if decl.kind == "alias" and decl.alias_of is not None:
+            return self.type_class_of(decl.alias_of)
+        return {"enum": TYPE_CLASS.TYPE_ENUM, "interface": TYPE_CLASS.TYPE_INTERFACE}.get(decl.kind, TYPE_CLASS.TYPE_USERDEF)
 
     def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:
         """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""

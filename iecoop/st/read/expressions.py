@@ -412,6 +412,15 @@ class Expressions(PyWriter):
             if field.lower() == "exceptioncode":
                 self.need("iecoop", "ExceptionCode")
                 return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
+        if base.type is not None and base.type.name == "__SYSTEM" and field.lower() == "type_class":
+            self.need("iecoop", "TYPE_CLASS")
+            return Ex("TYPE_CLASS", TypeRef("user", "__SYSTEM.TYPE_CLASS"))
+        if base.type is not None and base.type.name == "__SYSTEM.TYPE_CLASS":
+            from iecoop.memory.operators import TYPE_CLASS
+
+            if field.upper() not in TYPE_CLASS.__members__:
+                raise self.fail(f"__SYSTEM.TYPE_CLASS has no value {field!r}", node)
+            return Ex(f"TYPE_CLASS.{field.upper()}", TypeRef("elem", "DINT"))
         if base.code == "ExceptionCode":
             return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
         if base.type is not None and base.type.kind == "varinfo":

@@ -102,6 +102,8 @@ def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
 
 
 def _looks_like_path(text: str) -> bool:
+    if not text.strip():
+        return False  # Path("") is the current folder: an empty text is empty Structured Text
     return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj") or pathlib.Path(text).is_dir()
 
 
@@ -367,8 +369,11 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         exc = result.exception
         line = getattr(exc, "line", None)
         unit = Unit(None, filename, line_map)
-        where = unit.where(line if isinstance(line, int) and line > 0 else None)
         detail = _syntax_detail(exc, text)
+        if not (isinstance(line, int) and line > 0):  # the parser ran out of text: the error is at its end
+            line = max(text.rstrip().count("\n") + 1, 1)
+            detail = "the source ends before its last declaration or statement does"
+        where = unit.where(line)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     _check_limits(result.tree, Unit(None, filename, line_map))
     try:

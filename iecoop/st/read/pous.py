@@ -157,6 +157,10 @@ class Pous(Declarations):
                 parts.append(f"{param.name}: {param.type.annotation()}")
                 scope.locals[param.st.lower()] = param
                 continue
+            if param.type.kind == "any":  # a generic input: the body gets its AnyType, the call always passes it
+                parts.append(f"{param.name}: {param.type.annotation()} = None")
+                scope.locals[param.st.lower()] = param
+                continue
             if self._aggregate(param.type):
                 if not scope.pou:
                     raise self.fail(f"input {param.st} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
@@ -471,7 +475,8 @@ class Pous(Declarations):
                 self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
             else:
                 self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
-        in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
+        in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values()
+                  if any(p.section == "VAR_IN_OUT" or p.type is not None and p.type.kind == "any" for p in c.params)}
         scope.addressed = set(by_reference_arguments(node.body, in_out))
         self._local_blocks(node.declarations, scope, level)
         for line in scope.output_inits:
@@ -607,7 +612,7 @@ class Pous(Declarations):
             self.emit(f'"""FUNCTION {decl.st}: bound to a Python callable at load time."""', 1)
             self.emit(f'raise NotImplementedError("FUNCTION {decl.st} has no body: pass externals={{\'{decl.st}\': ...}}")', 1)
             return
-        if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") for p in info.params):
+        if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") or p.type is not None and p.type.kind == "any" for p in info.params):
             self.need("iecoop", "function")
             self.emit("@function", 0)
         self.emit_def(f"def {decl.name}({params}) -> {ret_text}:", 0)

@@ -96,6 +96,10 @@ class Statements(Calls):
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
+        if target.kind == "pointer" and target.of is not None and value.type is not None and value.type.kind == "pointer" \
+                and value.type.of is not None and value.type.of.annotation() != target.of.annotation():
+            self._need_type(target)
+            return f"{value.p()}.typed({target.of.annotation()})"  # ST converts pointers implicitly: the same address
         if target.is_bool and value.type is not None and value.type.is_int:
             return f"bool({value.code})"
         if target.is_int and value.type is not None and value.type.is_real:

@@ -147,6 +147,15 @@ class Decl:
 IQUERYINTERFACE = Decl("interface", "IQueryInterface")
 SYSTEM_DECLS = {IQUERYINTERFACE.name.lower(): IQUERYINTERFACE}
 
+#: The generic type families a FUNCTION's or METHOD's VAR_INPUT may have (IEC 61131-3; iecoop.generics).
+GENERIC_FAMILIES = ("ANY", "ANY_ELEMENTARY", "ANY_NUM", "ANY_INT", "ANY_REAL", "ANY_BIT", "ANY_STRING", "ANY_DATE")
+#: ``__SYSTEM.AnyType``, what a generic input is in the body: its members, as ``x.TypeClass`` reads them.
+ANYTYPE = Decl("struct", "AnyType", members={
+    "typeclass": Member("TypeClass", TypeRef("elem", "DINT"), "VAR", st="TypeClass"),
+    "pvalue": Member("pValue", TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")), "VAR", st="pValue"),
+    "disize": Member("diSize", TypeRef("elem", "DINT"), "VAR", st="diSize"),
+})
+
 
 class Symbols:
     """Pass 1's symbol table, and the error and line bookkeeping every phase shares."""
@@ -409,6 +418,8 @@ class Symbols:
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
             return TypeRef("user", IQUERYINTERFACE.name)
+        if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
+            return TypeRef("any", name.upper())
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
@@ -578,6 +589,8 @@ class Symbols:
         if type_ is None:
             return None
         type_ = type_.deref()
+        if type_.kind == "any":
+            return ANYTYPE
         if type_.kind != "user":
             return None
         decl = self.by_python.get(type_.name) or SYSTEM_DECLS.get(type_.name.lower())

@@ -1,0 +1,163 @@
+"""The TwinCAT / CODESYS dialect real projects write: each construct loaded and run over cycles, values worked by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+from iecoop.exceptions import AccessError, DefinitionError
+
+st = pytest.importorskip("iecoop.st")
+
+
+# --- errors named instead of internal ones ---------------------------------------------------------
+
+
+def test_a_struct_extending_an_undeclared_one_is_named() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:1: STRUCT ST_B EXTENDS ST_Nope, which is no declared STRUCT"):
+        st.load("TYPE ST_B EXTENDS ST_Nope : STRUCT x : INT; END_STRUCT END_TYPE")
+
+
+def test_an_empty_struct_is_named_with_its_line() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:2: STRUCT ST_E has no members"):
+        st.load("\nTYPE ST_E : STRUCT END_STRUCT END_TYPE")
+
+
+def test_a_positional_argument_after_a_named_one_is_refused() -> None:
+    source = """FUNCTION F : INT
+VAR_INPUT a : INT; b : INT; END_VAR
+F := a + b;
+END_FUNCTION
+PROGRAM P
+VAR x : INT; END_VAR
+x := F(a := 5, 2);
+END_PROGRAM"""
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:7: a positional argument follows the named argument a"):
+        st.load(source)
+
+
+def test_an_interface_named_with_its_descendant_loads() -> None:
+    plc = st.load("""INTERFACE I_A
+END_INTERFACE
+METHOD M : INT
+END_METHOD
+INTERFACE I_B EXTENDS I_A
+END_INTERFACE
+FUNCTION_BLOCK FB IMPLEMENTS I_A, I_B
+VAR n : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD M : INT
+n := n + 3;
+M := n;
+END_METHOD
+""")
+    fb = plc.FB()
+    assert (fb.M(), fb.M()) == (3, 6)
+    assert isinstance(fb, plc.I_A) and isinstance(fb, plc.I_B)
+
+
+def test_a_class_the_builder_refuses_is_named_at_its_declaration() -> None:
+    source = "INTERFACE I_Drive\nEND_INTERFACE\nMETHOD Move : BOOL\nEND_METHOD\n\nFUNCTION_BLOCK FB_Motor IMPLEMENTS I_Drive\nEND_FUNCTION_BLOCK\n"
+    with pytest.raises(DefinitionError, match=r"<st>:6: FUNCTION_BLOCK FB_Motor: there is no implementation for method 'Move'"):
+        st.load(source)
+
+
+@pytest.mark.parametrize("source", ["", "   \n", "FUNCTION_BLOCK A\nVAR x : INT;"])
+def test_empty_and_cut_sources(source: str) -> None:
+    if not source.strip():
+        assert "<iecoop.st st #" in str(st.load(source).__file__)  # empty text, not the current folder
+        return
+    with pytest.raises(st.StSyntaxError, match=r"<st>:2: .*the source ends before"):
+        st.load(source)
+
+
+# --- generics ---------------------------------------------------------------------------------------
+
+GENERIC = """
+FUNCTION F_Kind : INT
+VAR_INPUT x : ANY_NUM; END_VAR
+VAR pInt : POINTER TO INT; pReal : POINTER TO REAL; END_VAR
+CASE x.TypeClass OF
+__SYSTEM.TYPE_CLASS.TYPE_INT:
+    pInt := x.pValue;
+    F_Kind := pInt^ * 10;
+__SYSTEM.TYPE_CLASS.TYPE_REAL:
+    pReal := x.pValue;
+    F_Kind := REAL_TO_INT(pReal^);
+ELSE
+    F_Kind := -x.diSize;
+END_CASE
+END_FUNCTION
+
+FUNCTION F_Clear : BOOL
+VAR_INPUT x : ANY_INT; END_VAR
+VAR p : POINTER TO INT; END_VAR
+IF x.TypeClass = __SYSTEM.TYPE_CLASS.TYPE_INT THEN
+    p := x.pValue;
+    p^ := 0;
+    F_Clear := TRUE;
+END_IF
+END_FUNCTION
+
+FUNCTION_BLOCK FB_Sum
+VAR_OUTPUT rTotal : LREAL; END_VAR
+END_FUNCTION_BLOCK
+METHOD Add : DINT
+VAR_INPUT value : ANY_REAL; END_VAR
+VAR pR : POINTER TO REAL; pL : POINTER TO LREAL; END_VAR
+IF value.TypeClass = __SYSTEM.TYPE_CLASS.TYPE_REAL THEN
+    pR := value.pValue;
+    rTotal := rTotal + pR^;
+ELSE
+    pL := value.pValue;
+    rTotal := rTotal + pL^;
+END_IF
+Add := value.diSize;
+END_METHOD
+
+PROGRAM MAIN
+VAR
+    n : INT := 4; r : REAL := 2.5; d : DINT := 7; l : LREAL := 0.25;
+    a : INT; b : INT; c : INT; e : INT; k : INT := 9; s1 : DINT; s2 : DINT;
+    fbSum : FB_Sum;
+END_VAR
+a := F_Kind(n);
+b := F_Kind(r);
+c := F_Kind(x := d);
+e := F_Kind(n + 1);
+s1 := fbSum.Add(r);
+s2 := fbSum.Add(value := l);
+F_Clear(k);
+n := n + 1;
+k := k + 2;
+END_PROGRAM
+"""
+
+
+def test_generic_inputs_from_st_over_cycles() -> None:
+    plc = st.load(GENERIC)
+    main = plc.MAIN
+    main()
+    # n=4: 4*10; r=2.5 rounds to 2 (REAL_TO_INT rounds half to even); DINT: -4 bytes; n+1=5 (a copy): 50
+    assert (main.a, main.b, main.c, main.e) == (40, 2, -4, 50)
+    assert (main.s1, main.s2, main.fbSum.rTotal) == (4, 8, 2.75)
+    assert main.k == 2                       # F_Clear wrote the caller's k through pValue, then k := k + 2
+    main()
+    assert (main.a, main.e, main.k, main.fbSum.rTotal) == (50, 60, 2, 5.5)
+
+
+def test_a_generic_input_refuses_a_type_outside_its_family_at_load() -> None:
+    source = GENERIC.replace("s1 := fbSum.Add(r);", "s1 := fbSum.Add(n);")
+    with pytest.raises(DefinitionError, match=r"<st>:\d+: VAR_INPUT value : ANY_REAL takes a REAL or LREAL, not INT"):
+        st.load(source)
+
+
+def test_a_generic_input_called_from_python() -> None:
+    plc = st.load(GENERIC)
+    assert plc.F_Kind(7) == -4               # a Python int is a DINT
+    with pytest.raises(AccessError, match="ANY_NUM takes a number"):
+        plc.F_Kind("x")
+
+
+def test_a_generic_type_outside_a_function_input_is_refused() -> None:
+    with pytest.raises(st.StUnsupportedError, match="VAR x : ANY_NUM: a generic type is for a VAR_INPUT"):
+        st.load("PROGRAM P\nVAR x : ANY_NUM; END_VAR\nEND_PROGRAM")
