@@ -334,9 +334,11 @@ def _overlay_parser() -> Any:
     import lark
     from blark.parse import BlarkStartingRule
 
+    from iecoop.st.read.dialect import DIALECT_OVERLAY
+
     grammar = importlib.resources.files(blark).joinpath(blark.GRAMMAR_FILENAME.name).read_text()
     return lark.Lark(
-        grammar + GRAMMAR_OVERLAY,
+        grammar + GRAMMAR_OVERLAY + DIALECT_OVERLAY,
         parser="earley",
         maybe_placeholders=True,
         propagate_positions=True,
@@ -356,7 +358,9 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
     import lark
 
     line_map = dict(line_map_items)
-    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
+    from iecoop.st.read.dialect import needs_dialect, rewrite
+
+    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else None
     try:
         result = blark.parse_source_code(text, fn=filename, parser=parser)
     except (IndexError, ValueError, KeyError) as scanned:  # blark's comment scanner on unbalanced (* *) and { }
@@ -377,6 +381,8 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     _check_limits(result.tree, Unit(None, filename, line_map))
     try:
+        if parser is not None:
+            rewrite(result.tree)
         return result.transform(), tuple(result.comments)
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None

@@ -161,3 +161,79 @@ def test_a_generic_input_called_from_python() -> None:
 def test_a_generic_type_outside_a_function_input_is_refused() -> None:
     with pytest.raises(st.StUnsupportedError, match="VAR x : ANY_NUM: a generic type is for a VAR_INPUT"):
         st.load("PROGRAM P\nVAR x : ANY_NUM; END_VAR\nEND_PROGRAM")
+
+
+# --- grammar blark does not read -------------------------------------------------------------------
+
+NESTED = """
+TYPE ST_P : STRUCT a : INT := 5; b : INT; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Counter EXTENDS FB_Base,
+VAR n : INT; stP : ST_P := (); END_VAR
+METHOD PUBLIC Inc : INT
+VAR_INPUT d : INT; END_VAR
+n := n + d;
+Inc := n;
+END_METHOD
+PROPERTY Count : INT
+GET
+    Count := n * 10;
+END_GET
+SET
+    n := Count;
+END_SET
+END_PROPERTY
+Inc(2);
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Base
+VAR_OUTPUT t : LTIME := LTIME#1US5NS; tLong : LTIME := LTIME#1MS2US3NS; END_VAR
+END_FUNCTION_BLOCK
+CLASS C_Acc
+VAR total : DINT; END_VAR
+METHOD Add : DINT
+VAR_INPUT x : DINT; END_VAR
+VAR_TEMP y : DINT; END_VAR
+y := x * 2;
+total := total + y;
+Add := total;
+END_METHOD
+END_CLASS
+FUNCTION F_Twice : INT
+VAR_INPUT x : INT; END_VAR
+VAR_TEMP t : INT; END_VAR
+t := x * 2;
+F_Twice := t;
+END_FUNCTION
+PROGRAM INTERNAL MAIN
+VAR fb : FB_Counter; acc : C_Acc; r : REF_TO INT; n : INT; k : INT; END_VAR
+fb();
+acc.Add(3);
+r REF= n;
+r := F_Twice(r + 1);
+k := fb.Count;
+END_PROGRAM
+"""
+
+
+def test_members_inside_their_block_class_and_the_small_forms() -> None:
+    plc = st.load(NESTED)
+    main = plc.MAIN
+    main()
+    # Inc(2) per cycle; Add(3) adds 6; r is n: n := (0 + 1) * 2; Count's GET is n * 10
+    assert (main.fb.n, main.acc.total, main.n, main.k) == (2, 6, 2, 20)
+    main()
+    assert (main.fb.n, main.acc.total, main.n, main.k) == (4, 12, 6, 40)
+    assert (main.fb.t, main.fb.tLong) == (1_005, 1_002_003)   # nanoseconds
+    assert (main.fb.stP.a, main.fb.stP.b) == (5, 0)          # := () keeps the declared values
+    main.fb.Count = 7                                          # SET ... END_SET
+    assert main.fb.Count == 70
+    assert isinstance(main.fb, plc.FB_Base)                    # EXTENDS FB_Base, (trailing comma)
+
+
+def test_return_after_a_parenthesised_condition() -> None:
+    plc = st.load("""FUNCTION F : INT
+VAR_INPUT x : BOOL; END_VAR
+F := 1;
+IF (x) THEN RETURN; END_IF
+F := 2;
+END_FUNCTION""")
+    assert (plc.F(True), plc.F(False)) == (1, 2)
