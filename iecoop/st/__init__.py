@@ -254,7 +254,8 @@ def load(
     if unbound:
         del sys.modules[module_name]
         raise StUnsupportedError(
-            f"FUNCTION {unbound[0]} has no body and no Python callable: pass externals={{{unbound[0]!r}: ...}}"
+            f"{_declared_at(source, unbound[0])[0]}: FUNCTION {unbound[0]} has no body and no Python callable: "
+            f"pass externals={{{unbound[0]!r}: ...}}"
         )
     return module
 

@@ -53,7 +53,7 @@ class Calls(Expressions):
                 if match is not None and match.section == "VAR_OUTPUT":
                     raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
                 if match is not None and match.section == "VAR_IN_OUT":
-                    args.append(f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}")
+                    args.append(f"{match.name}={self.in_out_argument(param.value, match, scope)}")
                     continue
                 if match is not None and match.type is not None and match.type.kind == "any":
                     args.append(f"{match.name}={self.generic_argument(param.value, match, scope)}")
@@ -65,7 +65,7 @@ class Calls(Expressions):
             else:
                 if declared is not None and index < len(declared):
                     if declared[index].section == "VAR_IN_OUT":
-                        args.append(self.by_reference_argument(param.value, scope, ":="))
+                        args.append(self.in_out_argument(param.value, declared[index], scope))
                         continue
                     generic = declared[index].type
                     if generic is not None and generic.kind == "any":
@@ -74,6 +74,15 @@ class Calls(Expressions):
                     expected = declared[index].type
                 args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
         return args
+
+    def in_out_argument(self, value: Any, param: Member, scope: Scope) -> str:
+        """The caller's variable a VAR_IN_OUT gets: its address, or for an ``ARRAY[*]`` the array itself (a view of it)."""
+        if param.type is not None and param.type.kind == "array" and param.type.bounds is None:
+            ex = self.expr(value, scope)
+            if ex.type is None or ex.type.deref().kind != "array" or not isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)):
+                raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[*] takes an ARRAY variable, not {ex.code}", value)
+            return ex.code
+        return self.by_reference_argument(value, scope, ":=")
 
     def generic_argument(self, value: Any, param: Member, scope: Scope) -> str:
         """The ``AnyType`` a generic input (``x : ANY_NUM``) gets: the caller's variable where it has an address,
@@ -239,6 +248,11 @@ class Calls(Expressions):
                 raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
             self._need_type(first)
             return self.function_call(upper, [*codes, first.name], first)
+        if upper in ("LOWER_BOUND", "UPPER_BOUND"):
+            # of an ARRAY[*] in-out (or any ARRAY): its bounds, which the array carries (dimension 1 first)
+            if len(args) != 2 or args[0].type is None or args[0].type.deref().kind != "array":
+                raise self.fail(f"{upper}(array, dimension) needs an ARRAY and a dimension", node)
+            return Ex(f"{args[0].p()}.bounds[{args[1].code} - 1][{0 if upper == 'LOWER_BOUND' else 1}]", TypeRef("elem", "DINT"))
         if upper == "TRUNC":
             self.need("iecoop.conversions", "TRUNC")
             return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))

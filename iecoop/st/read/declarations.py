@@ -48,13 +48,12 @@ class Declarations(Statements):
                 value += 1
             self.emit(f"{python_name(str(item.name), attribute=True)} = {value}", 1)
         if node.init.value is not None:
-            raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
+            self.enum_default(decl)  # a name among the values; the variables of the type start with it
 
     def _emit_alias(self, decl: Decl) -> None:
         assert decl.alias_of is not None
         target = decl.alias_of
-        if target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds):
-            raise self.fail(f"alias {decl.name} of {target.annotation()} with a length or bounds is not supported", decl.node)
+        shaped = target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds)
         self.need("typing", "Annotated")
         self.need("iecoop", "Alias")
         self._need_type(target)
@@ -67,6 +66,9 @@ class Declarations(Statements):
             initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
         elif target.limits is not None:
             initial = f", initial={target.limits[0]}"  # a subrange starts at its lower limit (IEC 61131-3)
+        if shaped:
+            shape = f"STRING({target.length})" if target.kind == "string" else "its ARRAY bounds"
+            self.emit(f"# TYPE {decl.st} is {shape}: the variables declared with it carry that", 0)
         self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _emit_struct(self, decl: Decl) -> None:
@@ -113,6 +115,8 @@ class Declarations(Statements):
         assert type_ is not None
         if type_.kind == "any":
             raise self.fail(f"{member.section} {member.st} : {type_.name}: a generic type is for a VAR_INPUT of a FUNCTION or METHOD")
+        if type_.kind == "array" and type_.bounds is None:
+            raise self.fail(f"{member.section} {member.st} : ARRAY[*]: an array of any length is for a VAR_IN_OUT of a FUNCTION or METHOD")
         if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
             # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
             scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)
@@ -228,7 +232,7 @@ class Declarations(Statements):
         if value is None:
             decl = self.decl_of(type_) if type_.kind == "user" else None
             if decl is not None and decl.kind == "enum" and decl.values:
-                return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+                return self.enum_default(decl)
             if type_.limits is not None:
                 return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
             return None

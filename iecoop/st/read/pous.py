@@ -144,6 +144,13 @@ class Pous(Declarations):
         for index, param in enumerate(params):
             assert param.type is not None
             self._need_type(param.type)
+            if param.section == "VAR_IN_OUT" and param.type.kind == "array" and param.type.bounds is None:
+                # ARRAY[*]: the caller's array itself (a view of its memory), with the bounds it was declared with
+                parts.append(f"{param.name}: {param.type.annotation()} | None = None")
+                scope.locals[param.st.lower()] = Member(param.name, param.type, "VAR_INPUT", st=param.st)
+                scope.output_inits.append(
+                    f'if {param.name} is None: raise TypeError("{scope.pou}: VAR_IN_OUT {param.st} must be given at every call")')
+                continue
             if param.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
                 if index < last_reference:
                     raise self.fail(f"{param.section} {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
@@ -220,7 +227,7 @@ class Pous(Declarations):
             return "Pointer(0, None)"
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
-            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+            return self.enum_default(decl)
         if decl is not None and decl.kind == "interface":
             self.need("iecoop", "null")
             return f"null({decl.name})"

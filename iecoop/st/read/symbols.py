@@ -412,6 +412,10 @@ class Symbols:
         elem = self._elem_or_none(name)
         if elem is not None:
             return elem
+        if name.upper() == "BIT" and "bit" not in self.decls:
+            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
+            # of its own byte: the same values, another layout
+            return TypeRef("elem", "BOOL")
         if name.upper() == "__SYSTEM.EXCEPTIONCODE":
             return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
         if name.upper() == "__SYSTEM.VAR_INFO":
@@ -423,6 +427,12 @@ class Symbols:
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(f"unknown type {name!r}", node)
+        if decl.kind == "alias":
+            # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
+            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
+            target = decl.alias_of or self._alias_target(decl.node)
+            if target.kind == "string" and target.length not in (None, "80") or target.kind == "array":
+                return target
         return TypeRef("user", decl.name)
 
     def _string_type(self, spec: Any) -> TypeRef:
@@ -463,11 +473,13 @@ class Symbols:
         raise self.fail(f"type specification {type(spec).__name__} is not supported", node)
 
     def _array_type(self, spec: Any, indirection: Any, node: Any) -> TypeRef:
-        bounds = []
+        bounds: list[tuple[str, str]] | None = []
         for sub in spec.subranges:
             if not isinstance(sub, tf.PartialSubrange):
-                raise self.fail("ARRAY[*] (variable length) is not supported", node)
-            bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
+                bounds = None  # ARRAY[*]: a VAR_IN_OUT of a FUNCTION or METHOD takes any array of the element type
+                continue
+            if bounds is not None:
+                bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
         element_spec = spec.type
         if isinstance(element_spec, tf.ArraySpecification):
             element = self._array_type(element_spec, None, node)
@@ -597,6 +609,15 @@ class Symbols:
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
             decl = self.by_python.get(decl.alias_of.name)
         return decl
+
+    def enum_default(self, decl: Decl) -> str:
+        """The value a variable of the enumeration ``decl`` starts with: ``TYPE E : (A, B) := B;`` declares B, else the first."""
+        given = getattr(getattr(decl.node, "init", None), "value", None)
+        name = str(getattr(given, "name", None) or given or "").rsplit(".", 1)[-1] if given is not None else ""
+        match = next((v for v in decl.values if v.lower() == name.lower()), None)
+        if given is not None and match is None:
+            raise self.fail(f"the default {name!r} of enumeration {decl.st} is none of its values", decl.node)
+        return f"{decl.name}.{python_name(match or decl.values[0], attribute=True)}"
 
     def lineage(self, decl: Decl) -> Iterator[Decl]:
         seen = set()

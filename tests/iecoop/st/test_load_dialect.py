@@ -237,3 +237,69 @@ IF (x) THEN RETURN; END_IF
 F := 2;
 END_FUNCTION""")
     assert (plc.F(True), plc.F(False)) == (1, 2)
+
+
+# --- declarations -----------------------------------------------------------------------------------
+
+DECLARATIONS = """
+TYPE T_MaxString : STRING(255); END_TYPE
+TYPE T_Trio : ARRAY[1..3] OF INT; END_TYPE
+TYPE E_Mode : (Idle, Run) := Run; END_TYPE
+TYPE ST_Flags : STRUCT bReady : BIT; bBusy : BIT; eMode : E_Mode; nCount : INT; END_STRUCT END_TYPE
+FUNCTION F_Sum : INT
+VAR_IN_OUT arr : ARRAY[*] OF INT; END_VAR
+VAR i : DINT; END_VAR
+FOR i := LOWER_BOUND(arr, 1) TO UPPER_BOUND(arr, 1) DO
+    F_Sum := F_Sum + arr[i];
+    arr[i] := arr[i] + 1;
+END_FOR
+END_FUNCTION
+FUNCTION F_Mode : E_Mode
+VAR x : E_Mode; END_VAR
+F_Mode := x;
+END_FUNCTION
+PROGRAM MAIN
+VAR
+    sText : T_MaxString; nLen : INT; aTrio : T_Trio;
+    a : ARRAY[2..4] OF INT := [1, 2, 3]; b : ARRAY[0..1] OF INT := [10, 20]; s : INT; t : INT;
+    eMode : E_Mode; eIdle : E_Mode := E_Mode.Idle; stFlags : ST_Flags; eFromF : E_Mode; nRuns : INT;
+END_VAR
+sText := CONCAT(sText, '0123456789');
+nLen := LEN(sText);
+aTrio[3] := nLen;
+s := F_Sum(a);
+t := F_Sum(arr := b);
+eFromF := F_Mode();
+IF eMode = E_Mode.Run THEN nRuns := nRuns + 1; eMode := E_Mode.Idle; END_IF
+stFlags.bBusy := NOT stFlags.bBusy;
+END_PROGRAM
+"""
+
+
+def test_declarations_real_projects_write() -> None:
+    plc = st.load(DECLARATIONS)
+    main = plc.MAIN
+    main()
+    assert (main.s, main.t, list(main.a), list(main.b)) == (6, 30, [2, 3, 4], [11, 21])   # sums, then each +1
+    assert (main.eMode, main.eIdle, main.stFlags.eMode, main.eFromF, main.nRuns) == (0, 0, 1, 1, 1)  # Run is 1
+    assert (main.nLen, main.aTrio[3], main.stFlags.bBusy, main.stFlags.bReady) == (10, 10, True, False)
+    main()
+    assert (main.s, main.t, main.nRuns, main.stFlags.bBusy) == (9, 32, 1, False)
+    for _ in range(30):
+        main()
+    assert main.nLen == 255                          # STRING(255) through the alias, not STRING(80)
+
+
+def test_array_star_outside_an_in_out_is_refused() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"ARRAY\[\*\]: an array of any length is for a VAR_IN_OUT"):
+        st.load("PROGRAM P\nVAR a : ARRAY[*] OF INT; END_VAR\nEND_PROGRAM")
+
+
+def test_a_function_without_body_names_its_line() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:2: FUNCTION F has no body"):
+        st.load("\nFUNCTION F : INT\nEND_FUNCTION")
+
+
+def test_an_enum_default_that_is_no_value_is_named() -> None:
+    with pytest.raises(st.StUnsupportedError, match="the default 'Stop' of enumeration E_Mode is none of its values"):
+        st.load("TYPE E_Mode : (Idle, Run) := Stop; END_TYPE")
