@@ -27,11 +27,7 @@ class Calls(Expressions):
         raise NotImplementedError
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
-        named = next((p for p in params if p.name is not None), None)
-        if named is not None and any(p.name is None for p in params[params.index(named):]):
-            raise self.fail(
-                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
-                "first named one (TwinCAT and CODESYS refuse the mix)", node)
+        self.check_argument_order(params, node)
         args = []
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
@@ -74,6 +70,14 @@ class Calls(Expressions):
                     expected = declared[index].type
                 args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
         return args
+
+    def check_argument_order(self, params: Sequence[Any], node: Any) -> None:
+        """A positional argument after a named one is refused, as IEC 61131-3 and the compilers refuse it."""
+        named = next((p for p in params if p.name is not None), None)
+        if named is not None and any(p.name is None for p in params[params.index(named):]):
+            raise self.fail(
+                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
+                "first named one (TwinCAT and CODESYS refuse the mix)", node)
 
     def in_out_argument(self, value: Any, param: Member, scope: Scope) -> str:
         """The caller's variable a VAR_IN_OUT gets: its address, or for an ``ARRAY[*]`` the array itself (a view of it)."""
@@ -192,13 +196,19 @@ class Calls(Expressions):
 
     def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
         inputs, outputs = [], []
-        for param in node.parameters:
+        self.check_argument_order(node.parameters, node)
+        # IEC 61131-3's non-formal call: fb(1, 2) sets the inputs (and in-outs) in the order the block declares them
+        positional = [m for d in reversed(list(self.lineage(decl))) for m in d.members.values() if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
+        for index, param in enumerate(node.parameters):
             if param.name is None:
-                raise self.fail(f"a call of function block {callee.code} needs named inputs (name := value)", node)
-            found = self.find_member(decl, str(param.name.name))
-            if found is None or not isinstance(found[1], Member):
-                raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
-            member = found[1]
+                if index >= len(positional):
+                    raise self.fail(f"{decl.st} takes {len(positional)} inputs by position, the call gives {len(node.parameters)}", node)
+                member = positional[index]
+            else:
+                found = self.find_member(decl, str(param.name.name))
+                if found is None or not isinstance(found[1], Member):
+                    raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
+                member = found[1]
             if isinstance(param, tf.OutputParameterAssignment):
                 if param.inverted:
                     raise self.fail("an inverted output (=> NOT) is not supported", node)

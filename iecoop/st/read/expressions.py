@@ -125,6 +125,10 @@ class Expressions(PyWriter):
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
             return Ex(f"{value.code}.0", type_, constant=float(value.constant))
+        if type_ is not None and type_.kind == "pointer" and type_.of is not None and value.type is not None \
+                and value.type.kind == "pointer" and value.type.of is not None and value.type.of.annotation() != type_.of.annotation():
+            self._need_type(type_)
+            return Ex(f"{value.p()}.typed({type_.of.annotation()})", type_)  # ST converts pointers implicitly: the same address
         return value
 
     def visit_ParenthesizedExpression(self, node: tf.ParenthesizedExpression, scope: Scope) -> Ex:

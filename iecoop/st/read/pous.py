@@ -252,6 +252,16 @@ class Pous(Declarations):
     def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
         arrays: list[tuple[Member, Any]] = []
         statics: list[tuple[Any, str, TypeRef | None]] = []
+        inputs = []
+        for key in sorted(scope.addressed):
+            param = scope.locals.get(key)
+            if param is not None and param.section == "VAR_INPUT" and param.type is not None and scope.pou and (
+                    param.type.kind in ("elem", "string", "pointer") or getattr(self.decl_of(param.type), "kind", None) == "enum"):
+                # ADR of an input: the value is copied where it has an address, and read and written there
+                arrays.append((Member(param.name, param.type, "ADDRESSED", st=param.st), None))
+                scope.locals[key] = Member(f"_var.{param.name}", param.type, "STAT", st=param.st)
+                inputs.append(param.name)
+        start = len(self.out)
         self._locals_of_blocks(blocks, scope, level, arrays, statics)
         if statics:
             self._statics(scope, statics)
@@ -261,10 +271,13 @@ class Pous(Declarations):
             # made at each call: initialised as declared, and the caller's variables never written
             addressed = " and the locals passed by address" if any(m.section == "ADDRESSED" for m, _ in held) else ""
             holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}{addressed}: new at every call.")
+            mark = len(self.out)
             self.emit(f"_var = {holder}()", level)
             for member, _ in scope.by_value:
                 self.emit(f"if {member.name} is not None:", level)
                 self.emit(f"_var.{member.name} = {member.name}  # passed by value: a copy", level + 1)
+            for name in inputs:
+                self.emit(f"_var.{name} = {name}  # an input whose address is taken", level)
             for member, _ in held:
                 assert member.type is not None
                 self._need_type(member.type)
@@ -272,6 +285,10 @@ class Pous(Declarations):
                     continue  # read and written as _var.name
                 annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
                 self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
+            # the holder comes before the plain locals: their initial values may take an address in it
+            moved = self.out[mark:]
+            del self.out[mark:]
+            self.out[start:start] = moved
 
     def _statics(self, scope: Scope, statics: Sequence[tuple[Any, str, TypeRef | None]]) -> None:
         """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""
@@ -484,7 +501,7 @@ class Pous(Declarations):
                 self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
         in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values()
                   if any(p.section == "VAR_IN_OUT" or p.type is not None and p.type.kind == "any" for p in c.params)}
-        scope.addressed = set(by_reference_arguments(node.body, in_out))
+        scope.addressed = set(by_reference_arguments(node.body, in_out)) | set(by_reference_arguments(node.declarations, in_out))
         self._local_blocks(node.declarations, scope, level)
         for line in scope.output_inits:
             self.emit(line, level)

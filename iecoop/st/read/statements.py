@@ -11,7 +11,7 @@ import blark.transform as tf
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.symbols import Member, ReferenceLocal, TypeRef
-from iecoop.st.read.trees import assigned, exact_real, is_zero, jumps_in_loop
+from iecoop.st.read.trees import assigned, exact_real, has_call, is_zero, jumps_in_loop, variables
 
 
 class Statements(Calls):
@@ -96,10 +96,8 @@ class Statements(Calls):
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
-        if target.kind == "pointer" and target.of is not None and value.type is not None and value.type.kind == "pointer" \
-                and value.type.of is not None and value.type.of.annotation() != target.of.annotation():
-            self._need_type(target)
-            return f"{value.p()}.typed({target.of.annotation()})"  # ST converts pointers implicitly: the same address
+        if target.kind == "pointer":
+            return self.coerce(value, target).code
         if target.is_bool and value.type is not None and value.type.is_int:
             return f"bool({value.code})"
         if target.is_int and value.type is not None and value.type.is_real:
@@ -237,6 +235,11 @@ class Statements(Calls):
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None
+        ends = {str(v.name).lower() for v in variables(node.to) if isinstance(v, tf.SimpleVariable)}
+        if has_call(node.to) or (step is not None and has_call(node.step)) or any(
+                isinstance(t, tf.SimpleVariable) and str(t.name).lower() in ends for t in assigned(node.statements)):
+            self._for_checked_each_pass(node, control, start, step, scope, level)
+            return
         if step is None:
             header = f"range({start.code}, {stop.p()} + 1)"
         elif isinstance(step.constant, int):
@@ -262,6 +265,33 @@ class Statements(Calls):
         self._emit_statements(node.statements.statements, scope, level + 1)
         self.emit("else:  # the first value past the end, as ST leaves it", level)
         self.assign(node.control, after, scope, level + 1)
+
+    def _for_checked_each_pass(self, node: Any, control: Ex, start: Ex, step: Ex | None, scope: Scope, level: int) -> None:
+        """A FOR whose end calls something or changes in the loop: the start and the step are evaluated once, at
+        entry; the end before every pass, where TwinCAT and CODESYS check the counter against it."""
+        flag = scope.temp("for")
+        by = step
+        if step is not None and step.constant is None:
+            by = Ex(f"{flag}_by", step.type)
+            self.emit(f"{by.code} = {step.code}", level)
+        self.assign(node.control, start, scope, level)
+        self.emit(f"{flag} = False  # True once a pass has run: each later pass starts by stepping the counter", level)
+        self.emit("while True:", level)
+        self.emit(f"if {flag}:", level + 1)
+        counter = self.expr(node.control, scope)
+        increment = Ex(f"{counter.code} + {by.p() if by is not None else '1'}", counter.type, True, PRECEDENCE["+"])
+        self.assign(node.control, increment, scope, level + 2)
+        self.emit(f"{flag} = True", level + 1)
+        end = self.expr(node.to, scope)
+        if by is None or isinstance(by.constant, int):
+            if by is not None and by.constant == 0:
+                raise self.fail("FOR ... BY 0 never ends", node)
+            test = f"{counter.code} {'<=' if by is None or (by.constant or 0) > 0 else '>='} {end.p()}"
+        else:
+            test = f"({counter.code} <= {end.p()} if {by.code} > 0 else {counter.code} >= {end.p()})"
+        self.emit(f"if not {test}:", level + 1)
+        self.emit("break  # the counter is the first value past the end, as ST leaves it", level + 2)
+        self._emit_statements(node.statements.statements, scope, level + 1)
 
     def visit_WhileStatement(self, node: tf.WhileStatement, scope: Scope, level: int) -> None:
         self.emit(f"while {self.condition(node.expression, scope)}:", level)

@@ -112,6 +112,10 @@ def by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
     a METHOD or FUNCTION whose name (in ``in_out``) has a VAR_IN_OUT: by name, so never fewer than need an address."""
     if isinstance(node, tf.FunctionCall):
         callee = str(node.name).split(".")[-1].lower()
+        if callee == "adr" and len(node.parameters or []) == 1:
+            value = getattr(node.parameters[0], "value", None)
+            if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
+                yield str(value.name).lower()  # ADR(x) of a local or an input: x needs an address
         for param in node.parameters or []:
             value = getattr(param, "value", None)
             if isinstance(value, tf.SimpleVariable) and not value.dereferenced and (

@@ -303,3 +303,112 @@ def test_a_function_without_body_names_its_line() -> None:
 def test_an_enum_default_that_is_no_value_is_named() -> None:
     with pytest.raises(st.StUnsupportedError, match="the default 'Stop' of enumeration E_Mode is none of its values"):
         st.load("TYPE E_Mode : (Idle, Run) := Stop; END_TYPE")
+
+
+# --- calls ------------------------------------------------------------------------------------------
+
+FOR_BOUNDS = """
+FUNCTION_BLOCK FB_Bounds
+VAR_OUTPUT nEndCalls : INT; nStepCalls : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD getEnd : INT
+nEndCalls := nEndCalls + 1;
+getEnd := 6;
+END_METHOD
+METHOD getStep : INT
+nStepCalls := nStepCalls + 1;
+getStep := 2;
+END_METHOD
+PROGRAM MAIN
+VAR fb : FB_Bounds; i : INT; j : INT; n : INT; nPasses : INT; nShrinking : INT; END_VAR
+nPasses := 0;
+FOR i := 0 TO fb.getEnd() BY fb.getStep() DO
+    nPasses := nPasses + 1;
+END_FOR
+n := 5;
+nShrinking := 0;
+FOR j := 1 TO n DO
+    n := n - 1;
+    nShrinking := nShrinking + 1;
+END_FOR
+END_PROGRAM
+"""
+
+
+def test_for_evaluates_the_step_once_and_the_end_before_every_pass() -> None:
+    plc = st.load(FOR_BOUNDS)
+    main = plc.MAIN
+    main()
+    # passes at i = 0, 2, 4, 6; the end is checked before each and once more at i = 8; BY runs once
+    assert (main.nPasses, main.i, main.fb.nEndCalls, main.fb.nStepCalls) == (4, 8, 5, 1)
+    # j = 1, 2, 3 run (n falls to 2): the check at j = 4 reads the new end
+    assert (main.nShrinking, main.j, main.n) == (3, 4, 2)
+    main()
+    assert (main.fb.nEndCalls, main.fb.nStepCalls) == (10, 2)
+
+
+def test_a_block_called_with_its_inputs_by_position() -> None:
+    plc = st.load("""FUNCTION_BLOCK FB_Mix
+VAR_INPUT a : INT; b : INT; END_VAR
+VAR_OUTPUT s : INT; END_VAR
+s := a * 10 + b;
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Mix3 EXTENDS FB_Mix
+VAR_INPUT c : INT; END_VAR
+s := s + c * 100;
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR fb : FB_Mix; fb3 : FB_Mix3; t : TON; x : INT; y : INT; n : INT; END_VAR
+n := n + 1;
+fb(n, 2);
+x := fb.s;
+fb3(1, 2, n);
+y := fb3.s;
+t(TRUE, T#5MS);
+END_PROGRAM""")
+    main = plc.MAIN
+    main()
+    assert (main.x, main.y, main.fb3.a, main.t.PT) == (12, 100, 1, 5)  # inputs in declaration order, the base's first
+    main()
+    assert (main.x, main.y) == (22, 300)                              # FB_Mix3's body adds to its s
+    with pytest.raises(st.StUnsupportedError, match="FB_Mix takes 2 inputs by position, the call gives 3"):
+        st.load("FUNCTION_BLOCK FB_Mix\nVAR_INPUT a : INT; b : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+                "PROGRAM P\nVAR fb : FB_Mix; END_VAR\nfb(1, 2, 3);\nEND_PROGRAM")
+
+
+# --- addresses of locals and type punning ---------------------------------------------------------
+
+PUNNING = """
+FUNCTION F_Bits : ULINT
+VAR_INPUT lrealVar : LREAL; END_VAR
+VAR pBits : POINTER TO ULINT := ADR(lrealVar); n : INT := 3; pN : POINTER TO INT := ADR(n); END_VAR
+pN^ := pN^ + 1;
+F_Bits := pBits^ + n;
+END_FUNCTION
+FUNCTION_BLOCK FB_Raw
+VAR_OUTPUT nBits : ULINT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Raw : ULINT
+VAR_INPUT v : LREAL; END_VAR
+VAR p : POINTER TO ULINT; END_VAR
+p := ADR(v);
+nBits := p^;
+Raw := nBits;
+END_METHOD
+PROGRAM MAIN
+VAR fb : FB_Raw; b : ULINT; c : ULINT; f : LREAL := 1.0; END_VAR
+b := F_Bits(f);
+c := fb.Raw(-2.0);
+f := f * 2;
+END_PROGRAM
+"""
+
+
+def test_adr_of_a_local_or_an_input_and_the_bits_of_an_lreal() -> None:
+    plc = st.load(PUNNING)
+    main = plc.MAIN
+    main()
+    assert main.b == 0x3FF0_0000_0000_0000 + 4          # 1.0's bits, plus n after pN^ := pN^ + 1
+    assert main.c == main.fb.nBits == 0xC000_0000_0000_0000  # -2.0
+    main()
+    assert main.b == 0x4000_0000_0000_0000 + 4          # 2.0: the input was copied where it has an address
