@@ -114,9 +114,9 @@ class Declarations(Statements):
         type_ = member.type
         assert type_ is not None
         if type_.kind == "any":
-            raise self.fail(f"{member.section} {member.st} : {type_.name}: a generic type is for a VAR_INPUT of a FUNCTION or METHOD")
+            raise self.fail(f"{member.section} {member.st} : {type_.name}: a generic type is not supported outside a VAR_INPUT of a FUNCTION or METHOD")
         if type_.kind == "array" and type_.bounds is None:
-            raise self.fail(f"{member.section} {member.st} : ARRAY[*]: an array of any length is for a VAR_IN_OUT of a FUNCTION or METHOD")
+            raise self.fail(f"{member.section} {member.st} : ARRAY[*] is not supported outside a VAR_IN_OUT of a FUNCTION or METHOD")
         if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
             # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
             scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)

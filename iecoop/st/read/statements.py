@@ -53,7 +53,10 @@ class Statements(Calls):
     def visit_AssignmentStatement(self, node: tf.AssignmentStatement, scope: Scope, level: int) -> None:
         scope.statement_level = level  # __QUERYINTERFACE on the right side writes its query first, at this level
         try:
-            value = self.expr(node.expression, scope)
+            if isinstance(node.expression, tf.ArrayInitialization):
+                value = self._array_literal(node, scope)
+            else:
+                value = self.expr(node.expression, scope)
         finally:
             scope.statement_level = None
         targets = list(node.variables)
@@ -63,6 +66,16 @@ class Statements(Calls):
             value = Ex(temp, value.type)
         for target in targets:
             self.assign(target, value, scope, level)
+
+    def _array_literal(self, node: Any, scope: Scope) -> Ex:
+        """``aPoints := [(x := 1), (x := 2)];``: the ARRAY variable takes the elements, as its declaration would."""
+        target = node.variables[0]
+        lhs = self.expr(target, scope, store=True)
+        if lhs.type is None or lhs.type.deref().kind != "array":
+            raise self.fail(f"an array literal assigned to {lhs.code}, which is no ARRAY, is not supported", node)
+        if "." not in lhs.code:
+            raise self.fail(f"an array literal assigned to the local ARRAY {lhs.code} is not supported (assign its elements)", node)
+        return Ex(self.init_value(node.expression, lhs.type.deref(), scope), lhs.type)
 
     def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
         bit = self.bit_target(target, scope)

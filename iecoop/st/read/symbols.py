@@ -347,7 +347,8 @@ class Symbols:
 
     def resolve_members(self) -> None:
         """Second half of pass 1: member types, once every type name is known."""
-        for decl in list(self.decls.values()):
+        # the global lists first: a bound or length elsewhere may name their constants (ARRAY[1..GVL_Param.cMax])
+        for decl in sorted(self.decls.values(), key=lambda d: d.kind != "gvl"):
             self.unit = decl.unit
             if decl.kind in ("fb", "program", "function"):
                 for block in decl.node.declarations:

@@ -159,7 +159,7 @@ def test_a_generic_input_called_from_python() -> None:
 
 
 def test_a_generic_type_outside_a_function_input_is_refused() -> None:
-    with pytest.raises(st.StUnsupportedError, match="VAR x : ANY_NUM: a generic type is for a VAR_INPUT"):
+    with pytest.raises(st.StUnsupportedError, match="<st>:2: VAR x : ANY_NUM: a generic type is not supported outside a VAR_INPUT"):
         st.load("PROGRAM P\nVAR x : ANY_NUM; END_VAR\nEND_PROGRAM")
 
 
@@ -291,7 +291,7 @@ def test_declarations_real_projects_write() -> None:
 
 
 def test_array_star_outside_an_in_out_is_refused() -> None:
-    with pytest.raises(st.StUnsupportedError, match=r"ARRAY\[\*\]: an array of any length is for a VAR_IN_OUT"):
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:2: VAR a : ARRAY\[\*\] is not supported outside a VAR_IN_OUT"):
         st.load("PROGRAM P\nVAR a : ARRAY[*] OF INT; END_VAR\nEND_PROGRAM")
 
 
@@ -412,3 +412,37 @@ def test_adr_of_a_local_or_an_input_and_the_bits_of_an_lreal() -> None:
     assert main.c == main.fb.nBits == 0xC000_0000_0000_0000  # -2.0
     main()
     assert main.b == 0x4000_0000_0000_0000 + 4          # 2.0: the input was copied where it has an address
+
+
+def test_names_from_other_files_gvl_constant_bound_and_later_bases(tmp_path: pytest.TempPathFactory) -> None:
+    folder = tmp_path  # type: ignore[assignment]
+    files = {
+        "A_Main.st": "PROGRAM MAIN\nVAR aBuf : ARRAY[1..GVL_Param.cMax] OF INT; stD : ST_Derived; fb : FB_Derived; i : INT; END_VAR\n"
+                     "FOR i := 1 TO GVL_Param.cMax DO aBuf[i] := aBuf[i] + i; END_FOR\nstD.x := stD.x + 1;\nfb();\nEND_PROGRAM\n",
+        "B_Derived.st": "TYPE ST_Derived EXTENDS ST_Base : STRUCT y : INT := 7; END_STRUCT END_TYPE\n"
+                        "FUNCTION_BLOCK FB_Derived EXTENDS FB_Base\nEND_FUNCTION_BLOCK\n",
+        "GVL_Param.st": "VAR_GLOBAL CONSTANT\n    cMax : INT := 3;\nEND_VAR\n",
+        "Z_Base.st": "TYPE ST_Base : STRUCT x : INT; END_STRUCT END_TYPE\n"
+                     "FUNCTION_BLOCK FB_Base\nVAR_OUTPUT n : INT; END_VAR\nn := n + 2;\nEND_FUNCTION_BLOCK\n",
+    }
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")  # type: ignore[operator]
+    plc = st.load(folder)  # type: ignore[arg-type]
+    main = plc.MAIN
+    main()
+    main()
+    assert (list(main.aBuf), main.stD.x, main.stD.y, main.fb.n) == ([2, 4, 6], 2, 7, 4)
+
+
+def test_an_array_literal_assigned_in_code() -> None:
+    plc = st.load("""TYPE ST_P : STRUCT a : INT; b : INT; END_STRUCT END_TYPE
+PROGRAM MAIN
+VAR arr : ARRAY[0..1] OF ST_P; n : ARRAY[1..3] OF INT; k : INT; END_VAR
+k := k + 1;
+arr := [(a := k, b := 2), (a := 3, b := 4)];
+n := [k, 2 * k, 1(7)];
+END_PROGRAM""")
+    plc.MAIN()
+    plc.MAIN()
+    assert [(p.a, p.b) for p in plc.MAIN.arr] == [(2, 2), (3, 4)]
+    assert list(plc.MAIN.n) == [2, 4, 7]
