@@ -9,7 +9,7 @@ Each addition is a form TwinCAT, CODESYS or IEC 61131-3 (3rd edition) code is wr
 - ``REF_TO`` (IEC 61131-3's spelling of ``REFERENCE TO``), ``PROGRAM INTERNAL``, ``VAR_TEMP`` in a FUNCTION;
 - ``LTIME#1US5NS`` (a unit followed by a smaller one below the millisecond), a trailing comma after the
   names of ``EXTENDS``, an empty initialiser ``:= ()`` and an array literal assigned in code
-  (``aPoints := [(x := 1), (x := 2)];``).
+  (``aPoints := [(x := 1), (x := 2)];``), and a member of what a call's pointer result points to (``F(x)^.y``).
 """
 
 from __future__ import annotations
@@ -38,6 +38,8 @@ _PROGRAM_ACCESS.2: /\b(INTERNAL|PUBLIC)\b/i
 %override milliseconds: FIXED_POINT "ms"i | INTEGER "ms"i "_"? microseconds | INTEGER "ms"i
 %override microseconds: FIXED_POINT "us"i | INTEGER "us"i "_"? nanoseconds | INTEGER "us"i
 %extend structure_initialization: "(" ")"
+%extend primary_expression: call_member
+call_member: function_call field_selector+
 %extend primary_expression: "[" array_initial_element ( "," array_initial_element )* "]" -> bracketed_array_initialization
 """
 
@@ -45,7 +47,7 @@ _PROGRAM_ACCESS.2: /\b(INTERNAL|PUBLIC)\b/i
 _TRIGGERS = re.compile(
     r"\bEND_CLASS\b|\bEND_GET\b|\bEND_SET\b|\bREF_TO\b|\bPROGRAM\s+(?:INTERNAL|PUBLIC)\b|\bVAR_TEMP\b"
     r"|\bL?T(?:IME)?#[-\d_.a-z]*\d(?:ms|us)_?\d|\bEXTENDS\b[ \t\w.,]*,[ \t]*(?:\r?\n|$)|:=\s*\(\s*\)"
-    r"|^\s*[\w.\[\]^]+\s*:=\s*\[",
+    r"|^\s*[\w.\[\]^]+\s*:=\s*\[|\)\s*\^\s*\.\s*[a-z_]",
     re.IGNORECASE | re.MULTILINE,
 )
 _BLOCK_WORDS = re.compile(r"\b(END_FUNCTION_BLOCK|FUNCTION_BLOCK|METHOD|PROPERTY)\b", re.IGNORECASE)

@@ -117,6 +117,8 @@ class Expressions(PyWriter):
         handler = None
         if not isinstance(node, tf.Statement) and type(node).__name__ != "Tree":
             handler = getattr(self, f"visit_{type(node).__name__}", None)
+        elif type(node).__name__ == "Tree" and str(node.data) == "call_member":
+            handler = self.call_member
         if handler is None:
             self.generic_visit(node, "expression")
         result: Ex = handler(node, scope) if not store else handler(node, scope, store=True) if type(node).__name__ in ("SimpleVariable", "MultiElementVariable") else handler(node, scope)
@@ -340,6 +342,19 @@ class Expressions(PyWriter):
         if node.dereferenced:
             return self.deref(base, node)
         return base
+
+    def call_member(self, node: Any, scope: Scope) -> Ex:
+        """``F(x)^.y`` (the grammar overlay's ``call_member``): a member of what a call's result points to."""
+        call, *selectors = node.children
+        current = self.expr(dataclasses.replace(call, dereferenced=False), scope)
+        if call.dereferenced:
+            current = self.deref(current, call)
+        for selector in selectors:
+            field = selector.field
+            current = self.member_ref(current, str(field.name) if isinstance(field, tf.SimpleVariable) else str(field), call)
+            if selector.dereferenced:
+                current = self.deref(current, call)
+        return current
 
     def deref(self, base: Ex, node: Any) -> Ex:
         if base.this is not None:  # THIS^ and SUPER^ are the instance

@@ -446,3 +446,24 @@ END_PROGRAM""")
     plc.MAIN()
     assert [(p.a, p.b) for p in plc.MAIN.arr] == [(2, 2), (3, 4)]
     assert list(plc.MAIN.n) == [2, 4, 7]
+
+
+def test_a_member_of_what_a_call_returns_a_pointer_to() -> None:
+    plc = st.load("""TYPE ST_P : STRUCT y : INT; z : INT; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Store
+VAR aItems : ARRAY[0..2] OF ST_P; END_VAR
+END_FUNCTION_BLOCK
+METHOD Item : POINTER TO ST_P
+VAR_INPUT i : INT; END_VAR
+aItems[i].y := aItems[i].y + i;
+Item := ADR(aItems[i]);
+END_METHOD
+PROGRAM MAIN
+VAR fb : FB_Store; v : INT; w : INT; END_VAR
+v := fb.Item(2)^.y;
+w := v + fb.Item(1)^.y;
+END_PROGRAM""")
+    plc.MAIN()
+    assert (plc.MAIN.v, plc.MAIN.w) == (2, 3)   # each call adds i to its item's y first
+    plc.MAIN()
+    assert (plc.MAIN.v, plc.MAIN.w) == (4, 6)
