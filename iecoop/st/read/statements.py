@@ -67,6 +67,10 @@ class Statements(Calls):
         for target in targets:
             self.assign(target, value, scope, level)
 
+    def init_value(self, value: Any, type_: TypeRef | None, scope: Scope) -> str:
+        """Defined by a later phase of the translator."""
+        raise NotImplementedError
+
     def _array_literal(self, node: Any, scope: Scope) -> Ex:
         """``aPoints := [(x := 1), (x := 2)];``: the ARRAY variable takes the elements, as its declaration would."""
         target = node.variables[0]

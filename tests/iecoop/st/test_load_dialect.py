@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import pytest
 
 from iecoop.exceptions import AccessError, DefinitionError
@@ -414,8 +416,8 @@ def test_adr_of_a_local_or_an_input_and_the_bits_of_an_lreal() -> None:
     assert main.b == 0x4000_0000_0000_0000 + 4          # 2.0: the input was copied where it has an address
 
 
-def test_names_from_other_files_gvl_constant_bound_and_later_bases(tmp_path: pytest.TempPathFactory) -> None:
-    folder = tmp_path  # type: ignore[assignment]
+def test_names_from_other_files_gvl_constant_bound_and_later_bases(tmp_path: pathlib.Path) -> None:
+    folder = tmp_path
     files = {
         "A_Main.st": "PROGRAM MAIN\nVAR aBuf : ARRAY[1..GVL_Param.cMax] OF INT; stD : ST_Derived; fb : FB_Derived; i : INT; END_VAR\n"
                      "FOR i := 1 TO GVL_Param.cMax DO aBuf[i] := aBuf[i] + i; END_FOR\nstD.x := stD.x + 1;\nfb();\nEND_PROGRAM\n",
@@ -426,8 +428,8 @@ def test_names_from_other_files_gvl_constant_bound_and_later_bases(tmp_path: pyt
                      "FUNCTION_BLOCK FB_Base\nVAR_OUTPUT n : INT; END_VAR\nn := n + 2;\nEND_FUNCTION_BLOCK\n",
     }
     for name, text in files.items():
-        (folder / name).write_text(text, encoding="utf-8")  # type: ignore[operator]
-    plc = st.load(folder)  # type: ignore[arg-type]
+        (folder / name).write_text(text, encoding="utf-8")
+    plc = st.load(folder)
     main = plc.MAIN
     main()
     main()
