@@ -250,7 +250,13 @@ def load(
                     namespace[key] = bound
         for kind, name in names:
             if kind == "program" and isinstance(namespace[name], type):  # not yet made by the module itself
-                namespace[name] = namespace[name]()
+                try:
+                    namespace[name] = namespace[name]()
+                except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
+                    del sys.modules[module_name]
+                    where, _ = _declared_at(source, name)
+                    error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
+                    raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc
     if unbound:
         del sys.modules[module_name]
         raise StUnsupportedError(

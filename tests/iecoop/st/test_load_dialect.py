@@ -63,6 +63,12 @@ def test_a_class_the_builder_refuses_is_named_at_its_declaration() -> None:
         st.load(source)
 
 
+def test_a_program_that_cannot_be_made_is_named_at_its_declaration() -> None:
+    source = "FUNCTION_BLOCK FB_X\nVAR n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM P\nVAR fb : FB_X(n := 5); END_VAR\nEND_PROGRAM"
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:4: PROGRAM P cannot be made: TypeError: FB_X: FB_init has no input 'n'"):
+        st.load(source)
+
+
 @pytest.mark.parametrize("source", ["", "   \n", "FUNCTION_BLOCK A\nVAR x : INT;"])
 def test_empty_and_cut_sources(source: str) -> None:
     if not source.strip():
