@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import keyword
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import blark.transform as tf
@@ -52,11 +52,12 @@ class Statements(Calls):
 
     def visit_AssignmentStatement(self, node: tf.AssignmentStatement, scope: Scope, level: int) -> None:
         scope.statement_level = level  # __QUERYINTERFACE on the right side writes its query first, at this level
+        if isinstance(node.expression, tf.ArrayInitialization):
+            scope.statement_level = None
+            self._assign_array_literal(node, scope, level)
+            return
         try:
-            if isinstance(node.expression, tf.ArrayInitialization):
-                value = self._array_literal(node, scope)
-            else:
-                value = self.expr(node.expression, scope)
+            value = self.expr(node.expression, scope)
         finally:
             scope.statement_level = None
         targets = list(node.variables)
@@ -67,19 +68,30 @@ class Statements(Calls):
         for target in targets:
             self.assign(target, value, scope, level)
 
-    def init_value(self, value: Any, type_: TypeRef | None, scope: Scope) -> str:
+    def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
         """Defined by a later phase of the translator."""
         raise NotImplementedError
 
-    def _array_literal(self, node: Any, scope: Scope) -> Ex:
-        """``aPoints := [(x := 1), (x := 2)];``: the ARRAY variable takes the elements, as its declaration would."""
-        target = node.variables[0]
-        lhs = self.expr(target, scope, store=True)
-        if lhs.type is None or lhs.type.deref().kind != "array":
-            raise self.fail(f"an array literal assigned to {lhs.code}, which is no ARRAY, is not supported", node)
+    def _assign_array_literal(self, node: Any, scope: Scope, level: int) -> None:
+        """``aPoints := [(x := 1), (x := 2)];``: the elements from the first index on, each stored as an element is."""
+        if len(node.variables) != 1:
+            raise self.fail("an array literal assigned to several variables at once is not supported", node)
+        lhs = self.expr(node.variables[0], scope, store=True)
+        array = lhs.type.deref() if lhs.type is not None else None
+        if array is None or array.kind != "array" or array.of is None or not array.bounds or len(array.bounds) != 1:
+            raise self.fail(f"an array literal assigned to {lhs.code}, which is no one-dimensional ARRAY, is not supported", node)
         if "." not in lhs.code:
             raise self.fail(f"an array literal assigned to the local ARRAY {lhs.code} is not supported (assign its elements)", node)
-        return Ex(self.init_value(node.expression, lhs.type.deref(), scope), lhs.type)
+        decl = self.decl_of(array.of)
+        items = list(self._array_elements(node.expression, array.of, scope))
+        if decl is not None and decl.kind in ("struct", "union"):
+            items = [f"{decl.name}(**{item})" if item.startswith("{") else item for item in items]
+        low, high = array.bounds[0]
+        if low.lstrip("-").isdigit() and high.lstrip("-").isdigit() and len(items) > int(high) - int(low) + 1:
+            raise self.fail(f"{len(items)} values for {lhs.code}, an ARRAY[{low}..{high}]", node)
+        loop = scope.temp("item")
+        self.emit(f"for {loop}, {loop}_value in enumerate([{', '.join(items)}]):", level)
+        self.emit(f"{lhs.code}[{low} + {loop}] = {loop}_value", level + 1)
 
     def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
         bit = self.bit_target(target, scope)
