@@ -475,3 +475,22 @@ END_PROGRAM""")
     assert (plc.MAIN.v, plc.MAIN.w) == (2, 3)   # each call adds i to its item's y first
     plc.MAIN()
     assert (plc.MAIN.v, plc.MAIN.w) == (4, 6)
+
+
+def test_an_accessors_access_specifier_on_its_own_line() -> None:
+    plc = st.load("""FUNCTION_BLOCK FB_Tank
+VAR n : INT := 4; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY PUBLIC Capacity : INT
+PRIVATE
+Capacity := n * 2;
+END_PROPERTY
+METHOD Report : INT
+n := n + 1;
+Report := Capacity + 1;
+END_METHOD
+""")
+    tank = plc.FB_Tank()
+    assert (tank.Report(), tank.Report()) == (11, 13)     # (4 + 1) * 2 + 1, then (5 + 1) * 2 + 1
+    with pytest.raises(AccessError, match=r"PRIVATE PROPERTY FB_Tank.Capacity \(Get\)"):
+        tank.Capacity
