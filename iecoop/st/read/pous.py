@@ -14,7 +14,7 @@ from iecoop.st.read.declarations import Declarations
 from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import BOOL, Decl, Member, ReferenceLocal, TypeRef, _SECTION_OF
-from iecoop.st.read.trees import accessor_access, by_reference_arguments, flag_keywords, signature, statements_of, variables
+from iecoop.st.read.trees import accessor_access, address_taken, by_reference_arguments, flag_keywords, signature, statements_of, variables
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
@@ -249,11 +249,11 @@ class Pous(Declarations):
         named = st_keyword(st, python, ", " if flags else "")
         return f"@method({' | '.join(flags)}{named})" if flags or named else "@method"
 
-    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
+    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, inputs_addressed: frozenset[str] = frozenset()) -> None:
         arrays: list[tuple[Member, Any]] = []
         statics: list[tuple[Any, str, TypeRef | None]] = []
         inputs = []
-        for key in sorted(scope.addressed):
+        for key in sorted(inputs_addressed):
             param = scope.locals.get(key)
             if param is not None and param.section == "VAR_INPUT" and param.type is not None and scope.pou and (
                     param.type.kind in ("elem", "string", "pointer") or getattr(self.decl_of(param.type), "kind", None) == "enum"):
@@ -502,7 +502,7 @@ class Pous(Declarations):
         in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values()
                   if any(p.section == "VAR_IN_OUT" or p.type is not None and p.type.kind == "any" for p in c.params)}
         scope.addressed = set(by_reference_arguments(node.body, in_out)) | set(by_reference_arguments(node.declarations, in_out))
-        self._local_blocks(node.declarations, scope, level)
+        self._local_blocks(node.declarations, scope, level, frozenset(address_taken([node.body, node.declarations])))
         for line in scope.output_inits:
             self.emit(line, level)
         statements = statements_of(node.body)
