@@ -134,16 +134,16 @@ class AnyType:
         self.pValue: Pointer[Any] = Pointer(pointer.handle, _BYTE_INFO(), keep=pointer._keep)
         self._info = info
 
-    @classmethod
-    def at(cls, pointer: Pointer[Any]) -> AnyType:
+    @staticmethod
+    def at(pointer: Pointer[Any]) -> AnyType:
         """The caller's variable itself: ``AnyType.at(adr(self, "count"))`` (ST passes ``nCount``)."""
         target = pointer._target
         if target is None:
             raise AccessError("a generic input needs a typed variable; an untyped pointer (PVOID) has no type to pass")
-        return cls(pointer, target)
+        return AnyType(pointer, target)
 
-    @classmethod
-    def of(cls, value: Any, type_: Any = None) -> AnyType:
+    @staticmethod
+    def of(value: Any, type_: Any = None) -> AnyType:
         """A copy of ``value`` as the IEC type ``type_`` (inferred from the value when None), for an expression."""
         if isinstance(value, AnyType):
             return value
@@ -151,12 +151,12 @@ class AnyType:
             if isinstance(value, Pointer):
                 raise AccessError("a POINTER passed to a generic input: pass AnyType.at(p) for what it points to")
             if getattr(type(value), "_iec_layout_", None) is not None or getattr(type(value), "_iec_info_", None) is not None:
-                return cls.at(adr(value))  # a STRUCT, block or ARRAY instance: its memory is the variable
+                return AnyType.at(adr(value))  # a STRUCT, block or ARRAY instance: its memory is the variable
             type_ = _python_type(value)
         info = resolve_type(type_, "generic input")
         holder = info.cls() if isinstance(info, AggregateInfo) else info.ctype()
         info.store(holder, 0, value, "generic input")
-        return cls(Pointer(handle_of(holder), info, keep=holder), info)
+        return AnyType(Pointer(handle_of(holder), info, keep=holder), info)
 
     @property
     def value(self) -> Any:
@@ -225,6 +225,8 @@ def generic_parameters(func: Callable[..., Any], resolve: Callable[[str], Any] |
 
 def _received(value: Any, family: AnyFamily, label: str, name: str) -> AnyType:
     """What the body gets for ``value``: its AnyType, once the family admits its type."""
+    if value is None:
+        raise AccessError(f"{label}: VAR_INPUT {name} : {family.name} must be given at every call")
     try:
         given = AnyType.of(value)
     except AccessError as exc:

@@ -32,6 +32,7 @@ import contextlib
 import contextvars
 import os
 import pathlib
+import re
 import sys
 import types
 from collections.abc import Callable, Mapping, Sequence
@@ -99,7 +100,7 @@ class StModule(types.ModuleType):
 
 
 def _source_name(source: str | os.PathLike[str]) -> str:
-    if not isinstance(source, str) or ("\n" not in source and pathlib.Path(source).exists()):
+    if not isinstance(source, str) or (source.strip() and "\n" not in source and pathlib.Path(source).exists()):
         return pathlib.Path(source).name
     return "st"
 
@@ -215,6 +216,57 @@ def _generated_failure(source: str | os.PathLike[str], exc: BaseException) -> St
     return StUnsupportedError(f"{where}: the Python generated for it cannot run{at}: {type(exc).__name__}: {message}")
 
 
+def _class_failure(source: str | os.PathLike[str], text: str, filename: str, exc: Exception) -> DefinitionError:
+    """The error for a generated class that cannot be made, at the ST file and line of its declaration.
+
+    The class builder checks what ST compilers check (an interface method left unimplemented, ...); its
+    DefinitionError gets the place of the POU or type it is about. Any other error means Python the
+    translator should not have written: an StUnsupportedError at the same place, never a raw internal error.
+    """
+    line = None
+    trace = exc.__traceback__
+    while trace is not None:
+        if trace.tb_frame.f_code.co_filename == filename:
+            line = trace.tb_lineno
+        trace = trace.tb_next
+    name = None
+    lines = text.splitlines()
+    for at in range(min(line or 0, len(lines)) - 1, -1, -1):
+        head = re.match(r"(?:class|def) (\w+)", lines[at])
+        if head:
+            name = head.group(1)
+            break
+    where, what = _declared_at(source, name)
+    if isinstance(exc, DefinitionError):
+        return exc if re.match(r"\S+:\d+: ", str(exc)) else type(exc)(f"{where}: {exc}")
+    return StUnsupportedError(
+        f"{where}: the Python generated for {what} cannot run: {type(exc).__name__}: {exc}"
+    )
+
+
+#: The ST keyword of each top-level declaration blark reads, by its node class.
+_KEYWORDS = {
+    "FunctionBlock": "FUNCTION_BLOCK", "Program": "PROGRAM", "Function": "FUNCTION", "Interface": "INTERFACE",
+    "GlobalVariableDeclarations": "VAR_GLOBAL",
+}
+
+
+def _declared_at(source: str | os.PathLike[str], name: str | None) -> tuple[str, str]:
+    """``file:line`` and kind of the top-level ST declaration a generated class or function ``name`` comes from."""
+    import blark.transform as tf
+
+    units = parse_sources(source)  # parsed before: the parser's cache answers
+    for unit in units:
+        for item in getattr(unit.tree, "items", ()):
+            inner = item.declaration if isinstance(item, tf.DataTypeDeclaration) else item
+            st_name = str(getattr(inner, "name", "") or "")
+            if name is not None and st_name and name in (st_name, python_name(st_name)):
+                line = getattr(getattr(item, "meta", None), "line", None)
+                return unit.where(line if isinstance(line, int) else 1), f"{_KEYWORDS.get(type(inner).__name__, 'TYPE')} {st_name}"
+    first = units[0] if units else None
+    return (first.where(1) if first is not None else f"{_source_name(source)}:1"), "the source"
+
+
 def load(
     source: str | os.PathLike[str],
     *,
@@ -275,6 +327,9 @@ def load(
         except (RecursionError, MemoryError) as exc:
             del sys.modules[module_name]
             raise _generated_failure(source, exc) from exc
+        except Exception as exc:  # noqa: BLE001 - a class the builder refuses, or Python the translator should not have written
+            del sys.modules[module_name]
+            raise _class_failure(source, text, filename, exc) from exc
         for key, value in list(namespace.items()):
             marker = getattr(value, "__iecoop_external__", None)
             if marker is not None:
@@ -285,11 +340,18 @@ def load(
                     namespace[key] = bound
         for kind, name in names:
             if kind == "program" and isinstance(namespace[name], type):  # not yet made by the module itself
-                namespace[name] = namespace[name]()
+                try:
+                    namespace[name] = namespace[name]()
+                except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
+                    del sys.modules[module_name]
+                    where, _ = _declared_at(source, name)
+                    error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
+                    raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc
     if unbound:
         del sys.modules[module_name]
         raise StUnsupportedError(
-            f"FUNCTION {unbound[0]} has no body and no Python callable: pass externals={{{unbound[0]!r}: ...}}"
+            f"{_declared_at(source, unbound[0])[0]}: FUNCTION {unbound[0]} has no body and no Python callable: "
+            f"pass externals={{{unbound[0]!r}: ...}}"
         )
     return module
 

@@ -41,10 +41,16 @@ REFUSED: dict[str, list[str]] = {
         "PROGRAM MAIN\nVAR\n    AT %IX0.0 : BOOL;\nEND_VAR\nEND_PROGRAM",
         "PROGRAM MAIN\nVAR b : BOOL; END_VAR\nb := %IX0.0;\nEND_PROGRAM",
     ],
-    "`R_EDGE` / `F_EDGE` inputs, `ARRAY[*]`": [
+    "`R_EDGE` / `F_EDGE` inputs, `ARRAY[*]` outside a VAR_IN_OUT of a FUNCTION or METHOD": [
         "FUNCTION_BLOCK FB_E\nVAR_INPUT x : BOOL R_EDGE; END_VAR\nEND_FUNCTION_BLOCK",
         "FUNCTION_BLOCK FB_E\nVAR_INPUT x : BOOL F_EDGE; END_VAR\nEND_FUNCTION_BLOCK",
-        "FUNCTION F : INT\nVAR_IN_OUT a : ARRAY[*] OF INT; END_VAR\nF := 0;\nEND_FUNCTION",
+        "FUNCTION_BLOCK FB_E\nVAR_IN_OUT a : ARRAY[*] OF INT; END_VAR\nEND_FUNCTION_BLOCK",
+    ],
+    "generic types (`ANY_NUM` ...) outside a VAR_INPUT of a FUNCTION or METHOD": [
+        "FUNCTION_BLOCK FB_G\nVAR_INPUT x : ANY_NUM; END_VAR\nEND_FUNCTION_BLOCK",
+    ],
+    "an array literal assigned to a local ARRAY of a METHOD or FUNCTION": [
+        "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; END_VAR\na := [1, 2];\nF := a[0];\nEND_FUNCTION",
     ],
     "`STRING_TO_DATE`, `STRING_TO_TOD`, `STRING_TO_DT`": [
         "FUNCTION F : DATE\nF := STRING_TO_DATE('D#2024-01-01');\nEND_FUNCTION",

@@ -9,6 +9,8 @@ from typing import Any
 
 import blark.transform as tf
 
+from iecoop.exceptions import DefinitionError
+
 from iecoop.st.language import INTEGER_LAYOUT, MATH_FUNCTIONS, STRING_FUNCTIONS, SYSTEM_FUNCTIONS, TYPE_SYNONYMS
 from iecoop.st.read.expressions import Expressions
 from iecoop.st.read.frames import Ex, Scope
@@ -26,23 +28,89 @@ class Calls(Expressions):
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
         """The Python arguments of a METHOD or FUNCTION call; ``declared``: its parameters, None when unknown."""
-        named = next((p for p in params if p.name is not None), None)
-        if named is not None and any(p.name is None for p in params[params.index(named):]):
-            raise self.fail(
-                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
-                "first named one (TwinCAT and CODESYS refuse the mix)", node)
+        self.check_argument_order(params, node)
         args = []
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
                 args.extend(self._output_argument(param, declared, scope, node))
             elif param.name is not None:
                 args.append(self._named_argument(param, declared, scope, node))
-            elif declared is not None and index < len(declared) and declared[index].section == "VAR_IN_OUT":
-                args.append(self.by_reference_argument(param.value, scope, ":="))
             else:
-                expected = declared[index].type if declared is not None and index < len(declared) else None
-                args.append(self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code)
+                args.append(self._positional_argument(param, declared[index] if declared is not None and index < len(declared) else None, scope))
         return args
+
+    def _positional_argument(self, param: Any, match: Member | None, scope: Scope) -> str:
+        """A value by position: an in-out bound to the caller's variable, a generic input's AnyType, or a value."""
+        if match is not None and match.section == "VAR_IN_OUT":
+            return self.in_out_argument(param.value, match, scope)
+        if match is not None and match.type is not None and match.type.kind == "any":
+            return self.generic_argument(param.value, match, scope)
+        expected = match.type if match is not None else None
+        return self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code
+
+    def check_argument_order(self, params: Sequence[Any], node: Any) -> None:
+        """A positional argument after a named one is refused, as IEC 61131-3 and the compilers refuse it."""
+        named = next((p for p in params if p.name is not None), None)
+        if named is not None and any(p.name is None for p in params[params.index(named):]):
+            raise self.fail(
+                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
+                "first named one (TwinCAT and CODESYS refuse the mix)", node)
+
+    def in_out_argument(self, value: Any, param: Member, scope: Scope) -> str:
+        """The caller's variable a VAR_IN_OUT gets: its address, or for an ``ARRAY[*]`` the array itself (a view of it)."""
+        if param.type is not None and param.type.kind == "array" and param.type.bounds is None:
+            ex = self.expr(value, scope)
+            if ex.type is None or ex.type.deref().kind != "array" or not isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)):
+                raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[*] takes an ARRAY variable, not {ex.code}", value)
+            return ex.code
+        return self.by_reference_argument(value, scope, ":=")
+
+    def generic_argument(self, value: Any, param: Member, scope: Scope) -> str:
+        """The ``AnyType`` a generic input (``x : ANY_NUM``) gets: the caller's variable where it has an address,
+        else a copy of the value; a type outside the family is refused here, as the compilers refuse it."""
+        from iecoop.generics import FAMILIES
+
+        assert param.type is not None
+        family = FAMILIES[param.type.name]
+        ex = self.expr(value, scope)
+        if ex.type is not None and ex.type.kind == "any":
+            return ex.code  # a generic input handed on: its AnyType as it is
+        type_class = self.type_class_of(ex.type)
+        if type_class is not None and not family.admits(type_class):
+            shown = ex.type.annotation() if ex.type is not None else "?"
+            raise DefinitionError(f"{self.unit.where(self.line) if self.unit else '<st>'}: VAR_INPUT {param.st} : {family.name} "
+                                  f"takes {family.takes}, not {shown} ({ex.code})")
+        self.need("iecoop", "AnyType")
+        if isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)) and not value.dereferenced:
+            root = value.name if isinstance(value, tf.MultiElementVariable) else value
+            local = scope.locals.get(str(getattr(root, "name", root)).lower())
+            bit = isinstance(value, tf.MultiElementVariable) and isinstance(value.elements[-1], tf.FieldSelector) \
+                and not isinstance(value.elements[-1].field, tf.SimpleVariable)
+            if not bit and (local is None or local.section in ("STAT", "VAR_OUTPUT", "VAR_IN_OUT")):
+                return f"AnyType.at({self.address_of(value, scope)})"
+        if ex.type is not None and ex.type.kind in ("elem", "string"):
+            self._need_type(ex.type)
+            return f"AnyType.of({ex.code}, {ex.type.name})"
+        return f"AnyType.of({ex.code})"
+
+    def type_class_of(self, type_: TypeRef | None) -> Any:
+        """The ``TYPE_CLASS`` of a value of ``type_`` (None when the type is not known here)."""
+        from iecoop.memory.operators import TYPE_CLASS
+
+        if type_ is None:
+            return None
+        type_ = type_.deref()
+        if type_.kind in ("elem", "string"):
+            name = {"DT": "DATEANDTIME", "TOD": "TIMEOFDAY"}.get(type_.name, type_.name)
+            return TYPE_CLASS.__members__.get(f"TYPE_{name}")
+        if type_.kind in ("pointer", "array"):
+            return TYPE_CLASS.TYPE_POINTER if type_.kind == "pointer" else TYPE_CLASS.TYPE_ARRAY
+        decl = self.decl_of(type_)
+        if decl is None:
+            return None
+        if decl.kind == "alias" and decl.alias_of is not None:
+            return self.type_class_of(decl.alias_of)
+        return {"enum": TYPE_CLASS.TYPE_ENUM, "interface": TYPE_CLASS.TYPE_INTERFACE}.get(decl.kind, TYPE_CLASS.TYPE_USERDEF)
 
     def _output_argument(self, param: Any, declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
         """``nLow => x``: the output bound to the caller's variable (none for ``nLow =>``, which drops it)."""
@@ -65,7 +133,9 @@ class Calls(Expressions):
         if match is not None and match.section == "VAR_OUTPUT":
             raise self.fail(f"output {name!r} is assigned with =>, not :=", node)
         if match is not None and match.section == "VAR_IN_OUT":
-            return f"{match.name}={self.by_reference_argument(param.value, scope, ':=')}"
+            return f"{match.name}={self.in_out_argument(param.value, match, scope)}"
+        if match is not None and match.type is not None and match.type.kind == "any":
+            return f"{match.name}={self.generic_argument(param.value, match, scope)}"
         value = self.expr(param.value, scope)
         expected = match.type if match is not None else None
         # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
@@ -140,13 +210,19 @@ class Calls(Expressions):
 
     def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
         inputs, outputs = [], []
-        for param in node.parameters:
+        self.check_argument_order(node.parameters, node)
+        # IEC 61131-3's non-formal call: fb(1, 2) sets the inputs (and in-outs) in the order the block declares them
+        positional = [m for d in reversed(list(self.lineage(decl))) for m in d.members.values() if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
+        for index, param in enumerate(node.parameters):
             if param.name is None:
-                raise self.fail(f"a call of function block {callee.code} needs named inputs (name := value)", node)
-            found = self.find_member(decl, str(param.name.name))
-            if found is None or not isinstance(found[1], Member):
-                raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
-            member = found[1]
+                if index >= len(positional):
+                    raise self.fail(f"{decl.st} takes {len(positional)} inputs by position, the call gives {len(node.parameters)}", node)
+                member = positional[index]
+            else:
+                found = self.find_member(decl, str(param.name.name))
+                if found is None or not isinstance(found[1], Member):
+                    raise self.fail(f"{decl.name} has no input or output {param.name.name!r}", node)
+                member = found[1]
             if isinstance(param, tf.OutputParameterAssignment):
                 if param.inverted:
                     raise self.fail("an inverted output (=> NOT) is not supported", node)
@@ -219,6 +295,11 @@ class Calls(Expressions):
                 raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
             self._need_type(first)
             return self.function_call(upper, [*codes, first.name], first)
+        if upper in ("LOWER_BOUND", "UPPER_BOUND"):
+            # of an ARRAY[*] in-out (or any ARRAY): its bounds, which the array carries (dimension 1 first)
+            if len(args) != 2 or args[0].type is None or args[0].type.deref().kind != "array":
+                raise self.fail(f"{upper}(array, dimension) needs an ARRAY and a dimension", node)
+            return Ex(f"{args[0].p()}.bounds[{args[1].code} - 1][{0 if upper == 'LOWER_BOUND' else 1}]", TypeRef("elem", "DINT"))
         if upper == "TRUNC":
             self.need("iecoop.conversions", "TRUNC")
             return Ex(f"TRUNC({codes[0]})", TypeRef("elem", "DINT"))

@@ -80,13 +80,12 @@ class Declarations(Statements):
                 value += 1
             self.emit(f"{python_name(str(item.name), attribute=True)} = {value}", 1)
         if node.init.value is not None:
-            raise self.fail(f"a default value for enumeration {decl.name} is not supported", node)
+            self.enum_default(decl)  # a name among the values; the variables of the type start with it
 
     def _emit_alias(self, decl: Decl) -> None:
         assert decl.alias_of is not None
         target = decl.alias_of
-        if target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds):
-            raise self.fail(f"alias {decl.name} of {target.annotation()} with a length or bounds is not supported", decl.node)
+        shaped = target.kind in ("string", "array") and (target.length not in (None, "80") or target.bounds)
         self.need("typing", "Annotated")
         self.need("iecoop", "Alias")
         self._need_type(target)
@@ -99,6 +98,9 @@ class Declarations(Statements):
             initial = f", initial={self.init_value(init, target, Scope(None, 'alias'))}"
         elif target.limits is not None:
             initial = f", initial={target.limits[0]}"  # a subrange starts at its lower limit (IEC 61131-3)
+        if shaped:
+            shape = f"STRING({target.length})" if target.kind == "string" else "its ARRAY bounds"
+            self.emit(f"# TYPE {decl.st} is {shape}: the variables declared with it carry that", 0)
         self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _emit_struct(self, decl: Decl) -> None:
@@ -143,6 +145,10 @@ class Declarations(Statements):
     def field_line(self, member: Member, init: Any, scope: Scope, *, plain: bool = False, extra: str = "") -> str:
         type_ = member.type
         assert type_ is not None
+        if type_.kind == "any":
+            raise self.fail(f"{member.section} {member.st} : {type_.name}: a generic type is not supported outside a VAR_INPUT of a FUNCTION or METHOD")
+        if type_.kind == "array" and type_.bounds is None:
+            raise self.fail(f"{member.section} {member.st} : ARRAY[*] is not supported outside a VAR_IN_OUT of a FUNCTION or METHOD")
         if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
             # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
             scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)
@@ -247,7 +253,7 @@ class Declarations(Statements):
         """Where no value is declared: an enumeration's first value, a subrange's lower limit, else None (zero)."""
         decl = self.decl_of(type_) if type_.kind == "user" else None
         if decl is not None and decl.kind == "enum" and decl.values:
-            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+            return self.enum_default(decl)
         if type_.limits is not None:
             return type_.limits[0]  # a subrange starts at its lower limit (IEC 61131-3)
         return None

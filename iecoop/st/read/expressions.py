@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import re
-import struct
 from collections.abc import Sequence
 from typing import Any
 
@@ -13,9 +11,9 @@ import blark.transform as tf
 from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, VAR_INFO_MEMBERS
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
-from iecoop.st.read.pywriter import PyWriter
-from iecoop.st.read.table import BOOL, Callable_, LINT, LREAL, Member, STRING, TypeRef
-from iecoop.st.read.trees import has_call, python_string, variables
+from iecoop.st.read.literals import Literals
+from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
+from iecoop.st.read.trees import has_call, variables
 
 
 def _plain(type_: TypeRef | None) -> TypeRef | None:
@@ -23,7 +21,7 @@ def _plain(type_: TypeRef | None) -> TypeRef | None:
     return type_.deref() if type_ is not None else None
 
 
-class Expressions(PyWriter):
+class Expressions(Literals):
     """Reads ST expressions into ``Ex`` objects: Python code with its ST type."""
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
@@ -122,6 +120,8 @@ class Expressions(PyWriter):
         handler = None
         if not isinstance(node, tf.Statement) and type(node).__name__ != "Tree":
             handler = getattr(self, f"visit_{type(node).__name__}", None)
+        elif type(node).__name__ == "Tree" and str(node.data) == "call_member":
+            handler = self.call_member
         if handler is None:
             self.generic_visit(node, "expression")
         result: Ex = handler(node, scope) if not store else handler(node, scope, store=True) if type(node).__name__ in ("SimpleVariable", "MultiElementVariable") else handler(node, scope)
@@ -130,6 +130,10 @@ class Expressions(PyWriter):
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
             return Ex(f"{value.code}.0", type_, constant=float(value.constant))
+        if type_ is not None and type_.kind == "pointer" and type_.of is not None and value.type is not None \
+                and value.type.kind == "pointer" and value.type.of is not None and value.type.of.annotation() != type_.of.annotation():
+            self._need_type(type_)
+            return Ex(f"{value.p()}.typed({type_.of.annotation()})", type_)  # ST converts pointers implicitly: the same address
         return value
 
     def visit_ParenthesizedExpression(self, node: tf.ParenthesizedExpression, scope: Scope) -> Ex:
@@ -138,96 +142,6 @@ class Expressions(PyWriter):
 
     def visit_BracketedExpression(self, node: tf.BracketedExpression, scope: Scope) -> Ex:
         return self.expr(node.expression, scope)
-
-    def _literal_type(self, type_name: Any, default: TypeRef) -> TypeRef:
-        if type_name is None:
-            return default
-        found = self._elem_or_none(str(type_name))
-        return found or default
-
-    def visit_Integer(self, node: tf.Integer, scope: Scope) -> Ex:
-        text = str(node.value).replace("_", "")
-        type_ = self._literal_type(node.type_name, LINT)
-        if type_.is_bool:
-            return Ex("True" if int(text) else "False", BOOL)
-        if type_.is_real:
-            return Ex(f"{int(text)}.0", type_, constant=float(int(text)))
-        return Ex(str(int(text)), type_ if node.type_name is not None else None, constant=int(text))  # 007 is 7; Python refuses the zeros
-
-    def _based(self, node: Any, prefix: str, base: int) -> Ex:
-        text = str(node.value).replace("_", "")
-        type_ = self._literal_type(node.type_name, LINT)
-        return Ex(f"{prefix}{text.upper() if base == 16 else text}", type_ if node.type_name is not None else None)
-
-    def visit_HexInteger(self, node: tf.HexInteger, scope: Scope) -> Ex:
-        return self._based(node, "0x", 16)
-
-    def visit_BinaryInteger(self, node: tf.BinaryInteger, scope: Scope) -> Ex:
-        return self._based(node, "0b", 2)
-
-    def visit_OctalInteger(self, node: tf.OctalInteger, scope: Scope) -> Ex:
-        return self._based(node, "0o", 8)
-
-    def visit_HexBitString(self, node: tf.HexBitString, scope: Scope) -> Ex:
-        return self._based(node, "0x", 16)
-
-    def visit_BinaryBitString(self, node: tf.BinaryBitString, scope: Scope) -> Ex:
-        return self._based(node, "0b", 2)
-
-    def visit_OctalBitString(self, node: tf.OctalBitString, scope: Scope) -> Ex:
-        return self._based(node, "0o", 8)
-
-    def visit_BitString(self, node: tf.BitString, scope: Scope) -> Ex:
-        return self._based(node, "", 10)
-
-    def visit_Real(self, node: tf.Real, scope: Scope) -> Ex:
-        text = str(node.value).replace("_", "")
-        if "." not in text and "e" not in text.lower():
-            text += ".0"
-        plain = re.fullmatch(r"\d+(\.\d+)?", text) is not None  # 2.5, not 2.5e3: -2.5e3 keeps its unary minus
-        return Ex(text, self._literal_type(node.type_name, LREAL), constant=float(text) if plain else None)
-
-    def visit_Boolean(self, node: tf.Boolean, scope: Scope) -> Ex:
-        return Ex("True" if str(node.value).upper() in ("TRUE", "1") else "False", BOOL)
-
-    def visit_String(self, node: tf.String, scope: Scope) -> Ex:
-        return Ex(python_string(str(node.value)), STRING)
-
-    def _duration(self, node: Any, units: Sequence[tuple[str, str]]) -> str:
-        parts = []
-        for attr, suffix in units:
-            value = getattr(node, attr, None)
-            if value is not None:
-                parts.append(f"{str(value).replace('_', '')}{suffix}")
-        return "".join(parts) or "0ms"
-
-    def visit_Duration(self, node: tf.Duration, scope: Scope) -> Ex:
-        self.need("iecoop", "T")
-        text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"), ("milliseconds", "ms")])
-        code = f'T("{text}")'
-        return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "TIME"), compound=node.negative)
-
-    def visit_Lduration(self, node: tf.Lduration, scope: Scope) -> Ex:
-        self.need("iecoop", "LTIME")
-        text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"),
-                                     ("milliseconds", "ms"), ("microseconds", "us"), ("nanoseconds", "ns")])
-        code = f'LTIME("{text}")'
-        return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "LTIME"), compound=node.negative)
-
-    def visit_Date(self, node: tf.Date, scope: Scope) -> Ex:
-        self.need("iecoop", "D")
-        return Ex(f'D("{node.year}-{node.month}-{node.day}")', TypeRef("elem", "DATE"))
-
-    def visit_TimeOfDay(self, node: tf.TimeOfDay, scope: Scope) -> Ex:
-        self.need("iecoop", "TOD")
-        second = f":{node.second}" if node.second is not None else ""
-        return Ex(f'TOD("{node.hour}:{node.minute}{second}")', TypeRef("elem", "TOD"))
-
-    def visit_DateTime(self, node: tf.DateTime, scope: Scope) -> Ex:
-        self.need("iecoop", "DT")
-        date, time = node.date, node.time
-        second = f":{time.second}" if time.second is not None else ""
-        return Ex(f'DT("{date.year}-{date.month}-{date.day}-{time.hour}:{time.minute}{second}")', TypeRef("elem", "DT"))
 
     def visit_UnaryOperation(self, node: tf.UnaryOperation, scope: Scope) -> Ex:
         op = str(node.op).upper()
@@ -348,6 +262,19 @@ class Expressions(PyWriter):
             return self.deref(base, node)
         return base
 
+    def call_member(self, node: Any, scope: Scope) -> Ex:
+        """``F(x)^.y`` (the grammar overlay's ``call_member``): a member of what a call's result points to."""
+        call, *selectors = node.children
+        current = self.expr(dataclasses.replace(call, dereferenced=False), scope)
+        if call.dereferenced:
+            current = self.deref(current, call)
+        for selector in selectors:
+            field = selector.field
+            current = self.member_ref(current, str(field.name) if isinstance(field, tf.SimpleVariable) else str(field), call)
+            if selector.dereferenced:
+                current = self.deref(current, call)
+        return current
+
     def deref(self, base: Ex, node: Any) -> Ex:
         if base.this is not None:  # THIS^ and SUPER^ are the instance
             return base
@@ -428,6 +355,15 @@ class Expressions(PyWriter):
             if field.lower() == "exceptioncode":
                 self.need("iecoop", "ExceptionCode")
                 return Ex("ExceptionCode", TypeRef("user", "__SYSTEM.EXCEPTIONCODE"))
+        if base.type is not None and base.type.name == "__SYSTEM" and field.lower() == "type_class":
+            self.need("iecoop", "TYPE_CLASS")
+            return Ex("TYPE_CLASS", TypeRef("user", "__SYSTEM.TYPE_CLASS"))
+        if base.type is not None and base.type.name == "__SYSTEM.TYPE_CLASS":
+            from iecoop.memory.operators import TYPE_CLASS
+
+            if field.upper() not in TYPE_CLASS.__members__:
+                raise self.fail(f"__SYSTEM.TYPE_CLASS has no value {field!r}", node)
+            return Ex(f"TYPE_CLASS.{field.upper()}", TypeRef("elem", "DINT"))
         if base.code == "ExceptionCode":
             return Ex(f"ExceptionCode.{field.upper()}", TypeRef("user", "ExceptionCode"))
         if base.type is not None and base.type.kind == "varinfo":

@@ -47,7 +47,7 @@ class Locals(Declarations):
             return "Pointer(0, None)"
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
-            return f"{decl.name}.{python_name(decl.values[0], attribute=True)}"
+            return self.enum_default(decl)
         if decl is not None and decl.kind == "interface":
             self.need("iecoop", "null")
             return f"null({decl.name})"
@@ -57,9 +57,11 @@ class Locals(Declarations):
             return f"{decl.name}()"
         raise self.fail(f"a local or input of type {type_.annotation()} has no zero value here")
 
-    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int) -> None:
+    def _local_blocks(self, blocks: Sequence[Any], scope: Scope, level: int, inputs_addressed: frozenset[str] = frozenset()) -> None:
         arrays: list[tuple[Member, Any]] = []
         statics: list[tuple[Any, str, TypeRef | None]] = []
+        inputs = self._addressed_inputs(inputs_addressed, scope, arrays)
+        start = len(self.out)
         self._locals_of_blocks(blocks, scope, level, arrays, statics)
         if statics:
             self._statics(scope, statics)
@@ -69,10 +71,13 @@ class Locals(Declarations):
             # made at each call: initialised as declared, and the caller's variables never written
             addressed = " and the locals passed by address" if any(m.section == "ADDRESSED" for m, _ in held) else ""
             holder = self._holder(scope, "_VAR", held, f"The ARRAY and structured inputs and locals of {scope.pou}{addressed}: new at every call.")
+            mark = len(self.out)
             self.emit(f"_var = {holder}()", level)
             for member, _ in scope.by_value:
                 self.emit(f"if {member.name} is not None:", level)
                 self.emit(f"_var.{member.name} = {member.name}  # passed by value: a copy", level + 1)
+            for name in inputs:
+                self.emit(f"_var.{name} = {name}  # an input whose address is taken", level)
             for member, _ in held:
                 assert member.type is not None
                 self._need_type(member.type)
@@ -80,6 +85,22 @@ class Locals(Declarations):
                     continue  # read and written as _var.name
                 annotation = f": {member.type.annotation()}" if member.section != "VAR_INPUT" else ""
                 self.emit(f"{member.name}{annotation} = _var.{member.name}", level)
+            # the holder comes before the plain locals: their initial values may take an address in it
+            moved = self.out[mark:]
+            del self.out[mark:]
+            self.out[start:start] = moved
+
+    def _addressed_inputs(self, inputs_addressed: frozenset[str], scope: Scope, arrays: list[tuple[Member, Any]]) -> list[str]:
+        """The inputs whose address is taken (ADR of an input): copied where they have one, read and written there."""
+        inputs = []
+        for key in sorted(inputs_addressed):
+            param = scope.locals.get(key)
+            if param is not None and param.section == "VAR_INPUT" and param.type is not None and scope.pou and (
+                    param.type.kind in ("elem", "string", "pointer") or getattr(self.decl_of(param.type), "kind", None) == "enum"):
+                arrays.append((Member(param.name, param.type, "ADDRESSED", st=param.st), None))
+                scope.locals[key] = Member.field_of("_var", param.name, param.type, "STAT", st=param.st)
+                inputs.append(param.name)
+        return inputs
 
     def _statics(self, scope: Scope, statics: Sequence[tuple[Any, str, TypeRef | None]]) -> None:
         """VAR_STAT of a METHOD or FUNCTION: one variable for every instance and every call (TwinCAT, CODESYS)."""

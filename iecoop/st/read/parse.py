@@ -102,6 +102,8 @@ def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
 
 
 def _looks_like_path(text: str) -> bool:
+    if not text.strip():
+        return False  # Path("") is the current folder: an empty text is empty Structured Text
     return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj") or pathlib.Path(text).is_dir()
 
 
@@ -392,9 +394,11 @@ def _overlay_parser() -> Any:
     import lark
     from blark.parse import BlarkStartingRule
 
+    from iecoop.st.read.dialect import DIALECT_OVERLAY
+
     grammar = importlib.resources.files(blark).joinpath(blark.GRAMMAR_FILENAME.name).read_text()
     return lark.Lark(
-        grammar + GRAMMAR_OVERLAY,
+        grammar + GRAMMAR_OVERLAY + DIALECT_OVERLAY,
         parser="earley",
         maybe_placeholders=True,
         propagate_positions=True,
@@ -414,7 +418,9 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
     import lark
 
     line_map = dict(line_map_items)
-    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
+    from iecoop.st.read.dialect import needs_dialect, rewrite
+
+    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else None
     try:
         result = blark.parse_source_code(text, fn=filename, parser=parser)
     except (IndexError, ValueError, KeyError) as scanned:  # blark's comment scanner on unbalanced (* *) and { }
@@ -427,11 +433,16 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         exc = result.exception
         line = getattr(exc, "line", None)
         unit = Unit(None, filename, line_map)
-        where = unit.where(line if isinstance(line, int) and line > 0 else None)
         detail = _syntax_detail(exc, text)
+        if not (isinstance(line, int) and line > 0):  # the parser ran out of text: the error is at its end
+            line = max(text.rstrip().count("\n") + 1, 1)
+            detail = "the source ends before its last declaration or statement does"
+        where = unit.where(line)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     _check_limits(result.tree, Unit(None, filename, line_map))
     try:
+        if parser is not None:
+            rewrite(result.tree)
         return result.transform(), tuple(result.comments)
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None

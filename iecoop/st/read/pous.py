@@ -14,7 +14,7 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
-from iecoop.st.read.trees import accessor_access, by_reference_arguments, flag_keywords, signature, statements_of, variables
+from iecoop.st.read.trees import accessor_access, address_taken, by_reference_arguments, flag_keywords, signature, statements_of, variables
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
@@ -190,6 +190,13 @@ class Pous(Locals):
             assert param.type is not None
             self._need_type(param.type)
             init = inits.get(param.st.lower())
+            if param.section == "VAR_IN_OUT" and param.type.kind == "array" and param.type.bounds is None:
+                # ARRAY[*]: the caller's array itself (a view of its memory), with the bounds it was declared with
+                parts.append(f"{param.name}: {param.type.annotation()} | None = None")
+                scope.locals[param.st.lower()] = Member(param.name, param.type, "VAR_INPUT", st=param.st)
+                scope.output_inits.append(
+                    f'if {param.name} is None: raise TypeError("{scope.pou}: VAR_IN_OUT {param.st} must be given at every call")')
+                continue
             if param.section in ("VAR_OUTPUT", "VAR_IN_OUT"):
                 if index < last_reference:
                     raise self.fail(f"{param.section} {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
@@ -208,6 +215,8 @@ class Pous(Locals):
             if param.type.kind != "reference" and self._aggregate(param.type):
                 raise self.fail(f"input {param.st} comes before a REFERENCE TO input; declare the REFERENCE TO inputs first")
             return f"{param.name}: {param.type.annotation()}"
+        if param.type.kind == "any":  # a generic input: the body gets its AnyType, the call always passes it
+            return f"{param.name}: {param.type.annotation()} = None"
         if self._aggregate(param.type):
             if not scope.pou:
                 raise self.fail(f"input {param.st} of type {param.type.annotation()} passed by value is supported in a METHOD or FUNCTION")
@@ -328,9 +337,10 @@ class Pous(Locals):
                 self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
             else:
                 self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
-        in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values() if any(p.section == "VAR_IN_OUT" for p in c.params)}
-        scope.addressed = set(by_reference_arguments(node.body, in_out))
-        self._local_blocks(node.declarations, scope, level)
+        in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values()
+                  if any(p.section == "VAR_IN_OUT" or p.type is not None and p.type.kind == "any" for p in c.params)}
+        scope.addressed = set(by_reference_arguments(node.body, in_out)) | set(by_reference_arguments(node.declarations, in_out))
+        self._local_blocks(node.declarations, scope, level, frozenset(address_taken([node.body, node.declarations])))
         for line in scope.output_inits:
             self.emit(line, level)
         statements = statements_of(node.body)
@@ -465,7 +475,7 @@ class Pous(Locals):
             self.emit(f'"""FUNCTION {decl.st}: bound to a Python callable at load time."""', 1)
             self.emit(f'raise NotImplementedError("FUNCTION {decl.st} has no body: pass externals={{\'{decl.st}\': ...}}")', 1)
             return
-        if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") for p in info.params):
+        if any(p.section in ("VAR_OUTPUT", "VAR_IN_OUT") or p.type is not None and p.type.kind == "any" for p in info.params):
             self.need("iecoop", "function")
             self.emit("@function", 0)
         self.emit_def(decl.name, params, ret_text, 0)

@@ -108,7 +108,7 @@ class PyWriter(Symbols):
             self.need("iecoop", "POINTER_TO")
         elif type_.kind == "reference":
             self.need("iecoop", "REFERENCE_TO")
-        elif type_.kind in ("elem", "string"):
+        elif type_.kind in ("elem", "string", "any"):
             self.need("iecoop", type_.name)
         elif type_.name == "ExceptionCode":
             self.need("iecoop", "ExceptionCode")

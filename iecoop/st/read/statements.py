@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import keyword
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import blark.transform as tf
@@ -11,7 +11,7 @@ import blark.transform as tf
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
-from iecoop.st.read.trees import assigned, exact_real, is_zero, jumps_in_loop
+from iecoop.st.read.trees import assigned, exact_real, has_call, is_zero, jumps_in_loop, variables
 
 
 class Statements(Calls):
@@ -52,6 +52,10 @@ class Statements(Calls):
 
     def visit_AssignmentStatement(self, node: tf.AssignmentStatement, scope: Scope, level: int) -> None:
         scope.statement_level = level  # __QUERYINTERFACE on the right side writes its query first, at this level
+        if isinstance(node.expression, tf.ArrayInitialization):
+            scope.statement_level = None
+            self._assign_array_literal(node, scope, level)
+            return
         try:
             value = self.expr(node.expression, scope)
         finally:
@@ -63,6 +67,31 @@ class Statements(Calls):
             value = Ex(temp, value.type)
         for target in targets:
             self.assign(target, value, scope, level)
+
+    def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
+        """Defined by a later phase of the translator."""
+        raise NotImplementedError
+
+    def _assign_array_literal(self, node: Any, scope: Scope, level: int) -> None:
+        """``aPoints := [(x := 1), (x := 2)];``: the elements from the first index on, each stored as an element is."""
+        if len(node.variables) != 1:
+            raise self.fail("an array literal assigned to several variables at once is not supported", node)
+        lhs = self.expr(node.variables[0], scope, store=True)
+        array = lhs.type.deref() if lhs.type is not None else None
+        if array is None or array.kind != "array" or array.of is None or not array.bounds or len(array.bounds) != 1:
+            raise self.fail(f"an array literal assigned to {lhs.code}, which is no one-dimensional ARRAY, is not supported", node)
+        if "." not in lhs.code:
+            raise self.fail(f"an array literal assigned to the local ARRAY {lhs.code} is not supported (assign its elements)", node)
+        decl = self.decl_of(array.of)
+        items = list(self._array_elements(node.expression, array.of, scope))
+        if decl is not None and decl.kind in ("struct", "union"):
+            items = [f"{decl.name}(**{item})" if item.startswith("{") else item for item in items]
+        low, high = array.bounds[0]
+        if low.lstrip("-").isdigit() and high.lstrip("-").isdigit() and len(items) > int(high) - int(low) + 1:
+            raise self.fail(f"{len(items)} values for {lhs.code}, an ARRAY[{low}..{high}]", node)
+        loop = scope.temp("item")
+        self.emit(f"for {loop}, {loop}_value in enumerate([{', '.join(items)}]):", level)
+        self.emit(f"{lhs.code}[{low} + {loop}] = {loop}_value", level + 1)
 
     def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
         bit = self.bit_target(target, scope)
@@ -97,6 +126,8 @@ class Statements(Calls):
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
+        if target.kind == "pointer":
+            return self.coerce(value, target).code
         function = self._implicit_conversion(target, value, is_local)
         if function is None:
             return value.code
@@ -241,15 +272,10 @@ class Statements(Calls):
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None
-        if step is None:
-            header = f"range({start.code}, {stop.p()} + 1)"
-        elif isinstance(step.constant, int):
-            sign = "+ 1" if step.constant > 0 else "- 1"
-            if step.constant == 0:
-                raise self.fail("FOR ... BY 0 never ends", node)
-            header = f"range({start.code}, {stop.p()} {sign}, {step.code})"
-        else:
-            header = f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
+        if self._for_end_moves(node):
+            self._for_checked_each_pass(node, control, start, step, scope, level)
+            return
+        header = self._for_range(node, start, stop, step)
         # A loop that ends by its test leaves the variable at the first value that failed it (ST:
         # FOR i := 1 TO 10 leaves 11); after EXIT it keeps the value it had. Python's for ... else.
         literal = [ex.constant if isinstance(ex.constant, int) else None for ex in (start, stop, step or Ex("1", constant=1))]
@@ -266,6 +292,51 @@ class Statements(Calls):
         self._emit_statements(node.statements.statements, scope, level + 1)
         self.emit("else:  # the first value past the end, as ST leaves it", level)
         self.assign(node.control, after, scope, level + 1)
+
+    @staticmethod
+    def _for_end_moves(node: tf.ForStatement) -> bool:
+        """Whether a FOR's end or step calls something, or its end changes in the loop: then it is checked each pass."""
+        ends = {str(v.name).lower() for v in variables(node.to) if isinstance(v, tf.SimpleVariable)}
+        return has_call(node.to) or (node.step is not None and has_call(node.step)) or any(
+            isinstance(t, tf.SimpleVariable) and str(t.name).lower() in ends for t in assigned(node.statements))
+
+    def _for_range(self, node: Any, start: Ex, stop: Ex, step: Ex | None) -> str:
+        """The ``range(...)`` of a FOR whose bounds are evaluated once: its end included, in the step's direction."""
+        if step is None:
+            return f"range({start.code}, {stop.p()} + 1)"
+        if isinstance(step.constant, int):
+            if step.constant == 0:
+                raise self.fail("FOR ... BY 0 never ends", node)
+            sign = "+ 1" if step.constant > 0 else "- 1"
+            return f"range({start.code}, {stop.p()} {sign}, {step.code})"
+        return f"range({start.code}, {stop.p()} + (1 if {step.p()} > 0 else -1), {step.code})"
+
+    def _for_checked_each_pass(self, node: Any, control: Ex, start: Ex, step: Ex | None, scope: Scope, level: int) -> None:
+        """A FOR whose end calls something or changes in the loop: the start and the step are evaluated once, at
+        entry; the end before every pass, where TwinCAT and CODESYS check the counter against it."""
+        flag = scope.temp("for")
+        by = step
+        if step is not None and step.constant is None:
+            by = Ex(f"{flag}_by", step.type)
+            self.emit(f"{by.code} = {step.code}", level)
+        self.assign(node.control, start, scope, level)
+        self.emit(f"{flag} = False  # True once a pass has run: each later pass starts by stepping the counter", level)
+        self.emit("while True:", level)
+        self.emit(f"if {flag}:", level + 1)
+        counter = self.expr(node.control, scope)
+        increment = Ex(f"{counter.code} + {by.p() if by is not None else '1'}", counter.type, True, PRECEDENCE["+"])
+        self.assign(node.control, increment, scope, level + 2)
+        self.emit(f"{flag} = True", level + 1)
+        end = self.expr(node.to, scope)
+        if by is None or isinstance(by.constant, int):
+            if by is not None and by.constant == 0:
+                raise self.fail("FOR ... BY 0 never ends", node)
+            test = f"{counter.code} {'<=' if by is None or (by.constant or 0) > 0 else '>='} {end.p()}"
+        else:
+            test = f"({counter.code} <= {end.p()} if {by.code} > 0 else {counter.code} >= {end.p()})"
+        self.emit(f"if not {test}:", level + 1)
+        self.emit("break  # the counter is the first value past the end, as ST leaves it", level + 2)
+        self._emit_statements(node.statements.statements, scope, level + 1)
 
     def visit_WhileStatement(self, node: tf.WhileStatement, scope: Scope, level: int) -> None:
         self.emit(f"while {self.condition(node.expression, scope)}:", level)

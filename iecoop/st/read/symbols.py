@@ -6,7 +6,6 @@ can type each expression and order the classes so a class exists before it is us
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -20,9 +19,10 @@ from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.table import (
+    ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
 )
-from iecoop.st.read.trees import lark_token_type, signature
+from iecoop.st.read.trees import lark_token_type, nodes_below, signature
 
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR",
@@ -31,18 +31,6 @@ _SECTION_OF = {
     tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
     tf.ExternalVariableDeclarations: "VAR_EXTERNAL", tf.FunctionVariableDeclarations: "VAR",
 }
-
-
-def _nodes(node: Any) -> Iterator[Any]:
-    """``node`` and every blark node below it."""
-    if isinstance(node, (list, tuple)):
-        for item in node:
-            yield from _nodes(item)
-    elif dataclasses.is_dataclass(node):
-        yield node
-        for field in dataclasses.fields(node):
-            if field.name != "meta":
-                yield from _nodes(getattr(node, field.name))
 
 
 class Symbols:
@@ -250,7 +238,8 @@ class Symbols:
 
     def resolve_members(self) -> None:
         """Second half of pass 1: member types, once every type name is known."""
-        for decl in list(self.decls.values()):
+        # the global lists first: a bound or length elsewhere may name their constants (ARRAY[1..GVL_Param.cMax])
+        for decl in sorted(self.decls.values(), key=lambda d: d.kind != "gvl"):
             if decl.library:
                 continue
             self.unit = decl.unit
@@ -316,7 +305,7 @@ class Symbols:
         Known before any class is written, so the class is written with its decorator.
         """
         for unit in self.units:
-            for node in _nodes(unit.tree.items):
+            for node in nodes_below(unit.tree.items):
                 if not (isinstance(node, tf.MultiElementVariable) and isinstance(node.name, tf.SimpleVariable)
                         and node.elements and isinstance(node.elements[0], tf.FieldSelector)):
                     continue
@@ -360,15 +349,27 @@ class Symbols:
         elem = self._elem_or_none(name)
         if elem is not None:
             return elem
+        if name.upper() == "BIT" and "bit" not in self.decls:
+            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
+            # of its own byte: the same values, another layout
+            return TypeRef("elem", "BOOL")
         if name.upper() == "__SYSTEM.EXCEPTIONCODE":
             return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
             return TypeRef("user", IQUERYINTERFACE.name)
+        if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
+            return TypeRef("any", name.upper())
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(unknown_name("type", name, self.decls), node)
+        if decl.kind == "alias":
+            # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
+            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
+            target = decl.alias_of or self._alias_target(decl.node)
+            if target.kind == "string" and target.length not in (None, "80") or target.kind == "array":
+                return target
         return TypeRef("user", decl.name)
 
     def _string_type(self, spec: Any) -> TypeRef:
@@ -409,11 +410,13 @@ class Symbols:
         raise self.fail(f"type specification {type(spec).__name__} is not supported", node)
 
     def _array_type(self, spec: Any, indirection: Any, node: Any) -> TypeRef:
-        bounds = []
+        bounds: list[tuple[str, str]] | None = []
         for sub in spec.subranges:
             if not isinstance(sub, tf.PartialSubrange):
-                raise self.fail("ARRAY[*] (variable length) is not supported", node)
-            bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
+                bounds = None  # ARRAY[*]: a VAR_IN_OUT of a FUNCTION or METHOD takes any array of the element type
+                continue
+            if bounds is not None:
+                bounds.append((self.const_expr(sub.start), self.const_expr(sub.stop)))
         element_spec = spec.type
         if isinstance(element_spec, tf.ArraySpecification):
             element = self._array_type(element_spec, None, node)
@@ -535,12 +538,23 @@ class Symbols:
         if type_ is None:
             return None
         type_ = type_.deref()
+        if type_.kind == "any":
+            return ANYTYPE
         if type_.kind != "user":
             return None
         decl = self.by_python.get(type_.name) or SYSTEM_DECLS.get(type_.name.lower())
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
             decl = self.by_python.get(decl.alias_of.name)
         return decl
+
+    def enum_default(self, decl: Decl) -> str:
+        """The value a variable of the enumeration ``decl`` starts with: ``TYPE E : (A, B) := B;`` declares B, else the first."""
+        given = getattr(getattr(decl.node, "init", None), "value", None)
+        name = str(getattr(given, "name", None) or given or "").rsplit(".", 1)[-1] if given is not None else ""
+        match = next((v for v in decl.values if v.lower() == name.lower()), None)
+        if given is not None and match is None:
+            raise self.fail(f"the default {name!r} of enumeration {decl.st} is none of its values", decl.node)
+        return f"{decl.name}.{python_name(match or decl.values[0], attribute=True)}"
 
     def lineage(self, decl: Decl) -> Iterator[Decl]:
         seen = set()

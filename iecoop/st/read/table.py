@@ -210,3 +210,13 @@ class Decl:
 IQUERYINTERFACE = Decl("interface", "IQueryInterface")
 IQUERYINTERFACE.freeze()
 SYSTEM_DECLS: dict[str, Decl] = FrozenDict({IQUERYINTERFACE.name.lower(): IQUERYINTERFACE})
+
+
+#: The generic type families a FUNCTION's or METHOD's VAR_INPUT may have (IEC 61131-3; iecoop.generics).
+GENERIC_FAMILIES = ("ANY", "ANY_ELEMENTARY", "ANY_NUM", "ANY_INT", "ANY_REAL", "ANY_BIT", "ANY_STRING", "ANY_DATE")
+#: ``__SYSTEM.AnyType``, what a generic input is in the body: its members, as ``x.TypeClass`` reads them.
+ANYTYPE = Decl("struct", "AnyType", members={
+    "typeclass": Member("TypeClass", TypeRef("elem", "DINT"), "VAR", st="TypeClass"),
+    "pvalue": Member("pValue", TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")), "VAR", st="pValue"),
+    "disize": Member("diSize", TypeRef("elem", "DINT"), "VAR", st="diSize"),
+})

@@ -112,6 +112,8 @@ def by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
     a METHOD or FUNCTION whose name (in ``in_out``) has a VAR_IN_OUT: by name, so never fewer than need an address."""
     if isinstance(node, tf.FunctionCall):
         callee = str(node.name).split(".")[-1].lower()
+        if callee == "adr":
+            yield from address_taken(node)  # ADR(x) of a local: x needs an address
         for param in node.parameters or []:
             value = getattr(param, "value", None)
             if isinstance(value, tf.SimpleVariable) and not value.dereferenced and (
@@ -123,6 +125,21 @@ def by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
     elif isinstance(node, (list, tuple)):
         for item in node:
             yield from by_reference_arguments(item, in_out)
+
+
+def address_taken(node: Any) -> Iterator[str]:
+    """The bare variables (lower case) whose address ``ADR(x)`` takes in ``node`` (a call, or anything holding calls)."""
+    if isinstance(node, tf.FunctionCall) and str(node.name).lower() == "adr" and len(node.parameters or []) == 1:
+        value = getattr(node.parameters[0], "value", None)
+        if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
+            yield str(value.name).lower()
+        return
+    if dataclasses.is_dataclass(node):
+        for field in dataclasses.fields(node):
+            yield from address_taken(getattr(node, field.name))
+    elif isinstance(node, (list, tuple)):
+        for item in node:
+            yield from address_taken(item)
 
 
 def has_call(node: Any) -> bool:
@@ -198,3 +215,13 @@ def python_string(text: str) -> str:
     return json.dumps("".join(out), ensure_ascii=False)
 
 
+def nodes_below(node: Any) -> Iterator[Any]:
+    """``node`` and every blark node below it."""
+    if isinstance(node, (list, tuple)):
+        for item in node:
+            yield from nodes_below(item)
+    elif dataclasses.is_dataclass(node):
+        yield node
+        for field in dataclasses.fields(node):
+            if field.name != "meta":
+                yield from nodes_below(getattr(node, field.name))
