@@ -12,14 +12,18 @@ as for a file), and it is compiled and run once; nothing of this runs on a call.
 
 from __future__ import annotations
 
+import ast
 import itertools
 import linecache
 import types
+import weakref
 from typing import Any
 
-__all__ = ["compile_source", "compiled", "script_number"]
+__all__ = ["compile_source", "compiled", "definition", "register_definition", "script_number"]
 
 _numbers = itertools.count(1)
+#: Code compiled under another file's name (ST source maps): its ``def`` node and the Python module text it is from.
+_definitions: weakref.WeakKeyDictionary[types.CodeType, tuple[ast.AST, str]] = weakref.WeakKeyDictionary()
 
 
 def script_number() -> int:
@@ -37,3 +41,13 @@ def compile_source(source: str, name_hint: str, namespace: dict[str, Any]) -> di
     """Run ``source`` in ``namespace`` as the script ``<iecoop generated name_hint #n>``; ``namespace`` is returned."""
     exec(compiled(source, f"<iecoop generated {name_hint} #{script_number()}>"), namespace)  # noqa: S102 - iecoop's own generated code
     return namespace
+
+
+def register_definition(code: types.CodeType, node: ast.AST, module_text: str) -> None:
+    """Record the ``def`` node of ``code``, whose file (an ST file) does not hold its Python source."""
+    _definitions[code] = (node, module_text)
+
+
+def definition(code: types.CodeType | None) -> tuple[ast.AST, str] | None:
+    """The ``def`` node and module text recorded for ``code`` (loaded ST), or None: read the source file then."""
+    return _definitions.get(code) if isinstance(code, types.CodeType) else None

@@ -44,7 +44,7 @@ from pathlib import Path
 from collections.abc import Callable
 from typing import Any, Literal
 
-from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.exceptions import ExceptionCode, PlcException, SourceLocation, location_of
 from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, heap_blocks, initialise, reinitialise
 from iecoop.memory.allocations import allocation_for_handle, free, handle_of, registered_allocation, resolve
@@ -181,6 +181,8 @@ class Fault:
     traceback: str
     exception: PlcException
     operation: str = ""
+    #: where in loaded Structured Text the fault arose (file, line, POU, member); None outside loaded ST
+    location: SourceLocation | None = None
 
 
 # The task running in the calling thread (each thread has its own context).
@@ -693,19 +695,21 @@ class Runtime:
 
     def _enter_fault(self, task: Task, exc: BaseException, cycle: int | None = None) -> typing.NoReturn:
         code = _fault_code(exc)
-        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        location = location_of(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}", location)
         text = "".join(traceback.format_exception(exc))
         where = task.info.CycleCount if cycle is None else cycle
-        self.fault = Fault(task.name, where, code, str(plc), text, plc)
+        self.fault = Fault(task.name, where, code, str(plc), text, plc, location=location)
         raise self._fault_error() from exc
 
     def _fault_error(self) -> PlcException:
         assert self.fault is not None
         f = self.fault
+        at = f" at {f.location}" if f.location is not None else ""
         if f.operation:
-            return PlcException(f.code, f"{f.operation} failed at {f.task}: {f.message}; the runtime stays "
-                                        f"in the exception state until a reset succeeds")
-        return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}: {f.message}")
+            return PlcException(f.code, f"{f.operation} failed at {f.task}{at}: {f.message}; the runtime stays "
+                                        f"in the exception state until a reset succeeds", f.location)
+        return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}{at}: {f.message}", f.location)
 
     def _raise_if_faulted(self) -> None:
         if self.fault is not None:
@@ -893,9 +897,10 @@ class Runtime:
 
     def _enter_operation_fault(self, operation: str, path: str, exc: BaseException) -> typing.NoReturn:
         code = _fault_code(exc)
-        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        location = location_of(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}", location)
         text = "".join(traceback.format_exception(exc))
-        self.fault = Fault(path, 0, code, str(plc), text, plc, operation)
+        self.fault = Fault(path, 0, code, str(plc), text, plc, operation, location)
         raise self._fault_error() from exc
 
     def reset_cold(self) -> None:

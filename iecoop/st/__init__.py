@@ -29,6 +29,7 @@ names the extra.
 from __future__ import annotations
 
 import contextlib
+import linecache
 import os
 import pathlib
 import sys
@@ -36,9 +37,10 @@ import types
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
-from iecoop._codegen import compiled, script_number
+from iecoop._codegen import script_number
 from iecoop.st.read.names import python_name
 from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.read.sourcemap import compile_mapped, register_text
 from iecoop.st.export import StExportError, dump, export
 
 __all__ = [
@@ -48,10 +50,13 @@ __all__ = [
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
-def _translator() -> Callable[..., tuple[str, list[tuple[str, str]]]]:
-    """``read.translate.translate``, or an ImportError naming the extra when blark is not installed."""
+_Translation = tuple[str, list[tuple[str, str]], list[tuple[str, int] | None]]
+
+
+def _translator() -> Callable[..., _Translation]:
+    """``read.translate.translate_mapped``, or an ImportError naming the extra when blark is not installed."""
     try:
-        from iecoop.st.read.translate import translate
+        from iecoop.st.read.translate import translate_mapped as translate
     except ModuleNotFoundError as exc:
         missing = (exc.name or "").partition(".")[0]
         if missing not in ("blark", "lark", "lxml"):
@@ -118,12 +123,12 @@ def to_python(source: str | os.PathLike[str]) -> str:
         RUN = 5
     <BLANKLINE>
     """
-    text, _ = _translated(source, [])
+    text, _, _ = _translated(source, [])
     return text
 
 
-def _translated(source: str | os.PathLike[str], externals: list[str]) -> tuple[str, list[tuple[str, str]]]:
-    """The Python module text and top-level names for ``source``; nesting beyond the parser's limits is refused."""
+def _translated(source: str | os.PathLike[str], externals: list[str]) -> _Translation:
+    """The Python module text, top-level names and ST line of each Python line; nesting beyond the parser's limits is refused."""
     translate = _translator()
     units = parse_sources(source)
     try:
@@ -161,14 +166,19 @@ def load(
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    text, names = _translated(source, list(externals))
+    text, names, origins = _translated(source, list(externals))
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
+    rename = {}
+    if isinstance(source, str) and any(origin is not None and origin[0] == "<st>" for origin in origins):
+        rename["<st>"] = f"<st text #{number}>"
+        register_text(rename["<st>"], source)
+    linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     try:
-        code = compiled(text, filename)
+        codes = compile_mapped(text, origins, filename, rename)
     except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
         raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
@@ -180,7 +190,8 @@ def load(
     with use_profile(profile) if profile is not None else contextlib.nullcontext():
         namespace: dict[str, Any] = module.__dict__
         try:
-            exec(code, namespace)
+            for code in codes:
+                exec(code, namespace)  # noqa: S102 - the module iecoop generated, run in order
         except (RecursionError, MemoryError) as exc:
             del sys.modules[module_name]
             raise _generated_failure(source, exc) from exc

@@ -17,6 +17,7 @@ import blark.transform as tf
 
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
+from iecoop.st.read.pywriter import origin_of
 from iecoop.st.read.symbols import Decl
 
 
@@ -111,12 +112,23 @@ class Translator(Pous):
                 header.append(")")
             else:
                 header.append(line)
-        return "\n".join(header + body) + "\n"
+        lines = header + body
+        #: per line of the text, the ST (file, line) it was written for, or None
+        self.origins = [origin_of(line) for line in lines for _ in line.split("\n")]
+        return "\n".join(lines) + "\n"
+
+
+def translate_mapped(
+    units: Sequence[Unit], externals: Sequence[str] = ()
+) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None]]:
+    """``translate`` and, per line of the text, the ST ``(file, line)`` it was written for (None: iecoop's own lines)."""
+    translator = Translator(units, externals)
+    text = translator.translate()
+    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb"]
+    return text, names, translator.origins
 
 
 def translate(units: Sequence[Unit], externals: Sequence[str] = ()) -> tuple[str, list[tuple[str, str]]]:
     """The Python module text for ``units`` and the ``(kind, name)`` of each top-level ST name."""
-    translator = Translator(units, externals)
-    text = translator.translate()
-    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb"]
+    text, names, _ = translate_mapped(units, externals)
     return text, names
