@@ -175,6 +175,7 @@ class Fault:
     """
 
     task: str
+    #: the task's cycle that failed, counted from 1 as its CycleCount counts cycles (0: a reset or download)
     cycle: int
     code: ExceptionCode
     message: str
@@ -628,10 +629,11 @@ class Runtime:
             finally:
                 _current.reset(token)
             elapsed = now() - started
-            cycle = info.CycleCount
             info.LastExecTime = elapsed // 100
             info.MaxExecTime = max(info.MaxExecTime, info.LastExecTime)
             info.CycleCount += 1
+            # Cycles are numbered as the task counts them: the first is cycle 1 (CycleCount once it has run).
+            cycle = info.CycleCount
             exceeded = elapsed > task.interval * 1_000_000
             info.CycleTimeExceeded = exceeded or task._late
             task._late = False
@@ -698,7 +700,7 @@ class Runtime:
         location = location_of(exc)
         plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}", location)
         text = "".join(traceback.format_exception(exc))
-        where = task.info.CycleCount if cycle is None else cycle
+        where = task.info.CycleCount + 1 if cycle is None else cycle  # the cycle that failed is not counted yet
         self.fault = Fault(task.name, where, code, str(plc), text, plc, location=location)
         raise self._fault_error() from exc
 

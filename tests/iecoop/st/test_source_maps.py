@@ -119,3 +119,25 @@ def test_a_breakpoint_on_a_tcpou_line_stops_there() -> None:
     assert calc.nResult == 20
     # The first stop is runcall's own start; then the breakpoint.
     assert debugger.stops[1:] == [(CALC, DIVIDE_LINE, "Divide := nValue / nDivisor;]]></ST>")]
+
+
+def test_one_cycle_numbering_in_fault_runtime_trace_and_st_run() -> None:
+    """MAIN divides by 3 - nCycle: the third cycle of the task faults, and every report calls it cycle 3."""
+    import io
+
+    from iecoop.cli.st import st_run
+
+    plc = st.load(PROJECT)
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), plc.MAIN)
+    trace = rt.trace(["MAIN.nCycle"])
+    with pytest.raises(PlcException, match=r"task PlcTask stopped in cycle 3 at ") as info:
+        rt.run(cycles=5)
+    assert rt.fault is not None and rt.fault.cycle == 3 and plc.MAIN.nCycle == 3
+    assert rt.tasks[0].info.CycleCount == 2  # the failed cycle is not counted: it did not end
+    assert trace.rows[-1][0] == 2 and [row[2] for row in trace.rows] == [1, 2]
+    assert info.value.location is not None and info.value.location.line == DIVIDE_LINE
+    out, err = io.StringIO(), io.StringIO()
+    assert st_run([str(PROJECT), "--program", "MAIN", "--cycles", "5"], out, err) == 1
+    assert err.getvalue().startswith(f"iecoop st run: PLC fault in cycle 3 at {CALC}:{DIVIDE_LINE} (FB_Calc.Divide): ")
+    assert out.getvalue().splitlines()[-1].split()[:3] == ["10", "2", "2"]
