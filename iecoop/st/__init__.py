@@ -105,7 +105,7 @@ def _source_name(source: str | os.PathLike[str]) -> str:
     return "st"
 
 
-def to_python(source: str | os.PathLike[str]) -> str:
+def to_python(source: str | os.PathLike[str], *, cache: bool | None = None) -> str:
     """The readable Python module for ``source``: iecoop code, ST names kept, comments carried over.
 
     >>> from iecoop import st
@@ -123,14 +123,14 @@ def to_python(source: str | os.PathLike[str]) -> str:
         RUN = 5
     <BLANKLINE>
     """
-    text, _, _ = _translated(source, [])
+    text, _, _ = _translated(source, [], cache)
     return text
 
 
-def _translated(source: str | os.PathLike[str], externals: list[str]) -> _Translation:
+def _translated(source: str | os.PathLike[str], externals: list[str], cache: bool | None = None) -> _Translation:
     """The Python module text, top-level names and ST line of each Python line; nesting beyond the parser's limits is refused."""
     translate = _translator()
-    units = parse_sources(source)
+    units = parse_sources(source, cache=cache)
     try:
         return translate(units, externals=externals)
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
@@ -152,6 +152,7 @@ def load(
     profile: str | None = None,
     externals: Mapping[str, Callable[..., Any]] | None = None,
     package: str | None = None,
+    cache: bool | None = None,
 ) -> StModule:
     """Load Structured Text as live iecoop classes and instances (see the module docstring).
 
@@ -162,11 +163,16 @@ def load(
     checked against (a TwinCAT PLC project or library is one namespace): by
     default the text is a namespace of its own, so only its own code reaches
     its INTERNAL members; with ``package="plant"`` code in ``plant`` does too.
+
+    Each file's parse is cached in ``__iecoop_cache__`` beside it (or the
+    user's cache folder), keyed by its text and the iecoop, blark, lark and
+    Python versions; ``cache=False`` (or the environment variable
+    ``IECOOP_ST_CACHE=0``) parses afresh and writes nothing.
     """
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    text, names, origins = _translated(source, list(externals))
+    text, names, origins = _translated(source, list(externals), cache)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")

@@ -89,14 +89,26 @@ def is_st_identifier(name: str) -> bool:
     return _ST_IDENTIFIER.match(name) is not None
 
 
-def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
-    """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units."""
+def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) -> list[Unit]:
+    """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units.
+
+    A file's parse is kept in the translation cache (``read.cache``) unless
+    ``cache`` is False (None: as ``IECOOP_ST_CACHE`` says); files not in it
+    are parsed on every core when there are several.
+    """
     if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
         return [_parse_text(source, "<st>", {})]
     path = pathlib.Path(source)
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
-    units = [_parse_text(text, name, line_map) for text, name, line_map in _flat_sources(path)]
+    from iecoop.st.read.parallel import parse_files
+
+    flat = list(_flat_sources(path))
+    raws = parse_files(flat, cache)
+    units = [
+        _parse_text(text, name, line_map) if raw is None else Unit(_transformed(text, name, line_map, raw)[0], name, line_map, raw[1])
+        for (text, name, line_map), raw in zip(flat, raws)
+    ]
     _check_gvl_names(units)
     return units
 
@@ -347,13 +359,41 @@ def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) 
     return Unit(tree, filename, line_map, comments)
 
 
+def grammar_of(text: str) -> str:
+    """The grammar ``text`` is parsed with: blark's, or blark's with ``GRAMMAR_OVERLAY`` (named by its hash)."""
+    if _OVERLAY_WORDS.search(text):
+        import hashlib
+
+        return "overlay-" + hashlib.sha256(GRAMMAR_OVERLAY.encode()).hexdigest()[:16]
+    return "blark"
+
+
 @functools.lru_cache(maxsize=128)
 def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
     """blark's tree and comment tokens for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
-    import blark
+    line_map = dict(line_map_items)
+    return _transformed(text, filename, line_map, raw_tree(text, filename, line_map))
+
+
+def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]], raw: tuple[Any, tuple[Any, ...]]) -> Any:
+    """blark's transform of a raw lark tree (parsed now, in a worker, or read from the cache)."""
+    import blark.transform as tf
     import lark
 
-    line_map = dict(line_map_items)
+    tree, comments = raw
+    _check_limits(tree, Unit(None, filename, line_map))
+    try:
+        return tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename)), comments
+    except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
+        raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
+    except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
+        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+
+
+def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:
+    """blark's parse of ``text``: the lark tree and the comment tokens, or StSyntaxError naming the file and line."""
+    import blark
+
     parser = _overlay_parser() if _OVERLAY_WORDS.search(text) else None
     try:
         result = blark.parse_source_code(text, fn=filename, parser=parser)
@@ -371,12 +411,7 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         detail = _syntax_detail(exc, text)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     _check_limits(result.tree, Unit(None, filename, line_map))
-    try:
-        return result.transform(), tuple(result.comments)
-    except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
-        raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
-    except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
-        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+    return result.tree, tuple(result.comments)
 
 
 #: Grammar rules (blark's ``iec.lark``) that nest one statement list in another.

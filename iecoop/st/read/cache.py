@@ -1,0 +1,208 @@
+"""The translation cache: blark's parse of each ST file, kept as data beside the sources.
+
+Parsing is most of a cold load (blark's Earley parser, about half a second a
+kilobyte); the translation after it is quick. So each source file's parse
+tree and comment tokens are kept in ``__iecoop_cache__/<file>.json`` beside
+it (as ``__pycache__`` keeps bytecode), or in the user's cache folder when
+that one cannot be written. An entry is used only when everything it was
+made from is the same: the flat ST text (its SHA-256), the versions of
+iecoop, blark, lark and Python, and the grammar used.
+
+An entry is never trusted. It holds plain JSON (no pickle, nothing that runs
+on load); it is signed with a key kept in the user's cache folder (HMAC-SHA256),
+so an entry this user did not write (copied in, edited, damaged) is ignored
+and rebuilt; and each token of the tree must be the text at its place in the
+source, so the tree can only say what the ST says. Opt out with
+``st.load(..., cache=False)`` or the environment variable ``IECOOP_ST_CACHE=0``.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import hmac
+import json
+import os
+import pathlib
+import re
+import secrets
+import sys
+import tempfile
+from typing import Any
+
+__all__ = ["CACHE_FOLDER", "enabled", "load_tree", "store_tree", "tree_from_data", "tree_to_data"]
+
+#: The folder beside the sources that holds their entries.
+CACHE_FOLDER = "__iecoop_cache__"
+#: Bumped when the entry's layout changes.
+FORMAT = 1
+
+_RULE = re.compile(r"[a-z_][a-z0-9_]*\Z")
+_TERMINAL = re.compile(r"[A-Z_][A-Z0-9_]*\Z")
+
+
+def enabled(cache: bool | None) -> bool:
+    """Whether to use the cache: ``cache`` if given, else not when ``IECOOP_ST_CACHE`` is ``0`` / ``false`` / ``no``."""
+    if cache is not None:
+        return cache
+    return os.environ.get("IECOOP_ST_CACHE", "1").strip().lower() not in ("0", "false", "no", "off")
+
+
+def user_cache_dir() -> pathlib.Path:
+    """``$XDG_CACHE_HOME/iecoop`` (``~/.cache/iecoop``), ``%LOCALAPPDATA%\\iecoop\\cache`` on Windows."""
+    if sys.platform == "win32" and os.environ.get("LOCALAPPDATA"):
+        return pathlib.Path(os.environ["LOCALAPPDATA"]) / "iecoop" / "cache"
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return pathlib.Path(base) / "iecoop"
+
+
+@functools.lru_cache(maxsize=1)
+def versions() -> str:
+    """What a parse depends on besides the text: iecoop, blark, lark, Python and the entry format."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    found = []
+    for package in ("iecoop", "blark", "lark"):
+        try:
+            found.append(f"{package}={version(package)}")
+        except PackageNotFoundError:
+            found.append(f"{package}=?")
+    return ";".join([*found, f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+
+
+def _key_file() -> pathlib.Path:
+    return user_cache_dir() / "signing.key"
+
+
+def _signing_key() -> bytes | None:
+    """This user's key for signing entries (made on first use, readable by the user alone); None if it cannot be had."""
+    path = _key_file()
+    try:
+        data = path.read_bytes()
+        if len(data) == 32:
+            return data
+    except OSError:
+        pass
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        key = secrets.token_bytes(32)
+        descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(descriptor, "wb") as handle:
+            handle.write(key)
+        return key
+    except FileExistsError:  # another process made it first
+        try:
+            data = path.read_bytes()
+        except OSError:
+            return None
+        return data if len(data) == 32 else None
+    except OSError:
+        return None
+
+
+def _entry_paths(source: pathlib.Path) -> list[pathlib.Path]:
+    """Where the entry of ``source`` may be: beside it, then in the user's cache folder."""
+    digest = hashlib.sha256(str(source.resolve()).encode()).hexdigest()[:16]
+    return [source.parent / CACHE_FOLDER / f"{source.name}.json", user_cache_dir() / "st" / f"{source.name}.{digest}.json"]
+
+
+def _identity(text: str, grammar: str) -> str:
+    return f"{versions()};grammar={grammar};sha256={hashlib.sha256(text.encode()).hexdigest()}"
+
+
+def load_tree(source: pathlib.Path, text: str, grammar: str) -> tuple[Any, tuple[Any, ...]] | None:
+    """The cached lark tree and comment tokens for the flat ``text`` of ``source``; None if there is no valid entry."""
+    key = _signing_key()
+    if key is None:
+        return None
+    identity = _identity(text, grammar)
+    for path in _entry_paths(source):
+        try:
+            raw = path.read_bytes()
+        except OSError:
+            continue
+        found = _verified(raw, key, identity, text)
+        if found is not None:
+            return found
+    return None
+
+
+def _verified(raw: bytes, key: bytes, identity: str, text: str) -> tuple[Any, tuple[Any, ...]] | None:
+    """The tree and comments of an entry whose signature, identity and tokens all check; None otherwise."""
+    signature, _, body = raw.partition(b"\n")
+    expected = hmac.new(key, body, hashlib.sha256).hexdigest().encode()
+    if not hmac.compare_digest(signature, expected):
+        return None
+    try:
+        entry = json.loads(body)
+        if not isinstance(entry, dict) or entry.get("identity") != identity:
+            return None
+        tree = tree_from_data(entry["tree"], text)
+        comments = tuple(tree_from_data(token, text) for token in entry["comments"])
+    except (ValueError, TypeError, KeyError, IndexError, RecursionError):
+        return None
+    return tree, comments
+
+
+def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comments: tuple[Any, ...]) -> None:
+    """Keep the entry for ``source``: beside it if that folder can be written, else in the user's cache folder."""
+    key = _signing_key()
+    if key is None:
+        return
+    body = json.dumps(
+        {"identity": _identity(text, grammar), "tree": tree_to_data(tree), "comments": [tree_to_data(c) for c in comments]},
+        separators=(",", ":"),
+    ).encode()
+    data = hmac.new(key, body, hashlib.sha256).hexdigest().encode() + b"\n" + body
+    for path in _entry_paths(source):
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            # Written whole then renamed: a reader sees the old entry or the new one, never half of one.
+            descriptor, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            try:
+                with os.fdopen(descriptor, "wb") as handle:
+                    handle.write(data)
+                os.replace(temporary, path)
+            except BaseException:
+                os.unlink(temporary)
+                raise
+            return
+        except OSError:
+            continue
+
+
+def tree_to_data(node: Any) -> Any:
+    """A lark Tree or Token as JSON data: a tree ``[rule, meta, children]``, a token ``[type, text, positions...]``."""
+    import lark
+
+    if node is None:
+        return None
+    if isinstance(node, lark.Token):
+        return [node.type, str(node), node.start_pos, node.line, node.column, node.end_line, node.end_column, node.end_pos]
+    meta = node.meta
+    positions = None if meta.empty else [meta.line, meta.column, meta.end_line, meta.end_column, meta.start_pos, meta.end_pos]
+    return [str(node.data), positions, [tree_to_data(child) for child in node.children]]
+
+
+def tree_from_data(data: Any, text: str) -> Any:
+    """The lark Tree or Token of ``tree_to_data``; ValueError unless every token is the text at its place in ``text``."""
+    import lark
+
+    if data is None:
+        return None
+    if len(data) == 8:
+        kind, value, start, line, column, end_line, end_column, end = data
+        if not (isinstance(kind, str) and isinstance(value, str) and (_TERMINAL.match(kind) or kind in ("RULE",))):
+            raise ValueError("not a token")
+        if not (isinstance(start, int) and isinstance(end, int) and text[start:end] == value):
+            raise ValueError(f"token {value!r} is not the text at {start}")
+        return lark.Token(kind, value, start, line, column, end_line, end_column, end)
+    rule, positions, children = data
+    if not (isinstance(rule, str) and _RULE.match(rule) and isinstance(children, list)):
+        raise ValueError("not a tree")
+    tree = lark.Tree(lark.Token("RULE", rule), [tree_from_data(child, text) for child in children])
+    if positions is not None:
+        meta = tree.meta
+        meta.line, meta.column, meta.end_line, meta.end_column, meta.start_pos, meta.end_pos = positions
+        meta.empty = False
+    return tree

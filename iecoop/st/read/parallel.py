@@ -1,0 +1,80 @@
+"""Parsing the files of a project: from the translation cache, on every core, or one by one.
+
+blark's Earley parser runs in one Python thread; a project of many files is
+parsed in a pool of processes, one per core, when more than one file is
+missing from the cache and there is more than one core. Each worker hands
+back the parse as data (``cache.tree_to_data``), checked against the text as
+a cache entry is; results are taken in file order, so the units, and the
+first error a bad file raises, are the same as parsed one by one.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import multiprocessing
+import os
+import pathlib
+from collections.abc import Sequence
+from typing import Any
+
+from iecoop.st.read.cache import enabled, load_tree, store_tree, tree_from_data, tree_to_data
+from iecoop.st.read.parse import grammar_of, raw_tree
+
+__all__ = ["PARALLEL_MIN_CHARS", "cores", "parse_files"]
+
+#: Uncached ST (characters) below which a pool does not pay for its start (each worker loads blark's grammar).
+PARALLEL_MIN_CHARS = 16_000
+
+Flat = tuple[str, str, dict[int, tuple[str, int]]]
+Raw = tuple[Any, tuple[Any, ...]]
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def parse_files(flat: Sequence[Flat], cache: bool | None) -> list[Raw | None]:
+    """Per flat source, its raw parse (lark tree, comments); None where the caller parses it (no cache, one file)."""
+    use = enabled(cache)
+    raws: list[Raw | None] = [None] * len(flat)
+    missing = []
+    for index, (text, name, _) in enumerate(flat):
+        if use:
+            raws[index] = load_tree(pathlib.Path(name), text, grammar_of(text))
+        if raws[index] is None:
+            missing.append(index)
+    if len(missing) > 1 and cores() > 1 and sum(len(flat[i][0]) for i in missing) >= PARALLEL_MIN_CHARS:
+        for index, raw in zip(missing, _in_pool([flat[i] for i in missing])):
+            raws[index] = raw
+    elif use:
+        for index in missing:
+            raws[index] = raw_tree(*flat[index])
+    if use:
+        for index in missing:
+            text, name, _ = flat[index]
+            raw = raws[index]
+            if raw is not None:
+                store_tree(pathlib.Path(name), text, grammar_of(text), *raw)
+    return raws
+
+
+def _in_pool(flat: Sequence[Flat]) -> list[Raw]:
+    """Parse ``flat`` in a pool of processes, the longest sources first; results in the order given."""
+    # spawn, not fork: a process with a runtime's threads must not be forked.
+    context = multiprocessing.get_context("spawn")
+    order = sorted(range(len(flat)), key=lambda i: -len(flat[i][0]))
+    with concurrent.futures.ProcessPoolExecutor(min(cores(), len(flat)), mp_context=context) as pool:
+        futures = {i: pool.submit(_parse_as_data, *flat[i]) for i in order}
+        results = []
+        for index, (text, _, _) in enumerate(flat):
+            tree, comments = futures[index].result()  # a worker's StSyntaxError is raised here, in file order
+            results.append((tree_from_data(tree, text), tuple(tree_from_data(c, text) for c in comments)))
+    return results
+
+
+def _parse_as_data(text: str, name: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
+    tree, comments = raw_tree(text, name, line_map)
+    return tree_to_data(tree), [tree_to_data(c) for c in comments]
