@@ -125,12 +125,13 @@ def _st_frame(tb: types.TracebackType | None) -> SourceLocation | None:
     # The class builder compiles a body into its block's call inside helpers of its own (_iec_*).
     parts = [p for p in code.co_qualname.split(".") if p != "<locals>" and not p.startswith("_iec_")]
     owner = frame.f_locals.get("self")
+    member: str | None = parts[-1] if parts else code.co_name
     if len(parts) >= 2:
-        pou, member = parts[-2], parts[-1]
+        pou = parts[-2]
     elif owner is not None:
-        pou, member = type(owner).__name__, parts[-1] if parts else None
+        pou = type(owner).__name__
     else:
-        pou, member = parts[-1] if parts else code.co_name, None
+        pou, member = member or code.co_name, None
     if member in ("body", "__call__"):
         member = None
     return SourceLocation(code.co_filename, line, pou, member)

@@ -20,7 +20,7 @@ from typing import Any
 from iecoop.st.read.cache import enabled, load_tree, store_tree, tree_from_data, tree_to_data
 from iecoop.st.read.parse import grammar_of, raw_tree
 
-__all__ = ["PARALLEL_MIN_CHARS", "cores", "parse_files"]
+__all__ = ["PARALLEL_MIN_CHARS", "cores", "parse_files", "raw_tree"]
 
 #: Uncached ST (characters) below which a pool does not pay for its start (each worker loads blark's grammar).
 PARALLEL_MIN_CHARS = 16_000
@@ -55,9 +55,9 @@ def parse_files(flat: Sequence[Flat], cache: bool | None) -> list[Raw | None]:
     if use:
         for index in missing:
             text, name, _ = flat[index]
-            raw = raws[index]
-            if raw is not None:
-                store_tree(pathlib.Path(name), text, grammar_of(text), *raw)
+            done = raws[index]
+            if done is not None:
+                store_tree(pathlib.Path(name), text, grammar_of(text), *done)
     return raws
 
 

@@ -29,6 +29,12 @@ class PyWriter(Symbols):
     def emit(self, text: str, level: int) -> None:
         self.out.append(self.mapped("    " * level + text if text else ""))
 
+    def at(self, node: Any) -> None:
+        """The lines written next are for ``node``'s ST line (an ELSIF, a CASE label, the end of a FOR)."""
+        line = getattr(getattr(node, "meta", None), "line", None)
+        if line is not None:
+            self.line = line
+
     def mapped(self, text: str) -> SourceLine:
         """``text`` marked with the ST file and line being translated (what a traceback and pdb will show)."""
         line = SourceLine(text)

@@ -193,9 +193,14 @@ def test_parsing_in_a_pool_gives_the_same_module(project: pathlib.Path, monkeypa
     serial = st.to_python(project, cache=False)
     monkeypatch.setattr(parallel, "PARALLEL_MIN_CHARS", 0)
     monkeypatch.setattr(parallel, "cores", lambda: 2)
-    pooled = []
+    pooled: list[int] = []
     real = parallel._in_pool
-    monkeypatch.setattr(parallel, "_in_pool", lambda flat: pooled.append(len(flat)) or real(flat))
+
+    def counted(flat: Any) -> Any:
+        pooled.append(len(flat))
+        return real(flat)
+
+    monkeypatch.setattr(parallel, "_in_pool", counted)
     assert st.to_python(project, cache=True) == serial
     assert pooled == [2]
 

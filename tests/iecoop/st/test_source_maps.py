@@ -141,3 +141,39 @@ def test_one_cycle_numbering_in_fault_runtime_trace_and_st_run() -> None:
     assert st_run([str(PROJECT), "--program", "MAIN", "--cycles", "5"], out, err) == 1
     assert err.getvalue().startswith(f"iecoop st run: PLC fault in cycle 3 at {CALC}:{DIVIDE_LINE} (FB_Calc.Divide): ")
     assert out.getvalue().splitlines()[-1].split()[:3] == ["10", "2", "2"]
+
+
+COVERED = pathlib.Path(__file__).parent / "data" / "coverage"
+
+
+def test_coverage_plugin_reports_st_lines_hit_and_missed(tmp_path: pathlib.Path) -> None:
+    """coverage.py with ``plugins = iecoop.st.coverage`` reports the .TcPOU's statement lines, hit and missed."""
+    import json
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    shutil.copytree(COVERED, tmp_path / "plc")
+    pou = tmp_path / "plc" / "FB_Sort.TcPOU"
+    lines = pou.read_text().splitlines()
+
+    def line_of(text: str) -> int:
+        return next(number for number, line in enumerate(lines, 1) if text in line)
+
+    (tmp_path / ".coveragerc").write_text("[run]\nplugins = iecoop.st.coverage\n")
+    (tmp_path / "run_plc.py").write_text(
+        "from iecoop import st\nplc = st.load('plc')\nsort = plc.FB_Sort()\nsort(nValue=3)\nassert sort.nBin == 1\n"
+    )
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "user-cache")}
+    for command in (["run", "run_plc.py"], ["json", "-o", "coverage.json", "--include", "plc/*"]):
+        done = subprocess.run([sys.executable, "-m", "coverage", *command], cwd=tmp_path, env=env,
+                              capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+    report = json.loads((tmp_path / "coverage.json").read_text())["files"]["plc/FB_Sort.TcPOU"]
+    # A CASE's lines are its labels (their tests run there, the first one reading the selector).
+    labels = {number for number, line in enumerate(lines, 1) if line.strip() in ("0:", "1..4:")}
+    hit = {line_of(t) for t in ("IF nValue < 0 THEN", "ELSIF nValue < 10", "nBin := Small(nValue);", "Small := 1;")} | labels
+    missed = {line_of(t) for t in ("nBin := -1;", "nBin := 99;", "Small := 0;", "Small := 2;")}
+    assert set(report["executed_lines"]) == hit
+    assert set(report["missing_lines"]) == missed
