@@ -22,8 +22,9 @@ from typing import Any
 __all__ = ["compile_source", "compiled", "definition", "register_definition", "script_number"]
 
 _numbers = itertools.count(1)
-#: Code compiled under another file's name (ST source maps): its ``def`` node and the Python module text it is from.
-_definitions: weakref.WeakKeyDictionary[types.CodeType, tuple[ast.AST, str]] = weakref.WeakKeyDictionary()
+#: Code compiled under another file's name (ST source maps), by identity: the code (weakly), its ``def`` node and
+#: the Python module text it is from. Not by value: two loads of one file make equal code objects.
+_definitions: dict[int, tuple[weakref.ref[types.CodeType], ast.AST, str]] = {}
 
 
 def script_number() -> int:
@@ -45,9 +46,18 @@ def compile_source(source: str, name_hint: str, namespace: dict[str, Any]) -> di
 
 def register_definition(code: types.CodeType, node: ast.AST, module_text: str) -> None:
     """Record the ``def`` node of ``code``, whose file (an ST file) does not hold its Python source."""
-    _definitions[code] = (node, module_text)
+    key = id(code)
+
+    def forget(ref: weakref.ref[types.CodeType]) -> None:
+        if _definitions.get(key, (None,))[0] is ref:
+            del _definitions[key]
+
+    _definitions[key] = (weakref.ref(code, forget), node, module_text)
 
 
 def definition(code: types.CodeType | None) -> tuple[ast.AST, str] | None:
     """The ``def`` node and module text recorded for ``code`` (loaded ST), or None: read the source file then."""
-    return _definitions.get(code) if isinstance(code, types.CodeType) else None
+    entry = _definitions.get(id(code)) if isinstance(code, types.CodeType) else None
+    if entry is None or entry[0]() is not code:
+        return None
+    return entry[1], entry[2]

@@ -155,7 +155,7 @@ class PlcException(IecError):
     @property
     def location(self) -> SourceLocation | None:
         """The innermost ST frame the fault passed through (its own traceback first, then its cause's)."""
-        if self._location is None:
+        if getattr(self, "_location", None) is None:  # a subclass may not call this __init__
             self._location = location_of(self)
         return self._location
 

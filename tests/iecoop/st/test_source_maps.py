@@ -38,6 +38,8 @@ def test_traceback_shows_the_tcpou_file_line_and_st_text() -> None:
     assert frames[-1] == (CALC, DIVIDE_LINE, "Divide := nValue / nDivisor;]]></ST>")
     assert frames[-2][:2] == (CALC, BODY_LINE) and "nResult := Divide(100);" in frames[-2][2]
     assert linecache.getline(CALC, DIVIDE_LINE).strip() == "Divide := nValue / nDivisor;]]></ST>"
+    # The body is still compiled into the block's call (one frame per call), under the ST file's name.
+    assert type(calc).__call__.__code__.co_filename == CALC
 
 
 def test_readable_python_is_unchanged() -> None:
