@@ -14,19 +14,28 @@ import concurrent.futures
 import multiprocessing
 import os
 import pathlib
-from collections.abc import Sequence
+import typing
+from collections.abc import Callable, Sequence
 from typing import Any
 
-from iecoop.st.read.cache import enabled, load_tree, store_tree, tree_from_data, tree_to_data
-from iecoop.st.read.parse import grammar_of, raw_tree
+from iecoop.st.read.cache import enabled, load_tree, store_tree, tree_from_data
 
-__all__ = ["PARALLEL_MIN_CHARS", "cores", "parse_files", "raw_tree"]
+__all__ = ["PARALLEL_MIN_CHARS", "Parser", "cores", "parse_files"]
 
 #: Uncached ST (characters) below which a pool does not pay for its start (each worker loads blark's grammar).
 PARALLEL_MIN_CHARS = 16_000
 
 Flat = tuple[str, str, dict[int, tuple[str, int]]]
 Raw = tuple[Any, tuple[Any, ...]]
+
+
+class Parser(typing.NamedTuple):
+    """How to parse one flat source: in this process (``raw``), in a worker (``as_data``, a module-level
+    function, the parse as ``cache.tree_to_data`` data), and the name of the grammar a text needs."""
+
+    raw: Callable[[str, str, dict[int, tuple[str, int]]], Raw]
+    as_data: Callable[[str, str, dict[int, tuple[str, int]]], tuple[Any, list[Any]]]
+    grammar: Callable[[str], str]
 
 
 def cores() -> int:
@@ -36,45 +45,40 @@ def cores() -> int:
     return os.cpu_count() or 1
 
 
-def parse_files(flat: Sequence[Flat], cache: bool | None) -> list[Raw | None]:
+def parse_files(flat: Sequence[Flat], cache: bool | None, parser: Parser) -> list[Raw | None]:
     """Per flat source, its raw parse (lark tree, comments); None where the caller parses it (no cache, one file)."""
     use = enabled(cache)
     raws: list[Raw | None] = [None] * len(flat)
     missing = []
     for index, (text, name, _) in enumerate(flat):
         if use:
-            raws[index] = load_tree(pathlib.Path(name), text, grammar_of(text))
+            raws[index] = load_tree(pathlib.Path(name), text, parser.grammar(text))
         if raws[index] is None:
             missing.append(index)
     if len(missing) > 1 and cores() > 1 and sum(len(flat[i][0]) for i in missing) >= PARALLEL_MIN_CHARS:
-        for index, raw in zip(missing, _in_pool([flat[i] for i in missing])):
+        for index, raw in zip(missing, _in_pool([flat[i] for i in missing], parser)):
             raws[index] = raw
     elif use:
         for index in missing:
-            raws[index] = raw_tree(*flat[index])
+            raws[index] = parser.raw(*flat[index])
     if use:
         for index in missing:
             text, name, _ = flat[index]
             done = raws[index]
             if done is not None:
-                store_tree(pathlib.Path(name), text, grammar_of(text), *done)
+                store_tree(pathlib.Path(name), text, parser.grammar(text), *done)
     return raws
 
 
-def _in_pool(flat: Sequence[Flat]) -> list[Raw]:
+def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Raw]:
     """Parse ``flat`` in a pool of processes, the longest sources first; results in the order given."""
     # spawn, not fork: a process with a runtime's threads must not be forked.
     context = multiprocessing.get_context("spawn")
     order = sorted(range(len(flat)), key=lambda i: -len(flat[i][0]))
     with concurrent.futures.ProcessPoolExecutor(min(cores(), len(flat)), mp_context=context) as pool:
-        futures = {i: pool.submit(_parse_as_data, *flat[i]) for i in order}
+        futures = {i: pool.submit(parser.as_data, *flat[i]) for i in order}
         results = []
         for index, (text, _, _) in enumerate(flat):
             tree, comments = futures[index].result()  # a worker's StSyntaxError is raised here, in file order
             results.append((tree_from_data(tree, text), tuple(tree_from_data(c, text) for c in comments)))
     return results
-
-
-def _parse_as_data(text: str, name: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
-    tree, comments = raw_tree(text, name, line_map)
-    return tree_to_data(tree), [tree_to_data(c) for c in comments]

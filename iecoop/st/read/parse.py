@@ -101,10 +101,10 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
     path = pathlib.Path(source)
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
-    from iecoop.st.read.parallel import parse_files
+    from iecoop.st.read.parallel import Parser, parse_files
 
     flat = list(_flat_sources(path))
-    raws = parse_files(flat, cache)
+    raws = parse_files(flat, cache, Parser(raw_tree, parse_as_data, grammar_of))
     units = [
         _parse_text(text, name, line_map) if raw is None else Unit(_transformed(text, name, line_map, raw)[0], name, line_map, raw[1])
         for (text, name, line_map), raw in zip(flat, raws)
@@ -388,6 +388,14 @@ def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]],
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
     except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
         raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+
+
+def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
+    """``raw_tree`` as JSON-able data (``read.cache.tree_to_data``): what a worker process hands back."""
+    from iecoop.st.read.cache import tree_to_data
+
+    tree, comments = raw_tree(text, filename, line_map)
+    return tree_to_data(tree), [tree_to_data(c) for c in comments]
 
 
 def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:

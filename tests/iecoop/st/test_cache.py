@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from iecoop import st
-from iecoop.st.read import cache, parallel
+from iecoop.st.read import cache, parallel, parse
 
 PROJECT = pathlib.Path(__file__).parent / "data" / "sourcemaps"
 
@@ -39,13 +39,13 @@ def user_cache(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> pathl
 def parsed(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[str]]:
     """The names of the files blark parses (not read from the cache)."""
     names: list[str] = []
-    real = parallel.raw_tree
+    real = parse.raw_tree
 
     def counting(text: str, name: str, line_map: dict[int, tuple[str, int]]) -> Any:
         names.append(pathlib.Path(name).name)
         return real(text, name, line_map)
 
-    monkeypatch.setattr(parallel, "raw_tree", counting)
+    monkeypatch.setattr(parse, "raw_tree", counting)
     yield names
 
 
@@ -196,9 +196,9 @@ def test_parsing_in_a_pool_gives_the_same_module(project: pathlib.Path, monkeypa
     pooled: list[int] = []
     real = parallel._in_pool
 
-    def counted(flat: Any) -> Any:
+    def counted(flat: Any, parser: Any) -> Any:
         pooled.append(len(flat))
-        return real(flat)
+        return real(flat, parser)
 
     monkeypatch.setattr(parallel, "_in_pool", counted)
     assert st.to_python(project, cache=True) == serial
