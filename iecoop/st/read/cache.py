@@ -11,13 +11,14 @@ iecoop, blark, lark and Python, and the grammar used.
 An entry is never trusted. It holds plain JSON (no pickle, nothing that runs
 on load); it is signed with a key kept in the user's cache folder (HMAC-SHA256),
 so an entry this user did not write (copied in, edited, damaged) is ignored
-and rebuilt; and each token of the tree must be the text at its place in the
-source, so the tree can only say what the ST says. Opt out with
+and rebuilt; and a token is kept as its place in the source, its text read
+back from the ST itself, so the tree can only say what the ST says. Opt out with
 ``st.load(..., cache=False)`` or the environment variable ``IECOOP_ST_CACHE=0``.
 """
 
 from __future__ import annotations
 
+import bisect
 import functools
 import hashlib
 import hmac
@@ -30,12 +31,12 @@ import sys
 import tempfile
 from typing import Any
 
-__all__ = ["CACHE_FOLDER", "enabled", "load_tree", "store_tree", "tree_from_data", "tree_to_data"]
+__all__ = ["CACHE_FOLDER", "enabled", "load_tree", "raw_from_data", "store_tree", "tree_from_data", "tree_to_data"]
 
 #: The folder beside the sources that holds their entries.
 CACHE_FOLDER = "__iecoop_cache__"
 #: Bumped when the entry's layout changes.
-FORMAT = 1
+FORMAT = 2
 
 _RULE = re.compile(r"[a-z_][a-z0-9_]*\Z")
 _TERMINAL = re.compile(r"[A-Z_][A-Z0-9_]*\Z")
@@ -137,11 +138,15 @@ def _verified(raw: bytes, key: bytes, identity: str, text: str) -> tuple[Any, tu
         entry = json.loads(body)
         if not isinstance(entry, dict) or entry.get("identity") != identity:
             return None
-        tree = tree_from_data(entry["tree"], text)
-        comments = tuple(tree_from_data(token, text) for token in entry["comments"])
+        return raw_from_data(entry["tree"], entry["comments"], text)
     except (ValueError, TypeError, KeyError, IndexError, RecursionError):
         return None
-    return tree, comments
+
+
+def raw_from_data(tree: Any, comments: Any, text: str) -> tuple[Any, tuple[Any, ...]]:
+    """The lark tree and comment tokens of their ``tree_to_data`` forms, for the source ``text``."""
+    lines = _Lines(text)
+    return tree_from_data(tree, lines), tuple(tree_from_data(token, lines) for token in comments)
 
 
 def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comments: tuple[Any, ...]) -> None:
@@ -172,37 +177,53 @@ def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comment
 
 
 def tree_to_data(node: Any) -> Any:
-    """A lark Tree or Token as JSON data: a tree ``[rule, meta, children]``, a token ``[type, text, positions...]``."""
+    """A lark Tree or Token as JSON data: a tree ``[rule, [start, end] or None, children]``, a token ``[type, start, end]``.
+
+    A token keeps only where it is: its text, line and column are read back from the source.
+    """
     import lark
 
     if node is None:
         return None
     if isinstance(node, lark.Token):
-        return [node.type, str(node), node.start_pos, node.line, node.column, node.end_line, node.end_column, node.end_pos]
+        return [node.type, node.start_pos, node.end_pos]
     meta = node.meta
-    positions = None if meta.empty else [meta.line, meta.column, meta.end_line, meta.end_column, meta.start_pos, meta.end_pos]
-    return [str(node.data), positions, [tree_to_data(child) for child in node.children]]
+    return [str(node.data), None if meta.empty else [meta.start_pos, meta.end_pos], [tree_to_data(c) for c in node.children]]
 
 
-def tree_from_data(data: Any, text: str) -> Any:
-    """The lark Tree or Token of ``tree_to_data``; ValueError unless every token is the text at its place in ``text``."""
+class _Lines:
+    """Line and column (from 1, as lark counts them) of a character offset in a text."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.starts = [0, *(index + 1 for index, char in enumerate(text) if char == "\n")]
+
+    def at(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self.starts, offset)
+        return line, offset - self.starts[line - 1] + 1
+
+
+def tree_from_data(data: Any, text: str | _Lines) -> Any:
+    """The lark Tree or Token of ``tree_to_data``; each token's text is the source's at its place, so it says only what the ST says."""
     import lark
 
+    lines = text if isinstance(text, _Lines) else _Lines(text)
     if data is None:
         return None
-    if len(data) == 8:
-        kind, value, start, line, column, end_line, end_column, end = data
-        if not (isinstance(kind, str) and isinstance(value, str) and (_TERMINAL.match(kind) or kind in ("RULE",))):
+    kind, where, rest = data
+    if isinstance(where, int):  # a token
+        if not (isinstance(kind, str) and _TERMINAL.match(kind) and isinstance(rest, int) and 0 <= where <= rest <= len(lines.text)):
             raise ValueError("not a token")
-        if not (isinstance(start, int) and isinstance(end, int) and text[start:end] == value):
-            raise ValueError(f"token {value!r} is not the text at {start}")
-        return lark.Token(kind, value, start, line, column, end_line, end_column, end)
-    rule, positions, children = data
-    if not (isinstance(rule, str) and _RULE.match(rule) and isinstance(children, list)):
+        return lark.Token(kind, lines.text[where:rest], where, *lines.at(where), *lines.at(rest), rest)
+    if not (isinstance(kind, str) and _RULE.match(kind) and isinstance(rest, list)):
         raise ValueError("not a tree")
-    tree = lark.Tree(lark.Token("RULE", rule), [tree_from_data(child, text) for child in children])
-    if positions is not None:
+    tree = lark.Tree(lark.Token("RULE", kind), [tree_from_data(child, lines) for child in rest])
+    if where is not None:
+        begin, end = where
+        if not (isinstance(begin, int) and isinstance(end, int) and 0 <= begin <= end <= len(lines.text)):
+            raise ValueError("not a position")
         meta = tree.meta
-        meta.line, meta.column, meta.end_line, meta.end_column, meta.start_pos, meta.end_pos = positions
-        meta.empty = False
+        meta.line, meta.column = lines.at(begin)
+        meta.end_line, meta.end_column = lines.at(end)
+        meta.start_pos, meta.end_pos, meta.empty = begin, end, False
     return tree

@@ -18,7 +18,7 @@ import typing
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from iecoop.st.read.cache import enabled, load_tree, store_tree, tree_from_data
+from iecoop.st.read.cache import enabled, load_tree, raw_from_data, store_tree
 
 __all__ = ["PARALLEL_MIN_CHARS", "Parser", "cores", "parse_files"]
 
@@ -80,5 +80,5 @@ def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Raw]:
         results = []
         for index, (text, _, _) in enumerate(flat):
             tree, comments = futures[index].result()  # a worker's StSyntaxError is raised here, in file order
-            results.append((tree_from_data(tree, text), tuple(tree_from_data(c, text) for c in comments)))
+            results.append(raw_from_data(tree, comments, text))
     return results
