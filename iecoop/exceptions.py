@@ -28,6 +28,7 @@ __all__ = [
     "PlcException",
     "SourceLocation",
     "TryBlock",
+    "location_of",
     "try_catch",
 ]
 
