@@ -19,7 +19,7 @@ import types
 import weakref
 from typing import Any
 
-__all__ = ["compile_source", "compiled", "definition", "register_definition", "script_number"]
+__all__ = ["compile_source", "compiled", "definition", "python_source", "register_definition", "script_number"]
 
 _numbers = itertools.count(1)
 #: Code compiled under another file's name (ST source maps), by identity: the code (weakly), its ``def`` node and
@@ -61,3 +61,12 @@ def definition(code: types.CodeType | None) -> tuple[ast.AST, str] | None:
     if entry is None or entry[0]() is not code:
         return None
     return entry[1], entry[2]
+
+
+def python_source(func: Any) -> str:
+    """The Python source of ``func``: as generated for loaded ST (its file holds ST), else ``inspect.getsource``."""
+    import inspect
+
+    registered = definition(getattr(inspect.unwrap(func), "__code__", None))
+    text = getattr(registered[0], "iecoop_python", None) if registered is not None else None
+    return text if isinstance(text, str) else inspect.getsource(func)

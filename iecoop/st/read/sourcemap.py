@@ -63,6 +63,11 @@ def compile_mapped(
     to the name it is shown under (``<st>`` -> ``<st text #3>``).
     """
     tree = ast.parse(text, generated)
+    lines = text.splitlines(True)
+    for node in _definitions(tree.body):
+        # iecoop's ST writer reads a def's Python (to export it): kept before its lines become ST lines
+        first = min([node.lineno, *(d.lineno for d in node.decorator_list)])
+        setattr(node, "iecoop_python", "".join(lines[first - 1:node.end_lineno]))
     groups: list[tuple[str, list[ast.stmt]]] = []
     for statement in tree.body:
         file = _map_statement(statement, origins, rename) or generated
