@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import __future__
 import ast
+import copy
 import functools
 import inspect
 import linecache
@@ -41,6 +42,7 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from iecoop._codegen import definition
 from iecoop.literals import D, T
 from iecoop.memory._core import keep_member_views
 from iecoop.members import adopt_code
@@ -133,7 +135,7 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
         isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and isinstance(n.func.value, ast.Name)
         and n.func.value.id != "self" for n in ast.walk(node)
     )
-    return sorted(_module_imports(body.__code__.co_filename, body.__globals__) & used) if called else []
+    return sorted(_module_imports(body.__code__, body.__globals__) & used) if called else []
 
 
 def _rewritten(
@@ -223,6 +225,11 @@ def _call_function(
 
 def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
     """The body's ``def`` as the source holds it, at its own lines and columns; None without its source."""
+    registered = definition(body.__code__)
+    if registered is not None:  # loaded ST: the file holds ST, the generated def is recorded
+        node = copy.deepcopy(registered[0])
+        named = isinstance(node, ast.FunctionDef) and node.name == body.__code__.co_name
+        return node if isinstance(node, ast.FunctionDef) and named and not node.decorator_list else None
     try:
         source = inspect.getsource(body)
         # An indented def (a method) parses inside an `if`, which keeps its columns.
@@ -474,10 +481,11 @@ class _DirectStores(_OwnCode):
         return statements
 
 
-def _module_imports(filename: str, module_globals: dict[str, Any]) -> frozenset[str]:
+def _module_imports(code: types.CodeType, module_globals: dict[str, Any]) -> frozenset[str]:
     """The names the body's module imports at its top level (the compiler calls ``name.attr()`` of those differently)."""
-    text = "".join(linecache.getlines(filename, module_globals))
-    return _imports_in(filename, text)
+    registered = definition(code)
+    text = registered[1] if registered is not None else "".join(linecache.getlines(code.co_filename, module_globals))
+    return _imports_in(code.co_filename, text)
 
 
 @functools.lru_cache(maxsize=16)

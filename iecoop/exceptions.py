@@ -15,8 +15,10 @@ RTSEXCPT_DIVIDEBYZERO 0x102
 from __future__ import annotations
 
 import enum
+import types
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import NamedTuple
 
 __all__ = [
     "AccessError",
@@ -24,7 +26,9 @@ __all__ = [
     "ExceptionCode",
     "IecError",
     "PlcException",
+    "SourceLocation",
     "TryBlock",
+    "location_of",
     "try_catch",
 ]
 
@@ -86,14 +90,88 @@ class IecError(Exception):
     """Base of every error iecoop raises on purpose."""
 
 
-class PlcException(IecError):
-    """A runtime fault (ST: ``__CATCH(exc)``); ``.code`` is the ExceptionCode."""
+#: The files loaded Structured Text runs under (``.TcPOU``, ``.st``, ``<st text #N>``), filled by ``st.load``.
+_ST_FILES: set[str] = set()
 
-    def __init__(self, code: ExceptionCode, message: str = "") -> None:
+
+def register_st_file(name: str) -> None:
+    """Code compiled under ``name`` is loaded Structured Text: a fault in it has a ``location``."""
+    _ST_FILES.add(name)
+
+
+class SourceLocation(NamedTuple):
+    """Where in loaded Structured Text a fault arose: file, line, POU and member (None: the POU's body)."""
+
+    file: str
+    line: int
+    pou: str
+    member: str | None
+
+    def __str__(self) -> str:
+        where = f"{self.pou}.{self.member}" if self.member else self.pou
+        return f"{self.file}:{self.line} ({where})"
+
+
+def _st_frame(tb: types.TracebackType | None) -> SourceLocation | None:
+    """The innermost frame of ``tb`` that runs loaded ST, as a SourceLocation."""
+    found = None
+    while tb is not None:
+        code = tb.tb_frame.f_code
+        if code.co_filename in _ST_FILES:
+            found = (tb.tb_frame, code, tb.tb_lineno)
+        tb = tb.tb_next
+    if found is None:
+        return None
+    frame, code, line = found
+    # The class builder compiles a body into its block's call inside helpers of its own (_iec_*).
+    parts = [p for p in code.co_qualname.split(".") if p != "<locals>" and not p.startswith("_iec_")]
+    owner = frame.f_locals.get("self")
+    member: str | None = parts[-1] if parts else code.co_name
+    if len(parts) >= 2:
+        pou = parts[-2]
+    elif owner is not None:
+        pou = type(owner).__name__
+    else:
+        pou, member = member or code.co_name, None
+    if member in ("body", "__call__"):
+        member = None
+    return SourceLocation(code.co_filename, line, pou, member)
+
+
+class PlcException(IecError):
+    """A runtime fault (ST: ``__CATCH(exc)``); ``.code`` is the ExceptionCode.
+
+    ``.location`` is where in loaded ST it arose (a ``SourceLocation``: file,
+    line, POU, member), read from the traceback of the fault or of what caused
+    it; None for a fault outside loaded ST.
+    """
+
+    def __init__(self, code: ExceptionCode, message: str = "", location: SourceLocation | None = None) -> None:
         self.code = ExceptionCode(code)
         self.message = message
+        self._location = location
         text = f"{self.code.name} (16#{int(self.code):X})"
         super().__init__(f"{text}: {message}" if message else text)
+
+    @property
+    def location(self) -> SourceLocation | None:
+        """The innermost ST frame the fault passed through (its own traceback first, then its cause's)."""
+        if getattr(self, "_location", None) is None:  # a subclass may not call this __init__
+            self._location = location_of(self)
+        return self._location
+
+
+def location_of(exc: BaseException) -> SourceLocation | None:
+    """Where in loaded ST ``exc`` (or the exception it was raised from) arose; None outside loaded ST."""
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        seen.add(id(current))
+        found = _st_frame(current.__traceback__)
+        if found is not None:
+            return found
+        current = current.__cause__ or current.__context__
+    return None
 
 
 class DefinitionError(IecError, TypeError):
@@ -131,5 +209,5 @@ def try_catch() -> Iterator[TryBlock]:
     except PlcException as exc:
         block.code, block.exception = exc.code, exc
     except ZeroDivisionError as exc:
-        fault = PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, str(exc))
+        fault = PlcException(ExceptionCode.RTSEXCPT_DIVIDEBYZERO, str(exc), location_of(exc))
         block.code, block.exception = fault.code, fault

@@ -41,6 +41,7 @@ import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
 
+from iecoop._codegen import definition
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.metadata import Kind, kind_of, st_name
 from iecoop.sections import FieldSpec, check_st_name
@@ -453,6 +454,9 @@ def _is_prototype_statement(node: ast.stmt, first: bool) -> bool:
 
 def _definition_node(func: Any) -> ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | None:
     """The syntax tree of ``func`` from its source, or None when the source cannot be had."""
+    registered = definition(getattr(func, "__code__", None))
+    if registered is not None and isinstance(registered[0], (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return registered[0]  # loaded ST: its file holds ST, the generated def is recorded
     try:
         source = inspect.getsource(func)
     except (OSError, TypeError):

@@ -190,7 +190,7 @@ def run_cycles(
             runtime.run(cycles=1)
         except PlcException as exc:
             trace.fault, trace.fault_cycle = exc, cycle
-            # The runtime's own text numbers the cycle from 0 (its CycleCount): keep only the cause.
+            # The runtime's text repeats the task and cycle the report names: keep only the cause.
             trace.fault_message = runtime.fault.exception.message if runtime.fault is not None else exc.message
             break
         trace.cycles_run = cycle
@@ -248,9 +248,14 @@ def write_trace(source: Trace | None, args: argparse.Namespace, out: TextIO) -> 
 
 
 def fault_text(trace: TraceTable) -> str:
-    """``PLC fault in cycle 3: RTSEXCPT_DIVIDEBYZERO (...)``, or ``at start-up`` before the first cycle."""
+    """``PLC fault in cycle 3 at FB_Calc.TcPOU:23 (FB_Calc.Divide): RTSEXCPT_DIVIDEBYZERO (...)``.
+
+    ``at start-up`` before the first cycle; the ST location when the fault arose in loaded ST.
+    """
     assert trace.fault is not None
     where = f"in cycle {trace.fault_cycle}" if trace.fault_cycle else "at start-up"
+    if trace.fault.location is not None:
+        where += f" at {trace.fault.location}"
     cause = f" ({trace.fault_message})" if trace.fault_message else ""
     return f"PLC fault {where}: {trace.fault.code.name}{cause}"
 

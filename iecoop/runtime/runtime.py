@@ -42,7 +42,7 @@ from pathlib import Path
 from collections.abc import Callable
 from typing import Any, Literal
 
-from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.exceptions import ExceptionCode, PlcException, SourceLocation, location_of
 from iecoop.gvl import global_lists
 from iecoop.lifecycle import finalise, initialise
 from iecoop.pou import static_blocks
@@ -171,12 +171,15 @@ class Fault:
     """
 
     task: str
+    #: the task's cycle that failed, counted from 1 as its CycleCount counts cycles (0: a reset or download)
     cycle: int
     code: ExceptionCode
     message: str
     traceback: str
     exception: PlcException
     operation: str = ""
+    #: where in loaded Structured Text the fault arose (file, line, POU, member); None outside loaded ST
+    location: SourceLocation | None = None
 
 
 # The task running in the calling thread (each thread has its own context).
@@ -613,10 +616,11 @@ class Runtime:
             finally:
                 _current.reset(token)
             elapsed = now() - started
-            cycle = info.CycleCount
             info.LastExecTime = elapsed // 100
             info.MaxExecTime = max(info.MaxExecTime, info.LastExecTime)
             info.CycleCount += 1
+            # Cycles are numbered as the task counts them: the first is cycle 1 (CycleCount once it has run).
+            cycle = info.CycleCount
             exceeded = elapsed > task.interval * 1_000_000
             info.CycleTimeExceeded = exceeded or task._late
             task._late = False
@@ -680,19 +684,21 @@ class Runtime:
 
     def _enter_fault(self, task: Task, exc: BaseException, cycle: int | None = None) -> typing.NoReturn:
         code = _fault_code(exc)
-        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        location = location_of(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}", location)
         text = "".join(traceback.format_exception(exc))
-        where = task.info.CycleCount if cycle is None else cycle
-        self.fault = Fault(task.name, where, code, str(plc), text, plc)
+        where = task.info.CycleCount + 1 if cycle is None else cycle  # the cycle that failed is not counted yet
+        self.fault = Fault(task.name, where, code, str(plc), text, plc, location=location)
         raise self._fault_error() from exc
 
     def _fault_error(self) -> PlcException:
         assert self.fault is not None
         f = self.fault
+        at = f" at {f.location}" if f.location is not None else ""
         if f.operation:
-            return PlcException(f.code, f"{f.operation} failed at {f.task}: {f.message}; the runtime stays "
-                                        f"in the exception state until a reset succeeds")
-        return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}: {f.message}")
+            return PlcException(f.code, f"{f.operation} failed at {f.task}{at}: {f.message}; the runtime stays "
+                                        f"in the exception state until a reset succeeds", f.location)
+        return PlcException(f.code, f"task {f.task} stopped in cycle {f.cycle}{at}: {f.message}", f.location)
 
     def _raise_if_faulted(self) -> None:
         if self.fault is not None:
@@ -770,9 +776,10 @@ class Runtime:
 
     def _enter_operation_fault(self, operation: str, path: str, exc: BaseException) -> typing.NoReturn:
         code = _fault_code(exc)
-        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}")
+        location = location_of(exc)
+        plc = exc if isinstance(exc, PlcException) else PlcException(code, f"{type(exc).__name__}: {exc}", location)
         text = "".join(traceback.format_exception(exc))
-        self.fault = Fault(path, 0, code, str(plc), text, plc, operation)
+        self.fault = Fault(path, 0, code, str(plc), text, plc, operation, location)
         raise self._fault_error() from exc
 
     def reset_cold(self) -> None:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import linecache
 import os
 import pathlib
 import re
@@ -38,10 +39,11 @@ import types
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeVar
 
-from iecoop._codegen import compiled, script_number
+from iecoop._codegen import script_number
 from iecoop.exceptions import DefinitionError
 from iecoop.st.read.names import python_name
 from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.read.sourcemap import compile_mapped, register_text
 from iecoop.st.export import StExportError, dump, export
 
 __all__ = [
@@ -51,10 +53,13 @@ __all__ = [
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
-def _translator() -> Callable[..., tuple[str, list[tuple[str, str]]]]:
-    """``read.translate.translate``, or an ImportError naming the extra when blark is not installed."""
+_Translation = tuple[str, list[tuple[str, str]], list[tuple[str, int] | None]]
+
+
+def _translator() -> Callable[..., _Translation]:
+    """``read.translate.translate_mapped``, or an ImportError naming the extra when blark is not installed."""
     try:
-        from iecoop.st.read.translate import translate
+        from iecoop.st.read.translate import translate_mapped as translate
     except ModuleNotFoundError as exc:
         missing = (exc.name or "").partition(".")[0]
         if missing not in ("blark", "lark", "lxml"):
@@ -110,6 +115,7 @@ def to_python(
     *,
     libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None = None,
     library_path: Sequence[str | os.PathLike[str]] | None = None,
+    cache: bool | None = None,
 ) -> str:
     """The readable Python module for ``source``: iecoop code, ST names kept, comments carried over.
 
@@ -131,21 +137,21 @@ def to_python(
         RUN = 5
     <BLANKLINE>
     """
-    text, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None))
+    text, _, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None, cache), cache)
     return text
 
 
 def _translated(
-    source: str | os.PathLike[str], externals: list[str], libraries: Sequence[Any] = ()
-) -> tuple[str, list[tuple[str, str]], set[str]]:
-    """The Python module text, top-level names and qualified-only names for ``source``; nesting beyond the
-    parser's limits is refused."""
+    source: str | os.PathLike[str], externals: list[str], libraries: Sequence[Any] = (), cache: bool | None = None
+) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None], set[str]]:
+    """The Python module text, top-level names, ST line of each Python line and qualified-only names for
+    ``source``; nesting beyond the parser's limits is refused."""
     translate = _translator()
-    units = parse_sources(source)
+    units = parse_sources(source, cache=cache)
     qualified: set[str] = set()
     try:
-        text, names = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
-        return text, names, qualified
+        text, names, origins = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
+        return text, names, origins, qualified
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 
@@ -161,6 +167,7 @@ def _bound_libraries(
     libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None,
     library_path: Sequence[str | os.PathLike[str]] | None,
     profile: str | None,
+    cache: bool | None = None,
 ) -> list[Any]:
     """The libraries ``source`` uses (its ``.plcproj`` references and ``libraries=``), ST ones loaded."""
     _translator()  # the ImportError naming the extra, before the reader is imported
@@ -173,16 +180,16 @@ def _bound_libraries(
         if key in chain:
             names = " -> ".join(p.name for p in (*chain[chain.index(key):], key))
             raise DefinitionError(f"{path}: libraries reference each other in a cycle: {names}")
-        cache = _loaded.get()
-        if cache is not None and key in cache:
-            return cache[key]
+        loaded = _loaded.get()
+        if loaded is not None and key in loaded:
+            return loaded[key]
         token = _loading.set((*chain, key))
         try:
-            module = load(path, profile=profile, library_path=library_path)
+            module = load(path, profile=profile, library_path=library_path, cache=cache)
         finally:
             _loading.reset(token)
-        if cache is not None:
-            cache[key] = module
+        if loaded is not None:
+            loaded[key] = module
         return module
 
     references = library_references(source)
@@ -216,7 +223,9 @@ def _generated_failure(source: str | os.PathLike[str], exc: BaseException) -> St
     return StUnsupportedError(f"{where}: the Python generated for it cannot run{at}: {type(exc).__name__}: {message}")
 
 
-def _class_failure(source: str | os.PathLike[str], text: str, filename: str, exc: Exception) -> DefinitionError:
+def _class_failure(
+    source: str | os.PathLike[str], text: str, filename: str, exc: Exception, st_files: Mapping[str, str]
+) -> DefinitionError:
     """The error for a generated class that cannot be made, at the ST file and line of its declaration.
 
     The class builder checks what ST compilers check (an interface method left unimplemented, ...); its
@@ -224,11 +233,20 @@ def _class_failure(source: str | os.PathLike[str], text: str, filename: str, exc
     translator should not have written: an StUnsupportedError at the same place, never a raw internal error.
     """
     line = None
+    mapped: tuple[str, int] | None = None
     trace = exc.__traceback__
     while trace is not None:
-        if trace.tb_frame.f_code.co_filename == filename:
-            line = trace.tb_lineno
+        code_file = trace.tb_frame.f_code.co_filename
+        if code_file == filename:
+            line, mapped = trace.tb_lineno, None
+        elif code_file in st_files:  # compiled under the ST file's name and lines (source maps)
+            mapped = (st_files[code_file], trace.tb_lineno)
         trace = trace.tb_next
+    if mapped is not None:
+        where = f"{mapped[0]}:{mapped[1]}"
+        if isinstance(exc, DefinitionError):
+            return exc if re.match(r"\S+:\d+: ", str(exc)) else type(exc)(f"{where}: {exc}")
+        return StUnsupportedError(f"{where}: the Python generated for this declaration cannot run: {type(exc).__name__}: {exc}")
     name = None
     lines = text.splitlines()
     for at in range(min(line or 0, len(lines)) - 1, -1, -1):
@@ -275,6 +293,7 @@ def load(
     package: str | None = None,
     libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None = None,
     library_path: Sequence[str | os.PathLike[str]] | None = None,
+    cache: bool | None = None,
 ) -> StModule:
     """Load Structured Text as live iecoop classes and instances (see the module docstring).
 
@@ -296,19 +315,29 @@ def load(
     (``iecoop.libraries.KNOWN``). Every entry of ``libraries`` is bound too, under its key as
     namespace, so plain ST text can use one. A reference found nowhere, or libraries that reference
     each other in a cycle, is a DefinitionError.
+
+    Each file's parse is cached in ``__iecoop_cache__`` beside it (or the
+    user's cache folder), keyed by its text and the iecoop, blark, lark and
+    Python versions; ``cache=False`` (or the environment variable
+    ``IECOOP_ST_CACHE=0``) parses afresh and writes nothing.
     """
     from iecoop.profiles import use_profile
 
     externals = dict(externals or {})
-    used = _bound_libraries(source, libraries, library_path, profile)
-    text, names, qualified = _translated(source, list(externals), used)
+    used = _bound_libraries(source, libraries, library_path, profile, cache)
+    text, names, origins, qualified = _translated(source, list(externals), used, cache)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
     filename = f"<iecoop.st {_source_name(source)} #{number}>"
+    rename = {}
+    if isinstance(source, str) and any(origin is not None and origin[0] == "<st>" for origin in origins):
+        rename["<st>"] = f"<st text #{number}>"
+        register_text(rename["<st>"], source)
+    linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     try:
-        code = compiled(text, filename)
+        codes = compile_mapped(text, origins, filename, rename)
     except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
         raise _generated_failure(source, exc) from exc
     module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
@@ -323,13 +352,15 @@ def load(
     with use_profile(profile) if profile is not None else contextlib.nullcontext():
         namespace: dict[str, Any] = module.__dict__
         try:
-            exec(code, namespace)
+            for code in codes:
+                exec(code, namespace)  # noqa: S102 - the module iecoop generated, run in order
         except (RecursionError, MemoryError) as exc:
             del sys.modules[module_name]
             raise _generated_failure(source, exc) from exc
         except Exception as exc:  # noqa: BLE001 - a class the builder refuses, or Python the translator should not have written
             del sys.modules[module_name]
-            raise _class_failure(source, text, filename, exc) from exc
+            st_files = {rename.get(origin[0], origin[0]): origin[0] for origin in origins if origin is not None}
+            raise _class_failure(source, text, filename, exc, st_files) from exc
         for key, value in list(namespace.items()):
             marker = getattr(value, "__iecoop_external__", None)
             if marker is not None:

@@ -135,7 +135,7 @@ class Unwired(Program):
 def test_a_forgotten_injection_stops_the_task_in_its_first_cycle() -> None:
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms"), priority=20), Unwired())
-    with pytest.raises(PlcException, match=r"cycle 0: .*IChannel\.healthy called through a null interface"):
+    with pytest.raises(PlcException, match=r"cycle 1: .*IChannel\.healthy called through a null interface"):
         rt.run(cycles=3)
     assert rt.fault is not None and rt.fault.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 

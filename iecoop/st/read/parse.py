@@ -89,14 +89,26 @@ def is_st_identifier(name: str) -> bool:
     return _ST_IDENTIFIER.match(name) is not None
 
 
-def parse_sources(source: str | os.PathLike[str]) -> list[Unit]:
-    """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units."""
+def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) -> list[Unit]:
+    """Parse ``source`` (ST text, a file, a folder or a ``.plcproj``) into flat units.
+
+    A file's parse is kept in the translation cache (``read.cache``) unless
+    ``cache`` is False (None: as ``IECOOP_ST_CACHE`` says); files not in it
+    are parsed on every core when there are several.
+    """
     if isinstance(source, str) and ("\n" in source or ";" in source or not _looks_like_path(source)):
         return [_parse_text(source, "<st>", {})]
     path = pathlib.Path(source)
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
-    units = [_parse_text(text, name, line_map) for text, name, line_map in _flat_sources(path)]
+    from iecoop.st.read.parallel import Parser, parse_files
+
+    flat = list(_flat_sources(path))
+    raws = parse_files(flat, cache, Parser(raw_tree, parse_as_data, grammar_of))
+    units = [
+        _parse_text(text, name, line_map) if raw is None else Unit(_transformed(text, name, line_map, raw)[0], name, line_map, raw[1])
+        for (text, name, line_map), raw in zip(flat, raws)
+    ]
     _check_gvl_names(units)
     return units
 
@@ -411,13 +423,60 @@ def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) 
     return Unit(tree, filename, line_map, comments)
 
 
+def grammar_of(text: str) -> str:
+    """The grammar ``text`` is parsed with: blark's, or blark's with iecoop's overlay and dialect (named by
+    their hash, with the dialect's tree rewrite, whose result the cache keeps)."""
+    from iecoop.st.read.dialect import needs_dialect
+
+    return _overlay_name() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else "blark"
+
+
+@functools.cache
+def _overlay_name() -> str:
+    import hashlib
+    import inspect
+
+    from iecoop.st.read import dialect
+
+    overlay = GRAMMAR_OVERLAY + dialect.DIALECT_OVERLAY + inspect.getsource(dialect)
+    return "overlay-" + hashlib.sha256(overlay.encode()).hexdigest()[:16]
+
+
 @functools.lru_cache(maxsize=128)
 def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
     """blark's tree and comment tokens for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
+    line_map = dict(line_map_items)
+    return _transformed(text, filename, line_map, raw_tree(text, filename, line_map))
+
+
+def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]], raw: tuple[Any, tuple[Any, ...]]) -> Any:
+    """blark's transform of a raw lark tree (parsed now, in a worker, or read from the cache)."""
+    import blark.transform as tf
+    import lark
+
+    tree, comments = raw
+    _check_limits(tree, Unit(None, filename, line_map))
+    try:
+        return tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename)), comments
+    except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
+        raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
+    except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
+        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+
+
+def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
+    """``raw_tree`` as JSON-able data (``read.cache.tree_to_data``): what a worker process hands back."""
+    from iecoop.st.read.cache import tree_to_data
+
+    tree, comments = raw_tree(text, filename, line_map)
+    return tree_to_data(tree), [tree_to_data(c) for c in comments]
+
+
+def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:
+    """blark's parse of ``text``: the lark tree and the comment tokens, or StSyntaxError naming the file and line."""
     import blark
     import lark
 
-    line_map = dict(line_map_items)
     from iecoop.st.read.dialect import needs_dialect, rewrite
 
     parser = _overlay_parser() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else None
@@ -440,14 +499,12 @@ def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, 
         where = unit.where(line)
         raise StSyntaxError(f"{where}: Structured Text syntax error: {detail}") from None
     _check_limits(result.tree, Unit(None, filename, line_map))
-    try:
-        if parser is not None:
-            rewrite(result.tree)
-        return result.transform(), tuple(result.comments)
-    except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
-        raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
-    except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
-        raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
+    if parser is not None:
+        try:
+            rewrite(result.tree)  # the dialect's forms into blark's own shapes, before the tree is cached
+        except (lark.LarkError, ValueError, TypeError) as exc:
+            raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
+    return result.tree, tuple(result.comments)
 
 
 #: Grammar rules (blark's ``iec.lark``) that nest one statement list in another.

@@ -346,6 +346,7 @@ class Pous(Locals):
         statements = statements_of(node.body)
         self._emit_statements(statements, scope, level)
         if returns is not None and scope.return_name is not None:
+            self.at(node)  # the declaration's line: the return is no statement of the body
             self.emit(f"return {scope.return_name}", level)
         elif not statements and not scope.output_inits and not any(isinstance(b, (tf.VariableDeclarations, tf.FunctionVariableDeclarations, tf.TemporaryVariableDeclarations)) for b in node.declarations):
             self.emit("pass", level)

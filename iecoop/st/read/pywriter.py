@@ -9,6 +9,17 @@ from iecoop.st.read.symbols import Symbols
 from iecoop.st.read.table import SYSTEM_DECLS, TypeRef
 
 
+class SourceLine(str):
+    """One line of the generated Python, with the ST file and line it was written for (``origin``)."""
+
+    origin: tuple[str, int] | None
+
+
+def origin_of(line: str) -> tuple[str, int] | None:
+    """The ST ``(file, line)`` a generated line was written for; None for lines of iecoop's own (imports, helpers)."""
+    return getattr(line, "origin", None)
+
+
 class PyWriter(Symbols):
     """Writes the module's Python lines and imports, with the ST comments kept in place."""
 
@@ -18,9 +29,22 @@ class PyWriter(Symbols):
     # --- pass 2: emission ---
 
     def emit(self, text: str, level: int) -> None:
-        """A line of code (or a blank line, for an empty ``text``) at ``level``."""
-        self.out.append("    " * level + text if text else "")
+        self.out.append(self.mapped("    " * level + text if text else ""))
         self.code_lines += bool(text)
+
+    def at(self, node: Any) -> None:
+        """The lines written next are for ``node``'s ST line (an ELSIF, a CASE label, the end of a FOR)."""
+        line = getattr(getattr(node, "meta", None), "line", None)
+        if line is not None:
+            self.line = line
+
+    def mapped(self, text: str) -> SourceLine:
+        """``text`` marked with the ST file and line being translated (what a traceback and pdb will show)."""
+        line = SourceLine(text)
+        line.origin = None
+        if self.unit is not None and self.line is not None:
+            line.origin = self.unit.line_map.get(self.line, (self.unit.filename, self.line))
+        return line
 
     def emit_comment(self, text: str, level: int) -> None:
         """A comment line: no code, so a body holding only comments still needs its ``pass``."""
@@ -44,6 +68,7 @@ class PyWriter(Symbols):
         self.window = (0, 0)
         if unit is None or line is None:
             return
+        self.line = line
         previous_end = 0
         for item in unit.tree.items:
             meta = getattr(item, "meta", None)
@@ -89,7 +114,9 @@ class PyWriter(Symbols):
     def trail(self, index: int, comment: str) -> None:
         """Put ``comment`` at the end of the line at ``index`` (an ST end-of-line comment)."""
         if comment and index < len(self.out):
-            self.out[index] += f"  # {comment}"
+            line = SourceLine(f"{self.out[index]}  # {comment}")
+            line.origin = origin_of(self.out[index])
+            self.out[index] = line
 
     def pragmas(self, node: Any) -> list[str]:
         """The pragmas (``{attribute 'x'}``) written before ``node``, within the current item's lines."""

@@ -215,6 +215,7 @@ class Statements(Calls):
         self.emit(f"if {self.condition(node.if_expression, scope)}:", level)
         self._emit_statements(node.statements.statements if node.statements else [], scope, level + 1)
         for clause in node.else_ifs:
+            self.at(clause)
             self.emit(f"elif {self.condition(clause.if_expression, scope)}:", level)
             self._emit_statements(clause.statements.statements if clause.statements else [], scope, level + 1)
         if node.else_clause is not None:
@@ -232,6 +233,7 @@ class Statements(Calls):
             self.emit(f"{subject} = {selector.code}", level)
         keyword = "if"
         for case in node.cases:
+            self.at(case)
             tests = []
             for match in case.matches:
                 if isinstance(match, tf.Subrange):
@@ -290,6 +292,7 @@ class Statements(Calls):
             after = Ex(f"{loop}.start + {loop}.step * len({loop})", start.type or stop.type, True, PRECEDENCE["+"])
         self.emit(f"for {control.code} in {header}:", level)
         self._emit_statements(node.statements.statements, scope, level + 1)
+        self.at(node)
         self.emit("else:  # the first value past the end, as ST leaves it", level)
         self.assign(node.control, after, scope, level + 1)
 
@@ -345,6 +348,7 @@ class Statements(Calls):
     def visit_RepeatStatement(self, node: tf.RepeatStatement, scope: Scope, level: int) -> None:
         self.emit("while True:", level)
         self._emit_statements(node.statements.statements, scope, level + 1)
+        self.at(node)  # UNTIL: the REPEAT's line, not the last statement's
         self.emit(f"if {self.condition(node.expression, scope)}:", level + 1)
         self.emit("break", level + 2)
 

@@ -20,6 +20,7 @@ from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
 from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
 from iecoop.st.read.lookup import BoundLibrary
+from iecoop.st.read.pywriter import origin_of
 from iecoop.st.read.table import Decl
 
 _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
@@ -122,7 +123,10 @@ class Translator(Pous):
                 header.append(")")
             else:
                 header.append(line)
-        return "\n".join(header + body) + "\n"
+        lines = header + body
+        #: per line of the text, the ST (file, line) it was written for, or None
+        self.origins = [origin_of(line) for line in lines for _ in line.split("\n")]
+        return "\n".join(lines) + "\n"
 
 
 #: Each kind of declaration -> the pass 2 writer of its class (or alias, or function).
@@ -131,6 +135,22 @@ _WRITERS: dict[str, Callable[[Translator, Decl], None]] = {
     "interface": Pous._emit_interface, "gvl": Pous._emit_gvl, "struct": Pous._emit_struct,
     "union": Pous._emit_union, "enum": Pous._emit_enum, "alias": Pous._emit_alias,
 }
+
+
+def translate_mapped(
+    units: Sequence[Unit],
+    externals: Sequence[str] = (),
+    libraries: Sequence[BoundLibrary] = (),
+    qualified_only: set[str] | None = None,
+) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None]]:
+    """``translate`` and, per line of the text, the ST ``(file, line)`` it was written for (None: iecoop's own lines)."""
+    translator = Translator(units, externals, libraries)
+    text = translator.translate()
+    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb" and not d.library]
+    if qualified_only is not None:
+        qualified_only.update(d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
+                              and any(_QUALIFIED_ONLY.fullmatch(p) for p in _pragmas(translator, d)))
+    return text, names, translator.origins
 
 
 def translate(
@@ -145,12 +165,7 @@ def translate(
     ``qualified_only`` gets the ST names of the GVLs and enumerations marked ``{attribute 'qualified_only'}``
     (what a project using this source as a library must qualify).
     """
-    translator = Translator(units, externals, libraries)
-    text = translator.translate()
-    names = [(d.kind, d.name) for d in translator.decls.values() if d.kind != "stdfb" and not d.library]
-    if qualified_only is not None:
-        qualified_only.update(d.st for d in translator.decls.values() if d.kind in ("gvl", "enum") and not d.library
-                              and any(_QUALIFIED_ONLY.fullmatch(p) for p in _pragmas(translator, d)))
+    text, names, _ = translate_mapped(units, externals, libraries, qualified_only)
     return text, names
 
 

@@ -18,6 +18,7 @@ import typing
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from iecoop._codegen import python_source
 from iecoop.metadata import IecClass, iec_class, is_root, kind_of, layout_of
 from iecoop.exceptions import DefinitionError
 from iecoop.gvl import GlobalVariables, find_global
@@ -494,7 +495,7 @@ def _classes_in(info: TypeInfo | None) -> Iterable[Any]:
 def _named_in_body(func: Any) -> Iterable[Any]:
     """The module-level declared classes and GVLs a function's source names (``AxisStep.IDLE``, ``new(Motor)``)."""
     try:
-        tree = ast.parse(textwrap.dedent(inspect.getsource(func)))
+        tree = ast.parse(textwrap.dedent(python_source(func)))
     except (OSError, TypeError, SyntaxError):
         return
     namespace = getattr(func, "__globals__", {})

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import ast
 import builtins
-import inspect
 import textwrap
 import typing
 from collections.abc import Iterator
 from typing import Any
 
+from iecoop._codegen import python_source
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
 from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
@@ -30,7 +30,7 @@ class StatementWriter(ExpressionWriter):
 
     def translate(self) -> list[str]:
         try:
-            source = textwrap.dedent(inspect.getsource(self.func))
+            source = textwrap.dedent(python_source(self.func))
         except (OSError, TypeError) as exc:
             raise StExportError(f"{self.where_text()}: the source of {self.func.__qualname__} is not available ({exc})") from None
         tree = ast.parse(source)

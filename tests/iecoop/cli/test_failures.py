@@ -49,8 +49,8 @@ def count(tmp_path: Path) -> Path:
 def broken_translation(monkeypatch: pytest.MonkeyPatch) -> None:
     """The translator hands back Python that does not compile (what an untranslated construct can give)."""
 
-    def translate(units: Any, **options: Any) -> tuple[str, list[tuple[str, str]]]:
-        return "class MAIN(Program):\n    class: INT = VAR()\n", [("program", "MAIN")]
+    def translate(units: Any, **options: Any) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None]]:
+        return "class MAIN(Program):\n    class: INT = VAR()\n", [("program", "MAIN")], []
 
     monkeypatch.setattr(st, "_translator", lambda: translate)
 

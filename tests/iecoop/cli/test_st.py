@@ -35,7 +35,7 @@ def test_st_run_fault_exits_1(tmp_path: pathlib.Path) -> None:
     source = tmp_path / "div.st"
     source.write_text("PROGRAM MAIN\nVAR a : INT := 1; b : INT; END_VAR\na := a / b;\nEND_PROGRAM\n")
     status, out, err = call(st_run, str(source), "--cycles", "2")
-    assert status == 1 and "PLC fault in cycle 1: RTSEXCPT_DIVIDEBYZERO" in err
+    assert status == 1 and f"PLC fault in cycle 1 at {source}:3 (MAIN): RTSEXCPT_DIVIDEBYZERO" in err
 
 
 def test_st_run_bad_source_and_unknown_program_exit_2(tmp_path: pathlib.Path) -> None:

@@ -139,11 +139,11 @@ def test_a_fault_in_the_background_stops_the_thread_and_is_raised_at_stop_runnin
     rt.start(realtime=False)
     assert rt.join(timeout=60)  # the fault ended the thread by itself
     assert rt.fault is not None and rt.fault.code == ExceptionCode.RTSEXCPT_DIVIDEBYZERO
-    with pytest.raises(PlcException, match="task PlcTask stopped in cycle 4") as caught:
+    with pytest.raises(PlcException, match="task PlcTask stopped in cycle 5") as caught:
         rt.stop_running()
     assert caught.value.code == ExceptionCode.RTSEXCPT_DIVIDEBYZERO
     rt.stop_running()  # raised once; the fault stays until a reset
-    with pytest.raises(PlcException, match="stopped in cycle 4"):
+    with pytest.raises(PlcException, match="stopped in cycle 5"):
         rt.start(realtime=False)
 
 

@@ -1073,17 +1073,17 @@ def test_a_fault_enters_the_exception_state_with_task_cycle_code_and_traceback(
     mode: int, code: ExceptionCode, cause: str
 ) -> None:
     rt, faulty = _faulty(mode)
-    with pytest.raises(PlcException, match=rf"^{code.name} \(16#{int(code):X}\): task Fast stopped in cycle 2: ") as info:
+    with pytest.raises(PlcException, match=rf"^{code.name} \(16#{int(code):X}\): task Fast stopped in cycle 3: ") as info:
         rt.run(cycles=10)
     assert info.value.code == code and cause in str(info.value)
     fault = rt.fault
     assert isinstance(fault, Fault)
-    assert (fault.task, fault.cycle, fault.code, fault.exception.code) == ("Fast", 2, code, code)
+    assert (fault.task, fault.cycle, fault.code, fault.exception.code) == ("Fast", 3, code, code)
     assert cause in fault.message and "_fail" in fault.traceback and "Traceback" in fault.traceback
     assert faulty.n == 3 and rt.time_ms == 4  # stopped in the third cycle, at t = 4 ms
     # run() keeps raising the same fault, and nothing runs.
     for _ in range(2):
-        with pytest.raises(PlcException, match=f"task Fast stopped in cycle 2: {code.name}") as again:
+        with pytest.raises(PlcException, match=f"task Fast stopped in cycle 3: {code.name}") as again:
             rt.run(cycles=1)
         assert again.value.code == code
     with pytest.raises(PlcException):
@@ -1129,7 +1129,7 @@ def test_a_fault_in_a_higher_priority_task_stops_the_tick() -> None:
     rt, faulty = _faulty(1)
     later = Faulty()
     rt.add_task(Task("Slow", interval=2, priority=5), later)
-    with pytest.raises(PlcException, match="task Fast stopped in cycle 2"):
+    with pytest.raises(PlcException, match="task Fast stopped in cycle 3"):
         rt.run(cycles=10)
     assert (faulty.n, later.n) == (3, 2)
     assert rt.tasks[1].info.CycleCount == 2

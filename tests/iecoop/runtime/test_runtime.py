@@ -105,7 +105,7 @@ def test_a_fault_stops_the_runtime_until_a_reset() -> None:
     divider = Divider()
     rt = Runtime(store=":memory:")
     rt.add_task(Task("Fast", interval=T("2ms"), priority=1), divider)
-    with pytest.raises(PlcException, match="task Fast stopped in cycle 2") as exc:
+    with pytest.raises(PlcException, match="task Fast stopped in cycle 3") as exc:
         rt.run(cycles=10)
     assert exc.value.code == ExceptionCode.RTSEXCPT_DIVIDEBYZERO
     assert rt.fault is not None and rt.fault.task == "Fast" and "ZeroDivisionError" in rt.fault.traceback

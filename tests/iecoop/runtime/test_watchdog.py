@@ -71,11 +71,11 @@ def test_the_watchdog_stops_a_cycle_that_never_ends(realtime: bool, mode: int) -
     main = runaway(mode)
     rt = Runtime(store=":memory:")
     rt.add_task(Task("PlcTask", interval=T("10ms"), watchdog=T("50ms")), main)
-    with pytest.raises(PlcException, match=r"task PlcTask stopped in cycle 1: .*cycle 1 stopped by the watchdog "
+    with pytest.raises(PlcException, match=r"task PlcTask stopped in cycle 2: .*cycle 2 stopped by the watchdog "
                                            r"after \d+\.\d+ ms, watchdog 50 ms") as exc:
         rt.run(cycles=100, realtime=realtime)  # the fault ends the run in the second cycle
     assert exc.value.code == ExceptionCode.RTSEXCPT_WATCHDOG and took(exc) >= 50.0
-    assert rt.fault is not None and (rt.fault.task, rt.fault.cycle) == ("PlcTask", 1)
+    assert rt.fault is not None and (rt.fault.task, rt.fault.cycle) == ("PlcTask", 2)
     assert rt.fault.code == ExceptionCode.RTSEXCPT_WATCHDOG
     assert "WatchdogInterrupt" in rt.fault.traceback
     if mode != 2:
@@ -124,7 +124,7 @@ def test_sensitivity_counts_consecutive_overruns_of_cycles_that_end() -> None:
     main = Timed()
     rt = Runtime(store=":memory:", wall=WALL)
     rt.add_task(Task("PlcTask", interval=T("100ms"), watchdog=T("20ms"), sensitivity=3), main)
-    with pytest.raises(PlcException, match=r"cycle 5 (took|stopped by the watchdog after) \d+\.\d+ ms, "
+    with pytest.raises(PlcException, match=r"cycle 6 (took|stopped by the watchdog after) \d+\.\d+ ms, "
                                            r"watchdog 20 ms, sensitivity 3") as exc:
         rt.run(cycles=10)
     assert exc.value.code == ExceptionCode.RTSEXCPT_WATCHDOG

@@ -620,13 +620,15 @@ def test_unsupported_constructs_raise(source: str, construct: str) -> None:
         st.load(source)
 
 
-def test_traceback_shows_generated_line() -> None:
+def test_traceback_shows_st_line() -> None:
     import traceback
 
     module = st.load(prog("a : INT; b : INT;", "a := a / b;"))
     with pytest.raises(PlcException) as info:
         module.MAIN()
-    assert "self.a = DIV(self.a, self.b)" in "".join(traceback.format_tb(info.tb))
+    shown = "".join(traceback.format_tb(info.tb))
+    assert "a := a / b;" in shown and '<st text #' in shown
+    assert "self.a = DIV(self.a, self.b)" in module.__python__
 
 
 def test_to_python_keeps_names_and_comments() -> None:

@@ -1,0 +1,229 @@
+"""The translation cache: blark's parse of each ST file, kept as data beside the sources.
+
+Parsing is most of a cold load (blark's Earley parser, about half a second a
+kilobyte); the translation after it is quick. So each source file's parse
+tree and comment tokens are kept in ``__iecoop_cache__/<file>.json`` beside
+it (as ``__pycache__`` keeps bytecode), or in the user's cache folder when
+that one cannot be written. An entry is used only when everything it was
+made from is the same: the flat ST text (its SHA-256), the versions of
+iecoop, blark, lark and Python, and the grammar used.
+
+An entry is never trusted. It holds plain JSON (no pickle, nothing that runs
+on load); it is signed with a key kept in the user's cache folder (HMAC-SHA256),
+so an entry this user did not write (copied in, edited, damaged) is ignored
+and rebuilt; and a token is kept as its place in the source, its text read
+back from the ST itself, so the tree can only say what the ST says. Opt out with
+``st.load(..., cache=False)`` or the environment variable ``IECOOP_ST_CACHE=0``.
+"""
+
+from __future__ import annotations
+
+import bisect
+import functools
+import hashlib
+import hmac
+import json
+import os
+import pathlib
+import re
+import secrets
+import sys
+import tempfile
+from typing import Any
+
+__all__ = ["CACHE_FOLDER", "enabled", "load_tree", "raw_from_data", "store_tree", "tree_from_data", "tree_to_data"]
+
+#: The folder beside the sources that holds their entries.
+CACHE_FOLDER = "__iecoop_cache__"
+#: Bumped when the entry's layout changes.
+FORMAT = 2
+
+_RULE = re.compile(r"[a-z_][a-z0-9_]*\Z")
+_TERMINAL = re.compile(r"[A-Z_][A-Z0-9_]*\Z")
+
+
+def enabled(cache: bool | None) -> bool:
+    """Whether to use the cache: ``cache`` if given, else not when ``IECOOP_ST_CACHE`` is ``0`` / ``false`` / ``no``."""
+    if cache is not None:
+        return cache
+    return os.environ.get("IECOOP_ST_CACHE", "1").strip().lower() not in ("0", "false", "no", "off")
+
+
+def user_cache_dir() -> pathlib.Path:
+    """``$XDG_CACHE_HOME/iecoop`` (``~/.cache/iecoop``), ``%LOCALAPPDATA%\\iecoop\\cache`` on Windows."""
+    if sys.platform == "win32" and os.environ.get("LOCALAPPDATA"):
+        return pathlib.Path(os.environ["LOCALAPPDATA"]) / "iecoop" / "cache"
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return pathlib.Path(base) / "iecoop"
+
+
+@functools.lru_cache(maxsize=1)
+def versions() -> str:
+    """What a parse depends on besides the text: iecoop, blark, lark, Python and the entry format."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    found = []
+    for package in ("iecoop", "blark", "lark"):
+        try:
+            found.append(f"{package}={version(package)}")
+        except PackageNotFoundError:
+            found.append(f"{package}=?")
+    return ";".join([*found, f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+
+
+def _key_file() -> pathlib.Path:
+    return user_cache_dir() / "signing.key"
+
+
+def _signing_key() -> bytes | None:
+    """This user's key for signing entries (made on first use, readable by the user alone); None if it cannot be had."""
+    path = _key_file()
+    try:
+        data = path.read_bytes()
+        if len(data) == 32:
+            return data
+    except OSError:
+        pass
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        key = secrets.token_bytes(32)
+        descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(descriptor, "wb") as handle:
+            handle.write(key)
+        return key
+    except FileExistsError:  # another process made it first
+        try:
+            data = path.read_bytes()
+        except OSError:
+            return None
+        return data if len(data) == 32 else None
+    except OSError:
+        return None
+
+
+def _entry_paths(source: pathlib.Path) -> list[pathlib.Path]:
+    """Where the entry of ``source`` may be: beside it, then in the user's cache folder."""
+    digest = hashlib.sha256(str(source.resolve()).encode()).hexdigest()[:16]
+    return [source.parent / CACHE_FOLDER / f"{source.name}.json", user_cache_dir() / "st" / f"{source.name}.{digest}.json"]
+
+
+def _identity(text: str, grammar: str) -> str:
+    return f"{versions()};grammar={grammar};sha256={hashlib.sha256(text.encode()).hexdigest()}"
+
+
+def load_tree(source: pathlib.Path, text: str, grammar: str) -> tuple[Any, tuple[Any, ...]] | None:
+    """The cached lark tree and comment tokens for the flat ``text`` of ``source``; None if there is no valid entry."""
+    key = _signing_key()
+    if key is None:
+        return None
+    identity = _identity(text, grammar)
+    for path in _entry_paths(source):
+        try:
+            raw = path.read_bytes()
+        except OSError:
+            continue
+        found = _verified(raw, key, identity, text)
+        if found is not None:
+            return found
+    return None
+
+
+def _verified(raw: bytes, key: bytes, identity: str, text: str) -> tuple[Any, tuple[Any, ...]] | None:
+    """The tree and comments of an entry whose signature, identity and tokens all check; None otherwise."""
+    signature, _, body = raw.partition(b"\n")
+    expected = hmac.new(key, body, hashlib.sha256).hexdigest().encode()
+    if not hmac.compare_digest(signature, expected):
+        return None
+    try:
+        entry = json.loads(body)
+        if not isinstance(entry, dict) or entry.get("identity") != identity:
+            return None
+        return raw_from_data(entry["tree"], entry["comments"], text)
+    except (ValueError, TypeError, KeyError, IndexError, RecursionError):
+        return None
+
+
+def raw_from_data(tree: Any, comments: Any, text: str) -> tuple[Any, tuple[Any, ...]]:
+    """The lark tree and comment tokens of their ``tree_to_data`` forms, for the source ``text``."""
+    lines = _Lines(text)
+    return tree_from_data(tree, lines), tuple(tree_from_data(token, lines) for token in comments)
+
+
+def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comments: tuple[Any, ...]) -> None:
+    """Keep the entry for ``source``: beside it if that folder can be written, else in the user's cache folder."""
+    key = _signing_key()
+    if key is None:
+        return
+    body = json.dumps(
+        {"identity": _identity(text, grammar), "tree": tree_to_data(tree), "comments": [tree_to_data(c) for c in comments]},
+        separators=(",", ":"),
+    ).encode()
+    data = hmac.new(key, body, hashlib.sha256).hexdigest().encode() + b"\n" + body
+    for path in _entry_paths(source):
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            # Written whole then renamed: a reader sees the old entry or the new one, never half of one.
+            descriptor, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            try:
+                with os.fdopen(descriptor, "wb") as handle:
+                    handle.write(data)
+                os.replace(temporary, path)
+            except BaseException:
+                os.unlink(temporary)
+                raise
+            return
+        except OSError:
+            continue
+
+
+def tree_to_data(node: Any) -> Any:
+    """A lark Tree or Token as JSON data: a tree ``[rule, [start, end] or None, children]``, a token ``[type, start, end]``.
+
+    A token keeps only where it is: its text, line and column are read back from the source.
+    """
+    import lark
+
+    if node is None:
+        return None
+    if isinstance(node, lark.Token):
+        return [node.type, node.start_pos, node.end_pos]
+    meta = node.meta
+    return [str(node.data), None if meta.empty else [meta.start_pos, meta.end_pos], [tree_to_data(c) for c in node.children]]
+
+
+class _Lines:
+    """Line and column (from 1, as lark counts them) of a character offset in a text."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.starts = [0, *(index + 1 for index, char in enumerate(text) if char == "\n")]
+
+    def at(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self.starts, offset)
+        return line, offset - self.starts[line - 1] + 1
+
+
+def tree_from_data(data: Any, text: str | _Lines) -> Any:
+    """The lark Tree or Token of ``tree_to_data``; each token's text is the source's at its place, so it says only what the ST says."""
+    import lark
+
+    lines = text if isinstance(text, _Lines) else _Lines(text)
+    if data is None:
+        return None
+    kind, where, rest = data
+    if isinstance(where, int):  # a token
+        if not (isinstance(kind, str) and _TERMINAL.match(kind) and isinstance(rest, int) and 0 <= where <= rest <= len(lines.text)):
+            raise ValueError("not a token")
+        return lark.Token(kind, lines.text[where:rest], where, *lines.at(where), *lines.at(rest), rest)
+    if not (isinstance(kind, str) and _RULE.match(kind) and isinstance(rest, list)):
+        raise ValueError("not a tree")
+    tree = lark.Tree(lark.Token("RULE", kind), [tree_from_data(child, lines) for child in rest])
+    if where is not None:
+        begin, end = where
+        if not (isinstance(begin, int) and isinstance(end, int) and 0 <= begin <= end <= len(lines.text)):
+            raise ValueError("not a position")
+        meta = tree.meta
+        meta.line, meta.column = lines.at(begin)
+        meta.end_line, meta.end_column = lines.at(end)
+        meta.start_pos, meta.end_pos, meta.empty = begin, end, False
+    return tree
