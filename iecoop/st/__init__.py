@@ -39,6 +39,7 @@ from typing import Any, TypeVar
 
 from iecoop._codegen import compiled, script_number
 from iecoop.exceptions import DefinitionError
+from iecoop.st.read import origin
 from iecoop.st.read.names import python_name
 from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
 from iecoop.st.export import StExportError, dump, export
@@ -84,6 +85,10 @@ class StModule(types.ModuleType):
     __python__: str
     __all__: list[str]
     __qualified_only__: list[str]
+    #: what each object was read from (see ``iecoop.st.read.origin``), by ST name
+    __st_sources__: dict[str, Any]
+    #: the name of the project read (its ``.plcproj``, folder or file), which export names its project file after
+    __st_project__: str | None
 
     def __getattr__(self, name: str) -> Any:
         lowered = name.lower()
@@ -130,21 +135,21 @@ def to_python(
         RUN = 5
     <BLANKLINE>
     """
-    text, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None))
+    text, _, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None))
     return text
 
 
 def _translated(
     source: str | os.PathLike[str], externals: list[str], libraries: Sequence[Any] = ()
-) -> tuple[str, list[tuple[str, str]], set[str]]:
-    """The Python module text, top-level names and qualified-only names for ``source``; nesting beyond the
-    parser's limits is refused."""
+) -> tuple[str, list[tuple[str, str]], set[str], list[Any]]:
+    """The Python module text, top-level names, qualified-only names and parsed units for ``source``;
+    nesting beyond the parser's limits is refused."""
     translate = _translator()
     units = parse_sources(source)
     qualified: set[str] = set()
     try:
         text, names = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
-        return text, names, qualified
+        return text, names, qualified, units
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 
@@ -249,7 +254,7 @@ def load(
 
     externals = dict(externals or {})
     used = _bound_libraries(source, libraries, library_path, profile)
-    text, names, qualified = _translated(source, list(externals), used)
+    text, names, qualified, units = _translated(source, list(externals), used)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
@@ -291,5 +296,8 @@ def load(
         raise StUnsupportedError(
             f"FUNCTION {unbound[0]} has no body and no Python callable: pass externals={{{unbound[0]!r}: ...}}"
         )
+    # what each object was read from: export writes an object unchanged in Python back as it was read
+    module.__st_sources__ = origin.sources(units, namespace, source if _source_name(source) == "st" else None)
+    module.__st_project__ = origin.project_name(source)
     return module
 
