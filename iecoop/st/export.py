@@ -19,10 +19,13 @@ from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plco
 __all__ = ["StExportError", "dump", "export"]
 
 
-def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = ()) -> list[Unit]:
-    """The writer's units of the classes, but those of ``kept`` (written as they were read)."""
+def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), report: list[str] | None = None) -> list[Unit]:
+    """The writer's units of the classes, but those of ``kept`` (written as they were read); what was
+    written as a comment is added to ``report``."""
     metas = [meta for meta in with_dependencies(collect(classes_or_module)) if meta.name.lower() not in kept]
-    found, _untranslated = units(metas, lenient=lenient)
+    found, untranslated = units(metas, lenient=lenient)
+    if report is not None:
+        report.extend(untranslated)
     return [unit for unit in found if unit.name.lower() not in kept]
 
 
@@ -46,7 +49,9 @@ def dump(classes_or_module: Any, *, lenient: bool = False) -> str:
     return "\n".join(flat_text(unit) for unit in _units(classes_or_module, lenient))
 
 
-def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False) -> list[Path]:
+def export(
+    classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False, report: list[str] | None = None
+) -> list[Path]:
     """Write the classes to ``folder`` and return the files written, in order.
 
     ``format="twincat"``: one ``.TcPOU`` per POU (its METHODs and PROPERTYs
@@ -64,11 +69,16 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     named like an ST keyword, and two names of one scope that differ only in case
     raise StExportError; a variable, METHOD, PROPERTY or enumeration value named
     like a keyword is written with a trailing underscore (``TO`` -> ``TO_``).
+
+    A module made by ``st.load``: each object unchanged in Python since loading is written back as it was
+    read (its TwinCAT file byte for byte, or its ST text) when ``format`` is the one it was read in; a
+    changed or added object goes through the writer. With ``lenient=True`` each statement written as a
+    comment is appended to ``report``.
     """
     if format not in ("twincat", "st", "plcopen"):
         raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
     kept = _unchanged(classes_or_module, format)
-    found = _units(classes_or_module, lenient, kept)
+    found = _units(classes_or_module, lenient, kept, report)
     files: list[tuple[str, str | bytes]] = [(_kept_name(origin), origin.text) for origin in kept.values()]
     if format == "twincat":
         files += [twincat_file(unit) for unit in found]
