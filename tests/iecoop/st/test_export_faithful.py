@@ -104,18 +104,69 @@ def test_cli_exports_an_st_project_strict_by_default(tmp_path: pathlib.Path, cap
     capsys.readouterr()
 
 
-def test_cli_lenient_lists_every_comment(tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]) -> None:
-    source = tmp_path / "count.st"
-    source.write_text(ST_TEXT)
-    # changed in no way, but the twincat format is not the one read: the writer meets the FOR loop
-    code = main(["export", str(source), "-o", str(tmp_path / "strict")])
+UNSUPPORTED = """from iecoop import INT, VAR, FunctionBlock
+
+
+class FB_Odd(FunctionBlock):
+    n: INT = VAR()
+
+    def body(self) -> None:
+        self.n = 1
+        raise ValueError("no ST form")
+"""
+
+
+def test_cli_is_strict_by_default_and_lenient_lists_every_comment(tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]) -> None:
+    module = tmp_path / "odd.py"
+    module.write_text(UNSUPPORTED)
+    assert main(["export", str(module), "-o", str(tmp_path / "strict")]) == 1
+    assert "raise" in capsys.readouterr().err
+    assert not (tmp_path / "strict" / "FB_Odd.TcPOU").exists()
+    assert main(["export", str(module), "-o", str(tmp_path / "lenient"), "--lenient"]) == 0
     err = capsys.readouterr().err
-    if code == 0:  # the writer has a form for this FOR loop: nothing to report
-        assert "comment" not in err
-        return
-    assert code == 1 and "count.st" in err
-    assert main(["export", str(source), "-o", str(tmp_path / "lenient"), "--lenient"]) == 0
-    assert "written as a comment" in capsys.readouterr().err
+    assert "written as a comment" in err and "raise" in err
+    assert (tmp_path / "lenient" / "FB_Odd.TcPOU").exists()
+
+
+LOOPS = """FUNCTION F : INT
+VAR_INPUT a : INT; END_VAR
+F := a;
+END_FUNCTION
+FUNCTION_BLOCK FB_Loops
+VAR
+    n : INT; s : INT := 2; k : INT;
+END_VAR
+VAR_TEMP i : DINT; END_VAR
+FOR n := F(a := 1) TO F(a := 5) DO
+    k := k + n;
+END_FOR
+FOR i := 1 TO 5 BY s DO
+    k := k + 1;
+END_FOR
+FOR n := 1 TO 10 DO
+    IF n > 3 THEN EXIT; END_IF
+END_FOR
+FOR n := 10 TO 0 BY -2 DO
+    k := k - 1;
+END_FOR
+END_FUNCTION_BLOCK
+"""
+
+
+def test_for_loops_as_the_reader_makes_them_are_written_as_for() -> None:
+    loaded = st.load(LOOPS)
+    text = st.dump([loaded.FB_Loops])  # strict: every FOR has its ST form
+    for line in ("FOR n := F(a := 1) TO F(a := 5) DO", "FOR i := 1 TO 5 BY s DO", "FOR n := 1 TO 10 DO", "FOR n := 10 TO 0 BY -2 DO"):
+        assert line in text
+    blark.parse.parse_source_code(text)
+    again = st.load(text)
+    first, second = loaded.FB_Loops(), again.FB_Loops()
+    trace = []
+    for _ in range(4):
+        first()
+        second()
+        trace.append(((first.k, first.n), (second.k, second.n)))
+    assert all(a == b for a, b in trace), trace
 
 
 def test_copy_of_project_loads_from_anywhere(tmp_path: pathlib.Path) -> None:
