@@ -43,6 +43,7 @@ from typing import TextIO, TypeVar
 
 from iecoop import DefinitionError, Program, T, st
 from iecoop.cli.base import UsageError, positive, usage_errors
+from iecoop.cli.st_scenario import parse_set, project_task, trace_probes, writes_before
 from iecoop.cli.trace import fault_text, run_cycles, table, variable_probes
 from iecoop.runtime import Runtime, Task
 
@@ -77,6 +78,10 @@ def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--every", type=positive, default=None, metavar="K",
                         help="show every K-th cycle instead of the changes")
     parser.add_argument("--profile", default="twincat", choices=("twincat", "codesys"))
+    parser.add_argument("--duration", metavar="T", help="run for a PLC time (2s, 500ms) instead of --cycles")
+    parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE@TIME",
+                        help="write a value at a PLC time, e.g. MAIN.bStart=TRUE@100ms (repeatable)")
+    parser.add_argument("--trace", metavar="PATHS", help="the variables to trace, comma-separated (MAIN.eState,GVL_IO.bValve)")
 
 
 def add_st_arguments(parser: argparse.ArgumentParser) -> None:
@@ -218,11 +223,17 @@ def load_program(source: str, name: str, profile: str) -> Program:
 def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
     program = load_program(args.source, args.program, args.profile)
+    writes = [parse_set(text) for text in args.set]
     runtime = Runtime(store=":memory:", profile=args.profile)
-    runtime.add_task(plc_task(), program)
-    trace = run_cycles(runtime, variable_probes(program), args.cycles, every=args.every)
+    task = project_task(args.source) or plc_task()
+    runtime.add_task(task, program)
+    cycles = args.cycles
+    if args.duration is not None:
+        cycles = max(1, -(-int(T(args.duration)) // int(task.interval)))
+    probes = trace_probes(runtime, args.trace) if args.trace else variable_probes(program)
+    trace = run_cycles(runtime, probes, cycles, every=args.every, before_cycle=writes_before(runtime, writes))
     rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
-    header = f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {rows}"
+    header = f"{trace.where}, {args.profile} profile, {cycles} cycles; {rows}"
     out.write("\n".join([header, *table(trace)]) + "\n")
     if trace.fault is None:
         return 0

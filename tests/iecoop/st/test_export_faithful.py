@@ -173,3 +173,26 @@ def test_copy_of_project_loads_from_anywhere(tmp_path: pathlib.Path) -> None:
     shutil.copytree(PROJECT, tmp_path / "FillStation")
     plc = st.load(tmp_path / "FillStation")
     assert plc.__st_sources__["FB_Station"].file.startswith(str(tmp_path))
+
+
+def test_st_run_takes_the_tcTTO_task_set_and_trace(capsys: pytest.CaptureFixture[str]) -> None:
+    argv = [
+        "st", "run", str(PROJECT / "FillStation.plcproj"), "--set", "GVL_IO.bStartButton=TRUE@10ms",
+        "--trace", "MAIN.eState,MAIN.fbStation.nBottles", "--duration", "60ms",
+    ]
+    assert main(argv) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("MAIN on PlcTask (5 ms)") and "12 cycles" in out[0]  # <CycleTime>50000</CycleTime>: 5 ms
+    assert out[1].split()[-2:] == ["MAIN.eState", "MAIN.fbStation.nBottles"]
+    rows = [line.split() for line in out[2:]]
+    assert rows[0][2:] == ["IDLE", "0"]
+    assert rows[1][:3] == ["10", "3", "FILLING"]  # the write lands at the cycle starting at 10 ms
+    assert rows[-1][-1] == "3"
+
+
+def test_st_run_refuses_a_bad_set_or_trace(capsys: pytest.CaptureFixture[str]) -> None:
+    source = str(PROJECT / "FillStation.plcproj")
+    assert main(["st", "run", source, "--set", "GVL_IO.bStartButton", "--cycles", "2"]) == 2
+    assert "PATH=VALUE@TIME" in capsys.readouterr().err
+    assert main(["st", "run", source, "--trace", "MAIN.nope", "--cycles", "2"]) == 2
+    assert "MAIN.nope" in capsys.readouterr().err
