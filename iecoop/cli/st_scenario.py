@@ -107,5 +107,9 @@ def trace_probes(runtime: Runtime, paths: str) -> list[Probe]:
             symbol = runtime.symbol(path)
         except Exception as exc:  # AccessError naming the path
             raise UsageError(f"--trace {path}: {exc}") from None
-        probes.append(Probe(path, lambda symbol=symbol: show(symbol.load())))
+        probes.append(Probe(path, _reader(symbol)))
     return probes
+
+
+def _reader(symbol: Any) -> Callable[[], str]:
+    return lambda: show(symbol.load())

@@ -297,7 +297,7 @@ def load(
             f"FUNCTION {unbound[0]} has no body and no Python callable: pass externals={{{unbound[0]!r}: ...}}"
         )
     # what each object was read from: export writes an object unchanged in Python back as it was read
-    module.__st_sources__ = origin.sources(units, namespace, source if _source_name(source) == "st" else None)
+    module.__st_sources__ = origin.sources(units, namespace, source if isinstance(source, str) and _source_name(source) == "st" else None)
     module.__st_project__ = origin.project_name(source)
     return module
 
