@@ -23,10 +23,17 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
     """The writer's units of the classes, but those of ``kept`` (written as they were read); what was
     written as a comment is added to ``report``."""
     metas = [meta for meta in with_dependencies(collect(classes_or_module)) if meta.name.lower() not in kept]
-    found, untranslated = units(metas, lenient=lenient)
+    found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
     if report is not None:
         report.extend(untranslated)
     return [unit for unit in found if unit.name.lower() not in kept]
+
+
+def _loaded_functions(source: Any) -> dict[str, Any]:
+    """The FUNCTIONs of a module ``st.load`` made (its ST names that are Python functions), by ST name."""
+    if not isinstance(source, types.ModuleType) or not hasattr(source, "__st_sources__"):
+        return {}
+    return {name: value for name in getattr(source, "__all__", ()) if isinstance(value := getattr(source, name, None), types.FunctionType)}
 
 
 def _unchanged(source: Any, format: str) -> dict[str, Source]:
@@ -49,9 +56,7 @@ def dump(classes_or_module: Any, *, lenient: bool = False) -> str:
     return "\n".join(flat_text(unit) for unit in _units(classes_or_module, lenient))
 
 
-def export(
-    classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False, report: list[str] | None = None
-) -> list[Path]:
+def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False, report: list[str] | None = None) -> list[Path]:
     """Write the classes to ``folder`` and return the files written, in order.
 
     ``format="twincat"``: one ``.TcPOU`` per POU (its METHODs and PROPERTYs
