@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pathlib
 import shutil
+from typing import Any
 
 import blark.parse
 import pytest
@@ -210,9 +211,9 @@ def test_a_loaded_program_and_an_uncalled_function_are_written() -> None:
 
 
 def _trace(plc: object, cycles: int) -> list[tuple[object, ...]]:
-    rows = []
-    program = getattr(plc, "MAIN")
-    io = getattr(plc, "GVL_IO")
+    rows: list[tuple[object, ...]] = []
+    program: Any = getattr(plc, "MAIN")
+    io: Any = getattr(plc, "GVL_IO")
     for cycle in range(cycles):
         io.bStartButton = cycle >= 2
         program()
