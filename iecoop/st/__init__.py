@@ -41,7 +41,7 @@ from iecoop._codegen import compiled, script_number
 from iecoop.exceptions import DefinitionError
 from iecoop.st.read import origin
 from iecoop.st.read.names import python_name
-from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, library_references, parse_sources
 from iecoop.st.export import StExportError, dump, export
 
 __all__ = [
@@ -89,6 +89,8 @@ class StModule(types.ModuleType):
     __st_sources__: dict[str, Any]
     #: the name of the project read (its ``.plcproj``, folder or file), which export names its project file after
     __st_project__: str | None
+    #: the libraries the project read references (its ``.plcproj``), which export references again
+    __st_references__: list[Any]
 
     def __getattr__(self, name: str) -> Any:
         lowered = name.lower()
@@ -299,5 +301,6 @@ def load(
     # what each object was read from: export writes an object unchanged in Python back as it was read
     module.__st_sources__ = origin.sources(units, namespace, source if isinstance(source, str) and _source_name(source) == "st" else None)
     module.__st_project__ = origin.project_name(source)
+    module.__st_references__ = library_references(source)
     return module
 

@@ -7,11 +7,13 @@ FUNCTION_BLOCK or INTERFACE it belongs to); ``export`` writes a folder.
 from __future__ import annotations
 
 import os
+import sys
 import types
 from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
+from iecoop.libraries import Library
 from iecoop.st.read.origin import Source, fingerprint
 from iecoop.st.write.references import plcproj, used_libraries
 from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
@@ -22,11 +24,20 @@ __all__ = ["StExportError", "dump", "export"]
 def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), report: list[str] | None = None) -> list[Unit]:
     """The writer's units of the classes, but those of ``kept`` (written as they were read); what was
     written as a comment is added to ``report``."""
-    metas = [meta for meta in with_dependencies(collect(classes_or_module)) if meta.name.lower() not in kept]
+    metas = [
+        meta for meta in with_dependencies(collect(classes_or_module))
+        if meta.name.lower() not in kept and not _other_loaded_project(meta.cls, classes_or_module)
+    ]
     found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
     if report is not None:
         report.extend(untranslated)
     return [unit for unit in found if unit.name.lower() not in kept]
+
+
+def _other_loaded_project(cls: Any, source: Any) -> bool:
+    """``cls`` comes from another project ``st.load`` read: an ST library the exported project references."""
+    module = sys.modules.get(getattr(cls, "__module__", "") or "")
+    return module is not None and module is not source and hasattr(module, "__st_sources__")
 
 
 def _loaded_functions(source: Any) -> dict[str, Any]:
@@ -87,7 +98,7 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     files: list[tuple[str, str | bytes]] = [(_kept_name(origin), origin.text) for origin in kept.values()]
     if format == "twincat":
         files += [twincat_file(unit) for unit in found]
-        libraries = used_libraries(unit.meta for unit in found if unit.meta is not None)
+        libraries = _referenced(classes_or_module, used_libraries(unit.meta for unit in found if unit.meta is not None))
         if libraries or kept:  # a project file, so loading the folder binds the libraries again
             name = _project_name(classes_or_module, found)
             files.append((f"{name}.plcproj", plcproj(name, [file_name for file_name, _ in files], libraries)))
@@ -100,6 +111,15 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     target = Path(folder)
     target.mkdir(parents=True, exist_ok=True)
     return [_write(target, file_name, text) for file_name, text in files]
+
+
+def _referenced(source: Any, libraries: list[Library]) -> list[Library]:
+    """The libraries the project read references (a loaded module's ``.plcproj``), then those ``libraries`` add."""
+    kept = [
+        Library(reference.name, "", reference.company, reference.version, "", reference.namespace)
+        for reference in getattr(source, "__st_references__", ()) if isinstance(source, types.ModuleType)
+    ]
+    return kept + [library for library in libraries if library.name.lower() not in {k.name.lower() for k in kept}]
 
 
 def _kept_name(origin: Source) -> str:

@@ -231,3 +231,19 @@ def test_the_project_written_as_plain_st_runs_the_same(tmp_path: pathlib.Path) -
         blark.parse.parse_source_code(path.read_text())
     again = st.load(tmp_path)
     assert _trace(again, 12) == _trace(st.load(PROJECT / "FillStation.plcproj"), 12)
+
+
+PROJECTS = PROJECT.parent
+
+
+@pytest.mark.parametrize("name", ["FillStation", "FsUtil", "LineCtrl"])
+def test_each_project_round_trips_byte_identical(name: str, tmp_path: pathlib.Path) -> None:
+    folder = PROJECTS / name
+    plc = st.load(folder / f"{name}.plcproj", library_path=[PROJECTS])
+    written = {p.name: p.read_bytes() for p in st.export(plc, tmp_path / "one", format="twincat")}
+    originals = [p for p in folder.rglob("*") if p.suffix in (".TcPOU", ".TcDUT", ".TcGVL", ".TcIO")]
+    assert originals
+    for original in originals:
+        assert written[original.name] == original.read_bytes(), original.name
+    again = st.load(tmp_path / "one" / f"{name}.plcproj", library_path=[PROJECTS])
+    assert {p.name: p.read_bytes() for p in st.export(again, tmp_path / "two", format="twincat")} == written
