@@ -36,6 +36,8 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
 
 def _other_loaded_project(cls: Any, source: Any) -> bool:
     """``cls`` comes from another project ``st.load`` read: an ST library the exported project references."""
+    if not (isinstance(source, types.ModuleType) and hasattr(source, "__st_sources__")):
+        return False  # classes picked one by one are written, wherever they come from
     module = sys.modules.get(getattr(cls, "__module__", "") or "")
     return module is not None and module is not source and hasattr(module, "__st_sources__")
 
