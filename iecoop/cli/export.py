@@ -3,8 +3,10 @@
 ``iecoop export MODULE --format twincat|plcopen|st -o DIR`` writes the
 module's classes (a ``.py`` file, a dotted module name, or a name a
 plugged-in catalogue knows) as TwinCAT source files, one PLCopen XML file or plain ST files.
-Statements with no ST form are written as ST comments that say so (the
-command never stops half way); ``--strict`` makes them an error.
+``MODULE`` may also be an ST project: a ``.plcproj``, a folder or an ST / TwinCAT file, loaded with
+``st.load``; its objects unchanged since loading are written back as they were read. A statement with
+no ST form is an error naming its file and line; ``--lenient`` writes it as an ST comment instead and
+lists every such comment on stderr.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from types import ModuleType
 from typing import TextIO
 
 from iecoop.cli.base import Command, Names, UsageError, usage_errors
+from iecoop.exceptions import DefinitionError
 from iecoop.st.export import StExportError, export
 
 __all__ = ["EXPORT_HELP", "add_export_arguments", "command", "export_command", "module_of"]
@@ -28,9 +31,17 @@ __all__ = ["EXPORT_HELP", "add_export_arguments", "command", "export_command", "
 EXPORT_HELP = "write a pattern, example or module as TwinCAT files, PLCopen XML or plain ST"
 
 
+#: the file kinds ``iecoop export`` loads as Structured Text
+ST_PATHS = (".st", ".tcpou", ".tcdut", ".tcgvl", ".tcio", ".plcproj")
+
+
 def _from_file(path: pathlib.Path) -> ModuleType:
     if not path.exists():
         raise UsageError(f"{path}: does not exist")
+    if path.is_dir() or path.suffix.lower() in ST_PATHS:
+        from iecoop import st
+
+        return st.load(path)
     if path.is_dir():
         raise UsageError(f"{path}: is a folder; give a .py file or a module's dotted name")
     if path.suffix != ".py":
@@ -88,7 +99,8 @@ def add_export_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("name", help="a .py file, a module (patterns.behavioral.state) or a catalogue entry (observer, srp, ch08...)")
     parser.add_argument("--format", choices=("twincat", "plcopen", "st"), default="twincat")
     parser.add_argument("-o", "--output", default=".", help="folder to write into (created if missing)")
-    parser.add_argument("--strict", action="store_true", help="fail on a statement with no ST form")
+    parser.add_argument("--lenient", action="store_true", help="write a statement with no ST form as an ST comment (listed on stderr)")
+    parser.add_argument("--strict", action="store_true", help="fail on a statement with no ST form (the default)")
 
 
 def command(names: Names | None = None) -> Command:
@@ -101,10 +113,11 @@ def command(names: Names | None = None) -> Command:
             raise UsageError(f"cannot write into {output}: it is a file, not a folder")
         try:
             module = module_of(args.name, names)
-            files = export(module, output, format=args.format, lenient=not args.strict)
+            comments: list[str] = []
+            files = export(module, output, format=args.format, lenient=args.lenient and not args.strict, report=comments)
         except KeyError as exc:
             raise UsageError(exc.args[0]) from None
-        except StExportError as exc:
+        except (StExportError, DefinitionError) as exc:
             print(f"iecoop export: {exc}", file=err)
             return 1
         except OSError as exc:
@@ -113,6 +126,8 @@ def command(names: Names | None = None) -> Command:
             raise UsageError(f"{args.name}: no iecoop class to export")
         for path in files:
             print(path, file=out)
+        for comment in comments:  # nothing is left out without a line saying so
+            print(f"iecoop export: written as a comment: {comment}", file=err)
         return 0
 
     return Command(EXPORT_HELP, add_export_arguments, run)

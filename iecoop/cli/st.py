@@ -43,6 +43,7 @@ from typing import TextIO, TypeVar
 
 from iecoop import DefinitionError, Program, T, st
 from iecoop.cli.base import UsageError, positive, usage_errors
+from iecoop.cli.st_scenario import parse_set, project_task, writes_before
 from iecoop.cli.trace import (
     add_trace_arguments, check_trace_options, fault_text, run_cycles, table, variable_probes, write_trace,
 )
@@ -79,6 +80,9 @@ def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--every", type=positive, default=None, metavar="K",
                         help="show every K-th cycle instead of the changes")
     parser.add_argument("--profile", default="twincat", choices=("twincat", "codesys"))
+    parser.add_argument("--duration", metavar="T", help="run for a PLC time (2s, 500ms) instead of --cycles")
+    parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE@TIME",
+                        help="write a value at a PLC time, e.g. MAIN.bStart=TRUE@100ms (repeatable)")
     add_trace_arguments(parser)
 
 
@@ -222,11 +226,17 @@ def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
     check_trace_options(args)
     program = load_program(args.source, args.program, args.profile)
+    writes = [parse_set(text) for text in args.set]
     runtime = Runtime(store=":memory:", profile=args.profile)
-    runtime.add_task(plc_task(), program)
-    trace = run_cycles(runtime, variable_probes(program), args.cycles, every=args.every, paths=args.trace or ())
+    task = project_task(args.source) or plc_task()
+    runtime.add_task(task, program)
+    cycles = args.cycles
+    if args.duration is not None:
+        cycles = max(1, -(-int(T(args.duration)) // int(task.interval)))
+    trace = run_cycles(runtime, variable_probes(program), cycles, every=args.every, paths=args.trace or (),
+                       before_cycle=writes_before(runtime, writes))
     rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
-    header = f"{trace.where}, {args.profile} profile, {args.cycles} cycles; {rows}"
+    header = f"{trace.where}, {args.profile} profile, {cycles} cycles; {rows}"
     out.write("\n".join([header, *table(trace)]) + "\n")
     write_trace(trace.source, args, out)
     if trace.fault is None:

@@ -41,8 +41,9 @@ from typing import Any, TypeVar
 
 from iecoop._codegen import script_number
 from iecoop.exceptions import DefinitionError
+from iecoop.st.read import origin
 from iecoop.st.read.names import python_name
-from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, parse_sources
+from iecoop.st.read.parse import StSyntaxError, StUnsupportedError, library_references, parse_sources
 from iecoop.st.read.sourcemap import compile_mapped, register_text
 from iecoop.st.export import StExportError, dump, export
 
@@ -90,6 +91,12 @@ class StModule(types.ModuleType):
     __python__: str
     __all__: list[str]
     __qualified_only__: list[str]
+    #: what each object was read from (see ``iecoop.st.read.origin``), by ST name
+    __st_sources__: dict[str, Any]
+    #: the name of the project read (its ``.plcproj``, folder or file), which export names its project file after
+    __st_project__: str | None
+    #: the libraries the project read references (its ``.plcproj``), which export references again
+    __st_references__: list[Any]
 
     def __getattr__(self, name: str) -> Any:
         lowered = name.lower()
@@ -137,21 +144,21 @@ def to_python(
         RUN = 5
     <BLANKLINE>
     """
-    text, _, _, _ = _translated(source, [], _bound_libraries(source, libraries, library_path, None, cache), cache)
+    text, *_ = _translated(source, [], _bound_libraries(source, libraries, library_path, None, cache), cache)
     return text
 
 
 def _translated(
     source: str | os.PathLike[str], externals: list[str], libraries: Sequence[Any] = (), cache: bool | None = None
-) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None], set[str]]:
-    """The Python module text, top-level names, ST line of each Python line and qualified-only names for
-    ``source``; nesting beyond the parser's limits is refused."""
+) -> tuple[str, list[tuple[str, str]], list[tuple[str, int] | None], set[str], list[Any]]:
+    """The Python module text, top-level names, ST line of each Python line, qualified-only names and parsed
+    units for ``source``; nesting beyond the parser's limits is refused."""
     translate = _translator()
     units = parse_sources(source, cache=cache)
     qualified: set[str] = set()
     try:
         text, names, origins = translate(units, externals=externals, libraries=libraries, qualified_only=qualified)
-        return text, names, origins, qualified
+        return text, names, origins, qualified, units
     except RecursionError:  # only beyond the limits read.parse checks, e.g. when called from a deep stack
         raise StUnsupportedError(f"{_source_name(source)}: the source nests too deeply to translate") from None
 
@@ -325,7 +332,7 @@ def load(
 
     externals = dict(externals or {})
     used = _bound_libraries(source, libraries, library_path, profile, cache)
-    text, names, origins, qualified = _translated(source, list(externals), used, cache)
+    text, names, origins, qualified, units = _translated(source, list(externals), used, cache)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
@@ -384,5 +391,9 @@ def load(
             f"{_declared_at(source, unbound[0])[0]}: FUNCTION {unbound[0]} has no body and no Python callable: "
             f"pass externals={{{unbound[0]!r}: ...}}"
         )
+    # what each object was read from: export writes an object unchanged in Python back as it was read
+    module.__st_sources__ = origin.sources(units, namespace, source if isinstance(source, str) and _source_name(source) == "st" else None)
+    module.__st_project__ = origin.project_name(source)
+    module.__st_references__ = library_references(source)
     return module
 

@@ -7,18 +7,57 @@ FUNCTION_BLOCK or INTERFACE it belongs to); ``export`` writes a folder.
 from __future__ import annotations
 
 import os
+import sys
+import types
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
+from iecoop.libraries import Library
+from iecoop.st.read.origin import Source, fingerprint
 from iecoop.st.write.references import plcproj, used_libraries
 from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
 
 __all__ = ["StExportError", "dump", "export"]
 
 
-def _units(classes_or_module: Any, lenient: bool) -> list[Unit]:
-    found, _untranslated = units(with_dependencies(collect(classes_or_module)), lenient=lenient)
-    return found
+def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), report: list[str] | None = None) -> list[Unit]:
+    """The writer's units of the classes, but those of ``kept`` (written as they were read); what was
+    written as a comment is added to ``report``."""
+    metas = [
+        meta for meta in with_dependencies(collect(classes_or_module))
+        if meta.name.lower() not in kept and not _other_loaded_project(meta.cls, classes_or_module)
+    ]
+    found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
+    if report is not None:
+        report.extend(untranslated)
+    return [unit for unit in found if unit.name.lower() not in kept]
+
+
+def _other_loaded_project(cls: Any, source: Any) -> bool:
+    """``cls`` comes from another project ``st.load`` read: an ST library the exported project references."""
+    if not (isinstance(source, types.ModuleType) and hasattr(source, "__st_sources__")):
+        return False  # classes picked one by one are written, wherever they come from
+    module = sys.modules.get(getattr(cls, "__module__", "") or "")
+    return module is not None and module is not source and hasattr(module, "__st_sources__")
+
+
+def _loaded_functions(source: Any) -> dict[str, Any]:
+    """The FUNCTIONs of a module ``st.load`` made (its ST names that are Python functions), by ST name."""
+    if not isinstance(source, types.ModuleType) or not hasattr(source, "__st_sources__"):
+        return {}
+    return {name: value for name in getattr(source, "__all__", ()) if isinstance(value := getattr(source, name, None), types.FunctionType)}
+
+
+def _unchanged(source: Any, format: str) -> dict[str, Source]:
+    """The objects of a module loaded by ``st.load`` that are as they were read, in the format they were read
+    in, by lower-case ST name: export writes their recorded text (comments, layout, Ids and all)."""
+    recorded: dict[str, Source] = getattr(source, "__st_sources__", None) or {} if isinstance(source, types.ModuleType) else {}
+    return {
+        name.lower(): origin
+        for name, origin in recorded.items()
+        if origin.format == format and fingerprint(getattr(source, name, None)) == origin.fingerprint
+    }
 
 
 def dump(classes_or_module: Any, *, lenient: bool = False) -> str:
@@ -30,7 +69,7 @@ def dump(classes_or_module: Any, *, lenient: bool = False) -> str:
     return "\n".join(flat_text(unit) for unit in _units(classes_or_module, lenient))
 
 
-def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False) -> list[Path]:
+def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False, report: list[str] | None = None) -> list[Path]:
     """Write the classes to ``folder`` and return the files written, in order.
 
     ``format="twincat"``: one ``.TcPOU`` per POU (its METHODs and PROPERTYs
@@ -48,18 +87,25 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     named like an ST keyword, and two names of one scope that differ only in case
     raise StExportError; a variable, METHOD, PROPERTY or enumeration value named
     like a keyword is written with a trailing underscore (``TO`` -> ``TO_``).
+
+    A module made by ``st.load``: each object unchanged in Python since loading is written back as it was
+    read (its TwinCAT file byte for byte, or its ST text) when ``format`` is the one it was read in; a
+    changed or added object goes through the writer. With ``lenient=True`` each statement written as a
+    comment is appended to ``report``.
     """
-    found = _units(classes_or_module, lenient)
     if format not in ("twincat", "st", "plcopen"):
         raise ValueError(f"export format must be 'twincat', 'plcopen' or 'st', got {format!r}")
+    kept = _unchanged(classes_or_module, format)
+    found = _units(classes_or_module, lenient, kept, report)
+    files: list[tuple[str, str | bytes]] = [(_kept_name(origin), origin.text) for origin in kept.values()]
     if format == "twincat":
-        files = [twincat_file(unit) for unit in found]
-        libraries = used_libraries(unit.meta for unit in found if unit.meta is not None)
-        if libraries:  # a project file, so loading the folder binds the libraries again
+        files += [twincat_file(unit) for unit in found]
+        libraries = _referenced(classes_or_module, used_libraries(unit.meta for unit in found if unit.meta is not None))
+        if libraries or kept:  # a project file, so loading the folder binds the libraries again
             name = _project_name(classes_or_module, found)
             files.append((f"{name}.plcproj", plcproj(name, [file_name for file_name, _ in files], libraries)))
     elif format == "st":
-        files = [(f"{unit.name}.st", flat_text(unit)) for unit in found]
+        files += [(f"{unit.name}.st", flat_text(unit)) for unit in found]
     else:
         name = _project_name(classes_or_module, found)
         files = [(f"{name}.xml", plcopen_project(name, found))]
@@ -69,8 +115,22 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
     return [_write(target, file_name, text) for file_name, text in files]
 
 
+def _referenced(source: Any, libraries: list[Library]) -> list[Library]:
+    """The libraries the project read references (a loaded module's ``.plcproj``), then those ``libraries`` add."""
+    kept = [
+        Library(reference.name, "", reference.company, reference.version, "", reference.namespace)
+        for reference in getattr(source, "__st_references__", ()) if isinstance(source, types.ModuleType)
+    ]
+    return kept + [library for library in libraries if library.name.lower() not in {k.name.lower() for k in kept}]
+
+
+def _kept_name(origin: Source) -> str:
+    """The file an object written as it was read goes to: its TwinCAT file's name, or ``NAME.st``."""
+    return Path(origin.file).name if origin.format == "twincat" else f"{origin.name}.st"
+
+
 def _project_name(source: Any, found: list[Unit]) -> str:
-    name = getattr(source, "__name__", None)
+    name = getattr(source, "__st_project__", None) or getattr(source, "__name__", None)
     if isinstance(name, str):
         project = name.rsplit(".", 1)[-1]
         ident(project, "the PLCopen project (the module's name)")  # it names the file
@@ -78,7 +138,7 @@ def _project_name(source: Any, found: list[Unit]) -> str:
     return found[0].name if found else "project"
 
 
-def _write(folder: Path, name: str, text: str) -> Path:
+def _write(folder: Path, name: str, text: str | bytes) -> Path:
     """Write ``folder/name``, which must be a file right in ``folder`` (the names were checked before, this
     holds whatever the name): no path leaves the folder, and no symbolic link in it is written through."""
     base = folder.resolve()
@@ -99,5 +159,5 @@ def _write(folder: Path, name: str, text: str) -> Path:
         raise StExportError(f"export: cannot write {str(path)!r} ({exc.strerror})") from None
     # Bytes, not text mode: the files are the same on every platform (CRLF as TwinCAT writes them).
     with os.fdopen(descriptor, "wb") as file:
-        file.write(text.encode("utf-8"))
+        file.write(text if isinstance(text, bytes) else text.encode("utf-8"))
     return folder / name

@@ -161,7 +161,7 @@ def _read_text(path: pathlib.Path) -> str:
     ) from None
 
 
-def _read_xml(path: pathlib.Path) -> Any:
+def read_xml(path: pathlib.Path) -> Any:
     """The root element of a TwinCAT XML file, parsed without DTDs, entities or network access."""
     import lxml.etree  # type: ignore[import-untyped]  # installed with blark; ships no type information
 
@@ -200,7 +200,7 @@ def _check_xml_names(path: pathlib.Path, root: Any) -> None:
 
 def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
     """The TwinCAT files a ``.plcproj`` compiles: each must exist and lie below the project's folder."""
-    root = _read_xml(path)
+    root = read_xml(path)
     folder = path.parent.resolve()
     files = []
     for element in root.iter():
@@ -248,7 +248,7 @@ def library_references(source: str | os.PathLike[str]) -> list[LibraryReference]
         return []
     return [
         _library_reference(path, element)
-        for element in _read_xml(path).iter()
+        for element in read_xml(path).iter()
         if isinstance(element.tag, str) and element.tag.rsplit("}", 1)[-1] in ("PlaceholderReference", "LibraryReference")
     ]
 
@@ -369,7 +369,7 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
 
     from blark.solution import TcSource
 
-    root = _read_xml(path)
+    root = read_xml(path)
     _check_xml_names(path, root)
     try:
         items = TcSource.from_xml(root, filename=path).to_blark()

@@ -780,6 +780,22 @@ def _call_bool(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
     return f"{w.expr(arg, _EQ + 1)[0]} <> 0", _EQ
 
 
+def _call_str_of_enum(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``str(getattr(e, "name", int(e)))``, the reader's ``TO_STRING(e)`` of an enumeration: ``TO_STRING(e)``."""
+    arg = _one_argument(node)
+    if not (
+        isinstance(arg, ast.Call) and _is_name(arg.func, "getattr") and len(arg.args) == 3 and not arg.keywords
+        and isinstance(arg.args[1], ast.Constant) and arg.args[1].value == "name"
+        and isinstance(arg.args[2], ast.Call) and _is_name(arg.args[2].func, "int") and len(arg.args[2].args) == 1
+        and ast.dump(arg.args[2].args[0]) == ast.dump(arg.args[0])
+    ):
+        return None
+    info = w.typeof(arg.args[0])
+    if isinstance(info, EnumInfo):  # the names need {attribute 'to_string'} on the enumeration
+        w.scope.named_enums.add(info.enum_cls)
+    return f"TO_STRING({w.expr(arg.args[0])[0]})", _ATOM
+
+
 def _call_int(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
     arg = _one_argument(node)
     if arg is None:
@@ -891,7 +907,7 @@ def _call_current_task(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
 #: Python builtins (while no module name hides them) and their ST form.
 _BUILTIN_CALLS: dict[str, _CallRule] = {
     "min": _call_min_max_abs, "max": _call_min_max_abs, "abs": _call_min_max_abs,
-    "bool": _call_bool, "int": _call_int, "float": _call_float, "len": _call_len_constant, "round": _call_round,
+    "bool": _call_bool, "int": _call_int, "str": _call_str_of_enum, "float": _call_float, "len": _call_len_constant, "round": _call_round,
     **{name: _call_math for name in MATH_BY_PYTHON},
 }
 

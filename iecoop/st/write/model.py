@@ -378,8 +378,10 @@ def _library(obj: Any) -> bool:
 def collect(source: Any) -> list[ClassMeta]:
     """The declared classes of a module (in definition order) or of an iterable of classes."""
     if isinstance(source, types.ModuleType):
+        # a PROGRAM is an instance in a loaded module (st.load makes it): its class is what is written
+        objects = [type(v) if _kind(type(v)) == "program" else v for v in vars(source).values()]
         candidates: Iterable[Any] = [
-            v for v in vars(source).values()
+            v for v in objects
             if _kind(v) is not None and (getattr(type(v) if isinstance(v, GlobalVariables) else v, "__module__", None) == source.__name__ or _kind(v) == "alias")
         ]
     elif isinstance(source, (type, GlobalVariables)):

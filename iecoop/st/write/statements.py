@@ -22,6 +22,7 @@ from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
 from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
 from iecoop.st.write.infer import _DINT, _Untranslated, _constant_int, _fields_of, _from_iecoop, _is_name
 from iecoop.st.write.model import StExportError, annotation_info, type_text
+from iecoop.st.write.loops import reader_loops
 
 __all__ = ["BodyWriter", "StatementWriter"]
 
@@ -72,6 +73,7 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
+        body = reader_loops(body)
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
             mark = len(self.lines)
@@ -212,7 +214,7 @@ class StatementWriter(ExpressionWriter):
         if isinstance(self.typeof(sequence), ArrayInfo):
             self.array_loop(node, depth)
             return
-        if not (isinstance(node.target, ast.Name) and isinstance(it, ast.Call) and _is_name(it.func, "range") and not it.keywords):
+        if not (isinstance(node.target, (ast.Name, ast.Attribute)) and isinstance(it, ast.Call) and _is_name(it.func, "range") and not it.keywords):
             self.fail(node, "a for loop over something other than range(), an ARRAY or a tuple")
         self.range_loop(node, it, depth)
 
@@ -305,16 +307,25 @@ class StatementWriter(ExpressionWriter):
         start = args[0] if len(args) > 1 else ast.Constant(0)
         stop = args[1] if len(args) > 1 else args[0]
         step = 1
+        by = ""
         if len(args) == 3:
             value = _constant_int(args[2])
-            if value is None or value == 0:
+            if value is None and isinstance(stop, ast.BinOp) and isinstance(stop.op, ast.Add) and isinstance(stop.right, ast.IfExp):
+                # the reader's ``b + (1 if c > 0 else -1)`` for FOR ... TO b BY c: the ST end is b
+                end, by = self.expr(stop.left)[0], f" BY {self.expr(args[2])[0]}"
+            elif value is None or value == 0:
                 self.fail(node, "a range() step that is not a constant integer")
-            step = value
-        name = typing.cast(ast.Name, node.target).id
-        self.declare_once(name, _DINT, node)
-        end = self.end_bound(stop, -1 if step > 0 else 1)
-        by = f" BY {step}" if step != 1 else ""
-        self.write(depth, f"FOR {self.name_text(name)} := {self.expr(start)[0]} TO {end}{by} DO")
+            else:
+                step = value
+        if isinstance(node.target, ast.Name):
+            self.declare_once(node.target.id, _DINT, node)
+            variable = self.name_text(node.target.id)
+        else:  # a variable of the block (``self.n``), as the reader writes an ST FOR
+            variable = self.expr(node.target)[0]
+        if not by:
+            end = self.end_bound(stop, -1 if step > 0 else 1)
+            by = f" BY {step}" if step != 1 else ""
+        self.write(depth, f"FOR {variable} := {self.expr(start)[0]} TO {end}{by} DO")
         self.block(node.body, depth + 1)
         self.write(depth, "END_FOR")
 

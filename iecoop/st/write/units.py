@@ -453,10 +453,15 @@ def _function_unit(name: str, func: Any, writer: _Writer) -> Unit:
     )
 
 
-def units(metas: Sequence[ClassMeta], *, lenient: bool = False) -> tuple[list[Unit], list[str]]:
-    """Every object to export, with a GVL of the module constants the bodies use, and what was not translated."""
+def units(
+    metas: Sequence[ClassMeta], *, lenient: bool = False, functions: Mapping[str, Any] | None = None
+) -> tuple[list[Unit], list[str]]:
+    """Every object to export, with a GVL of the module constants the bodies use, and what was not translated.
+
+    ``functions`` (ST name -> Python function) are written as FUNCTIONs whether or not a body calls them.
+    """
     constants: dict[str, Any] = {}
-    functions: dict[str, Any] = {}
+    functions = dict(functions or {})
     named_enums: set[Any] = set()
     untranslated: list[str] = []
     found: list[Unit] = []

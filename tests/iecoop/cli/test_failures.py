@@ -197,7 +197,7 @@ def _inputs(tmp_path: Path) -> dict[str, Path]:
         ("serve", "empty", "declares no PROGRAM MAIN"),
         ("serve", "suffix", "unsupported file kind '.txt'"),
         ("export", "missing-py", "does not exist"),
-        ("export", "folder", "is a folder"),
+        ("export", "folder", "no iecoop class to export"),  # a folder is an ST project: this one declares nothing
         ("export", "empty-py", "no iecoop class to export"),
         ("export", "suffix", "not a Python file"),
         ("export", "broken-py", "line 2"),
