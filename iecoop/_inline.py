@@ -65,6 +65,7 @@ def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
+    views: dict[str, Callable[[Any], Any]] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -79,6 +80,9 @@ def inline_call(
     (``attrgetter(alias)``) and, for a member of one block type, that class;
     the body's own ``self.timer`` reads the alias, and ``self.timer(IN=...)``
     calls that class's ``__call__`` as Python's call would find it.
+    ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
+    write, the function reading its view for that code; the body's own
+    ``self.stations`` calls it instead of the checked descriptor.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -96,7 +100,7 @@ def inline_call(
         return None
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
-    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct)
+    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct, views or {})
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -139,7 +143,7 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None,
+    positional: bool, direct: Direct | None, views: dict[str, Callable[[Any], Any]],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -152,6 +156,10 @@ def _rewritten(
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct)
+    if own and views and not _rebinds_self(node):
+        readers = {field: f"{_STORE}view_{field}" for field in views}
+        names.update({readers[field]: read for field, read in views.items()})
+        call.body = [_OwnViews(readers).visit(statement) for statement in call.body]
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     ast.fix_missing_locations(call)
@@ -318,6 +326,20 @@ class _MemberReads(_OwnCode):
         alias = self.aliases.get(node.attr)
         if alias is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
             return ast.copy_location(ast.Attribute(value=node.value, attr=alias, ctx=node.ctx), node)
+        return node
+
+
+class _OwnViews(_OwnCode):
+    """``self.stations`` (a read) becomes ``_iec_w_view_stations(self)``: the view its own code reads, unchecked."""
+
+    def __init__(self, readers: dict[str, str]) -> None:
+        self.readers = readers
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        self.generic_visit(node)
+        reader = self.readers.get(node.attr)
+        if reader is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            return ast.copy_location(ast.Call(func=ast.Name(id=reader, ctx=ast.Load()), args=[node.value], keywords=[]), node)
         return node
 
 

@@ -655,6 +655,27 @@ class CheckedMemberField:
             view = state[key] = self.raw.__get__(obj)
         return view
 
+    def own_read(self, obj: Any) -> Any:
+        """The read by ``obj``'s own compiled body: the rule allows its own code, so no frame is inspected.
+
+        A holder itself read through a read-only view keeps that refusal.
+        """
+        state = obj.__dict__
+        key = self.cache_key
+        if key is not None:
+            view = state.get(key)
+            if view is not None and READ_ONLY not in state:
+                return view
+        refusal = state.get(READ_ONLY)
+        if refusal is not None:
+            view = self.raw.__get__(obj)
+            view.__dict__[READ_ONLY] = refusal
+            return view
+        if key is None:
+            return self.raw.__get__(obj)
+        view = state[key] = self.raw.__get__(obj)
+        return view
+
     def __set__(self, obj: Any, value: Any) -> None:
         refusal = obj.__dict__.get(READ_ONLY)
         if refusal is not None:
