@@ -65,7 +65,7 @@ def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
-    views: dict[str, Callable[[Any], Any]] | None = None,
+    views: dict[str, str] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -81,8 +81,8 @@ def inline_call(
     the body's own ``self.timer`` reads the alias, and ``self.timer(IN=...)``
     calls that class's ``__call__`` as Python's call would find it.
     ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
-    write, the function reading its view for that code; the body's own
-    ``self.stations`` calls it instead of the checked descriptor.
+    write, the key its view is kept under for that code, as a member's; the
+    body's own ``self.stations`` reads it instead of the checked descriptor.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -143,7 +143,7 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None, views: dict[str, Callable[[Any], Any]],
+    positional: bool, direct: Direct | None, views: dict[str, str],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -154,12 +154,11 @@ def _rewritten(
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
+    if own:
+        # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
+        members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct)
-    if own and views and not _rebinds_self(node):
-        readers = {field: f"{_STORE}view_{field}" for field in views}
-        names.update({readers[field]: read for field, read in views.items()})
-        call.body = [_OwnViews(readers).visit(statement) for statement in call.body]
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     ast.fix_missing_locations(call)
@@ -326,20 +325,6 @@ class _MemberReads(_OwnCode):
         alias = self.aliases.get(node.attr)
         if alias is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
             return ast.copy_location(ast.Attribute(value=node.value, attr=alias, ctx=node.ctx), node)
-        return node
-
-
-class _OwnViews(_OwnCode):
-    """``self.stations`` (a read) becomes ``_iec_w_view_stations(self)``: the view its own code reads, unchecked."""
-
-    def __init__(self, readers: dict[str, str]) -> None:
-        self.readers = readers
-
-    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
-        self.generic_visit(node)
-        reader = self.readers.get(node.attr)
-        if reader is not None and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
-            return ast.copy_location(ast.Call(func=ast.Name(id=reader, ctx=ast.Load()), args=[node.value], keywords=[]), node)
         return node
 
 

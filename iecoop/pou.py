@@ -413,6 +413,8 @@ class _PouBuilder:
             if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
         )
         cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
+        # A task may call an instance with no argument when no VAR_IN_OUT must be bound.
+        cls._iec_task_call_ = not any(SECTION_RULES[r.section].at_call is AtCall.BOUND for r in layout.fields)
         # What a holder's compiled call calls for `self.member(...)` of this class (see _follow_call).
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
@@ -709,11 +711,14 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         }
         # Checked mode: the body's own read of its STRUCT / ARRAY variable is one its rule always allows
         # (neither CONSTANT nor a METHOD's VAR_INST), so it needs no look at the reading frame.
-        views = {
-            r.name: field.own_read for r in layout.fields
+        # The call reads such a view under a key as a member's (keep_member_views fills it with own_read).
+        own_views = {
+            r.name: (sys.intern(VIEW_PREFIX + r.name), field.own_read) for r in layout.fields
             if isinstance(field := getattr(cls, r.name, None), CheckedMemberField)
             and not rules[r.name].constant and rules[r.name].method is None
         }
+        cls._iec_own_views_ = tuple(own_views.values())
+        views = {name: key for name, (key, _read) in own_views.items()}
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
             direct=_positional_call, views=views,

@@ -734,7 +734,10 @@ def keep_member_views(obj: Any) -> None:
     one key present means all of ``type(obj)``'s are; the views are the ones its
     members' aliases keep, so both names give one view per member.
     """
-    views = {key: getattr(obj, alias) for alias, key in type(obj)._iec_view_keys_}
+    cls = type(obj)
+    views = {key: getattr(obj, alias) for alias, key in cls._iec_view_keys_}
+    # Checked mode: the STRUCT / ARRAY views the body reads as its own (CheckedMemberField.own_read).
+    views.update({key: read(obj) for key, read in cls.__dict__.get("_iec_own_views_", ())})
     own_dict(obj).update(views)
 
 

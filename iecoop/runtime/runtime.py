@@ -153,8 +153,16 @@ def _step(program: Any) -> typing.Callable[[], object]:
     (IEC 61131-3; TwinCAT and CODESYS alike). A program without VAR_TEMP is its
     bound body, so the cycle costs what it did.
     """
+    cls = type(program)
+    built = getattr(cls, "_iec_built_call_", None)
+    if built is not None and cls.__call__ is built and getattr(cls, "_iec_task_call_", False) and (
+        "body" not in getattr(program, "__dict__", {})
+    ):
+        # The POU's own call resets VAR_TEMP and runs the body compiled into it (one frame, and the
+        # body's own reads and writes take the paths its class decided when it was built).
+        return typing.cast(typing.Callable[[], object], program.__call__)
     body = program.body
-    reset = getattr(type(program), "_iec_temp_reset_", None)
+    reset = getattr(cls, "_iec_temp_reset_", None)
     if reset is None:
         return typing.cast(typing.Callable[[], object], body)
 

@@ -12,8 +12,9 @@ from typing import Any
 
 import pytest
 
-from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, AccessError, FunctionBlock, Program, Struct, _config
+from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, AccessError, FunctionBlock, Program, Struct, T, _config
 from iecoop.memory._core import CheckedMemberField
+from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 
 pytestmark = pytest.mark.skipif(not _config.CHECKS, reason="checked mode checks who reads a STRUCT / ARRAY view")
@@ -115,3 +116,13 @@ def test_reads_from_outside_keep_the_read_only_view_after_the_body_read_its_own(
 def test_the_body_still_cannot_write_its_constant_array() -> None:
     with pytest.raises(AccessError, match="CONSTANT"):
         Overwrite()()
+
+
+def test_a_runtime_task_runs_the_program_through_its_compiled_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls = _count_rule_calls(monkeypatch, Line, ["edges"])
+    line = Line()
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms"), priority=20), line)
+    runtime.run(cycles=2)
+    assert calls == []
+    assert list(line.edges[1].counts) == [1, 1, 1]
