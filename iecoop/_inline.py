@@ -67,6 +67,7 @@ def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
+    views: dict[str, str] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -81,6 +82,9 @@ def inline_call(
     (``attrgetter(alias)``) and, for a member of one block type, that class;
     the body's own ``self.timer`` reads the alias, and ``self.timer(IN=...)``
     calls that class's ``__call__`` as Python's call would find it.
+    ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
+    write, the key its view is kept under for that code, as a member's; the
+    body's own ``self.stations`` reads it instead of the checked descriptor.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -98,7 +102,7 @@ def inline_call(
         return None
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
-    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct)
+    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct, views or {})
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -141,7 +145,7 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None,
+    positional: bool, direct: Direct | None, views: dict[str, str],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -152,6 +156,9 @@ def _rewritten(
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
+    if own:
+        # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
+        members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}

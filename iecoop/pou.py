@@ -51,6 +51,7 @@ from iecoop.interfaces import Interface, interface_members
 from iecoop.parameters import wrap_parameters
 from iecoop.lifecycle import fb_children, initialise
 from iecoop.memory._core import (
+    CheckedMemberField,
     AggregateInfo,
     ArrayInfo,
     VIEW_PREFIX,
@@ -412,6 +413,8 @@ class _PouBuilder:
             if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
         )
         cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
+        # A task may call an instance with no argument when no VAR_IN_OUT must be bound.
+        cls._iec_task_call_ = not any(SECTION_RULES[r.section].at_call is AtCall.BOUND for r in layout.fields)
         # What a holder's compiled call calls for `self.member(...)` of this class (see _follow_call).
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
@@ -697,7 +700,8 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         given = dict.fromkeys((r.name for r in (*inputs, *in_outs)), _NOT_GIVEN)
         # Checked mode: the body's own `self.x = value` takes the checked __setattr__'s path for x written out
         # in place (the class check, the validator only for another class, the store): the same work, no call.
-        stores: dict[str, FastWrite] = fast_writes(layout, write_rules(cls, layout)) if _config.CHECKS else {}
+        rules = write_rules(cls, layout) if _config.CHECKS else {}
+        stores: dict[str, FastWrite] = fast_writes(layout, rules) if _config.CHECKS else {}
         # A block member's read `self.timer` is its property's getter, attrgetter(alias), which keeps the view;
         # the call reads the same view under a key with no class attribute (see VIEW_PREFIX).
         # A member declared as one block is a view of exactly that class (its memory holds that type).
@@ -705,8 +709,19 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             r.name: (sys.intern(VIEW_PREFIX + r.name), r.info.cls if isinstance(r.info, AggregateInfo) else None)
             for r in layout.fields if isinstance(getattr(cls, r.name, None), _MemberProperty)
         }
+        # Checked mode: the body's own read of its STRUCT / ARRAY variable is one its rule always allows
+        # (neither CONSTANT nor a METHOD's VAR_INST), so it needs no look at the reading frame.
+        # The call reads such a view under a key as a member's (keep_member_views fills it with own_read).
+        own_views = {
+            r.name: (sys.intern(VIEW_PREFIX + r.name), field.own_read) for r in layout.fields
+            if isinstance(field := getattr(cls, r.name, None), CheckedMemberField)
+            and not rules[r.name].constant and rules[r.name].method is None
+        }
+        cls._iec_own_views_ = tuple(own_views.values())
+        views = {name: key for name, (key, _read) in own_views.items()}
         inlined = inline_call(
-            name, body, params, lines, globs, given, cls, stores, members, positional=positional, direct=_positional_call
+            name, body, params, lines, globs, given, cls, stores, members, positional=positional,
+            direct=_positional_call, views=views,
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

@@ -655,6 +655,27 @@ class CheckedMemberField:
             view = state[key] = self.raw.__get__(obj)
         return view
 
+    def own_read(self, obj: Any) -> Any:
+        """The read by ``obj``'s own compiled body: the rule allows its own code, so no frame is inspected.
+
+        A holder itself read through a read-only view keeps that refusal.
+        """
+        state = obj.__dict__
+        key = self.cache_key
+        if key is not None:
+            view = state.get(key)
+            if view is not None and READ_ONLY not in state:
+                return view
+        refusal = state.get(READ_ONLY)
+        if refusal is not None:
+            view = self.raw.__get__(obj)
+            view.__dict__[READ_ONLY] = refusal
+            return view
+        if key is None:
+            return self.raw.__get__(obj)
+        view = state[key] = self.raw.__get__(obj)
+        return view
+
     def __set__(self, obj: Any, value: Any) -> None:
         refusal = obj.__dict__.get(READ_ONLY)
         if refusal is not None:
@@ -713,7 +734,10 @@ def keep_member_views(obj: Any) -> None:
     one key present means all of ``type(obj)``'s are; the views are the ones its
     members' aliases keep, so both names give one view per member.
     """
-    views = {key: getattr(obj, alias) for alias, key in type(obj)._iec_view_keys_}
+    cls = type(obj)
+    views = {key: getattr(obj, alias) for alias, key in cls._iec_view_keys_}
+    # Checked mode: the STRUCT / ARRAY views the body reads as its own (CheckedMemberField.own_read).
+    views.update({key: read(obj) for key, read in cls.__dict__.get("_iec_own_views_", ())})
     own_dict(obj).update(views)
 
 

@@ -149,8 +149,16 @@ def _step(program: Any) -> typing.Callable[[], object]:
     (IEC 61131-3; TwinCAT and CODESYS alike). A program without VAR_TEMP is its
     bound body, so the cycle costs what it did.
     """
+    cls = type(program)
+    built = getattr(cls, "_iec_built_call_", None)
+    if built is not None and cls.__call__ is built and getattr(cls, "_iec_task_call_", False) and (
+        "body" not in getattr(program, "__dict__", {})
+    ):
+        # The POU's own call resets VAR_TEMP and runs the body compiled into it (one frame, and the
+        # body's own reads and writes take the paths its class decided when it was built).
+        return typing.cast(typing.Callable[[], object], program.__call__)
     body = program.body
-    reset = getattr(type(program), "_iec_temp_reset_", None)
+    reset = getattr(cls, "_iec_temp_reset_", None)
     if reset is None:
         return typing.cast(typing.Callable[[], object], body)
 
@@ -159,6 +167,20 @@ def _step(program: Any) -> typing.Callable[[], object]:
         body()
 
     return step
+
+
+def _skip(tasks: typing.Iterable[Task], first: int, resume: int, tick_ms: int) -> None:
+    """Count, per task, its cycles on the base ticks ``first`` .. ``resume - 1`` that will never run."""
+    for task in tasks:
+        every = task.interval // tick_ms
+        # the multiples of ``every`` in [first, resume)
+        missed = (resume - 1) // every - (first - 1) // every
+        if missed:
+            info = task.info
+            info.SkippedCycles += missed
+            info.ExceedCounter += missed
+            info.CycleTimeExceeded = True
+            task._late = True
 
 
 @dataclasses.dataclass(frozen=True)
@@ -438,7 +460,7 @@ class Runtime:
                         # Late by a tick or more: like the PLC, start at the next tick boundary
                         # instead of running the missed cycles back to back, and count them.
                         resume = int(min(self._tick + late // tick_ns, end_tick))
-                        self._skip(self._tick, resume, tick_ms)
+                        _skip(self.tasks, self._tick, resume, tick_ms)
                         self._tick = resume
                         continue
                     jitter = max(0, late)
@@ -577,19 +599,6 @@ class Runtime:
                       hooks=self.on_cycle_end, every=every, size=size)
         self.on_cycle_end.append(found._sample)
         return found
-
-    def _skip(self, first: int, resume: int, tick_ms: int) -> None:
-        """Count, per task, its cycles on the base ticks ``first`` .. ``resume - 1`` that will never run."""
-        for task in self.tasks:
-            every = task.interval // tick_ms
-            # the multiples of ``every`` in [first, resume)
-            missed = (resume - 1) // every - (first - 1) // every
-            if missed:
-                info = task.info
-                info.SkippedCycles += missed
-                info.ExceedCounter += missed
-                info.CycleTimeExceeded = True
-                task._late = True
 
     def _run_tick(self, tick_ms: int, jitter: int) -> None:
         now_ms = self._tick * tick_ms
