@@ -58,6 +58,7 @@ import inspect
 from collections.abc import Callable
 from typing import Annotated, Any, TypeAlias, TypeVar
 
+from iecoop.metadata import layout_of
 from iecoop.exceptions import AccessError
 from iecoop.memory._core import AggregateInfo, TypeInfo, handle_of, resolve_type
 from iecoop.memory.operators import TYPE_CLASS, _type_class, adr
@@ -150,7 +151,7 @@ class AnyType:
         if type_ is None:
             if isinstance(value, Pointer):
                 raise AccessError("a POINTER passed to a generic input: pass AnyType.at(p) for what it points to")
-            if getattr(type(value), "_iec_layout_", None) is not None or getattr(type(value), "_iec_info_", None) is not None:
+            if layout_of(type(value)) is not None or getattr(type(value), "_iec_info_", None) is not None:
                 return AnyType.at(adr(value))  # a STRUCT, block or ARRAY instance: its memory is the variable
             type_ = _python_type(value)
         info = resolve_type(type_, "generic input")

@@ -27,7 +27,7 @@ from iecoop.exceptions import AccessError
 from iecoop.gvl import global_lists
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
-from iecoop.metadata import Kind, kind_of, st_name
+from iecoop.metadata import Kind, kind_of, layout_of, st_name
 from iecoop.runtime import Runtime, Symbol
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
 from iecoop.ads.protocol import AdsError, IndexGroup
@@ -330,11 +330,11 @@ class SymbolTable:
 
 
 def _layout(block: Any) -> ClassLayout | None:
-    return getattr(type(block), "_iec_layout_", None)
+    return layout_of(type(block))
 
 
 def _layout_of(info: TypeInfo) -> ClassLayout | None:
-    return getattr(info.cls, "_iec_layout_", None) if isinstance(info, AggregateInfo) else None
+    return layout_of(info.cls) if isinstance(info, AggregateInfo) else None
 
 
 def _field(layout: ClassLayout, name: str) -> FieldRecord | None:

@@ -260,6 +260,7 @@ def script(*argv: str, cwd: Path) -> subprocess.CompletedProcess[str]:
                           env={**os.environ, "PYTHONWARNINGS": ""})
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_the_installed_script_exits_2_without_a_traceback(tmp_path: Path) -> None:
     (tmp_path / "count.st").write_text(COUNT)
     (tmp_path / "keyword.st").write_text("PROGRAM MAIN\nVAR class : INT; END_VAR\nclass := 1;\nEND_PROGRAM\n")

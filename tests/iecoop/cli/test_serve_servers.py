@@ -97,6 +97,7 @@ def _line(process: subprocess.Popen[str], pattern: str) -> re.Match[str]:
     raise AssertionError(f"no line matched {pattern!r}: {''.join(seen)}")
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process is a POSIX signal")
 def test_ctrl_c_stops_every_server_cleanly(plant: Path, tmp_path: Path) -> None:
     plot = tmp_path / "run.png"

@@ -14,6 +14,8 @@ import time
 import warnings
 from pathlib import Path
 
+import pytest
+
 from ._child import TIMEOUT, ReportingChild
 from ._runtime_cycler import build, values
 
@@ -30,6 +32,7 @@ def restore(store: Path) -> set[int]:
         return values(cell)
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_kill_a_cycling_runtime_at_random_instants(tmp_path: Path) -> None:
     store = tmp_path / "plc"
     last_completed = 0

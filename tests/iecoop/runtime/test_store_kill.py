@@ -14,6 +14,8 @@ import warnings
 from pathlib import Path
 from typing import Literal
 
+import pytest
+
 from iecoop.runtime.store import LoadedImage, RemanentStore, StoreWarning
 
 from ._child import TIMEOUT, ReportingChild
@@ -92,9 +94,11 @@ def kill_repeatedly(tmp_path: Path, kind: Kind, iterations: int) -> None:
     print(f"{kind}: {iterations} kills; {in_flight} left the write under way complete, {torn} tore a record")
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_kill_during_retain_writes(tmp_path: Path) -> None:
     kill_repeatedly(tmp_path, "retain", 64)
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_kill_during_persistent_writes(tmp_path: Path) -> None:
     kill_repeatedly(tmp_path, "persistent", 32)

@@ -165,6 +165,7 @@ _NAME_TEXT = hs.one_of(
     type_name=_NAME_TEXT,
     members=hs.lists(_NAME_TEXT, min_size=1, max_size=3, unique=True),
 )
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_any_name_is_refused_or_loads_back_with_the_same_declarations(kind: str, type_name: str, members: list[str]) -> None:
     try:
         if kind == "enum":

@@ -831,6 +831,7 @@ def test_writing_another_programs_local_variable_is_refused_at_the_write() -> No
         module.MAIN()
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_loading_the_same_design_again_and_again_never_crashes_the_interpreter() -> None:
     # Block classes are built, run and collected 30 times in a child process: a class record replaced
     # after ctypes set the class up once left a dangling reference that crashed the garbage collector.

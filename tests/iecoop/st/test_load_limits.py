@@ -263,6 +263,7 @@ def test_the_deepest_nesting_allowed_loads_and_runs() -> None:
     (nested(21, "n := 1;"), 28, "WHILE nested 21 deep"),
     ("n := " + " + ".join(["1"] * 3000) + ";", 8, "more than 200 operators chained or nested in one expression"),
 ], ids=["parentheses", "calls", "for", "if", "mixed", "chain"])
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_nesting_beyond_a_limit_is_refused_naming_line_and_limit(body: str, line: int, words: str) -> None:
     with pytest.raises(st.StUnsupportedError, match=rf"^<st>:{line}: ") as caught:
         st.load(program(body))
@@ -283,6 +284,7 @@ def test_generated_python_that_cpython_refuses_is_an_st_error(monkeypatch: pytes
         st.load(program(nested(22, "n := 2;", ["FOR i := 1 TO 1 DO"])))
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_translation_too_deep_for_the_stack_is_an_st_error(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(parse, "MAX_EXPRESSION_OPERATORS", 10**6)
     with pytest.raises(st.StUnsupportedError, match=r"^st: the source nests too deeply to translate"):

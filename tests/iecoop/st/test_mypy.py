@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import pathlib
 
+import pytest
+
 from iecoop import st
 from tests.iecoop.st.test_load import CASES, OOP
 from tests.iecoop.st.test_load_cases import CASES as MORE_CASES, TASK_INFO
@@ -13,6 +15,7 @@ from tests.typing.test_typing import run_mypy
 DATA = pathlib.Path(__file__).parent / "data"
 
 
+@pytest.mark.slow  # seconds each: once, in the slow gate
 def test_generated_python_passes_mypy_strict(tmp_path: pathlib.Path) -> None:
     sources: dict[str, str | pathlib.Path] = {"twincat": DATA / "twincat", "oop": OOP, "task_info": TASK_INFO}
     sources.update({path.stem: path for path in sorted((DATA / "course").glob("*.st"))})
