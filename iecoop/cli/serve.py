@@ -19,8 +19,9 @@ names, ``MAIN.nCount``, AMS Net ID 127.0.0.1.1.1 port 851; PORT defaults to
 48898) and ``--modbus PORT`` (the ST source's located variables, ``AT %IX0.0``,
 as Modbus tables). Without any of them, OPC UA is served on its default
 endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
-``--trace`` records symbol paths every cycle; at the end ``--csv`` and
-``--plot`` write them. Needs the extras of the servers asked for (``opcua``,
+``--trace`` records symbol paths every cycle; ``--csv`` streams every row
+to its file as it is taken, and at the end ``--plot`` draws the last
+10,000 rows. Needs the extras of the servers asked for (``opcua``,
 ``ads``: none beyond the standard library for the server, ``modbus``).
 
 Exit status: 0 after the duration or Ctrl+C, 1 on a PLC fault or a server
@@ -152,14 +153,20 @@ def located_in(source: str, program: str) -> dict[str, str]:
 
 
 def trace_for(runtime: Runtime, args: argparse.Namespace) -> Trace | None:
-    """The runtime trace ``--trace`` asks for (None without it); UsageError for a path or an option that is wrong."""
+    """The runtime trace ``--trace`` asks for (None without it); UsageError for a path or an option that is wrong.
+
+    A serve may run for hours: with ``--csv`` every row goes to the file as it
+    is taken, and the buffer keeps the last ones for ``--plot``.
+    """
     check_trace_options(args)
     if not args.trace:
         return None
     try:
-        return runtime.trace(args.trace)
+        return runtime.trace(args.trace, file=args.csv)
     except AccessError as exc:
         raise UsageError(f"--trace: {exc}") from None
+    except OSError as exc:
+        raise UsageError(f"--csv {args.csv}: {exc.strerror or exc}") from None
 
 
 def command(names: Names | None = None) -> Command:

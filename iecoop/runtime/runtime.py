@@ -590,13 +590,15 @@ class Runtime:
         """The forced variables: path -> value."""
         return self._online.forced()
 
-    def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> Trace:
-        """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows.
+    def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE,
+              file: str | os.PathLike[str] | typing.TextIO | None = None) -> Trace:
+        """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows (and to ``file``).
 
-        The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it.
+        The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it
+        and ends a stream to ``file``.
         """
         found = Trace(paths, self.symbol, stamp=lambda: (self._tick, self.time_ms), online=self._online,
-                      hooks=self.on_cycle_end, every=every, size=size)
+                      hooks=self.on_cycle_end, every=every, size=size, file=file)
         self.on_cycle_end.append(found._sample)
         return found
 
