@@ -577,13 +577,18 @@ class Runtime:
         symbol.check(value)
         self._online.force(symbol, value)
 
-    def release(self, path: str) -> None:
-        """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7)."""
-        self._online.release(self.symbol(path))
+    def release(self, path: str, *, restore: bool = False) -> None:
+        """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7).
 
-    def release_all(self) -> None:
-        """Stop forcing every variable."""
-        self._online.release_all()
+        The variable keeps the forced value (*Unforce*) until something
+        assigns it; ``restore=True`` writes back, at the next cycle start, the
+        value it had before its first forced cycle (*Unforce and restore*).
+        """
+        self._online.release(self.symbol(path), restore)
+
+    def release_all(self, *, restore: bool = False) -> None:
+        """Stop forcing every variable (``restore`` as in ``release``)."""
+        self._online.release_all(restore)
 
     @property
     def forced(self) -> dict[str, Any]:
