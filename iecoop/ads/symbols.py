@@ -114,6 +114,14 @@ class AdsSymbol:
         return stores
 
 
+    def leaves(self, block: Any) -> list[Symbol]:
+        """The elementary variables this symbol is made of (itself, an ARRAY's elements, a STRUCT's members)."""
+        if not self.writable:
+            raise Refused(AdsError.ACCESSDENIED, f"{self.name} is read-only for ADS clients")
+        return [Symbol(where, scalar, block, self.block_offset + offset)
+                for where, scalar, offset in _leaves(self.name, self.info, 0)]
+
+
 def _leaves(name: str, info: TypeInfo, offset: int) -> Iterator[tuple[str, ElementaryInfo | StringInfo | EnumInfo, int]]:
     """The elementary variables a write of ``info`` at ``offset`` stores: itself, an ARRAY's elements, a STRUCT's members.
 
@@ -180,8 +188,9 @@ class _Root:
 class SymbolTable:
     """The symbols of ``runtime``'s programs and of every global variable list, by name and by address."""
 
-    def __init__(self, runtime: Runtime, writable: Iterable[str] = ()) -> None:
+    def __init__(self, runtime: Runtime, writable: Iterable[str] = (), online: bool = False) -> None:
         self._patterns = list(writable)
+        self._online = online
         found: list[tuple[str, Any, bool]] = []
         for task in runtime.tasks:
             for path, program in task.programs:
@@ -271,7 +280,7 @@ class SymbolTable:
                 persistent: bool = False) -> AdsSymbol:
         named = any(self._named(name, pattern) for pattern in self._patterns)
         return AdsSymbol(name, _type_name(info), _ads_type(info), info, index, offset, self.roots[index].base + offset,
-                         (writable or named) and not constant, persistent)
+                         (writable or named or self._online) and not constant, persistent)
 
     # -- the upload ----------------------------------------------------------------
 

@@ -547,15 +547,16 @@ class Runtime:
 
     # -- online write, force and trace by symbol path --------------------------------
 
-    def symbol(self, path: str) -> Symbol:
+    def symbol(self, path: str | Symbol) -> Symbol:
         """The variable at a TwinCAT symbol path (``MAIN.fbStation.nBottles``, ``GVL_IO.bStart``), resolved once.
 
         ``load()`` reads it, ``store(value)`` writes it at once (from a hook);
-        AccessError names a path that names no elementary variable.
+        AccessError names a path that names no elementary variable. A Symbol
+        is taken as it is, by this method and by ``write``, ``force`` and ``release``.
         """
-        return resolve_symbol(symbol_roots(self.tasks), path)
+        return path if isinstance(path, Symbol) else resolve_symbol(symbol_roots(self.tasks), path)
 
-    def write(self, path: str, value: Any) -> None:
+    def write(self, path: str | Symbol, value: Any) -> None:
         """Write ``value`` once, at the next cycle start (TwinCAT's online *Write values*, Ctrl+F7).
 
         Any variable can be written, inputs, outputs and internals alike, from
@@ -566,7 +567,7 @@ class Runtime:
         symbol.check(value)
         self._online.write(symbol, value)
 
-    def force(self, path: str, value: Any) -> None:
+    def force(self, path: str | Symbol, value: Any) -> None:
         """Hold ``value`` in the variable until ``release`` (TwinCAT's *Force values*, F7).
 
         Set at every cycle start (after ``on_cycle_start``) and again after the
@@ -577,7 +578,7 @@ class Runtime:
         symbol.check(value)
         self._online.force(symbol, value)
 
-    def release(self, path: str, *, restore: bool = False) -> None:
+    def release(self, path: str | Symbol, *, restore: bool = False) -> None:
         """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7).
 
         The variable keeps the forced value (*Unforce*) until something

@@ -9,7 +9,7 @@ member is checked, and one that does not fit stores nothing of the write.
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -19,6 +19,7 @@ from iecoop import (
 )
 from iecoop.ads import AdsError, AdsServer
 from iecoop.runtime import Runtime, Task
+from tests.iecoop.ads.test_server import ads_code, client
 
 pyads = pytest.importorskip("pyads")
 
@@ -70,17 +71,8 @@ def rt() -> Iterator[Runtime]:
 
 @pytest.fixture
 def plc(rt: Runtime) -> Iterator[Any]:
-    with AdsServer(rt, port=0) as server:
-        connection = pyads.Connection(server.net_id, 851, f"127.0.0.1:{server.port}")
-        connection.open()
+    with AdsServer(rt, port=0) as server, client(server) as connection:
         yield connection
-        connection.close()
-
-
-def ads_code(call: Callable[[], object]) -> int:
-    with pytest.raises(pyads.ADSError) as info:
-        call()
-    return int(info.value.err_code)
 
 
 def test_lreal_keeps_its_64_bits_and_real_its_32(rt: Runtime, plc: Any) -> None:
