@@ -19,6 +19,8 @@ names, ``MAIN.nCount``, AMS Net ID 127.0.0.1.1.1 port 851; PORT defaults to
 48898) and ``--modbus PORT`` (the ST source's located variables, ``AT %IX0.0``,
 as Modbus tables). Without any of them, OPC UA is served on its default
 endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
+``--online`` lets OPC UA and ADS clients write every variable but a
+CONSTANT and force, as TwinCAT's online view does (off by default).
 ``--trace`` records symbol paths every cycle; ``--csv`` streams every row
 to its file as it is taken, and at the end ``--plot`` draws the last
 10,000 rows. Needs the extras of the servers asked for (``opcua``,
@@ -86,6 +88,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"serve ADS on TCP PORT (default {_ADS_PORT}), AMS Net ID 127.0.0.1.1.1, AMS port 851")
     parser.add_argument("--modbus", type=_port, metavar="PORT",
                         help="serve the located variables (AT %%IX0.0 ...) over Modbus TCP on PORT")
+    parser.add_argument("--online", action="store_true",
+                        help="let OPC UA and ADS clients write any variable and force (TwinCAT's online write and force)")
     parser.add_argument("--host", default="127.0.0.1",
                         help="the address ADS and Modbus listen on (default 127.0.0.1: this machine only)")
     parser.add_argument("--duration", type=_time, metavar="TIME",
@@ -194,22 +198,26 @@ def _start_servers(served: Served, args: argparse.Namespace, stack: contextlib.E
         url = opcua or _OPCUA
         try:
             from iecoop.opcua import OpcUaServer
-            server = OpcUaServer(runtime, endpoint=url)
+            server = OpcUaServer(runtime, endpoint=url, online=args.online)
             server.start()
         except Exception as exc:  # a missing extra, a bad endpoint, a port in use: say which and stop
             raise _Failed(f"the OPC UA server cannot start on {url}: {exc}") from None
         stack.callback(server.stop)
         out.write(f"OPC UA server at {server.endpoint}, namespace urn:iecoop\n")
-        out.write(f"writable: {', '.join(server.writable()) or '(nothing)'}\n")
+        if args.online:
+            out.write("writable: every variable but the CONSTANTs; forced with the methods Online.Force / Release\n")
+        else:
+            out.write(f"writable: {', '.join(server.writable()) or '(nothing)'}\n")
     if args.ads is not None:
         from iecoop.ads import AdsServer
         try:
-            ads = AdsServer(runtime, args.ads, host=args.host)
+            ads = AdsServer(runtime, args.ads, host=args.host, online=args.online)
             ads.start()
         except Exception as exc:
             raise _Failed(f"the ADS server cannot start on {args.host}:{args.ads}: {exc}") from None
         stack.callback(ads.stop)
-        out.write(f"ADS server at {ads.host}:{ads.port}, AMS Net ID {ads.net_id}, AMS port {ads.ams_port}\n")
+        online = ", online write and force" if args.online else ""
+        out.write(f"ADS server at {ads.host}:{ads.port}, AMS Net ID {ads.net_id}, AMS port {ads.ams_port}{online}\n")
     if args.modbus is not None:
         located = located_in(args.name, args.program) if pathlib.Path(args.name).exists() else {}
         if not located:

@@ -132,3 +132,17 @@ def test_ctrl_c_stops_every_server_cleanly(plant: Path, tmp_path: Path) -> None:
     assert process.returncode == 0, stdout + stderr
     assert "stopped after" in stdout and f"trace: plotted to {plot}" in stdout
     assert plot.stat().st_size > 0
+
+
+def test_online_opens_the_online_write_and_force_to_ads_and_opc_ua_clients(plant: Path) -> None:
+    pytest.importorskip("asyncua")
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(plant), "--ads", "0", "--opcua", "opc.tcp://127.0.0.1:0", "--online", "--duration", "20ms"],
+                   out, err)
+    assert (status, err.getvalue()) == (0, "")
+    assert re.search(r"ADS server at 127\.0\.0\.1:\d+, .*AMS port 851, online write and force", out.getvalue())
+    assert "writable: every variable but the CONSTANTs; forced with the methods Online.Force / Release" \
+        in out.getvalue()
+    out = io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "20ms"], out, err) == 0
+    assert "online write" not in out.getvalue()
