@@ -17,8 +17,9 @@ Servers: ``--opcua URL`` (the variables under the namespace ``urn:iecoop`` by
 instance path, ``PlcTask.MAIN.nCount``), ``--ads [PORT]`` (TwinCAT symbol
 names, ``MAIN.nCount``, AMS Net ID 127.0.0.1.1.1 port 851; PORT defaults to
 48898) and ``--modbus PORT`` (the ST source's located variables, ``AT %IX0.0``,
-as Modbus tables). Without any of them, OPC UA is served on its default
-endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
+as Modbus tables; ``--modbus-map codesys`` maps them as CODESYS's Modbus
+slave device does, so that a plant simulator writes the inputs). Without any
+of them, OPC UA is served on its default endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
 ``--online`` lets OPC UA and ADS clients write every variable but a
 CONSTANT and force, as TwinCAT's online view does (off by default).
 ``--trace`` records symbol paths every cycle; ``--csv`` streams every row
@@ -88,6 +89,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"serve ADS on TCP PORT (default {_ADS_PORT}), AMS Net ID 127.0.0.1.1.1, AMS port 851")
     parser.add_argument("--modbus", type=_port, metavar="PORT",
                         help="serve the located variables (AT %%IX0.0 ...) over Modbus TCP on PORT")
+    parser.add_argument("--modbus-map", choices=("areas", "codesys"), default="areas",
+                        help="areas: %%I as discrete inputs / input registers, %%Q as coils / holding registers "
+                             "(WAGO's mapping, the default); codesys: as CODESYS's Modbus slave device, the master "
+                             "writes %%IX / %%IW as coils / holding registers and reads %%QX / %%QW")
     parser.add_argument("--online", action="store_true",
                         help="let OPC UA and ADS clients write any variable and force (TwinCAT's online write and force)")
     parser.add_argument("--host", default="127.0.0.1",
@@ -225,7 +230,9 @@ def _start_servers(served: Served, args: argparse.Namespace, stack: contextlib.E
                              f"in PROGRAM {args.program} or a GVL")
         try:
             from iecoop.modbus import ModbusServer
-            modbus = ModbusServer(runtime, args.modbus, host=args.host, located=located)
+            from iecoop.modbus import CODESYS_DEVICE_TABLES, DEFAULT_TABLES
+            tables = CODESYS_DEVICE_TABLES if args.modbus_map == "codesys" else DEFAULT_TABLES
+            modbus = ModbusServer(runtime, args.modbus, host=args.host, located=located, tables=tables)
             modbus.start()
         except (ValueError, AccessError) as exc:
             raise UsageError(f"--modbus: {exc}") from None

@@ -146,3 +146,15 @@ def test_online_opens_the_online_write_and_force_to_ads_and_opc_ua_clients(plant
     out = io.StringIO()
     assert serve([str(plant), "--ads", "0", "--duration", "20ms"], out, err) == 0
     assert "online write" not in out.getvalue()
+
+
+def test_modbus_map_codesys_lets_a_plant_simulator_write_the_inputs(
+        plant: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(plant), "--modbus", "0", "--modbus-map", "codesys", "--duration", "20ms"], out, err)
+    assert (status, err.getvalue()) == (0, "")
+    assert "%IX0.0 MAIN.bStart (coils 0), %QX0.0 MAIN.bPump (discrete_inputs 0), %QW0 MAIN.nLevel " \
+           "(input_registers 0)" in out.getvalue()
+    out = io.StringIO()
+    assert serve([str(plant), "--modbus", "0", "--modbus-map", "wago"], out, err) == 2
+    assert "invalid choice: 'wago'" in capsys.readouterr().err
