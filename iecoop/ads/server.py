@@ -132,6 +132,7 @@ class AdsServer:
         self._image: Image = (self._capture(), _filetime())
         self._pending: collections.deque[list[Change]] = collections.deque()
         self._notified = False  # a notification exists: the cycle end wakes the server
+        self._fault: object = None  # the fault the image was last refreshed for
         self._handles = itertools.count(1)
         self._thread: threading.Thread | None = None
         self._selector: selectors.BaseSelector | None = None
@@ -337,6 +338,10 @@ class AdsServer:
         self._selector.modify(client.sock, selectors.EVENT_READ | (selectors.EVENT_WRITE if client.outbox else 0), client)
 
     def _answer(self, client: _Client, packet: bytes) -> None:
+        fault = self.runtime.fault
+        if fault is not None and fault is not self._fault:
+            # A faulted cycle has no cycle end: the PLC stands still where it stopped, which clients then read.
+            self._fault, self._image = fault, (self._capture(), _filetime())
         header = AmsHeader.parse(packet)
         if header.flags & 0x0001:
             return  # a response: the server sends no requests that would have one

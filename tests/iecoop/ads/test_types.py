@@ -15,7 +15,8 @@ from typing import Any
 import pytest
 
 from iecoop import (
-    ARRAY, BOOL, DINT, INT, LREAL, REAL, STRING, VAR, VAR_INPUT, GlobalVariables, Program, Struct, T, gvl,
+    ARRAY, BOOL, DINT, INT, LREAL, REAL, STRING, VAR, VAR_INPUT, ExceptionCode, GlobalVariables, PlcException, Program,
+    Struct, T, gvl,
 )
 from iecoop.ads import AdsError, AdsServer
 from iecoop.runtime import Runtime, Task
@@ -48,10 +49,13 @@ class GVL_Types(GlobalVariables):
 class TyMain(Program, st_name="MAIN"):
     bGo: BOOL = VAR_INPUT(False)
     fRate: LREAL = VAR_INPUT(0.125)
+    nDivisor: INT = VAR_INPUT(1)
+    nShare: INT = VAR(0)
 
     def body(self) -> None:
         if self.bGo:
             GVL_Types.fLength += self.fRate
+        self.nShare = 100 // self.nDivisor
 
 
 POINT = (("fX", pyads.PLCTYPE_LREAL, 1), ("nId", pyads.PLCTYPE_DINT, 1), ("rWeight", pyads.PLCTYPE_REAL, 1),
@@ -129,3 +133,16 @@ def test_a_whole_write_with_one_bad_member_stores_nothing(rt: Runtime, plc: Any)
     rt.run(cycles=1)
     assert GVL_Types.stPoint.fX == 0.0 and GVL_Types.stPoint.sTag == ""
     assert (GVL_Types.stLimits.nLow, GVL_Types.stLimits.nHigh) == (5, 100)
+
+
+def test_the_state_is_stop_after_a_fault_and_run_again_after_a_reset(rt: Runtime, plc: Any) -> None:
+    rt.run(cycles=1)
+    assert plc.read_state() == (pyads.ADSSTATE_RUN, 0)
+    plc.write_by_name("MAIN.nDivisor", 0)
+    with pytest.raises(PlcException) as fault:
+        rt.run(cycles=1)
+    assert fault.value.code is ExceptionCode.RTSEXCPT_DIVIDEBYZERO
+    assert plc.read_state() == (pyads.ADSSTATE_STOP, 0)
+    assert plc.read_by_name("MAIN.nDivisor") == 0  # stopped by the fault: clients read where it stopped
+    rt.reset_cold()
+    assert plc.read_state() == (pyads.ADSSTATE_RUN, 0)
