@@ -43,7 +43,7 @@ from typing import Any, TextIO
 from iecoop import PlcException, T
 from iecoop.cli.base import Command, Names, Served, UsageError, usage_errors
 from iecoop.cli.st import load_program, plc_task, translated
-from iecoop.cli.trace import add_trace_arguments, check_trace_options, write_trace
+from iecoop.cli.trace import Progress, add_trace_arguments, check_trace_options, write_trace
 from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Trace
 
@@ -286,7 +286,16 @@ def _run(served: Served, args: argparse.Namespace, out: TextIO) -> None:
     out.write(f"running in real time {how_long}\n")
     out.flush()
     if args.duration is not None:
-        runtime.run(duration=args.duration, realtime=True)
+        # On a terminal, the runtime's progress callback redraws a line as the PLC time passes.
+        screen = out if out.isatty() else None
+        total = args.duration // runtime.base_tick_ms
+        line = Progress(total, screen) if screen is not None and total else None
+        try:
+            runtime.run(duration=args.duration, realtime=True, progress_every=10,
+                        progress=None if line is None else lambda done, _total: line.update(done))
+        finally:
+            if line is not None:
+                line.clear()
         return
     while True:
         runtime.run(duration=_SLICE, realtime=True)

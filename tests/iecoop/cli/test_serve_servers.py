@@ -158,3 +158,19 @@ def test_modbus_map_codesys_lets_a_plant_simulator_write_the_inputs(
     out = io.StringIO()
     assert serve([str(plant), "--modbus", "0", "--modbus-map", "wago"], out, err) == 2
     assert "invalid choice: 'wago'" in capsys.readouterr().err
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_serve_for_a_duration_shows_its_progress_on_a_terminal(plant: Path) -> None:
+    out, err = _Terminal(), io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "300ms"], out, err) == 0
+    text = out.getvalue()
+    assert "\r[" + "#" * 30 + "] 100% 30/30 cycles" in text  # the runtime's progress callback, drawn
+    assert text.endswith("iecoop serve: stopped after 300 ms of PLC time\n")
+    piped = io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "50ms"], piped, err) == 0
+    assert "cycles," not in piped.getvalue() and "\r" not in piped.getvalue()
