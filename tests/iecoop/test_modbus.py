@@ -278,6 +278,10 @@ def test_the_top_of_the_address_space_and_a_request_beyond_the_protocol_limits(
         try:
             assert client.read_holding_registers(65535, count=1).registers == [0x0F0F]
             assert exception_code(client.read_holding_registers(65534, count=2)) == ILLEGAL_ADDRESS
+            # 124 registers in one write is beyond Modbus's 123: exception 3, illegal data value, nothing stored
+            assert exception_code(client.write_registers(65412, [1] * 124)) == 3
+            rt.run(cycles=1)
+            assert client.read_holding_registers(65535, count=1).registers == [0x0F0F]
         finally:
             client.close()
         # 126 registers in one read is beyond Modbus's 125: an exception, and the server goes on serving.

@@ -69,6 +69,8 @@ def rt() -> Iterator[Runtime]:
     GVL_Types.fLength = 0.0  # a GVL is one per process: each test starts from its initial values
     GVL_Types.stPoint.fX, GVL_Types.stPoint.nId, GVL_Types.stPoint.rWeight, GVL_Types.stPoint.sTag = 0.0, 0, 0.0, ""
     GVL_Types.stLimits.nLow = 0
+    for index, value in enumerate((1, 2, 3, 4)):
+        runtime.symbol(f"GVL_Types.aMatrix[{index // 2},{index % 2}]").store(value)
     yield runtime
     runtime.stop()
 
@@ -146,3 +148,34 @@ def test_the_state_is_stop_after_a_fault_and_run_again_after_a_reset(rt: Runtime
     assert plc.read_by_name("MAIN.nDivisor") == 0  # stopped by the fault: clients read where it stopped
     rt.reset_cold()
     assert plc.read_state() == (pyads.ADSSTATE_RUN, 0)
+
+
+def test_the_raw_symbol_upload_gives_each_size_type_and_address(rt: Runtime, plc: Any) -> None:
+    count, length = plc.read(0xF00C, 0, pyads.PLCTYPE_UDINT * 2)  # SYM_UPLOADINFO
+    data = bytes(plc.read(0xF00B, 0, pyads.PLCTYPE_BYTE * length))  # SYM_UPLOAD
+    entries = {}
+    position = 0
+    while position < len(data):
+        size, group, offset, nbytes, ads_type, _flags, name_len, type_len, _comment = struct.unpack_from(
+            "<IIIIIIHHH", data, position)
+        name = data[position + 30 : position + 30 + name_len].decode()
+        type_name = data[position + 31 + name_len : position + 31 + name_len + type_len].decode()
+        entries[name] = (group, offset, nbytes, ads_type, type_name)
+        position += size
+    assert len(entries) == count
+    assert {name: entry[2:] for name, entry in entries.items() if name.startswith(("MAIN.", "GVL_Types."))} == {
+        "MAIN.bGo": (1, pyads.constants.ADST_BIT, "BOOL"),
+        "MAIN.fRate": (8, pyads.constants.ADST_REAL64, "LREAL"),
+        "MAIN.nDivisor": (2, pyads.constants.ADST_INT16, "INT"),
+        "MAIN.nShare": (2, pyads.constants.ADST_INT16, "INT"),
+        "GVL_Types.fLength": (8, pyads.constants.ADST_REAL64, "LREAL"),
+        "GVL_Types.stPoint": (24, pyads.constants.ADST_BIGTYPE, "ST_TyPoint"),
+        "GVL_Types.aPoints": (48, pyads.constants.ADST_BIGTYPE, "ARRAY [1..2] OF ST_TyPoint"),
+        "GVL_Types.aMatrix": (8, pyads.constants.ADST_INT16, "ARRAY [0..1,0..1] OF INT"),
+        "GVL_Types.stLimits": (4, pyads.constants.ADST_BIGTYPE, "ST_TyLimits"),
+    }
+    rt.run(cycles=1)
+    group, offset = entries["MAIN.fRate"][:2]
+    assert plc.read(group, offset, pyads.PLCTYPE_LREAL) == 0.125 == plc.read_by_name("MAIN.fRate")
+    group, offset = entries["GVL_Types.aMatrix"][:2]
+    assert plc.read(group, offset + 2 * 3, pyads.PLCTYPE_INT) == plc.read_by_name("GVL_Types.aMatrix[1,1]") == 4
