@@ -224,19 +224,24 @@ class Trace:
         times = [row[1] for row in rows]
         figure, axes = pyplot.subplots(len(chosen), 1, sharex=True, squeeze=False,
                                        figsize=(8, 1.2 + 1.3 * len(chosen)))
-        for lane, path, index in zip(axes[:, 0], chosen, indices):
-            values = [_plain(row[index]) for row in rows]
-            if rows and isinstance(rows[0][index], bool):
-                # A digital signal holds its value until the next sample, as a scope draws it.
-                lane.step(times, values, where="post")
-                lane.set_yticks([0, 1], ["FALSE", "TRUE"])
-                lane.set_ylim(-0.2, 1.2)
-            else:
-                lane.plot(times, values)
-            lane.set_ylabel(path, rotation=0, ha="right", va="center")
-            lane.grid(True, alpha=0.3)
-        axes[-1, 0].set_xlabel("time (ms)")
-        figure.tight_layout()
+        try:
+            for lane, path, index in zip(axes[:, 0], chosen, indices):
+                # BOOLs and enumeration values as their numbers
+                values = [int(row[index]) if isinstance(row[index], int) else row[index] for row in rows]
+                if rows and isinstance(rows[0][index], bool):
+                    # A digital signal holds its value until the next sample, as a scope draws it.
+                    lane.step(times, values, where="post")
+                    lane.set_yticks([0, 1], ["FALSE", "TRUE"])
+                    lane.set_ylim(-0.2, 1.2)
+                else:
+                    lane.plot(times, values)
+                lane.set_ylabel(path, rotation=0, ha="right", va="center")
+                lane.grid(True, alpha=0.3)
+            axes[-1, 0].set_xlabel("time (ms)")
+            figure.tight_layout()
+        except BaseException:
+            pyplot.close(figure)
+            raise
         return figure
 
 
