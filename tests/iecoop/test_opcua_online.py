@@ -9,6 +9,8 @@ one; the runtime runs in the test's thread, a cycle at a time.
 
 from __future__ import annotations
 
+import socket
+import threading
 import time
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -142,3 +144,22 @@ def test_a_refused_force_forces_nothing(rt: Runtime, online: tuple[OpcUaServer, 
         assert status(lambda: methods.call_method(force, path, value)) == code, path
     rt.run(cycles=1)
     assert rt.forced == {}
+
+
+def test_a_stop_after_a_force_leaves_no_thread_and_no_port(rt: Runtime) -> None:
+    before = set(threading.enumerate())
+    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", online=True) as server:
+        port = server.port
+        client, idx = connected(server)
+        try:
+            methods = client.get_node(ua.NodeId("Online", idx))
+            methods.call_method(ua.NodeId("Online.Force", idx), "PlcTask.MAIN.bPump", True)
+            rt.run(cycles=1)  # taken at this cycle's start (a stop drops what no cycle has taken yet)
+        finally:
+            client.disconnect()
+    rt.run(cycles=1)
+    assert rt.forced == {"PlcTask.MAIN.bPump": True}  # the force is the runtime's: it outlives the server
+    assert [t.name for t in set(threading.enumerate()) - before if t.is_alive()] == []
+    with socket.socket() as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        probe.bind(("127.0.0.1", port))
