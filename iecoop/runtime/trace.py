@@ -190,7 +190,7 @@ class Trace:
         return frame.set_index("cycle")
 
     def plot(self, target: str | os.PathLike[str], paths: typing.Sequence[str] | None = None) -> Path:
-        """Draw the traced signals to ``target`` (``.png`` or ``.svg``): one lane each, BOOLs as steps, time in ms.
+        """Draw the traced signals to ``target`` (``.png`` or ``.svg``): one lane each, BOOLs and integers as steps.
 
         Needs matplotlib (``pip install iecoop[plot]``).
         """
@@ -207,7 +207,7 @@ class Trace:
         return target
 
     def figure(self, paths: typing.Sequence[str] | None = None) -> Any:
-        """The matplotlib ``Figure`` ``plot`` draws, a scope's view: one lane per signal, BOOLs as steps.
+        """The matplotlib ``Figure`` ``plot`` draws, a scope's view: one lane per signal, BOOLs and integers as steps.
 
         For a notebook or more drawing on it; ``pyplot.close(figure)`` frees it.
         """
@@ -217,6 +217,7 @@ class Trace:
             raise ImportError("Trace.plot() needs matplotlib: pip install iecoop[plot]") from None
         matplotlib.use("Agg")  # a file, never a window: works without a display
         from matplotlib import pyplot
+        from matplotlib.ticker import MaxNLocator
 
         chosen = list(self.paths if paths is None else paths)
         indices = [self._index(path) for path in chosen]
@@ -228,11 +229,15 @@ class Trace:
             for lane, path, index in zip(axes[:, 0], chosen, indices):
                 # BOOLs and enumeration values as their numbers
                 values = [int(row[index]) if isinstance(row[index], int) else row[index] for row in rows]
-                if rows and isinstance(rows[0][index], bool):
-                    # A digital signal holds its value until the next sample, as a scope draws it.
+                first = rows[0][index] if rows else None
+                if isinstance(first, int):
+                    # A digital or integer signal holds its value until the next sample, as a scope draws it.
                     lane.step(times, values, where="post")
-                    lane.set_yticks([0, 1], ["FALSE", "TRUE"])
-                    lane.set_ylim(-0.2, 1.2)
+                    if isinstance(first, bool):
+                        lane.set_yticks([0, 1], ["FALSE", "TRUE"])
+                        lane.set_ylim(-0.2, 1.2)
+                    else:
+                        lane.yaxis.set_major_locator(MaxNLocator(integer=True))
                 else:
                     lane.plot(times, values)
                 lane.set_ylabel(path, rotation=0, ha="right", va="center")

@@ -130,22 +130,24 @@ def test_plot_draws_one_lane_per_signal_to_png_or_svg(tmp_path: Path, suffix: st
 
 
 @pytest.mark.skipif(importlib.util.find_spec("matplotlib") is None, reason="matplotlib is not installed")
-def test_the_figure_draws_digital_signals_as_steps_and_numbers_as_lines() -> None:
+def test_the_figure_draws_digital_and_integer_signals_as_steps_and_reals_as_lines() -> None:
     from matplotlib import pyplot
 
     rt, _ = _runtime()
-    trace = rt.trace(["MAIN.count", "MAIN.lamp"])
+    trace = rt.trace(["MAIN.count", "MAIN.lamp", "MAIN.speed"])
     rt.run(cycles=6)
     figure = trace.figure()
     try:
-        count, lamp = figure.axes
-        assert count.lines[0].get_drawstyle() == "default"
+        count, lamp, speed = figure.axes
+        assert speed.lines[0].get_drawstyle() == "default"  # a REAL: a line from sample to sample
+        assert count.lines[0].get_drawstyle() == "steps-post"  # an INT holds its value, on whole-number ticks
+        assert all(tick == int(tick) for tick in count.get_yticks())
         assert list(count.lines[0].get_ydata()) == [1, 2, 3, 4, 5, 6]
         assert lamp.lines[0].get_drawstyle() == "steps-post"
         assert list(lamp.lines[0].get_ydata()) == [1, 0, 1, 0, 1, 0]
         assert [label.get_text() for label in lamp.get_yticklabels()] == ["FALSE", "TRUE"]
         assert list(lamp.lines[0].get_xdata()) == [0, 10, 20, 30, 40, 50]
-        assert lamp.get_xlabel() == "time (ms)" and count.get_ylabel() == "MAIN.count"
+        assert speed.get_xlabel() == "time (ms)" and count.get_ylabel() == "MAIN.count"
     finally:
         pyplot.close(figure)
 
