@@ -65,6 +65,8 @@ _log = logging.getLogger(__name__)
 _RAW = operator.attrgetter("raw")
 
 _VT = ua.VariantType
+#: Seconds between two looks for a fault that stopped the PLC mid-cycle.
+_FAULT_POLL = 0.05
 _INTEGERS = frozenset({_VT.SByte, _VT.Byte, _VT.Int16, _VT.UInt16, _VT.Int32, _VT.UInt32, _VT.Int64, _VT.UInt64})
 _NUMBERS = _INTEGERS | {_VT.Float, _VT.Double}
 _SIGNED = {1: _VT.SByte, 2: _VT.Int16, 4: _VT.Int32, 8: _VT.Int64}
@@ -784,6 +786,16 @@ class OpcUaServer:
                 previous = image
                 self._count_done()
 
+    async def _watch_faults(self) -> None:
+        """A faulted cycle has no cycle end: publish where the PLC stopped, so clients read its state."""
+        seen = self.runtime.fault
+        while True:
+            await asyncio.sleep(_FAULT_POLL)
+            fault = self.runtime.fault
+            if fault is not None and fault is not seen:
+                self._cycle_end()
+            seen = fault
+
     def _count_done(self) -> None:
         with self._progress:
             self._done += 1
@@ -878,7 +890,8 @@ class OpcUaServer:
                                     self._release_method, [_VT.String, _VT.Boolean], [])
         iserver.attribute_service = _PlcAttributeService(iserver.aspace, self, builder)
         await server.start()
-        helpers = [asyncio.create_task(self._publisher(server, first)), asyncio.create_task(_clock(server))]
+        helpers = [asyncio.create_task(self._publisher(server, first)), asyncio.create_task(_clock(server)),
+                   asyncio.create_task(self._watch_faults())]
         try:
             self._ready.set()
             await self._stop.wait()

@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, Program, T
+from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, PlcException, Program, T
 from iecoop.runtime import Runtime, Task
 
 asyncua = pytest.importorskip("asyncua")
@@ -35,10 +35,13 @@ class UaOnlineMain(Program, st_name="MAIN"):
     nCount: INT = VAR(0)
     aLevels: ARRAY[INT] = VAR([1, 2, 3], bounds=(1, 3))
     nMax: INT = VAR(10, constant=True)
+    nDivisor: INT = VAR_INPUT(1)
+    nShare: INT = VAR(0)
 
     def body(self) -> None:
         self.bPump = self.bFill
         self.nCount += 1
+        self.nShare = 100 // self.nDivisor
 
 
 @pytest.fixture
@@ -163,3 +166,21 @@ def test_a_stop_after_a_force_leaves_no_thread_and_no_port(rt: Runtime) -> None:
     with socket.socket() as probe:
         probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         probe.bind(("127.0.0.1", port))
+
+
+def test_after_a_fault_clients_read_where_the_plc_stopped(rt: Runtime) -> None:
+    with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0") as server:
+        client, idx = connected(server)
+        try:
+            rt.run(cycles=1)
+            divisor = client.get_node(ua.NodeId("PlcTask.MAIN.nDivisor", idx))
+            count = client.get_node(ua.NodeId("PlcTask.MAIN.nCount", idx))
+            wait_for(lambda: count.read_value() == 1, "the first cycle published")
+            divisor.write_value(ua.Variant(0, ua.VariantType.Int64))  # an input: writable by default
+            with pytest.raises(PlcException) as fault:
+                rt.run(cycles=1)
+            assert fault.value.code is ExceptionCode.RTSEXCPT_DIVIDEBYZERO
+            # The faulted cycle never ended, yet its state is what a client now reads: the cause, and the count.
+            wait_for(lambda: divisor.read_value() == 0 and count.read_value() == 2, "the faulted cycle published")
+        finally:
+            client.disconnect()
