@@ -244,6 +244,7 @@ class ModbusServer:
         self._values: tuple[Any, ...] = self._capture()
         self._pending: collections.deque[list[tuple[Symbol, Any]]] = collections.deque()
         self._echo: dict[tuple[Table, int], int] = {}
+        self._fault: object = None  # the fault the values were last refreshed for
         self._thread: threading.Thread | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._stop: asyncio.Event | None = None
@@ -292,6 +293,10 @@ class ModbusServer:
     # -- the server thread (pymodbus's datastore calls) -----------------------------
 
     def _read(self, table: Table, address: int, count: int) -> list[int] | list[bool] | ExcCodes:
+        fault = self.runtime.fault
+        if fault is not None and fault is not self._fault:
+            # A faulted cycle has no cycle end: the PLC stands still where it stopped, which the master then reads.
+            self._fault, self._values = fault, self._capture()
         values, cells, index = self._values, self._cells, self._index
         found = [cells.get((table, a)) for a in range(address, address + count)]
         if any(cell is None for cell in found):

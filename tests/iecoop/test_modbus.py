@@ -16,8 +16,8 @@ from typing import Any
 
 import pytest
 
-from iecoop import BOOL, DINT, INT, REAL, UINT, VAR, VAR_INPUT, VAR_OUTPUT, Program, T
-from iecoop.exceptions import AccessError
+from iecoop import BOOL, DINT, INT, REAL, UINT, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, Program, T
+from iecoop.exceptions import AccessError, PlcException
 from iecoop.runtime import Runtime, Task
 
 pytest.importorskip("pymodbus")
@@ -202,10 +202,11 @@ class MbMarkers(Program, st_name="MAIN"):
     nIn: INT = VAR_INPUT(0)  # AT %IW0
     nOut: INT = VAR_OUTPUT(0)  # AT %QW0
     nMask: UINT = VAR(0x0F0F)  # AT %MW1
+    nDivisor: INT = VAR_INPUT(1)  # AT %QW2
 
     def body(self) -> None:
         self.bOut = self.bIn
-        self.nOut = self.nIn * 2
+        self.nOut = self.nIn * 2 // self.nDivisor
 
 
 @pytest.fixture
@@ -291,3 +292,19 @@ def test_the_top_of_the_address_space_and_a_request_beyond_the_protocol_limits(
             assert reply[7] & 0x80 and len(reply) == 9
             sock.sendall(struct.pack(">HHHBBHH", 2, 0, 6, 1, 3, 65535, 1))
             assert sock.recv(64)[7:] == bytes([3, 2, 0x0F, 0x0F])
+
+
+def test_after_a_fault_the_master_reads_where_the_plc_stopped(markers: tuple[Runtime, MbMarkers]) -> None:
+    rt, _ = markers
+    located = {"MAIN.nIn": "%QW0", "MAIN.nOut": "%QW1", "MAIN.nDivisor": "%QW2"}
+    with ModbusServer(rt, port=0, located=located) as server:
+        client = connect(server.port)
+        try:
+            rt.run(cycles=1)
+            assert not client.write_registers(0, [21, 0, 0]).isError()  # nDivisor := 0
+            with pytest.raises(PlcException) as fault:
+                rt.run(cycles=1)
+            assert fault.value.code is ExceptionCode.RTSEXCPT_DIVIDEBYZERO
+            assert client.read_holding_registers(0, count=3).registers == [21, 0, 0]  # the state the fault left
+        finally:
+            client.close()
