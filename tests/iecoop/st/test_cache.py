@@ -341,3 +341,32 @@ def parse_tree_nodes(tree: Any) -> Iterator[Any]:
     from iecoop.st.read.trees import walk
 
     return walk(tree)
+
+
+def test_a_tree_the_entry_cannot_hold_is_parsed_each_time(project: pathlib.Path, parsed: list[str]) -> None:
+    """A string of blark's that is no text of the file has no place to be kept as: no entry, the file parsed again."""
+    from iecoop.st.read import nodedata
+
+    [(text, filename, line_map)] = list(parse._flat_sources(project / "FB_Calc.TcPOU"))
+    tree, comments = parse.parse_one(text, filename, line_map)
+    tree.items[0].name = "NotInTheText"
+    with pytest.raises(nodedata.Unencodable, match="not in the text"):
+        nodedata.nodes_to_data(tree, comments, text, filename)
+    assert cache.entry_data(tree, comments, text, filename) is None
+
+    real = parse.parse_one
+
+    def renamed(text: str, name: str, line_map: dict[int, tuple[str, int]]) -> Any:
+        done = real(text, name, line_map)
+        if name.endswith("FB_Calc.TcPOU"):
+            done[0].raw_source = "a text of blark's own"  # not the file's text: no place to keep it as
+        return done
+
+    import unittest.mock
+
+    with unittest.mock.patch.object(parse, "parse_one", renamed):
+        st.load(project)
+        assert _files(project / cache.CACHE_FOLDER) == {"MAIN.TcPOU.json"}
+        parsed.clear()
+        assert _divide(st.load(project), 5) == 20
+    assert parsed == ["FB_Calc.TcPOU"]
