@@ -7,7 +7,7 @@ are kept in ``__iecoop_cache__/<file>.json`` beside it (as ``__pycache__``
 keeps bytecode), or in the user's cache folder when that one cannot be
 written. An entry is used only when everything it was made from is the same:
 the flat ST text (its SHA-256), the versions of iecoop, blark, lark and
-Python, and the grammar used.
+Python, blark's grammar and transform files, and the grammar used.
 
 An entry is never trusted. It holds plain JSON (no pickle, nothing that runs
 on load: a node is one of blark's classes from a fixed table, given its
@@ -64,7 +64,7 @@ def user_cache_dir() -> pathlib.Path:
 
 @functools.lru_cache(maxsize=1)
 def versions() -> str:
-    """What a parse depends on besides the text: iecoop, blark, lark, Python and the entry format."""
+    """What a parse depends on besides the text: iecoop, blark (its version and files), lark, Python and the entry format."""
     from importlib.metadata import PackageNotFoundError, version
 
     found = []
@@ -73,7 +73,22 @@ def versions() -> str:
             found.append(f"{package}={version(package)}")
         except PackageNotFoundError:
             found.append(f"{package}=?")
-    return ";".join([*found, f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+    return ";".join([*found, f"blark-files={blark_files()}", f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+
+
+def blark_files() -> str:
+    """A digest of blark's grammar and transform as installed: a blark of the same version number that makes other
+    trees (a checkout, a patched copy) has other entries."""
+    import importlib.resources
+
+    digest = hashlib.sha256()
+    try:
+        package = importlib.resources.files("blark")
+        for name in ("iec.lark", "transform.py"):
+            digest.update(package.joinpath(name).read_bytes())
+    except (ModuleNotFoundError, OSError):
+        return "?"
+    return digest.hexdigest()[:16]
 
 
 def _key_file() -> pathlib.Path:

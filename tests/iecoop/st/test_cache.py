@@ -92,6 +92,36 @@ def test_a_version_change_invalidates(
     assert parsed == []
 
 
+def test_a_different_blark_of_the_same_version_invalidates(
+    project: pathlib.Path, parsed: list[str], monkeypatch: pytest.MonkeyPatch, request: pytest.FixtureRequest
+) -> None:
+    """blark's grammar or transform changed (a checkout, a patch) with its version number kept: the entries are not used."""
+    import importlib.resources
+
+    st.load(project)
+    parsed.clear()
+    real = importlib.resources.files("blark")
+
+    class Patched:
+        def joinpath(self, name: str) -> Any:
+            path = real.joinpath(name)
+            if name != "iec.lark":
+                return path
+
+            class Changed:
+                def read_bytes(self) -> bytes:
+                    return path.read_bytes() + b"\n// a patched grammar\n"
+
+            return Changed()
+
+    files = importlib.resources.files
+    monkeypatch.setattr(importlib.resources, "files", lambda package: Patched() if package == "blark" else files(package))
+    cache.versions.cache_clear()
+    request.addfinalizer(cache.versions.cache_clear)
+    st.load(project)
+    assert sorted(parsed) == ["FB_Calc.TcPOU", "MAIN.TcPOU"]
+
+
 @pytest.mark.parametrize("damage", [b"", b"not json at all", b"truncated"])
 def test_a_damaged_entry_is_ignored_and_rebuilt(project: pathlib.Path, parsed: list[str], damage: bytes) -> None:
     st.load(project)
