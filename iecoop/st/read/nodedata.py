@@ -10,8 +10,8 @@ that module's dataclasses, never imported by name) with its fields; a token
 or a string is a place in the flat ST text, its characters read back from the
 text; an enumeration value is a member of one of blark's enumerations. Making
 a node sets its fields and runs nothing (no ``__init__``, no descriptor).
-A tree that holds anything else is not encoded (``Unencodable``): the entry
-then keeps lark's tree instead.
+A tree that holds anything else is not encoded (``Unencodable``): its file
+then has no entry and is parsed on each load.
 
 Forms (a JSON list's first item says which):
 
@@ -44,7 +44,7 @@ _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
 class Unencodable(ValueError):
-    """The tree holds something the data form does not keep (it then is cached as lark's tree)."""
+    """The tree holds something the data form does not keep (its file then has no cache entry)."""
 
 
 @functools.cache
