@@ -400,3 +400,29 @@ def test_a_tree_the_entry_cannot_hold_is_parsed_each_time(project: pathlib.Path,
         parsed.clear()
         assert _divide(st.load(project), 5) == 20
     assert parsed == ["FB_Calc.TcPOU"]
+
+
+def test_a_load_leaves_the_cycle_collector_as_it_found_it() -> None:
+    """The collector is paused while loading (see st.load) and resumed after, when the load fails too."""
+    import gc
+
+    seen: list[bool] = []
+    plc = st.load("FUNCTION_BLOCK FB_A\nVAR_INPUT x : INT; END_VAR\nEND_FUNCTION_BLOCK\n", externals={})
+    assert gc.isenabled() and plc.FB_A is not None
+    real = parse.parse_sources
+
+    def watching(source: Any, **kwargs: Any) -> Any:
+        seen.append(gc.isenabled())
+        return real(source, **kwargs)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr("iecoop.st.parse_sources", watching)
+        with pytest.raises(st.StSyntaxError):
+            st.load("FUNCTION_BLOCK FB_B\nVAR x : INT END_VAR\nEND_FUNCTION_BLOCK\n")
+        assert gc.isenabled() and seen == [False]
+        gc.disable()
+        try:
+            st.load("FUNCTION_BLOCK FB_C\nEND_FUNCTION_BLOCK\n")
+            assert not gc.isenabled()  # paused by the caller: left paused
+        finally:
+            gc.enable()
