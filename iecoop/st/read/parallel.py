@@ -123,7 +123,8 @@ def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Result]:
         futures = {}
         if away:
             pool = stack.enter_context(concurrent.futures.ProcessPoolExecutor(len(away), mp_context=_context()))
-            futures = {index: pool.submit(parser.as_data, *flat[index]) for share in away for index in share}
+            sent = sorted((index for share in away for index in share), key=lambda i: -len(flat[i][0]))  # longest first
+            futures = {index: pool.submit(parser.as_data, *flat[index]) for index in sent}
         for index in here:
             text, name, line_map = flat[index]
             try:
