@@ -104,10 +104,10 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
     from iecoop.st.read.parallel import Parser, parse_files
 
     flat = list(_flat_sources(path))
-    raws = parse_files(flat, cache, Parser(raw_tree, parse_as_data, grammar_of))
+    parsed = parse_files(flat, cache, Parser(parse_one, parse_as_data, grammar_of))
     units = [
-        _parse_text(text, name, line_map) if raw is None else Unit(_transformed(text, name, line_map, raw)[0], name, line_map, raw[1])
-        for (text, name, line_map), raw in zip(flat, raws)
+        _parse_text(text, name, line_map) if done is None else Unit(done[0], name, line_map, done[1])
+        for (text, name, line_map), done in zip(flat, parsed)
     ]
     _check_gvl_names(units)
     return units
@@ -445,17 +445,15 @@ def _overlay_name() -> str:
 @functools.lru_cache(maxsize=128)
 def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
     """blark's tree and comment tokens for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
-    line_map = dict(line_map_items)
-    return _transformed(text, filename, line_map, raw_tree(text, filename, line_map))
+    return parse_one(text, filename, dict(line_map_items))
 
 
-def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]], raw: tuple[Any, tuple[Any, ...]]) -> Any:
-    """blark's transform of a raw lark tree (parsed now, in a worker, or read from the cache)."""
+def parse_one(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:
+    """blark's tree (its dataclasses) and comment tokens for the flat ``text``, or StSyntaxError naming the file and line."""
     import blark.transform as tf
     import lark
 
-    tree, comments = raw
-    _check_limits(tree, Unit(None, filename, line_map))
+    tree, comments = raw_tree(text, filename, line_map)  # the limits are checked on lark's tree
     try:
         return tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename)), comments
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
@@ -464,12 +462,11 @@ def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]],
         raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
 
 
-def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
-    """``raw_tree`` as JSON-able data (``read.cache.tree_to_data``): what a worker process hands back."""
-    from iecoop.st.read.cache import tree_to_data
+def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> dict[str, Any] | None:
+    """``parse_one`` as a cache entry's data (``read.cache.entry_data``): what a worker process hands back."""
+    from iecoop.st.read.cache import entry_data
 
-    tree, comments = raw_tree(text, filename, line_map)
-    return tree_to_data(tree), [tree_to_data(c) for c in comments]
+    return entry_data(*parse_one(text, filename, line_map), text, filename)
 
 
 def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:
