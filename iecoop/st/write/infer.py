@@ -10,6 +10,7 @@ answers ``typeof(node)``; the writers of expressions and statements build on it.
 from __future__ import annotations
 
 import ast
+import collections
 import enum
 import inspect
 import typing
@@ -88,6 +89,10 @@ class Inference:
         self.temp_names: dict[str, str] = {}
         #: The names the function binds (filled by translate()).
         self.bound: set[str] = set()
+        #: How often the function reads each name (filled by translate()): a temporary read nowhere else folds away.
+        self.reads: collections.Counter[str] = collections.Counter()
+        #: The lines of the function's source (filled by translate()).
+        self.source_lines: list[str] = []
         #: For each ``return value``, whether the value is a variable that outlives the call (see is_place()).
         self.return_places: list[bool] = []
 

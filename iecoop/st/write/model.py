@@ -386,8 +386,11 @@ def collect(source: Any) -> list[ClassMeta]:
         ]
     elif isinstance(source, (type, GlobalVariables)):
         candidates = [source]
+    elif _kind(type(source)) == "program":
+        candidates = [type(source)]
     else:
-        candidates = list(source)
+        # a PROGRAM instance (what st.load makes of a PROGRAM) is written as its class
+        candidates = [type(v) if _kind(type(v)) == "program" else v for v in source]
     seen: set[int] = set()
     metas: list[ClassMeta] = []
     for obj in candidates:

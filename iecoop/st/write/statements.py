@@ -11,18 +11,22 @@ from __future__ import annotations
 
 import ast
 import builtins
+import collections
+import dataclasses
+import enum
 import textwrap
 import typing
 from collections.abc import Iterator
 from typing import Any
 
 from iecoop._codegen import python_source
-from iecoop.metadata import kind_of
+from iecoop.metadata import field_record, kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
 from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
-from iecoop.st.write.infer import _DINT, _Untranslated, _constant_int, _fields_of, _from_iecoop, _is_name
+from iecoop.st.write.infer import _DINT, _Untranslated, _is_integer, _constant_int, _fields_of, _from_iecoop, _is_name
 from iecoop.st.write.model import StExportError, annotation_info, type_text
-from iecoop.st.write.loops import reader_loops
+from iecoop.st.write.cases import Branch, CaseForm, Label, case_form
+from iecoop.st.write.loops import number, reader_loops
 
 __all__ = ["BodyWriter", "StatementWriter"]
 
@@ -30,41 +34,51 @@ class StatementWriter(ExpressionWriter):
     """Translate one function of a POU into ST lines and the locals they need."""
 
     def translate(self) -> list[str]:
+        """The ST lines of the function: its tree read, the names it binds, its result variable, then its statements."""
+        node = self.function_tree()
+        self.bound = self.bound_names(node)
+        body = _statements(node)
+        self.result_local = self.result_variable(body)
+        # A final `return x` needs no RETURN after the result assignment.
+        self.block(body, 0, top=True)
+        return self.lines
+
+    def function_tree(self) -> ast.FunctionDef:
+        """The syntax tree of the function, from its source (the Python the reader made, for loaded ST)."""
         try:
             source = textwrap.dedent(python_source(self.func))
         except (OSError, TypeError) as exc:
             raise StExportError(f"{self.where_text()}: the source of {self.func.__qualname__} is not available ({exc})") from None
-        tree = ast.parse(source)
-        node = tree.body[0]
+        node = ast.parse(source).body[0]
         if not isinstance(node, ast.FunctionDef):
             raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
         self.source_lines = source.splitlines()
-        # Every name the function binds is an ST local for the whole body, so it hides a variable of the
-        # same name even in the statements before its first assignment: those read THIS^.name.
-        self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
-        if self.func.__name__ == "body":
-            # The body's locals named like a variable are renamed (see declare()): they hide nothing.
-            # ST names ignore case: a local axis is the variable Axis there.
-            variables = {f.lower() for f in self.fields}
-            for name in sorted(n for n in self.bound if n.lower() in variables):
-                self.temp_name(name)
-            self.bound -= set(self.temp_names)
-        body = list(node.body)
-        if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
-            body = body[1:]
-        if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
-            body = []
-        # The result variable as the ST reader writes it: a local named like the member (``Start: BOOL =
-        # False`` ... ``return Start``) is the member's own result, which ST declares by the member itself.
-        self.result_local = next(
+        self.reads = collections.Counter(n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
+        return node
+
+    def bound_names(self, node: ast.FunctionDef) -> set[str]:
+        """The names the function binds: each is an ST local for the whole body, so it hides a variable of the
+        same name even in the statements before its first assignment (those read ``THIS^.name``)."""
+        bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+        if self.func.__name__ != "body":
+            return bound
+        # The body's locals named like a variable are renamed (see declare()): they hide nothing.
+        # ST names ignore case: a local axis is the variable Axis there.
+        variables = {f.lower() for f in self.fields}
+        for name in sorted(n for n in bound if n.lower() in variables):
+            self.temp_name(name)
+        return bound - set(self.temp_names)
+
+    def result_variable(self, body: list[ast.stmt]) -> str | None:
+        """The result variable as the ST reader writes it: a local named like the member (``Start: BOOL = False``
+        ... ``return Start``) is the member's own result, which ST declares by the member itself."""
+        if self.result is None or isinstance(self.result, ReferenceInfo):
+            return None
+        return next(
             (stmt.target.id for stmt in body
-             if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and stmt.target.id == self.st_name
-             and self.result is not None and not isinstance(self.result, ReferenceInfo)),
+             if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and stmt.target.id == self.st_name),
             None,
         )
-        # A final `return x` needs no RETURN after the result assignment.
-        self.block(body, 0, top=True)
-        return self.lines
 
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
         start = self.statements_written
@@ -73,7 +87,7 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
-        body = reader_loops(body)
+        body = self.reader_cases(reader_loops(body, self.reads))
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
             mark = len(self.lines)
@@ -95,6 +109,29 @@ class StatementWriter(ExpressionWriter):
                 )
                 text = text.replace("(*", "( *").replace("*)", "* )")
                 self.lines.append("    " * depth + f"(* not translated, {exc.what} (line {line}): {text} *)")
+
+    def reader_cases(self, body: list[ast.stmt]) -> list[ast.stmt]:
+        """``body`` with each selector kept in a temporary and tested by the ``if`` after it as one CASE (the
+        temporary read nowhere else, the selector an integer or enumeration)."""
+        out: list[ast.stmt] = []
+        index = 0
+        while index < len(body):
+            stmt, following = body[index], body[index + 1] if index + 1 < len(body) else None
+            held = stmt.targets[0] if isinstance(stmt, ast.Assign) and len(stmt.targets) == 1 else None
+            if isinstance(stmt, ast.Assign) and isinstance(held, ast.Name) and isinstance(following, ast.If) and held.id not in self.params:
+                form = case_form(following, self.case_value, ast.Name(held.id, ast.Load()))
+                tests = sum(isinstance(n, ast.Name) and n.id == held.id for n in ast.walk(following) if n is not following)
+                in_bodies = form is not None and any(
+                    isinstance(n, ast.Name) and n.id == held.id
+                    for part in (*[b.body for b in form.branches], form.orelse) for s in part for n in ast.walk(s)
+                )
+                if form is not None and not in_bodies and tests == self.reads[held.id] and _is_integer(self.typeof(stmt.value)):
+                    out.append(ast.copy_location(CaseStatement(dataclasses.replace(form, subject=stmt.value)), stmt))
+                    index += 2
+                    continue
+            out.append(stmt)
+            index += 1
+        return out
 
     def write(self, depth: int, text: str) -> None:
         """Write one line at ``depth``, after the statements it needs first (a call's result kept in a temporary)."""
@@ -183,6 +220,12 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, "RETURN;")
 
     def visit_If(self, node: ast.If, depth: int, last: bool) -> None:
+        """``if`` / ``elif`` / ``else``: IF / ELSIF / ELSE, or CASE where every test compares one integer or
+        enumeration variable with distinct constants (see :mod:`.cases`)."""
+        form = case_form(node, self.case_value)
+        if form is not None and _is_integer(self.typeof(form.subject)):
+            self.write_case(form, depth)
+            return
         self.write(depth, f"IF {self.condition(node.test)} THEN")
         self.block(node.body, depth + 1)
         orelse = node.orelse
@@ -195,6 +238,40 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, "ELSE")
             self.block(orelse, depth + 1)
         self.write(depth, "END_IF")
+
+    def visit_CaseStatement(self, node: CaseStatement, depth: int, last: bool) -> None:
+        """A selector kept in a temporary, then tested (``_case1 = F(x)``, ``if _case1 == 1: ...``): ``CASE F(x) OF``."""
+        self.write_case(node.form, depth)
+
+    def case_value(self, node: ast.expr) -> int | None:
+        """The value of a CASE label: an integer literal, an enumeration component, a constant of a global list."""
+        value = number(node)
+        if value is not None or not isinstance(node, ast.Attribute):
+            return value
+        owner = self.constant_object(node.value)
+        if isinstance(owner, type) and kind_of(owner) == "enum":
+            member = getattr(owner, node.attr, None)
+            return int(member.value) if isinstance(member, enum.Enum) else None
+        holder = self.globals.get(node.value.id) if isinstance(node.value, ast.Name) and node.value.id not in self.locals else None
+        if kind_of(type(holder)) == "gvl" and node.attr in _fields_of(type(holder)) and field_record(type(holder), node.attr).spec.constant:
+            found = getattr(holder, node.attr)
+            return found if type(found) is int else None
+        return None
+
+    def write_case(self, form: CaseForm, depth: int) -> None:
+        """``CASE subject OF labels: ... ELSE ... END_CASE``."""
+        self.write(depth, f"CASE {self.expr(form.subject)[0]} OF")
+        for branch in form.branches:
+            labels = ", ".join(
+                self.expr(label.value)[0] + (f"..{self.expr(label.high)[0]}" if label.high is not None else "")
+                for label in branch.labels
+            )
+            self.write(depth + 1, f"{labels}:")
+            self.block(branch.body, depth + 2)
+        if form.orelse:
+            self.write(depth, "ELSE")
+            self.block(form.orelse, depth + 1)
+        self.write(depth, "END_CASE")
 
     def visit_For(self, node: ast.For, depth: int, last: bool) -> None:
         if node.orelse:
@@ -403,22 +480,20 @@ class StatementWriter(ExpressionWriter):
 
     def visit_Match(self, node: ast.Match, depth: int, last: bool) -> None:
         """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
-        self.write(depth, f"CASE {self.expr(node.subject)[0]} OF")
+        branches: list[Branch] = []
+        orelse: list[ast.stmt] = []
         for case in node.cases:
             if case.guard is not None:
                 self.fail(case.guard, "a case with a guard (write an if inside the case)")
             pattern = case.pattern
             if isinstance(pattern, ast.MatchAs) and pattern.pattern is None and pattern.name is None:
-                self.write(depth, "ELSE")
-                self.block(case.body, depth + 1)
+                orelse = case.body or [ast.Pass()]
                 continue
             options = pattern.patterns if isinstance(pattern, ast.MatchOr) else [pattern]
             if not all(isinstance(o, ast.MatchValue) for o in options):
                 self.fail(pattern, "a case pattern other than values, enumeration components and _")
-            labels = ", ".join(self.expr(typing.cast(ast.MatchValue, o).value)[0] for o in options)
-            self.write(depth + 1, f"{labels}:")
-            self.block(case.body, depth + 2)
-        self.write(depth, "END_CASE")
+            branches.append(Branch(tuple(Label(typing.cast(ast.MatchValue, o).value) for o in options), case.body))
+        self.write_case(CaseForm(node.subject, tuple(branches), orelse), depth)
 
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
@@ -632,6 +707,16 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
 
 
 
+class CaseStatement(ast.stmt):
+    """A CASE the reader wrote as a selector kept in a temporary and an ``if`` chain (see reader_cases())."""
+
+    _fields = ()
+
+    def __init__(self, form: CaseForm) -> None:
+        super().__init__()
+        self.form = form
+
+
 #: The writer of a body (its statements, expressions and types).
 BodyWriter = StatementWriter
 
@@ -639,3 +724,13 @@ BodyWriter = StatementWriter
 def _is_zero(value: ast.expr) -> bool:
     """A literal zero of any elementary type (``False``, ``0``, ``0.0``, ``""``): the value a result starts with."""
     return isinstance(value, ast.Constant) and value.value in (False, 0, 0.0, "") and value.value is not None
+
+
+def _statements(node: ast.FunctionDef) -> list[ast.stmt]:
+    """The statements of a function, without its docstring; none for an abstract one (``raise NotImplementedError``)."""
+    body = list(node.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+        body = body[1:]
+    if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
+        return []
+    return body

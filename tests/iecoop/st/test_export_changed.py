@@ -1,0 +1,124 @@
+"""A loaded POU changed in Python goes through the writer: CASE stays CASE, FOR stays FOR, a PROGRAM instance is written."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import blark.parse
+import pytest
+
+from iecoop import INT, REAL, VAR, FunctionBlock, Program, st
+from iecoop.st.export import StExportError
+
+CASES = """{attribute 'qualified_only'}
+TYPE E_Mode : (IDLE, RUN, STOP, FAULT) INT; END_TYPE
+{attribute 'qualified_only'}
+VAR_GLOBAL CONSTANT
+    cLimit : INT := 40;
+END_VAR
+PROGRAM MAIN
+VAR
+    eMode : E_Mode;
+    n : INT;
+    nSeen : INT;
+    nOut : INT;
+END_VAR
+n := n + 1;
+CASE eMode OF
+    E_Mode.IDLE:
+        eMode := E_Mode.RUN;
+    E_Mode.RUN, E_Mode.STOP:
+        nSeen := nSeen + 1;
+        IF n MOD 3 = 0 THEN eMode := E_Mode.FAULT; END_IF
+ELSE
+    eMode := E_Mode.IDLE;
+END_CASE
+CASE n MOD 7 OF
+    0: nOut := 1;
+    1..3: nOut := 2;
+    GVL_Limits.cLimit: nOut := 3;
+END_CASE
+END_PROGRAM
+"""
+
+
+def _run(plc: Any, cycles: int) -> list[tuple[object, ...]]:
+    rows: list[tuple[object, ...]] = []
+    for _ in range(cycles):
+        plc.MAIN()
+        rows.append((str(plc.MAIN.eMode), plc.MAIN.nSeen, plc.MAIN.nOut))
+    return rows
+
+
+def test_case_read_as_an_if_chain_is_written_as_case_and_runs_the_same() -> None:
+    plc = st.load(CASES.replace("VAR_GLOBAL CONSTANT", "// GVL GVL_Limits\nVAR_GLOBAL CONSTANT", 1))
+    text = st.dump(plc, lenient=False)
+    assert "CASE eMode OF" in text and "E_Mode.RUN, E_Mode.STOP:" in text and "ELSIF" not in text
+    assert "CASE n MOD 7 OF" in text and "1..3:" in text  # the reader's temporary selector folded back
+    assert "_case" not in text
+    blark.parse.parse_source_code(text)
+    assert _run(st.load(text), 30) == _run(plc, 30)
+
+
+class TwoTests(Program):
+    x: INT = VAR(0)
+    y: INT = VAR(0)
+    r: REAL = VAR(0.0)
+
+    def body(self) -> None:
+        if self.x == 1:
+            self.y = 1
+        elif self.x == 1:  # never runs in Python; ST refuses a label twice
+            self.y = 2
+        if self.r == 1:
+            self.y = 3
+        elif self.r == 2:  # CASE takes no REAL
+            self.y = 4
+        if self.x == 2:
+            self.y = 5
+        elif self.x == 3 or self.x == 4:
+            self.y = 6
+        else:
+            self.y = 7
+
+
+def test_a_python_chain_is_case_only_where_case_means_the_same() -> None:
+    text = st.dump([TwoTests])
+    assert text.count("ELSIF") == 2  # the repeated label and the REAL stay IF chains
+    assert "CASE x OF\n    2:\n        y := 5;\n    3, 4:\n        y := 6;\nELSE\n    y := 7;\nEND_CASE" in text
+
+
+class ForElse(FunctionBlock):
+    n: INT = VAR(0)
+
+    def body(self) -> None:
+        for self.n in range(3):
+            pass
+        else:
+            self.n = 99  # not where FOR leaves the variable (3): no FOR form
+
+
+def test_a_for_else_that_sets_another_value_is_refused() -> None:
+    with pytest.raises(StExportError, match="for ... else"):
+        st.dump([ForElse])
+
+
+def test_a_made_range_read_after_its_loop_is_not_folded_away() -> None:
+    class Made(FunctionBlock):
+        n: INT = VAR(0)
+        k: INT = VAR(4)
+
+        def body(self) -> None:
+            _for1 = range(1, self.k)
+            for i in _for1:
+                self.n += i
+            self.n += len(_for1)  # the range is read again: not the reader's form
+
+    with pytest.raises(StExportError, match="_for1"):
+        st.dump([Made])
+
+
+def test_a_program_instance_is_written_as_its_program() -> None:
+    plc = st.load("PROGRAM MAIN\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
+    text = st.dump([plc.MAIN])
+    assert text.startswith("PROGRAM MAIN") and "n := n + 1;" in text
