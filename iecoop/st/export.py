@@ -6,6 +6,7 @@ FUNCTION_BLOCK or INTERFACE it belongs to); ``export`` writes a folder.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 import types
@@ -15,6 +16,7 @@ from typing import Any
 
 from iecoop.libraries import Library
 from iecoop.st.read.origin import Source, fingerprint
+from iecoop.st.write.recorded import Declared, recorded
 from iecoop.st.write.references import plcproj, used_libraries
 from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
 
@@ -28,10 +30,21 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
         meta for meta in with_dependencies(collect(classes_or_module))
         if meta.name.lower() not in kept and not _other_loaded_project(meta.cls, classes_or_module)
     ]
+    # A loaded object that goes through the writer keeps what its source declared beyond its class.
+    found_in_source = _declared(classes_or_module, [meta.name for meta in metas])
+    metas = [dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower())) for meta in metas]
     found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
     if report is not None:
         report.extend(untranslated)
     return [unit for unit in found if unit.name.lower() not in kept]
+
+
+def _declared(source: Any, names: list[str]) -> dict[str, Declared]:
+    """What the ST source of a module ``st.load`` made declared of objects ``names`` beyond their classes."""
+    if not (isinstance(source, types.ModuleType) and hasattr(source, "__st_sources__")):
+        return {}
+    recorded_names = {name.lower(): name for name in source.__st_sources__}
+    return recorded(source, [recorded_names[n.lower()] for n in names if n.lower() in recorded_names])
 
 
 def _other_loaded_project(cls: Any, source: Any) -> bool:

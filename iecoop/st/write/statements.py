@@ -12,25 +12,24 @@ from __future__ import annotations
 import ast
 import builtins
 import collections
-import dataclasses
-import enum
 import textwrap
 import typing
 from collections.abc import Iterator
 from typing import Any
 
 from iecoop._codegen import python_source
-from iecoop.metadata import field_record, kind_of
+from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
-from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
+from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS
 from iecoop.st.write.infer import _DINT, _Untranslated, _is_integer, _constant_int, _fields_of, _from_iecoop, _is_name
 from iecoop.st.write.model import StExportError, annotation_info, type_text
 from iecoop.st.write.cases import Branch, CaseForm, Label, case_form
-from iecoop.st.write.loops import number, reader_loops
+from iecoop.st.write.forms import ReaderForms, TryStatement
+from iecoop.st.write.loops import reader_loops, same_variable
 
 __all__ = ["BodyWriter", "StatementWriter"]
 
-class StatementWriter(ExpressionWriter):
+class StatementWriter(ReaderForms):
     """Translate one function of a POU into ST lines and the locals they need."""
 
     def translate(self) -> list[str]:
@@ -87,7 +86,7 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
-        body = self.reader_cases(reader_loops(body, self.reads))
+        body = self.reader_tries(self.reader_cases(reader_loops(body, self.reads)))
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
             mark = len(self.lines)
@@ -109,29 +108,6 @@ class StatementWriter(ExpressionWriter):
                 )
                 text = text.replace("(*", "( *").replace("*)", "* )")
                 self.lines.append("    " * depth + f"(* not translated, {exc.what} (line {line}): {text} *)")
-
-    def reader_cases(self, body: list[ast.stmt]) -> list[ast.stmt]:
-        """``body`` with each selector kept in a temporary and tested by the ``if`` after it as one CASE (the
-        temporary read nowhere else, the selector an integer or enumeration)."""
-        out: list[ast.stmt] = []
-        index = 0
-        while index < len(body):
-            stmt, following = body[index], body[index + 1] if index + 1 < len(body) else None
-            held = stmt.targets[0] if isinstance(stmt, ast.Assign) and len(stmt.targets) == 1 else None
-            if isinstance(stmt, ast.Assign) and isinstance(held, ast.Name) and isinstance(following, ast.If) and held.id not in self.params:
-                form = case_form(following, self.case_value, ast.Name(held.id, ast.Load()))
-                tests = sum(isinstance(n, ast.Name) and n.id == held.id for n in ast.walk(following) if n is not following)
-                in_bodies = form is not None and any(
-                    isinstance(n, ast.Name) and n.id == held.id
-                    for part in (*[b.body for b in form.branches], form.orelse) for s in part for n in ast.walk(s)
-                )
-                if form is not None and not in_bodies and tests == self.reads[held.id] and _is_integer(self.typeof(stmt.value)):
-                    out.append(ast.copy_location(CaseStatement(dataclasses.replace(form, subject=stmt.value)), stmt))
-                    index += 2
-                    continue
-            out.append(stmt)
-            index += 1
-        return out
 
     def write(self, depth: int, text: str) -> None:
         """Write one line at ``depth``, after the statements it needs first (a call's result kept in a temporary)."""
@@ -238,40 +214,6 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, "ELSE")
             self.block(orelse, depth + 1)
         self.write(depth, "END_IF")
-
-    def visit_CaseStatement(self, node: CaseStatement, depth: int, last: bool) -> None:
-        """A selector kept in a temporary, then tested (``_case1 = F(x)``, ``if _case1 == 1: ...``): ``CASE F(x) OF``."""
-        self.write_case(node.form, depth)
-
-    def case_value(self, node: ast.expr) -> int | None:
-        """The value of a CASE label: an integer literal, an enumeration component, a constant of a global list."""
-        value = number(node)
-        if value is not None or not isinstance(node, ast.Attribute):
-            return value
-        owner = self.constant_object(node.value)
-        if isinstance(owner, type) and kind_of(owner) == "enum":
-            member = getattr(owner, node.attr, None)
-            return int(member.value) if isinstance(member, enum.Enum) else None
-        holder = self.globals.get(node.value.id) if isinstance(node.value, ast.Name) and node.value.id not in self.locals else None
-        if kind_of(type(holder)) == "gvl" and node.attr in _fields_of(type(holder)) and field_record(type(holder), node.attr).spec.constant:
-            found = getattr(holder, node.attr)
-            return found if type(found) is int else None
-        return None
-
-    def write_case(self, form: CaseForm, depth: int) -> None:
-        """``CASE subject OF labels: ... ELSE ... END_CASE``."""
-        self.write(depth, f"CASE {self.expr(form.subject)[0]} OF")
-        for branch in form.branches:
-            labels = ", ".join(
-                self.expr(label.value)[0] + (f"..{self.expr(label.high)[0]}" if label.high is not None else "")
-                for label in branch.labels
-            )
-            self.write(depth + 1, f"{labels}:")
-            self.block(branch.body, depth + 2)
-        if form.orelse:
-            self.write(depth, "ELSE")
-            self.block(form.orelse, depth + 1)
-        self.write(depth, "END_CASE")
 
     def visit_For(self, node: ast.For, depth: int, last: bool) -> None:
         if node.orelse:
@@ -452,21 +394,8 @@ class StatementWriter(ExpressionWriter):
         if not self.catches_all_faults(handler.type, node.body):
             self.fail(handler, "an except clause other than except PlcException, except (PlcException, ZeroDivisionError) "
                       "or except Exception (__CATCH catches every runtime fault, a division by zero too)")
-        self.write(depth, "__TRY")
-        self.block(node.body, depth + 1)
-        if handler.name is not None:
-            self.catch_vars.add(handler.name)
-            self.declare(handler.name, "__SYSTEM.ExceptionCode", node)
-            self.write(depth, f"__CATCH({handler.name})")
-        else:
-            name = self.fresh_name("exc")
-            self.declare(name, "__SYSTEM.ExceptionCode", node)
-            self.write(depth, f"__CATCH({name})")
-        self.block(handler.body, depth + 1)
-        if node.finalbody:
-            self.write(depth, "__FINALLY")
-            self.block(node.finalbody, depth + 1)
-        self.write(depth, "__ENDTRY")
+        name = handler.name if handler.name is not None else self.fresh_name("exc")
+        self.visit_TryStatement(ast.copy_location(TryStatement(node.body, name, handler.body, node.finalbody), node), depth, last)
 
     def catches_all_faults(self, node: ast.expr | None, body: list[ast.stmt]) -> bool:
         """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch: a
@@ -563,6 +492,16 @@ class StatementWriter(ExpressionWriter):
             self.assign_one(t, ast.Name(held[i], ast.Load()) if i in held else v, depth, node)
 
     def assign_one(self, target: ast.expr, value: ast.expr, depth: int, node: ast.stmt) -> None:
+        if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or) and len(value.values) == 2 and _is_null_call(value.values[1], self):
+            # ``b = query_interface(a, IB) or null(IB)``: __QUERYINTERFACE leaves 0 in b where a has no IB
+            value = value.values[0]
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "set_bit") and len(value.args) == 3 and same_variable(value.args[0], target):
+            # ``x = set_bit(x, 3, flag)`` is ST's bit access ``x.3 := flag;``
+            bit = _constant_int(value.args[1])
+            if bit is None:
+                self.fail(node, "set_bit() with a bit number that is not a constant")
+            self.write(depth, f"{self.target(target)}.{bit} := {self.expr(value.args[2])[0]};")
+            return
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
             source, _iface = self.operator_args(value, 2)
             self.maybe_declare(target, value, node)
@@ -707,18 +646,13 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
 
 
 
-class CaseStatement(ast.stmt):
-    """A CASE the reader wrote as a selector kept in a temporary and an ``if`` chain (see reader_cases())."""
-
-    _fields = ()
-
-    def __init__(self, form: CaseForm) -> None:
-        super().__init__()
-        self.form = form
-
-
 #: The writer of a body (its statements, expressions and types).
 BodyWriter = StatementWriter
+
+
+def _is_null_call(node: ast.expr, writer: StatementWriter) -> bool:
+    """``null(ITF)``: iecoop's null interface reference."""
+    return isinstance(node, ast.Call) and writer.resolves_to(node.func, "null") and _from_iecoop(writer.globals.get("null"))
 
 
 def _is_zero(value: ast.expr) -> bool:

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import pathlib
 from typing import Any
 
 import blark.parse
 import pytest
 
-from iecoop import INT, REAL, VAR, FunctionBlock, Program, st
+from iecoop import BOOL, INT, REAL, VAR, FunctionBlock, Program, st
 from iecoop.st.export import StExportError
+from iecoop.st.write.recorded import Bound, recorded
 
 CASES = """{attribute 'qualified_only'}
 TYPE E_Mode : (IDLE, RUN, STOP, FAULT) INT; END_TYPE
@@ -122,3 +124,63 @@ def test_a_program_instance_is_written_as_its_program() -> None:
     plc = st.load("PROGRAM MAIN\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
     text = st.dump([plc.MAIN])
     assert text.startswith("PROGRAM MAIN") and "n := n + 1;" in text
+
+
+FILL_STATION = pathlib.Path(__file__).parent / "data" / "projects" / "FillStation" / "FillStation.plcproj"
+
+
+def test_written_objects_keep_pragmas_addresses_and_bounds_by_name(tmp_path: pathlib.Path) -> None:
+    plc = st.load(FILL_STATION)
+    # another format than the one read: every object goes through the writer
+    written = {p.stem: p.read_text() for p in st.export(plc, tmp_path, format="st")}
+    assert written["E_FillState"].startswith(
+        "{attribute 'qualified_only'}\n{attribute 'strict'}\n{attribute 'to_string'}\n// States of the filling station\nTYPE E_FillState :")
+    assert "bStartButton AT %I* : BOOL;" in written["GVL_IO"] and "bValveOpen AT %Q* : BOOL;" in written["GVL_IO"]
+    assert "qualified_only" not in written["GVL_IO"]  # the list had none: GVL_IO.bStartButton and bStartButton both work
+    assert written["GVL_Param"].count("{attribute 'qualified_only'}") == 1
+    assert "aAlarms : ARRAY[1..GVL_Param.cMaxAlarms] OF ST_Alarm;" in written["FB_Alarms"]
+    assert "CASE eState OF" in written["MAIN"] and "ELSIF" not in written["MAIN"]
+    for text in written.values():
+        blark.parse.parse_source_code(text)
+
+
+def test_a_changed_block_keeps_its_bounds_by_name_while_they_hold(tmp_path: pathlib.Path) -> None:
+    plc = st.load(FILL_STATION)
+    source = (FILL_STATION.parent / "POUs" / "FB_Alarms.TcPOU").read_bytes()
+
+    def Raise(self: Any, nCode: INT = 0) -> BOOL:  # noqa: N802 - ST name
+        self.nCount = nCode
+        return True
+
+    plc.FB_Alarms.Raise = Raise
+    written = {p.name: p.read_bytes() for p in st.export(plc, tmp_path, format="twincat")}
+    assert written["FB_Alarms.TcPOU"] != source
+    assert b"aAlarms : ARRAY[1..GVL_Param.cMaxAlarms] OF ST_Alarm;" in written["FB_Alarms.TcPOU"]
+    assert b"nCount := nCode;" in written["FB_Alarms.TcPOU"]
+    assert written["MAIN.TcPOU"] == (FILL_STATION.parent / "POUs" / "MAIN.TcPOU").read_bytes()
+
+
+def test_bounds_by_name_are_written_only_while_they_give_the_class_bounds() -> None:
+    plc = st.load("""// GVL GVL_P
+{attribute 'qualified_only'}
+VAR_GLOBAL CONSTANT
+    cN : INT := 4;
+END_VAR
+FUNCTION_BLOCK FB_A
+VAR
+    a : ARRAY[0..GVL_P.cN - 1] OF INT;
+END_VAR
+END_FUNCTION_BLOCK
+""")
+    (declared,) = recorded(plc, ["FB_A"]).values()
+    assert declared.dimensions("A", ((0, 3),)) == (Bound("0", "GVL_P.cN - 1", (0, 3)),)
+    assert declared.dimensions("a", ((0, 4),)) is None  # the class says otherwise: its numbers are written
+    assert "a : ARRAY[0..GVL_P.cN - 1] OF INT;" in st.dump(plc)
+
+
+def test_a_flat_global_list_goes_back_out_as_written(tmp_path: pathlib.Path) -> None:
+    source = "// GVL GVL_A\n{attribute 'qualified_only'}\nVAR_GLOBAL\n  x AT %QX0.1 : BOOL;   // the lamp\nEND_VAR\n"
+    plc = st.load(source)
+    assert [p.read_text() for p in st.export(plc, tmp_path / "st", format="st")] == [source]
+    tc = st.export(plc, tmp_path / "tc", format="twincat")[0].read_text()
+    assert "x AT %QX0.1 : BOOL;" in tc and tc.count("qualified_only") == 1
