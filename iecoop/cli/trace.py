@@ -62,6 +62,7 @@ __all__ = [
     "elementary_variables",
     "fault_text",
     "run_cycles",
+    "run_streamed",
     "show",
     "st_path",
     "table",
@@ -385,6 +386,39 @@ class RowWriter:
         if self.progress is not None:
             self.progress.clear()
         self.out.flush()
+
+
+#: A run that streams: ``run(on_start=..., on_row=..., progress=...)`` gives the trace (see :func:`run_cycles`).
+StreamedRun = Callable[..., TraceTable]
+
+
+def run_streamed(run: StreamedRun, cycles: int, out: TextIO, err: TextIO, header: Callable[[TraceTable], str], command: str) -> TraceTable | None:
+    """Run ``run`` with its rows written as the cycles end, after the ``header`` line of the trace.
+
+    On a terminal a progress line follows the rows (on stdout; into a pipe it goes to stderr if that is a
+    terminal, else nowhere: the reader gets the rows alone) for runs of :data:`PROGRESS_THRESHOLD` cycles
+    or more. Ctrl+C ends the run: ``"<command>: interrupted after cycle N"`` on ``err``, and None.
+    """
+    screen = out if out.isatty() else err if err.isatty() else None
+    progress = Progress(cycles, screen) if screen is not None and cycles >= PROGRESS_THRESHOLD else None
+    rows: list[RowWriter] = []
+
+    def start(trace: TraceTable) -> None:
+        out.write(header(trace) + "\n")
+        rows.append(RowWriter(trace.labels, out, last_time=(cycles - 1) * trace.tick_ms, last_cycle=cycles,
+                              widths=trace.widths, progress=progress))
+
+    try:
+        return run(on_start=start, on_row=lambda row: rows[0].row(row), progress=progress.update if progress is not None else None)
+    except KeyboardInterrupt:
+        if rows:
+            rows[0].close()
+        done = progress.done if progress is not None else 0
+        err.write(f"\n{command}: interrupted{f' after cycle {done}' if done else ''}\n")
+        return None
+    finally:
+        if rows:
+            rows[0].close()
 
 
 # ---------------------------------------------------------------------------
