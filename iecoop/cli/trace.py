@@ -134,7 +134,14 @@ def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
         return format(value, fmt or ".2f")
     if fmt:
         return format(value, fmt)
+    if isinstance(value, str):
+        # a STRING with a line break ($N) or another control character would break the table's row
+        return "".join(_CONTROL.get(char, f"${ord(char):02X}") if ord(char) < 32 or char == "\x7f" else char for char in value)
     return str(value)
+
+
+#: ST's escapes of the control characters a STRING may hold (IEC 61131-3: $N, $R, $T, $L, $P).
+_CONTROL = {"\n": "$N", "\r": "$R", "\t": "$T", "\f": "$P"}
 
 
 def tasks_text(runtime: Runtime) -> str:
@@ -461,8 +468,10 @@ def elementary_variables(cls: type[Program], limit: int = 5) -> list[tuple[str, 
     direct = _declared(sample, Program, (Section.VAR_OUTPUT, Section.VAR))
     chosen = [(name, kind) for name, kind in direct if kind not in _NOT_ELEMENTARY]
     for name, kind in direct:
+        if kind != TYPE_CLASS.TYPE_USERDEF:
+            continue  # a REFERENCE TO or POINTER TO is never read here: unbound, reading it faults
         block = getattr(sample, name, None)
-        if kind == TYPE_CLASS.TYPE_USERDEF and kind_of(type(block)) is Kind.FUNCTION_BLOCK:
+        if kind_of(type(block)) is Kind.FUNCTION_BLOCK:
             outputs = _declared(block, FunctionBlock, (Section.VAR_OUTPUT,))
             chosen += [(f"{name}.{inner}", k) for inner, k in outputs if k not in _NOT_ELEMENTARY]
     if not chosen:

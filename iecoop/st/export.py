@@ -116,7 +116,9 @@ def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: st
         libraries = _referenced(classes_or_module, used_libraries(unit.meta for unit in found if unit.meta is not None))
         if libraries or kept:  # a project file, so loading the folder binds the libraries again
             name = _project_name(classes_or_module, found)
-            files.append((f"{name}.plcproj", plcproj(name, [file_name for file_name, _ in files], libraries)))
+            tasks = _task_files(classes_or_module)
+            files.append((f"{name}.plcproj", plcproj(name, [file_name for file_name, _ in files], libraries, [n for n, _ in tasks])))
+            files += tasks
     elif format == "st":
         files += [(f"{unit.name}.st", flat_text(unit)) for unit in found]
     else:
@@ -135,6 +137,22 @@ def _referenced(source: Any, libraries: list[Library]) -> list[Library]:
         for reference in getattr(source, "__st_references__", ()) if isinstance(source, types.ModuleType)
     ]
     return kept + [library for library in libraries if library.name.lower() not in {k.name.lower() for k in kept}]
+
+
+def _task_files(source: Any) -> list[tuple[str, bytes]]:
+    """The task files (``.TcTTO``) of the TwinCAT project a module was loaded from, as read: the exported
+    project runs on the same cycle time and priority (``iecoop st run`` reads them)."""
+    project = getattr(source, "__st_project__", None) if isinstance(source, types.ModuleType) else None
+    origins = [o for o in (getattr(source, "__st_sources__", None) or {}).values() if o.format == "twincat"]
+    if not isinstance(project, str) or not origins:
+        return []
+    path = Path(origins[0].file).resolve()
+    folder = next((parent for parent in list(path.parents)[:4] if (parent / f"{project}.plcproj").is_file()), None)
+    if folder is None:
+        return []
+    found = sorted(p for p in folder.rglob("*.TcTTO") if p.is_file() and not p.is_symlink())
+    names = [p.name for p in found]
+    return [(p.name, p.read_bytes()) for p in found if names.count(p.name) == 1]
 
 
 def _kept_name(origin: Source) -> str:

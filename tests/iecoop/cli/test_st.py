@@ -93,3 +93,17 @@ def test_st_run_into_a_pipe_writes_the_rows_alone() -> None:
     status, out, err = call(st_run, str(PROJECTS / "FillStation"), "--cycles", "1500", "--trace", "MAIN.eState")
     assert (status, err) == (0, "")
     assert "\r" not in out and out.splitlines()[-1].split()[:2] == ["7495", "1500"]
+
+
+def test_an_exported_project_runs_on_its_task_and_strings_stay_on_their_row(tmp_path: pathlib.Path) -> None:
+    # PackLine's MAIN holds an unbound REFERENCE TO (refGoal): picking the default columns does not read it
+    assert main(["export", str(PROJECTS / "PackLine"), "-o", str(tmp_path / "out")]) == 0
+    assert (tmp_path / "out" / "PlcTask.TcTTO").read_bytes() == (PROJECTS / "PackLine" / "PlcTask.TcTTO").read_bytes()
+    assert '<None Include="PlcTask.TcTTO">' in (tmp_path / "out" / "PackLine.plcproj").read_text()
+    status, out, err = call(st_run, str(tmp_path / "out"), "--cycles", "8", "--trace", "MAIN.sText")
+    assert (status, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0].startswith("MAIN on PlcTask (2 ms)")  # <CycleTime>20000</CycleTime>
+    assert lines[3].split() == ["10", "6", "zero", "pack$N"]  # 'pack$N' holds a line break: shown as ST writes it
+    status, out, _ = call(st_run, str(PROJECTS / "PackLine"), "--cycles", "2")
+    assert status == 0 and out.splitlines()[1].split()[:3] == ["time", "ms", "cycle"]
