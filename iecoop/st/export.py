@@ -31,7 +31,7 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
         if meta.name.lower() not in kept and not _other_loaded_project(meta.cls, classes_or_module)
     ]
     # A loaded object that goes through the writer keeps what its source declared beyond its class.
-    found_in_source = _declared(classes_or_module, [meta.name for meta in metas])
+    found_in_source = _declared(metas)
     metas = [dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower())) for meta in metas]
     found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
     if report is not None:
@@ -39,12 +39,19 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
     return [unit for unit in found if unit.name.lower() not in kept]
 
 
-def _declared(source: Any, names: list[str]) -> dict[str, Declared]:
-    """What the ST source of a module ``st.load`` made declared of objects ``names`` beyond their classes."""
-    if not (isinstance(source, types.ModuleType) and hasattr(source, "__st_sources__")):
-        return {}
-    recorded_names = {name.lower(): name for name in source.__st_sources__}
-    return recorded(source, [recorded_names[n.lower()] for n in names if n.lower() in recorded_names])
+def _declared(metas: list[Any]) -> dict[str, Declared]:
+    """What the ST source of each class ``st.load`` made (of the module exported or picked one by one) declared
+    beyond the class, by lower-case ST name."""
+    found: dict[str, Declared] = {}
+    by_module: dict[str, list[str]] = {}
+    for meta in metas:
+        module = sys.modules.get(getattr(meta.cls, "__module__", "") or "")
+        recorded_names = {name.lower(): name for name in getattr(module, "__st_sources__", None) or {}}
+        if module is not None and meta.name.lower() in recorded_names:
+            by_module.setdefault(module.__name__, []).append(recorded_names[meta.name.lower()])
+    for module_name, names in by_module.items():
+        found.update(recorded(sys.modules[module_name], names))
+    return found
 
 
 def _other_loaded_project(cls: Any, source: Any) -> bool:

@@ -93,6 +93,8 @@ class Inference:
         self.reads: collections.Counter[str] = collections.Counter()
         #: The lines of the function's source (filled by translate()).
         self.source_lines: list[str] = []
+        #: The comments of the source on lines of their own, (line, text), not written yet (filled by translate()).
+        self.comments: list[tuple[int, str]] = []
         #: For each ``return value``, whether the value is a variable that outlives the call (see is_place()).
         self.return_places: list[bool] = []
 

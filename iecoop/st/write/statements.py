@@ -12,6 +12,8 @@ from __future__ import annotations
 import ast
 import builtins
 import collections
+import io
+import tokenize
 import textwrap
 import typing
 from collections.abc import Iterator
@@ -40,7 +42,15 @@ class StatementWriter(ReaderForms):
         self.result_local = self.result_variable(body)
         # A final `return x` needs no RETURN after the result assignment.
         self.block(body, 0, top=True)
+        self.comments_before(None, 0)
         return self.lines
+
+    def comments_before(self, line: int | None, depth: int) -> None:
+        """Write the comments of the source's own lines before ``line`` (all that are left, for None) as ST's ``//``
+        comments: what the ST or Python said about its statements stays with them."""
+        while self.comments and (line is None or self.comments[0][0] < line):
+            _, text = self.comments.pop(0)
+            self.lines.append("    " * depth + (f"// {text}" if text else "//"))
 
     def function_tree(self) -> ast.FunctionDef:
         """The syntax tree of the function, from its source (the Python the reader made, for loaded ST)."""
@@ -52,6 +62,7 @@ class StatementWriter(ReaderForms):
         if not isinstance(node, ast.FunctionDef):
             raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
         self.source_lines = source.splitlines()
+        self.comments = _line_comments(source)
         self.reads = collections.Counter(n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
         return node
 
@@ -89,6 +100,8 @@ class StatementWriter(ReaderForms):
         body = self.reader_tries(self.reader_cases(reader_loops(body, self.reads)))
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
+            if isinstance(getattr(stmt, "lineno", None), int):
+                self.comments_before(stmt.lineno, depth)
             mark = len(self.lines)
             saved = (dict(self.locals), set(self.references), dict(self.local_types))
             self.hoisted = {}
@@ -648,6 +661,19 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
 
 #: The writer of a body (its statements, expressions and types).
 BodyWriter = StatementWriter
+
+
+def _line_comments(source: str) -> list[tuple[int, str]]:
+    """(line, text) of each comment that stands on a line of its own in ``source``, in order (the text without
+    its ``#``); a comment after a statement on its line stays out (the reader's notes to Python are such)."""
+    found: list[tuple[int, str]] = []
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(source).readline):
+            if token.type == tokenize.COMMENT and not token.line[: token.start[1]].strip():
+                found.append((token.start[0], token.string[1:].strip()))
+    except (tokenize.TokenError, SyntaxError):  # the source parsed: this cannot happen, and comments are no reason to fail
+        return []
+    return found
 
 
 def _is_null_call(node: ast.expr, writer: StatementWriter) -> bool:

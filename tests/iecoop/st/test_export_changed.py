@@ -184,3 +184,20 @@ def test_a_flat_global_list_goes_back_out_as_written(tmp_path: pathlib.Path) -> 
     assert [p.read_text() for p in st.export(plc, tmp_path / "st", format="st")] == [source]
     tc = st.export(plc, tmp_path / "tc", format="twincat")[0].read_text()
     assert "x AT %QX0.1 : BOOL;" in tc and tc.count("qualified_only") == 1
+
+
+class Commented(FunctionBlock):
+    n: INT = VAR(0)
+
+    def body(self) -> None:
+        # count the parts
+        self.n += 1  # a note after a statement stays in Python
+        if self.n > 3:
+            # start again
+            self.n = 0
+
+
+def test_comments_on_lines_of_their_own_are_written_before_their_statement() -> None:
+    assert "// count the parts\nn := n + 1;\nIF n > 3 THEN\n    // start again\n    n := 0;\nEND_IF" in st.dump([Commented])
+    plc = st.load(FILL_STATION)
+    assert "// the station's state machine\nipStation := fbStation;" in st.dump([plc.MAIN])
