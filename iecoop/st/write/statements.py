@@ -19,7 +19,7 @@ import typing
 from collections.abc import Iterator
 from typing import Any
 
-from iecoop._codegen import python_source
+from iecoop._codegen import definition, python_source
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
 from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS
@@ -62,6 +62,13 @@ class StatementWriter(ReaderForms):
         if not isinstance(node, ast.FunctionDef):
             raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
         self.source_lines = source.splitlines()
+        registered = definition(getattr(self.func, "__code__", None))
+        if registered is not None:
+            # the same def as it was compiled, its statements given the ST lines they were read from
+            self.st_lines = {
+                fresh.lineno: mapped.lineno for fresh, mapped in zip(ast.walk(node), ast.walk(registered[0]))
+                if isinstance(fresh, ast.stmt) and isinstance(mapped, ast.stmt) and type(fresh) is type(mapped)
+            }
         self.comments = _line_comments(source)
         self.reads = collections.Counter(n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
         return node
@@ -110,7 +117,7 @@ class StatementWriter(ReaderForms):
             except _Untranslated as exc:
                 del self.lines[mark:]
                 self.locals, self.references, self.local_types, self.prelude = saved[0], saved[1], saved[2], []
-                line = self.first_line + getattr(exc.node, "lineno", 1) - 1
+                line = self.line_of(exc.node)
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
                     raise StExportError(message) from None

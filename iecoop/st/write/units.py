@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import inspect
 import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -438,7 +439,7 @@ def _pou_parts(meta: ClassMeta, writer: _Writer, interface: bool) -> list[Part]:
             except StExportError as exc:
                 if not writer.lenient:
                     raise
-                writer.untranslated.append(f"{meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
+                writer.untranslated.append(f"{_where(func)}: {meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
     for member in meta.members:
         try:
             if member.kind == "method":
@@ -449,8 +450,15 @@ def _pou_parts(meta: ClassMeta, writer: _Writer, interface: bool) -> list[Part]:
             if not writer.lenient:
                 raise
             # A Python-only helper (its signature has no IEC type): left out, and said so.
-            writer.untranslated.append(f"{meta.name}.{member.name}: member left out: {exc}")
+            where = _where(member.function if member.kind == "method" else member.getter)
+            writer.untranslated.append(f"{where}: {meta.name}.{member.name}: member left out: {exc}")
     return parts
+
+
+def _where(func: Any) -> str:
+    """``FILE:LINE`` of a function's definition (a loaded POU's: its ST file and line)."""
+    code = getattr(inspect.unwrap(func), "__code__", None) if func is not None else None
+    return f"{code.co_filename}:{code.co_firstlineno}" if code is not None else "<unknown>"
 
 
 def _iface_info(cls: Any) -> TypeInfo:
@@ -500,7 +508,14 @@ def units(
         for fname in sorted(set(functions) - done):
             done.add(fname)
             scope = Scope(None, {}, constants, functions, named_enums)
-            unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            try:
+                unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            except StExportError as exc:
+                message = f"{_where(functions[fname])}: FUNCTION {fname}: {exc}"
+                if not lenient:
+                    raise StExportError(message) from None
+                untranslated.append(f"{message} (left out)")
+                continue
             index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
             found.insert(index, unit)
     _mark_named_enums(found, named_enums, lenient, untranslated)

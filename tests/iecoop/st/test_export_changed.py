@@ -201,3 +201,34 @@ def test_comments_on_lines_of_their_own_are_written_before_their_statement() -> 
     assert "// count the parts\nn := n + 1;\nIF n > 3 THEN\n    // start again\n    n := 0;\nEND_IF" in st.dump([Commented])
     plc = st.load(FILL_STATION)
     assert "// the station's state machine\nipStation := fbStation;" in st.dump([plc.MAIN])
+
+
+REFUSED = """FUNCTION F_First : REAL
+VAR_IN_OUT
+    a : ARRAY[*] OF REAL;
+END_VAR
+F_First := a[0];
+END_FUNCTION
+
+PROGRAM MAIN
+VAR
+    x : ARRAY[0..1] OF REAL;
+    y : REAL;
+END_VAR
+x[0] := 1.5;
+y := F_First(a := x);
+END_PROGRAM
+"""
+
+
+def test_strict_export_of_a_loaded_pou_names_the_st_file_and_line(tmp_path: pathlib.Path) -> None:
+    source = tmp_path / "main.st"
+    source.write_text(REFUSED)
+    plc = st.load(source)
+    with pytest.raises(StExportError) as refused:
+        st.export(plc, tmp_path / "out", format="twincat")
+    assert f"{source}:14: a call of F_First()" in str(refused.value)  # y := F_First(a := x); is line 14
+    report: list[str] = []
+    st.export(plc, tmp_path / "lenient", format="twincat", lenient=True, report=report)
+    assert any(f"{source}:14" in line for line in report)
+    assert not (tmp_path / "out").exists()  # strict: nothing written
