@@ -16,7 +16,7 @@ from typing import Any
 
 from iecoop.libraries import Library
 from iecoop.st.read.origin import Source, fingerprint
-from iecoop.st.write.recorded import Declared, recorded
+from iecoop.st.write.recorded import Declared, declared_in_python, recorded
 from iecoop.st.write.references import plcproj, used_libraries
 from iecoop.st.write import StExportError, Unit, collect, flat_text, ident, plcopen_project, twincat_file, units, with_dependencies
 
@@ -32,7 +32,12 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
     ]
     # A loaded object that goes through the writer keeps what its source declared beyond its class.
     found_in_source = _declared(metas)
-    metas = [dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower())) for meta in metas]
+    exported = frozenset(meta.cls for meta in metas if meta.kind == "gvl")
+    metas = [
+        dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower()) or declared_in_python(meta.cls, exported))
+        if meta.kind in ("fb", "program", "struct", "union", "gvl") else meta
+        for meta in metas
+    ]
     found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})
     if report is not None:
         report.extend(untranslated)

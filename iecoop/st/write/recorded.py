@@ -185,3 +185,56 @@ def _member(owner: Any, name: str) -> Any:
         return found
     key = name.lower()
     return next((getattr(owner, n) for n in dir(owner) if n.lower() == key), None)
+
+
+def declared_in_python(cls: Any, exported: frozenset[Any]) -> Declared | None:
+    """The ARRAY bounds a Python class writes with a constant of a global list (``VAR(bounds=(1,
+    GVL_Param.cMax))``), read from the class's syntax tree: ST keeps the name where the list is in the
+    export (``exported``: the GVL instances written with it). None when there is none or no source."""
+    import ast
+    import inspect
+    import sys
+    import textwrap
+
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
+    except (OSError, TypeError, SyntaxError):
+        return None
+    module = sys.modules.get(getattr(cls, "__module__", "") or "")
+    names = vars(module) if module is not None else {}
+    bounds: dict[str, tuple[Bound, ...]] = {}
+    body = tree.body[0].body if tree.body and isinstance(tree.body[0], ast.ClassDef) else []
+    for stmt in body:
+        if not (isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and isinstance(stmt.value, ast.Call)):
+            continue
+        given = next((k.value for k in stmt.value.keywords if k.arg == "bounds"), None)
+        if not isinstance(given, ast.Tuple) or len(given.elts) % 2:
+            continue
+        texts = [_bound_text(e, names, exported) for e in given.elts]
+        if any(t is None for t in texts) or all(isinstance(e, ast.Constant) for e in given.elts):
+            continue
+        pairs = [(texts[i], texts[i + 1], (values[0], values[1])) for i in range(0, len(texts), 2)
+                 if (values := [t[1] for t in texts[i:i + 2] if t is not None]) and len(values) == 2]
+        bounds[stmt.target.id.lower()] = tuple(Bound(low[0], high[0], values) for low, high, values in pairs if low and high)
+    return Declared(bounds=bounds) if bounds else None
+
+
+def _bound_text(node: Any, names: Mapping[str, Any], exported: frozenset[Any]) -> tuple[str, int] | None:
+    """(the ST text, the value) of a bound: an integer, or a constant of a global list that is exported."""
+    import ast
+
+    from iecoop.metadata import field_record, kind_of
+
+    if isinstance(node, ast.Constant) and type(node.value) is int:
+        return str(node.value), node.value
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        holder = names.get(node.value.id)
+        if kind_of(type(holder)) == "gvl" and type(holder) in exported:
+            try:
+                record = field_record(type(holder), node.attr)
+            except KeyError:
+                return None
+            value = getattr(holder, node.attr)
+            if record.spec.constant and type(value) is int:
+                return f"{type(holder).__name__}.{record.st_name}", value
+    return None

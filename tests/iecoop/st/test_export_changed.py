@@ -8,7 +8,7 @@ from typing import Any
 import blark.parse
 import pytest
 
-from iecoop import BOOL, INT, REAL, VAR, FunctionBlock, Program, st
+from iecoop import ARRAY, BOOL, INT, REAL, VAR, FunctionBlock, GlobalVariables, Program, gvl, st
 from iecoop.st.export import StExportError
 from iecoop.st.write.recorded import Bound, recorded
 
@@ -232,3 +232,23 @@ def test_strict_export_of_a_loaded_pou_names_the_st_file_and_line(tmp_path: path
     st.export(plc, tmp_path / "lenient", format="twincat", lenient=True, report=report)
     assert any(f"{source}:14" in line for line in report)
     assert not (tmp_path / "out").exists()  # strict: nothing written
+
+
+@gvl
+class GVL_Size(GlobalVariables):
+    cMax: INT = VAR(4, constant=True)
+
+
+class FB_Buffer(FunctionBlock):
+    aItems: ARRAY[INT] = VAR(bounds=(1, GVL_Size.cMax))
+    aOther: ARRAY[INT] = VAR(bounds=(0, 3))
+
+    def body(self) -> None:
+        self.aItems[1] = GVL_Size.cMax
+
+
+def test_a_python_class_bounded_by_a_gvl_constant_keeps_the_name() -> None:
+    text = st.dump([FB_Buffer])
+    assert "aItems : ARRAY[1..GVL_Size.cMax] OF INT;" in text and "aOther : ARRAY[0..3] OF INT;" in text
+    again = st.load(text)
+    assert again.FB_Buffer().aItems.bounds == ((1, 4),)
