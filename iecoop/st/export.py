@@ -34,8 +34,8 @@ def _units(classes_or_module: Any, lenient: bool, kept: Collection[str] = (), re
     found_in_source = _declared(metas)
     exported = frozenset(meta.cls for meta in metas if meta.kind == "gvl")
     metas = [
-        dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower()) or declared_in_python(meta.cls, exported))
-        if meta.kind in ("fb", "program", "struct", "union", "gvl") else meta
+        dataclasses.replace(meta, declared=found_in_source.get(meta.name.lower()) or (
+            declared_in_python(meta.cls, exported) if meta.kind in ("fb", "program", "struct", "union", "gvl") else None))
         for meta in metas
     ]
     found, untranslated = units(metas, lenient=lenient, functions={k: v for k, v in _loaded_functions(classes_or_module).items() if k.lower() not in kept})

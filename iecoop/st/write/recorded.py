@@ -40,6 +40,8 @@ class Declared:
     locations: Mapping[str, str] = dataclasses.field(default_factory=dict)
     #: ARRAY bounds by variable name in lower case, one :class:`Bound` per dimension
     bounds: Mapping[str, tuple[Bound, ...]] = dataclasses.field(default_factory=dict)
+    #: read from an ST source (its head is the whole head), not from a Python class's own source
+    from_st: bool = True
 
     def dimensions(self, name: str, values: tuple[tuple[int, int], ...]) -> tuple[Bound, ...] | None:
         """The recorded bounds of variable ``name`` when they still give ``values`` (the class's), else None."""
@@ -190,33 +192,46 @@ def _member(owner: Any, name: str) -> Any:
 def declared_in_python(cls: Any, exported: frozenset[Any]) -> Declared | None:
     """The ARRAY bounds a Python class writes with a constant of a global list (``VAR(bounds=(1,
     GVL_Param.cMax))``), read from the class's syntax tree: ST keeps the name where the list is in the
-    export (``exported``: the GVL instances written with it). None when there is none or no source."""
+    export (``exported``: the GVL classes written with it). None when there is none or no source."""
+    import sys
+
+    module = sys.modules.get(getattr(cls, "__module__", "") or "")
+    names = vars(module) if module is not None else {}
+    bounds: dict[str, tuple[Bound, ...]] = {}
+    for name, given in _bounds_given(cls):
+        dims = _named_dimensions(given, names, exported)
+        if dims is not None:
+            bounds[name.lower()] = dims
+    return Declared(bounds=bounds, from_st=False) if bounds else None
+
+
+def _bounds_given(cls: Any) -> list[tuple[str, list[Any]]]:
+    """(variable, the expressions of its ``bounds=``) of each variable of ``cls``'s own source."""
     import ast
     import inspect
-    import sys
     import textwrap
 
     try:
         tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
     except (OSError, TypeError, SyntaxError):
-        return None
-    module = sys.modules.get(getattr(cls, "__module__", "") or "")
-    names = vars(module) if module is not None else {}
-    bounds: dict[str, tuple[Bound, ...]] = {}
+        return []
     body = tree.body[0].body if tree.body and isinstance(tree.body[0], ast.ClassDef) else []
+    found = []
     for stmt in body:
-        if not (isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and isinstance(stmt.value, ast.Call)):
-            continue
-        given = next((k.value for k in stmt.value.keywords if k.arg == "bounds"), None)
-        if not isinstance(given, ast.Tuple) or len(given.elts) % 2:
-            continue
-        texts = [_bound_text(e, names, exported) for e in given.elts]
-        if any(t is None for t in texts) or all(isinstance(e, ast.Constant) for e in given.elts):
-            continue
-        pairs = [(texts[i], texts[i + 1], (values[0], values[1])) for i in range(0, len(texts), 2)
-                 if (values := [t[1] for t in texts[i:i + 2] if t is not None]) and len(values) == 2]
-        bounds[stmt.target.id.lower()] = tuple(Bound(low[0], high[0], values) for low, high, values in pairs if low and high)
-    return Declared(bounds=bounds) if bounds else None
+        if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and isinstance(stmt.value, ast.Call):
+            given = next((k.value for k in stmt.value.keywords if k.arg == "bounds"), None)
+            if isinstance(given, ast.Tuple) and given.elts and not len(given.elts) % 2:
+                found.append((stmt.target.id, list(given.elts)))
+    return found
+
+
+def _named_dimensions(given: list[Any], names: Mapping[str, Any], exported: frozenset[Any]) -> tuple[Bound, ...] | None:
+    """The dimensions of ``bounds=`` pairs when every bound has an ST text and one of them is a name."""
+    texts = [_bound_text(node, names, exported) for node in given]
+    known = [t for t in texts if t is not None]
+    if len(known) != len(texts) or all(text == str(value) for text, value in known):
+        return None
+    return tuple(Bound(known[i][0], known[i + 1][0], (known[i][1], known[i + 1][1])) for i in range(0, len(known), 2))
 
 
 def _bound_text(node: Any, names: Mapping[str, Any], exported: frozenset[Any]) -> tuple[str, int] | None:

@@ -248,7 +248,7 @@ def _type_unit(meta: ClassMeta) -> Unit:
 
 def _gvl_unit(meta: ClassMeta) -> Unit:
     # A list written from Python needs its name in front of its variables; a loaded one keeps what it had.
-    own = ("qualified_only",) if meta.declared is None else ()
+    own = ("qualified_only",) if meta.declared is None or not meta.declared.from_st else ()
     declaration, attributes = _headed(meta, own, [*sections(meta.fields, meta.name, default="VAR_GLOBAL", declared=meta.declared), ""])
     return Unit("gvl", meta.name, declaration, meta=meta, attributes=attributes)
 

@@ -252,3 +252,13 @@ def test_a_python_class_bounded_by_a_gvl_constant_keeps_the_name() -> None:
     assert "aItems : ARRAY[1..GVL_Size.cMax] OF INT;" in text and "aOther : ARRAY[0..3] OF INT;" in text
     again = st.load(text)
     assert again.FB_Buffer().aItems.bounds == ((1, 4),)
+
+
+@gvl
+class GVL_Table(GlobalVariables):
+    aRows: ARRAY[INT] = VAR(bounds=(1, GVL_Size.cMax))
+
+
+def test_a_python_list_bounded_by_name_keeps_its_qualified_only() -> None:
+    text = st.dump([GVL_Table, GVL_Size])
+    assert "// GVL GVL_Table\n{attribute 'qualified_only'}\nVAR_GLOBAL\n    aRows : ARRAY[1..GVL_Size.cMax] OF INT;" in text
