@@ -42,6 +42,9 @@ class Declared:
     bounds: Mapping[str, tuple[Bound, ...]] = dataclasses.field(default_factory=dict)
     #: read from an ST source (its head is the whole head), not from a Python class's own source
     from_st: bool = True
+    #: by variable name in lower case: the pragmas and comments on the lines before its declaration, and the
+    #: comment after it on its line (``{attribute 'TcLinkTo' := '...'}``, ``// the lamp``)
+    notes: Mapping[str, tuple[tuple[str, ...], str]] = dataclasses.field(default_factory=dict)
 
     def dimensions(self, name: str, values: tuple[tuple[int, int], ...]) -> tuple[Bound, ...] | None:
         """The recorded bounds of variable ``name`` when they still give ``values`` (the class's), else None."""
@@ -91,14 +94,30 @@ def _declared(item: Any, module: types.ModuleType) -> Declared:
                            if getattr(token, "type", "") == "PRAGMA" and (name := _attribute(str(token))))
     locations: dict[str, str] = {}
     bounds: dict[str, tuple[Bound, ...]] = {}
-    for names, location, init in _variables(item):
+    notes: dict[str, tuple[tuple[str, ...], str]] = {}
+    for names, location, init, node in _variables(item):
+        found = _notes(node)
+        if found != ((), "") and names:
+            notes[names[0].lower()] = found
         for variable in names:
             if location is not None:
                 locations[variable.lower()] = str(location)
             dims = _dimensions(init, module)
             if dims is not None:
                 bounds[variable.lower()] = dims
-    return Declared(head, attributes, locations, bounds)
+    return Declared(head, attributes, locations, bounds, notes=notes)
+
+
+def _notes(node: Any) -> tuple[tuple[str, ...], str]:
+    """The pragmas and comments blark gave a declaration: those on lines before it, and the one on its last line."""
+    meta = getattr(node, "meta", None)
+    line, end = getattr(meta, "line", None), getattr(meta, "end_line", None)
+    tokens = getattr(meta, "comments", None) or ()
+    if not isinstance(line, int) or not isinstance(end, int):
+        return (), ""
+    before = tuple(str(t) for t in tokens if isinstance(getattr(t, "line", None), int) and t.line < line)
+    after = [str(t) for t in tokens if getattr(t, "line", None) == end and getattr(t, "type", "") == "SINGLE_LINE_COMMENT"]
+    return before, after[0] if len(after) == 1 else ""
 
 
 def _attribute(pragma: str) -> str:
@@ -109,21 +128,21 @@ def _attribute(pragma: str) -> str:
     return ""
 
 
-def _variables(node: Any) -> Iterable[tuple[list[str], Any, Any]]:
-    """(names, location, init) of every variable declared in ``node`` (a POU, a GVL, a STRUCT), not in its
-    METHODs or body."""
+def _variables(node: Any) -> Iterable[tuple[list[str], Any, Any, Any]]:
+    """(names, location, init, declaration node) of every variable declared in ``node`` (a POU, a GVL, a
+    STRUCT), not in its METHODs or body."""
     from blark import transform as tf
 
     if isinstance(node, (tf.StatementList, tf.Method, tf.Property, tf.Action)):
         return
     spec = getattr(node, "spec", None)
     if isinstance(node, tf.GlobalVariableDeclaration) and isinstance(spec, tf.GlobalVariableSpec):
-        yield [str(v) for v in spec.variables], spec.location, node.init
+        yield [str(v) for v in spec.variables], spec.location, node.init, node
         return
     declared = getattr(node, "variables", None)
     if isinstance(declared, list) and declared and all(isinstance(v, tf.DeclaredVariable) for v in declared):
-        for variable in declared:
-            yield [str(variable.variable.name)], variable.location, getattr(node, "init", None)
+        for index, variable in enumerate(declared):
+            yield [str(variable.variable.name)], variable.location, getattr(node, "init", None), node if index == 0 else None
         return
     for child in _children(node):
         yield from _variables(child)

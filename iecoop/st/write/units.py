@@ -184,6 +184,13 @@ def variable_line(
     return text + ";" + renamed_note(name)
 
 
+def _noted(line: str, name: str, declared: Declared | None) -> list[str]:
+    """A variable's declaration line (indented), after the pragmas and comments its loaded source had before
+    it, and with the comment it had after it."""
+    before, after = declared.notes.get(name.lower(), ((), "")) if declared is not None else ((), "")
+    return [*(f"    {note}" for note in before), f"    {line}" + (f"   {after}" if after else "")]
+
+
 def _declared_type(field: FieldDecl) -> TypeInfo:
     if field.section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo):
         return field.info.target
@@ -205,7 +212,7 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
-            lines.append("    " + variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared))
+            lines += _noted(variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared), field.name, declared)
         lines.append("END_VAR")
     return lines
 
@@ -240,7 +247,7 @@ def _type_unit(meta: ClassMeta) -> Unit:
         extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
         lines = [f"TYPE {name}{extends} :", word]
         for field in meta.fields:
-            lines.append("    " + variable_line(field.name, field.info, field.spec.initial, name, declared=meta.declared))
+            lines += _noted(variable_line(field.name, field.info, field.spec.initial, name, declared=meta.declared), field.name, meta.declared)
         lines += [f"END_{word}", "END_TYPE", ""]
     declaration, attributes = _headed(meta, (), lines)
     return Unit(meta.kind, name, declaration, meta=meta, attributes=attributes)

@@ -262,3 +262,21 @@ class GVL_Table(GlobalVariables):
 def test_a_python_list_bounded_by_name_keeps_its_qualified_only() -> None:
     text = st.dump([GVL_Table, GVL_Size])
     assert "// GVL GVL_Table\n{attribute 'qualified_only'}\nVAR_GLOBAL\n    aRows : ARRAY[1..GVL_Size.cMax] OF INT;" in text
+
+
+LINKED = """// GVL GVL_Links
+VAR_GLOBAL
+    {attribute 'TcLinkTo' := 'TIIB[Term 2]^Channel 1'}
+    bIn AT %I* : BOOL;   // the input
+    // the lamp
+    bOut AT %Q* : BOOL;
+END_VAR
+"""
+
+
+def test_a_variables_pragmas_and_comments_stay_with_it(tmp_path: pathlib.Path) -> None:
+    plc = st.load(LINKED)
+    written = st.export(plc, tmp_path, format="twincat")[0].read_text()  # read as ST: the writer writes it
+    assert "<![CDATA[" + LINKED.split("\n", 1)[1] + "]]>" in written
+    again = st.load(tmp_path)
+    assert st.export(again, tmp_path / "again", format="twincat")[0].read_text() == written
