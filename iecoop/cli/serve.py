@@ -43,6 +43,7 @@ from typing import Any, TextIO
 from iecoop import PlcException, T
 from iecoop.cli.base import Command, Names, Served, UsageError, usage_errors
 from iecoop.cli.st import load_program, plc_task, translated
+from iecoop.cli.st_scenario import project_task
 from iecoop.cli.trace import Progress, add_trace_arguments, check_trace_options, write_trace
 from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Trace
@@ -114,8 +115,9 @@ def _parser() -> argparse.ArgumentParser:
 def _st_source(args: argparse.Namespace) -> Served:
     program = load_program(args.name, args.program, args.profile)
     runtime = Runtime(store=":memory:", profile=args.profile)
-    runtime.add_task(plc_task(), program)
-    return Served(args.program, f"{args.program} of {args.name}", runtime)
+    task = project_task(args.name) or plc_task()  # the project's .TcTTO cycle time and priority, when it has one
+    runtime.add_task(task, program)
+    return Served(args.program, f"{args.program} of {args.name} on {task.name} ({task.interval} ms)", runtime)
 
 
 def _served(args: argparse.Namespace, names: Names | None, err: TextIO) -> Served | None:

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import functools
 import pathlib
 import sys
 from collections.abc import Callable, Sequence
@@ -45,7 +46,7 @@ from iecoop import DefinitionError, Program, T, st
 from iecoop.cli.base import UsageError, positive, usage_errors
 from iecoop.cli.st_scenario import parse_set, project_task, writes_before
 from iecoop.cli.trace import (
-    add_trace_arguments, check_trace_options, fault_text, run_cycles, table, variable_probes, write_trace,
+    add_trace_arguments, check_trace_options, fault_text, run_cycles, run_streamed, variable_probes, write_trace,
 )
 from iecoop.runtime import Runtime, Task
 
@@ -233,11 +234,15 @@ def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     cycles = args.cycles
     if args.duration is not None:
         cycles = max(1, -(-int(T(args.duration)) // int(task.interval)))
-    trace = run_cycles(runtime, variable_probes(program), cycles, every=args.every, paths=args.trace or (),
-                       before_cycle=writes_before(runtime, writes))
-    rows = f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
-    header = f"{trace.where}, {args.profile} profile, {cycles} cycles; {rows}"
-    out.write("\n".join([header, *table(trace)]) + "\n")
+    rows = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
+    probes = variable_probes(program)
+    trace = run_streamed(
+        functools.partial(run_cycles, runtime, probes, cycles, every=args.every, paths=args.trace or (),
+                          before_cycle=writes_before(runtime, writes)),
+        cycles, out, err, lambda started: f"{started.where}, {args.profile} profile, {cycles} cycles; {rows}", "iecoop st run",
+    )
+    if trace is None:
+        return 130
     write_trace(trace.source, args, out)
     if trace.fault is None:
         return 0

@@ -62,6 +62,7 @@ __all__ = [
     "elementary_variables",
     "fault_text",
     "run_cycles",
+    "run_streamed",
     "show",
     "st_path",
     "table",
@@ -133,7 +134,14 @@ def show(value: object, fmt: str | Callable[[Any], str] = "") -> str:
         return format(value, fmt or ".2f")
     if fmt:
         return format(value, fmt)
+    if isinstance(value, str):
+        # a STRING with a line break ($N) or another control character would break the table's row
+        return "".join(_CONTROL.get(char, f"${ord(char):02X}") if ord(char) < 32 or char == "\x7f" else char for char in value)
     return str(value)
+
+
+#: ST's escapes of the control characters a STRING may hold (IEC 61131-3: $N, $R, $T, $L, $P).
+_CONTROL = {"\n": "$N", "\r": "$R", "\t": "$T", "\f": "$P"}
 
 
 def tasks_text(runtime: Runtime) -> str:
@@ -389,6 +397,39 @@ class RowWriter:
         self.out.flush()
 
 
+#: A run that streams: ``run(on_start=..., on_row=..., progress=...)`` gives the trace (see :func:`run_cycles`).
+StreamedRun = Callable[..., TraceTable]
+
+
+def run_streamed(run: StreamedRun, cycles: int, out: TextIO, err: TextIO, header: Callable[[TraceTable], str], command: str) -> TraceTable | None:
+    """Run ``run`` with its rows written as the cycles end, after the ``header`` line of the trace.
+
+    On a terminal a progress line follows the rows (on stdout; into a pipe it goes to stderr if that is a
+    terminal, else nowhere: the reader gets the rows alone) for runs of :data:`PROGRESS_THRESHOLD` cycles
+    or more. Ctrl+C ends the run: ``"<command>: interrupted after cycle N"`` on ``err``, and None.
+    """
+    screen = out if out.isatty() else err if err.isatty() else None
+    progress = Progress(cycles, screen) if screen is not None and cycles >= PROGRESS_THRESHOLD else None
+    rows: list[RowWriter] = []
+
+    def start(trace: TraceTable) -> None:
+        out.write(header(trace) + "\n")
+        rows.append(RowWriter(trace.labels, out, last_time=(cycles - 1) * trace.tick_ms, last_cycle=cycles,
+                              widths=trace.widths, progress=progress))
+
+    try:
+        return run(on_start=start, on_row=lambda row: rows[0].row(row), progress=progress.update if progress is not None else None)
+    except KeyboardInterrupt:
+        if rows:
+            rows[0].close()
+        done = progress.done if progress is not None else 0
+        err.write(f"\n{command}: interrupted{f' after cycle {done}' if done else ''}\n")
+        return None
+    finally:
+        if rows:
+            rows[0].close()
+
+
 # ---------------------------------------------------------------------------
 # What to trace when nothing says
 # ---------------------------------------------------------------------------
@@ -429,8 +470,10 @@ def elementary_variables(cls: type[Program], limit: int = 5) -> list[tuple[str, 
     direct = _declared(sample, Program, (Section.VAR_OUTPUT, Section.VAR))
     chosen = [(name, kind) for name, kind in direct if kind not in _NOT_ELEMENTARY]
     for name, kind in direct:
+        if kind != TYPE_CLASS.TYPE_USERDEF:
+            continue  # a REFERENCE TO or POINTER TO is never read here: unbound, reading it faults
         block = getattr(sample, name, None)
-        if kind == TYPE_CLASS.TYPE_USERDEF and kind_of(type(block)) is Kind.FUNCTION_BLOCK:
+        if kind_of(type(block)) is Kind.FUNCTION_BLOCK:
             outputs = _declared(block, FunctionBlock, (Section.VAR_OUTPUT,))
             chosen += [(f"{name}.{inner}", k) for inner, k in outputs if k not in _NOT_ELEMENTARY]
     if not chosen:

@@ -54,8 +54,8 @@ from iecoop.cli import main as iecoop_main
 from iecoop.cli.base import positive, usage_errors
 from iecoop.cli.export import module_of
 from iecoop.cli.trace import (
-    PROGRESS_THRESHOLD, Probe, Progress, Row, RowWriter, TraceTable, add_trace_arguments, check_trace_options,
-    fault_text, run_cycles, table, widest, write_trace,
+    Probe, Progress, Row, RowWriter, TraceTable, add_trace_arguments, check_trace_options,
+    fault_text, run_cycles, run_streamed, table, widest, write_trace,
 )
 from iecoop.st.export import dump
 from patterns.showcase.catalogue import CATEGORIES, NAMES, Entry, build, entries, find, read, show, unknown_name
@@ -210,36 +210,15 @@ def _cmd_run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     out.write(f"{entry.name} -- {entry.heading()}\n")
     for note in _expected(entry):
         out.write(f"  {note}\n")
-    # On a terminal the progress line follows the rows on stdout; into a pipe it goes to stderr if that
-    # is a terminal, and otherwise nowhere: the reader gets the rows alone.
-    screen = out if out.isatty() else err if err.isatty() else None
-    progress = Progress(cycles, screen) if screen is not None and cycles >= PROGRESS_THRESHOLD else None
-    rows: list[RowWriter] = []
-
-    def start(trace: TraceTable) -> None:
-        what = "rows where a traced value changed"
-        if args.every:
-            what = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles"
-        out.write(f"{trace.where}, {args.profile} profile, {cycles} cycles; {what}\n")
-        rows.append(RowWriter(trace.labels, out, last_time=(cycles - 1) * trace.tick_ms, last_cycle=cycles,
-                              widths=trace.widths, progress=progress))
-
-    trace: TraceTable | None = None
-    try:
-        trace = run_entry(
-            entry, cycles, every=args.every, profile=args.profile, on_start=start,
-            on_row=lambda row: rows[0].row(row), progress=progress.update if progress is not None else None,
-            paths=args.trace or (),
-        )
-    except KeyboardInterrupt:
-        if rows:
-            rows[0].close()
-        done = progress.done if progress is not None else 0
-        err.write(f"\niecoop: {entry.name}: interrupted{f' after cycle {done}' if done else ''}\n")
+    what = "rows where a traced value changed"
+    if args.every:
+        what = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles"
+    trace = run_streamed(
+        functools.partial(run_entry, entry, cycles, every=args.every, profile=args.profile, paths=args.trace or ()),
+        cycles, out, err, lambda started: f"{started.where}, {args.profile} profile, {cycles} cycles; {what}", f"iecoop: {entry.name}",
+    )
+    if trace is None:
         return 130
-    finally:
-        if rows:
-            rows[0].close()
     write_trace(trace.source, args, out)
     if trace.fault is not None:
         err.write(f"iecoop: {entry.name}: {fault_text(trace)}\n")

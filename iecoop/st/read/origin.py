@@ -21,7 +21,7 @@ from typing import Any
 from iecoop.gvl import GlobalVariables
 from iecoop.metadata import iec_class
 
-__all__ = ["Source", "fingerprint", "project_name", "sources"]
+__all__ = ["Source", "fingerprint", "object_name", "project_name", "sources"]
 
 #: the TwinCAT object kinds, by the XML element under ``<TcPlcObject>``
 _TWINCAT_ELEMENT = re.compile(rb"<(POU|DUT|GVL|Itf)\s+Name=\"([^\"]+)\"\s+Id=\"([^\"]*)\"")
@@ -105,7 +105,7 @@ def _st(unit: Any, text: str | None) -> Iterable[Source]:
         if type(item).__name__ in _MEMBER_NODES and spans:
             spans[-1][2] = end
         else:
-            spans.append([_item_name(item), previous_end + 1, end])
+            spans.append([object_name(item), previous_end + 1, end])
         previous_end = end
     found = []
     for name, first, last in spans:
@@ -115,11 +115,16 @@ def _st(unit: Any, text: str | None) -> Iterable[Source]:
     return found
 
 
-def _item_name(item: Any) -> str | None:
+def object_name(item: Any) -> str | None:
+    """The ST name of a top-level object blark parsed (a global list of flat text: its ``// GVL`` mark's)."""
     name = getattr(item, "name", None)
     if name is None:
         declaration = getattr(item, "declaration", None)
         name = getattr(declaration, "name", None)
+    if type(item).__name__ == "GlobalVariableDeclarations" and not str(name or "").isidentifier():
+        # a global list of flat text is named by the ``// GVL name`` line above it, as dump writes it
+        marks = [str(t).split()[2:] for t in getattr(getattr(item, "meta", None), "comments", None) or () if str(t).split()[:2] == ["//", "GVL"]]
+        name = next((words[0] for words in marks if len(words) == 1 and words[0].isidentifier()), None)
     return str(name) if name is not None else None
 
 

@@ -47,7 +47,7 @@ from iecoop.st.write.infer import (
     _is_whole,
     _member_function,
 )
-from iecoop.st.language import BUILTIN_FUNCTIONS, INTEGER_TYPES, MATH_BY_PYTHON, OPERATOR_FUNCTIONS, PRECEDENCE
+from iecoop.st.language import BUILTIN_FUNCTIONS, ELEMENTARY, INTEGER_TYPES, MATH_BY_PYTHON, OPERATOR_FUNCTIONS, PRECEDENCE
 from iecoop.st.write.model import StExportError, ident, type_text
 
 __all__ = ["ExpressionWriter", "literal"]
@@ -635,6 +635,16 @@ class ExpressionWriter(Inference):
         if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
             # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
             return f"{name}({self.arguments(node)})", _ATOM
+        found = self.declared_call(node, name, value)
+        if found is not None:
+            return found
+        self.fail(node, f"a call of {name}()")
+
+    def declared_call(self, node: ast.Call, name: str, value: Any) -> tuple[str, int] | None:
+        """A call of a PROGRAM, of an enumeration (a value to a component) or of a module function (a FUNCTION)."""
+        if kind_of(type(value)) == "program":
+            # a PROGRAM (st.load makes each one an instance) called from another POU: PRG_Dose(), with its inputs
+            return f"{ident(name)}({self.arguments(node)})", _ATOM
         if kind_of(value) == "enum" and _one_argument(node) is not None:
             # Mode(n): an integer is a component's value in ST (a non-strict enumeration takes it as is).
             return self.expr(node.args[0])
@@ -644,7 +654,7 @@ class ExpressionWriter(Inference):
                 raise StExportError(f"{self.where_text(node)}: two functions named {name} are called")
             self.scope.functions[name] = value
             return f"{ident(name)}({self.arguments(node)})", _ATOM
-        self.fail(node, f"a call of {name}()")
+        return None
 
     def time_literal(self, node: ast.Call, name: str) -> str:
         """``T("2s")`` / ``LTIME("1ms")`` / ``D("2024-01-31")``: the typed ST literal."""
@@ -895,6 +905,34 @@ def _call_mod(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
     return f"{w.expr(node.args[0], _MUL)[0]} MOD {w.expr(node.args[1], _MUL + 1)[0]}", _MUL
 
 
+def _call_shift(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``SHL(x, n, WORD)`` (iecoop's shifts and rotations take the width as a type): ST's ``SHL(x, n)``, a literal
+    operand given the width as its type (``ROL(WORD#1, 3)``), since the operand's type is the width in ST."""
+    if node.keywords or len(node.args) != 3:
+        return None
+    value, count, width = node.args
+    if not (isinstance(width, ast.Name) and width.id in ELEMENTARY):
+        w.fail(node, f"a {typing.cast(ast.Name, node.func).id}() whose width is not a type name")
+    constant = _constant_int(value)
+    operand = f"{width.id}#{constant}" if constant is not None and constant >= 0 else w.expr(value)[0]
+    return f"{typing.cast(ast.Name, node.func).id}({operand}, {w.expr(count)[0]})", _ATOM
+
+
+def _call_get_bit(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``get_bit(x, 3)``: ST's bit access ``x.3``."""
+    bit = _constant_int(node.args[1]) if len(node.args) == 2 and not node.keywords else None
+    if bit is None:
+        w.fail(node, "get_bit() with a bit number that is not a constant")
+    return f"{w.expr(node.args[0], _ATOM)[0]}.{bit}", _ATOM
+
+
+def _call_div(w: ExpressionWriter, node: ast.Call) -> tuple[str, int] | None:
+    """``DIV(a, b)`` (iecoop's division as ST's ``/`` does it, truncating integers): ``a / b``."""
+    if node.keywords or len(node.args) != 2:
+        return None
+    return w.binary(ast.BinOp(node.args[0], ast.Div(), node.args[1]), "/")
+
+
 def _call_operator(w: ExpressionWriter, node: ast.Call) -> tuple[str, int]:
     return f"{OPERATOR_FUNCTIONS[typing.cast(ast.Name, node.func).id]}({w.arguments(node)})", _ATOM
 
@@ -917,7 +955,8 @@ _LIBRARY_CALLS: dict[str, _CallRule] = {
     **{name: _call_operator for name in OPERATOR_FUNCTIONS},
     "adr": _call_adr, "sizeof": _call_sizeof, "is_valid_ref": _call_is_valid_ref, "test_and_set": _call_test_and_set,
     "now_ms": lambda w, node: ("TIME()", _ATOM), "MOD": _call_mod, "current_task": _call_current_task,
-    "var_info": _call_var_info,
+    "var_info": _call_var_info, "get_bit": _call_get_bit, "DIV": _call_div,
+    **{name: _call_shift for name in ("SHL", "SHR", "ROL", "ROR")},
     # null(ITF): the null reference of an interface; ST writes 0 for every interface type.
     "null": lambda w, node: ("0", _ATOM),
 }

@@ -10,6 +10,7 @@ answers ``typeof(node)``; the writers of expressions and statements build on it.
 from __future__ import annotations
 
 import ast
+import collections
 import enum
 import inspect
 import typing
@@ -88,12 +89,24 @@ class Inference:
         self.temp_names: dict[str, str] = {}
         #: The names the function binds (filled by translate()).
         self.bound: set[str] = set()
+        #: How often the function reads each name (filled by translate()): a temporary read nowhere else folds away.
+        self.reads: collections.Counter[str] = collections.Counter()
+        #: The lines of the function's source (filled by translate()).
+        self.source_lines: list[str] = []
+        #: For loaded ST: the line in the function's Python -> the ST line it was read from (filled by translate()).
+        self.st_lines: dict[int, int] = {}
+        #: The comments of the source on lines of their own, (line, text), not written yet (filled by translate()).
+        self.comments: list[tuple[int, str]] = []
         #: For each ``return value``, whether the value is a variable that outlives the call (see is_place()).
         self.return_places: list[bool] = []
 
+    def line_of(self, node: ast.AST | None) -> int:
+        """The line of ``node`` in its file: the ST line a loaded POU's statement was read from, else the Python line."""
+        lineno = getattr(node, "lineno", 1)
+        return self.st_lines.get(lineno, self.first_line + lineno - 1)
+
     def where_text(self, node: ast.AST | None = None) -> str:
-        line = self.first_line + (getattr(node, "lineno", 1) - 1)
-        return f"{self.filename}:{line}"
+        return f"{self.filename}:{self.line_of(node)}"
 
     def fail(self, node: ast.AST, what: str) -> typing.NoReturn:
         raise _Untranslated(node, what)

@@ -15,7 +15,7 @@ import re
 import textwrap
 import types
 import typing
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 from iecoop._codegen import python_source
@@ -36,6 +36,7 @@ from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 from iecoop.types import elementary_type
 from iecoop.st import language
+from iecoop.st.write.recorded import Bound, Declared
 from iecoop.st.language import RESERVED
 
 __all__ = ["RESERVED", "check_unique", "ident", "renamed_note", "type_name", "ClassMeta", "FieldDecl", "MemberDecl", "StExportError", "collect", "metadata", "type_text", "with_dependencies"]
@@ -98,6 +99,8 @@ class ClassMeta:
     internal: bool = False
     body: Any = None
     lifecycle: tuple[tuple[str, Any], ...] = ()
+    #: what the ST source of a loaded class declared beyond the class (pragmas, AT, bounds by name)
+    declared: Declared | None = None
 
 
 def _kind(obj: Any) -> str | None:
@@ -215,12 +218,13 @@ def access_words(flags: Access, *, default_public: bool = True) -> str:
 # ---------------------------------------------------------------------------
 
 
-def type_text(info: TypeInfo) -> str:
-    """The ST type of a resolved TypeInfo (``STRING(20)``, ``ARRAY[1..4] OF INT``, ``POINTER TO X``)."""
+def type_text(info: TypeInfo, bounds: Sequence[Bound] | None = None) -> str:
+    """The ST type of a resolved TypeInfo (``STRING(20)``, ``ARRAY[1..4] OF INT``, ``POINTER TO X``); an ARRAY's
+    bounds as ``bounds`` writes them when given (``1..GVL_Param.cMax``)."""
     if isinstance(info, StringInfo):
         return info.record.name if info.length == info.record.default_length else f"{info.record.name}({info.length})"
     if isinstance(info, ArrayInfo):
-        dims = ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
+        dims = ", ".join(f"{b.low}..{b.high}" for b in bounds) if bounds else ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
         return f"ARRAY[{dims}] OF {type_text(info.elem)}"
     if isinstance(info, PointerInfo):
         target = info.target
@@ -386,8 +390,11 @@ def collect(source: Any) -> list[ClassMeta]:
         ]
     elif isinstance(source, (type, GlobalVariables)):
         candidates = [source]
+    elif _kind(type(source)) == "program":
+        candidates = [type(source)]
     else:
-        candidates = list(source)
+        # a PROGRAM instance (what st.load makes of a PROGRAM) is written as its class
+        candidates = [type(v) if _kind(type(v)) == "program" else v for v in source]
     seen: set[int] = set()
     metas: list[ClassMeta] = []
     for obj in candidates:

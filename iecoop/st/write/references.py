@@ -38,8 +38,9 @@ def used_libraries(metas: Iterable[ClassMeta]) -> list[Library]:
     return found if any(library is not standard for library in found) else []
 
 
-def plcproj(name: str, files: Sequence[str], libraries: Sequence[Library]) -> str:
-    """A TwinCAT ``.plcproj`` that compiles ``files`` and references ``libraries`` by placeholder and namespace."""
+def plcproj(name: str, files: Sequence[str], libraries: Sequence[Library], others: Sequence[str] = ()) -> str:
+    """A TwinCAT ``.plcproj`` that compiles ``files``, holds ``others`` (task files) and references ``libraries``
+    by placeholder and namespace."""
     lines = [
         '<?xml version="1.0" encoding="utf-8"?>',
         '<Project DefaultTargets="Build" xmlns="http://schemas.microsoft.com/developer/msbuild/2003">',
@@ -51,6 +52,8 @@ def plcproj(name: str, files: Sequence[str], libraries: Sequence[Library]) -> st
     ]
     for file in files:
         lines += [f'    <Compile Include="{_attr(file)}">', "      <SubType>Code</SubType>", "    </Compile>"]
+    for file in others:
+        lines += [f'    <None Include="{_attr(file)}">', "      <SubType>Code</SubType>", "    </None>"]
     lines += ["  </ItemGroup>", "  <ItemGroup>"]
     for library in libraries:
         lines += [

@@ -11,52 +11,49 @@ from __future__ import annotations
 
 import ast
 import builtins
+import collections
+import io
+import tokenize
 import textwrap
 import typing
 from collections.abc import Iterator
 from typing import Any
 
-from iecoop._codegen import python_source
+from iecoop._codegen import definition, python_source
 from iecoop.metadata import kind_of
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo
-from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS, ExpressionWriter
-from iecoop.st.write.infer import _DINT, _Untranslated, _constant_int, _fields_of, _from_iecoop, _is_name
+from iecoop.st.write.expressions import _ADD, _ATOM, _BINARY_OPERATORS
+from iecoop.st.write.infer import _DINT, _Untranslated, _is_integer, _constant_int, _fields_of, _from_iecoop, _is_name
 from iecoop.st.write.model import StExportError, annotation_info, type_text
-from iecoop.st.write.loops import reader_loops
+from iecoop.st.write.cases import Branch, CaseForm, Label, case_form
+from iecoop.st.write.forms import ReaderForms, TryStatement
+from iecoop.st.write.loops import reader_loops, same_variable
 
 __all__ = ["BodyWriter", "StatementWriter"]
 
-def _statements(node: ast.FunctionDef) -> list[ast.stmt]:
-    """A function's statements, without its docstring; none for a body that only raises NotImplementedError."""
-    body = list(node.body)
-    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
-        body = body[1:]
-    if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
-        body = []
-    return body
-
-
-class StatementWriter(ExpressionWriter):
+class StatementWriter(ReaderForms):
     """Translate one function of a POU into ST lines and the locals they need."""
 
     def translate(self) -> list[str]:
-        node = self._function_def()
-        self._bind_locals(node)
+        """The ST lines of the function: its tree read, the names it binds, its result variable, then its statements."""
+        node = self.function_tree()
+        self.bound = self.bound_names(node)
         body = _statements(node)
-        # The result variable as the ST reader writes it: a local named like the member (``Start: BOOL =
-        # False`` ... ``return Start``) is the member's own result, which ST declares by the member itself.
-        self.result_local = next(
-            (stmt.target.id for stmt in body
-             if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and stmt.target.id == self.st_name
-             and self.result is not None and not isinstance(self.result, ReferenceInfo)),
-            None,
-        )
+        self.result_local = self.result_variable(body)
         # A final `return x` needs no RETURN after the result assignment.
         self.block(body, 0, top=True)
+        self.comments_before(None, 0)
         return self.lines
 
-    def _function_def(self) -> ast.FunctionDef:
-        """The ``def`` of the function translated, read from its source (kept in ``source_lines``)."""
+    def comments_before(self, line: int | None, depth: int) -> None:
+        """Write the comments of the source's own lines before ``line`` (all that are left, for None) as ST's ``//``
+        comments: what the ST or Python said about its statements stays with them."""
+        while self.comments and (line is None or self.comments[0][0] < line):
+            _, text = self.comments.pop(0)
+            self.lines.append("    " * depth + (f"// {text}" if text else "//"))
+
+    def function_tree(self) -> ast.FunctionDef:
+        """The syntax tree of the function, from its source (the Python the reader made, for loaded ST)."""
         try:
             source = textwrap.dedent(python_source(self.func))
         except (OSError, TypeError) as exc:
@@ -65,19 +62,40 @@ class StatementWriter(ExpressionWriter):
         if not isinstance(node, ast.FunctionDef):
             raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
         self.source_lines = source.splitlines()
+        registered = definition(getattr(self.func, "__code__", None))
+        if registered is not None:
+            # the same def as it was compiled, its statements given the ST lines they were read from
+            self.st_lines = {
+                fresh.lineno: mapped.lineno for fresh, mapped in zip(ast.walk(node), ast.walk(registered[0]))
+                if isinstance(fresh, ast.stmt) and isinstance(mapped, ast.stmt) and type(fresh) is type(mapped)
+            }
+        self.comments = _line_comments(source)
+        self.reads = collections.Counter(n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
         return node
 
-    def _bind_locals(self, node: ast.FunctionDef) -> None:
-        # Every name the function binds is an ST local for the whole body, so it hides a variable of the
-        # same name even in the statements before its first assignment: those read THIS^.name.
-        self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
-        if self.func.__name__ == "body":
-            # The body's locals named like a variable are renamed (see declare()): they hide nothing.
-            # ST names ignore case: a local axis is the variable Axis there.
-            variables = {f.lower() for f in self.fields}
-            for name in sorted(n for n in self.bound if n.lower() in variables):
-                self.temp_name(name)
-            self.bound -= set(self.temp_names)
+    def bound_names(self, node: ast.FunctionDef) -> set[str]:
+        """The names the function binds: each is an ST local for the whole body, so it hides a variable of the
+        same name even in the statements before its first assignment (those read ``THIS^.name``)."""
+        bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+        if self.func.__name__ != "body":
+            return bound
+        # The body's locals named like a variable are renamed (see declare()): they hide nothing.
+        # ST names ignore case: a local axis is the variable Axis there.
+        variables = {f.lower() for f in self.fields}
+        for name in sorted(n for n in bound if n.lower() in variables):
+            self.temp_name(name)
+        return bound - set(self.temp_names)
+
+    def result_variable(self, body: list[ast.stmt]) -> str | None:
+        """The result variable as the ST reader writes it: a local named like the member (``Start: BOOL = False``
+        ... ``return Start``) is the member's own result, which ST declares by the member itself."""
+        if self.result is None or isinstance(self.result, ReferenceInfo):
+            return None
+        return next(
+            (stmt.target.id for stmt in body
+             if isinstance(stmt, ast.AnnAssign) and isinstance(stmt.target, ast.Name) and stmt.target.id == self.st_name),
+            None,
+        )
 
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
         start = self.statements_written
@@ -86,9 +104,11 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, ";")  # ST needs a statement where Python had only pass / a docstring
 
     def _block(self, body: list[ast.stmt], depth: int, top: bool) -> None:
-        body = reader_loops(body)
+        body = self.reader_tries(self.reader_cases(reader_loops(body, self.reads)))
         for i, stmt in enumerate(body):
             last = top and i == len(body) - 1
+            if isinstance(getattr(stmt, "lineno", None), int):
+                self.comments_before(stmt.lineno, depth)
             mark = len(self.lines)
             saved = (dict(self.locals), set(self.references), dict(self.local_types))
             self.hoisted = {}
@@ -97,7 +117,7 @@ class StatementWriter(ExpressionWriter):
             except _Untranslated as exc:
                 del self.lines[mark:]
                 self.locals, self.references, self.local_types, self.prelude = saved[0], saved[1], saved[2], []
-                line = self.first_line + getattr(exc.node, "lineno", 1) - 1
+                line = self.line_of(exc.node)
                 message = f"{self.filename}:{line}: {exc.what} has no Structured Text form (in {self.func.__qualname__})"
                 if not self.lenient:
                     raise StExportError(message) from None
@@ -196,6 +216,12 @@ class StatementWriter(ExpressionWriter):
             self.write(depth, "RETURN;")
 
     def visit_If(self, node: ast.If, depth: int, last: bool) -> None:
+        """``if`` / ``elif`` / ``else``: IF / ELSIF / ELSE, or CASE where every test compares one integer or
+        enumeration variable with distinct constants (see :mod:`.cases`)."""
+        form = case_form(node, self.case_value)
+        if form is not None and _is_integer(self.typeof(form.subject)):
+            self.write_case(form, depth)
+            return
         self.write(depth, f"IF {self.condition(node.test)} THEN")
         self.block(node.body, depth + 1)
         orelse = node.orelse
@@ -388,21 +414,8 @@ class StatementWriter(ExpressionWriter):
         if not self.catches_all_faults(handler.type, node.body):
             self.fail(handler, "an except clause other than except PlcException, except (PlcException, ZeroDivisionError) "
                       "or except Exception (__CATCH catches every runtime fault, a division by zero too)")
-        self.write(depth, "__TRY")
-        self.block(node.body, depth + 1)
-        if handler.name is not None:
-            self.catch_vars.add(handler.name)
-            self.declare(handler.name, "__SYSTEM.ExceptionCode", node)
-            self.write(depth, f"__CATCH({handler.name})")
-        else:
-            name = self.fresh_name("exc")
-            self.declare(name, "__SYSTEM.ExceptionCode", node)
-            self.write(depth, f"__CATCH({name})")
-        self.block(handler.body, depth + 1)
-        if node.finalbody:
-            self.write(depth, "__FINALLY")
-            self.block(node.finalbody, depth + 1)
-        self.write(depth, "__ENDTRY")
+        name = handler.name if handler.name is not None else self.fresh_name("exc")
+        self.visit_TryStatement(ast.copy_location(TryStatement(node.body, name, handler.body, node.finalbody), node), depth, last)
 
     def catches_all_faults(self, node: ast.expr | None, body: list[ast.stmt]) -> bool:
         """Whether an except clause catches what try_catch() (and the PLC's __CATCH) catch: a
@@ -416,22 +429,20 @@ class StatementWriter(ExpressionWriter):
 
     def visit_Match(self, node: ast.Match, depth: int, last: bool) -> None:
         """``match x: case A.B | A.C: ... case _: ...`` as CASE: neither falls through."""
-        self.write(depth, f"CASE {self.expr(node.subject)[0]} OF")
+        branches: list[Branch] = []
+        orelse: list[ast.stmt] = []
         for case in node.cases:
             if case.guard is not None:
                 self.fail(case.guard, "a case with a guard (write an if inside the case)")
             pattern = case.pattern
             if isinstance(pattern, ast.MatchAs) and pattern.pattern is None and pattern.name is None:
-                self.write(depth, "ELSE")
-                self.block(case.body, depth + 1)
+                orelse = case.body or [ast.Pass()]
                 continue
             options = pattern.patterns if isinstance(pattern, ast.MatchOr) else [pattern]
             if not all(isinstance(o, ast.MatchValue) for o in options):
                 self.fail(pattern, "a case pattern other than values, enumeration components and _")
-            labels = ", ".join(self.expr(typing.cast(ast.MatchValue, o).value)[0] for o in options)
-            self.write(depth + 1, f"{labels}:")
-            self.block(case.body, depth + 2)
-        self.write(depth, "END_CASE")
+            branches.append(Branch(tuple(Label(typing.cast(ast.MatchValue, o).value) for o in options), case.body))
+        self.write_case(CaseForm(node.subject, tuple(branches), orelse), depth)
 
     def call_statement(self, node: ast.expr, depth: int) -> None:
         if not isinstance(node, ast.Call):
@@ -501,6 +512,16 @@ class StatementWriter(ExpressionWriter):
             self.assign_one(t, ast.Name(held[i], ast.Load()) if i in held else v, depth, node)
 
     def assign_one(self, target: ast.expr, value: ast.expr, depth: int, node: ast.stmt) -> None:
+        if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or) and len(value.values) == 2 and _is_null_call(value.values[1], self):
+            # ``b = query_interface(a, IB) or null(IB)``: __QUERYINTERFACE leaves 0 in b where a has no IB
+            value = value.values[0]
+        if isinstance(value, ast.Call) and self.resolves_to(value.func, "set_bit") and len(value.args) == 3 and same_variable(value.args[0], target):
+            # ``x = set_bit(x, 3, flag)`` is ST's bit access ``x.3 := flag;``
+            bit = _constant_int(value.args[1])
+            if bit is None:
+                self.fail(node, "set_bit() with a bit number that is not a constant")
+            self.write(depth, f"{self.target(target)}.{bit} := {self.expr(value.args[2])[0]};")
+            return
         if isinstance(value, ast.Call) and self.resolves_to(value.func, "query_interface"):
             source, _iface = self.operator_args(value, 2)
             self.maybe_declare(target, value, node)
@@ -649,6 +670,34 @@ def walk_calls(tree: ast.AST) -> Iterator[ast.Call]:
 BodyWriter = StatementWriter
 
 
+def _line_comments(source: str) -> list[tuple[int, str]]:
+    """(line, text) of each comment that stands on a line of its own in ``source``, in order (the text without
+    its ``#``); a comment after a statement on its line stays out (the reader's notes to Python are such)."""
+    found: list[tuple[int, str]] = []
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(source).readline):
+            if token.type == tokenize.COMMENT and not token.line[: token.start[1]].strip():
+                found.append((token.start[0], token.string[1:].strip()))
+    except (tokenize.TokenError, SyntaxError):  # the source parsed: this cannot happen, and comments are no reason to fail
+        return []
+    return found
+
+
+def _is_null_call(node: ast.expr, writer: StatementWriter) -> bool:
+    """``null(ITF)``: iecoop's null interface reference."""
+    return isinstance(node, ast.Call) and writer.resolves_to(node.func, "null") and _from_iecoop(writer.globals.get("null"))
+
+
 def _is_zero(value: ast.expr) -> bool:
     """A literal zero of any elementary type (``False``, ``0``, ``0.0``, ``""``): the value a result starts with."""
     return isinstance(value, ast.Constant) and value.value in (False, 0, 0.0, "") and value.value is not None
+
+
+def _statements(node: ast.FunctionDef) -> list[ast.stmt]:
+    """The statements of a function, without its docstring; none for an abstract one (``raise NotImplementedError``)."""
+    body = list(node.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+        body = body[1:]
+    if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
+        return []
+    return body

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import inspect
 import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -23,6 +24,7 @@ from iecoop.st.language import SECTION_ORDER
 from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
 from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
 from iecoop.st.write.infer import result_info as _result_info
+from iecoop.st.write.recorded import Declared
 from iecoop.st.write.statements import BodyWriter
 from iecoop.st.write.model import (
     LIFECYCLE,
@@ -96,7 +98,9 @@ class Unit:
     constants: list[tuple[str, Any]] = dataclasses.field(default_factory=list)
 
     def add_attribute(self, attribute: str) -> None:
-        """Set an attribute on the object: its pragma heads the declaration."""
+        """Set an attribute on the object: its pragma heads the declaration (once: a loaded object may have it)."""
+        if attribute in self.attributes:
+            return
         self.attributes.insert(0, attribute)
         self.declaration = f"{pragma(attribute)}\n{self.declaration}"
 
@@ -161,10 +165,15 @@ def _argument(value: Any, where: str) -> str:
         raise StExportError(f"{where}: {exc}") from None
 
 
-def variable_line(name: str, info: TypeInfo, initial: Any, owner: str, fb_init: Any = None, *, python_name: str = "") -> str:
-    """``name : TYPE := initial;`` of a variable of ``owner`` (``python_name``: its name in Python, where it differs)."""
+def variable_line(
+    name: str, info: TypeInfo, initial: Any, owner: str, fb_init: Any = None, *, python_name: str = "", declared: Declared | None = None,
+) -> str:
+    """``name : TYPE := initial;`` of a variable of ``owner`` (``python_name``: its name in Python, where it differs);
+    ``declared``: what the loaded source said of it (``AT %I*``, ARRAY bounds by name)."""
     where = f"{owner}.{python_name or name}"
-    text = f"{ident(name, owner)} : {type_text(info)}"
+    location = declared.locations.get(name.lower()) if declared is not None else None
+    bounds = declared.dimensions(name, info.bounds) if declared is not None and isinstance(info, ArrayInfo) else None
+    text = f"{ident(name, owner)}{f' {location}' if location else ''} : {type_text(info, bounds)}"
     if fb_init and isinstance(fb_init, Mapping):
         args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
         text += f"({args})"
@@ -175,13 +184,20 @@ def variable_line(name: str, info: TypeInfo, initial: Any, owner: str, fb_init: 
     return text + ";" + renamed_note(name)
 
 
+def _noted(line: str, name: str, declared: Declared | None) -> list[str]:
+    """A variable's declaration line (indented), after the pragmas and comments its loaded source had before
+    it, and with the comment it had after it."""
+    before, after = declared.notes.get(name.lower(), ((), "")) if declared is not None else ((), "")
+    return [*(f"    {note}" for note in before), f"    {line}" + (f"   {after}" if after else "")]
+
+
 def _declared_type(field: FieldDecl) -> TypeInfo:
     if field.section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo):
         return field.info.target
     return field.info
 
 
-def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = None) -> list[str]:
+def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = None, declared: Declared | None = None) -> list[str]:
     """VAR blocks in ST order, one per section and qualifier."""
     lines: list[str] = []
     groups: dict[tuple[str, str], list[FieldDecl]] = {}
@@ -196,7 +212,7 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
-            lines.append("    " + variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init))
+            lines += _noted(variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared), field.name, declared)
         lines.append("END_VAR")
     return lines
 
@@ -206,6 +222,16 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
 # ---------------------------------------------------------------------------
 
 
+def _headed(meta: ClassMeta, own: Sequence[str], lines: Sequence[str]) -> tuple[str, list[str]]:
+    """The declaration ``lines`` headed as the loaded source headed it (its pragmas and comments, as written)
+    and by the pragmas of the attributes ``own`` the writer sets that it did not have; and every attribute."""
+    declared = meta.declared
+    kept = declared.head if declared is not None else ()
+    had = sorted(declared.attributes) if declared is not None else []
+    added = [a for a in own if a not in had]
+    return "\n".join([*map(pragma, added), *kept, *lines]), [*added, *had]
+
+
 def _type_unit(meta: ClassMeta) -> Unit:
     name = meta.name
     if meta.kind == "enum":
@@ -213,21 +239,25 @@ def _type_unit(meta: ClassMeta) -> Unit:
         body = "\n".join(
             f"    {ident(n)} := {v}{',' if i < len(items) - 1 else ''}{renamed_note(n)}" for i, (n, v) in enumerate(items)
         )
-        return Unit("enum", name, f"TYPE {name} :\n(\n{body}\n) {enum_base(meta.cls)};\nEND_TYPE\n", meta=meta)
-    if meta.kind == "alias":
-        return Unit("alias", name, f"TYPE {name} : {alias_target(meta.cls)};\nEND_TYPE\n", meta=meta)
-    word = "STRUCT" if meta.kind == "struct" else "UNION"
-    extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
-    lines = [f"TYPE {name}{extends} :", word]
-    for field in meta.fields:
-        lines.append("    " + variable_line(field.name, field.info, field.spec.initial, name))
-    lines += [f"END_{word}", "END_TYPE", ""]
-    return Unit(meta.kind, name, "\n".join(lines), meta=meta)
+        lines = [f"TYPE {name} :", "(", body, f") {enum_base(meta.cls)};", "END_TYPE", ""]
+    elif meta.kind == "alias":
+        lines = [f"TYPE {name} : {alias_target(meta.cls)};", "END_TYPE", ""]
+    else:
+        word = "STRUCT" if meta.kind == "struct" else "UNION"
+        extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
+        lines = [f"TYPE {name}{extends} :", word]
+        for field in meta.fields:
+            lines += _noted(variable_line(field.name, field.info, field.spec.initial, name, declared=meta.declared), field.name, meta.declared)
+        lines += [f"END_{word}", "END_TYPE", ""]
+    declaration, attributes = _headed(meta, (), lines)
+    return Unit(meta.kind, name, declaration, meta=meta, attributes=attributes)
 
 
 def _gvl_unit(meta: ClassMeta) -> Unit:
-    lines = [pragma("qualified_only"), *sections(meta.fields, meta.name, default="VAR_GLOBAL"), ""]
-    return Unit("gvl", meta.name, "\n".join(lines), meta=meta, attributes=["qualified_only"])
+    # A list written from Python needs its name in front of its variables; a loaded one keeps what it had.
+    own = ("qualified_only",) if meta.declared is None or not meta.declared.from_st else ()
+    declaration, attributes = _headed(meta, own, [*sections(meta.fields, meta.name, default="VAR_GLOBAL", declared=meta.declared), ""])
+    return Unit("gvl", meta.name, declaration, meta=meta, attributes=attributes)
 
 
 def _local_lines(writer: BodyWriter) -> list[str]:
@@ -373,8 +403,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     implementation = ""
     # TwinCAT wants call_after_init above the FUNCTION_BLOCK too, not only above the METHOD it calls.
     after_init = any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method")
-    attributes = [_CALL_AFTER_INIT] if after_init else []
-    decl_lines = [*map(pragma, attributes), _pou_header(meta)]
+    decl_lines = [_pou_header(meta)]
     if not interface:
         temps: list[str] = []
         if meta.body is not None:
@@ -383,9 +412,10 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
             temps = _local_lines(body)
             if temps:
                 temps[0] = "VAR_TEMP"
-        decl_lines += sections(meta.fields, name) + temps
+        decl_lines += sections(meta.fields, name, declared=meta.declared) + temps
     parts = _pou_parts(meta, writer, interface)
-    return Unit(meta.kind, name, "\n".join(decl_lines) + "\n", implementation, parts, meta, attributes=attributes)
+    declaration, attributes = _headed(meta, [_CALL_AFTER_INIT] if after_init else [], decl_lines)
+    return Unit(meta.kind, name, declaration + "\n", implementation, parts, meta, attributes=attributes)
 
 
 def _pou_header(meta: ClassMeta) -> str:
@@ -416,7 +446,7 @@ def _pou_parts(meta: ClassMeta, writer: _Writer, interface: bool) -> list[Part]:
             except StExportError as exc:
                 if not writer.lenient:
                     raise
-                writer.untranslated.append(f"{meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
+                writer.untranslated.append(f"{_where(func)}: {meta.name}.{LIFECYCLE[lifecycle_name]}: member left out: {exc}")
     for member in meta.members:
         try:
             if member.kind == "method":
@@ -427,8 +457,15 @@ def _pou_parts(meta: ClassMeta, writer: _Writer, interface: bool) -> list[Part]:
             if not writer.lenient:
                 raise
             # A Python-only helper (its signature has no IEC type): left out, and said so.
-            writer.untranslated.append(f"{meta.name}.{member.name}: member left out: {exc}")
+            where = _where(member.function if member.kind == "method" else member.getter)
+            writer.untranslated.append(f"{where}: {meta.name}.{member.name}: member left out: {exc}")
     return parts
+
+
+def _where(func: Any) -> str:
+    """``FILE:LINE`` of a function's definition (a loaded POU's: its ST file and line)."""
+    code = getattr(inspect.unwrap(func), "__code__", None) if func is not None else None
+    return f"{code.co_filename}:{code.co_firstlineno}" if code is not None else "<unknown>"
 
 
 def _iface_info(cls: Any) -> TypeInfo:
@@ -478,7 +515,14 @@ def units(
         for fname in sorted(set(functions) - done):
             done.add(fname)
             scope = Scope(None, {}, constants, functions, named_enums)
-            unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            try:
+                unit = _function_unit(fname, functions[fname], _Writer(scope, lenient, untranslated))
+            except StExportError as exc:
+                message = f"{_where(functions[fname])}: FUNCTION {fname}: {exc}"
+                if not lenient:
+                    raise StExportError(message) from None
+                untranslated.append(f"{message} (left out)")
+                continue
             index = next((i for i, u in enumerate(found) if u.kind in ("fb", "program")), len(found))
             found.insert(index, unit)
     _mark_named_enums(found, named_enums, lenient, untranslated)

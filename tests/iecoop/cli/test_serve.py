@@ -20,7 +20,7 @@ def test_serve_runs_an_st_program_for_its_duration(tmp_path: Path) -> None:
     status = serve([str(source), "--endpoint", "opc.tcp://127.0.0.1:0", "--duration", "100ms"], out, err)
     assert (status, err.getvalue()) == (0, "")
     lines = out.getvalue().splitlines()
-    assert lines[0] == f"iecoop serve: MAIN of {source}"
+    assert lines[0] == f"iecoop serve: MAIN of {source} on PlcTask (10 ms)"
     assert lines[1].startswith("OPC UA server at opc.tcp://127.0.0.1:")
     assert "PlcTask.MAIN.nSetpoint" in lines[2]
     assert lines[-1] == "iecoop serve: stopped after 100 ms of PLC time"
@@ -29,3 +29,13 @@ def test_serve_runs_an_st_program_for_its_duration(tmp_path: Path) -> None:
 def test_serve_without_a_catalogue_takes_paths_only(capsys: pytest.CaptureFixture[str]) -> None:
     assert serve(["state"]) == 2
     assert capsys.readouterr().err == "iecoop serve: ST source 'state' does not exist\n"
+
+
+def test_serve_takes_the_task_of_the_project(tmp_path: Path) -> None:
+    project = Path(__file__).parents[1] / "st" / "data" / "projects" / "FillStation"
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(project), "--endpoint", "opc.tcp://127.0.0.1:0", "--duration", "20ms"], out, err)
+    assert status == 0, err.getvalue()
+    lines = out.getvalue().splitlines()
+    assert lines[0] == f"iecoop serve: MAIN of {project} on PlcTask (5 ms)"  # <CycleTime>50000</CycleTime>
+    assert lines[-1] == "iecoop serve: stopped after 20 ms of PLC time"

@@ -65,3 +65,45 @@ def test_st2py_and_st_run_are_commands_of_iecoop(capsys: pytest.CaptureFixture[s
     assert "class MAIN(Program):" in capsys.readouterr().out
     assert main(["st", "run", str(folder), "--program", "NOPE"]) == 2
     assert "declares no PROGRAM NOPE" in capsys.readouterr().err
+
+
+PROJECTS = pathlib.Path(__file__).parents[1] / "st" / "data" / "projects"
+
+
+def test_st_run_streams_rows_above_a_progress_line_on_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    from iecoop.cli import trace
+
+    monkeypatch.setattr(trace, "FLUSH_EVERY", 0.0)  # draw at every cycle
+    out = Terminal()
+    argv = [str(PROJECTS / "FillStation"), "--set", "GVL_IO.bStartButton=TRUE@100ms", "--trace", "MAIN.eState", "--cycles", "1200"]
+    assert st_run(argv, out, io.StringIO()) == 0
+    text = out.getvalue()
+    assert text.startswith("MAIN on PlcTask (5 ms), twincat profile, 1200 cycles; rows where a traced value changed\n")
+    assert "\r[" in text and "100% 1200/1200 cycles" in text and text.endswith("\r")  # the bar, wiped at the end
+    # the first row after the start button shows up once its cycle ran, after the bar of the cycles before it
+    before_filling = text[: text.index("FILLING")]
+    assert "20/1200 cycles" in before_filling and "22/1200" not in before_filling
+
+
+def test_st_run_into_a_pipe_writes_the_rows_alone() -> None:
+    status, out, err = call(st_run, str(PROJECTS / "FillStation"), "--cycles", "1500", "--trace", "MAIN.eState")
+    assert (status, err) == (0, "")
+    assert "\r" not in out and out.splitlines()[-1].split()[:2] == ["7495", "1500"]
+
+
+def test_an_exported_project_runs_on_its_task_and_strings_stay_on_their_row(tmp_path: pathlib.Path) -> None:
+    # PackLine's MAIN holds an unbound REFERENCE TO (refGoal): picking the default columns does not read it
+    assert main(["export", str(PROJECTS / "PackLine"), "-o", str(tmp_path / "out")]) == 0
+    assert (tmp_path / "out" / "PlcTask.TcTTO").read_bytes() == (PROJECTS / "PackLine" / "PlcTask.TcTTO").read_bytes()
+    assert '<None Include="PlcTask.TcTTO">' in (tmp_path / "out" / "PackLine.plcproj").read_text()
+    status, out, err = call(st_run, str(tmp_path / "out"), "--cycles", "8", "--trace", "MAIN.sText")
+    assert (status, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0].startswith("MAIN on PlcTask (2 ms)")  # <CycleTime>20000</CycleTime>
+    assert lines[3].split() == ["10", "6", "zero", "pack$N"]  # 'pack$N' holds a line break: shown as ST writes it
+    status, out, _ = call(st_run, str(PROJECTS / "PackLine"), "--cycles", "2")
+    assert status == 0 and out.splitlines()[1].split()[:3] == ["time", "ms", "cycle"]

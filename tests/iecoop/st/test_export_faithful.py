@@ -98,10 +98,12 @@ def test_st_text_goes_back_out_as_its_text(tmp_path: pathlib.Path) -> None:
 
 def test_cli_exports_an_st_project_strict_by_default(tmp_path: pathlib.Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["export", str(PROJECT / "FillStation.plcproj"), "-o", str(tmp_path / "out")]) == 0
-    for original in ORIGINALS:
-        assert (tmp_path / "out" / original.name).read_bytes() == original.read_bytes()
+    for original in ORIGINALS:  # in the project's own layout (POUs/, DUTs/, GVLs/): diff -r finds nothing
+        assert (tmp_path / "out" / original.relative_to(PROJECT)).read_bytes() == original.read_bytes()
+    for other in ("FillStation.plcproj", "PlcTask.TcTTO"):  # nothing changed: the project file as read too
+        assert (tmp_path / "out" / other).read_bytes() == (PROJECT / other).read_bytes()
     assert main(["export", str(PROJECT), "-o", str(tmp_path / "folder")]) == 0
-    assert (tmp_path / "folder" / "MAIN.TcPOU").read_bytes() == (PROJECT / "POUs" / "MAIN.TcPOU").read_bytes()
+    assert (tmp_path / "folder" / "POUs" / "MAIN.TcPOU").read_bytes() == (PROJECT / "POUs" / "MAIN.TcPOU").read_bytes()
     capsys.readouterr()
 
 

@@ -347,3 +347,20 @@ def test_a_renamed_method_keeps_its_var_inst() -> None:
     tally = load(text).Tally()
     tally.constant()  # read back, the ST name constant_ is the Python name constant again
     assert tally.constant() == 2
+
+
+def test_a_loaded_projects_layout_is_written_in_folders_that_stay_inside(tmp_path: Path) -> None:
+    from iecoop.st.export import _write
+
+    out = tmp_path / "out"
+    out.mkdir()
+    assert _write(out, "POUs/MAIN.TcPOU", "x", nested=True).read_text() == "x"
+    assert (out / "POUs" / "MAIN.TcPOU").is_file()
+    for name in ("POUs/../../x.st", "../x.st", "POUs//x.st"):
+        with pytest.raises(StExportError, match="outside the folder"):
+            _write(out, name, "x", nested=True)
+    (tmp_path / "elsewhere").mkdir()
+    (out / "DUTs").symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(StExportError, match="symbolic link"):
+        _write(out, "DUTs/E.TcDUT", "x", nested=True)
+    assert not (tmp_path / "elsewhere" / "E.TcDUT").exists()
