@@ -14,7 +14,9 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
-from iecoop.st.read.trees import accessor_access, address_taken, by_reference_arguments, flag_keywords, signature, statements_of, variables
+from iecoop.st.read.trees import (
+    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, signature, statements_of, variables,
+)
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
@@ -53,7 +55,7 @@ class Pous(Locals):
         for itf in node.implements.interfaces if node.implements else []:
             itf_decl = self.decls.get(str(itf).lower())
             if itf_decl is None or itf_decl.kind != "interface":
-                raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {itf!r}", node)
+                raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {str(itf)!r}", node)
             named.append(itf_decl)
         # IMPLEMENTS I_A, I_B with I_B EXTENDS I_A is legal ST; a Python class cannot list a base after its subclass.
         bases += [d.name for d in named if not any(d is not o and any(d is a for a in self._interface_ancestors(o)) for o in named)]
@@ -103,6 +105,18 @@ class Pous(Locals):
             self.emit("pass", 1)
 
     def _emit_fields(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None = None) -> None:
+        # an initial value is made with the class: a VAR CONSTANT it names is that constant's value, not self.x
+        constants = {key: member for key, member in self.owner_constants(
+            self.block_owner.get(id(next((i for b in blocks for i in b.items), None)))).items() if key not in scope.locals}
+        scope.locals.update(constants)
+        try:
+            self._emit_field_blocks(decl, blocks, scope, level, method)
+        finally:
+            for key, member in constants.items():
+                if scope.locals.get(key) is member:
+                    del scope.locals[key]
+
+    def _emit_field_blocks(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None) -> None:
         for block in blocks:
             self.comments(block, level)
             section = _SECTION_OF.get(type(block))
@@ -122,9 +136,9 @@ class Pous(Locals):
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(python_name(name, attribute=True), type_, self.located_section(item, section or "VAR"), st=name)
+                    member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
-                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
+                self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_method_instance_fields(self, decl: Decl) -> None:
         """The VAR_INST of each METHOD: fields of the instance, after the block's own (pass 1 declared them)."""
@@ -453,7 +467,7 @@ class Pous(Locals):
                 for name, type_ in self._item_types(item):
                     member = Member(python_name(name, attribute=True), type_, "VAR", st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
-                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
+                self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_function(self, decl: Decl) -> None:
         node = decl.node

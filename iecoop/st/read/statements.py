@@ -108,7 +108,7 @@ class Statements(Calls):
             return
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
-            raise self.fail(f"assignment to CONSTANT {local.name}", target)
+            raise self.fail(f"assignment to CONSTANT {local.st or local.name}", target)
         if local is not None and local.section == "LOCAL" and self._local_reference(local.type):
             raise self.fail(f"assignment to the whole REFERENCE TO local {local.name} (bind it with REF=, write its members)", target)
         by_reference = local is not None and local.section in ("VAR_OUTPUT", "VAR_IN_OUT")

@@ -1,0 +1,246 @@
+"""Constructs public TwinCAT projects write that the reader refused: each loaded and run, values worked by hand."""
+
+from __future__ import annotations
+
+import math
+import pathlib
+
+import pytest
+
+from iecoop import T
+from iecoop.runtime import Runtime, Task
+
+st = pytest.importorskip("iecoop.st")
+
+
+# --- locals of a FUNCTION or METHOD that need an address --------------------------------------------
+
+
+def test_an_array_local_of_a_function_is_passed_as_an_in_out() -> None:
+    # F_Fill writes 0, 7, 14, 21 into the caller's local array; the caller sums them: 42
+    plc = st.load("""TYPE ST_Item : STRUCT nWeight : DINT; fArea : LREAL; END_STRUCT END_TYPE
+FUNCTION F_Fill
+VAR_INPUT nLast : INT; END_VAR
+VAR_IN_OUT aItems : ARRAY[0..3] OF ST_Item; END_VAR
+VAR i : INT; END_VAR
+FOR i := 0 TO nLast DO aItems[i].nWeight := i * 7; END_FOR
+END_FUNCTION
+FUNCTION F_Total : DINT
+VAR aWork : ARRAY[0..3] OF ST_Item; i : INT; END_VAR
+F_Fill(nLast := 3, aItems := aWork);
+FOR i := 0 TO 3 DO F_Total := F_Total + aWork[i].nWeight; END_FOR
+END_FUNCTION
+FUNCTION_BLOCK FB_Tally
+VAR_OUTPUT nTotal : DINT; END_VAR
+nTotal := nTotal + F_Total();
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Tally()
+    fb()
+    fb()
+    assert fb.nTotal == 84  # 42 per call: the local array starts from zero every call
+
+
+def test_a_method_array_local_is_passed_by_position_as_an_in_out() -> None:
+    plc = st.load("""FUNCTION F_Swap
+VAR_IN_OUT a : ARRAY[1..2] OF INT; END_VAR
+VAR t : INT; END_VAR
+t := a[1]; a[1] := a[2]; a[2] := t;
+END_FUNCTION
+FUNCTION_BLOCK FB_Pair
+VAR_OUTPUT nFirst : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Swapped : INT
+VAR aPair : ARRAY[1..2] OF INT := [3, 9]; END_VAR
+F_Swap(aPair);
+nFirst := aPair[1];
+Swapped := aPair[1] * 10 + aPair[2];
+END_METHOD""")
+    fb = plc.FB_Pair()
+    assert fb.Swapped() == 93 and fb.nFirst == 9
+
+
+def test_adr_of_a_constant_reads_its_bits_as_another_type() -> None:
+    # 16#7FF0000000000000 is the IEEE-754 pattern of +infinity; 16#3FF0000000000000 is 1.0
+    plc = st.load("""FUNCTION F_Inf : LREAL
+VAR CONSTANT cInfBits : ULINT := ULINT#16#7FF0000000000000; END_VAR
+VAR pInf : POINTER TO LREAL := ADR(cInfBits); END_VAR
+F_Inf := pInf^;
+END_FUNCTION
+FUNCTION F_One : LREAL
+VAR CONSTANT cBits : ULINT := ULINT#16#3FF0000000000000; END_VAR
+VAR p : POINTER TO LREAL; END_VAR
+p := ADR(cBits);
+F_One := p^ * 2;
+END_FUNCTION""")
+    assert math.isinf(plc.F_Inf()) and plc.F_Inf() > 0
+    assert plc.F_One() == 2.0
+
+
+def test_a_constant_whose_address_is_taken_is_still_refused_a_write() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:4: assignment to CONSTANT cBits"):
+        st.load("""FUNCTION F : LREAL
+VAR CONSTANT cBits : ULINT := 1; END_VAR
+VAR p : POINTER TO ULINT := ADR(cBits); END_VAR
+cBits := 2;
+END_FUNCTION""")
+
+
+# --- VAR blocks ------------------------------------------------------------------------------------
+
+
+def test_an_empty_var_block_of_a_program_loads() -> None:
+    # blark reads an empty VAR ... END_VAR of a PROGRAM as a block of located variables: it has none
+    plc = st.load("""PROGRAM MAIN
+VAR
+\t
+END_VAR
+END_PROGRAM
+PROGRAM P_Count
+VAR
+END_VAR
+VAR n : INT; END_VAR
+n := n + 2;
+END_PROGRAM""")
+    plc.P_Count()
+    plc.P_Count()
+    assert plc.P_Count.n == 4
+
+
+def test_a_program_var_of_located_inputs_alone_loads() -> None:
+    plc = st.load("""PROGRAM MAIN
+VAR
+    bStart AT %I* : BOOL;
+    nRaw AT %IW4 : INT;
+END_VAR
+VAR
+    bLamp AT %Q* : BOOL;
+END_VAR
+VAR
+    nCount : INT;
+END_VAR
+bLamp := bStart;
+IF bStart THEN nCount := nCount + nRaw; END_IF
+END_PROGRAM""")
+    plc.MAIN.bStart = True
+    plc.MAIN.nRaw = 5
+    plc.MAIN()
+    plc.MAIN()
+    assert (plc.MAIN.bLamp, plc.MAIN.nCount) == (True, 10)
+    plc.MAIN.bStart = False
+    plc.MAIN()
+    assert (plc.MAIN.bLamp, plc.MAIN.nCount) == (False, 10)
+
+
+# --- inline enumerations ----------------------------------------------------------------------------
+
+
+def test_an_inline_enumeration_steps_a_state_machine() -> None:
+    # IDLE=0, FILL=5, DRAIN=6; starts at FILL: FILL->DRAIN (+1), DRAIN->IDLE (+10), IDLE->FILL, FILL->DRAIN (+1)
+    plc = st.load("""FUNCTION_BLOCK FB_Tank
+VAR_OUTPUT nLog : INT; END_VAR
+VAR
+    eStep : (IDLE, FILL := 5, DRAIN) := FILL;
+END_VAR
+CASE eStep OF
+    IDLE: eStep := FILL;
+    FILL: eStep := DRAIN; nLog := nLog + 1;
+    DRAIN: eStep := IDLE; nLog := nLog + 10;
+END_CASE
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Tank()
+    seen = []
+    for _ in range(4):
+        fb()
+        seen.append((int(fb.eStep), fb.nLog))
+    assert seen == [(6, 1), (0, 11), (5, 11), (6, 12)]
+    assert plc.FB_Tank_eStep.DRAIN == 6
+
+
+def test_two_blocks_with_inline_enumerations_of_the_same_variable_name_load() -> None:
+    plc = st.load("""FUNCTION_BLOCK FB_A
+VAR eState : (A_OFF, A_ON); END_VAR
+eState := A_ON;
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_B
+VAR eState : (B_OFF, B_HALF, B_ON) := B_HALF; END_VAR
+IF eState = B_HALF THEN eState := B_ON; END_IF
+END_FUNCTION_BLOCK""")
+    a, b = plc.FB_A(), plc.FB_B()
+    assert (int(a.eState), int(b.eState)) == (0, 1)
+    a()
+    b()
+    assert (int(a.eState), int(b.eState)) == (1, 2)
+
+
+# --- a POU's own constants in its declarations -----------------------------------------------------
+
+
+def test_array_bounds_name_constants_declared_after_them() -> None:
+    # cSize = 4, cBytes = 4 * 2 = 8: aBuf is [1..4], aBytes [0..7]
+    plc = st.load("""FUNCTION_BLOCK FB_Log
+VAR
+    aBuf : ARRAY[1..cSize] OF INT;
+    aBytes : ARRAY[0..cBytes - 1] OF BYTE;
+    nShape : INT;
+END_VAR
+VAR CONSTANT
+    cSize : INT := 4;
+    cBytes : UDINT := cSize * 2;
+END_VAR
+nShape := UPPER_BOUND(aBuf, 1) * 100 + UPPER_BOUND(aBytes, 1);
+aBuf[cSize] := nShape;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Log()
+    fb()
+    assert (fb.nShape, fb.aBuf[4], fb.cBytes) == (407, 407, 8)
+
+
+def test_a_function_local_array_is_bounded_by_its_own_constant() -> None:
+    plc = st.load("""FUNCTION F_Sum : INT
+VAR CONSTANT cLast : INT := 3; END_VAR
+VAR a : ARRAY[0..cLast] OF INT := [1, 2, 3, 4]; i : INT; END_VAR
+FOR i := 0 TO cLast DO F_Sum := F_Sum + a[i]; END_FOR
+END_FUNCTION""")
+    assert plc.F_Sum() == 10
+
+
+def test_an_unknown_interface_is_named_by_its_st_name() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"IMPLEMENTS unknown interface 'Lib\.I_Run'$"):
+        st.load("FUNCTION_BLOCK FB_X IMPLEMENTS Lib.I_Run\nEND_FUNCTION_BLOCK")
+
+
+# --- a TwinCAT project using them, loaded through its .plcproj and run ------------------------------
+
+PALLETIZER = pathlib.Path(__file__).parent / "data" / "projects" / "Palletizer" / "Palletizer.plcproj"
+
+
+def test_the_palletizer_project_stacks_three_layers_over_cycles() -> None:
+    # 100 ms cycles, the grip TON 200 ms: a layer takes 5 cycles (wait, grip started, 2 cycles gripping, place)
+    plc = st.load(PALLETIZER)
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("100ms")), plc.MAIN)
+    stacker = plc.MAIN.fbStacker
+    runtime.run(cycles=1)  # the start button is off: MAIN does not call the stacker
+    assert (int(stacker.eStep), plc.P_Io.bRunLamp) == (0, False)
+    plc.P_Io.bStartButton = True  # %I* in a PROGRAM's VAR: an input the I/O update (here the test) writes
+    plc.GVL_IO.bBoxAtGripper = True
+    seen = []
+    for raw in [125] * 5 + [310] * 5 + [88] * 6:  # the scale reads 12.5 kg, then 31.0 kg, then 8.8 kg
+        plc.GVL_IO.nScaleRaw = raw
+        runtime.run(cycles=1)
+        seen.append((int(stacker.eStep), stacker.nLayer, plc.GVL_IO.bGripperClose, plc.MAIN.fHeaviest))
+
+    def grip(layers: int, heaviest: float) -> list[tuple[int, int, bool, float]]:
+        """GRIP (1) with the gripper closing, closed, closed, then PLACE (2) once the TON is done."""
+        return [(1, layers, False, heaviest), (1, layers, True, heaviest), (1, layers, True, heaviest), (2, layers, True, heaviest)]
+
+    assert seen[0:4] == grip(0, 0.0)
+    assert seen[4] == (0, 1, False, 12.5)  # placed: WAIT_BOX again, the gripper open
+    assert seen[5:9] == grip(1, 12.5)
+    assert seen[9] == (0, 2, False, 31.0)
+    assert seen[10:14] == grip(2, 31.0)
+    assert seen[14] == (10, 3, False, 31.0)  # FULL := 10
+    assert seen[15] == (10, 3, False, 31.0) and stacker.bFull and plc.P_Io.bRunLamp
+    # F_HeaviestLayer sorted its own copy: the stacker's layers keep their order
+    assert [stacker.aLayers[i].fWeight for i in range(1, 5)] == [12.5, 31.0, 8.8, 0.0]
+    assert math.isinf(plc.MAIN.fInfinity) and plc.MAIN.bNaNSeen
