@@ -239,6 +239,8 @@ class LibraryReference:
 
 #: ``Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)``: title, version, company
 _RESOLUTION = re.compile(r"\s*([^,()]+?)\s*(?:,\s*([^()]*?)\s*)?(?:\(([^()]*)\))?\s*\Z")
+#: a library's title: words, as vendors name them ("Base Interfaces", "Tc2_Standard"); never a path
+_LIBRARY_TITLE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_ .\-]*\Z")
 
 
 def library_references(source: str | os.PathLike[str]) -> list[LibraryReference]:
@@ -273,7 +275,7 @@ def _library_reference(path: pathlib.Path, element: Any) -> LibraryReference:
     resolution = children.get("DefaultResolution") or element.get("Include", "")
     match = _RESOLUTION.match(resolution)
     where = f"{path}:{element.sourceline}"
-    if match is None or not is_st_identifier(match.group(1).strip()):
+    if match is None or not _LIBRARY_TITLE.match(match.group(1).strip()):
         raise StSyntaxError(f"{where}: library reference {resolution!r} names no library (Title, version (company))")
     name = match.group(1).strip()
     namespace = children.get("Namespace") or element.get("Include", "").split(",")[0].strip() or name

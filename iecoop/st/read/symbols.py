@@ -70,8 +70,7 @@ class Symbols:
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
-        #: an inline enumeration (id of its initialisation) -> its TYPE; a declaration (id) -> its POU, METHOD or accessor,
-        #: whose VAR CONSTANTs its bounds may name; the one ``const_expr`` reads now; each one's constants (a memo)
+        #: by id: an inline enumeration's TYPE, a declaration's POU or METHOD (its bounds may name their VAR CONSTANTs), ...
         self.inline_enums: dict[int, str] = {}
         self.block_owner: dict[int, Any] = {}
         self.constants_owner: Any = None
@@ -118,6 +117,8 @@ class Symbols:
                     if current is None or current.kind not in ("fb", "interface", "program"):
                         raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    for init, declaration in inline_enumerations(item, f"{current.st}_{item.name}".replace(".", "_")):
+                        self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
                     if isinstance(item, tf.Property):
                         self._mark_accessor(unit, item)
                     continue
@@ -185,9 +186,8 @@ class Symbols:
 
     def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
         """Declare one top-level item; the POU that its METHODs, PROPERTYs and ACTIONs follow, or None."""
-        if isinstance(item, (tf.FunctionBlock, tf.Program, tf.Function)):
-            for init, declaration in inline_enumerations(item):  # a TYPE of its own; the code names its values bare
-                self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
+        for init, declaration in inline_enumerations(item):  # a TYPE of its own; the code names its values bare
+            self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
         if isinstance(item, tf.FunctionBlock):
             decl = self._add(Decl("fb", str(item.name), item, unit))
             if item.extends:
@@ -364,8 +364,9 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
-        if name.upper() == "__SYSTEM.EXCEPTIONCODE":
-            return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
+        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
+        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
+            return TypeRef("elem", system)
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
@@ -531,13 +532,11 @@ class Symbols:
             return
         if isinstance(item, tf.EdgeDeclaration):
             raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
-        if isinstance(item, tf.LocatedVariableDeclaration):
+        if isinstance(item, (tf.LocatedVariableDeclaration, tf.IncompleteLocatedVariableDeclaration)):
             if item.name is None:
                 raise self.fail(f"a located variable without a name ({item.location}) is not supported: name it", item)
-            yield str(item.name.name), self.init_type(item.init, item)
-            return
-        if isinstance(item, tf.IncompleteLocatedVariableDeclaration):  # a VAR of ``x AT %I* : T`` alone: a type, no initial value
-            yield str(item.name.name), self._spec_type(item.init, item)
+            incomplete = isinstance(item, tf.IncompleteLocatedVariableDeclaration)  # a VAR of ``x AT %I* : T`` alone
+            yield str(item.name.name), self._spec_type(item.init, item) if incomplete else self.init_type(item.init, item)
             return
         init = getattr(item, "init", None)
         type_ = self.init_type(init, item)

@@ -227,16 +227,16 @@ def nodes_below(node: Any) -> Iterator[Any]:
                 yield from nodes_below(getattr(node, field.name))
 
 
-def inline_enumerations(pou: Any) -> Iterator[tuple[Any, Any]]:
-    """``eState : (Idle, Run);`` in the VAR of ``pou``: each initialisation and a ``TYPE <POU>_<variable>``
-    declaration made for it (new nodes: the tree is left as it was read)."""
+def inline_enumerations(pou: Any, prefix: str = "") -> Iterator[tuple[Any, Any]]:
+    """``eState : (Idle, Run);`` in the VAR of ``pou``: each initialisation and a ``TYPE <prefix>_<variable>``
+    declaration made for it (``prefix``: the POU's name by default; new nodes, the tree is left as read)."""
     for block in getattr(pou, "declarations", None) or []:
         for item in getattr(block, "items", None) or []:
             init = getattr(item, "init", None)
             if not isinstance(init, tf.EnumeratedTypeInitialization) or not init.spec.values or init.indirection is not None:
                 continue
             names = [str(v.variable.name) for v in getattr(item, "variables", [])]
-            name = lark_token_type()("IDENTIFIER", f"{pou.name}_{names[0] if names else 'enum'}")
+            name = lark_token_type()("IDENTIFIER", f"{prefix or pou.name}_{names[0] if names else 'enum'}")
             spec = tf.EnumeratedSpecification(type_name=None, values=init.spec.values, meta=init.spec.meta)
             node = tf.EnumeratedTypeDeclaration(
                 name=name, init=tf.EnumeratedTypeInitialization(indirection=None, spec=spec, value=init.value, meta=init.meta),

@@ -8,7 +8,9 @@ import pathlib
 import pytest
 
 from iecoop import T
+from iecoop.exceptions import DefinitionError
 from iecoop.runtime import Runtime, Task
+from iecoop.st.read.parse import library_references
 
 st = pytest.importorskip("iecoop.st")
 
@@ -172,6 +174,39 @@ END_FUNCTION_BLOCK""")
     assert (int(a.eState), int(b.eState)) == (1, 2)
 
 
+def test_an_inline_enumeration_local_to_a_method_starts_anew_every_call() -> None:
+    # CLOSED=0, OPENING=1, OPEN=2: each call starts at OPENING and moves to OPEN, counting one opening
+    plc = st.load("""FUNCTION_BLOCK FB_Door
+VAR_OUTPUT nOpened : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Cycle : INT
+VAR eLocal : (CLOSED, OPENING, OPEN) := OPENING; END_VAR
+IF eLocal = OPENING THEN eLocal := OPEN; nOpened := nOpened + 1; END_IF
+Cycle := eLocal;
+END_METHOD""")
+    door = plc.FB_Door()
+    assert (door.Cycle(), door.Cycle(), door.nOpened) == (2, 2, 2)
+    assert plc.FB_Door_Cycle_eLocal.OPEN == 2
+
+
+def test_an_inline_enumeration_local_to_a_property_accessor_loads() -> None:
+    # LOW=0, MID=4, HIGH=5: a level of 7 is above MID, so the Get returns HIGH
+    plc = st.load("""FUNCTION_BLOCK FB_Level
+VAR_INPUT nLevel : INT; END_VAR
+END_FUNCTION_BLOCK
+PROPERTY Band : INT
+VAR eBand : (LOW, MID := 4, HIGH); END_VAR
+IF nLevel > MID THEN eBand := HIGH; ELSIF nLevel > 0 THEN eBand := MID; END_IF
+Band := eBand;
+END_PROPERTY""")
+    fb = plc.FB_Level()
+    assert fb.Band == 0
+    fb.nLevel = 7
+    assert fb.Band == 5
+    fb.nLevel = 2
+    assert fb.Band == 4
+
+
 # --- a POU's own constants in its declarations -----------------------------------------------------
 
 
@@ -244,3 +279,49 @@ def test_the_palletizer_project_stacks_three_layers_over_cycles() -> None:
     # F_HeaviestLayer sorted its own copy: the stacker's layers keep their order
     assert [stacker.aLayers[i].fWeight for i in range(1, 5)] == [12.5, 31.0, 8.8, 0.0]
     assert math.isinf(plc.MAIN.fInfinity) and plc.MAIN.bNaNSeen
+
+
+def test_a_library_whose_title_has_a_space_is_bound_by_its_namespace(tmp_path: pathlib.Path) -> None:
+    # TwinCAT's own system library is titled "Base Interfaces"; projects reach it as IBaseLibrary
+    library = tmp_path / "base"
+    library.mkdir()
+    (library / "F_Twice.st").write_text("FUNCTION F_Twice : INT\nVAR_INPUT n : INT; END_VAR\nF_Twice := 2 * n;\nEND_FUNCTION\n")
+    (tmp_path / "MAIN.TcPOU").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n  <POU Name="MAIN">\n'
+        '    <Declaration><![CDATA[PROGRAM MAIN\nVAR n : INT := 4; END_VAR]]></Declaration>\n'
+        '    <Implementation><ST><![CDATA[n := IBaseLibrary.F_Twice(n);]]></ST></Implementation>\n  </POU>\n</TcPlcObject>\n')
+    (tmp_path / "P.plcproj").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n<Project xmlns="http://schemas.microsoft.com/developer/msbuild/2003">\n'
+        '<ItemGroup><Compile Include="MAIN.TcPOU" /></ItemGroup>\n'
+        '<ItemGroup><LibraryReference Include="Base Interfaces,newest,System"><Namespace>IBaseLibrary</Namespace>'
+        '</LibraryReference></ItemGroup>\n</Project>\n')
+    [reference] = library_references(tmp_path / "P.plcproj")
+    assert (reference.name, reference.namespace, reference.version) == ("Base Interfaces", "IBaseLibrary", "newest,System")
+    with pytest.raises(DefinitionError, match=r"P.plcproj:4: library Base Interfaces, version newest,System is not found: pass libraries="):
+        st.load(tmp_path / "P.plcproj")
+    plc = st.load(tmp_path / "P.plcproj", libraries={"IBaseLibrary": library})
+    plc.MAIN()
+    plc.MAIN()
+    assert plc.MAIN.n == 16
+
+
+def test_a_type_class_input_names_the_class_a_generic_input_had() -> None:
+    # TcUnit's way to print what type an ANY input was: a __SYSTEM.TYPE_CLASS input, cased on its values
+    plc = st.load("""FUNCTION F_Name : STRING
+VAR_INPUT c : __SYSTEM.TYPE_CLASS; END_VAR
+CASE c OF
+    __SYSTEM.TYPE_CLASS.TYPE_INT: F_Name := 'INT';
+    __SYSTEM.TYPE_CLASS.TYPE_LREAL: F_Name := 'LREAL';
+ELSE F_Name := 'OTHER';
+END_CASE
+END_FUNCTION
+FUNCTION F_Kind : STRING
+VAR_INPUT x : ANY; END_VAR
+F_Kind := F_Name(x.TypeClass);
+END_FUNCTION
+PROGRAM MAIN
+VAR a : INT; b : LREAL; t : BOOL; sA, sB, sT : STRING; END_VAR
+sA := F_Kind(a); sB := F_Kind(b); sT := F_Kind(t);
+END_PROGRAM""")
+    plc.MAIN()
+    assert (plc.MAIN.sA, plc.MAIN.sB, plc.MAIN.sT) == ("INT", "LREAL", "OTHER")
