@@ -456,10 +456,13 @@ def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]],
     import blark.transform as tf
     import lark
 
+    from iecoop.st.read.trees import drop_empty_arguments
+
     tree, comments = raw
     _check_limits(tree, Unit(None, filename, line_map))
     try:
-        return tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename)), comments
+        transformed = tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename))
+        return drop_empty_arguments(transformed), comments
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
     except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack

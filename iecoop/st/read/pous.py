@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import re
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import blark.transform as tf
@@ -106,11 +107,16 @@ class Pous(Locals):
 
     def _emit_fields(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None = None) -> None:
         # an initial value is made with the class: a VAR CONSTANT it names is that constant's value, not self.x
-        constants = {key: member for key, member in self.owner_constants(
-            self.block_owner.get(id(next((i for b in blocks for i in b.items), None)))).items() if key not in scope.locals}
+        with self._constants_in(scope, self.block_owner.get(id(next((i for b in blocks for i in b.items), None)))):
+            self._emit_field_blocks(decl, blocks, scope, level, method)
+
+    @contextlib.contextmanager
+    def _constants_in(self, scope: Scope, owner: Any) -> Iterator[None]:
+        """``scope`` reads the VAR CONSTANTs of ``owner`` (a POU or METHOD node) as their values while it is open."""
+        constants = {key: member for key, member in self.owner_constants(owner).items() if key not in scope.locals}
         scope.locals.update(constants)
         try:
-            self._emit_field_blocks(decl, blocks, scope, level, method)
+            yield
         finally:
             for key, member in constants.items():
                 if scope.locals.get(key) is member:
@@ -237,7 +243,9 @@ class Pous(Locals):
             # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
             scope.by_value.append((param, init))
             return f"{param.name}: {param.type.annotation()} | None = None"
-        default = self.initial_value(param.type, init, scope) or self.zero(param.type)
+        owner = scope.owner.node if scope.owner is not None and scope.owner.kind in ("fb", "program") else None
+        with self._constants_in(scope, owner):  # a default is made with the function: the block's constants as values
+            default = self.initial_value(param.type, init, scope) or self.zero(param.type)
         if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
             # a prototype's input of its own interface type: the class does not exist yet to make its null()
             self.need("iecoop", "NULL")
@@ -387,18 +395,19 @@ class Pous(Locals):
             getter = found.get("get")
             setter = found.get("set")
             annotation = prop.type.annotation()
-            if getter is None:
-                raise self.fail(f"PROPERTY {prop.st} has a Set accessor but no Get (iecoop needs the Get)", setter)
             self.emit("", 0)
-            self.enter(getter)
+            self.enter(getter or setter)
             self.comments(getter, 1)
             self.emit("@prop", 1)
-            access = accessor_access(getter)
+            access = accessor_access(getter or setter)
             flags = self._access_decorator(access, st=prop.st, python=prop.name)
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
-            if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
+            if getter is None:  # a PROPERTY with a Set only: written, never read (TwinCAT refuses a read when compiling)
+                self.need("iecoop", "AccessError")
+                self.emit(f'raise AccessError("PROPERTY {decl.st}.{prop.st} has no Get accessor: it can only be written")', 2)
+            elif decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
                 scope = Scope(decl, "getter", return_name=python_name(prop.st))

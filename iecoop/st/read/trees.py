@@ -270,3 +270,12 @@ def located_section(item: Any, section: str) -> str:
     VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
     METHOD's or FUNCTION's inputs stay the ones it declares)."""
     return "VAR_INPUT" if section == "VAR" and "%I" in location(item).upper() else section
+
+
+def drop_empty_arguments(tree: Any) -> Any:
+    """``fb(Done => , BufferMode := , Execute := TRUE)``: the arguments written without a value are not passed, as
+    TwinCAT and CODESYS read them (their input keeps its value, the output is not read); ``tree`` is changed in place."""
+    for node in nodes_below(tree):
+        if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
+            node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
+    return tree

@@ -8,7 +8,7 @@ import pathlib
 import pytest
 
 from iecoop import T
-from iecoop.exceptions import DefinitionError
+from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.runtime import Runtime, Task
 from iecoop.st.read.parse import library_references
 
@@ -325,3 +325,100 @@ sA := F_Kind(a); sB := F_Kind(b); sT := F_Kind(t);
 END_PROGRAM""")
     plc.MAIN()
     assert (plc.MAIN.sA, plc.MAIN.sB, plc.MAIN.sT) == ("INT", "LREAL", "OTHER")
+
+
+# --- what TwinCAT accepts in calls and BOOL values ---------------------------------------------------
+
+
+def test_arguments_written_without_a_value_are_not_passed() -> None:
+    # fb(nStep := , bDone => ) keeps the input's value and reads no output, as TwinCAT's call assistant writes them
+    plc = st.load("""FUNCTION_BLOCK FB_Count
+VAR_INPUT nStep : INT := 2; END_VAR
+VAR_OUTPUT nTotal : INT; bOdd : BOOL; END_VAR
+nTotal := nTotal + nStep;
+bOdd := (nTotal MOD 2) = 1;
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR fbCount : FB_Count; bOdd : BOOL := TRUE; nSeen : INT; END_VAR
+fbCount(nStep := , bOdd => , nTotal => nSeen);
+fbCount(nStep := 3, bOdd => bOdd, );
+fbCount(nStep := , nTotal => nSeen);
+END_PROGRAM""")
+    plc.MAIN()
+    # 0 + 2 = 2 (seen), + 3 = 5 (odd), + 3 (the input kept its value) = 8 (seen)
+    assert (plc.MAIN.nSeen, plc.MAIN.bOdd, plc.MAIN.fbCount.nTotal) == (8, True, 8)
+
+
+def test_bool_takes_the_literals_zero_and_one() -> None:
+    plc = st.load("""TYPE ST_Flags : STRUCT bEnable : BOOL := 1; bLatch : BOOL := 0; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Latch
+VAR_INPUT bSet : BOOL := 0; END_VAR
+VAR_OUTPUT bQ : BOOL; END_VAR
+VAR stFlags : ST_Flags; END_VAR
+IF bSet = 1 AND stFlags.bEnable THEN stFlags.bLatch := 1; END_IF
+bQ := stFlags.bLatch;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Latch()
+    fb()
+    assert (fb.bQ, fb.stFlags.bEnable) == (False, True)
+    fb(bSet=True)
+    assert (fb.bQ, fb.stFlags.bLatch) == (True, True)
+
+
+def test_case_labels_and_input_defaults_name_the_blocks_constants() -> None:
+    # cStart = 1, cStop = 2; SetEffect's default nEffect is cPulse = 2
+    plc = st.load("""FUNCTION_BLOCK FB_Button
+VAR_INPUT nType : USINT; END_VAR
+VAR_OUTPUT nRed, nEffect : BYTE; END_VAR
+VAR CONSTANT cStart : USINT := 1; cStop : USINT := 2; cPulse : BYTE := 2; END_VAR
+CASE nType OF
+    cStart: nRed := 0;
+    cStop: nRed := 255;
+ELSE nRed := 128;
+END_CASE
+END_FUNCTION_BLOCK
+METHOD SetEffect
+VAR_INPUT nNew : BYTE := cPulse; END_VAR
+nEffect := nNew;
+END_METHOD""")
+    button = plc.FB_Button()
+    seen = []
+    for kind in (1, 2, 7):
+        button(nType=kind)
+        seen.append(button.nRed)
+    assert seen == [0, 255, 128]
+    button.SetEffect()
+    assert button.nEffect == 2
+    button.SetEffect(nNew=5)
+    assert button.nEffect == 5
+
+
+def test_a_property_with_a_set_accessor_only_is_written_and_refuses_a_read(tmp_path: pathlib.Path) -> None:
+    (tmp_path / "FB_Led.TcPOU").write_text("""<?xml version="1.0" encoding="utf-8"?>
+<TcPlcObject Version="1.1.0.1">
+  <POU Name="FB_Led">
+    <Declaration><![CDATA[FUNCTION_BLOCK FB_Led
+VAR_OUTPUT nRed, nGreen : BYTE; END_VAR]]></Declaration>
+    <Implementation><ST><![CDATA[]]></ST></Implementation>
+    <Property Name="Color">
+      <Declaration><![CDATA[PROPERTY Color : INT]]></Declaration>
+      <Set Name="Set">
+        <Declaration><![CDATA[VAR
+END_VAR]]></Declaration>
+        <Implementation><ST><![CDATA[CASE Color OF
+    0: nRed := 255; nGreen := 0;
+    1: nRed := 0; nGreen := 255;
+END_CASE]]></ST></Implementation>
+      </Set>
+    </Property>
+  </POU>
+</TcPlcObject>
+""")
+    plc = st.load(tmp_path / "FB_Led.TcPOU")
+    led = plc.FB_Led()
+    led.Color = 1
+    assert (led.nRed, led.nGreen) == (0, 255)
+    led.Color = 0
+    assert (led.nRed, led.nGreen) == (255, 0)
+    with pytest.raises(AccessError, match=r"PROPERTY FB_Led.Color has no Get accessor: it can only be written"):
+        led.Color
