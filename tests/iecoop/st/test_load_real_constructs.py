@@ -259,11 +259,12 @@ def test_the_palletizer_project_stacks_three_layers_over_cycles() -> None:
     assert (int(stacker.eStep), plc.P_Io.bRunLamp) == (0, False)
     plc.P_Io.bStartButton = True  # %I* in a PROGRAM's VAR: an input the I/O update (here the test) writes
     plc.GVL_IO.bBoxAtGripper = True
-    seen = []
+    seen, texts = [], []
     for raw in [125] * 5 + [310] * 5 + [88] * 6:  # the scale reads 12.5 kg, then 31.0 kg, then 8.8 kg
         plc.GVL_IO.nScaleRaw = raw
         runtime.run(cycles=1)
         seen.append((int(stacker.eStep), stacker.nLayer, plc.GVL_IO.bGripperClose, plc.MAIN.fHeaviest))
+        texts.append(plc.MAIN.sLayers)
 
     def grip(layers: int, heaviest: float) -> list[tuple[int, int, bool, float]]:
         """GRIP (1) with the gripper closing, closed, closed, then PLACE (2) once the TON is done."""
@@ -279,6 +280,10 @@ def test_the_palletizer_project_stacks_three_layers_over_cycles() -> None:
     # F_HeaviestLayer sorted its own copy: the stacker's layers keep their order
     assert [stacker.aLayers[i].fWeight for i in range(1, 5)] == [12.5, 31.0, 8.8, 0.0]
     assert math.isinf(plc.MAIN.fInfinity) and plc.MAIN.bNaNSeen
+    # F_LayerText's CASE labels are its own constants (0, 3); the GripTime PROPERTY has a Set only
+    assert (texts[0], texts[4], texts[9], texts[14]) == ("empty", "1 of 3", "2 of 3", "full")
+    with pytest.raises(AccessError, match="PROPERTY FB_Stacker.GripTime has no Get accessor"):
+        stacker.GripTime
 
 
 def test_a_library_whose_title_has_a_space_is_bound_by_its_namespace(tmp_path: pathlib.Path) -> None:
