@@ -275,7 +275,13 @@ def located_section(item: Any, section: str) -> str:
 def drop_empty_arguments(tree: Any) -> Any:
     """``fb(Done => , BufferMode := , Execute := TRUE)``: the arguments written without a value are not passed, as
     TwinCAT and CODESYS read them (their input keeps its value, the output is not read); ``tree`` is changed in place."""
-    for node in nodes_below(tree):
-        if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
-            node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
+    pending = [tree]  # a stack, not recursion: the tree may nest as deeply as the parser allows
+    while pending:
+        node = pending.pop()
+        if isinstance(node, (list, tuple)):
+            pending.extend(node)
+        elif dataclasses.is_dataclass(node):
+            if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
+                node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
+            pending.extend(getattr(node, field.name) for field in dataclasses.fields(node) if field.name != "meta")
     return tree
