@@ -2,10 +2,12 @@
 
 A project of 60 files and about 200 KB of ST is generated into a temporary
 folder: FUNCTION_BLOCKs with METHODs (``.TcPOU``), STRUCTs (``.TcDUT``), two
-GVLs (``.TcGVL``) and a PROGRAM. Each load is timed by the wall clock (a
-cold load runs its parse in a pool of processes) and given as a ratio to
+GVLs (``.TcGVL``) and a PROGRAM. Each load is given as a ratio to
 ``blark.parse_source_code`` of the same files, one after the other on one
-core, timed in the same run:
+core, timed in the same run: the warm and one-file-changed loads (one
+process) by their CPU time against the parse's, the cold load (on every
+core: this process and a pool of workers) by the wall clock against the
+parse's, with the CPU its workers used printed beside it:
 
 cold
     ``st.load`` with an empty translation cache: every file is parsed (in
@@ -33,7 +35,9 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import NamedTuple
 
 # Runs from a checkout without installing the package.
 ROOT = Path(__file__).resolve().parent.parent
@@ -171,27 +175,52 @@ def generate(folder: Path, files: int, methods: int) -> int:
     return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
 
 
-def blark_parse(folder: Path) -> float:
-    """Seconds for blark to parse every file of ``folder`` (its flat ST), one after the other."""
+class Timing(NamedTuple):
+    """Seconds by the wall clock, and of CPU in this process and in the worker processes it waited for."""
+
+    wall: float
+    cpu: float
+    workers: float
+
+
+def _children_cpu() -> float:
+    """CPU seconds of the child processes waited for so far (0 where the platform does not say)."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return 0.0
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return children.ru_utime + children.ru_stime
+
+
+def timed(work: Callable[[], object]) -> Timing:
+    start = (time.perf_counter(), time.process_time(), _children_cpu())
+    work()
+    return Timing(time.perf_counter() - start[0], time.process_time() - start[1], _children_cpu() - start[2])
+
+
+def blark_parse(folder: Path) -> Timing:
+    """blark parsing every file of ``folder`` (its flat ST), one after the other."""
     import blark
     from blark.parse import get_parser
 
     get_parser()  # the grammar is built once, before timing
     texts = [text for text, _, _ in _flat_sources(folder)]
-    start = time.perf_counter()
-    for text in texts:
-        result = blark.parse_source_code(text)
-        if result.exception is not None:
-            raise result.exception
-    return time.perf_counter() - start
+
+    def parse() -> None:
+        for text in texts:
+            result = blark.parse_source_code(text)
+            if result.exception is not None:
+                raise result.exception
+
+    return timed(parse)
 
 
-def timed_load(folder: Path) -> float:
-    start = time.perf_counter()
-    module = st.load(folder)
-    elapsed = time.perf_counter() - start
-    module.MAIN.nCycle  # noqa: B018 - the PROGRAM exists
-    return elapsed
+def timed_load(folder: Path) -> Timing:
+    module: list[st.StModule] = []
+    timing = timed(lambda: module.append(st.load(folder)))
+    module[0].MAIN.nCycle  # noqa: B018 - the PROGRAM exists
+    return timing
 
 
 def main() -> int:
@@ -205,28 +234,34 @@ def main() -> int:
     try:
         folder = work / "plc"
         size = generate(folder, args.files, args.methods)
-        print(f"Python {platform.python_version()}, {parallel.cores()} cores, load average "
-              f"{os.getloadavg()[0]:.2f}" if hasattr(os, "getloadavg") else "")
+        print(f"Python {platform.python_version()}, {parallel.cores()} cores, load average {_load_average()}")
         print(f"project: {args.files} files, {size / 1000:.0f} KB")
         baseline = blark_parse(folder)
-        print(f"blark.parse_source_code, one core: {baseline:.2f} s")
+        print(f"blark.parse_source_code, one core: {baseline.wall:.2f} s ({baseline.cpu:.2f} s of CPU)")
         times = {"cold": timed_load(folder), "warm": timed_load(folder)}
         changed = folder / "POUs" / "FB_Unit0.TcPOU"
         changed.write_text(changed.read_text().replace("nSum := nSum + 2;", "nSum := nSum + 3;", 1))
         times["one file changed"] = timed_load(folder)
         failed = False
-        for case, seconds in times.items():
-            ratio = seconds / baseline
+        for case, timing in times.items():
+            # A load in one process is timed by its CPU, as the parse it is compared with: on a shared machine the
+            # time spent waiting for a core is not the load's. The cold load, on every core, by the wall clock.
+            ratio = timing.wall / baseline.wall if case == "cold" else timing.cpu / baseline.cpu
             checked = case != "cold" or parallel.cores() > 1
             over = checked and ratio > TARGETS[case]
             failed |= over
             note = "ABOVE TARGET" if over else ("" if checked else "(not checked on one core)")
-            print(f"{case:>17}: {seconds:7.2f} s  ratio {ratio:.3f}  target {TARGETS[case]}  {note}")
+            print(f"{case:>17}: {timing.wall:7.2f} s wall, {timing.cpu:6.2f} s CPU here, {timing.workers:6.2f} s in workers"
+                  f"  ratio {ratio:.3f}  target {TARGETS[case]}  {note}")
         entries = sorted(p.name for p in folder.rglob(f"{cache.CACHE_FOLDER}/*.json"))
-        print(f"cache entries: {len(entries)}")
+        print(f"cache entries: {len(entries)}; load average {_load_average()}")
         return 1 if failed else 0
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def _load_average() -> str:
+    return " ".join(f"{n:.2f}" for n in os.getloadavg()) if hasattr(os, "getloadavg") else "unknown"
 
 
 if __name__ == "__main__":

@@ -3,29 +3,33 @@
 CODESYS-based controllers that act as a Modbus TCP slave (WAGO PFC and
 750-8xx, for one: WAGO manual *Modbus TCP Mapping*) give a master their
 process image: inputs as discrete inputs and input registers, outputs as
-coils and holding registers, and the marker area as holding registers from
-12288 (0x3000) on. ``ModbusServer`` does the same for an iecoop ``Runtime``
+coils and holding registers, and the marker area as coils and holding
+registers from 12288 (0x3000) on. ``ModbusServer`` does the same for an iecoop ``Runtime``
 with pymodbus (install the extra: ``pip install "iecoop[modbus]"``)::
 
     located = {"MAIN.bStart": "%IX0.0", "MAIN.bLamp": "%QX0.0", "MAIN.nLevel": "%IW0", "MAIN.nSpeed": "%QW0"}
     with ModbusServer(rt, port=5020, located=located):
         rt.run(duration=T("1h"), realtime=True)
 
-=========  ===================  ==========  ==========================  ======================
-address    table                first       address of                  a master may
-=========  ===================  ==========  ==========================  ======================
-``%IX``    discrete inputs      0           ``%IXb.i`` is 8 b + i       read (FC 2)
-``%QX``    coils                0           ``%QXb.i`` is 8 b + i       read, write (FC 1, 5, 15)
-``%IW``    input registers      0           ``%IWn`` is n               read (FC 4)
-``%QW``    holding registers    0           ``%QWn`` is n               read, write (FC 3, 6, 16, 23)
-``%MW``    holding registers    12288       ``%MWn`` is 12288 + n       read, write
-=========  ===================  ==========  ==========================  ======================
+=======  =================  =====  =============================  =================================
+address  table              first  address of                     a master may
+=======  =================  =====  =============================  =================================
+``%IX``  discrete inputs    0      ``%IXb.i`` is 8 b + i          read (FC 2)
+``%QX``  coils              0      ``%QXb.i`` is 8 b + i          read, write (FC 1, 5, 15)
+``%IW``  input registers    0      ``%IWn`` is n                  read (FC 4)
+``%QW``  holding registers  0      ``%QWn`` is n                  read, write (FC 3, 6, 16, 22, 23)
+``%MX``  coils              12288  ``%MXb.i`` is 12288 + 8 b + i  read, write
+``%MW``  holding registers  12288  ``%MWn`` is 12288 + n          read, write
+=======  =================  =====  =============================  =================================
 
 A double word (``%ID``, ``%QD``, ``%MD``: DINT, UDINT, DWORD, REAL) takes
 the two registers of its two words, the low word first, as it lies in the
 PLC's memory (``%QD1`` is ``%QW2`` and ``%QW3``). ``tables=`` moves an area
 to another table or first address (``{"IX": ("coils", 1024)}`` lets the
-master write the inputs, a plant simulation's usual need).
+master write the inputs, a plant simulation's usual need);
+``tables=CODESYS_DEVICE_TABLES`` maps them as CODESYS's own Modbus slave
+device does, the master's writes to the inputs. An address past 65535 is
+refused when the server is made.
 
 Every request is answered from the values the PLC had at the end of its
 last cycle. A request any of whose addresses holds no located variable, or
@@ -63,7 +67,7 @@ from iecoop.exceptions import AccessError
 from iecoop.memory.typeinfo import ElementaryInfo
 from iecoop.runtime import Runtime, Symbol
 
-__all__ = ["DEFAULT_TABLES", "ModbusServer", "Table", "parse_address"]
+__all__ = ["CODESYS_DEVICE_TABLES", "DEFAULT_TABLES", "ModbusServer", "Table", "parse_address"]
 
 _log = logging.getLogger(__name__)
 
@@ -81,11 +85,25 @@ class Table(str, enum.Enum):
 DEFAULT_TABLES: Mapping[str, tuple[Table, int]] = {
     "IX": (Table.DISCRETE_INPUTS, 0),
     "QX": (Table.COILS, 0),
-    "MX": (Table.COILS, 12288 * 16),
+    "MX": (Table.COILS, 12288),
     "IW": (Table.INPUT_REGISTERS, 0),
     "QW": (Table.HOLDING_REGISTERS, 0),
     "MW": (Table.HOLDING_REGISTERS, 12288),
 }
+
+#: CODESYS's own *Modbus TCP Slave Device* (CODESYS Modbus help, "Modbus TCP Slave Device - General", with
+#: separate bit areas): what the master writes is the PLC's input, holding registers to ``%IW`` and coils to
+#: ``%IX``; what the PLC outputs the master reads, ``%QW`` as input registers and ``%QX`` as discrete inputs.
+CODESYS_DEVICE_TABLES: Mapping[str, tuple[Table, int]] = {
+    **DEFAULT_TABLES,
+    "IX": (Table.COILS, 0),
+    "QX": (Table.DISCRETE_INPUTS, 0),
+    "IW": (Table.HOLDING_REGISTERS, 0),
+    "QW": (Table.INPUT_REGISTERS, 0),
+}
+
+#: The last address of every Modbus table (addresses are 16 bits).
+_LAST_ADDRESS = 0xFFFF
 
 #: The table each Modbus function code reads or writes.
 _FUNCTION_TABLES = {
@@ -95,7 +113,8 @@ _FUNCTION_TABLES = {
     3: Table.HOLDING_REGISTERS, 6: Table.HOLDING_REGISTERS, 16: Table.HOLDING_REGISTERS,
     22: Table.HOLDING_REGISTERS, 23: Table.HOLDING_REGISTERS,
 }
-_WRITES = frozenset({5, 6, 15, 16, 22})
+#: The writes whose response echoes what was taken (a mask write, 22, reads the register first instead).
+_WRITES = frozenset({5, 6, 15, 16})
 _ADDRESS = re.compile(r"^%([IQM])([XWD])(\d+)(?:\.(\d+))?$", re.IGNORECASE)
 _BIT_TYPES = frozenset({"BOOL"})
 _WORD_TYPES = frozenset({"INT", "UINT", "WORD"})
@@ -206,6 +225,8 @@ class ModbusServer:
         for area, (table, first) in (tables or {}).items():
             if area.upper() not in DEFAULT_TABLES:
                 raise ValueError(f"ModbusServer: tables names the area {area!r}; the areas are {', '.join(DEFAULT_TABLES)}")
+            if not isinstance(first, int) or not 0 <= first <= _LAST_ADDRESS:
+                raise ValueError(f"ModbusServer: tables puts {area!r} at {first!r}; a first address is 0..{_LAST_ADDRESS}")
             areas[area.upper()] = (Table(table), first)
         self.tables = areas
         self.variables: list[_Located] = [self._locate(path, address) for path, address in located.items()]
@@ -223,6 +244,7 @@ class ModbusServer:
         self._values: tuple[Any, ...] = self._capture()
         self._pending: collections.deque[list[tuple[Symbol, Any]]] = collections.deque()
         self._echo: dict[tuple[Table, int], int] = {}
+        self._fault: object = None  # the fault the values were last refreshed for
         self._thread: threading.Thread | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._stop: asyncio.Event | None = None
@@ -248,6 +270,9 @@ class ModbusServer:
             first, cells = base + number, 1
         else:
             first, cells = base + 2 * number, 2
+        if first + cells - 1 > _LAST_ADDRESS:
+            raise ValueError(f"ModbusServer: {path} at {address} would be {table.value} {first + cells - 1}; "
+                             f"Modbus addresses end at {_LAST_ADDRESS}")
         return _Located(path, address.strip().upper(), symbol, table, first, cells, name == "REAL")
 
     # -- the PLC thread ----------------------------------------------------------
@@ -268,6 +293,10 @@ class ModbusServer:
     # -- the server thread (pymodbus's datastore calls) -----------------------------
 
     def _read(self, table: Table, address: int, count: int) -> list[int] | list[bool] | ExcCodes:
+        fault = self.runtime.fault
+        if fault is not None and fault is not self._fault:
+            # A faulted cycle has no cycle end: the PLC stands still where it stopped, which the master then reads.
+            self._fault, self._values = fault, self._capture()
         values, cells, index = self._values, self._cells, self._index
         found = [cells.get((table, a)) for a in range(address, address + count)]
         if any(cell is None for cell in found):

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import asyncio
 import collections
+import contextlib
 import ctypes
 import dataclasses
 import datetime
@@ -48,9 +49,10 @@ except ImportError as exc:  # pragma: no cover - exercised without the extra ins
         'iecoop.opcua needs the asyncua library: install the extra with pip install "iecoop[opcua]"'
     ) from exc
 
+from iecoop.exceptions import AccessError
 from iecoop.gvl import GlobalVariables, global_lists
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo, StringInfo, TypeInfo
-from iecoop.runtime import Runtime
+from iecoop.runtime import Runtime, Symbol
 from iecoop.sections import SECTION_RULES, AtCall, Section, Storage
 from iecoop.metadata import Kind, fields_of, iec_class, kind_of, layout_of, st_name
 
@@ -63,6 +65,8 @@ _log = logging.getLogger(__name__)
 _RAW = operator.attrgetter("raw")
 
 _VT = ua.VariantType
+#: Seconds between two looks for a fault that stopped the PLC mid-cycle.
+_FAULT_POLL = 0.05
 _INTEGERS = frozenset({_VT.SByte, _VT.Byte, _VT.Int16, _VT.UInt16, _VT.Int32, _VT.UInt32, _VT.Int64, _VT.UInt64})
 _NUMBERS = _INTEGERS | {_VT.Float, _VT.Double}
 _SIGNED = {1: _VT.SByte, 2: _VT.Int16, 4: _VT.Int32, 8: _VT.Int64}
@@ -382,7 +386,9 @@ def _served_lists(
 class _AddressSpace:
     """The nodes of a runtime's programs and GVLs, read once from their class layouts."""
 
-    def __init__(self, runtime: Runtime, lists: Iterable[tuple[str, Any]], writable: Iterable[str]) -> None:
+    def __init__(self, runtime: Runtime, lists: Iterable[tuple[str, Any]], writable: Iterable[str],
+                 online: bool = False) -> None:
+        self.online = online
         self.objects: list[_Object] = []
         self.variables: dict[str, _Variable] = {}
         self.blocks: list[Any] = []
@@ -397,6 +403,8 @@ class _AddressSpace:
                 self._add_block(path, path[len(task.name) + 1 :], task.name, program, inputs_writable=True)
         for name, block in lists:
             self._add_block(name, name, None, block, inputs_writable=False)
+        if online:
+            self._claim("Online")  # the object of the Force and Release methods
         for pattern in patterns:
             if pattern not in matched:
                 raise ValueError(f"OpcUaServer: writable pattern {pattern!r} matches no variable of the runtime")
@@ -460,7 +468,8 @@ class _AddressSpace:
                 named = True
         self._claim(path)
         self.variables[path] = _Variable(
-            path, name, parent, root, offset, info, scalar, codec, shape, (writable or named) and not constant
+            path, name, parent, root, offset, info, scalar, codec, shape,
+            (writable or named or self.online) and not constant,
         )
 
 
@@ -566,7 +575,11 @@ class OpcUaServer:
     node. ``users`` maps user names to passwords (anonymous clients are then
     refused; without it every client may connect, none as an administrator);
     ``certificate`` and ``private_key`` enable the ``security`` policies
-    (asyncua ``SecurityPolicyType`` names). Use it as a context manager::
+    (asyncua ``SecurityPolicyType`` names). ``online=True`` gives clients
+    TwinCAT's online write and force: every variable but a CONSTANT is
+    writable, and the methods ``Online.Force(path, value)`` and
+    ``Online.Release(path, restore)`` force as ``rt.force`` does. Use it as a
+    context manager::
 
         with OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:4840"):
             rt.run(duration=T("10s"), realtime=True)
@@ -585,6 +598,7 @@ class OpcUaServer:
         security: Sequence[str] | None = None,
         name: str = "iecoop",
         start_timeout: float = 30.0,
+        online: bool = False,
     ) -> None:
         parts = urlsplit(endpoint)
         if parts.scheme != "opc.tcp" or not parts.hostname:
@@ -616,12 +630,13 @@ class OpcUaServer:
         self._policies = policies
         self._name = name
         self._start_timeout = start_timeout
-        self._space = _AddressSpace(runtime, _served_lists(runtime, gvls), writable)
+        self._space = _AddressSpace(runtime, _served_lists(runtime, gvls), writable, online)
         # A byte view of each exposed block: `.raw` copies it in one C call (the whole per-cycle cost).
         self._views = [(ctypes.c_char * ctypes.sizeof(b)).from_buffer(b) for b in self._space.blocks]
         self._nodeids: dict[ua.NodeId, _Variable] = {}
         self._namespace = 0
-        self._pending: collections.deque[tuple[_Variable, Any]] = collections.deque()
+        # What clients asked for, done by the PLC's thread at the next cycle start: a write, a force, a release.
+        self._pending: collections.deque[tuple[Callable[[Any, Any], None], Any, Any]] = collections.deque()
         self._images: collections.deque[tuple[tuple[bytes, ...], float]] = collections.deque(maxlen=_BACKLOG)
         self._last: tuple[bytes, ...] = ()
         # Images handed to the server / published (or dropped) by it, for wait_published().
@@ -682,12 +697,49 @@ class OpcUaServer:
         """Before every cycle: the client writes taken since the last one, in the order they came."""
         pending = self._pending
         while pending:
-            variable, value = pending.popleft()
-            block = self._space.blocks[variable.root]
+            change, target, value = pending.popleft()
             try:
-                variable.info.store(block, variable.offset, value, variable.path)
-            except (TypeError, ValueError, OverflowError) as exc:  # pragma: no cover - checked when the write came in
-                _log.warning("OPC UA write to %s not applied: %s", variable.path, exc)
+                change(target, value)
+            except (TypeError, ValueError, OverflowError, AccessError) as exc:  # pragma: no cover - checked before
+                _log.warning("OPC UA change of %s not applied: %s", target.path, exc)
+
+    def _store(self, variable: _Variable, value: Any) -> None:
+        variable.info.store(self._space.blocks[variable.root], variable.offset, value, variable.path)
+
+    def _release(self, symbol: Symbol, restore: bool) -> None:
+        with contextlib.suppress(AccessError):  # an element that is not forced: nothing to release
+            self.runtime.release(symbol, restore=restore)
+
+    def _symbols(self, variable: _Variable) -> list[Symbol]:
+        """The elementary variables a node is: itself, or an ARRAY's elements (forced one by one, in one cycle)."""
+        block = self._space.blocks[variable.root]
+        if variable.shape is None or not isinstance(variable.info, ArrayInfo):
+            return [Symbol(variable.path, variable.info, block, variable.offset)]
+        size = variable.scalar.size
+        return [Symbol(f"{variable.path}[{','.join(map(str, position))}]", variable.scalar, block,
+                       variable.offset + index * size) for index, position in enumerate(_indices(variable.info.bounds))]
+
+    async def _force_method(self, parent: ua.NodeId, path: ua.Variant, value: ua.Variant) -> Any:
+        """``Online.Force(Path, Value)``: the node's variable forced from the next cycle, whole; a refusal forces nothing."""
+        variable = self._space.variables.get(path.Value) if isinstance(path.Value, str) else None
+        if variable is None or not variable.writable:
+            return ua.StatusCode(ua.StatusCodes.BadNodeIdUnknown if variable is None else ua.StatusCodes.BadNotWritable)
+        try:
+            taken = variable.take(value)
+        except _Refused as refusal:
+            _log.info("OPC UA force of %s refused: %s", variable.path, refusal)
+            return ua.StatusCode(refusal.code)
+        values = taken if variable.shape is not None else [taken]
+        self._pending.extend((self.runtime.force, symbol, item) for symbol, item in zip(self._symbols(variable), values))
+        return []
+
+    async def _release_method(self, parent: ua.NodeId, path: ua.Variant, restore: ua.Variant) -> Any:
+        """``Online.Release(Path, Restore)``: the force ended, keeping the value or restoring the one before it."""
+        variable = self._space.variables.get(path.Value) if isinstance(path.Value, str) else None
+        if variable is None or not isinstance(restore.Value, bool):
+            return ua.StatusCode(ua.StatusCodes.BadNodeIdUnknown if variable is None else ua.StatusCodes.BadTypeMismatch)
+        self._pending.extend((self._release, symbol, restore.Value) for symbol in self._symbols(variable))
+        return []
 
     # -- the server thread -------------------------------------------------------
 
@@ -709,7 +761,7 @@ class OpcUaServer:
         except _Refused as refusal:
             _log.info("OPC UA write to %s refused: %s", variable.path, refusal)
             return refusal.code
-        self._pending.append((variable, value))
+        self._pending.append((self._store, variable, value))
         return int(ua.StatusCodes.Good)
 
     def _receive(self, image: tuple[bytes, ...], stamp: float) -> None:
@@ -733,6 +785,16 @@ class OpcUaServer:
                     _log.exception("OPC UA: publishing a cycle's values failed")
                 previous = image
                 self._count_done()
+
+    async def _watch_faults(self) -> None:
+        """A faulted cycle has no cycle end: publish where the PLC stopped, so clients read its state."""
+        seen = self.runtime.fault
+        while True:
+            await asyncio.sleep(_FAULT_POLL)
+            fault = self.runtime.fault
+            if fault is not None and fault is not seen:
+                self._cycle_end()
+            seen = fault
 
     def _count_done(self) -> None:
         with self._progress:
@@ -819,9 +881,17 @@ class OpcUaServer:
             server.set_identity_tokens([ua.UserNameIdentityToken])
         self._namespace = await server.register_namespace(NAMESPACE)
         await self._build(server, first)
+        if self._space.online:
+            idx = self._namespace
+            online = await server.nodes.objects.add_object(ua.NodeId("Online", idx), ua.QualifiedName("Online", idx))
+            await online.add_method(ua.NodeId("Online.Force", idx), ua.QualifiedName("Force", idx), self._force_method,
+                                    [_VT.String, _VT.Variant], [])
+            await online.add_method(ua.NodeId("Online.Release", idx), ua.QualifiedName("Release", idx),
+                                    self._release_method, [_VT.String, _VT.Boolean], [])
         iserver.attribute_service = _PlcAttributeService(iserver.aspace, self, builder)
         await server.start()
-        helpers = [asyncio.create_task(self._publisher(server, first)), asyncio.create_task(_clock(server))]
+        helpers = [asyncio.create_task(self._publisher(server, first)), asyncio.create_task(_clock(server)),
+                   asyncio.create_task(self._watch_faults())]
         try:
             self._ready.set()
             await self._stop.wait()

@@ -7,7 +7,7 @@ under their TwinCAT symbol names (``MAIN.fbStation.nBottles``) on AMS port
 scripts use. See docs/commissioning.md and docs/security.md.
 """
 
-from iecoop.ads.protocol import AMS_TCP_PORT, AdsError
+from iecoop.ads.protocol import AMS_TCP_PORT, AdsError, IndexGroup
 from iecoop.ads.server import AdsServer
 
-__all__ = ["AMS_TCP_PORT", "AdsError", "AdsServer"]
+__all__ = ["AMS_TCP_PORT", "AdsError", "AdsServer", "IndexGroup"]

@@ -75,6 +75,11 @@ class IndexGroup(enum.IntEnum):
     SYM_UPLOADINFO2 = 0xF00F
     SUMUP_READ = 0xF080
     SUMUP_WRITE = 0xF081
+    #: iecoop's own, with ``AdsServer(online=True)``: a write of a value to a handle forces the variable; a
+    #: write of one byte to a handle releases it (1: and restores its value from before the force).
+    #: TwinCAT's engineering forces through services of its own, not through a documented index group.
+    FORCE_BYHND = 0x4F10
+    RELEASE_BYHND = 0x4F11
 
 
 class AdsError(enum.IntEnum):

@@ -17,6 +17,7 @@ is stored whole in one cycle or not at all.
 from __future__ import annotations
 
 import collections
+import contextlib
 import ctypes
 import dataclasses
 import itertools
@@ -35,6 +36,7 @@ from iecoop.ads.protocol import (
     AMS_TCP_PORT, REQUEST, AdsError, AdsState, AmsHeader, Command, IndexGroup, TransMode, net_id_bytes, split_frames,
 )
 from iecoop.ads.symbols import AdsSymbol, Refused, SymbolTable
+from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Symbol
 
 __all__ = ["AdsServer"]
@@ -55,6 +57,12 @@ _MAX_HANDLES = 100_000
 _FILETIME_EPOCH = 116_444_736_000_000_000
 
 Image = tuple[tuple[bytes, ...], int]  # the blocks' bytes, the FILETIME of the cycle's end
+#: One change a request makes, done by the PLC's thread at the next cycle start: a store, a force, a release.
+Change = tuple[Callable[[Symbol, Any], None], Symbol, Any]
+
+
+def _store(symbol: Symbol, value: Any) -> None:
+    symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
 
 
 @dataclasses.dataclass(eq=False)
@@ -90,6 +98,9 @@ class AdsServer:
     ``ams_port`` the PLC's AMS port. ``writable`` adds variables a client
     may write, as symbol names or ``fnmatch`` patterns (``"MAIN.fbAxis.*"``);
     a program's VAR_INPUTs and the GVLs' variables are writable already.
+    ``online=True`` gives clients TwinCAT's online write and force: every
+    variable but a CONSTANT is writable, and ``IndexGroup.FORCE_BYHND`` /
+    ``RELEASE_BYHND`` force and release by handle, as ``rt.force`` does.
     Use it as a context manager.
     """
 
@@ -102,23 +113,26 @@ class AdsServer:
         net_id: str = "127.0.0.1.1.1",
         ams_port: int = 851,
         writable: Iterable[str] = (),
+        online: bool = False,
         name: str = "iecoop",
     ) -> None:
         self.runtime = runtime
+        self.online = online
         self.host = host
         self.port = port
         self.net_id = net_id
         self._net_id = net_id_bytes(net_id)
         self.ams_port = ams_port
         self._name = name.encode("latin-1", "replace")[:15]
-        self.symbols = SymbolTable(runtime, writable)
+        self.symbols = SymbolTable(runtime, writable, online)
         blocks = [root.block for root in self.symbols.roots]
         self._blocks = blocks
         # A byte view of each served block: `.raw` copies it in one C call (the whole per-cycle cost).
         self._views = [(ctypes.c_char * ctypes.sizeof(b)).from_buffer(b) for b in blocks]
         self._image: Image = (self._capture(), _filetime())
-        self._pending: collections.deque[list[tuple[Symbol, Any]]] = collections.deque()
+        self._pending: collections.deque[list[Change]] = collections.deque()
         self._notified = False  # a notification exists: the cycle end wakes the server
+        self._fault: object = None  # the fault the image was last refreshed for
         self._handles = itertools.count(1)
         self._thread: threading.Thread | None = None
         self._selector: selectors.BaseSelector | None = None
@@ -153,8 +167,12 @@ class AdsServer:
         """Before every cycle: the writes taken since the last one, each request's whole, in the order they came."""
         pending = self._pending
         while pending:
-            for symbol, value in pending.popleft():
-                symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
+            for change, symbol, value in pending.popleft():
+                change(symbol, value)
+
+    def _release(self, symbol: Symbol, restore: bool) -> None:
+        with contextlib.suppress(AccessError):  # a member that is not forced: nothing to release
+            self.runtime.release(symbol, restore=restore)
 
     # -- start and stop ----------------------------------------------------------
 
@@ -320,6 +338,10 @@ class AdsServer:
         self._selector.modify(client.sock, selectors.EVENT_READ | (selectors.EVENT_WRITE if client.outbox else 0), client)
 
     def _answer(self, client: _Client, packet: bytes) -> None:
+        fault = self.runtime.fault
+        if fault is not None and fault is not self._fault:
+            # A faulted cycle has no cycle end: the PLC stands still where it stopped, which clients then read.
+            self._fault, self._image = fault, (self._capture(), _filetime())
         header = AmsHeader.parse(packet)
         if header.flags & 0x0001:
             return  # a response: the server sends no requests that would have one
@@ -412,8 +434,10 @@ class AdsServer:
         size = min(length, symbol.size)
         return image[symbol.root][symbol.block_offset : symbol.block_offset + size]
 
-    def _write(self, client: _Client, group: int, offset: int, value: bytes) -> list[tuple[Symbol, Any]]:
-        """The checked stores of one write (none for a handle's release); Refused if the PLC does not take it."""
+    def _write(self, client: _Client, group: int, offset: int, value: bytes) -> list[Change]:
+        """The checked changes of one write (none for a handle's release); Refused if the PLC does not take it."""
+        if group in (IndexGroup.FORCE_BYHND, IndexGroup.RELEASE_BYHND):
+            return self._force(client, group, offset, value)
         if group == IndexGroup.SYM_VALBYHND:
             symbol = self._handle(client, offset)
         elif group == IndexGroup.PLC_DATA:
@@ -425,7 +449,20 @@ class AdsServer:
             return []
         else:
             raise Refused(AdsError.INVALIDGRP, f"index group {group:#x} cannot be written")
-        return symbol.decode(value, self._blocks[symbol.root])
+        return [(_store, leaf, data) for leaf, data in symbol.decode(value, self._blocks[symbol.root])]
+
+    def _force(self, client: _Client, group: int, handle: int, value: bytes) -> list[Change]:
+        """A force (the value's bytes) or a release (one byte: 1 restores) of the variable of ``handle``."""
+        if not self.online:
+            raise Refused(AdsError.ACCESSDENIED, "forcing over ADS is off; AdsServer(..., online=True) turns it on")
+        symbol = self._handle(client, handle)
+        block = self._blocks[symbol.root]
+        if group == IndexGroup.FORCE_BYHND:
+            return [(self.runtime.force, leaf, data) for leaf, data in symbol.decode(value, block)]
+        if len(value) != 1 or value[0] > 1:
+            raise Refused(AdsError.INVALIDDATA, "a release is one byte: 0 keeps the forced value, 1 restores the old one")
+        restore = value == b"\x01"
+        return [(self._release, leaf, restore) for leaf in symbol.leaves(block)]
 
     def _handle(self, client: _Client, handle: int) -> AdsSymbol:
         symbol = client.handles.get(handle)
@@ -473,7 +510,7 @@ class AdsServer:
         requests = self._requests(count, value)
         position = 12 * count
         codes: list[int] = []
-        batch: list[tuple[Symbol, Any]] = []
+        batch: list[Change] = []
         for group, offset, length in requests:
             data = value[position : position + length]
             position += length

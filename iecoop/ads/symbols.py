@@ -101,24 +101,48 @@ class AdsSymbol:
             data += bytes(self.size - len(data))  # a STRING written up to its terminator, as pyads writes one
         if len(data) != self.size:
             raise Refused(AdsError.INVALIDSIZE, f"{self.name} is {self.type_name} of {self.size} bytes, got {len(data)}")
-        if isinstance(info, ArrayInfo):
-            scalar, count = info.elem, info.count
-        else:
-            scalar, count = info, 1
-        if not isinstance(scalar, (ElementaryInfo, StringInfo, EnumInfo)):
-            raise Refused(AdsError.ACCESSDENIED, f"{self.name} is {self.type_name}: write its members one by one")
         buffer = bytearray(data)
         stores = []
-        for index in range(count):
-            where = self.name if count == 1 else f"{self.name}[{index}]"
-            symbol = Symbol(where, scalar, block, self.block_offset + index * scalar.size)
+        for where, scalar, offset in _leaves(self.name, info, 0):
+            symbol = Symbol(where, scalar, block, self.block_offset + offset)
             try:
-                value = scalar.load(buffer, index * scalar.size)
+                value = scalar.load(buffer, offset)
                 symbol.check(value)
             except (AccessError, ValueError, TypeError) as exc:
                 raise Refused(AdsError.INVALIDDATA, str(exc)) from None
             stores.append((symbol, value))
         return stores
+
+
+    def leaves(self, block: Any) -> list[Symbol]:
+        """The elementary variables this symbol is made of (itself, an ARRAY's elements, a STRUCT's members)."""
+        if not self.writable:
+            raise Refused(AdsError.ACCESSDENIED, f"{self.name} is read-only for ADS clients")
+        return [Symbol(where, scalar, block, self.block_offset + offset)
+                for where, scalar, offset in _leaves(self.name, self.info, 0)]
+
+
+def _leaves(name: str, info: TypeInfo, offset: int) -> Iterator[tuple[str, ElementaryInfo | StringInfo | EnumInfo, int]]:
+    """The elementary variables a write of ``info`` at ``offset`` stores: itself, an ARRAY's elements, a STRUCT's members.
+
+    Refused(ACCESSDENIED) for what a client cannot write whole: an FB instance, a UNION (its members share
+    bytes), an address (POINTER, REFERENCE, interface), a CONSTANT member.
+    """
+    if isinstance(info, (ElementaryInfo, StringInfo, EnumInfo)):
+        yield name, info, offset
+    elif isinstance(info, ArrayInfo):
+        for index in range(info.count):
+            label = ",".join(map(str, _indices(info, index)))
+            yield from _leaves(f"{name}[{label}]", info.elem, offset + index * info.elem.size)
+    elif isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.STRUCT:
+        layout = _layout_of(info)
+        assert layout is not None
+        for record in layout.fields:
+            if record.spec.constant:
+                raise Refused(AdsError.ACCESSDENIED, f"{name}.{record.st_name} is a CONSTANT: write the others one by one")
+            yield from _leaves(f"{name}.{record.st_name}", record.info, offset + record.offset)
+    else:
+        raise Refused(AdsError.ACCESSDENIED, f"{name} is {_type_name(info)}: write its members one by one")
 
 
 def _ads_type(info: TypeInfo) -> int:
@@ -164,8 +188,9 @@ class _Root:
 class SymbolTable:
     """The symbols of ``runtime``'s programs and of every global variable list, by name and by address."""
 
-    def __init__(self, runtime: Runtime, writable: Iterable[str] = ()) -> None:
+    def __init__(self, runtime: Runtime, writable: Iterable[str] = (), online: bool = False) -> None:
         self._patterns = list(writable)
+        self._online = online
         found: list[tuple[str, Any, bool]] = []
         for task in runtime.tasks:
             for path, program in task.programs:
@@ -255,7 +280,7 @@ class SymbolTable:
                 persistent: bool = False) -> AdsSymbol:
         named = any(self._named(name, pattern) for pattern in self._patterns)
         return AdsSymbol(name, _type_name(info), _ads_type(info), info, index, offset, self.roots[index].base + offset,
-                         (writable or named) and not constant, persistent)
+                         (writable or named or self._online) and not constant, persistent)
 
     # -- the upload ----------------------------------------------------------------
 

@@ -17,10 +17,14 @@ Servers: ``--opcua URL`` (the variables under the namespace ``urn:iecoop`` by
 instance path, ``PlcTask.MAIN.nCount``), ``--ads [PORT]`` (TwinCAT symbol
 names, ``MAIN.nCount``, AMS Net ID 127.0.0.1.1.1 port 851; PORT defaults to
 48898) and ``--modbus PORT`` (the ST source's located variables, ``AT %IX0.0``,
-as Modbus tables). Without any of them, OPC UA is served on its default
-endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
-``--trace`` records symbol paths every cycle; at the end ``--csv`` and
-``--plot`` write them. Needs the extras of the servers asked for (``opcua``,
+as Modbus tables; ``--modbus-map codesys`` maps them as CODESYS's Modbus
+slave device does, so that a plant simulator writes the inputs). Without any
+of them, OPC UA is served on its default endpoint. ADS and Modbus listen on ``--host`` (127.0.0.1: this machine only).
+``--online`` lets OPC UA and ADS clients write every variable but a
+CONSTANT and force, as TwinCAT's online view does (off by default).
+``--trace`` records symbol paths every cycle; ``--csv`` streams every row
+to its file as it is taken, and at the end ``--plot`` draws the last
+10,000 rows. Needs the extras of the servers asked for (``opcua``,
 ``ads``: none beyond the standard library for the server, ``modbus``).
 
 Exit status: 0 after the duration or Ctrl+C, 1 on a PLC fault or a server
@@ -39,7 +43,7 @@ from typing import Any, TextIO
 from iecoop import PlcException, T
 from iecoop.cli.base import Command, Names, Served, UsageError, usage_errors
 from iecoop.cli.st import load_program, plc_task, translated
-from iecoop.cli.trace import add_trace_arguments, check_trace_options, write_trace
+from iecoop.cli.trace import Progress, add_trace_arguments, check_trace_options, write_trace
 from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Trace
 
@@ -85,6 +89,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"serve ADS on TCP PORT (default {_ADS_PORT}), AMS Net ID 127.0.0.1.1.1, AMS port 851")
     parser.add_argument("--modbus", type=_port, metavar="PORT",
                         help="serve the located variables (AT %%IX0.0 ...) over Modbus TCP on PORT")
+    parser.add_argument("--modbus-map", choices=("areas", "codesys"), default="areas",
+                        help="areas: %%I as discrete inputs / input registers, %%Q as coils / holding registers "
+                             "(WAGO's mapping, the default); codesys: as CODESYS's Modbus slave device, the master "
+                             "writes %%IX / %%IW as coils / holding registers and reads %%QX / %%QW")
+    parser.add_argument("--online", action="store_true",
+                        help="let OPC UA and ADS clients write any variable and force (TwinCAT's online write and force)")
     parser.add_argument("--host", default="127.0.0.1",
                         help="the address ADS and Modbus listen on (default 127.0.0.1: this machine only)")
     parser.add_argument("--duration", type=_time, metavar="TIME",
@@ -152,14 +162,20 @@ def located_in(source: str, program: str) -> dict[str, str]:
 
 
 def trace_for(runtime: Runtime, args: argparse.Namespace) -> Trace | None:
-    """The runtime trace ``--trace`` asks for (None without it); UsageError for a path or an option that is wrong."""
+    """The runtime trace ``--trace`` asks for (None without it); UsageError for a path or an option that is wrong.
+
+    A serve may run for hours: with ``--csv`` every row goes to the file as it
+    is taken, and the buffer keeps the last ones for ``--plot``.
+    """
     check_trace_options(args)
     if not args.trace:
         return None
     try:
-        return runtime.trace(args.trace)
+        return runtime.trace(args.trace, file=args.csv)
     except AccessError as exc:
         raise UsageError(f"--trace: {exc}") from None
+    except OSError as exc:
+        raise UsageError(f"--csv {args.csv}: {exc.strerror or exc}") from None
 
 
 def command(names: Names | None = None) -> Command:
@@ -187,22 +203,26 @@ def _start_servers(served: Served, args: argparse.Namespace, stack: contextlib.E
         url = opcua or _OPCUA
         try:
             from iecoop.opcua import OpcUaServer
-            server = OpcUaServer(runtime, endpoint=url)
+            server = OpcUaServer(runtime, endpoint=url, online=args.online)
             server.start()
         except Exception as exc:  # a missing extra, a bad endpoint, a port in use: say which and stop
             raise _Failed(f"the OPC UA server cannot start on {url}: {exc}") from None
         stack.callback(server.stop)
         out.write(f"OPC UA server at {server.endpoint}, namespace urn:iecoop\n")
-        out.write(f"writable: {', '.join(server.writable()) or '(nothing)'}\n")
+        if args.online:
+            out.write("writable: every variable but the CONSTANTs; forced with the methods Online.Force / Release\n")
+        else:
+            out.write(f"writable: {', '.join(server.writable()) or '(nothing)'}\n")
     if args.ads is not None:
         from iecoop.ads import AdsServer
         try:
-            ads = AdsServer(runtime, args.ads, host=args.host)
+            ads = AdsServer(runtime, args.ads, host=args.host, online=args.online)
             ads.start()
         except Exception as exc:
             raise _Failed(f"the ADS server cannot start on {args.host}:{args.ads}: {exc}") from None
         stack.callback(ads.stop)
-        out.write(f"ADS server at {ads.host}:{ads.port}, AMS Net ID {ads.net_id}, AMS port {ads.ams_port}\n")
+        online = ", online write and force" if args.online else ""
+        out.write(f"ADS server at {ads.host}:{ads.port}, AMS Net ID {ads.net_id}, AMS port {ads.ams_port}{online}\n")
     if args.modbus is not None:
         located = located_in(args.name, args.program) if pathlib.Path(args.name).exists() else {}
         if not located:
@@ -210,7 +230,9 @@ def _start_servers(served: Served, args: argparse.Namespace, stack: contextlib.E
                              f"in PROGRAM {args.program} or a GVL")
         try:
             from iecoop.modbus import ModbusServer
-            modbus = ModbusServer(runtime, args.modbus, host=args.host, located=located)
+            from iecoop.modbus import CODESYS_DEVICE_TABLES, DEFAULT_TABLES
+            tables = CODESYS_DEVICE_TABLES if args.modbus_map == "codesys" else DEFAULT_TABLES
+            modbus = ModbusServer(runtime, args.modbus, host=args.host, located=located, tables=tables)
             modbus.start()
         except (ValueError, AccessError) as exc:
             raise UsageError(f"--modbus: {exc}") from None
@@ -264,7 +286,16 @@ def _run(served: Served, args: argparse.Namespace, out: TextIO) -> None:
     out.write(f"running in real time {how_long}\n")
     out.flush()
     if args.duration is not None:
-        runtime.run(duration=args.duration, realtime=True)
+        # On a terminal, the runtime's progress callback redraws a line as the PLC time passes.
+        screen = out if out.isatty() else None
+        total = args.duration // runtime.base_tick_ms
+        line = Progress(total, screen) if screen is not None and total else None
+        try:
+            runtime.run(duration=args.duration, realtime=True, progress_every=10,
+                        progress=None if line is None else lambda done, _total: line.update(done))
+        finally:
+            if line is not None:
+                line.clear()
         return
     while True:
         runtime.run(duration=_SLICE, realtime=True)

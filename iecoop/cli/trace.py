@@ -170,7 +170,8 @@ def run_cycles(
     source: Trace | None = None
     if paths:
         try:
-            source = runtime.trace(list(paths))
+            # A bounded run: the buffer holds every row of it, so --csv writes them all.
+            source = runtime.trace(list(paths), size=max(1, cycles))
             probes = [_symbol_probe(runtime, path) for path in source.paths]
         except AccessError as exc:
             raise UsageError(f"--trace: {exc}") from None
@@ -219,7 +220,7 @@ def add_trace_arguments(parser: argparse.ArgumentParser) -> None:
     """``--trace VARS --csv FILE --plot FILE``: record symbol paths every cycle, then write them."""
     parser.add_argument("--trace", metavar="VARS", type=lambda text: [p.strip() for p in text.split(",") if p.strip()],
                         help="symbol paths to record every cycle, comma-separated (MAIN.nCount,GVL_IO.bStart)")
-    parser.add_argument("--csv", metavar="FILE", help="write the traced values to FILE as CSV at the end")
+    parser.add_argument("--csv", metavar="FILE", help="write the traced values to FILE as CSV")
     parser.add_argument("--plot", metavar="FILE", help="draw the traced values to FILE (.png or .svg) at the end")
 
 
@@ -235,11 +236,12 @@ def write_trace(source: Trace | None, args: argparse.Namespace, out: TextIO) -> 
     """Write ``--csv`` / ``--plot`` of the runtime trace ``source`` and say where; UsageError if it cannot be."""
     if source is None:
         return
-    source.detach()
     try:
+        source.detach()  # a trace streamed to --csv (a serve) is closed here, with every row
         if args.csv:
-            source.to_csv(args.csv)
-            out.write(f"trace: {len(source.rows)} rows written to {args.csv}\n")
+            if source.file is None:
+                source.to_csv(args.csv)
+            out.write(f"trace: {source.taken} rows written to {args.csv}\n")
         if args.plot:
             source.plot(args.plot)
             out.write(f"trace: plotted to {args.plot}\n")

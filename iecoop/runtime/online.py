@@ -195,6 +195,10 @@ def _element(info: ArrayInfo, index: str, path: str) -> int:
     return position
 
 
+#: No value recorded (a force released before any cycle applied it).
+_UNSET = object()
+
+
 class OnlineTable:
     """A runtime's online writes waiting for the next cycle start, and its forced variables.
 
@@ -203,12 +207,14 @@ class OnlineTable:
     location, so two spellings of one path are one force.
     """
 
-    __slots__ = ("lock", "writes", "forces", "forced_now", "active")
+    __slots__ = ("lock", "writes", "forces", "before", "forced_now", "active")
 
     def __init__(self) -> None:
         self.lock = threading.Lock()
         self.writes: list[tuple[Symbol, Any]] = []
         self.forces: dict[tuple[int, int], tuple[Symbol, Any]] = {}
+        #: Each forced variable's value before its first forced cycle: what a release with restore puts back.
+        self.before: dict[tuple[int, int], Any] = {}
         #: The forces as a cycle stores them: replaced whole under the lock, read without it.
         self.forced_now: tuple[tuple[Symbol, Any], ...] = ()
         #: Writes are waiting or variables are forced: the one test a cycle makes.
@@ -231,17 +237,28 @@ class OnlineTable:
             self.forces[key] = (symbol if previous is None else previous[0], value)
             self._changed()
 
-    def release(self, symbol: Symbol) -> None:
+    def release(self, symbol: Symbol, restore: bool = False) -> None:
+        key = (id(symbol.block), symbol.offset)
         with self.lock:
-            if self.forces.pop((id(symbol.block), symbol.offset), None) is None:
+            found = self.forces.pop(key, None)
+            if found is None:
                 forced = ", ".join(path for path in self.forced()) or "none"
                 raise AccessError(f"{symbol.path}: is not forced (forced: {forced})")
+            self._restore(key, found[0], restore)
             self._changed()
 
-    def release_all(self) -> None:
+    def release_all(self, restore: bool = False) -> None:
         with self.lock:
+            for key, (symbol, _value) in self.forces.items():
+                self._restore(key, symbol, restore)
             self.forces.clear()
             self._changed()
+
+    def _restore(self, key: tuple[int, int], symbol: Symbol, restore: bool) -> None:
+        # Under the lock: the value from before the force goes back with the next cycle start, as a write.
+        before = self.before.pop(key, _UNSET)
+        if restore and before is not _UNSET:
+            self.writes.append((symbol, before))
 
     def forced(self) -> dict[str, Any]:
         return {symbol.path: value for symbol, value in self.forced_now}
@@ -254,7 +271,12 @@ class OnlineTable:
         with self.lock:
             writes, self.writes = self.writes, []
             self.active = bool(self.forced_now)
-        for symbol, value in (*writes, *self.forced_now):
+            forced, before = self.forced_now, self.before
+            for symbol, _value in forced:
+                key = (id(symbol.block), symbol.offset)
+                if key not in before and key in self.forces:
+                    before[key] = symbol.load()
+        for symbol, value in (*writes, *forced):
             symbol.info.store(symbol.block, symbol.offset, value, symbol.path)
 
     def hold(self) -> None:

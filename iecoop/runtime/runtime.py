@@ -547,15 +547,16 @@ class Runtime:
 
     # -- online write, force and trace by symbol path --------------------------------
 
-    def symbol(self, path: str) -> Symbol:
+    def symbol(self, path: str | Symbol) -> Symbol:
         """The variable at a TwinCAT symbol path (``MAIN.fbStation.nBottles``, ``GVL_IO.bStart``), resolved once.
 
         ``load()`` reads it, ``store(value)`` writes it at once (from a hook);
-        AccessError names a path that names no elementary variable.
+        AccessError names a path that names no elementary variable. A Symbol
+        is taken as it is, by this method and by ``write``, ``force`` and ``release``.
         """
-        return resolve_symbol(symbol_roots(self.tasks), path)
+        return path if isinstance(path, Symbol) else resolve_symbol(symbol_roots(self.tasks), path)
 
-    def write(self, path: str, value: Any) -> None:
+    def write(self, path: str | Symbol, value: Any) -> None:
         """Write ``value`` once, at the next cycle start (TwinCAT's online *Write values*, Ctrl+F7).
 
         Any variable can be written, inputs, outputs and internals alike, from
@@ -566,7 +567,7 @@ class Runtime:
         symbol.check(value)
         self._online.write(symbol, value)
 
-    def force(self, path: str, value: Any) -> None:
+    def force(self, path: str | Symbol, value: Any) -> None:
         """Hold ``value`` in the variable until ``release`` (TwinCAT's *Force values*, F7).
 
         Set at every cycle start (after ``on_cycle_start``) and again after the
@@ -577,26 +578,33 @@ class Runtime:
         symbol.check(value)
         self._online.force(symbol, value)
 
-    def release(self, path: str) -> None:
-        """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7)."""
-        self._online.release(self.symbol(path))
+    def release(self, path: str | Symbol, *, restore: bool = False) -> None:
+        """Stop forcing ``path``: from the next cycle the code's own assignments hold (TwinCAT: Alt+F7).
 
-    def release_all(self) -> None:
-        """Stop forcing every variable."""
-        self._online.release_all()
+        The variable keeps the forced value (*Unforce*) until something
+        assigns it; ``restore=True`` writes back, at the next cycle start, the
+        value it had before its first forced cycle (*Unforce and restore*).
+        """
+        self._online.release(self.symbol(path), restore)
+
+    def release_all(self, *, restore: bool = False) -> None:
+        """Stop forcing every variable (``restore`` as in ``release``)."""
+        self._online.release_all(restore)
 
     @property
     def forced(self) -> dict[str, Any]:
         """The forced variables: path -> value."""
         return self._online.forced()
 
-    def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> Trace:
-        """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows.
+    def trace(self, paths: typing.Sequence[str], every: int = 1, size: int = DEFAULT_TRACE_SIZE,
+              file: str | os.PathLike[str] | typing.TextIO | None = None) -> Trace:
+        """Record ``paths`` after every ``every``-th cycle into a ring buffer of ``size`` rows (and to ``file``).
 
-        The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it.
+        The trace is a hook on ``on_cycle_end``; ``trace.detach()`` removes it
+        and ends a stream to ``file``.
         """
         found = Trace(paths, self.symbol, stamp=lambda: (self._tick, self.time_ms), online=self._online,
-                      hooks=self.on_cycle_end, every=every, size=size)
+                      hooks=self.on_cycle_end, every=every, size=size, file=file)
         self.on_cycle_end.append(found._sample)
         return found
 

@@ -6,7 +6,10 @@ the cycle's results, forces applied). The buffer keeps the last ``size``
 rows (``DEFAULT_TRACE_SIZE``); older ones are dropped. A row is
 ``(cycle, time_ms, value, ...)``: the cycle counted from 1, the time of the
 cycle's start in ms, then one value per path. ``trace.forced`` holds, per
-row, the paths that were forced when it was taken.
+row, the paths that were forced when it was taken. For a run longer than
+the buffer, ``file=`` streams every row to a CSV file as it is taken
+(``detach()`` or ``close()`` ends it), so nothing is dropped and memory
+stays bounded.
 
 >>> from iecoop import BOOL, INT, VAR, Program, T
 >>> from iecoop.runtime import Runtime, Task
@@ -58,9 +61,11 @@ class Trace:
 
     def __init__(self, paths: typing.Sequence[str], resolve: typing.Callable[[str], Symbol], *,
                  stamp: typing.Callable[[], tuple[int, int]], online: OnlineTable,
-                 hooks: list[typing.Callable[[], None]], every: int = 1, size: int = DEFAULT_TRACE_SIZE) -> None:
+                 hooks: list[typing.Callable[[], None]], every: int = 1, size: int = DEFAULT_TRACE_SIZE,
+                 file: str | os.PathLike[str] | typing.TextIO | None = None) -> None:
         """``resolve`` finds a path's variable, ``stamp`` gives ``(cycle, time_ms)`` of the cycle that just ran,
-        ``online`` says which variables are forced, and ``hooks`` is the list of end-of-cycle hooks it leaves."""
+        ``online`` says which variables are forced, and ``hooks`` is the list of end-of-cycle hooks it leaves.
+        ``file`` (a path or an open text file) receives every row as CSV as it is taken."""
         if isinstance(paths, str):
             raise TypeError(f"Runtime.trace(): paths is a list of symbol paths, got the string {paths!r}")
         if not isinstance(every, int) or every < 1:
@@ -78,6 +83,20 @@ class Trace:
         self._rows: collections.deque[Row] = collections.deque(maxlen=size)
         self._forced: collections.deque[tuple[str, ...]] = collections.deque(maxlen=size)
         self._lock = threading.Lock()
+        #: Rows taken since the trace was made (the buffer keeps the last ``size`` of them).
+        self.taken = 0
+        self.file: str | os.PathLike[str] | typing.TextIO | None = file
+        self._stream: typing.TextIO | None = None
+        self._owned = False
+        self._writer: Any = None
+        if file is not None:
+            if isinstance(file, (str, os.PathLike)):
+                # Line buffering would cost a system call a cycle; the file is flushed when the trace ends.
+                self._stream, self._owned = open(file, "w", encoding="utf-8", newline=""), True
+            else:
+                self._stream = file
+            self._writer = csv.writer(self._stream, lineterminator="\n")
+            self._writer.writerow(self.header)
 
     def __repr__(self) -> str:
         return f"<Trace {', '.join(self.paths)}: {len(self._rows)} rows>"
@@ -93,12 +112,26 @@ class Trace:
         with self._lock:
             self._rows.append(row)
             self._forced.append(forced)
+            self.taken += 1
+            if self._writer is not None:
+                self._writer.writerow([_plain(value) for value in row])
 
     def detach(self) -> None:
-        """Stop recording (the rows stay)."""
+        """Stop recording (the rows stay); a streamed file is flushed and, if the trace opened it, closed."""
         hooks = self._hooks
         if self._sample in hooks:
             hooks.remove(self._sample)
+        self.close()
+
+    def close(self) -> None:
+        """End the stream to ``file`` (the recording into the buffer goes on until ``detach``)."""
+        with self._lock:
+            stream, self._stream, self._writer = self._stream, None, None
+        if stream is not None:
+            if self._owned:
+                stream.close()
+            else:
+                stream.flush()
 
     def clear(self) -> None:
         """Drop the rows recorded so far."""
@@ -157,19 +190,34 @@ class Trace:
         return frame.set_index("cycle")
 
     def plot(self, target: str | os.PathLike[str], paths: typing.Sequence[str] | None = None) -> Path:
-        """Draw the traced signals to ``target`` (``.png`` or ``.svg``): one lane each, BOOLs as steps, time in ms.
+        """Draw the traced signals to ``target`` (``.png`` or ``.svg``): one lane each, BOOLs and integers as steps.
 
         Needs matplotlib (``pip install iecoop[plot]``).
         """
         target = Path(target)
         if target.suffix.lower() not in (".png", ".svg"):
             raise ValueError(f"Trace.plot(): {target.name} must end in .png or .svg")
+        figure = self.figure(paths)
+        from matplotlib import pyplot
+
+        try:
+            figure.savefig(target)
+        finally:
+            pyplot.close(figure)
+        return target
+
+    def figure(self, paths: typing.Sequence[str] | None = None) -> Any:
+        """The matplotlib ``Figure`` ``plot`` draws, a scope's view: one lane per signal, BOOLs and integers as steps.
+
+        For a notebook or more drawing on it; ``pyplot.close(figure)`` frees it.
+        """
         try:
             import matplotlib
         except ImportError:
             raise ImportError("Trace.plot() needs matplotlib: pip install iecoop[plot]") from None
         matplotlib.use("Agg")  # a file, never a window: works without a display
         from matplotlib import pyplot
+        from matplotlib.ticker import MaxNLocator
 
         chosen = list(self.paths if paths is None else paths)
         indices = [self._index(path) for path in chosen]
@@ -179,20 +227,27 @@ class Trace:
                                        figsize=(8, 1.2 + 1.3 * len(chosen)))
         try:
             for lane, path, index in zip(axes[:, 0], chosen, indices):
+                # BOOLs and enumeration values as their numbers
                 values = [int(row[index]) if isinstance(row[index], int) else row[index] for row in rows]
-                if rows and isinstance(rows[0][index], bool):
+                first = rows[0][index] if rows else None
+                if isinstance(first, int):
+                    # A digital or integer signal holds its value until the next sample, as a scope draws it.
                     lane.step(times, values, where="post")
-                    lane.set_yticks([0, 1], ["FALSE", "TRUE"])
+                    if isinstance(first, bool):
+                        lane.set_yticks([0, 1], ["FALSE", "TRUE"])
+                        lane.set_ylim(-0.2, 1.2)
+                    else:
+                        lane.yaxis.set_major_locator(MaxNLocator(integer=True))
                 else:
                     lane.plot(times, values)
                 lane.set_ylabel(path, rotation=0, ha="right", va="center")
                 lane.grid(True, alpha=0.3)
             axes[-1, 0].set_xlabel("time (ms)")
             figure.tight_layout()
-            figure.savefig(target)
-        finally:
+        except BaseException:
             pyplot.close(figure)
-        return target
+            raise
+        return figure
 
 
 def _plain(value: Any) -> Any:

@@ -30,13 +30,14 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import gc
 import linecache
 import os
 import pathlib
 import re
 import sys
 import types
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any, TypeVar
 
 from iecoop._codegen import script_number
@@ -69,6 +70,20 @@ def _translator() -> Callable[..., _Translation]:
             f"iecoop.st needs the blark parser ({missing} is not installed): pip install \"iecoop[st]\""
         ) from None
     return translate
+
+
+@contextlib.contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Python's cycle collector paused while loading: a load makes many objects and few cycles, and the
+    collector's passes over every object alive took a third of a warm load of 60 files."""
+    if not gc.isenabled():  # paused by an outer load (a library's), or by the program
+        yield
+        return
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
 
 
 def external(name: str) -> Callable[[_F], _F]:
@@ -144,7 +159,8 @@ def to_python(
         RUN = 5
     <BLANKLINE>
     """
-    text, *_ = _translated(source, [], _bound_libraries(source, libraries, library_path, None, cache), cache)
+    with _collector_paused():
+        text, *_ = _translated(source, [], _bound_libraries(source, libraries, library_path, None, cache), cache)
     return text
 
 
@@ -328,72 +344,116 @@ def load(
     Python versions; ``cache=False`` (or the environment variable
     ``IECOOP_ST_CACHE=0``) parses afresh and writes nothing.
     """
+    with _collector_paused():
+        return _load(source, profile, dict(externals or {}), package, libraries, library_path, cache)
+
+
+def _load(
+    source: str | os.PathLike[str],
+    profile: str | None,
+    externals: dict[str, Callable[..., Any]],
+    package: str | None,
+    libraries: Mapping[str, str | os.PathLike[str] | types.ModuleType] | None,
+    library_path: Sequence[str | os.PathLike[str]] | None,
+    cache: bool | None,
+) -> StModule:
+    """``load``'s steps: the libraries, the translation, the module compiled and run, externals bound, PROGRAMs made."""
     from iecoop.profiles import use_profile
 
-    externals = dict(externals or {})
     used = _bound_libraries(source, libraries, library_path, profile, cache)
     text, names, origins, qualified, units = _translated(source, list(externals), used, cache)
     number = script_number()
     if package is not None and not all(part.isidentifier() for part in package.split(".")):
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
-    module_name = f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}"
-    filename = f"<iecoop.st {_source_name(source)} #{number}>"
-    rename = {}
-    if isinstance(source, str) and any(origin is not None and origin[0] == "<st>" for origin in origins):
-        rename["<st>"] = f"<st text #{number}>"
-        register_text(rename["<st>"], source)
-    linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
+    generated = _Generated(source, text, origins, number)
+    module = _new_module(f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}", generated, names, qualified)
     try:
-        codes = compile_mapped(text, origins, filename, rename)
-    except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
-        raise _generated_failure(source, exc) from exc
-    module = StModule(module_name, f"Loaded from Structured Text ({_source_name(source)}).")
-    module.__file__ = filename
-    module.__python__ = text
-    # what a project that uses this one as a library binds: its ST names, and those needing the namespace
-    module.__all__ = [name for _kind, name in names]
-    module.__qualified_only__ = sorted(qualified)
-    sys.modules[module_name] = module  # annotations resolve through the module, as for an import
-    lowered = {k.lower(): v for k, v in externals.items()}
-    unbound = []
-    with use_profile(profile) if profile is not None else contextlib.nullcontext():
-        namespace: dict[str, Any] = module.__dict__
-        try:
-            for code in codes:
-                exec(code, namespace)  # noqa: S102 - the module iecoop generated, run in order
-        except (RecursionError, MemoryError) as exc:
-            del sys.modules[module_name]
-            raise _generated_failure(source, exc) from exc
-        except Exception as exc:  # noqa: BLE001 - a class the builder refuses, or Python the translator should not have written
-            del sys.modules[module_name]
-            st_files = {rename.get(origin[0], origin[0]): origin[0] for origin in origins if origin is not None}
-            raise _class_failure(source, text, filename, exc, st_files) from exc
-        for key, value in list(namespace.items()):
-            marker = getattr(value, "__iecoop_external__", None)
-            if marker is not None:
-                bound = lowered.get(marker.lower())
-                if bound is None:
-                    unbound.append(marker)
-                else:
-                    namespace[key] = bound
-        for kind, name in names:
-            if kind == "program" and isinstance(namespace[name], type):  # not yet made by the module itself
-                try:
-                    namespace[name] = namespace[name]()
-                except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
-                    del sys.modules[module_name]
-                    where, _ = _declared_at(source, name)
-                    error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
-                    raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc
-    if unbound:
-        del sys.modules[module_name]
-        raise StUnsupportedError(
-            f"{_declared_at(source, unbound[0])[0]}: FUNCTION {unbound[0]} has no body and no Python callable: "
-            f"pass externals={{{unbound[0]!r}: ...}}"
-        )
+        with use_profile(profile) if profile is not None else contextlib.nullcontext():
+            _run(module, generated)
+            unbound = _bind_externals(module.__dict__, externals)
+            _make_programs(module.__dict__, names, source)
+        if unbound:
+            raise StUnsupportedError(
+                f"{_declared_at(source, unbound[0])[0]}: FUNCTION {unbound[0]} has no body and no Python callable: "
+                f"pass externals={{{unbound[0]!r}: ...}}"
+            )
+    except BaseException:
+        del sys.modules[module.__name__]
+        raise
     # what each object was read from: export writes an object unchanged in Python back as it was read
-    module.__st_sources__ = origin.sources(units, namespace, source if isinstance(source, str) and _source_name(source) == "st" else None)
+    module.__st_sources__ = origin.sources(units, module.__dict__, source if isinstance(source, str) and _source_name(source) == "st" else None)
     module.__st_project__ = origin.project_name(source)
     module.__st_references__ = library_references(source)
     return module
 
+
+class _Generated:
+    """The generated module of one ``load``: its text, compiled under the ST files' names and lines (source maps)."""
+
+    def __init__(self, source: str | os.PathLike[str], text: str, origins: list[tuple[str, int] | None], number: int) -> None:
+        self.source, self.text, self.origins = source, text, origins
+        self.filename = f"<iecoop.st {_source_name(source)} #{number}>"
+        #: a unit's file name -> the name it is shown under (ST given as text: ``<st text #N>``)
+        self.rename: dict[str, str] = {}
+        if isinstance(source, str) and any(origin is not None and origin[0] == "<st>" for origin in origins):
+            self.rename["<st>"] = f"<st text #{number}>"
+            register_text(self.rename["<st>"], source)
+        linecache.cache[self.filename] = (len(text), None, text.splitlines(True), self.filename)
+        try:
+            self.codes = compile_mapped(text, origins, self.filename, self.rename)
+        except (SyntaxError, RecursionError, MemoryError, ValueError) as exc:  # the limits read.parse checks keep this rare
+            raise _generated_failure(source, exc) from exc
+
+    def st_files(self) -> dict[str, str]:
+        """The name each ST file's code runs under -> the ST file."""
+        return {self.rename.get(origin[0], origin[0]): origin[0] for origin in self.origins if origin is not None}
+
+
+def _new_module(name: str, generated: _Generated, names: list[tuple[str, str]], qualified: set[str]) -> StModule:
+    """The empty module ``load`` fills, in ``sys.modules`` so that annotations resolve through it, as for an import."""
+    module = StModule(name, f"Loaded from Structured Text ({_source_name(generated.source)}).")
+    module.__file__ = generated.filename
+    module.__python__ = generated.text
+    # what a project that uses this one as a library binds: its ST names, and those needing the namespace
+    module.__all__ = [name for _kind, name in names]
+    module.__qualified_only__ = sorted(qualified)
+    sys.modules[name] = module
+    return module
+
+
+def _run(module: StModule, generated: _Generated) -> None:
+    """Run the generated module's code in order (the classes are built); a failure names the ST file and line."""
+    try:
+        for code in generated.codes:
+            exec(code, module.__dict__)  # noqa: S102 - the module iecoop generated, run in order
+    except (RecursionError, MemoryError) as exc:
+        raise _generated_failure(generated.source, exc) from exc
+    except Exception as exc:  # noqa: BLE001 - a class the builder refuses, or Python the translator should not have written
+        raise _class_failure(generated.source, generated.text, generated.filename, exc, generated.st_files()) from exc
+
+
+def _bind_externals(namespace: dict[str, Any], externals: Mapping[str, Callable[..., Any]]) -> list[str]:
+    """Put each callable of ``externals`` in place of the FUNCTION without a body it names; the names left unbound."""
+    lowered = {k.lower(): v for k, v in externals.items()}
+    unbound = []
+    for key, value in list(namespace.items()):
+        marker = getattr(value, "__iecoop_external__", None)
+        if marker is not None:
+            bound = lowered.get(marker.lower())
+            if bound is None:
+                unbound.append(marker)
+            else:
+                namespace[key] = bound
+    return unbound
+
+
+def _make_programs(namespace: dict[str, Any], names: list[tuple[str, str]], source: str | os.PathLike[str]) -> None:
+    """Each PROGRAM's single instance, where the module has not made it itself."""
+    for kind, name in names:
+        if kind == "program" and isinstance(namespace[name], type):
+            try:
+                namespace[name] = namespace[name]()
+            except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
+                where, _ = _declared_at(source, name)
+                error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
+                raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc

@@ -16,8 +16,8 @@ from typing import Any
 
 import pytest
 
-from iecoop import BOOL, DINT, INT, REAL, UINT, VAR, VAR_INPUT, VAR_OUTPUT, Program, T
-from iecoop.exceptions import AccessError
+from iecoop import BOOL, DINT, INT, REAL, UINT, VAR, VAR_INPUT, VAR_OUTPUT, ExceptionCode, Program, T
+from iecoop.exceptions import AccessError, PlcException
 from iecoop.runtime import Runtime, Task
 
 pytest.importorskip("pymodbus")
@@ -193,3 +193,118 @@ def test_a_stopped_server_keeps_nothing_alive() -> None:
     del runtime, server
     gc.collect()
     assert gone() is None
+
+
+class MbMarkers(Program, st_name="MAIN"):
+    bFlag: BOOL = VAR(False)  # AT %MX1.3
+    bIn: BOOL = VAR_INPUT(False)  # AT %IX0.0
+    bOut: BOOL = VAR_OUTPUT(False)  # AT %QX0.0
+    nIn: INT = VAR_INPUT(0)  # AT %IW0
+    nOut: INT = VAR_OUTPUT(0)  # AT %QW0
+    nMask: UINT = VAR(0x0F0F)  # AT %MW1
+    nDivisor: INT = VAR_INPUT(1)  # AT %QW2
+
+    def body(self) -> None:
+        self.bOut = self.bIn
+        self.nOut = self.nIn * 2 // self.nDivisor
+
+
+@pytest.fixture
+def markers() -> Iterator[tuple[Runtime, MbMarkers]]:
+    main = MbMarkers()
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), main)
+    yield runtime, main
+    runtime.stop()
+
+
+def test_marker_bits_are_coils_from_12288_and_a_mask_write_changes_a_register(
+        markers: tuple[Runtime, MbMarkers]) -> None:
+    rt, main = markers
+    with ModbusServer(rt, port=0, located={"MAIN.bFlag": "%MX1.3", "MAIN.nMask": "%MW1"}) as server:
+        assert [(v.table.value, v.first) for v in server.variables] == [("coils", 12288 + 11),
+                                                                         ("holding_registers", 12289)]
+        client = connect(server.port)
+        try:
+            rt.run(cycles=1)
+            assert client.read_coils(12299, count=1).bits[0] is False
+            assert not client.write_coil(12299, True).isError()
+            # FC 22: (0x0F0F AND 0x00FF) OR (0x1000 AND NOT 0x00FF), on the value of the last cycle
+            assert not client.mask_write_register(address=12289, and_mask=0x00FF, or_mask=0x1000).isError()
+            rt.run(cycles=1)
+            assert (main.bFlag, main.nMask) == (True, 0x100F)
+            assert client.read_coils(12299, count=1).bits[0] is True
+        finally:
+            client.close()
+
+
+def test_codesys_device_tables_let_the_master_write_the_inputs_and_read_the_outputs(
+        markers: tuple[Runtime, MbMarkers]) -> None:
+    from iecoop.modbus import CODESYS_DEVICE_TABLES
+
+    rt, main = markers
+    located = {"MAIN.bIn": "%IX0.0", "MAIN.bOut": "%QX0.0", "MAIN.nIn": "%IW0", "MAIN.nOut": "%QW0"}
+    with ModbusServer(rt, port=0, located=located, tables=CODESYS_DEVICE_TABLES) as server:
+        client = connect(server.port)
+        try:
+            assert not client.write_register(0, 21).isError()  # a holding register: the PLC's %IW0
+            assert not client.write_coil(0, True).isError()  # a coil: the PLC's %IX0.0
+            rt.run(cycles=2)
+            assert (main.nIn, main.bIn, main.nOut, main.bOut) == (21, True, 42, True)
+            assert client.read_input_registers(0, count=1).registers == [42]  # %QW0
+            assert client.read_discrete_inputs(0, count=1).bits[0] is True  # %QX0.0
+            assert client.read_holding_registers(0, count=1).registers == [21]
+        finally:
+            client.close()
+
+
+@pytest.mark.parametrize(("located", "tables", "words"), [
+    ({"MAIN.nIn": "%QW65536"}, None, "would be holding_registers 65536; Modbus addresses end at 65535"),
+    ({"MAIN.nMask": "%MW53248"}, None, "would be holding_registers 65536"),
+    ({"MAIN.bFlag": "%MX6656.0"}, None, "would be coils 65536"),
+    ({"MAIN.nIn": "%IW0"}, {"IW": ("input_registers", 70_000)}, "a first address is 0..65535"),
+])
+def test_an_address_past_the_modbus_tables_is_refused_at_construction(
+        markers: tuple[Runtime, MbMarkers], located: dict[str, str], tables: Any, words: str) -> None:
+    with pytest.raises(ValueError, match=words):
+        ModbusServer(markers[0], port=0, located=located, tables=tables)
+
+
+def test_the_top_of_the_address_space_and_a_request_beyond_the_protocol_limits(
+        markers: tuple[Runtime, MbMarkers]) -> None:
+    rt, _ = markers
+    with ModbusServer(rt, port=0, located={"MAIN.nMask": "%MW53247"}) as server:  # register 65535
+        rt.run(cycles=1)
+        client = connect(server.port)
+        try:
+            assert client.read_holding_registers(65535, count=1).registers == [0x0F0F]
+            assert exception_code(client.read_holding_registers(65534, count=2)) == ILLEGAL_ADDRESS
+            # 124 registers in one write is beyond Modbus's 123: exception 3, illegal data value, nothing stored
+            assert exception_code(client.write_registers(65412, [1] * 124)) == 3
+            rt.run(cycles=1)
+            assert client.read_holding_registers(65535, count=1).registers == [0x0F0F]
+        finally:
+            client.close()
+        # 126 registers in one read is beyond Modbus's 125: an exception, and the server goes on serving.
+        with socket.create_connection(("127.0.0.1", server.port), timeout=10) as sock:
+            sock.sendall(struct.pack(">HHHBBHH", 1, 0, 6, 1, 3, 65535, 126))
+            reply = sock.recv(64)
+            assert reply[7] & 0x80 and len(reply) == 9
+            sock.sendall(struct.pack(">HHHBBHH", 2, 0, 6, 1, 3, 65535, 1))
+            assert sock.recv(64)[7:] == bytes([3, 2, 0x0F, 0x0F])
+
+
+def test_after_a_fault_the_master_reads_where_the_plc_stopped(markers: tuple[Runtime, MbMarkers]) -> None:
+    rt, _ = markers
+    located = {"MAIN.nIn": "%QW0", "MAIN.nOut": "%QW1", "MAIN.nDivisor": "%QW2"}
+    with ModbusServer(rt, port=0, located=located) as server:
+        client = connect(server.port)
+        try:
+            rt.run(cycles=1)
+            assert not client.write_registers(0, [21, 0, 0]).isError()  # nDivisor := 0
+            with pytest.raises(PlcException) as fault:
+                rt.run(cycles=1)
+            assert fault.value.code is ExceptionCode.RTSEXCPT_DIVIDEBYZERO
+            assert client.read_holding_registers(0, count=3).registers == [21, 0, 0]  # the state the fault left
+        finally:
+            client.close()

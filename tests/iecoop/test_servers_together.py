@@ -2,7 +2,8 @@
 
 The PLC fills a tank with a pump; the plant model (an ``on_cycle_end``
 hook) raises the level while the pump runs. A force of the pump, made
-online, is what all three clients read; a stop leaves no thread and no port.
+online, is what all three clients read, and so is one a client makes (over
+ADS, released over OPC UA); a stop leaves no thread and no port.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from asyncua.sync import Client as OpcUaClient  # noqa: E402  (after the skips)
 from pymodbus.client import ModbusTcpClient  # noqa: E402
 
 from iecoop.ads import AdsServer  # noqa: E402
+from iecoop.ads.protocol import IndexGroup  # noqa: E402
 from iecoop.modbus import ModbusServer  # noqa: E402
 from iecoop.opcua import NAMESPACE, OpcUaServer  # noqa: E402
 
@@ -59,8 +61,8 @@ def test_three_servers_one_force_and_a_clean_stop() -> None:
 
     rt.on_cycle_end.append(plant)
     located = {"MAIN.bFill": "%IX0.0", "MAIN.nLevel": "%IW0", "MAIN.bPump": "%QX0.0"}
-    opcua = OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0")
-    ads = AdsServer(rt, port=0)
+    opcua = OpcUaServer(rt, endpoint="opc.tcp://127.0.0.1:0", online=True)
+    ads = AdsServer(rt, port=0, online=True)
     modbus = ModbusServer(rt, port=0, located=located)
     ports = []
     with opcua, ads, modbus, rt.running():
@@ -84,6 +86,15 @@ def test_three_servers_one_force_and_a_clean_stop() -> None:
             wait_for(lambda: plc.read_by_name("MAIN.bPump") is False, "ADS sees the release")
             wait_for(lambda: mb.read_coils(0, count=1).bits[0] is False, "Modbus sees the release")
             wait_for(lambda: pump.read_value() is False, "OPC UA sees the release")
+            # A force made by a client is the runtime's: forced over ADS, released over OPC UA.
+            plc.write(IndexGroup.FORCE_BYHND, plc.get_handle("MAIN.bPump"), True, pyads.PLCTYPE_BOOL)
+            wait_for(lambda: mb.read_coils(0, count=1).bits[0] is True, "Modbus sees the ADS client's force")
+            wait_for(lambda: pump.read_value() is True, "OPC UA sees the ADS client's force")
+            assert rt.forced == {"MAIN.bPump": True}
+            online = ua_client.get_node(asyncua.ua.NodeId("Online", index))
+            online.call_method(asyncua.ua.NodeId("Online.Release", index), "PlcTask.MAIN.bPump", False)
+            wait_for(lambda: plc.read_by_name("MAIN.bPump") is False, "ADS sees the OPC UA client's release")
+            assert rt.forced == {}
         finally:
             mb.close()
             plc.close()

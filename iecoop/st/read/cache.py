@@ -1,19 +1,22 @@
 """The translation cache: blark's parse of each ST file, kept as data beside the sources.
 
 Parsing is most of a cold load (blark's Earley parser, about half a second a
-kilobyte); the translation after it is quick. So each source file's parse
-tree and comment tokens are kept in ``__iecoop_cache__/<file>.json`` beside
-it (as ``__pycache__`` keeps bytecode), or in the user's cache folder when
-that one cannot be written. An entry is used only when everything it was
-made from is the same: the flat ST text (its SHA-256), the versions of
-iecoop, blark, lark and Python, and the grammar used.
+kilobyte); the translation after it is quick. So each source file's tree
+(blark's dataclasses, as ``read.nodedata`` writes them) and comment tokens
+are kept in ``__iecoop_cache__/<file>.json`` beside it (as ``__pycache__``
+keeps bytecode), or in the user's cache folder when that one cannot be
+written. An entry is used only when everything it was made from is the same:
+the flat ST text (its SHA-256), the versions of iecoop, blark, lark and
+Python, blark's grammar and transform files, and the grammar used.
 
 An entry is never trusted. It holds plain JSON (no pickle, nothing that runs
-on load); it is signed with a key kept in the user's cache folder (HMAC-SHA256),
-so an entry this user did not write (copied in, edited, damaged) is ignored
-and rebuilt; and a token is kept as its place in the source, its text read
-back from the ST itself, so the tree can only say what the ST says. Opt out with
-``st.load(..., cache=False)`` or the environment variable ``IECOOP_ST_CACHE=0``.
+on load: a node is one of blark's classes from a fixed table, given its
+fields); it is signed with a key kept in the user's cache folder
+(HMAC-SHA256), so an entry this user did not write (copied in, edited,
+damaged) is ignored and rebuilt; and a token or string is kept as its place
+in the source, its text read back from the ST itself, so the tree can only
+say what the ST says. Opt out with ``st.load(..., cache=False)`` or the
+environment variable ``IECOOP_ST_CACHE=0``.
 """
 
 from __future__ import annotations
@@ -31,15 +34,17 @@ import sys
 import tempfile
 from typing import Any
 
-__all__ = ["CACHE_FOLDER", "enabled", "load_tree", "raw_from_data", "store_tree", "tree_from_data", "tree_to_data"]
+from iecoop.st.read.nodedata import Unencodable, nodes_from_data, nodes_to_data
+
+__all__ = ["CACHE_FOLDER", "Lines", "Parsed", "enabled", "entry_data", "load_entry", "store_entry"]
 
 #: The folder beside the sources that holds their entries.
 CACHE_FOLDER = "__iecoop_cache__"
 #: Bumped when the entry's layout changes.
-FORMAT = 2
+FORMAT = 3
 
-_RULE = re.compile(r"[a-z_][a-z0-9_]*\Z")
-_TERMINAL = re.compile(r"[A-Z_][A-Z0-9_]*\Z")
+#: blark's tree (``blark.transform.SourceCode``) and the comment tokens of one flat source.
+Parsed = tuple[Any, tuple[Any, ...]]
 
 
 def enabled(cache: bool | None) -> bool:
@@ -59,7 +64,7 @@ def user_cache_dir() -> pathlib.Path:
 
 @functools.lru_cache(maxsize=1)
 def versions() -> str:
-    """What a parse depends on besides the text: iecoop, blark, lark, Python and the entry format."""
+    """What a parse depends on besides the text: iecoop, blark (its version and files), lark, Python and the entry format."""
     from importlib.metadata import PackageNotFoundError, version
 
     found = []
@@ -68,7 +73,22 @@ def versions() -> str:
             found.append(f"{package}={version(package)}")
         except PackageNotFoundError:
             found.append(f"{package}=?")
-    return ";".join([*found, f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+    return ";".join([*found, f"blark-files={blark_files()}", f"python={sys.version.split()[0]}", f"format={FORMAT}"])
+
+
+def blark_files() -> str:
+    """A digest of blark's grammar and transform as installed: a blark of the same version number that makes other
+    trees (a checkout, a patched copy) has other entries."""
+    import importlib.resources
+
+    digest = hashlib.sha256()
+    try:
+        package = importlib.resources.files("blark")
+        for name in ("iec.lark", "transform.py"):
+            digest.update(package.joinpath(name).read_bytes())
+    except (ModuleNotFoundError, OSError):
+        return "?"
+    return digest.hexdigest()[:16]
 
 
 def _key_file() -> pathlib.Path:
@@ -111,8 +131,8 @@ def _identity(text: str, grammar: str) -> str:
     return f"{versions()};grammar={grammar};sha256={hashlib.sha256(text.encode()).hexdigest()}"
 
 
-def load_tree(source: pathlib.Path, text: str, grammar: str) -> tuple[Any, tuple[Any, ...]] | None:
-    """The cached lark tree and comment tokens for the flat ``text`` of ``source``; None if there is no valid entry."""
+def load_entry(source: pathlib.Path, text: str, grammar: str) -> Parsed | None:
+    """blark's tree and comment tokens for the flat ``text`` of ``source`` from its entry; None if there is no valid one."""
     key = _signing_key()
     if key is None:
         return None
@@ -122,14 +142,14 @@ def load_tree(source: pathlib.Path, text: str, grammar: str) -> tuple[Any, tuple
             raw = path.read_bytes()
         except OSError:
             continue
-        found = _verified(raw, key, identity, text)
+        found = _verified(raw, key, identity, text, str(source))
         if found is not None:
             return found
     return None
 
 
-def _verified(raw: bytes, key: bytes, identity: str, text: str) -> tuple[Any, tuple[Any, ...]] | None:
-    """The tree and comments of an entry whose signature, identity and tokens all check; None otherwise."""
+def _verified(raw: bytes, key: bytes, identity: str, text: str, filename: str) -> Parsed | None:
+    """The tree and comments of an entry whose signature, identity and data all check; None otherwise."""
     signature, _, body = raw.partition(b"\n")
     expected = hmac.new(key, body, hashlib.sha256).hexdigest().encode()
     if not hmac.compare_digest(signature, expected):
@@ -138,26 +158,26 @@ def _verified(raw: bytes, key: bytes, identity: str, text: str) -> tuple[Any, tu
         entry = json.loads(body)
         if not isinstance(entry, dict) or entry.get("identity") != identity:
             return None
-        return raw_from_data(entry["tree"], entry["comments"], text)
-    except (ValueError, TypeError, KeyError, IndexError, RecursionError):
+        return nodes_from_data(entry["nodes"], text, filename)
+    except (ValueError, TypeError, KeyError, IndexError, AttributeError, RecursionError):
         return None
 
 
-def raw_from_data(tree: Any, comments: Any, text: str) -> tuple[Any, tuple[Any, ...]]:
-    """The lark tree and comment tokens of their ``tree_to_data`` forms, for the source ``text``."""
-    lines = _Lines(text)
-    return tree_from_data(tree, lines), tuple(tree_from_data(token, lines) for token in comments)
+def entry_data(tree: Any, comments: tuple[Any, ...], text: str, filename: str) -> dict[str, Any] | None:
+    """What an entry keeps of a parse (``read.nodedata``), or None when the tree holds what that form does not."""
+    try:
+        return nodes_to_data(tree, comments, text, filename)
+    except Unencodable:
+        return None
 
 
-def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comments: tuple[Any, ...]) -> None:
-    """Keep the entry for ``source``: beside it if that folder can be written, else in the user's cache folder."""
+def store_entry(source: pathlib.Path, text: str, grammar: str, nodes: dict[str, Any]) -> None:
+    """Keep the entry for ``source`` (``nodes``: its ``entry_data``): beside it if that folder can be written, else in
+    the user's cache folder."""
     key = _signing_key()
     if key is None:
         return
-    body = json.dumps(
-        {"identity": _identity(text, grammar), "tree": tree_to_data(tree), "comments": [tree_to_data(c) for c in comments]},
-        separators=(",", ":"),
-    ).encode()
+    body = json.dumps({"identity": _identity(text, grammar), "nodes": nodes}, separators=(",", ":")).encode()
     data = hmac.new(key, body, hashlib.sha256).hexdigest().encode() + b"\n" + body
     for path in _entry_paths(source):
         try:
@@ -176,54 +196,13 @@ def store_tree(source: pathlib.Path, text: str, grammar: str, tree: Any, comment
             continue
 
 
-def tree_to_data(node: Any) -> Any:
-    """A lark Tree or Token as JSON data: a tree ``[rule, [start, end] or None, children]``, a token ``[type, start, end]``.
-
-    A token keeps only where it is: its text, line and column are read back from the source.
-    """
-    import lark
-
-    if node is None:
-        return None
-    if isinstance(node, lark.Token):
-        return [node.type, node.start_pos, node.end_pos]
-    meta = node.meta
-    return [str(node.data), None if meta.empty else [meta.start_pos, meta.end_pos], [tree_to_data(c) for c in node.children]]
-
-
-class _Lines:
+class Lines:
     """Line and column (from 1, as lark counts them) of a character offset in a text."""
 
     def __init__(self, text: str) -> None:
         self.text = text
-        self.starts = [0, *(index + 1 for index, char in enumerate(text) if char == "\n")]
+        self.starts = [0, *(match.end() for match in re.finditer("\n", text))]
 
     def at(self, offset: int) -> tuple[int, int]:
         line = bisect.bisect_right(self.starts, offset)
         return line, offset - self.starts[line - 1] + 1
-
-
-def tree_from_data(data: Any, text: str | _Lines) -> Any:
-    """The lark Tree or Token of ``tree_to_data``; each token's text is the source's at its place, so it says only what the ST says."""
-    import lark
-
-    lines = text if isinstance(text, _Lines) else _Lines(text)
-    if data is None:
-        return None
-    kind, where, rest = data
-    if isinstance(where, int):  # a token
-        if not (isinstance(kind, str) and _TERMINAL.match(kind) and isinstance(rest, int) and 0 <= where <= rest <= len(lines.text)):
-            raise ValueError("not a token")
-        return lark.Token(kind, lines.text[where:rest], where, *lines.at(where), *lines.at(rest), rest)
-    if not (isinstance(kind, str) and _RULE.match(kind) and isinstance(rest, list)):
-        raise ValueError("not a tree")
-    tree = lark.Tree(lark.Token("RULE", kind), [tree_from_data(child, lines) for child in rest])
-    if where is not None:
-        begin, end = where
-        if not (isinstance(begin, int) and isinstance(end, int) and 0 <= begin <= end <= len(lines.text)):
-            raise ValueError("not a position")
-        meta = tree.meta
-        meta.line, meta.column = lines.at(begin)
-        meta.end_line, meta.end_column = lines.at(end)
-        meta.start_pos, meta.end_pos, meta.empty = begin, end, False
-    return tree

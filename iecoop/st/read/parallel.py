@@ -1,40 +1,48 @@
 """Parsing the files of a project: from the translation cache, on every core, or one by one.
 
 blark's Earley parser runs in one Python thread; a project of many files is
-parsed in a pool of processes, one per core, when more than one file is
-missing from the cache and there is more than one core. Each worker hands
-back the parse as data (``cache.tree_to_data``), checked against the text as
-a cache entry is; results are taken in file order, so the units, and the
+parsed on every core when more than one file is missing from the cache and
+there is more than one core: by this process and a pool of one worker per
+further core, the files shared out by their length. Each worker hands
+back the parse as the data a cache entry holds (``read.nodedata``), read back
+as an entry is; results are taken in file order, so the units, and the
 first error a bad file raises, are the same as parsed one by one.
 """
 
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import multiprocessing
+import multiprocessing.context
 import os
 import pathlib
+import sys
 import typing
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from iecoop.st.read.cache import enabled, load_tree, raw_from_data, store_tree
+from iecoop.st.read.cache import Parsed, enabled, entry_data, load_entry, store_entry
+from iecoop.st.read.nodedata import nodes_from_data
 
-__all__ = ["PARALLEL_MIN_CHARS", "Parser", "cores", "parse_files"]
+__all__ = ["PARALLEL_MIN_CHARS", "Parser", "WORKER_START_CHARS", "cores", "parse_files", "shares"]
 
 #: Uncached ST (characters) below which a pool does not pay for its start (each worker loads blark's grammar).
 PARALLEL_MIN_CHARS = 16_000
+#: What a worker's start costs, as the characters of ST this process parses meanwhile (about a second).
+WORKER_START_CHARS = 2_000
 
-Flat = tuple[str, str, dict[int, tuple[str, int]]]
-Raw = tuple[Any, tuple[Any, ...]]
+LineMap = dict[int, tuple[str, int]]
+Flat = tuple[str, str, LineMap]
 
 
 class Parser(typing.NamedTuple):
-    """How to parse one flat source: in this process (``raw``), in a worker (``as_data``, a module-level
-    function, the parse as ``cache.tree_to_data`` data), and the name of the grammar a text needs."""
+    """How to parse one flat source: in this process (``parse``: blark's tree and comments), in a worker
+    (``as_data``, a module-level function: the tree as ``cache.entry_data``, None when it has no such
+    form), and the name of the grammar a text needs."""
 
-    raw: Callable[[str, str, dict[int, tuple[str, int]]], Raw]
-    as_data: Callable[[str, str, dict[int, tuple[str, int]]], tuple[Any, list[Any]]]
+    parse: Callable[[str, str, LineMap], Parsed]
+    as_data: Callable[[str, str, LineMap], dict[str, Any] | None]
     grammar: Callable[[str], str]
 
 
@@ -45,40 +53,89 @@ def cores() -> int:
     return os.cpu_count() or 1
 
 
-def parse_files(flat: Sequence[Flat], cache: bool | None, parser: Parser) -> list[Raw | None]:
-    """Per flat source, its raw parse (lark tree, comments); None where the caller parses it (no cache, one file)."""
+def parse_files(flat: Sequence[Flat], cache: bool | None, parser: Parser) -> list[Parsed | None]:
+    """Per flat source, blark's tree and comments; None where the caller parses it (no cache, one file)."""
     use = enabled(cache)
-    raws: list[Raw | None] = [None] * len(flat)
+    parsed: list[Parsed | None] = [None] * len(flat)
     missing = []
     for index, (text, name, _) in enumerate(flat):
         if use:
-            raws[index] = load_tree(pathlib.Path(name), text, parser.grammar(text))
-        if raws[index] is None:
+            parsed[index] = load_entry(pathlib.Path(name), text, parser.grammar(text))
+        if parsed[index] is None:
             missing.append(index)
     if len(missing) > 1 and cores() > 1 and sum(len(flat[i][0]) for i in missing) >= PARALLEL_MIN_CHARS:
-        for index, raw in zip(missing, _in_pool([flat[i] for i in missing], parser)):
-            raws[index] = raw
-    elif use:
-        for index in missing:
-            raws[index] = parser.raw(*flat[index])
-    if use:
-        for index in missing:
+        for index, (done, data) in zip(missing, _in_pool([flat[i] for i in missing], parser)):
             text, name, _ = flat[index]
-            done = raws[index]
-            if done is not None:
-                store_tree(pathlib.Path(name), text, parser.grammar(text), *done)
-    return raws
+            parsed[index] = done if done is not None or data is None else nodes_from_data(data, text, name)
+            if use and data is not None:
+                store_entry(pathlib.Path(name), text, parser.grammar(text), data)
+    for index in missing:
+        if use and parsed[index] is None:  # without the cache, the caller parses (and keeps the parse in memory)
+            text, name, line_map = flat[index]
+            done = parsed[index] = parser.parse(text, name, line_map)
+            data = entry_data(*done, text, name)
+            if data is not None:
+                store_entry(pathlib.Path(name), text, parser.grammar(text), data)
+    return parsed
 
 
-def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Raw]:
-    """Parse ``flat`` in a pool of processes, the longest sources first; results in the order given."""
-    # spawn, not fork: a process with a runtime's threads must not be forked.
-    context = multiprocessing.get_context("spawn")
-    order = sorted(range(len(flat)), key=lambda i: -len(flat[i][0]))
-    with concurrent.futures.ProcessPoolExecutor(min(cores(), len(flat)), mp_context=context) as pool:
-        futures = {i: pool.submit(parser.as_data, *flat[i]) for i in order}
-        results = []
-        for index, (text, _, _) in enumerate(flat):
-            tree, comments = futures[index].result()  # a worker's StSyntaxError is raised here, in file order
-            results.append(raw_from_data(tree, comments, text))
+def shares(sizes: Sequence[int], processes: int) -> list[list[int]]:
+    """Which sources (indices into ``sizes``) each process parses: this one first, then one worker per further core.
+
+    The longest first, each to the process that will be free first by its characters so far; a worker
+    starts ``WORKER_START_CHARS`` late (its interpreter, iecoop and blark's grammar).
+    """
+    load = [0] + [WORKER_START_CHARS] * (processes - 1)
+    given: list[list[int]] = [[] for _ in range(processes)]
+    for index in sorted(range(len(sizes)), key=lambda i: -sizes[i]):
+        process = load.index(min(load))
+        given[process].append(index)
+        load[process] += sizes[index]
+    return given
+
+
+def _context() -> multiprocessing.context.BaseContext:
+    """fork where it is safe (Linux, and this process runs one thread: never a process with a runtime's threads),
+    so a worker starts with iecoop and blark imported; spawn elsewhere."""
+    if sys.platform == "linux":
+        try:
+            threads = len(os.listdir("/proc/self/task"))  # every thread, those of C libraries too
+        except OSError:
+            threads = 0
+        if threads == 1:
+            return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("spawn")
+
+
+#: The result for one source parsed by ``_in_pool``: the tree when parsed here, the entry's data (None when the
+#: tree has no such form; a worker hands back only the data).
+Result = tuple[Parsed | None, dict[str, Any] | None]
+
+
+def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Result]:
+    """Parse ``flat`` in this process and a pool of workers, shared out by ``shares``; results in the order given,
+    and of the sources that fail, the first one's error is raised."""
+    here, *away = shares([len(text) for text, _, _ in flat], cores())
+    away = [share for share in away if share]
+    done: dict[int, Result] = {}
+    failed: dict[int, Exception] = {}
+    with contextlib.ExitStack() as stack:
+        futures = {}
+        if away:
+            pool = stack.enter_context(concurrent.futures.ProcessPoolExecutor(len(away), mp_context=_context()))
+            sent = sorted((index for share in away for index in share), key=lambda i: -len(flat[i][0]))  # longest first
+            futures = {index: pool.submit(parser.as_data, *flat[index]) for index in sent}
+        for index in here:
+            text, name, line_map = flat[index]
+            try:
+                tree = parser.parse(text, name, line_map)
+            except Exception as exc:  # noqa: BLE001 - raised below, in file order
+                failed[index] = exc
+                continue
+            done[index] = (tree, entry_data(*tree, text, name))
+        results: list[Result] = []
+        for index in range(len(flat)):
+            if index in failed:
+                raise failed[index]
+            results.append(done[index] if index in done else (None, futures[index].result()))  # a worker's error too
     return results

@@ -102,12 +102,13 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
     from iecoop.st.read.parallel import Parser, parse_files
+    from iecoop.st.read.trees import drop_empty_arguments  # on the tree as the cache gives it back too
 
     flat = list(_flat_sources(path))
-    raws = parse_files(flat, cache, Parser(raw_tree, parse_as_data, grammar_of))
+    parsed = parse_files(flat, cache, Parser(parse_one, parse_as_data, grammar_of))
     units = [
-        _parse_text(text, name, line_map) if raw is None else Unit(_transformed(text, name, line_map, raw)[0], name, line_map, raw[1])
-        for (text, name, line_map), raw in zip(flat, raws)
+        _parse_text(text, name, line_map) if done is None else Unit(drop_empty_arguments(done[0]), name, line_map, done[1])
+        for (text, name, line_map), done in zip(flat, parsed)
     ]
     _check_gvl_names(units)
     return units
@@ -421,8 +422,10 @@ def _overlay_parser() -> Any:
 
 
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
+    from iecoop.st.read.trees import drop_empty_arguments
+
     tree, comments = _tree(text, filename, tuple(sorted(line_map.items())))
-    return Unit(tree, filename, line_map, comments)
+    return Unit(drop_empty_arguments(tree), filename, line_map, comments)
 
 
 def grammar_of(text: str) -> str:
@@ -447,34 +450,28 @@ def _overlay_name() -> str:
 @functools.lru_cache(maxsize=128)
 def _tree(text: str, filename: str, line_map_items: tuple[tuple[int, tuple[str, int]], ...]) -> Any:
     """blark's tree and comment tokens for ``text``; cached, because blark's Earley parser takes a while and a test loads one source often."""
-    line_map = dict(line_map_items)
-    return _transformed(text, filename, line_map, raw_tree(text, filename, line_map))
+    return parse_one(text, filename, dict(line_map_items))
 
 
-def _transformed(text: str, filename: str, line_map: dict[int, tuple[str, int]], raw: tuple[Any, tuple[Any, ...]]) -> Any:
-    """blark's transform of a raw lark tree (parsed now, in a worker, or read from the cache)."""
+def parse_one(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:
+    """blark's tree (its dataclasses) and comment tokens for the flat ``text``, or StSyntaxError naming the file and line."""
     import blark.transform as tf
     import lark
 
-    from iecoop.st.read.trees import drop_empty_arguments
-
-    tree, comments = raw
-    _check_limits(tree, Unit(None, filename, line_map))
+    tree, comments = raw_tree(text, filename, line_map)  # the limits are checked on lark's tree
     try:
-        transformed = tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename))
-        return drop_empty_arguments(transformed), comments
+        return tf.transform(source_code=text, tree=tree, comments=list(comments), filename=pathlib.Path(filename)), comments
     except (lark.LarkError, ValueError, TypeError) as exc:  # a tree blark cannot build
         raise StSyntaxError(f"{filename}: blark could not build the tree: {exc}") from None
     except RecursionError:  # only beyond the limits _check_limits holds, e.g. when called from a deep stack
         raise StUnsupportedError(f"{filename}: the source nests too deeply for the parser") from None
 
 
-def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, list[Any]]:
-    """``raw_tree`` as JSON-able data (``read.cache.tree_to_data``): what a worker process hands back."""
-    from iecoop.st.read.cache import tree_to_data
+def parse_as_data(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> dict[str, Any] | None:
+    """``parse_one`` as a cache entry's data (``read.cache.entry_data``): what a worker process hands back."""
+    from iecoop.st.read.cache import entry_data
 
-    tree, comments = raw_tree(text, filename, line_map)
-    return tree_to_data(tree), [tree_to_data(c) for c in comments]
+    return entry_data(*parse_one(text, filename, line_map), text, filename)
 
 
 def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> tuple[Any, tuple[Any, ...]]:

@@ -110,9 +110,7 @@ def _map_statement(statement: ast.stmt, origins: Sequence[Origin | None], rename
         node.lineno, node.end_lineno = start, end  # type: ignore[attr-defined]
         node.col_offset = columns[start][0]  # type: ignore[attr-defined]
         node.end_col_offset = columns[start][1] if end == start else _WHOLE_LINE  # type: ignore[attr-defined]
-    for node in ast.walk(statement):
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-            _start_at_first_line(node)
+    _start_at_first_lines(statement)
     return shown
 
 
@@ -128,17 +126,24 @@ def _st_lines(span: Sequence[Origin | None], file: str, first: int) -> dict[int,
     return lines
 
 
-def _start_at_first_line(node: ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef) -> None:
-    """A ``def`` (or ``class``) starts no later than its first ST line: pytest and inspect read its lines from there.
+def _start_at_first_lines(node: ast.AST) -> int:
+    """A ``def`` (or ``class``) in ``node`` starts no later than its first ST line: pytest and inspect read its
+    lines from there. The first line of ``node``'s nodes, found in one pass.
 
     ``def body`` is written after the block's METHODs, so its own line would be the last METHOD's.
     """
-    inner = [n for n in ast.walk(node) if n is not node and "lineno" in n._attributes]
-    first = min([node.lineno, *(n.lineno for n in inner)])  # type: ignore[attr-defined]
-    for n in [node, *(d for decorator in node.decorator_list for d in ast.walk(decorator))]:
-        if "lineno" in n._attributes and n.lineno > first:  # type: ignore[attr-defined]
-            n.lineno = first  # type: ignore[attr-defined]
-            n.col_offset = 0  # type: ignore[attr-defined]
+    own: int | None = getattr(node, "lineno", None) if "lineno" in node._attributes else None
+    first = own
+    for child in ast.iter_child_nodes(node):
+        below = _start_at_first_lines(child)
+        if below and (first is None or below < first):
+            first = below
+    if first is not None and isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+        for n in [node, *(d for decorator in node.decorator_list for d in ast.walk(decorator))]:
+            if "lineno" in n._attributes and n.lineno > first:  # type: ignore[attr-defined]
+                n.lineno = first  # type: ignore[attr-defined]
+                n.col_offset = 0  # type: ignore[attr-defined]
+    return first or 0
 
 
 def _columns(file: str, line: int) -> tuple[int, int]:
@@ -150,11 +155,17 @@ def _columns(file: str, line: int) -> tuple[int, int]:
 
 
 def _definitions(body: Sequence[ast.AST]) -> Iterator[ast.FunctionDef | ast.AsyncFunctionDef]:
-    """The ``def`` nodes in source order, depth first (the order the compiler stores their code)."""
+    """The ``def`` nodes in source order, depth first (the order the compiler stores their code).
+
+    Only statement lists are searched: a ``def`` is a statement (a ``lambda`` is not one).
+    """
     for node in body:
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             yield node
-        yield from _definitions(list(ast.iter_child_nodes(node)))
+        for name in ("body", "orelse", "finalbody", "handlers", "cases"):
+            inner = getattr(node, name, None)
+            if isinstance(inner, list):
+                yield from _definitions(inner)
 
 
 def _codes(code: types.CodeType) -> Iterator[types.CodeType]:

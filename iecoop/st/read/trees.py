@@ -91,90 +91,102 @@ def signature(members: Sequence[Member]) -> list[Member]:
 
 def variables(node: Any) -> Iterator[Any]:
     """The variables (``x``, ``fb.Prop``) read by the expression ``node``."""
-    if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
-        yield node
-        if isinstance(node, tf.MultiElementVariable):
-            for element in node.elements:
+    kinds = (tf.SimpleVariable, tf.MultiElementVariable)
+    for variable in walk(node, lambda item: isinstance(item, kinds)):
+        if not isinstance(variable, kinds):
+            continue
+        yield variable
+        if isinstance(variable, tf.MultiElementVariable):
+            for element in variable.elements:
                 if isinstance(element, tf.SubscriptList):
                     for subscript in element.subscripts:
                         yield from variables(subscript)
-        return
-    if dataclasses.is_dataclass(node):
-        for field in dataclasses.fields(node):
-            yield from variables(getattr(node, field.name))
-    elif isinstance(node, (list, tuple)):
-        for item in node:
-            yield from variables(item)
+
+
+#: The fields of each blark node class that may hold nodes (``meta`` holds none), in declaration order.
+_NODE_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _node_fields(cls: type) -> tuple[str, ...] | None:
+    """The fields of node class ``cls`` to walk, or None when ``cls`` is not a node class (a token, a number ...)."""
+    found = _NODE_FIELDS.get(cls)
+    if found is None:
+        if not dataclasses.is_dataclass(cls):
+            return None
+        found = _NODE_FIELDS[cls] = tuple(field.name for field in dataclasses.fields(cls) if field.name != "meta")
+    return found
+
+
+def walk(node: Any, stop: Any = None) -> Iterator[Any]:
+    """``node`` (or the items of a list) and every blark node below, depth first in field order; below a node
+    for which ``stop(node)`` is true, nothing. One loop, no recursion: the translator asks this of every body."""
+    stack = [node]
+    while stack:
+        item = stack.pop()
+        kind = type(item)
+        if kind is list or kind is tuple:
+            stack.extend(reversed(item))
+            continue
+        names = _node_fields(kind)
+        if names is None:
+            continue
+        yield item
+        if stop is None or not stop(item):
+            stack.extend([getattr(item, name) for name in reversed(names)])
+
+
+def _is_adr(node: Any) -> bool:
+    return isinstance(node, tf.FunctionCall) and str(node.name).lower() == "adr" and len(node.parameters or []) == 1
 
 
 def by_reference_arguments(node: Any, in_out: set[str]) -> Iterator[str]:
     """The bare variables (lower case) that the calls in ``node`` get as an output (``=>``), or as an argument of
     a METHOD or FUNCTION whose name (in ``in_out``) has a VAR_IN_OUT: by name, so never fewer than need an address."""
-    if isinstance(node, tf.FunctionCall):
-        callee = str(node.name).split(".")[-1].lower()
+    for call in walk(node):
+        if not isinstance(call, tf.FunctionCall):
+            continue
+        callee = str(call.name).split(".")[-1].lower()
         if callee == "adr":
-            yield from address_taken(node)  # ADR(x) of a local: x needs an address
-        for param in node.parameters or []:
+            yield from address_taken(call)  # ADR(x) of a local: x needs an address
+        for param in call.parameters or []:
             value = getattr(param, "value", None)
             if isinstance(value, tf.SimpleVariable) and not value.dereferenced and (
                     isinstance(param, tf.OutputParameterAssignment) or callee in in_out):
                 yield str(value.name).lower()
-    if dataclasses.is_dataclass(node):
-        for field in dataclasses.fields(node):
-            yield from by_reference_arguments(getattr(node, field.name), in_out)
-    elif isinstance(node, (list, tuple)):
-        for item in node:
-            yield from by_reference_arguments(item, in_out)
 
 
 def address_taken(node: Any) -> Iterator[str]:
     """The bare variables (lower case) whose address ``ADR(x)`` takes in ``node`` (a call, or anything holding calls)."""
-    if isinstance(node, tf.FunctionCall) and str(node.name).lower() == "adr" and len(node.parameters or []) == 1:
-        value = getattr(node.parameters[0], "value", None)
-        if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
-            yield str(value.name).lower()
-        return
-    if dataclasses.is_dataclass(node):
-        for field in dataclasses.fields(node):
-            yield from address_taken(getattr(node, field.name))
-    elif isinstance(node, (list, tuple)):
-        for item in node:
-            yield from address_taken(item)
+    for call in walk(node, _is_adr):
+        if _is_adr(call):
+            value = getattr(call.parameters[0], "value", None)
+            if isinstance(value, tf.SimpleVariable) and not value.dereferenced:
+                yield str(value.name).lower()
 
 
 def has_call(node: Any) -> bool:
     """Whether the expression ``node`` calls a function, method or block (something that may have a side effect)."""
-    if isinstance(node, (tf.FunctionCall, tf.ChainedFunctionCall)):
-        return True
-    if dataclasses.is_dataclass(node):
-        return any(has_call(getattr(node, field.name)) for field in dataclasses.fields(node))
-    if isinstance(node, (list, tuple)):
-        return any(has_call(item) for item in node)
-    return False
+    return any(isinstance(item, (tf.FunctionCall, tf.ChainedFunctionCall)) for item in walk(node))
 
 
 def assigned(node: Any) -> Iterator[Any]:
     """The variables the statements in ``node`` assign with ``:=`` (each target of each assignment)."""
-    if isinstance(node, tf.AssignmentStatement):
-        yield from node.variables
-    if dataclasses.is_dataclass(node):
-        for field in dataclasses.fields(node):
-            yield from assigned(getattr(node, field.name))
-    elif isinstance(node, (list, tuple)):
-        for item in node:
-            yield from assigned(item)
+    for statement in walk(node):
+        if isinstance(statement, tf.AssignmentStatement):
+            yield from statement.variables
 
 
-def jumps_in_loop(node: Any, in_loop: bool = False) -> bool:
+def jumps_in_loop(node: Any) -> bool:
     """Whether a JMP in ``node`` sits inside a FOR, WHILE or REPEAT loop (it would leave the loop)."""
-    if isinstance(node, tf.JumpStatement):
-        return in_loop
-    in_loop = in_loop or isinstance(node, (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement))
-    if dataclasses.is_dataclass(node):
-        return any(jumps_in_loop(getattr(node, field.name), in_loop) for field in dataclasses.fields(node))
-    if isinstance(node, (list, tuple)):
-        return any(jumps_in_loop(item, in_loop) for item in node)
-    return False
+    loops = (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement)
+    return any(
+        isinstance(jump, tf.JumpStatement) for loop in walk(node) if isinstance(loop, loops) for jump in walk(_below(loop))
+    )
+
+
+def _below(node: Any) -> list[Any]:
+    names = _node_fields(type(node)) or ()
+    return [getattr(node, name) for name in names]
 
 
 def statements_of(body: Any) -> list[Any]:
@@ -217,14 +229,7 @@ def python_string(text: str) -> str:
 
 def nodes_below(node: Any) -> Iterator[Any]:
     """``node`` and every blark node below it."""
-    if isinstance(node, (list, tuple)):
-        for item in node:
-            yield from nodes_below(item)
-    elif dataclasses.is_dataclass(node):
-        yield node
-        for field in dataclasses.fields(node):
-            if field.name != "meta":
-                yield from nodes_below(getattr(node, field.name))
+    return walk(node)
 
 
 def inline_enumerations(pou: Any, prefix: str = "") -> Iterator[tuple[Any, Any]]:
@@ -265,6 +270,7 @@ def location(item: Any) -> str:
     located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
     return located[0] if located else ""
 
+
 def located_section(item: Any, section: str) -> str:
     """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
     VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
@@ -275,13 +281,7 @@ def located_section(item: Any, section: str) -> str:
 def drop_empty_arguments(tree: Any) -> Any:
     """``fb(Done => , BufferMode := , Execute := TRUE)``: the arguments written without a value are not passed, as
     TwinCAT and CODESYS read them (their input keeps its value, the output is not read); ``tree`` is changed in place."""
-    pending = [tree]  # a stack, not recursion: the tree may nest as deeply as the parser allows
-    while pending:
-        node = pending.pop()
-        if isinstance(node, (list, tuple)):
-            pending.extend(node)
-        elif dataclasses.is_dataclass(node):
-            if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
-                node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
-            pending.extend(getattr(node, field.name) for field in dataclasses.fields(node) if field.name != "meta")
+    for node in walk(tree):
+        if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
+            node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
     return tree

@@ -26,34 +26,23 @@ from iecoop.st.write.loops import reader_loops
 
 __all__ = ["BodyWriter", "StatementWriter"]
 
+def _statements(node: ast.FunctionDef) -> list[ast.stmt]:
+    """A function's statements, without its docstring; none for a body that only raises NotImplementedError."""
+    body = list(node.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+        body = body[1:]
+    if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
+        body = []
+    return body
+
+
 class StatementWriter(ExpressionWriter):
     """Translate one function of a POU into ST lines and the locals they need."""
 
     def translate(self) -> list[str]:
-        try:
-            source = textwrap.dedent(python_source(self.func))
-        except (OSError, TypeError) as exc:
-            raise StExportError(f"{self.where_text()}: the source of {self.func.__qualname__} is not available ({exc})") from None
-        tree = ast.parse(source)
-        node = tree.body[0]
-        if not isinstance(node, ast.FunctionDef):
-            raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
-        self.source_lines = source.splitlines()
-        # Every name the function binds is an ST local for the whole body, so it hides a variable of the
-        # same name even in the statements before its first assignment: those read THIS^.name.
-        self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
-        if self.func.__name__ == "body":
-            # The body's locals named like a variable are renamed (see declare()): they hide nothing.
-            # ST names ignore case: a local axis is the variable Axis there.
-            variables = {f.lower() for f in self.fields}
-            for name in sorted(n for n in self.bound if n.lower() in variables):
-                self.temp_name(name)
-            self.bound -= set(self.temp_names)
-        body = list(node.body)
-        if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
-            body = body[1:]
-        if len(body) == 1 and isinstance(body[0], ast.Raise) and _is_name(getattr(body[0], "exc", None), "NotImplementedError"):
-            body = []
+        node = self._function_def()
+        self._bind_locals(node)
+        body = _statements(node)
         # The result variable as the ST reader writes it: a local named like the member (``Start: BOOL =
         # False`` ... ``return Start``) is the member's own result, which ST declares by the member itself.
         self.result_local = next(
@@ -65,6 +54,30 @@ class StatementWriter(ExpressionWriter):
         # A final `return x` needs no RETURN after the result assignment.
         self.block(body, 0, top=True)
         return self.lines
+
+    def _function_def(self) -> ast.FunctionDef:
+        """The ``def`` of the function translated, read from its source (kept in ``source_lines``)."""
+        try:
+            source = textwrap.dedent(python_source(self.func))
+        except (OSError, TypeError) as exc:
+            raise StExportError(f"{self.where_text()}: the source of {self.func.__qualname__} is not available ({exc})") from None
+        node = ast.parse(source).body[0]
+        if not isinstance(node, ast.FunctionDef):
+            raise StExportError(f"{self.where_text()}: {self.func.__qualname__} is not a plain def")
+        self.source_lines = source.splitlines()
+        return node
+
+    def _bind_locals(self, node: ast.FunctionDef) -> None:
+        # Every name the function binds is an ST local for the whole body, so it hides a variable of the
+        # same name even in the statements before its first assignment: those read THIS^.name.
+        self.bound = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+        if self.func.__name__ == "body":
+            # The body's locals named like a variable are renamed (see declare()): they hide nothing.
+            # ST names ignore case: a local axis is the variable Axis there.
+            variables = {f.lower() for f in self.fields}
+            for name in sorted(n for n in self.bound if n.lower() in variables):
+                self.temp_name(name)
+            self.bound -= set(self.temp_names)
 
     def block(self, body: list[ast.stmt], depth: int, *, top: bool = False) -> None:
         start = self.statements_written

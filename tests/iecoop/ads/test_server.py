@@ -9,6 +9,7 @@ port (48898 otherwise), so each test's server takes a free one.
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import socket
 import struct
@@ -90,12 +91,21 @@ def server(rt: Runtime) -> Iterator[AdsServer]:
         yield found
 
 
-@pytest.fixture
-def plc(server: AdsServer) -> Iterator[Any]:
+@contextlib.contextmanager
+def client(server: AdsServer) -> Iterator[Any]:
+    """An open pyads connection to ``server``, closed after the block."""
     connection = pyads.Connection(server.net_id, 851, f"127.0.0.1:{server.port}")
     connection.open()
-    yield connection
-    connection.close()
+    try:
+        yield connection
+    finally:
+        connection.close()
+
+
+@pytest.fixture
+def plc(server: AdsServer) -> Iterator[Any]:
+    with client(server) as connection:
+        yield connection
 
 
 def ads_code(call: Callable[[], object]) -> int:

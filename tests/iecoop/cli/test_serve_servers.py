@@ -132,3 +132,45 @@ def test_ctrl_c_stops_every_server_cleanly(plant: Path, tmp_path: Path) -> None:
     assert process.returncode == 0, stdout + stderr
     assert "stopped after" in stdout and f"trace: plotted to {plot}" in stdout
     assert plot.stat().st_size > 0
+
+
+def test_online_opens_the_online_write_and_force_to_ads_and_opc_ua_clients(plant: Path) -> None:
+    pytest.importorskip("asyncua")
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(plant), "--ads", "0", "--opcua", "opc.tcp://127.0.0.1:0", "--online", "--duration", "20ms"],
+                   out, err)
+    assert (status, err.getvalue()) == (0, "")
+    assert re.search(r"ADS server at 127\.0\.0\.1:\d+, .*AMS port 851, online write and force", out.getvalue())
+    assert "writable: every variable but the CONSTANTs; forced with the methods Online.Force / Release" \
+        in out.getvalue()
+    out = io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "20ms"], out, err) == 0
+    assert "online write" not in out.getvalue()
+
+
+def test_modbus_map_codesys_lets_a_plant_simulator_write_the_inputs(
+        plant: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out, err = io.StringIO(), io.StringIO()
+    status = serve([str(plant), "--modbus", "0", "--modbus-map", "codesys", "--duration", "20ms"], out, err)
+    assert (status, err.getvalue()) == (0, "")
+    assert "%IX0.0 MAIN.bStart (coils 0), %QX0.0 MAIN.bPump (discrete_inputs 0), %QW0 MAIN.nLevel " \
+           "(input_registers 0)" in out.getvalue()
+    out = io.StringIO()
+    assert serve([str(plant), "--modbus", "0", "--modbus-map", "wago"], out, err) == 2
+    assert "invalid choice: 'wago'" in capsys.readouterr().err
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_serve_for_a_duration_shows_its_progress_on_a_terminal(plant: Path) -> None:
+    out, err = _Terminal(), io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "300ms"], out, err) == 0
+    text = out.getvalue()
+    assert "\r[" + "#" * 30 + "] 100% 30/30 cycles" in text  # the runtime's progress callback, drawn
+    assert text.endswith("iecoop serve: stopped after 300 ms of PLC time\n")
+    piped = io.StringIO()
+    assert serve([str(plant), "--ads", "0", "--duration", "50ms"], piped, err) == 0
+    assert "cycles," not in piped.getvalue() and "\r" not in piped.getvalue()

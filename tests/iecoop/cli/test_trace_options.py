@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from iecoop.cli.st import st_run
+from iecoop.cli.base import UsageError
 from iecoop.cli.trace import TraceTable, run_cycles
 from iecoop.runtime import Runtime, Task
 from iecoop import INT, VAR, Program, T
@@ -75,3 +76,45 @@ def test_the_table_is_a_view_of_the_runtime_trace() -> None:
     assert table.source is not None
     assert [row[2] for row in table.source.rows] == [2, 4, 6]
     assert [values for _, _, values in table.rows] == [["2"], ["4"], ["6"]]
+
+
+def test_st_run_writes_every_row_of_a_run_longer_than_the_trace_buffer(tmp_path: Path) -> None:
+    source = tmp_path / "count.st"
+    source.write_text(COUNT)
+    csv = tmp_path / "long.csv"
+    out, err = io.StringIO(), io.StringIO()
+    assert st_run([str(source), "--cycles", "10005", "--every", "5000", "--trace", "MAIN.nCount",
+                   "--csv", str(csv)], out, err) == 0
+    lines = csv.read_text().splitlines()
+    assert len(lines) == 1 + 10_005 and lines[1] == "1,0,1" and lines[-1] == "10005,100040,10005"
+    assert f"trace: 10005 rows written to {csv}" in out.getvalue()
+
+
+def test_a_serve_streams_its_trace_to_the_csv_file_as_it_runs(tmp_path: Path) -> None:
+    import argparse
+
+    from iecoop.cli.serve import trace_for
+    from iecoop.cli.trace import write_trace
+
+    class Counter(Program):
+        count: INT = VAR(0)
+
+        def body(self) -> None:
+            self.count += 1
+
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), Counter())
+    csv = tmp_path / "serve.csv"
+    args = argparse.Namespace(trace=["Counter.count"], csv=str(csv), plot=None)
+    trace = trace_for(runtime, args)
+    assert trace is not None and trace.size == 10_000
+    runtime.run(cycles=12_000)  # longer than the buffer, as a serve of hours is
+    out = io.StringIO()
+    write_trace(trace, args, out)
+    lines = csv.read_text().splitlines()
+    assert len(lines) == 1 + 12_000 and lines[-1] == "12000,119990,12000"
+    assert out.getvalue() == f"trace: 12000 rows written to {csv}\n"
+    assert runtime.on_cycle_end == []
+    bad = argparse.Namespace(trace=["Counter.count"], csv=str(tmp_path / "no" / "such" / "x.csv"), plot=None)
+    with pytest.raises(UsageError, match="--csv .*No such file"):
+        trace_for(runtime, bad)

@@ -168,3 +168,28 @@ def test_writes_and_forces_from_another_thread_land_in_a_background_run() -> Non
         rt.release("MAIN.out")
         _wait_for(lambda: main.seen == 7)
     assert rt.forced == {}
+
+
+def test_a_release_keeps_the_forced_value_and_a_release_with_restore_puts_the_old_one_back() -> None:
+    rt, main = _runtime()
+    rt.write("MAIN.speeds[2]", 1.5)
+    rt.run(cycles=1)
+    rt.force("MAIN.enable", True)  # an input nothing assigns: the released value stays
+    rt.force("MAIN.speeds[2]", 9.0)
+    rt.run(cycles=2)
+    rt.force("MAIN.speeds[2]", 8.0)  # forced again: the value from before the first force is kept
+    rt.run(cycles=1)
+    rt.release("MAIN.enable")  # TwinCAT's <Unforce>: the forced value stays until something assigns it
+    rt.release("MAIN.speeds[2]", restore=True)  # <Unforce and restore>
+    assert rt.symbol("MAIN.speeds[2]").load() == 8.0  # restored at the next cycle start, as a write
+    rt.run(cycles=1)
+    assert (main.enable, rt.symbol("MAIN.speeds[2]").load(), rt.forced) == (True, 1.5, {})
+    rt.force("MAIN.label", "abc")
+    rt.release_all(restore=True)  # released before any cycle applied it: nothing to restore
+    rt.run(cycles=1)
+    assert main.label == ""
+    rt.force("MAIN.label", "abc")
+    rt.run(cycles=1)
+    rt.release_all(restore=True)
+    rt.run(cycles=1)
+    assert main.label == ""

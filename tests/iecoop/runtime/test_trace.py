@@ -127,3 +127,52 @@ def test_plot_draws_one_lane_per_signal_to_png_or_svg(tmp_path: Path, suffix: st
         assert data.startswith(b"\x89PNG\r\n\x1a\n")
     else:
         assert b"<svg" in data and b"MAIN.lamp" in data and b"time (ms)" in data
+
+
+@pytest.mark.skipif(importlib.util.find_spec("matplotlib") is None, reason="matplotlib is not installed")
+def test_the_figure_draws_digital_and_integer_signals_as_steps_and_reals_as_lines() -> None:
+    from matplotlib import pyplot
+
+    rt, _ = _runtime()
+    trace = rt.trace(["MAIN.count", "MAIN.lamp", "MAIN.speed"])
+    rt.run(cycles=6)
+    figure = trace.figure()
+    try:
+        count, lamp, speed = figure.axes
+        assert speed.lines[0].get_drawstyle() == "default"  # a REAL: a line from sample to sample
+        assert count.lines[0].get_drawstyle() == "steps-post"  # an INT holds its value, on whole-number ticks
+        assert all(tick == int(tick) for tick in count.get_yticks())
+        assert list(count.lines[0].get_ydata()) == [1, 2, 3, 4, 5, 6]
+        assert lamp.lines[0].get_drawstyle() == "steps-post"
+        assert list(lamp.lines[0].get_ydata()) == [1, 0, 1, 0, 1, 0]
+        assert [label.get_text() for label in lamp.get_yticklabels()] == ["FALSE", "TRUE"]
+        assert list(lamp.lines[0].get_xdata()) == [0, 10, 20, 30, 40, 50]
+        assert speed.get_xlabel() == "time (ms)" and count.get_ylabel() == "MAIN.count"
+    finally:
+        pyplot.close(figure)
+
+
+def test_a_trace_streams_every_row_to_a_csv_file_beyond_its_buffer(tmp_path: Path) -> None:
+    rt, _ = _runtime()
+    target = tmp_path / "long.csv"
+    trace = rt.trace(["MAIN.count", "MAIN.lamp"], every=2, size=3, file=target)
+    rt.run(cycles=1000)
+    trace.detach()
+    lines = target.read_text(encoding="utf-8").splitlines()
+    assert lines[0] == "cycle,time_ms,MAIN.count,MAIN.lamp"
+    assert len(lines) == 1 + 500 and trace.taken == 500
+    assert lines[1:3] == ["2,10,2,0", "4,30,4,0"] and lines[-1] == "1000,9990,1000,0"
+    assert len(trace.rows) == 3  # the buffer keeps only the last rows; the file has them all
+    rt.run(cycles=2)  # detached: the file is closed and takes nothing more
+    assert len(target.read_text(encoding="utf-8").splitlines()) == 501
+
+
+def test_a_trace_streams_to_an_open_text_file_and_leaves_it_open() -> None:
+    rt, _ = _runtime()
+    out = io.StringIO()
+    trace = rt.trace(["MAIN.count"], file=out)
+    rt.run(cycles=2)
+    trace.close()  # the stream ends; the buffer still records
+    rt.run(cycles=1)
+    assert out.getvalue() == "cycle,time_ms,MAIN.count\n1,0,1\n2,10,2\n"
+    assert [row[0] for row in trace.rows] == [1, 2, 3] and not out.closed

@@ -5,6 +5,7 @@ from __future__ import annotations
 import bdb
 import linecache
 import pathlib
+import re
 import traceback
 import types
 from typing import Any
@@ -168,7 +169,8 @@ def test_coverage_plugin_reports_st_lines_hit_and_missed(tmp_path: pathlib.Path)
         "from iecoop import st\nplc = st.load('plc')\nsort = plc.FB_Sort()\nsort(nValue=3)\nassert sort.nBin == 1\n"
     )
     env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "user-cache")}
-    for command in (["run", "run_plc.py"], ["json", "-o", "coverage.json", "--include", "plc/*"]):
+    reports = (["json", "-o", "coverage.json", "--include", "plc/*"], ["html", "-d", "html", "--include", "plc/*"])
+    for command in (["run", "run_plc.py"], *reports):
         done = subprocess.run([sys.executable, "-m", "coverage", *command], cwd=tmp_path, env=env,
                               capture_output=True, text=True, timeout=600)
         assert done.returncode == 0, done.stderr
@@ -179,3 +181,9 @@ def test_coverage_plugin_reports_st_lines_hit_and_missed(tmp_path: pathlib.Path)
     missed = {line_of(t) for t in ("nBin := -1;", "nBin := 99;", "Small := 0;", "Small := 2;")}
     assert set(report["executed_lines"]) == hit
     assert set(report["missing_lines"]) == missed
+    # The HTML report shows the ST, each statement line marked run or missed where the JSON report has it.
+    [page] = [p for p in (tmp_path / "html").glob("*.html") if "FB_Sort" in p.name]
+    html = page.read_text()
+    assert "IF nValue &lt; 0 THEN" in html and "nBin := Small(nValue);" in html
+    marked = {int(number): kind for kind, number in re.findall(r'<p class="(run|mis)[^"]*">\s*<span class="n"><a id="t(\d+)"', html)}
+    assert marked == {**{line: "run" for line in hit}, **{line: "mis" for line in missed}}
