@@ -49,6 +49,14 @@ REFUSED: dict[str, list[str]] = {
     "generic types (`ANY_NUM` ...) outside a VAR_INPUT of a FUNCTION or METHOD": [
         "FUNCTION_BLOCK FB_G\nVAR_INPUT x : ANY_NUM; END_VAR\nEND_FUNCTION_BLOCK",
     ],
+    "an inline enumeration in a GVL or a STRUCT": [
+        "VAR_GLOBAL eMode : (MODE_A, MODE_B); END_VAR",
+        "TYPE ST_X : STRUCT eMode : (MODE_A, MODE_B); END_STRUCT END_TYPE",
+    ],
+    "`SHL`, `SHR`, `ROL`, `ROR` of an untyped literal": [
+        "FUNCTION F : LWORD\nVAR_INPUT n : DWORD; END_VAR\nF := SHL(32, n);\nEND_FUNCTION",
+        "FUNCTION F : LWORD\nVAR_INPUT n : DWORD; END_VAR\nF := ROR(32, n);\nEND_FUNCTION",
+    ],
     "an array literal assigned to a local ARRAY of a METHOD or FUNCTION": [
         "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; END_VAR\na := [1, 2];\nF := a[0];\nEND_FUNCTION",
     ],

@@ -292,7 +292,8 @@ class Calls(Expressions):
             return args[0]
         if upper in ("SHL", "SHR", "ROL", "ROR"):
             if first is None or not first.is_int:
-                raise self.fail(f"{upper} needs an operand of a known bit width (BYTE, WORD, DWORD, LWORD ...)", node)
+                raise self.fail(f"{upper} of an operand without a bit width (an untyped literal) is not supported: "
+                                "give it a type (DWORD#32) or pass a BYTE, WORD, DWORD, LWORD ... variable", node)
             self._need_type(first)
             return self.function_call(upper, [*codes, first.name], first)
         if upper in ("LOWER_BOUND", "UPPER_BOUND"):

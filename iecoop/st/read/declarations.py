@@ -52,6 +52,15 @@ class Declarations(Statements):
 
     # --- data types ---
 
+    def enum_default(self, decl: Decl) -> str:
+        """The value a variable of the enumeration ``decl`` starts with: ``TYPE E : (A, B) := B;`` declares B, else the first."""
+        given = getattr(getattr(decl.node, "init", None), "value", None)
+        name = str(getattr(given, "name", None) or given or "").rsplit(".", 1)[-1] if given is not None else ""
+        match = next((v for v in decl.values if v.lower() == name.lower()), None)
+        if given is not None and match is None:
+            raise self.fail(f"the default {name!r} of enumeration {decl.st} is none of its values", decl.node)
+        return f"{decl.name}.{python_name(match or decl.values[0], attribute=True)}"
+
     def _emit_enum(self, decl: Decl) -> None:
         node = decl.node
         self.line = node.meta.line if node.meta else None

@@ -128,6 +128,8 @@ class Expressions(Literals):
         return result
 
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
+        if type_ is not None and type_.is_bool and type(value.constant) is int and value.constant in (0, 1):
+            return Ex(str(bool(value.constant)), type_, constant=bool(value.constant))  # BOOL := 0 / 1, as TwinCAT reads it
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
             return Ex(f"{value.code}.0", type_, constant=float(value.constant))
         if type_ is not None and type_.kind == "pointer" and type_.of is not None and value.type is not None \

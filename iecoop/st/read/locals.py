@@ -162,17 +162,22 @@ class Locals(Declarations):
         """A local the POU's holder makes (an addressed scalar, an ARRAY, an initialised STRUCT); True if it is one."""
         py = python_name(name)
         enum = getattr(self.decl_of(type_), "kind", None) == "enum"
-        if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum) and not constant:
-            # an output or in-out argument needs the variable's address: a field of the holder has one
+        if name.lower() in scope.addressed and scope.pou and (type_.kind in ("elem", "string", "pointer") or enum):
+            # an output or in-out argument needs the variable's address: a field of the holder has one (a
+            # CONSTANT's too: ADR of a constant is how numeric code reads a bit pattern as another type)
             arrays.append((Member(py, type_, "ADDRESSED", st=name), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)
+            scope.locals[name.lower()] = Member.field_of("_var", py, type_, "CONSTANT" if constant else "STAT", st=name)
             return True
         initialised = self._aggregate(type_) and self.initial_value(type_, getattr(item, "init", None), scope) is not None
         if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
             if not scope.pou:
                 raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
             arrays.append((Member(py, type_, "LOCAL", st=name), getattr(item, "init", None)))
-            scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
+            if type_.kind == "array" and name.lower() in scope.addressed:
+                # passed as an in-out or output: read and written as the holder's field, which has an address
+                scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)
+            else:
+                scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
             return True
         return False
 

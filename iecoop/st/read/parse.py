@@ -102,11 +102,12 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
     if not path.exists():
         raise FileNotFoundError(f"ST source {str(path)!r} does not exist")
     from iecoop.st.read.parallel import Parser, parse_files
+    from iecoop.st.read.trees import drop_empty_arguments  # on the tree as the cache gives it back too
 
     flat = list(_flat_sources(path))
     parsed = parse_files(flat, cache, Parser(parse_one, parse_as_data, grammar_of))
     units = [
-        _parse_text(text, name, line_map) if done is None else Unit(done[0], name, line_map, done[1])
+        _parse_text(text, name, line_map) if done is None else Unit(drop_empty_arguments(done[0]), name, line_map, done[1])
         for (text, name, line_map), done in zip(flat, parsed)
     ]
     _check_gvl_names(units)
@@ -239,6 +240,8 @@ class LibraryReference:
 
 #: ``Tc2_MC2, 3.3.52.0 (Beckhoff Automation GmbH)``: title, version, company
 _RESOLUTION = re.compile(r"\s*([^,()]+?)\s*(?:,\s*([^()]*?)\s*)?(?:\(([^()]*)\))?\s*\Z")
+#: a library's title: words, as vendors name them ("Base Interfaces", "Tc2_Standard"); never a path
+_LIBRARY_TITLE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_ .\-]*\Z")
 
 
 def library_references(source: str | os.PathLike[str]) -> list[LibraryReference]:
@@ -273,7 +276,7 @@ def _library_reference(path: pathlib.Path, element: Any) -> LibraryReference:
     resolution = children.get("DefaultResolution") or element.get("Include", "")
     match = _RESOLUTION.match(resolution)
     where = f"{path}:{element.sourceline}"
-    if match is None or not is_st_identifier(match.group(1).strip()):
+    if match is None or not _LIBRARY_TITLE.match(match.group(1).strip()):
         raise StSyntaxError(f"{where}: library reference {resolution!r} names no library (Title, version (company))")
     name = match.group(1).strip()
     namespace = children.get("Namespace") or element.get("Include", "").split(",")[0].strip() or name
@@ -419,8 +422,10 @@ def _overlay_parser() -> Any:
 
 
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
+    from iecoop.st.read.trees import drop_empty_arguments
+
     tree, comments = _tree(text, filename, tuple(sorted(line_map.items())))
-    return Unit(tree, filename, line_map, comments)
+    return Unit(drop_empty_arguments(tree), filename, line_map, comments)
 
 
 def grammar_of(text: str) -> str:

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import re
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import blark.transform as tf
@@ -14,7 +15,9 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
-from iecoop.st.read.trees import accessor_access, address_taken, by_reference_arguments, flag_keywords, signature, statements_of, variables
+from iecoop.st.read.trees import (
+    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, signature, statements_of, variables,
+)
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
@@ -53,7 +56,7 @@ class Pous(Locals):
         for itf in node.implements.interfaces if node.implements else []:
             itf_decl = self.decls.get(str(itf).lower())
             if itf_decl is None or itf_decl.kind != "interface":
-                raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {itf!r}", node)
+                raise self.fail(f"FUNCTION_BLOCK {decl.name} IMPLEMENTS unknown interface {str(itf)!r}", node)
             named.append(itf_decl)
         # IMPLEMENTS I_A, I_B with I_B EXTENDS I_A is legal ST; a Python class cannot list a base after its subclass.
         bases += [d.name for d in named if not any(d is not o and any(d is a for a in self._interface_ancestors(o)) for o in named)]
@@ -103,6 +106,23 @@ class Pous(Locals):
             self.emit("pass", 1)
 
     def _emit_fields(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None = None) -> None:
+        # an initial value is made with the class: a VAR CONSTANT it names is that constant's value, not self.x
+        with self._constants_in(scope, self.block_owner.get(id(next((i for b in blocks for i in b.items), None)))):
+            self._emit_field_blocks(decl, blocks, scope, level, method)
+
+    @contextlib.contextmanager
+    def _constants_in(self, scope: Scope, owner: Any) -> Iterator[None]:
+        """``scope`` reads the VAR CONSTANTs of ``owner`` (a POU or METHOD node) as their values while it is open."""
+        constants = {key: member for key, member in self.owner_constants(owner).items() if key not in scope.locals}
+        scope.locals.update(constants)
+        try:
+            yield
+        finally:
+            for key, member in constants.items():
+                if scope.locals.get(key) is member:
+                    del scope.locals[key]
+
+    def _emit_field_blocks(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None) -> None:
         for block in blocks:
             self.comments(block, level)
             section = _SECTION_OF.get(type(block))
@@ -122,9 +142,9 @@ class Pous(Locals):
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(python_name(name, attribute=True), type_, self.located_section(item, section or "VAR"), st=name)
+                    member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
-                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
+                self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_method_instance_fields(self, decl: Decl) -> None:
         """The VAR_INST of each METHOD: fields of the instance, after the block's own (pass 1 declared them)."""
@@ -223,7 +243,9 @@ class Pous(Locals):
             # passed by value: the callee works on a copy, made as it starts (_local_blocks); None is "not given"
             scope.by_value.append((param, init))
             return f"{param.name}: {param.type.annotation()} | None = None"
-        default = self.initial_value(param.type, init, scope) or self.zero(param.type)
+        owner = scope.owner.node if scope.owner is not None and scope.owner.kind in ("fb", "program") else None
+        with self._constants_in(scope, owner):  # a default is made with the function: the block's constants as values
+            default = self.initial_value(param.type, init, scope) or self.zero(param.type)
         if scope.owner is not None and scope.owner.kind == "interface" and self.decl_of(param.type) is scope.owner:
             # a prototype's input of its own interface type: the class does not exist yet to make its null()
             self.need("iecoop", "NULL")
@@ -373,18 +395,19 @@ class Pous(Locals):
             getter = found.get("get")
             setter = found.get("set")
             annotation = prop.type.annotation()
-            if getter is None:
-                raise self.fail(f"PROPERTY {prop.st} has a Set accessor but no Get (iecoop needs the Get)", setter)
             self.emit("", 0)
-            self.enter(getter)
+            self.enter(getter or setter)
             self.comments(getter, 1)
             self.emit("@prop", 1)
-            access = accessor_access(getter)
+            access = accessor_access(getter or setter)
             flags = self._access_decorator(access, st=prop.st, python=prop.name)
             if flags != "@method":
                 self.emit(flags, 1)
             self.emit(f"def {prop.name}(self) -> {annotation}:", 1)
-            if decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
+            if getter is None:  # a PROPERTY with a Set only: written, never read (TwinCAT refuses a read when compiling)
+                self.need("iecoop", "AccessError")
+                self.emit(f'raise AccessError("PROPERTY {decl.st}.{prop.st} has no Get accessor: it can only be written")', 2)
+            elif decl.kind == "interface" or access is not None and access & tf.AccessSpecifier.abstract:
                 self.prototype(prop.type, 2)
             else:
                 scope = Scope(decl, "getter", return_name=python_name(prop.st))
@@ -453,7 +476,7 @@ class Pous(Locals):
                 for name, type_ in self._item_types(item):
                     member = Member(python_name(name, attribute=True), type_, "VAR", st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
-                self.trail(index, ": ".join(filter(None, (self.location(item), trailing))))
+                self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_function(self, decl: Decl) -> None:
         node = decl.node

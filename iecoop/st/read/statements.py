@@ -108,7 +108,7 @@ class Statements(Calls):
             return
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
-            raise self.fail(f"assignment to CONSTANT {local.name}", target)
+            raise self.fail(f"assignment to CONSTANT {local.st or local.name}", target)
         if local is not None and local.section == "LOCAL" and self._local_reference(local.type):
             raise self.fail(f"assignment to the whole REFERENCE TO local {local.name} (bind it with REF=, write its members)", target)
         by_reference = local is not None and local.section in ("VAR_OUTPUT", "VAR_IN_OUT")
@@ -123,6 +123,7 @@ class Statements(Calls):
         if target is None:
             return value.code
         target = target.deref()
+        value = self.coerce(value, target) if target.is_bool else value  # b := 1
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
@@ -262,6 +263,8 @@ class Statements(Calls):
                 for field in [*prefix.split(".")[1:], last]:
                     ex = self.member_ref(ex, field, match)
                 return ex.code
+            if match.type_name is None and not prefix and str(match.name).lower() not in self.enum_values:
+                return self.name_ref(str(match.name), scope, match).code  # a constant of the POU or a GVL (cStart:)
             return self.enum_ref(str(match.type_name) if match.type_name else None, str(match.name), match)
         return self.expr(match, scope).code
 

@@ -22,10 +22,10 @@ from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
 )
-from iecoop.st.read.trees import lark_token_type, nodes_below, signature
+from iecoop.st.read.trees import inline_enumerations, lark_token_type, nodes_below, signature, valued_constants
 
 _SECTION_OF = {
-    tf.LocatedVariableDeclarations: "VAR",
+    tf.LocatedVariableDeclarations: "VAR", tf.IncompleteLocatedVariableDeclarations: "VAR",
     tf.VariableDeclarations: "VAR", tf.InputDeclarations: "VAR_INPUT", tf.OutputDeclarations: "VAR_OUTPUT",
     tf.InputOutputDeclarations: "VAR_IN_OUT", tf.StaticDeclarations: "VAR_STAT",
     tf.TemporaryVariableDeclarations: "VAR_TEMP", tf.MethodInstanceVariableDeclarations: "VAR_INST",
@@ -70,6 +70,11 @@ class Symbols:
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
         self.named_programs: set[str] = set()
+        #: by id: an inline enumeration's TYPE, a declaration's POU or METHOD (its bounds may name their VAR CONSTANTs), ...
+        self.inline_enums: dict[int, str] = {}
+        self.block_owner: dict[int, Any] = {}
+        self.constants_owner: Any = None
+        self._constants: dict[int, dict[str, Member]] = {}
         self._stdlib_decls()
 
     # --- errors and imports ---
@@ -107,10 +112,13 @@ class Symbols:
             current: Decl | None = None
             for item in unit.tree.items:
                 self.line = item.meta.line if item.meta else None
+                self.block_owner.update((id(d), item) for b in getattr(item, "declarations", None) or [] for d in getattr(b, "items", None) or [])
                 if isinstance(item, (tf.Method, tf.Property)):
                     if current is None or current.kind not in ("fb", "interface", "program"):
                         raise self.fail(f"{type(item).__name__.upper()} {item.name} does not follow a FUNCTION_BLOCK or INTERFACE", item)
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
+                    for init, declaration in inline_enumerations(item, f"{current.st}_{item.name}".replace(".", "_")):
+                        self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
                     if isinstance(item, tf.Property):
                         self._mark_accessor(unit, item)
                     continue
@@ -178,6 +186,8 @@ class Symbols:
 
     def _collect_item(self, unit: Unit, item: Any) -> Decl | None:
         """Declare one top-level item; the POU that its METHODs, PROPERTYs and ACTIONs follow, or None."""
+        for init, declaration in inline_enumerations(item):  # a TYPE of its own; the code names its values bare
+            self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
         if isinstance(item, tf.FunctionBlock):
             decl = self._add(Decl("fb", str(item.name), item, unit))
             if item.extends:
@@ -325,6 +335,7 @@ class Symbols:
             table.freeze()
         self.declared = FrozenDict(self.declared)
         self.marked_accessors = FrozenDict(self.marked_accessors)
+        self.inline_enums = FrozenDict(self.inline_enums)
         self.marks = FrozenSet(self.marks)
         self.named_programs = FrozenSet(self.named_programs)
         self.used_comments = set(self.marks)
@@ -353,8 +364,9 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
-        if name.upper() == "__SYSTEM.EXCEPTIONCODE":
-            return TypeRef("elem", "UDINT")  # the enum's base type; compares equal to ExceptionCode members
+        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
+        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
+            return TypeRef("elem", system)
         if name.upper() == "__SYSTEM.VAR_INFO":
             return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
         if name.upper() == "__SYSTEM.IQUERYINTERFACE":
@@ -425,11 +437,27 @@ class Symbols:
         return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds), indirection)
 
     def const_expr(self, node: Any) -> str:
-        """A constant expression (ARRAY bounds, STRING length) as Python text."""
+        """A constant expression (ARRAY bounds, STRING length) as Python text; it may name its POU's VAR CONSTANTs."""
         if isinstance(node, (tf.ParenthesizedExpression, tf.BracketedExpression)):
             node = node.expr if isinstance(node, tf.ParenthesizedExpression) else node.expression
         scope = Scope(None, "const")
+        scope.locals.update(self.owner_constants(self.constants_owner))
         return self.expr(node, scope).code
+
+    def owner_constants(self, owner: Any) -> dict[str, Member]:
+        """The VAR CONSTANTs of ``owner`` with an elementary type and a value, each read as its value's Python text."""
+        found = self._constants.get(id(owner)) if owner is not None else {}
+        if found is not None:
+            return found
+        found = self._constants[id(owner)] = {}  # filled in order: a constant may name an earlier one
+        saved, self.constants_owner = self.constants_owner, owner
+        try:
+            for item, init, names in valued_constants(owner):
+                type_, code = self._spec_type(init.spec, item), f"({self.const_expr(init.value)})"
+                found.update((name.lower(), Member(code, type_, "CONSTANT", st=name)) for name in names)
+        finally:
+            self.constants_owner = saved
+        return found
 
     def init_type(self, init: Any, node: Any) -> TypeRef:
         if isinstance(init, tf.ArrayTypeInitialization):
@@ -441,6 +469,8 @@ class Symbols:
         if isinstance(init, tf.InitializedStructure):
             return self.type_named(str(init.name), node)
         if isinstance(init, tf.EnumeratedTypeInitialization):
+            if id(init) in self.inline_enums:
+                return self.type_named(self.inline_enums[id(init)], node)
             if init.spec.values:
                 raise self.fail("an inline enumeration in a declaration is not supported (declare a TYPE)", node)
             return self.type_named(str(init.spec.type_name), node)
@@ -468,23 +498,16 @@ class Symbols:
             for name, type_ in self._item_types(item):
                 yield Member(python_name(name, attribute), type_, section, st=name)
 
-    def location(self, item: Any) -> str:
-        """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
-        if isinstance(item, tf.LocatedVariableDeclaration):
-            return str(item.location)
-        spec = getattr(item, "spec", None)
-        if isinstance(spec, tf.GlobalVariableSpec) and spec.location is not None:
-            return str(spec.location)
-        located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
-        return located[0] if located else ""
-
-    def located_section(self, item: Any, section: str) -> str:
-        """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
-        VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
-        METHOD's or FUNCTION's inputs stay the ones it declares)."""
-        return "VAR_INPUT" if section == "VAR" and "%I" in self.location(item).upper() else section
-
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
+        """The names and types one declaration declares (its bounds may name its POU's VAR CONSTANTs)."""
+        saved, self.constants_owner = self.constants_owner, self.block_owner.get(id(item), self.constants_owner)
+        try:
+            found = list(self._declared_types(item))
+        finally:
+            self.constants_owner = saved
+        yield from found
+
+    def _declared_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
         if isinstance(item, tf.ExternalVariableDeclaration):
             yield str(item.name), self._spec_type(item.spec, item)
             return
@@ -509,10 +532,11 @@ class Symbols:
             return
         if isinstance(item, tf.EdgeDeclaration):
             raise self.fail("R_EDGE / F_EDGE inputs are not supported (use R_TRIG / F_TRIG)", item)
-        if isinstance(item, tf.LocatedVariableDeclaration):
+        if isinstance(item, (tf.LocatedVariableDeclaration, tf.IncompleteLocatedVariableDeclaration)):
             if item.name is None:
                 raise self.fail(f"a located variable without a name ({item.location}) is not supported: name it", item)
-            yield str(item.name.name), self.init_type(item.init, item)
+            incomplete = isinstance(item, tf.IncompleteLocatedVariableDeclaration)  # a VAR of ``x AT %I* : T`` alone
+            yield str(item.name.name), self._spec_type(item.init, item) if incomplete else self.init_type(item.init, item)
             return
         init = getattr(item, "init", None)
         type_ = self.init_type(init, item)
@@ -546,15 +570,6 @@ class Symbols:
         while decl is not None and decl.kind == "alias" and decl.alias_of is not None and decl.alias_of.kind == "user":
             decl = self.by_python.get(decl.alias_of.name)
         return decl
-
-    def enum_default(self, decl: Decl) -> str:
-        """The value a variable of the enumeration ``decl`` starts with: ``TYPE E : (A, B) := B;`` declares B, else the first."""
-        given = getattr(getattr(decl.node, "init", None), "value", None)
-        name = str(getattr(given, "name", None) or given or "").rsplit(".", 1)[-1] if given is not None else ""
-        match = next((v for v in decl.values if v.lower() == name.lower()), None)
-        if given is not None and match is None:
-            raise self.fail(f"the default {name!r} of enumeration {decl.st} is none of its values", decl.node)
-        return f"{decl.name}.{python_name(match or decl.values[0], attribute=True)}"
 
     def lineage(self, decl: Decl) -> Iterator[Decl]:
         seen = set()

@@ -230,3 +230,58 @@ def python_string(text: str) -> str:
 def nodes_below(node: Any) -> Iterator[Any]:
     """``node`` and every blark node below it."""
     return walk(node)
+
+
+def inline_enumerations(pou: Any, prefix: str = "") -> Iterator[tuple[Any, Any]]:
+    """``eState : (Idle, Run);`` in the VAR of ``pou``: each initialisation and a ``TYPE <prefix>_<variable>``
+    declaration made for it (``prefix``: the POU's name by default; new nodes, the tree is left as read)."""
+    for block in getattr(pou, "declarations", None) or []:
+        for item in getattr(block, "items", None) or []:
+            init = getattr(item, "init", None)
+            if not isinstance(init, tf.EnumeratedTypeInitialization) or not init.spec.values or init.indirection is not None:
+                continue
+            names = [str(v.variable.name) for v in getattr(item, "variables", [])]
+            name = lark_token_type()("IDENTIFIER", f"{prefix or pou.name}_{names[0] if names else 'enum'}")
+            spec = tf.EnumeratedSpecification(type_name=None, values=init.spec.values, meta=init.spec.meta)
+            node = tf.EnumeratedTypeDeclaration(
+                name=name, init=tf.EnumeratedTypeInitialization(indirection=None, spec=spec, value=init.value, meta=init.meta),
+                meta=item.meta)
+            yield init, tf.DataTypeDeclaration(declaration=node, access=None, meta=item.meta)
+
+
+def valued_constants(owner: Any) -> Iterator[tuple[Any, Any, list[str]]]:
+    """``(declaration, initialisation, names)`` of each VAR CONSTANT of ``owner`` with a type and a value."""
+    for block in getattr(owner, "declarations", None) or []:
+        if not (getattr(block, "attrs", None) and block.attrs & tf.VariableAttributes.constant):
+            continue
+        for item in block.items:
+            init = getattr(item, "init", None)
+            if isinstance(init, tf.TypeInitialization) and init.value is not None:
+                yield item, init, [str(var.variable.name) for var in getattr(item, "variables", [])]
+
+
+def location(item: Any) -> str:
+    """``AT %IX0.0`` / ``AT %I*`` of a located declaration, or ""."""
+    if isinstance(item, (tf.LocatedVariableDeclaration, tf.IncompleteLocatedVariableDeclaration)):
+        return str(item.location)
+    spec = getattr(item, "spec", None)
+    if isinstance(spec, tf.GlobalVariableSpec) and spec.location is not None:
+        return str(spec.location)
+    located = [str(var.location) for var in getattr(item, "variables", []) if getattr(var, "location", None) is not None]
+    return located[0] if located else ""
+
+
+def located_section(item: Any, section: str) -> str:
+    """iecoop has no process image: a located variable is an ordinary one. An input (``%I``) of a block's
+    VAR is a VAR_INPUT, so a test or a simulation can write it as the I/O update would (fields only: a
+    METHOD's or FUNCTION's inputs stay the ones it declares)."""
+    return "VAR_INPUT" if section == "VAR" and "%I" in location(item).upper() else section
+
+
+def drop_empty_arguments(tree: Any) -> Any:
+    """``fb(Done => , BufferMode := , Execute := TRUE)``: the arguments written without a value are not passed, as
+    TwinCAT and CODESYS read them (their input keeps its value, the output is not read); ``tree`` is changed in place."""
+    for node in walk(tree):
+        if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
+            node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
+    return tree
