@@ -85,13 +85,14 @@ def _unchanged(source: Any, format: str) -> dict[str, Source]:
     }
 
 
-def dump(classes_or_module: Any, *, lenient: bool = False) -> str:
+def dump(classes_or_module: Any, *, lenient: bool = False, report: list[str] | None = None) -> str:
     """The flat ST text of a module's (or a list of) declared classes: types, GVLs, interfaces, POUs.
 
     A statement outside the translated subset raises StExportError naming the
-    file and line; ``lenient=True`` writes it as an ST comment instead.
+    file and line; ``lenient=True`` writes it as an ST comment instead, and
+    adds a line naming it to ``report`` when one is given.
     """
-    return "\n".join(flat_text(unit) for unit in _units(classes_or_module, lenient))
+    return "\n".join(flat_text(unit) for unit in _units(classes_or_module, lenient, report=report))
 
 
 def export(classes_or_module: Any, folder: str | os.PathLike[str], *, format: str = "twincat", lenient: bool = False, report: list[str] | None = None) -> list[Path]:

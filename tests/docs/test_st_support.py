@@ -119,3 +119,14 @@ def test_real_to_string_is_listed_as_supported_and_loads() -> None:
         "F_Label := CONCAT('Volume ', REAL_TO_STRING(r));\nEND_FUNCTION"
     )
     assert plc.F_Label() == "Volume 12.5"
+
+
+def test_the_exponent_operator_is_named_as_not_read_and_expt_loads() -> None:
+    page = PAGE.read_text(encoding="utf-8")
+    assert "The exponent operator `**` of IEC 61131-3 is not read" in page
+    assert "MOD, EXPT;" in page
+    with pytest.raises(st.StSyntaxError, match=r"^<st>:3: .*cannot parse 'y := 2\.0 \*\* 3;'"):
+        st.load("FUNCTION_BLOCK FB_P\nVAR_OUTPUT y : LREAL; END_VAR\ny := 2.0 ** 3;\nEND_FUNCTION_BLOCK\n", cache=False)
+    plc = st.load("FUNCTION F_Cube : LREAL\nVAR_INPUT x : LREAL; END_VAR\nF_Cube := EXPT(x, 3);\nEND_FUNCTION\n", cache=False)
+    assert plc.F_Cube(2.0) == 8.0
+    assert plc.F_Cube(x=-1.5) == -3.375

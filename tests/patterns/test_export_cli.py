@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import io
 from pathlib import Path
 
@@ -9,6 +10,7 @@ import pytest
 
 from iecoop import BOOL, VAR_INPUT, FunctionBlock
 from iecoop.cli import export
+from iecoop.st.export import StExportError
 from patterns.showcase.catalogue import NAMES
 from patterns.showcase.cli import st_text
 
@@ -68,3 +70,26 @@ def test_export_and_show_st_are_commands_of_iecoop(tmp_path: Path, capsys: pytes
     assert "FUNCTION_BLOCK TemperatureTransmitter IMPLEMENTS ISubject" in capsys.readouterr().out
     assert main(["export", "no-such-thing", "-o", str(tmp_path)]) == 2
     assert "no catalogue entry or module named 'no-such-thing'" in capsys.readouterr().err
+
+
+def test_st_text_is_strict_unless_asked_to_be_lenient() -> None:
+    with pytest.raises(StExportError, match=r"raise has no Structured Text form \(in Refusing\.body\)"):
+        st_text(__name__)
+    report: list[str] = []
+    text = st_text(__name__, lenient=True, report=report)
+    assert "FUNCTION_BLOCK Refusing" in text
+    lines, first = inspect.getsourcelines(Refusing.body)
+    line = first + next(n for n, text in enumerate(lines) if "raise" in text)
+    assert f"(* not translated, raise (line {line}): raise ValueError(\"no PLC form\") *)" in text
+    assert report == [f"{__file__}:{line}: raise"]
+
+
+def test_show_st_is_strict_and_lists_nothing_for_a_catalogue_entry(capsys: pytest.CaptureFixture[str]) -> None:
+    from patterns.showcase.cli import main
+
+    assert main(["show", "observer", "--st"]) == 0
+    captured = capsys.readouterr()
+    assert "FUNCTION_BLOCK TemperatureTransmitter IMPLEMENTS ISubject" in captured.out
+    assert "written as a comment" not in captured.err
+    assert main(["show", "observer", "--st", "--lenient"]) == 0
+    assert "FUNCTION_BLOCK TemperatureTransmitter" in capsys.readouterr().out
