@@ -22,7 +22,7 @@ from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
 )
-from iecoop.st.read.trees import inline_enumerations, lark_token_type, nodes_below, signature, valued_constants
+from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
 
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR", tf.IncompleteLocatedVariableDeclarations: "VAR",
@@ -434,7 +434,7 @@ class Symbols:
             element = self._array_type(element_spec, None, node)
         else:
             element = self._spec_type(element_spec, node)
-        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds), indirection)
+        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds, bound_names=frozenset(names_read(spec.subranges))), indirection)
 
     def const_expr(self, node: Any) -> str:
         """A constant expression (ARRAY bounds, STRING length) as Python text; it may name its POU's VAR CONSTANTs."""
@@ -597,3 +597,4 @@ class Symbols:
             if key in current.methods:
                 return "method", current.methods[key]
         return None
+

@@ -77,6 +77,8 @@ class TypeRef:
     of: TypeRef | None = None
     length: str | None = None
     bounds: list[tuple[str, str]] | None = None
+    #: the ST names (lower case) an ARRAY's bounds read: ``ARRAY[1..GVL_Param.cMax]`` reads ``gvl_param``
+    bound_names: frozenset[str] = dataclasses.field(default=frozenset(), compare=False)
     #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
     limits: tuple[str, str] | None = None
 

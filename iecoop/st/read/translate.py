@@ -45,9 +45,8 @@ class Translator(Pous):
                         if isinstance(block, (tf.VariableDeclarations, tf.StaticDeclarations)) for m in self._block_members(block)]
             for type_ in members:
                 while type_ is not None and type_.kind in ("array", "pointer", "reference"):
-                    for bound in (b for pair in type_.bounds or [] for b in pair):
-                        # ARRAY[1..GVL_Param.cMax]: the bound reads the list's constant when the class is made
-                        yield from (d for d in map(self.by_python.get, re.findall(r"[A-Za-z_]\w*", bound)) if d is not None and d.kind == "gvl")
+                    # ARRAY[1..GVL_Param.cMax]: the bound reads the list's constant when the class is made
+                    yield from (d for d in map(self.decls.get, sorted(type_.bound_names)) if d is not None and d.kind == "gvl")
                     type_ = type_.of
                 if type_ is not None and type_.kind == "user":
                     yield self.by_python.get(type_.name)

@@ -285,3 +285,12 @@ def drop_empty_arguments(tree: Any) -> Any:
         if isinstance(node, tf.FunctionCall) and any(getattr(p, "value", True) is None for p in node.parameters or []):
             node.parameters = [p for p in node.parameters if getattr(p, "value", True) is not None]
     return tree
+
+
+def names_read(expression: Any) -> Iterator[str]:
+    """The first names (lower case) of the variables a constant expression reads: ``GVL_Param.cMax + 1``
+    reads ``gvl_param``."""
+    for node in nodes_below(expression):
+        if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
+            name = node.name.name if isinstance(node.name, tf.SimpleVariable) else node.name
+            yield str(name).lower()
