@@ -21,20 +21,18 @@ environment variable ``IECOOP_ST_CACHE=0``.
 
 from __future__ import annotations
 
-import bisect
 import functools
 import hashlib
 import hmac
 import json
 import os
 import pathlib
-import re
 import secrets
 import sys
 import tempfile
 from typing import Any
 
-from iecoop.st.read.nodedata import Unencodable, nodes_from_data, nodes_to_data
+from iecoop.st.read.nodedata import Lines, Unencodable, nodes_from_data, nodes_to_data
 
 __all__ = ["CACHE_FOLDER", "Lines", "Parsed", "enabled", "entry_data", "load_entry", "store_entry"]
 
@@ -194,15 +192,3 @@ def store_entry(source: pathlib.Path, text: str, grammar: str, nodes: dict[str, 
             return
         except OSError:
             continue
-
-
-class Lines:
-    """Line and column (from 1, as lark counts them) of a character offset in a text."""
-
-    def __init__(self, text: str) -> None:
-        self.text = text
-        self.starts = [0, *(match.end() for match in re.finditer("\n", text))]
-
-    def at(self, offset: int) -> tuple[int, int]:
-        line = bisect.bisect_right(self.starts, offset)
-        return line, offset - self.starts[line - 1] + 1

@@ -30,6 +30,7 @@ Forms (a JSON list's first item says which):
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import enum
 import functools
@@ -37,10 +38,22 @@ import pathlib
 import re
 from typing import Any
 
-__all__ = ["Unencodable", "nodes_from_data", "nodes_to_data"]
+__all__ = ["Lines", "Unencodable", "nodes_from_data", "nodes_to_data"]
 
 _LIST, _TOKEN, _COMMENT, _ENUM, _TUPLE, _TEXT, _PATH, _STEM, _SLICE, _TREE, _NODE = range(11)
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+class Lines:
+    """Line and column (from 1, as lark counts them) of a character offset in a text."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.starts = [0, *(match.end() for match in re.finditer("\n", text))]
+
+    def at(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self.starts, offset)
+        return line, offset - self.starts[line - 1] + 1
 
 
 class Unencodable(ValueError):
@@ -173,7 +186,6 @@ class _Decoder:
     def __init__(self, data: dict[str, Any], text: str, filename: str) -> None:
         import lark
 
-        from iecoop.st.read.cache import Lines
 
         self.lines, self.text = Lines(text), text
         self.path, self.stem = pathlib.Path(filename), pathlib.Path(filename).stem
