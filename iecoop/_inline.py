@@ -44,7 +44,7 @@ from typing import Any
 
 from iecoop._codegen import definition
 from iecoop.literals import D, T
-from iecoop.memory._core import keep_member_views
+from iecoop.memory._views import keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 

@@ -50,16 +50,9 @@ from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
 from iecoop.parameters import wrap_parameters
 from iecoop.lifecycle import fb_children, initialise
-from iecoop.memory._core import (
-    CheckedMemberField,
-    AggregateInfo,
-    ArrayInfo,
-    VIEW_PREFIX,
-    TypeInfo,
-    _MemberProperty,
-    new_class_tag,
-    set_state_without_views,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo, new_class_tag
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._views import CheckedMemberField, VIEW_PREFIX, _MemberProperty, set_state_without_views
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.references import ReferenceInfo

@@ -40,7 +40,9 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from iecoop.exceptions import AccessError
 from iecoop.members import FORWARDING_CODES, caller_description, code_of
 from iecoop.metadata import st_name
-from iecoop.memory._core import AggregateInfo, ArrayInfo, CheckedMemberField, ElementaryInfo, TypeInfo
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._infos import ElementaryInfo, TypeInfo
+from iecoop.memory._views import CheckedMemberField
 from iecoop.sections import SECTION_RULES, Section
 
 if TYPE_CHECKING:
