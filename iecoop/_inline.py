@@ -42,18 +42,20 @@ import types
 from collections.abc import Callable
 from typing import Any
 
-from iecoop._codegen import definition
+from iecoop._codegen import definition, register_definition
 from iecoop.literals import D, T
-from iecoop.memory._views import keep_member_views
+from iecoop.memory._views import ELEMENT_VIEWS, RAW_KEY, keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
-__all__ = ["inline_call"]
+__all__ = ["RAW", "compile_own_writes", "inline_call"]
 
 _FUTURE_FLAGS = 0
 for _feature in __future__.all_feature_names:
     _FUTURE_FLAGS |= getattr(__future__, _feature).compiler_flag
 _NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR | inspect.CO_ITERABLE_COROUTINE
+#: A METHOD compiled with its writes written out is an ordinary function (any parameters).
+_NOT_ORDINARY = _NOT_PLAIN
 _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 #: ``direct(cls)``: the cell a member call calls ``cls`` through with the inputs by position, and their order.
 Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
@@ -61,13 +63,17 @@ _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
 _VALUE = f"{_STORE}value"
+#: Checked mode: the compiled call's local holding the block's memory seen through its raw twin
+#: (``iecoop.writes.raw_twin``), read from the instance once per call; checked stores go through it.
+RAW = f"{_STORE}raw"
 
 
 def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
-    views: dict[str, str] | None = None,
+    views: dict[str, str] | None = None, raw: frozenset[str] = frozenset(), known: dict[str, type] | None = None,
+    arrays: dict[str, tuple[type, int, int]] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -85,24 +91,26 @@ def inline_call(
     ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
     write, the key its view is kept under for that code, as a member's; the
     body's own ``self.stations`` reads it instead of the checked descriptor.
+    ``raw`` (checked mode): the variables the block's raw twin holds; a
+    written-out store to one of them, and an input line naming ``RAW``, store
+    through the twin, which the call's first statement reads from the instance.
+    ``known`` (checked mode): the class a read of each variable gives (see ``value_class``).
+    ``arrays``: per one-dimensional ARRAY OF a block, its element class and
+    bounds; the body's own ``self.stations[i]`` reads the kept element in place.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
     node = _function_node(body) if _plain(body) else None
-    if node is None:
-        return None
-    used = _used_names(node)
     # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
-    if _meets_call(used, {*kwdefaults, *names}) or _returns_value(node):
+    setting = _recompiles(node, body, {*kwdefaults, *names}) if node is not None and not _returns_value(node) else None
+    if node is None or setting is None:
         return None
-    flags = code.co_flags & _FUTURE_FLAGS
-    imports = _imports_used(node, body, used)
-    same = _compile_in(node, code, [], flags, imports)
-    if same is None or _without_nested(same) != _without_nested(code):
-        return None
+    flags, imports = setting
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
-    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct, views or {})
+    call = _rewritten(
+        node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, raw, known or {}, arrays or {},
+    )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -110,6 +118,69 @@ def inline_call(
     # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
     adopt_code(merged, code, owner)
     return function
+
+
+def compile_own_writes(
+    func: types.FunctionType, owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], known: dict[str, type],
+) -> types.FunctionType | None:
+    """Checked mode: ``func`` (a METHOD of ``owner``) with its own ``self.x = value`` written out, as the call's are.
+
+    The same function otherwise: its signature, defaults, attributes, closure
+    cells, globals, file and lines. ``stores`` is the call's (see ``inline_call``);
+    ``known``: the Python type a read of each elementary variable gives, so a
+    value of known type skips the class check it would pass. None when the
+    method cannot be compiled as the same code, or writes none of ``stores``.
+    """
+    code = func.__code__
+    if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
+        return None
+    if hasattr(func, "__wrapped__") or code not in getattr(owner, "_iec_codes_", ()):
+        return None
+    node = _function_node(func, decorated=True)
+    setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
+    if node is None or setting is None:
+        return None
+    flags, imports = setting
+    names: dict[str, Any] = {}
+    stores_out = _DirectStores(stores, names, frozenset(), known)
+    statements = [stores_out.visit(statement) for statement in node.body]
+    node.body = [s for item in statements for s in (item if isinstance(item, list) else [item])]
+    if not names:
+        return None
+    ast.fix_missing_locations(node)
+    merged = _compile_in(node, code, sorted(names), flags, imports)
+    if merged is None:
+        return None
+    cells = dict(zip(code.co_freevars, func.__closure__ or ()))
+    closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
+    method = types.FunctionType(merged, func.__globals__, func.__name__, func.__defaults__, closure)
+    method.__kwdefaults__ = func.__kwdefaults__
+    method.__annotations__ = func.__annotations__
+    method.__dict__.update(func.__dict__)
+    method.__qualname__, method.__module__, method.__doc__ = func.__qualname__, func.__module__, func.__doc__
+    adopt_code(merged, code, owner)
+    registered = definition(code)
+    if registered is not None:  # loaded ST: the writer reads the method's Python from its recorded definition
+        register_definition(merged, *registered)
+    return method
+
+
+def _recompiles(node: ast.FunctionDef, func: types.FunctionType, call_names: set[str]) -> tuple[int, list[str]] | None:
+    """The ``__future__`` flags and module imports under which ``node`` compiles to ``func``'s own code.
+
+    None when it does not (the source is not the running code), or when a name it uses meets ``call_names``
+    or one the rewrites add.
+    """
+    code = func.__code__
+    used = _used_names(node)
+    if _meets_call(used, call_names):
+        return None
+    flags = code.co_flags & _FUTURE_FLAGS
+    imports = _imports_used(node, func, used)
+    same = _compile_in(node, code, [], flags, imports)
+    if same is None or _without_nested(same) != _without_nested(code):
+        return None
+    return flags, imports
 
 
 def _plain(body: types.FunctionType) -> bool:
@@ -145,7 +216,8 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None, views: dict[str, str],
+    positional: bool, direct: Direct | None, views: dict[str, str], raw: frozenset[str], known: dict[str, type],
+    arrays: dict[str, tuple[type, int, int]],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -160,7 +232,8 @@ def _rewritten(
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names, direct)
+        call.body = _with_members(call.body, writes, members, names, direct, raw, known, arrays)
+    call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     ast.fix_missing_locations(call)
@@ -169,18 +242,18 @@ def _rewritten(
 
 def _with_members(
     statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
-    members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
+    members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None, raw: frozenset[str],
+    known: dict[str, type], arrays: dict[str, tuple[type, int, int]],
 ) -> list[ast.stmt]:
     """``statements`` with the direct stores, then the member calls, then the member reads written out."""
     if writes:
-        statements = [_DirectStores(writes, names).visit(statement) for statement in statements]
+        statements = [_DirectStores(writes, names, raw, known).visit(statement) for statement in statements]
         # A store becomes a list of statements.
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
-        statements = [_MemberCalls(members, names, direct).visit(statement) for statement in statements]
+        statements = [_MemberCalls(members, names, direct, arrays).visit(statement) for statement in statements]
         keys = {member: key for member, (key, _cls) in members.items()}
         statements = [_MemberReads(keys).visit(statement) for statement in statements]
-        statements = _with_views_kept(statements, set(keys.values()), names)
     return statements
 
 
@@ -191,24 +264,36 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
 
         try:
             self._iec_m_0timer
+            _iec_w_raw = self._iec_m_1raw       # checked mode, when a store goes through the raw twin
         except AttributeError:
             _iec_w_keep_views(self)
+            _iec_w_raw = self._iec_m_1raw
 
     One key present means every key of the instance's class is (``keep_member_views``).
+    A member's view is read first, so a deleted instance's fault names that member.
     """
+    nodes = [n for statement in statements for n in ast.walk(statement)]
     used = sorted(
-        n.attr for statement in statements for n in ast.walk(statement)
+        n.attr for n in nodes
         if isinstance(n, ast.Attribute) and n.attr in keys and isinstance(n.value, ast.Name) and n.value.id == "self"
     )
-    if not used:
+    twin = any(isinstance(n, ast.Name) and n.id == RAW for n in nodes)
+    if not used and not twin:
         return statements
     keep, error = f"{_STORE}keep_views", f"{_STORE}attribute_error"
     # The builtin itself: the body's module may bind the name AttributeError to something else.
     names.update({keep: keep_member_views, error: AttributeError})
-    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=used[0], ctx=ast.Load()))
-    fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
-    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
-    prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
+
+    def own(attr: str) -> ast.Attribute:
+        return ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=attr, ctx=ast.Load())
+
+    probe: list[ast.stmt] = [ast.Expr(own(used[0]))] if used else []
+    fill: list[ast.stmt] = [ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))]
+    if twin:
+        probe.append(ast.Assign(targets=[ast.Name(id=RAW, ctx=ast.Store())], value=own(RAW_KEY)))
+        fill.append(ast.Assign(targets=[ast.Name(id=RAW, ctx=ast.Store())], value=own(RAW_KEY)))
+    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=fill)
+    prologue = ast.Try(body=probe, handlers=[handler], orelse=[], finalbody=[])
     return [prologue, *statements]
 
 
@@ -230,13 +315,17 @@ def _call_function(
     return function
 
 
-def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
-    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source."""
+def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.FunctionDef | None:
+    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source.
+
+    ``decorated``: a ``def`` under decorators (a METHOD's ``@method``) is taken too; its code
+    starts at the first decorator's line, as the function's does.
+    """
     registered = definition(body.__code__)
     if registered is not None:  # loaded ST: the file holds ST, the generated def is recorded
         node = copy.deepcopy(registered[0])
         named = isinstance(node, ast.FunctionDef) and node.name == body.__code__.co_name
-        return node if isinstance(node, ast.FunctionDef) and named and not node.decorator_list else None
+        return node if isinstance(node, ast.FunctionDef) and named and (decorated or not node.decorator_list) else None
     try:
         source = inspect.getsource(body)
         # An indented def (a method) parses inside an `if`, which keeps its columns.
@@ -245,9 +334,10 @@ def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
         return None
     top = tree.body[0]
     node = top.body[0] if isinstance(top, ast.If) else top
-    if not isinstance(node, ast.FunctionDef) or node.decorator_list or node.name != body.__code__.co_name:
+    if not isinstance(node, ast.FunctionDef) or (node.decorator_list and not decorated) or node.name != body.__code__.co_name:
         return None
-    ast.increment_lineno(node, body.__code__.co_firstlineno - node.lineno)
+    first = node.decorator_list[0].lineno if node.decorator_list else node.lineno
+    ast.increment_lineno(node, body.__code__.co_firstlineno - first)
     return node
 
 
@@ -385,28 +475,81 @@ class _MemberCalls(_OwnCode):
 
         _iec_w_position_timer(self._iec_m_0timer, x, _M)    # self.timer(IN=x)
         _iec_w_call_timer(self._iec_m_0timer, PT=t, IN=x)   # self.timer(PT=t, IN=x)
+
+    An element of an ``ARRAY[lo..hi] OF`` a block (``arrays``: per such
+    variable its element class and bounds) is a view of exactly that class
+    too, and indexing it reads the array's kept element views in place, the
+    bounds checked as ``__getitem__`` checks them (an exact ``int`` in bounds;
+    any other index goes to ``__getitem__``, which refuses or converts it)::
+
+        _iec_w_position_stations(                            # self.stations[i](sensor=x)
+            self._iec_m_0stations._iec_m_elements[_iec_w_index - 1]
+            if _iec_w_type(_iec_w_index := i) is _iec_w_int and 1 <= _iec_w_index <= 1000
+            else self._iec_m_0stations[_iec_w_index],
+            x)
     """
 
-    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None) -> None:
+    def __init__(
+        self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
+        arrays: dict[str, tuple[type, int, int]] | None = None,
+    ) -> None:
         self.members, self.names, self.direct = members, names, direct
+        self.arrays = arrays or {}
+
+    def _array(self, node: ast.expr) -> str | None:
+        """The ARRAY OF blocks variable ``node`` indexes once (``self.stations[i]``, a read), else None."""
+        if not (isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load) and not isinstance(node.slice, (ast.Tuple, ast.Slice))):
+            return None
+        value = node.value
+        if isinstance(value, ast.Attribute) and isinstance(value.value, ast.Name) and value.value.id == "self":
+            return value.attr if value.attr in self.arrays and value.attr in self.members else None
+        return None
+
+    def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
+        self.generic_visit(node)
+        array = self._array(node)
+        if array is None:
+            return node
+        _cls, lo, hi = self.arrays[array]
+        index, kind, whole = f"{_STORE}index", f"{_STORE}type", f"{_STORE}int"
+        self.names.update({kind: type, whole: int})
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=self.members[array][0], ctx=ast.Load())
+
+        def name(identifier: str) -> ast.Name:
+            return ast.Name(id=identifier, ctx=ast.Load())
+
+        given = ast.NamedExpr(target=ast.Name(id=index, ctx=ast.Store()), value=node.slice)
+        exact = ast.Compare(left=ast.Call(func=name(kind), args=[given], keywords=[]), ops=[ast.Is()], comparators=[name(whole)])
+        inside = ast.Compare(left=ast.Constant(lo), ops=[ast.LtE(), ast.LtE()], comparators=[name(index), ast.Constant(hi)])
+        elements = ast.Attribute(value=view, attr=ELEMENT_VIEWS, ctx=ast.Load())
+        kept = ast.Subscript(value=elements, slice=ast.BinOp(left=name(index), op=ast.Sub(), right=ast.Constant(lo)), ctx=ast.Load())
+        general = ast.Subscript(value=view, slice=name(index), ctx=ast.Load())
+        test = ast.BoolOp(op=ast.And(), values=[exact, inside])
+        return ast.copy_location(ast.IfExp(test=test, body=kept, orelse=general), node)
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
+        array = self._array(node.func)
         self.generic_visit(node)
         func = node.func
-        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
+        cls: type | None
+        view: ast.expr
+        if array is not None:  # an element of an ARRAY OF blocks, read in place by visit_Subscript
+            name, cls, view = array, self.arrays[array][0], func
+        elif isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self":
+            key, cls = self.members.get(func.attr, ("", None))
+            name, view = func.attr, ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
+        else:
             return node
-        key, cls = self.members.get(func.attr, ("", None))
         cell = cls.__dict__.get("_iec_call_cell_") if cls is not None else None
         if cls is None or not isinstance(cell, types.CellType):
             return node
-        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
         by_position = self._by_position(node, cls)
         if by_position is not None:
-            known = f"{_STORE}position_{func.attr}"
+            known = f"{_STORE}position_{name}"
             self.names[known], values = by_position
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *values], keywords=[])
         else:
-            known = f"{_STORE}call_{func.attr}"
+            known = f"{_STORE}call_{name}"
             self.names[known] = cell
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
         return ast.copy_location(direct, node)
@@ -425,19 +568,24 @@ class _MemberCalls(_OwnCode):
 
 
 class _DirectStores(_OwnCode):
-    """``self.x = value`` / ``self.x += value`` in the body's own statements, as checked ``__setattr__`` does it.
-
-    ::
+    """``self.x = value`` / ``self.x += value`` / ``for self.x in ...`` in the body's own statements, as checked
+    ``__setattr__`` does it::
 
         _iec_w_value = value
         if _iec_w_value.__class__ is not _iec_w_accepted_x: _iec_w_check_x(_iec_w_value, "Class.x")
-        _iec_w_store_x(self, _iec_w_value)
+        _iec_w_raw.x = _iec_w_value             # x held by the raw twin; else _iec_w_store_x(self, _iec_w_value)
 
+    A value whose class is known from the code alone (``self.n + 1`` with ``n``
+    an INT, ``self.timer.Q``, a constant) skips the class check it would pass.
     Nested functions, lambdas and classes are left alone (their code must stay the body's).
     """
 
-    def __init__(self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any]) -> None:
-        self.writes, self.names = writes, names
+    def __init__(
+        self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any], raw: frozenset[str],
+        known: dict[str, type] | None = None,
+    ) -> None:
+        self.writes, self.names, self.raw = writes, names, raw
+        self.known = known or {}
 
     def _field(self, target: ast.expr) -> str | None:
         if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
@@ -454,7 +602,7 @@ class _DirectStores(_OwnCode):
             if field is None:
                 statements.append(ast.copy_location(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
             else:
-                statements.extend(self._write(node, field))
+                statements.extend(self._write(node, field, value_class(node.value, self.known)))
         return statements
 
     def visit_AugAssign(self, node: ast.AugAssign) -> Any:
@@ -465,14 +613,28 @@ class _DirectStores(_OwnCode):
         value = ast.BinOp(left=ast.copy_location(current, node.target), op=node.op, right=node.value)
         return self._store(node, field, ast.copy_location(value, node))
 
+    def visit_For(self, node: ast.For) -> Any:
+        """``for self.i in ...:`` (ST's FOR with a variable of the block): each pass stores the counter written out."""
+        self.generic_visit(node)
+        field = self._field(node.target)
+        if field is None:
+            return node
+        # The loop hands each value to the store, then the statements run, as Python's for assigns its target.
+        node.target = ast.copy_location(ast.Name(id=_VALUE, ctx=ast.Store()), node.target)
+        node.body = [*self._write(node, field), *node.body]
+        return node
+
     def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
         first = ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
-        return [first, *self._write(node, field)]
+        return [first, *self._write(node, field, value_class(value, self.known))]
 
-    def _write(self, node: ast.stmt, field: str) -> list[ast.stmt]:
-        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does."""
+    def _write(self, node: ast.stmt, field: str, known: type | None = None) -> list[ast.stmt]:
+        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does.
+
+        ``known``: the value's class, when the code alone says it (the check is left out when it would pass).
+        """
         accepted, _inside, check, where, store = self.writes[field]
-        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
+        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check})
         v = _VALUE
 
         def name(identifier: str) -> ast.Name:
@@ -481,11 +643,79 @@ class _DirectStores(_OwnCode):
         kind = ast.Compare(left=ast.Attribute(value=name(v), attr="__class__", ctx=ast.Load()), ops=[ast.IsNot()],
                            comparators=[name(f"{_STORE}accepted_{field}")])
         check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
-        store = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
-        statements: list[ast.stmt] = [ast.If(test=kind, body=[ast.Expr(check)], orelse=[]), ast.Expr(store)]
+        stored: ast.stmt
+        if field in self.raw:
+            # The store __setattr__ ends with, as a C-level store into the same field of the raw twin.
+            stored = ast.Assign(targets=[ast.Attribute(value=name(RAW), attr=field, ctx=ast.Store())], value=name(v))
+        else:
+            self.names[f"{_STORE}store_{field}"] = store
+            stored = ast.Expr(ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[]))
+        statements: list[ast.stmt] = [stored]
+        if known is None or known is not accepted:
+            statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
         for statement in statements:
             ast.copy_location(statement, node)
         return statements
+
+
+_INTEGER_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Mod, ast.LShift, ast.RShift)
+_BIT_OPS = (ast.BitAnd, ast.BitOr, ast.BitXor)
+_REAL_OPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.FloorDiv, ast.Mod)
+
+
+def value_class(node: ast.expr, known: dict[str, type]) -> type | None:
+    """The exact class of the value ``node`` gives, when the code alone says it (else None).
+
+    ``known``: per variable read (``"x"`` for ``self.x``, ``"timer.Q"`` for
+    ``self.timer.Q``), the class its ctypes field gives (``bool``, ``int``,
+    ``float``). Constants, and arithmetic, comparisons and ``not`` over those,
+    follow Python's own rules for these three classes.
+    """
+    if isinstance(node, ast.Constant):
+        return type(node.value) if type(node.value) in (bool, int, float) else None
+    if isinstance(node, ast.Attribute):
+        path = _read_path(node)
+        return known.get(path) if path is not None else None
+    if isinstance(node, ast.UnaryOp):
+        if isinstance(node.op, ast.Not):
+            return bool
+        operand = value_class(node.operand, known)
+        if operand is float and not isinstance(node.op, ast.Invert):
+            return float
+        return int if operand in (bool, int) else None
+    if isinstance(node, ast.Compare):
+        operands = [node.left, *node.comparators]
+        return bool if all(value_class(o, known) in (bool, int, float) for o in operands) else None
+    if isinstance(node, ast.BoolOp):
+        classes = {value_class(v, known) for v in node.values}
+        return classes.pop() if len(classes) == 1 else None
+    if isinstance(node, ast.IfExp):
+        body, orelse = value_class(node.body, known), value_class(node.orelse, known)
+        return body if body is orelse else None
+    if isinstance(node, ast.BinOp):
+        left, right = value_class(node.left, known), value_class(node.right, known)
+        integers = (bool, int)
+        if left in integers and right in integers:
+            if isinstance(node.op, _BIT_OPS):
+                return bool if left is right is bool else int
+            if isinstance(node.op, _INTEGER_OPS):
+                return int
+            return float if isinstance(node.op, ast.Div) else None
+        if float in (left, right) and {left, right} <= {bool, int, float} and isinstance(node.op, _REAL_OPS):
+            return float
+    return None
+
+
+def _read_path(node: ast.Attribute) -> str | None:
+    """``self.x`` -> ``"x"``, ``self.timer.Q`` -> ``"timer.Q"`` (a read), else None."""
+    if not isinstance(node.ctx, ast.Load):
+        return None
+    if isinstance(node.value, ast.Name) and node.value.id == "self":
+        return node.attr
+    inner = node.value
+    if isinstance(inner, ast.Attribute) and isinstance(inner.value, ast.Name) and inner.value.id == "self":
+        return f"{inner.attr}.{node.attr}"
+    return None
 
 
 def _module_imports(code: types.CodeType, module_globals: dict[str, Any]) -> frozenset[str]:

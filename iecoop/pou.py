@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop._codegen import compile_source
-from iecoop._inline import inline_call
+from iecoop._inline import RAW, compile_own_writes, inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
@@ -84,12 +84,13 @@ from iecoop.members import (
     members_of_namespace,
     narrower,
     register_code,
+    rewrap,
     same_signature,
     visibility,
 )
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
-from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, pou_setattr, write_rules
+from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, known_reads, pou_setattr, raw_twin, write_rules
 
 register_builder(__file__)
 
@@ -405,6 +406,8 @@ class _PouBuilder:
             (d.alias, sys.intern(VIEW_PREFIX + r.name)) for r in layout.fields
             if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
         )
+        # Checked mode: the block's own compiled code stores its elementary variables through a raw twin.
+        cls._iec_raw_type_ = raw_twin(cls.__name__, layout, ctypes.sizeof(cls)) if _config.CHECKS else None
         cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
         # A task may call an instance with no argument when no VAR_IN_OUT must be bound.
         cls._iec_task_call_ = not any(SECTION_RULES[r.section].at_call is AtCall.BOUND for r in layout.fields)
@@ -412,6 +415,24 @@ class _PouBuilder:
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout, st_aliases(cls, layout))
+            _compile_methods(cls, layout, self.original_namespace)
+
+
+def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -> None:
+    """Checked mode: each METHOD's own writes written out, as the call writes the body's (``compile_own_writes``)."""
+    stores = fast_writes(layout, cls._iec_write_rules_)
+    known = known_reads(cls, layout)
+    for name, func in namespace.items():
+        if not isinstance(func, types.FunctionType) or name == "body" or (name.startswith("__") and name.endswith("__")):
+            continue
+        compiled = compile_own_writes(func, cls, stores, known) if stores else None
+        if compiled is None:
+            continue
+        installed = cls.__dict__.get(name)
+        if installed is func:
+            setattr(cls, name, compiled)
+        else:  # PRIVATE, PROTECTED or INTERNAL: the guard calls the compiled method
+            rewrap(installed, func, compiled)
 
 
 def _record(cls: type) -> IecClass:
@@ -649,6 +670,10 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
     lines: list[str] = []
+    twin = cls.__dict__.get("_iec_raw_type_")
+    # Checked mode: the variables the raw twin holds, and the lines of the compiled call that store an input through it.
+    raw = frozenset(name for name, _ctype in twin._fields_) if twin is not None else frozenset()
+    twin_stores: dict[int, str] = {}
     for i, record in enumerate(inputs):
         params.append(f"{record.name}=_M")
         info = record.info
@@ -666,6 +691,8 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             globs[f"_type{i}"] = accepted_type(info)
             lines.append(f"    if {record.name} is not _M:")
             lines.append(f"        if {record.name}.__class__ is not _type{i}: _check{i}({record.name}, {record.where!r})")
+            if record.name in raw:
+                twin_stores[len(lines)] = f"        {RAW}.{record.name} = {record.name}"
             lines.append(f"        _set{i}(self, {record.name})")
         elif info.direct:
             # fast mode: a plain attribute store reaches the ctypes field in C
@@ -695,6 +722,8 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         rules = write_rules(cls, layout) if _config.CHECKS else {}
         stores: dict[str, FastWrite] = fast_writes(layout, rules) if _config.CHECKS else {}
+        # A value the code alone shows to be of the variable's class skips the class check it would pass.
+        known = known_reads(cls, layout) if _config.CHECKS else {}
         # A block member's read `self.timer` is its property's getter, attrgetter(alias), which keeps the view;
         # the call reads the same view under a key with no class attribute (see VIEW_PREFIX).
         # A member declared as one block is a view of exactly that class (its memory holds that type).
@@ -712,9 +741,16 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         }
         cls._iec_own_views_ = tuple(own_views.values())
         views = {name: key for name, (key, _read) in own_views.items()}
+        # A one-dimensional ARRAY OF a block: the body's own `self.stations[i]` reads the kept element in place.
+        arrays = {
+            r.name: (r.info.elem.cls, *r.info.bounds[0]) for r in layout.fields
+            if isinstance(r.info, ArrayInfo) and len(r.info.bounds) == 1 and isinstance(r.info.elem, AggregateInfo)
+            and getattr(r.info.elem.cls, "_iec_tagged_", False)
+        }
+        inline_lines = [twin_stores.get(k, line) for k, line in enumerate(lines)]
         inlined = inline_call(
-            name, body, params, lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views,
+            name, body, params, inline_lines, globs, given, cls, stores, members, positional=positional,
+            direct=_positional_call, views=views, raw=raw, known=known, arrays=arrays,
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

@@ -33,7 +33,9 @@ ST::
 
 from __future__ import annotations
 
+import ctypes
 import sys
+import typing
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -49,8 +51,8 @@ if TYPE_CHECKING:
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
 __all__ = [
-    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "pou_setattr", "read_only_rule",
-    "write_rule", "write_rules",
+    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "known_reads", "pou_setattr",
+    "raw_twin", "read_only_rule", "write_rule", "write_rules",
 ]
 
 
@@ -172,6 +174,62 @@ def fast_writes(layout: ClassLayout, rules: dict[str, WriteRule]) -> dict[str, F
         if rule.validate is not None and not rule.constant and rule.method is None:
             fast[record.name] = (accepted_type(record.info), rule.inside_only, rule.validate, rule.where, record.raw.__set__)
     return fast
+
+
+def known_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
+    """Per variable read by a block's own code, ``"x"`` for ``self.x`` and ``"timer.Q"`` for a member's
+    ``self.timer.Q``: the exact class the read gives (its ctypes field's value: ``bool``, ``int``, ``float``).
+
+    A written-out store of a value of that class leaves out the class check it would pass.
+    """
+    known = _field_reads(cls, layout)
+    for record in layout.fields:
+        inner = record.info.cls if isinstance(record.info, AggregateInfo) else None
+        inner_layout = getattr(inner, "_iec_layout_", None)
+        if inner_layout is not None:  # a member's view is of exactly its declared class
+            known.update({f"{record.name}.{name}": kind for name, kind in _field_reads(inner, inner_layout).items()})
+    return known
+
+
+def _field_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
+    found: dict[str, type] = {}
+    for record in layout.fields:
+        # Only a read the ctypes field answers itself: the attribute the class finds is the field.
+        attribute = next((k.__dict__[record.name] for k in cls.__mro__ if record.name in k.__dict__), None)
+        if type(record.info) is ElementaryInfo and attribute is record.raw:
+            kind = type(record.info.ctype().value)
+            if kind is accepted_type(record.info):
+                found[record.name] = kind
+    return found
+
+
+def raw_twin(name: str, layout: ClassLayout, size: int) -> type | None:
+    """Checked mode: a plain ctypes structure with the block's elementary variables at their offsets.
+
+    A view of a block's memory through it (``from_buffer``) has no ``__setattr__``:
+    ``twin.x = value`` is the store the checked ``__setattr__`` ends with (``x``'s own
+    ctypes ``__set__``: the same ctypes type at the same offset), made as a C-level
+    attribute store. Only the block's own compiled code holds a twin, and it writes
+    through it only what the rules let that code write, after the value's check.
+    None when the block has no elementary variable.
+    """
+    records = sorted((r for r in layout.fields if type(r.info) is ElementaryInfo), key=lambda r: r.offset)
+    fields: list[tuple[str, Any]] = []
+    position = 0
+    for record in records:
+        if record.offset > position:
+            fields.append((f"_iec_gap{position}", ctypes.c_char * (record.offset - position)))
+        fields.append((record.name, record.info.ctype))
+        position = record.offset + record.size
+    if not records or position > size:
+        return None
+    if size > position:
+        fields.append((f"_iec_gap{position}", ctypes.c_char * (size - position)))
+    twin: Any = type(f"{name} (own writes)", (ctypes.Structure,), {"_pack_": 1, "_fields_": fields})
+    # The twin's offsets are the layout's, or it is not used.
+    if any(getattr(twin, r.name).offset != r.offset for r in records) or ctypes.sizeof(twin) != size:
+        return None
+    return typing.cast(type, twin)
 
 
 def pou_setattr(cls: Any, layout: ClassLayout, aliases: Mapping[str, str] | None = None) -> Callable[[Any, str, Any], None]:

@@ -342,13 +342,25 @@ def _make_array_type(elem: TypeInfo, bounds: tuple[tuple[int, int], ...]) -> typ
                 except AttributeError:
                     return kept(self)[position]
 
-    def iterate(self: Any) -> Iterator[Any]:
-        if elem.direct:
-            for i in range(count):
-                yield raw_get(self, i)
-        else:
-            for i in range(count):
-                yield elem.load(self, i * size)
+        namespace["_iec_keep_elements_"] = kept
+
+        def iterate(self: Any) -> Iterator[Any]:
+            # The kept element views, as indexing gives them (their members' views kept in them).
+            try:
+                views = self._iec_m_elements
+            except AttributeError:
+                views = kept(self)
+            yield from views
+
+    else:
+
+        def iterate(self: Any) -> Iterator[Any]:
+            if elem.direct:
+                for i in range(count):
+                    yield raw_get(self, i)
+            else:
+                for i in range(count):
+                    yield elem.load(self, i * size)
 
     def eq(self: Any, other: Any) -> Any:
         if type(other) is not type(self):
