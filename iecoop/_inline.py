@@ -34,6 +34,7 @@ from __future__ import annotations
 import __future__
 import ast
 import copy
+import dis
 import functools
 import inspect
 import linecache
@@ -59,6 +60,7 @@ _NOT_ORDINARY = _NOT_PLAIN
 _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 #: ``direct(cls)``: the cell a member call calls ``cls`` through with the inputs by position, and their order.
 Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
+_STORE_ATTR, _EXTENDED_ARG = dis.opmap["STORE_ATTR"], dis.opmap["EXTENDED_ARG"]
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
@@ -134,7 +136,7 @@ def compile_own_writes(
     code = func.__code__
     if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
         return None
-    if hasattr(func, "__wrapped__") or code not in getattr(owner, "_iec_codes_", ()):
+    if hasattr(func, "__wrapped__") or code not in getattr(owner, "_iec_codes_", ()) or not _stores_attribute(code, stores):
         return None
     node = _function_node(func, decorated=True)
     setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
@@ -327,10 +329,13 @@ def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.Fun
         named = isinstance(node, ast.FunctionDef) and node.name == body.__code__.co_name
         return node if isinstance(node, ast.FunctionDef) and named and (decorated or not node.decorator_list) else None
     try:
-        source = inspect.getsource(body)
-        # An indented def (a method) parses inside an `if`, which keeps its columns.
-        tree = ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
-    except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
+        tree = _parsed(_source_of(body))
+    except SyntaxError:  # the lines the code covers end before the def does (a docstring alone, say)
+        try:
+            tree = _parsed(inspect.getsource(body))
+        except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
+            return None
+    except (OSError, TypeError, ValueError, RecursionError):
         return None
     top = tree.body[0]
     node = top.body[0] if isinstance(top, ast.If) else top
@@ -339,6 +344,46 @@ def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.Fun
     first = node.decorator_list[0].lineno if node.decorator_list else node.lineno
     ast.increment_lineno(node, body.__code__.co_firstlineno - first)
     return node
+
+
+def _parsed(source: str) -> ast.Module:
+    # An indented def (a method) parses inside an `if`, which keeps its columns.
+    return ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
+
+
+def _source_of(func: types.FunctionType) -> str:
+    """The lines of ``func``'s ``def`` (from its first decorator), as ``inspect.getsource`` gives them.
+
+    The ``def`` ends at the last line its code (nested code included) covers,
+    read from the code rather than by tokenizing the file again; a ``def`` cut
+    short does not parse, or does not compile to the running code, which the
+    callers check.
+    """
+    code = func.__code__
+    lines = linecache.getlines(code.co_filename, func.__globals__)
+    if not lines:
+        return inspect.getsource(func)
+    return "".join(lines[code.co_firstlineno - 1:_last_line(code)])
+
+
+def _last_line(code: types.CodeType) -> int:
+    last = max((end for _start, end, _col, _end_col in code.co_positions() if end is not None), default=code.co_firstlineno)
+    nested = (_last_line(const) for const in code.co_consts if isinstance(const, types.CodeType))
+    return max([last, *nested])
+
+
+def _stores_attribute(code: types.CodeType, names: Any) -> bool:
+    """Whether ``code`` itself (not code nested in it) stores an attribute named in ``names`` (``self.x = ...``)."""
+    raw, extended = code.co_code, 0
+    for i in range(0, len(raw), 2):
+        op, arg = raw[i], raw[i + 1] | extended
+        if op == _EXTENDED_ARG:
+            extended = arg << 8
+            continue
+        extended = 0
+        if op == _STORE_ATTR and code.co_names[arg] in names:
+            return True
+    return False
 
 
 def _used_names(node: ast.FunctionDef) -> set[str]:
