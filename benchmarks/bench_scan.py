@@ -364,6 +364,13 @@ def check_same_work(cycles: int, loaded: Any) -> tuple[int, int]:
     return sum(p for p, _ in theirs), jams
 
 
+def cycles_of(rt: Runtime) -> Callable[[int], None]:
+    def run(n: int) -> None:
+        rt.run(cycles=n)
+
+    return run
+
+
 def per_cycle(run: Callable[[int], None], cycles: int) -> float:
     # CPU time of this process: on a shared machine, time spent waiting for a core is not counted.
     start = time.process_time()
@@ -389,7 +396,7 @@ def main(argv: list[str] | None = None) -> int:
             ("c", "iecoop Line with RETAIN, store on disk", RetainLine(), Path(folder) / "store"),
         ):
             rt, _ = iecoop_line(store, program)
-            cases[key] = (label, lambda n, rt=rt: rt.run(cycles=n))
+            cases[key] = (label, cycles_of(rt))
         cases["b"] = ("plain Python, same logic", plain.run)
         times: dict[str, list[float]] = {key: [] for key in cases}
         for _ in range(args.repeat):

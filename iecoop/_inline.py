@@ -45,11 +45,11 @@ from typing import Any
 
 from iecoop._codegen import definition, register_definition
 from iecoop.literals import D, T
-from iecoop.memory._views import ELEMENT_VIEWS, RAW_KEY, keep_member_views
+from iecoop.memory._views import ELEMENT_VIEWS, keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
-__all__ = ["RAW", "compile_own_writes", "inline_call"]
+__all__ = ["compile_own_writes", "inline_call"]
 
 _FUTURE_FLAGS = 0
 for _feature in __future__.all_feature_names:
@@ -65,16 +65,13 @@ _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
 _VALUE = f"{_STORE}value"
-#: Checked mode: the compiled call's local holding the block's memory seen through its raw twin
-#: (``iecoop.writes.raw_twin``), read from the instance once per call; checked stores go through it.
-RAW = f"{_STORE}raw"
 
 
 def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
-    views: dict[str, str] | None = None, raw: frozenset[str] = frozenset(), known: dict[str, type] | None = None,
+    views: dict[str, str] | None = None, known: dict[str, type] | None = None,
     arrays: dict[str, tuple[type, int, int]] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
@@ -93,9 +90,6 @@ def inline_call(
     ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
     write, the key its view is kept under for that code, as a member's; the
     body's own ``self.stations`` reads it instead of the checked descriptor.
-    ``raw`` (checked mode): the variables the block's raw twin holds; a
-    written-out store to one of them, and an input line naming ``RAW``, store
-    through the twin, which the call's first statement reads from the instance.
     ``known`` (checked mode): the class a read of each variable gives (see ``value_class``).
     ``arrays``: per one-dimensional ARRAY OF a block, its element class and
     bounds; the body's own ``self.stations[i]`` reads the kept element in place.
@@ -111,7 +105,7 @@ def inline_call(
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
     call = _rewritten(
-        node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, raw, known or {}, arrays or {},
+        node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
     )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
@@ -144,7 +138,7 @@ def compile_own_writes(
         return None
     flags, imports = setting
     names: dict[str, Any] = {}
-    stores_out = _DirectStores(stores, names, frozenset(), known)
+    stores_out = _DirectStores(stores, names, known)
     statements = [stores_out.visit(statement) for statement in node.body]
     node.body = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if not names:
@@ -218,7 +212,7 @@ def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None, views: dict[str, str], raw: frozenset[str], known: dict[str, type],
+    positional: bool, direct: Direct | None, views: dict[str, str], known: dict[str, type],
     arrays: dict[str, tuple[type, int, int]],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
@@ -234,7 +228,7 @@ def _rewritten(
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names, direct, raw, known, arrays)
+        call.body = _with_members(call.body, writes, members, names, direct, known, arrays)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
@@ -244,12 +238,12 @@ def _rewritten(
 
 def _with_members(
     statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
-    members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None, raw: frozenset[str],
+    members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
     known: dict[str, type], arrays: dict[str, tuple[type, int, int]],
 ) -> list[ast.stmt]:
     """``statements`` with the direct stores, then the member calls, then the member reads written out."""
     if writes:
-        statements = [_DirectStores(writes, names, raw, known).visit(statement) for statement in statements]
+        statements = [_DirectStores(writes, names, known).visit(statement) for statement in statements]
         # A store becomes a list of statements.
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
@@ -266,36 +260,24 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
 
         try:
             self._iec_m_0timer
-            _iec_w_raw = self._iec_m_1raw       # checked mode, when a store goes through the raw twin
         except AttributeError:
             _iec_w_keep_views(self)
-            _iec_w_raw = self._iec_m_1raw
 
     One key present means every key of the instance's class is (``keep_member_views``).
-    A member's view is read first, so a deleted instance's fault names that member.
     """
-    nodes = [n for statement in statements for n in ast.walk(statement)]
     used = sorted(
-        n.attr for n in nodes
+        n.attr for statement in statements for n in ast.walk(statement)
         if isinstance(n, ast.Attribute) and n.attr in keys and isinstance(n.value, ast.Name) and n.value.id == "self"
     )
-    twin = any(isinstance(n, ast.Name) and n.id == RAW for n in nodes)
-    if not used and not twin:
+    if not used:
         return statements
     keep, error = f"{_STORE}keep_views", f"{_STORE}attribute_error"
     # The builtin itself: the body's module may bind the name AttributeError to something else.
     names.update({keep: keep_member_views, error: AttributeError})
-
-    def own(attr: str) -> ast.Attribute:
-        return ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=attr, ctx=ast.Load())
-
-    probe: list[ast.stmt] = [ast.Expr(own(used[0]))] if used else []
-    fill: list[ast.stmt] = [ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))]
-    if twin:
-        probe.append(ast.Assign(targets=[ast.Name(id=RAW, ctx=ast.Store())], value=own(RAW_KEY)))
-        fill.append(ast.Assign(targets=[ast.Name(id=RAW, ctx=ast.Store())], value=own(RAW_KEY)))
-    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=fill)
-    prologue = ast.Try(body=probe, handlers=[handler], orelse=[], finalbody=[])
+    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=used[0], ctx=ast.Load()))
+    fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
+    handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
+    prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
     return [prologue, *statements]
 
 
@@ -618,7 +600,7 @@ class _DirectStores(_OwnCode):
 
         _iec_w_value = value
         if _iec_w_value.__class__ is not _iec_w_accepted_x: _iec_w_check_x(_iec_w_value, "Class.x")
-        _iec_w_raw.x = _iec_w_value             # x held by the raw twin; else _iec_w_store_x(self, _iec_w_value)
+        _iec_w_store_x(self, _iec_w_value)
 
     A value whose class is known from the code alone (``self.n + 1`` with ``n``
     an INT, ``self.timer.Q``, a constant) skips the class check it would pass.
@@ -626,11 +608,9 @@ class _DirectStores(_OwnCode):
     """
 
     def __init__(
-        self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any], raw: frozenset[str],
-        known: dict[str, type] | None = None,
+        self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any], known: dict[str, type] | None = None,
     ) -> None:
-        self.writes, self.names, self.raw = writes, names, raw
-        self.known = known or {}
+        self.writes, self.names, self.known = writes, names, known or {}
 
     def _field(self, target: ast.expr) -> str | None:
         if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
@@ -679,7 +659,7 @@ class _DirectStores(_OwnCode):
         ``known``: the value's class, when the code alone says it (the check is left out when it would pass).
         """
         accepted, _inside, check, where, store = self.writes[field]
-        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check})
+        self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
         v = _VALUE
 
         def name(identifier: str) -> ast.Name:
@@ -688,14 +668,8 @@ class _DirectStores(_OwnCode):
         kind = ast.Compare(left=ast.Attribute(value=name(v), attr="__class__", ctx=ast.Load()), ops=[ast.IsNot()],
                            comparators=[name(f"{_STORE}accepted_{field}")])
         check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
-        stored: ast.stmt
-        if field in self.raw:
-            # The store __setattr__ ends with, as a C-level store into the same field of the raw twin.
-            stored = ast.Assign(targets=[ast.Attribute(value=name(RAW), attr=field, ctx=ast.Store())], value=name(v))
-        else:
-            self.names[f"{_STORE}store_{field}"] = store
-            stored = ast.Expr(ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[]))
-        statements: list[ast.stmt] = [stored]
+        store_call = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
+        statements: list[ast.stmt] = [ast.Expr(store_call)]
         if known is None or known is not accepted:
             statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
         for statement in statements:

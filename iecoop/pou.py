@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop._codegen import compile_source
-from iecoop._inline import RAW, compile_own_writes, inline_call
+from iecoop._inline import compile_own_writes, inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
@@ -90,7 +90,7 @@ from iecoop.members import (
 )
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
-from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, known_reads, pou_setattr, raw_twin, write_rules
+from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, known_reads, pou_setattr, write_rules
 
 register_builder(__file__)
 
@@ -406,8 +406,6 @@ class _PouBuilder:
             (d.alias, sys.intern(VIEW_PREFIX + r.name)) for r in layout.fields
             if isinstance(d := getattr(cls, r.name, None), _MemberProperty)
         )
-        # Checked mode: the block's own compiled code stores its elementary variables through a raw twin.
-        cls._iec_raw_type_ = raw_twin(cls.__name__, layout, ctypes.sizeof(cls)) if _config.CHECKS else None
         cls.__call__ = cls._iec_built_call_ = _make_call(cls, layout)
         # A task may call an instance with no argument when no VAR_IN_OUT must be bound.
         cls._iec_task_call_ = not any(SECTION_RULES[r.section].at_call is AtCall.BOUND for r in layout.fields)
@@ -670,10 +668,6 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
     lines: list[str] = []
-    twin = cls.__dict__.get("_iec_raw_type_")
-    # Checked mode: the variables the raw twin holds, and the lines of the compiled call that store an input through it.
-    raw = frozenset(name for name, _ctype in twin._fields_) if twin is not None else frozenset()
-    twin_stores: dict[int, str] = {}
     for i, record in enumerate(inputs):
         params.append(f"{record.name}=_M")
         info = record.info
@@ -691,8 +685,6 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             globs[f"_type{i}"] = accepted_type(info)
             lines.append(f"    if {record.name} is not _M:")
             lines.append(f"        if {record.name}.__class__ is not _type{i}: _check{i}({record.name}, {record.where!r})")
-            if record.name in raw:
-                twin_stores[len(lines)] = f"        {RAW}.{record.name} = {record.name}"
             lines.append(f"        _set{i}(self, {record.name})")
         elif info.direct:
             # fast mode: a plain attribute store reaches the ctypes field in C
@@ -747,10 +739,9 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             if isinstance(r.info, ArrayInfo) and len(r.info.bounds) == 1 and isinstance(r.info.elem, AggregateInfo)
             and getattr(r.info.elem.cls, "_iec_tagged_", False)
         }
-        inline_lines = [twin_stores.get(k, line) for k, line in enumerate(lines)]
         inlined = inline_call(
-            name, body, params, inline_lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views, raw=raw, known=known, arrays=arrays,
+            name, body, params, lines, globs, given, cls, stores, members, positional=positional,
+            direct=_positional_call, views=views, known=known, arrays=arrays,
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

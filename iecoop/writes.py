@@ -33,9 +33,7 @@ ST::
 
 from __future__ import annotations
 
-import ctypes
 import sys
-import typing
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -52,7 +50,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "known_reads", "pou_setattr",
-    "raw_twin", "read_only_rule", "write_rule", "write_rules",
+    "read_only_rule", "write_rule", "write_rules",
 ]
 
 
@@ -201,35 +199,6 @@ def _field_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
             if kind is accepted_type(record.info):
                 found[record.name] = kind
     return found
-
-
-def raw_twin(name: str, layout: ClassLayout, size: int) -> type | None:
-    """Checked mode: a plain ctypes structure with the block's elementary variables at their offsets.
-
-    A view of a block's memory through it (``from_buffer``) has no ``__setattr__``:
-    ``twin.x = value`` is the store the checked ``__setattr__`` ends with (``x``'s own
-    ctypes ``__set__``: the same ctypes type at the same offset), made as a C-level
-    attribute store. Only the block's own compiled code holds a twin, and it writes
-    through it only what the rules let that code write, after the value's check.
-    None when the block has no elementary variable.
-    """
-    records = sorted((r for r in layout.fields if type(r.info) is ElementaryInfo), key=lambda r: r.offset)
-    fields: list[tuple[str, Any]] = []
-    position = 0
-    for record in records:
-        if record.offset > position:
-            fields.append((f"_iec_gap{position}", ctypes.c_char * (record.offset - position)))
-        fields.append((record.name, record.info.ctype))
-        position = record.offset + record.size
-    if not records or position > size:
-        return None
-    if size > position:
-        fields.append((f"_iec_gap{position}", ctypes.c_char * (size - position)))
-    twin: Any = type(f"{name} (own writes)", (ctypes.Structure,), {"_pack_": 1, "_fields_": fields})
-    # The twin's offsets are the layout's, or it is not used.
-    if any(getattr(twin, r.name).offset != r.offset for r in records) or ctypes.sizeof(twin) != size:
-        return None
-    return typing.cast(type, twin)
 
 
 def pou_setattr(cls: Any, layout: ClassLayout, aliases: Mapping[str, str] | None = None) -> Callable[[Any, str, Any], None]:

@@ -18,7 +18,7 @@ import weakref
 from typing import Any
 
 from iecoop.exceptions import DefinitionError, ExceptionCode, PlcException
-from iecoop.memory._views import CACHE_PREFIX, RAW_KEY, VIEW_PREFIX, drop_cached_views
+from iecoop.memory._views import CACHE_PREFIX, VIEW_PREFIX, drop_cached_views
 
 _AV = ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
 _HANDLE_MASK = 0xFFFFFFFF
@@ -274,8 +274,6 @@ class DeletedInstance(ctypes.Structure):
     def __getattribute__(self, name: str) -> Any:
         if name in _CTYPES_INTERNALS or (name.startswith("__") and name.endswith("__")):
             return object.__getattribute__(self, name)
-        if name == RAW_KEY:  # the first read of a block's own compiled call that writes through its raw twin
-            raise _deleted_fault(self, "call")
         # A block member read through its alias (as a block's own compiled call reads it) is named as declared.
         raise _deleted_fault(self, f"{name.removeprefix(VIEW_PREFIX).removeprefix(CACHE_PREFIX)!r} read")
 

@@ -131,10 +131,6 @@ class CachedView:
 #: a class attribute under the name, even a non-data descriptor such as CachedView, stops that specialisation).
 #: An identifier never starts with a digit, so no member's alias is one of these keys.
 VIEW_PREFIX = f"{CACHE_PREFIX}0"
-#: Checked mode: where a block's own compiled code finds the block's memory seen through its raw twin (a plain
-#: ctypes structure with the block's elementary variables, no ``__setattr__``; ``iecoop.writes.raw_twin``).
-#: No member's alias or view key starts with a 1.
-RAW_KEY = sys.intern(f"{CACHE_PREFIX}1raw")
 
 
 def keep_member_views(obj: Any) -> None:
@@ -143,8 +139,7 @@ def keep_member_views(obj: Any) -> None:
     The compiled call tries one key first and calls this when it is missing, so
     one key present means all of ``type(obj)``'s are; the views are the ones its
     members' aliases keep, so both names give one view per member. An ARRAY OF
-    blocks keeps its element views then, and in checked mode the raw twin of
-    ``obj``'s memory is kept with the views (``RAW_KEY``).
+    blocks keeps its element views then.
     """
     cls = type(obj)
     views = {key: getattr(obj, alias) for alias, key in cls._iec_view_keys_}
@@ -155,9 +150,6 @@ def keep_member_views(obj: Any) -> None:
         keep_elements = getattr(type(view), "_iec_keep_elements_", None)
         if keep_elements is not None and ELEMENT_VIEWS not in view.__dict__:
             keep_elements(view)
-    twin = cls.__dict__.get("_iec_raw_type_")
-    if twin is not None:
-        views[RAW_KEY] = twin.from_buffer(obj)
     own_dict(obj).update(views)
 
 
