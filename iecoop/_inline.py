@@ -40,6 +40,7 @@ import inspect
 import linecache
 import symtable
 import types
+import typing
 from collections.abc import Callable
 from typing import Any
 
@@ -143,7 +144,6 @@ def compile_own_writes(
     node.body = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if not names:
         return None
-    ast.fix_missing_locations(node)
     merged = _compile_in(node, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -202,10 +202,7 @@ def _returns_value(node: ast.FunctionDef) -> bool:
 def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str]) -> list[str]:
     """The module's top-level imports the body uses, when it calls ``name.attr(...)`` on a name; else none."""
     # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
-    called = any(
-        isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and isinstance(n.func.value, ast.Name)
-        and n.func.value.id != "self" for n in ast.walk(node)
-    )
+    called = _survey(node).calls_attribute
     return sorted(_module_imports(body.__code__, body.__globals__) & used) if called else []
 
 
@@ -229,10 +226,9 @@ def _rewritten(
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct, known, arrays)
-    call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names)
+    call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
-    ast.fix_missing_locations(call)
     return call
 
 
@@ -253,7 +249,7 @@ def _with_members(
     return statements
 
 
-def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any]) -> list[ast.stmt]:
+def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any], where: ast.AST) -> list[ast.stmt]:
     """``statements``, first making sure the member views they read are kept under their keys.
 
     ::
@@ -278,7 +274,7 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
     fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
     handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
     prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
-    return [prologue, *statements]
+    return [_located(prologue, where), *statements]  # at the def line, as the input lines
 
 
 def _call_function(
@@ -310,11 +306,12 @@ def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.Fun
         node = copy.deepcopy(registered[0])
         named = isinstance(node, ast.FunctionDef) and node.name == body.__code__.co_name
         return node if isinstance(node, ast.FunctionDef) and named and (decorated or not node.decorator_list) else None
+    line = body.__code__.co_firstlineno
     try:
-        tree = _parsed(_source_of(body))
+        tree = _parsed(_source_of(body), line)
     except SyntaxError:  # the lines the code covers end before the def does (a docstring alone, say)
         try:
-            tree = _parsed(inspect.getsource(body))
+            tree = _parsed(inspect.getsource(body), line)
         except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
             return None
     except (OSError, TypeError, ValueError, RecursionError):
@@ -324,13 +321,17 @@ def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.Fun
     if not isinstance(node, ast.FunctionDef) or (node.decorator_list and not decorated) or node.name != body.__code__.co_name:
         return None
     first = node.decorator_list[0].lineno if node.decorator_list else node.lineno
-    ast.increment_lineno(node, body.__code__.co_firstlineno - first)
+    if first != line:
+        ast.increment_lineno(node, line - first)
     return node
 
 
-def _parsed(source: str) -> ast.Module:
-    # An indented def (a method) parses inside an `if`, which keeps its columns.
-    return ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
+def _parsed(source: str, line: int) -> ast.Module:
+    """``source``, whose first line is the file's ``line``, parsed at the file's line numbers."""
+    # An indented def (a method) parses inside an `if`, which keeps its columns; blank lines before it put it at its line.
+    if source[:1].isspace():
+        return ast.parse("\n" * (line - 2) + f"if 1:\n{source}" if line >= 2 else f"if 1:\n{source}")
+    return ast.parse("\n" * (line - 1) + source)
 
 
 def _source_of(func: types.FunctionType) -> str:
@@ -368,12 +369,38 @@ def _stores_attribute(code: types.CodeType, names: Any) -> bool:
     return False
 
 
+class _Survey(typing.NamedTuple):
+    """What one walk over a ``def`` finds: the names it uses, whether it rebinds ``self``, whether it calls ``name.attr()``."""
+
+    used: set[str]
+    rebinds_self: bool
+    calls_attribute: bool
+
+
+def _survey(node: ast.FunctionDef) -> _Survey:
+    """One walk over ``node``, kept on it (the checks below each ask a part of it)."""
+    kept: _Survey | None = getattr(node, "_iec_survey_", None)
+    if kept is None:
+        kept = _walk_survey(node)
+        setattr(node, "_iec_survey_", kept)
+    return kept
+
+
 def _used_names(node: ast.FunctionDef) -> set[str]:
     """Every name the body binds or reads (not attribute names): the call's names must not meet them."""
+    return _survey(node).used
+
+
+def _walk_survey(node: ast.FunctionDef) -> _Survey:
     found: set[str] = set()
+    rebinds = called = False
     for n in ast.walk(node):
         if isinstance(n, ast.Name):
             found.add(n.id)
+            rebinds = rebinds or (n.id == "self" and not isinstance(n.ctx, ast.Load))
+        elif isinstance(n, ast.Call):
+            func = n.func
+            called = called or (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id != "self")
         elif isinstance(n, ast.arg):
             found.add(n.arg)
         elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not node:
@@ -382,13 +409,14 @@ def _used_names(node: ast.FunctionDef) -> set[str]:
             found.add((n.asname or n.name).split(".")[0])
         elif isinstance(n, (ast.Global, ast.Nonlocal)):
             found.update(n.names)
+            rebinds = rebinds or "self" in n.names
         elif isinstance(n, ast.ExceptHandler) and n.name:
             found.add(n.name)
         elif isinstance(n, (ast.MatchAs, ast.MatchStar)) and n.name:
             found.add(n.name)
         elif isinstance(n, ast.MatchMapping) and n.rest:
             found.add(n.rest)
-    return found
+    return _Survey(found, rebinds, called)
 
 
 def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
@@ -420,12 +448,15 @@ def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str], pos
 
 
 def _rebinds_self(node: ast.FunctionDef) -> bool:
-    for n in ast.walk(node):
-        if isinstance(n, ast.Name) and n.id == "self" and not isinstance(n.ctx, ast.Load):
-            return True
-        if isinstance(n, (ast.Global, ast.Nonlocal)) and "self" in n.names:
-            return True
-    return False
+    return _survey(node).rebinds_self
+
+
+_Node = typing.TypeVar("_Node", bound=ast.AST)
+
+
+def _located(new: _Node, old: ast.AST) -> _Node:
+    """``new`` (a node a rewrite made) at ``old``'s place, with the nodes it made inside it, for the compiler."""
+    return ast.fix_missing_locations(ast.copy_location(new, old))
 
 
 class _OwnCode(ast.NodeTransformer):
@@ -485,7 +516,7 @@ class _Literals(_OwnCode):
         known = f"{_STORE}literal_{func.id}"
         self.names[known] = literal
         test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
-        return ast.copy_location(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+        return _located(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
 
 
 class _MemberCalls(_OwnCode):
@@ -552,7 +583,7 @@ class _MemberCalls(_OwnCode):
         kept = ast.Subscript(value=elements, slice=ast.BinOp(left=name(index), op=ast.Sub(), right=ast.Constant(lo)), ctx=ast.Load())
         general = ast.Subscript(value=view, slice=name(index), ctx=ast.Load())
         test = ast.BoolOp(op=ast.And(), values=[exact, inside])
-        return ast.copy_location(ast.IfExp(test=test, body=kept, orelse=general), node)
+        return _located(ast.IfExp(test=test, body=kept, orelse=general), node)
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
         array = self._array(node.func)
@@ -579,7 +610,7 @@ class _MemberCalls(_OwnCode):
             known = f"{_STORE}call_{name}"
             self.names[known] = cell
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
-        return ast.copy_location(direct, node)
+        return _located(direct, node)
 
     def _by_position(self, node: ast.Call, cls: type) -> tuple[types.CellType, list[ast.expr]] | None:
         """The positional call's cell and the arguments in the class's input order (``_M`` for one not
@@ -617,15 +648,28 @@ class _DirectStores(_OwnCode):
             return target.attr if target.attr in self.writes else None
         return None
 
+    def generic_visit(self, node: ast.AST) -> ast.AST:
+        """Statements only: the writes rewritten are statements (an expression stores no attribute)."""
+        for field in ("body", "orelse", "finalbody", "handlers", "cases"):
+            statements = getattr(node, field, None)
+            if not isinstance(statements, list):
+                continue
+            rewritten: list[Any] = []
+            for statement in statements:
+                result = self.visit(statement)
+                rewritten.extend(result if isinstance(result, list) else [result])
+            statements[:] = rewritten
+        return node
+
     def visit_Assign(self, node: ast.Assign) -> Any:
         fields = [self._field(target) for target in node.targets]
         if not any(fields):
             return node
         # `self.CV = cv = 0` assigns the one value to each target, left to right.
-        statements: list[ast.stmt] = [ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
+        statements: list[ast.stmt] = [_located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
         for target, field in zip(node.targets, fields):
             if field is None:
-                statements.append(ast.copy_location(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
+                statements.append(_located(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
             else:
                 statements.extend(self._write(node, field, value_class(node.value, self.known)))
         return statements
@@ -650,7 +694,7 @@ class _DirectStores(_OwnCode):
         return node
 
     def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
-        first = ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
+        first = _located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
         return [first, *self._write(node, field, value_class(value, self.known))]
 
     def _write(self, node: ast.stmt, field: str, known: type | None = None) -> list[ast.stmt]:
@@ -672,9 +716,7 @@ class _DirectStores(_OwnCode):
         statements: list[ast.stmt] = [ast.Expr(store_call)]
         if known is None or known is not accepted:
             statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
-        for statement in statements:
-            ast.copy_location(statement, node)
-        return statements
+        return [_located(statement, node) for statement in statements]
 
 
 _INTEGER_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Mod, ast.LShift, ast.RShift)
