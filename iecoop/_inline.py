@@ -228,7 +228,9 @@ def _rewritten(
         call.body = _with_members(call.body, writes, members, names, direct, known, arrays)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
-    call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
+    # Only a body that names one of the literal functions has a literal to read (a walk of its tree otherwise saved).
+    if any(body.__globals__.get(name) is literal for name in code.co_names for literal in _LITERALS):
+        call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     return call
 
 
