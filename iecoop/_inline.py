@@ -129,11 +129,7 @@ def compile_own_writes(
     method cannot be compiled as the same code, or writes none of ``stores``.
     """
     code = func.__code__
-    if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
-        return None
-    if hasattr(func, "__wrapped__") or code not in getattr(owner, "_iec_codes_", ()) or not _stores_attribute(code, stores):
-        return None
-    node = _function_node(func, decorated=True)
+    node = _function_node(func, decorated=True) if _may_compile_method(func, owner, stores) else None
     setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
     if node is None or setting is None:
         return None
@@ -142,11 +138,21 @@ def compile_own_writes(
     stores_out = _DirectStores(stores, names, known)
     statements = [stores_out.visit(statement) for statement in node.body]
     node.body = [s for item in statements for s in (item if isinstance(item, list) else [item])]
-    if not names:
-        return None
-    merged = _compile_in(node, code, sorted(names), flags, imports)
-    if merged is None:
-        return None
+    merged = _compile_in(node, code, sorted(names), flags, imports) if names else None
+    return _method_from(merged, func, names, owner) if merged is not None else None
+
+
+def _may_compile_method(func: types.FunctionType, owner: type, stores: dict[str, Any]) -> bool:
+    """An ordinary function of ``self`` (no generator, no wrapper), the class's own code, storing one of ``stores``."""
+    code = func.__code__
+    if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
+        return False
+    return not hasattr(func, "__wrapped__") and code in getattr(owner, "_iec_codes_", ()) and _stores_attribute(code, stores)
+
+
+def _method_from(merged: types.CodeType, func: types.FunctionType, names: dict[str, Any], owner: type) -> types.FunctionType:
+    """``func`` with the code ``merged``: its closure cells and a cell for each of ``names``, its attributes."""
+    code = func.__code__
     cells = dict(zip(code.co_freevars, func.__closure__ or ()))
     closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
     method = types.FunctionType(merged, func.__globals__, func.__name__, func.__defaults__, closure)
@@ -403,22 +409,27 @@ def _walk_survey(node: ast.FunctionDef) -> _Survey:
         elif isinstance(n, ast.Call):
             func = n.func
             called = called or (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id != "self")
-        elif isinstance(n, ast.arg):
-            found.add(n.arg)
-        elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not node:
-            found.add(n.name)
-        elif isinstance(n, ast.alias):
-            found.add((n.asname or n.name).split(".")[0])
         elif isinstance(n, (ast.Global, ast.Nonlocal)):
             found.update(n.names)
             rebinds = rebinds or "self" in n.names
-        elif isinstance(n, ast.ExceptHandler) and n.name:
-            found.add(n.name)
-        elif isinstance(n, (ast.MatchAs, ast.MatchStar)) and n.name:
-            found.add(n.name)
-        elif isinstance(n, ast.MatchMapping) and n.rest:
-            found.add(n.rest)
+        elif (bound := _bound_name(n, node)) is not None:
+            found.add(bound)
     return _Survey(found, rebinds, called)
+
+
+def _bound_name(n: ast.AST, top: ast.FunctionDef) -> str | None:
+    """The name ``n`` binds other than by a plain name (a parameter, a def, an import, ``except ... as``, a match)."""
+    if isinstance(n, ast.arg):
+        return n.arg
+    if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not top:
+        return n.name
+    if isinstance(n, ast.alias):
+        return (n.asname or n.name).split(".")[0]
+    if isinstance(n, (ast.ExceptHandler, ast.MatchAs, ast.MatchStar)):
+        return n.name or None
+    if isinstance(n, ast.MatchMapping):
+        return n.rest or None
+    return None
 
 
 def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
@@ -739,13 +750,6 @@ def value_class(node: ast.expr, known: dict[str, type]) -> type | None:
     if isinstance(node, ast.Attribute):
         path = _read_path(node)
         return known.get(path) if path is not None else None
-    if isinstance(node, ast.UnaryOp):
-        if isinstance(node.op, ast.Not):
-            return bool
-        operand = value_class(node.operand, known)
-        if operand is float and not isinstance(node.op, ast.Invert):
-            return float
-        return int if operand in (bool, int) else None
     if isinstance(node, ast.Compare):
         operands = [node.left, *node.comparators]
         return bool if all(value_class(o, known) in (bool, int, float) for o in operands) else None
@@ -755,17 +759,32 @@ def value_class(node: ast.expr, known: dict[str, type]) -> type | None:
     if isinstance(node, ast.IfExp):
         body, orelse = value_class(node.body, known), value_class(node.orelse, known)
         return body if body is orelse else None
+    if isinstance(node, ast.UnaryOp):
+        return _unary_class(node, known)
     if isinstance(node, ast.BinOp):
-        left, right = value_class(node.left, known), value_class(node.right, known)
-        integers = (bool, int)
-        if left in integers and right in integers:
-            if isinstance(node.op, _BIT_OPS):
-                return bool if left is right is bool else int
-            if isinstance(node.op, _INTEGER_OPS):
-                return int
-            return float if isinstance(node.op, ast.Div) else None
-        if float in (left, right) and {left, right} <= {bool, int, float} and isinstance(node.op, _REAL_OPS):
-            return float
+        return _binary_class(node, value_class(node.left, known), value_class(node.right, known))
+    return None
+
+
+def _unary_class(node: ast.UnaryOp, known: dict[str, type]) -> type | None:
+    if isinstance(node.op, ast.Not):
+        return bool
+    operand = value_class(node.operand, known)
+    if operand is float and not isinstance(node.op, ast.Invert):
+        return float
+    return int if operand in (bool, int) else None
+
+
+def _binary_class(node: ast.BinOp, left: type | None, right: type | None) -> type | None:
+    integers = (bool, int)
+    if left in integers and right in integers:
+        if isinstance(node.op, _BIT_OPS):
+            return bool if left is right is bool else int
+        if isinstance(node.op, _INTEGER_OPS):
+            return int
+        return float if isinstance(node.op, ast.Div) else None
+    if float in (left, right) and {left, right} <= {bool, int, float} and isinstance(node.op, _REAL_OPS):
+        return float
     return None
 
 
