@@ -34,29 +34,34 @@ from __future__ import annotations
 import __future__
 import ast
 import copy
+import dis
 import functools
 import inspect
 import linecache
 import symtable
 import types
+import typing
 from collections.abc import Callable
 from typing import Any
 
-from iecoop._codegen import definition
+from iecoop._codegen import definition, register_definition
 from iecoop.literals import D, T
-from iecoop.memory._core import keep_member_views
+from iecoop.memory._views import ELEMENT_VIEWS, keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
-__all__ = ["inline_call"]
+__all__ = ["compile_own_writes", "inline_call"]
 
 _FUTURE_FLAGS = 0
 for _feature in __future__.all_feature_names:
     _FUTURE_FLAGS |= getattr(__future__, _feature).compiler_flag
 _NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR | inspect.CO_ITERABLE_COROUTINE
+#: A METHOD compiled with its writes written out is an ordinary function (any parameters).
+_NOT_ORDINARY = _NOT_PLAIN
 _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 #: ``direct(cls)``: the cell a member call calls ``cls`` through with the inputs by position, and their order.
 Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
+_STORE_ATTR, _EXTENDED_ARG = dis.opmap["STORE_ATTR"], dis.opmap["EXTENDED_ARG"]
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
@@ -67,7 +72,8 @@ def inline_call(
     name: str, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
-    views: dict[str, str] | None = None,
+    views: dict[str, str] | None = None, known: dict[str, type] | None = None,
+    arrays: dict[str, tuple[type, int, int]] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -85,24 +91,23 @@ def inline_call(
     ``views`` (checked mode): per STRUCT / ARRAY variable its own code may
     write, the key its view is kept under for that code, as a member's; the
     body's own ``self.stations`` reads it instead of the checked descriptor.
+    ``known`` (checked mode): the class a read of each variable gives (see ``value_class``).
+    ``arrays``: per one-dimensional ARRAY OF a block, its element class and
+    bounds; the body's own ``self.stations[i]`` reads the kept element in place.
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
     node = _function_node(body) if _plain(body) else None
-    if node is None:
-        return None
-    used = _used_names(node)
     # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
-    if _meets_call(used, {*kwdefaults, *names}) or _returns_value(node):
+    setting = _recompiles(node, body, {*kwdefaults, *names}) if node is not None and not _returns_value(node) else None
+    if node is None or setting is None:
         return None
-    flags = code.co_flags & _FUTURE_FLAGS
-    imports = _imports_used(node, body, used)
-    same = _compile_in(node, code, [], flags, imports)
-    if same is None or _without_nested(same) != _without_nested(code):
-        return None
+    flags, imports = setting
     # The rewrites add the objects their code reads; the builder's dict stays as given.
     names = dict(names)
-    call = _rewritten(node, body, params, lines, names, owner, stores, members, positional, direct, views or {})
+    call = _rewritten(
+        node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
+    )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
         return None
@@ -110,6 +115,74 @@ def inline_call(
     # Whoever owns the body owns its copy here; nested code (a comprehension) compiles equal to the original's.
     adopt_code(merged, code, owner)
     return function
+
+
+def compile_own_writes(
+    func: types.FunctionType, owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], known: dict[str, type],
+) -> types.FunctionType | None:
+    """Checked mode: ``func`` (a METHOD of ``owner``) with its own ``self.x = value`` written out, as the call's are.
+
+    The same function otherwise: its signature, defaults, attributes, closure
+    cells, globals, file and lines. ``stores`` is the call's (see ``inline_call``);
+    ``known``: the Python type a read of each elementary variable gives, so a
+    value of known type skips the class check it would pass. None when the
+    method cannot be compiled as the same code, or writes none of ``stores``.
+    """
+    code = func.__code__
+    node = _function_node(func, decorated=True) if _may_compile_method(func, owner, stores) else None
+    setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
+    if node is None or setting is None:
+        return None
+    flags, imports = setting
+    names: dict[str, Any] = {}
+    stores_out = _DirectStores(stores, names, known)
+    statements = [stores_out.visit(statement) for statement in node.body]
+    node.body = [s for item in statements for s in (item if isinstance(item, list) else [item])]
+    merged = _compile_in(node, code, sorted(names), flags, imports) if names else None
+    return _method_from(merged, func, names, owner) if merged is not None else None
+
+
+def _may_compile_method(func: types.FunctionType, owner: type, stores: dict[str, Any]) -> bool:
+    """An ordinary function of ``self`` (no generator, no wrapper), the class's own code, storing one of ``stores``."""
+    code = func.__code__
+    if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
+        return False
+    return not hasattr(func, "__wrapped__") and code in getattr(owner, "_iec_codes_", ()) and _stores_attribute(code, stores)
+
+
+def _method_from(merged: types.CodeType, func: types.FunctionType, names: dict[str, Any], owner: type) -> types.FunctionType:
+    """``func`` with the code ``merged``: its closure cells and a cell for each of ``names``, its attributes."""
+    code = func.__code__
+    cells = dict(zip(code.co_freevars, func.__closure__ or ()))
+    closure = tuple(cells[v] if v in cells else types.CellType(names[v]) for v in merged.co_freevars)
+    method = types.FunctionType(merged, func.__globals__, func.__name__, func.__defaults__, closure)
+    method.__kwdefaults__ = func.__kwdefaults__
+    method.__annotations__ = func.__annotations__
+    method.__dict__.update(func.__dict__)
+    method.__qualname__, method.__module__, method.__doc__ = func.__qualname__, func.__module__, func.__doc__
+    adopt_code(merged, code, owner)
+    registered = definition(code)
+    if registered is not None:  # loaded ST: the writer reads the method's Python from its recorded definition
+        register_definition(merged, *registered)
+    return method
+
+
+def _recompiles(node: ast.FunctionDef, func: types.FunctionType, call_names: set[str]) -> tuple[int, list[str]] | None:
+    """The ``__future__`` flags and module imports under which ``node`` compiles to ``func``'s own code.
+
+    None when it does not (the source is not the running code), or when a name it uses meets ``call_names``
+    or one the rewrites add.
+    """
+    code = func.__code__
+    used = _used_names(node)
+    if _meets_call(used, call_names):
+        return None
+    flags = code.co_flags & _FUTURE_FLAGS
+    imports = _imports_used(node, func, used)
+    same = _compile_in(node, code, [], flags, imports)
+    if same is None or _without_nested(same) != _without_nested(code):
+        return None
+    return flags, imports
 
 
 def _plain(body: types.FunctionType) -> bool:
@@ -135,17 +208,15 @@ def _returns_value(node: ast.FunctionDef) -> bool:
 def _imports_used(node: ast.FunctionDef, body: types.FunctionType, used: set[str]) -> list[str]:
     """The module's top-level imports the body uses, when it calls ``name.attr(...)`` on a name; else none."""
     # Only `name.attr(...)` compiles differently when `name` is imported; most bodies call only `self.x(...)`.
-    called = any(
-        isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and isinstance(n.func.value, ast.Name)
-        and n.func.value.id != "self" for n in ast.walk(node)
-    )
+    called = _survey(node).calls_attribute
     return sorted(_module_imports(body.__code__, body.__globals__) & used) if called else []
 
 
 def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
-    positional: bool, direct: Direct | None, views: dict[str, str],
+    positional: bool, direct: Direct | None, views: dict[str, str], known: dict[str, type],
+    arrays: dict[str, tuple[type, int, int]],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -160,31 +231,33 @@ def _rewritten(
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names, direct)
+        call.body = _with_members(call.body, writes, members, names, direct, known, arrays)
+    call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
-    call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
-    ast.fix_missing_locations(call)
+    # Only a body that names one of the literal functions has a literal to read (a walk of its tree otherwise saved).
+    if any(body.__globals__.get(name) is literal for name in code.co_names for literal in _LITERALS):
+        call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
     return call
 
 
 def _with_members(
     statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
+    known: dict[str, type], arrays: dict[str, tuple[type, int, int]],
 ) -> list[ast.stmt]:
     """``statements`` with the direct stores, then the member calls, then the member reads written out."""
     if writes:
-        statements = [_DirectStores(writes, names).visit(statement) for statement in statements]
+        statements = [_DirectStores(writes, names, known).visit(statement) for statement in statements]
         # A store becomes a list of statements.
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
-        statements = [_MemberCalls(members, names, direct).visit(statement) for statement in statements]
+        statements = [_MemberCalls(members, names, direct, arrays).visit(statement) for statement in statements]
         keys = {member: key for member, (key, _cls) in members.items()}
         statements = [_MemberReads(keys).visit(statement) for statement in statements]
-        statements = _with_views_kept(statements, set(keys.values()), names)
     return statements
 
 
-def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any]) -> list[ast.stmt]:
+def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str, Any], where: ast.AST) -> list[ast.stmt]:
     """``statements``, first making sure the member views they read are kept under their keys.
 
     ::
@@ -209,7 +282,7 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
     fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
     handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
     prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
-    return [prologue, *statements]
+    return [_located(prologue, where), *statements]  # at the def line, as the input lines
 
 
 def _call_function(
@@ -230,48 +303,133 @@ def _call_function(
     return function
 
 
-def _function_node(body: types.FunctionType) -> ast.FunctionDef | None:
-    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source."""
+def _function_node(body: types.FunctionType, decorated: bool = False) -> ast.FunctionDef | None:
+    """The body's ``def`` as the source holds it, at its own lines and columns; None without its source.
+
+    ``decorated``: a ``def`` under decorators (a METHOD's ``@method``) is taken too; its code
+    starts at the first decorator's line, as the function's does.
+    """
     registered = definition(body.__code__)
     if registered is not None:  # loaded ST: the file holds ST, the generated def is recorded
         node = copy.deepcopy(registered[0])
         named = isinstance(node, ast.FunctionDef) and node.name == body.__code__.co_name
-        return node if isinstance(node, ast.FunctionDef) and named and not node.decorator_list else None
+        return node if isinstance(node, ast.FunctionDef) and named and (decorated or not node.decorator_list) else None
+    line = body.__code__.co_firstlineno
     try:
-        source = inspect.getsource(body)
-        # An indented def (a method) parses inside an `if`, which keeps its columns.
-        tree = ast.parse(f"if 1:\n{source}" if source[:1].isspace() else source)
-    except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
+        tree = _parsed(_source_of(body), line)
+    except SyntaxError:  # the lines the code covers end before the def does (a docstring alone, say)
+        try:
+            tree = _parsed(inspect.getsource(body), line)
+        except (OSError, TypeError, SyntaxError, ValueError, RecursionError):
+            return None
+    except (OSError, TypeError, ValueError, RecursionError):
         return None
     top = tree.body[0]
     node = top.body[0] if isinstance(top, ast.If) else top
-    if not isinstance(node, ast.FunctionDef) or node.decorator_list or node.name != body.__code__.co_name:
+    if not isinstance(node, ast.FunctionDef) or (node.decorator_list and not decorated) or node.name != body.__code__.co_name:
         return None
-    ast.increment_lineno(node, body.__code__.co_firstlineno - node.lineno)
+    first = node.decorator_list[0].lineno if node.decorator_list else node.lineno
+    if first != line:
+        ast.increment_lineno(node, line - first)
     return node
+
+
+def _parsed(source: str, line: int) -> ast.Module:
+    """``source``, whose first line is the file's ``line``, parsed at the file's line numbers."""
+    # An indented def (a method) parses inside an `if`, which keeps its columns; blank lines before it put it at its line.
+    if source[:1].isspace():
+        return ast.parse("\n" * (line - 2) + f"if 1:\n{source}" if line >= 2 else f"if 1:\n{source}")
+    return ast.parse("\n" * (line - 1) + source)
+
+
+def _source_of(func: types.FunctionType) -> str:
+    """The lines of ``func``'s ``def`` (from its first decorator), as ``inspect.getsource`` gives them.
+
+    The ``def`` ends at the last line its code (nested code included) covers,
+    read from the code rather than by tokenizing the file again; a ``def`` cut
+    short does not parse, or does not compile to the running code, which the
+    callers check.
+    """
+    code = func.__code__
+    lines = linecache.getlines(code.co_filename, func.__globals__)
+    if not lines:
+        return inspect.getsource(func)
+    return "".join(lines[code.co_firstlineno - 1:_last_line(code)])
+
+
+def _last_line(code: types.CodeType) -> int:
+    last = max((end for _start, end, _col, _end_col in code.co_positions() if end is not None), default=code.co_firstlineno)
+    nested = (_last_line(const) for const in code.co_consts if isinstance(const, types.CodeType))
+    return max([last, *nested])
+
+
+def _stores_attribute(code: types.CodeType, names: Any) -> bool:
+    """Whether ``code`` itself (not code nested in it) stores an attribute named in ``names`` (``self.x = ...``)."""
+    raw, extended = code.co_code, 0
+    for i in range(0, len(raw), 2):
+        op, arg = raw[i], raw[i + 1] | extended
+        if op == _EXTENDED_ARG:
+            extended = arg << 8
+            continue
+        extended = 0
+        if op == _STORE_ATTR and code.co_names[arg] in names:
+            return True
+    return False
+
+
+class _Survey(typing.NamedTuple):
+    """What one walk over a ``def`` finds: the names it uses, whether it rebinds ``self``, whether it calls ``name.attr()``."""
+
+    used: set[str]
+    rebinds_self: bool
+    calls_attribute: bool
+
+
+def _survey(node: ast.FunctionDef) -> _Survey:
+    """One walk over ``node``, kept on it (the checks below each ask a part of it)."""
+    kept: _Survey | None = getattr(node, "_iec_survey_", None)
+    if kept is None:
+        kept = _walk_survey(node)
+        setattr(node, "_iec_survey_", kept)
+    return kept
 
 
 def _used_names(node: ast.FunctionDef) -> set[str]:
     """Every name the body binds or reads (not attribute names): the call's names must not meet them."""
+    return _survey(node).used
+
+
+def _walk_survey(node: ast.FunctionDef) -> _Survey:
     found: set[str] = set()
+    rebinds = called = False
     for n in ast.walk(node):
         if isinstance(n, ast.Name):
             found.add(n.id)
-        elif isinstance(n, ast.arg):
-            found.add(n.arg)
-        elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not node:
-            found.add(n.name)
-        elif isinstance(n, ast.alias):
-            found.add((n.asname or n.name).split(".")[0])
+            rebinds = rebinds or (n.id == "self" and not isinstance(n.ctx, ast.Load))
+        elif isinstance(n, ast.Call):
+            func = n.func
+            called = called or (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id != "self")
         elif isinstance(n, (ast.Global, ast.Nonlocal)):
             found.update(n.names)
-        elif isinstance(n, ast.ExceptHandler) and n.name:
-            found.add(n.name)
-        elif isinstance(n, (ast.MatchAs, ast.MatchStar)) and n.name:
-            found.add(n.name)
-        elif isinstance(n, ast.MatchMapping) and n.rest:
-            found.add(n.rest)
-    return found
+            rebinds = rebinds or "self" in n.names
+        elif (bound := _bound_name(n, node)) is not None:
+            found.add(bound)
+    return _Survey(found, rebinds, called)
+
+
+def _bound_name(n: ast.AST, top: ast.FunctionDef) -> str | None:
+    """The name ``n`` binds other than by a plain name (a parameter, a def, an import, ``except ... as``, a match)."""
+    if isinstance(n, ast.arg):
+        return n.arg
+    if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and n is not top:
+        return n.name
+    if isinstance(n, ast.alias):
+        return (n.asname or n.name).split(".")[0]
+    if isinstance(n, (ast.ExceptHandler, ast.MatchAs, ast.MatchStar)):
+        return n.name or None
+    if isinstance(n, ast.MatchMapping):
+        return n.rest or None
+    return None
 
 
 def _own_nodes(node: ast.FunctionDef) -> list[ast.AST]:
@@ -303,12 +461,15 @@ def _with_inputs(node: ast.FunctionDef, params: list[str], lines: list[str], pos
 
 
 def _rebinds_self(node: ast.FunctionDef) -> bool:
-    for n in ast.walk(node):
-        if isinstance(n, ast.Name) and n.id == "self" and not isinstance(n.ctx, ast.Load):
-            return True
-        if isinstance(n, (ast.Global, ast.Nonlocal)) and "self" in n.names:
-            return True
-    return False
+    return _survey(node).rebinds_self
+
+
+_Node = typing.TypeVar("_Node", bound=ast.AST)
+
+
+def _located(new: _Node, old: ast.AST) -> _Node:
+    """``new`` (a node a rewrite made) at ``old``'s place, with the nodes it made inside it, for the compiler."""
+    return ast.fix_missing_locations(ast.copy_location(new, old))
 
 
 class _OwnCode(ast.NodeTransformer):
@@ -368,7 +529,7 @@ class _Literals(_OwnCode):
         known = f"{_STORE}literal_{func.id}"
         self.names[known] = literal
         test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
-        return ast.copy_location(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+        return _located(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
 
 
 class _MemberCalls(_OwnCode):
@@ -385,31 +546,84 @@ class _MemberCalls(_OwnCode):
 
         _iec_w_position_timer(self._iec_m_0timer, x, _M)    # self.timer(IN=x)
         _iec_w_call_timer(self._iec_m_0timer, PT=t, IN=x)   # self.timer(PT=t, IN=x)
+
+    An element of an ``ARRAY[lo..hi] OF`` a block (``arrays``: per such
+    variable its element class and bounds) is a view of exactly that class
+    too, and indexing it reads the array's kept element views in place, the
+    bounds checked as ``__getitem__`` checks them (an exact ``int`` in bounds;
+    any other index goes to ``__getitem__``, which refuses or converts it)::
+
+        _iec_w_position_stations(                            # self.stations[i](sensor=x)
+            self._iec_m_0stations._iec_m_elements[_iec_w_index - 1]
+            if _iec_w_type(_iec_w_index := i) is _iec_w_int and 1 <= _iec_w_index <= 1000
+            else self._iec_m_0stations[_iec_w_index],
+            x)
     """
 
-    def __init__(self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None) -> None:
+    def __init__(
+        self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
+        arrays: dict[str, tuple[type, int, int]] | None = None,
+    ) -> None:
         self.members, self.names, self.direct = members, names, direct
+        self.arrays = arrays or {}
+
+    def _array(self, node: ast.expr) -> str | None:
+        """The ARRAY OF blocks variable ``node`` indexes once (``self.stations[i]``, a read), else None."""
+        if not (isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load) and not isinstance(node.slice, (ast.Tuple, ast.Slice))):
+            return None
+        value = node.value
+        if isinstance(value, ast.Attribute) and isinstance(value.value, ast.Name) and value.value.id == "self":
+            return value.attr if value.attr in self.arrays and value.attr in self.members else None
+        return None
+
+    def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
+        self.generic_visit(node)
+        array = self._array(node)
+        if array is None:
+            return node
+        _cls, lo, hi = self.arrays[array]
+        index, kind, whole = f"{_STORE}index", f"{_STORE}type", f"{_STORE}int"
+        self.names.update({kind: type, whole: int})
+        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=self.members[array][0], ctx=ast.Load())
+
+        def name(identifier: str) -> ast.Name:
+            return ast.Name(id=identifier, ctx=ast.Load())
+
+        given = ast.NamedExpr(target=ast.Name(id=index, ctx=ast.Store()), value=node.slice)
+        exact = ast.Compare(left=ast.Call(func=name(kind), args=[given], keywords=[]), ops=[ast.Is()], comparators=[name(whole)])
+        inside = ast.Compare(left=ast.Constant(lo), ops=[ast.LtE(), ast.LtE()], comparators=[name(index), ast.Constant(hi)])
+        elements = ast.Attribute(value=view, attr=ELEMENT_VIEWS, ctx=ast.Load())
+        kept = ast.Subscript(value=elements, slice=ast.BinOp(left=name(index), op=ast.Sub(), right=ast.Constant(lo)), ctx=ast.Load())
+        general = ast.Subscript(value=view, slice=name(index), ctx=ast.Load())
+        test = ast.BoolOp(op=ast.And(), values=[exact, inside])
+        return _located(ast.IfExp(test=test, body=kept, orelse=general), node)
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
+        array = self._array(node.func)
         self.generic_visit(node)
         func = node.func
-        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
+        cls: type | None
+        view: ast.expr
+        if array is not None:  # an element of an ARRAY OF blocks, read in place by visit_Subscript
+            name, cls, view = array, self.arrays[array][0], func
+        elif isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self":
+            key, cls = self.members.get(func.attr, ("", None))
+            name, view = func.attr, ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
+        else:
             return node
-        key, cls = self.members.get(func.attr, ("", None))
         cell = cls.__dict__.get("_iec_call_cell_") if cls is not None else None
         if cls is None or not isinstance(cell, types.CellType):
             return node
-        view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=key, ctx=ast.Load())
         by_position = self._by_position(node, cls)
         if by_position is not None:
-            known = f"{_STORE}position_{func.attr}"
+            known = f"{_STORE}position_{name}"
             self.names[known], values = by_position
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *values], keywords=[])
         else:
-            known = f"{_STORE}call_{func.attr}"
+            known = f"{_STORE}call_{name}"
             self.names[known] = cell
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
-        return ast.copy_location(direct, node)
+        return _located(direct, node)
 
     def _by_position(self, node: ast.Call, cls: type) -> tuple[types.CellType, list[ast.expr]] | None:
         """The positional call's cell and the arguments in the class's input order (``_M`` for one not
@@ -425,36 +639,52 @@ class _MemberCalls(_OwnCode):
 
 
 class _DirectStores(_OwnCode):
-    """``self.x = value`` / ``self.x += value`` in the body's own statements, as checked ``__setattr__`` does it.
-
-    ::
+    """``self.x = value`` / ``self.x += value`` / ``for self.x in ...`` in the body's own statements, as checked
+    ``__setattr__`` does it::
 
         _iec_w_value = value
         if _iec_w_value.__class__ is not _iec_w_accepted_x: _iec_w_check_x(_iec_w_value, "Class.x")
         _iec_w_store_x(self, _iec_w_value)
 
+    A value whose class is known from the code alone (``self.n + 1`` with ``n``
+    an INT, ``self.timer.Q``, a constant) skips the class check it would pass.
     Nested functions, lambdas and classes are left alone (their code must stay the body's).
     """
 
-    def __init__(self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any]) -> None:
-        self.writes, self.names = writes, names
+    def __init__(
+        self, writes: dict[str, tuple[Any, bool, Any, str, Any]], names: dict[str, Any], known: dict[str, type] | None = None,
+    ) -> None:
+        self.writes, self.names, self.known = writes, names, known or {}
 
     def _field(self, target: ast.expr) -> str | None:
         if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
             return target.attr if target.attr in self.writes else None
         return None
 
+    def generic_visit(self, node: ast.AST) -> ast.AST:
+        """Statements only: the writes rewritten are statements (an expression stores no attribute)."""
+        for field in ("body", "orelse", "finalbody", "handlers", "cases"):
+            statements = getattr(node, field, None)
+            if not isinstance(statements, list):
+                continue
+            rewritten: list[Any] = []
+            for statement in statements:
+                result = self.visit(statement)
+                rewritten.extend(result if isinstance(result, list) else [result])
+            statements[:] = rewritten
+        return node
+
     def visit_Assign(self, node: ast.Assign) -> Any:
         fields = [self._field(target) for target in node.targets]
         if not any(fields):
             return node
         # `self.CV = cv = 0` assigns the one value to each target, left to right.
-        statements: list[ast.stmt] = [ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
+        statements: list[ast.stmt] = [_located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
         for target, field in zip(node.targets, fields):
             if field is None:
-                statements.append(ast.copy_location(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
+                statements.append(_located(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
             else:
-                statements.extend(self._write(node, field))
+                statements.extend(self._write(node, field, value_class(node.value, self.known)))
         return statements
 
     def visit_AugAssign(self, node: ast.AugAssign) -> Any:
@@ -465,12 +695,26 @@ class _DirectStores(_OwnCode):
         value = ast.BinOp(left=ast.copy_location(current, node.target), op=node.op, right=node.value)
         return self._store(node, field, ast.copy_location(value, node))
 
-    def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
-        first = ast.copy_location(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
-        return [first, *self._write(node, field)]
+    def visit_For(self, node: ast.For) -> Any:
+        """``for self.i in ...:`` (ST's FOR with a variable of the block): each pass stores the counter written out."""
+        self.generic_visit(node)
+        field = self._field(node.target)
+        if field is None:
+            return node
+        # The loop hands each value to the store, then the statements run, as Python's for assigns its target.
+        node.target = ast.copy_location(ast.Name(id=_VALUE, ctx=ast.Store()), node.target)
+        node.body = [*self._write(node, field), *node.body]
+        return node
 
-    def _write(self, node: ast.stmt, field: str) -> list[ast.stmt]:
-        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does."""
+    def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
+        first = _located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
+        return [first, *self._write(node, field, value_class(value, self.known))]
+
+    def _write(self, node: ast.stmt, field: str, known: type | None = None) -> list[ast.stmt]:
+        """Store the value held in ``_VALUE`` into ``self.<field>`` as the checked ``__setattr__`` does.
+
+        ``known``: the value's class, when the code alone says it (the check is left out when it would pass).
+        """
         accepted, _inside, check, where, store = self.writes[field]
         self.names.update({f"{_STORE}accepted_{field}": accepted, f"{_STORE}check_{field}": check, f"{_STORE}store_{field}": store})
         v = _VALUE
@@ -481,11 +725,79 @@ class _DirectStores(_OwnCode):
         kind = ast.Compare(left=ast.Attribute(value=name(v), attr="__class__", ctx=ast.Load()), ops=[ast.IsNot()],
                            comparators=[name(f"{_STORE}accepted_{field}")])
         check = ast.Call(func=name(f"{_STORE}check_{field}"), args=[name(v), ast.Constant(where)], keywords=[])
-        store = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
-        statements: list[ast.stmt] = [ast.If(test=kind, body=[ast.Expr(check)], orelse=[]), ast.Expr(store)]
-        for statement in statements:
-            ast.copy_location(statement, node)
-        return statements
+        store_call = ast.Call(func=name(f"{_STORE}store_{field}"), args=[name("self"), name(v)], keywords=[])
+        statements: list[ast.stmt] = [ast.Expr(store_call)]
+        if known is None or known is not accepted:
+            statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
+        return [_located(statement, node) for statement in statements]
+
+
+_INTEGER_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Mod, ast.LShift, ast.RShift)
+_BIT_OPS = (ast.BitAnd, ast.BitOr, ast.BitXor)
+_REAL_OPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.FloorDiv, ast.Mod)
+
+
+def value_class(node: ast.expr, known: dict[str, type]) -> type | None:
+    """The exact class of the value ``node`` gives, when the code alone says it (else None).
+
+    ``known``: per variable read (``"x"`` for ``self.x``, ``"timer.Q"`` for
+    ``self.timer.Q``), the class its ctypes field gives (``bool``, ``int``,
+    ``float``). Constants, and arithmetic, comparisons and ``not`` over those,
+    follow Python's own rules for these three classes.
+    """
+    if isinstance(node, ast.Constant):
+        return type(node.value) if type(node.value) in (bool, int, float) else None
+    if isinstance(node, ast.Attribute):
+        path = _read_path(node)
+        return known.get(path) if path is not None else None
+    if isinstance(node, ast.Compare):
+        operands = [node.left, *node.comparators]
+        return bool if all(value_class(o, known) in (bool, int, float) for o in operands) else None
+    if isinstance(node, ast.BoolOp):
+        classes = {value_class(v, known) for v in node.values}
+        return classes.pop() if len(classes) == 1 else None
+    if isinstance(node, ast.IfExp):
+        body, orelse = value_class(node.body, known), value_class(node.orelse, known)
+        return body if body is orelse else None
+    if isinstance(node, ast.UnaryOp):
+        return _unary_class(node, known)
+    if isinstance(node, ast.BinOp):
+        return _binary_class(node, value_class(node.left, known), value_class(node.right, known))
+    return None
+
+
+def _unary_class(node: ast.UnaryOp, known: dict[str, type]) -> type | None:
+    if isinstance(node.op, ast.Not):
+        return bool
+    operand = value_class(node.operand, known)
+    if operand is float and not isinstance(node.op, ast.Invert):
+        return float
+    return int if operand in (bool, int) else None
+
+
+def _binary_class(node: ast.BinOp, left: type | None, right: type | None) -> type | None:
+    integers = (bool, int)
+    if left in integers and right in integers:
+        if isinstance(node.op, _BIT_OPS):
+            return bool if left is right is bool else int
+        if isinstance(node.op, _INTEGER_OPS):
+            return int
+        return float if isinstance(node.op, ast.Div) else None
+    if float in (left, right) and {left, right} <= {bool, int, float} and isinstance(node.op, _REAL_OPS):
+        return float
+    return None
+
+
+def _read_path(node: ast.Attribute) -> str | None:
+    """``self.x`` -> ``"x"``, ``self.timer.Q`` -> ``"timer.Q"`` (a read), else None."""
+    if not isinstance(node.ctx, ast.Load):
+        return None
+    if isinstance(node.value, ast.Name) and node.value.id == "self":
+        return node.attr
+    inner = node.value
+    if isinstance(inner, ast.Attribute) and isinstance(inner.value, ast.Name) and inner.value.id == "self":
+        return f"{inner.attr}.{node.attr}"
+    return None
 
 
 def _module_imports(code: types.CodeType, module_globals: dict[str, Any]) -> frozenset[str]:

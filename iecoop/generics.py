@@ -60,7 +60,10 @@ from typing import Annotated, Any, TypeAlias, TypeVar
 
 from iecoop.metadata import layout_of
 from iecoop.exceptions import AccessError
-from iecoop.memory._core import AggregateInfo, TypeInfo, handle_of, resolve_type
+from iecoop.memory._aggregates import AggregateInfo
+from iecoop.memory._handles import handle_of
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._resolve import resolve_type
 from iecoop.memory.operators import TYPE_CLASS, _type_class, adr
 from iecoop.memory.pointers import Pointer
 

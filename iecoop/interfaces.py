@@ -31,7 +31,8 @@ import typing
 from typing import Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import class_info, handle_of
+from iecoop.memory._handles import handle_of
+from iecoop.memory._resolve import class_info
 from iecoop.memory.interface_references import NullInterface
 from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import DefinitionScope, class_st_name, register_builder

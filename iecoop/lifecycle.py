@@ -39,18 +39,9 @@ from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
 from iecoop.exceptions import AccessError, ExceptionCode, PlcException
-from iecoop.memory._core import (
-    AggregateInfo,
-    ArrayInfo,
-    allocation_for_handle,
-    class_info,
-    free,
-    poison,
-    register,
-    release_held,
-    resolve,
-    table_lock,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._handles import allocation_for_handle, free, poison, register, release_held, resolve, table_lock
+from iecoop.memory._resolve import class_info
 from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description

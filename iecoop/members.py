@@ -593,6 +593,15 @@ def guard(func: Callable[..., Any], label: str, flags: Access, owner_ref: list[t
     return internal
 
 
+def rewrap(guarded: Any, func: Callable[..., Any], replacement: Callable[..., Any]) -> None:
+    """Make the guard ``guarded`` made for ``func`` call ``replacement`` instead (the same METHOD, compiled again)."""
+    if getattr(guarded, "__wrapped__", None) is not func:
+        return
+    cell = guarded.__closure__[guarded.__code__.co_freevars.index("func")]
+    cell.cell_contents = replacement
+    guarded.__wrapped__ = replacement
+
+
 def _no_set_accessor(where: str) -> Callable[[Any, Any], None]:
     def read_only(self: Any, value: Any) -> None:
         raise AttributeError(f"PROPERTY {where} has no Set accessor: it is read-only")

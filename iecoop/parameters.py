@@ -60,7 +60,10 @@ from typing import Any, TypeVar
 from iecoop._codegen import compile_source
 from iecoop.exceptions import DefinitionError
 from iecoop.generics import with_generics
-from iecoop.memory._core import access_violation, AggregateInfo, TypeInfo, handle_of, resolve_type
+from iecoop.memory._aggregates import AggregateInfo
+from iecoop.memory._handles import access_violation, handle_of
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._resolve import resolve_type
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.layout import MISSING, FieldSpec
 

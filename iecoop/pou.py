@@ -44,22 +44,15 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop._codegen import compile_source
-from iecoop._inline import inline_call
+from iecoop._inline import compile_own_writes, inline_call
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
 from iecoop.parameters import wrap_parameters
 from iecoop.lifecycle import fb_children, initialise
-from iecoop.memory._core import (
-    CheckedMemberField,
-    AggregateInfo,
-    ArrayInfo,
-    VIEW_PREFIX,
-    TypeInfo,
-    _MemberProperty,
-    new_class_tag,
-    set_state_without_views,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo, new_class_tag
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._views import CheckedMemberField, VIEW_PREFIX, _MemberProperty, set_state_without_views
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.references import ReferenceInfo
@@ -91,12 +84,13 @@ from iecoop.members import (
     members_of_namespace,
     narrower,
     register_code,
+    rewrap,
     same_signature,
     visibility,
 )
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
-from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, pou_setattr, write_rules
+from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, known_reads, pou_setattr, write_rules
 
 register_builder(__file__)
 
@@ -419,6 +413,24 @@ class _PouBuilder:
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout, st_aliases(cls, layout))
+            _compile_methods(cls, layout, self.original_namespace)
+
+
+def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -> None:
+    """Checked mode: each METHOD's own writes written out, as the call writes the body's (``compile_own_writes``)."""
+    stores = fast_writes(layout, cls._iec_write_rules_)
+    known = known_reads(cls, layout)
+    for name, func in namespace.items():
+        if not isinstance(func, types.FunctionType) or name == "body" or (name.startswith("__") and name.endswith("__")):
+            continue
+        compiled = compile_own_writes(func, cls, stores, known) if stores else None
+        if compiled is None:
+            continue
+        installed = cls.__dict__.get(name)
+        if installed is func:
+            setattr(cls, name, compiled)
+        else:  # PRIVATE, PROTECTED or INTERNAL: the guard calls the compiled method
+            rewrap(installed, func, compiled)
 
 
 def _record(cls: type) -> IecClass:
@@ -702,6 +714,8 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         # in place (the class check, the validator only for another class, the store): the same work, no call.
         rules = write_rules(cls, layout) if _config.CHECKS else {}
         stores: dict[str, FastWrite] = fast_writes(layout, rules) if _config.CHECKS else {}
+        # A value the code alone shows to be of the variable's class skips the class check it would pass.
+        known = known_reads(cls, layout) if _config.CHECKS else {}
         # A block member's read `self.timer` is its property's getter, attrgetter(alias), which keeps the view;
         # the call reads the same view under a key with no class attribute (see VIEW_PREFIX).
         # A member declared as one block is a view of exactly that class (its memory holds that type).
@@ -719,9 +733,15 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         }
         cls._iec_own_views_ = tuple(own_views.values())
         views = {name: key for name, (key, _read) in own_views.items()}
+        # A one-dimensional ARRAY OF a block: the body's own `self.stations[i]` reads the kept element in place.
+        arrays = {
+            r.name: (r.info.elem.cls, *r.info.bounds[0]) for r in layout.fields
+            if isinstance(r.info, ArrayInfo) and len(r.info.bounds) == 1 and isinstance(r.info.elem, AggregateInfo)
+            and getattr(r.info.elem.cls, "_iec_tagged_", False)
+        }
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views,
+            direct=_positional_call, views=views, known=known, arrays=arrays,
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

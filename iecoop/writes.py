@@ -40,15 +40,17 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from iecoop.exceptions import AccessError
 from iecoop.members import FORWARDING_CODES, caller_description, code_of
 from iecoop.metadata import st_name
-from iecoop.memory._core import AggregateInfo, ArrayInfo, CheckedMemberField, ElementaryInfo, TypeInfo
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._infos import ElementaryInfo, TypeInfo
+from iecoop.memory._views import CheckedMemberField
 from iecoop.sections import SECTION_RULES, Section
 
 if TYPE_CHECKING:
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
 __all__ = [
-    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "pou_setattr", "read_only_rule",
-    "write_rule", "write_rules",
+    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "known_reads", "pou_setattr",
+    "read_only_rule", "write_rule", "write_rules",
 ]
 
 
@@ -170,6 +172,33 @@ def fast_writes(layout: ClassLayout, rules: dict[str, WriteRule]) -> dict[str, F
         if rule.validate is not None and not rule.constant and rule.method is None:
             fast[record.name] = (accepted_type(record.info), rule.inside_only, rule.validate, rule.where, record.raw.__set__)
     return fast
+
+
+def known_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
+    """Per variable read by a block's own code, ``"x"`` for ``self.x`` and ``"timer.Q"`` for a member's
+    ``self.timer.Q``: the exact class the read gives (its ctypes field's value: ``bool``, ``int``, ``float``).
+
+    A written-out store of a value of that class leaves out the class check it would pass.
+    """
+    known = _field_reads(cls, layout)
+    for record in layout.fields:
+        inner = record.info.cls if isinstance(record.info, AggregateInfo) else None
+        inner_layout = getattr(inner, "_iec_layout_", None)
+        if inner_layout is not None:  # a member's view is of exactly its declared class
+            known.update({f"{record.name}.{name}": kind for name, kind in _field_reads(inner, inner_layout).items()})
+    return known
+
+
+def _field_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
+    found: dict[str, type] = {}
+    for record in layout.fields:
+        # Only a read the ctypes field answers itself: the attribute the class finds is the field.
+        attribute = next((k.__dict__[record.name] for k in cls.__mro__ if record.name in k.__dict__), None)
+        if type(record.info) is ElementaryInfo and attribute is record.raw:
+            kind = type(record.info.ctype().value)
+            if kind is accepted_type(record.info):
+                found[record.name] = kind
+    return found
 
 
 def pou_setattr(cls: Any, layout: ClassLayout, aliases: Mapping[str, str] | None = None) -> Callable[[Any, str, Any], None]:

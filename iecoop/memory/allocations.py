@@ -24,6 +24,6 @@ True
 """
 
 # The table lives with the memory machinery it guards (one lock for both); this module is its public name.
-from iecoop.memory._core import Allocation, allocation_for_handle, free, handle_of, registered_allocation, resolve
+from iecoop.memory._handles import Allocation, allocation_for_handle, free, handle_of, registered_allocation, resolve
 
 __all__ = ["Allocation", "allocation_for_handle", "free", "handle_of", "registered_allocation", "resolve"]

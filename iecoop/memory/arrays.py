@@ -11,16 +11,10 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any, ClassVar, Generic, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import (
-    AggregateInfo,
-    ArrayInfo,
-    TypeInfo,
-    _Resolver,
-    array_info,
-    check_block_size,
-    normalise_bounds,
-    resolve_type,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo, array_info, normalise_bounds
+from iecoop.memory._handles import check_block_size
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._resolve import _Resolver, resolve_type
 from iecoop.memory.references import ReferenceInfo
 from iecoop.metadata import Kind, kind_of
 

@@ -11,15 +11,10 @@ import ctypes
 import typing
 from typing import Any
 
-from iecoop.memory._core import (
-    TypeInfo,
-    access_violation,
-    allocation_of,
-    dynamic_class,
-    hold,
-    register_class_info,
-    resolve,
-)
+from iecoop.memory._aggregates import dynamic_class
+from iecoop.memory._handles import access_violation, allocation_of, hold, resolve
+from iecoop.memory._infos import TypeInfo
+from iecoop.memory._resolve import register_class_info
 from iecoop.metadata import Kind
 
 __all__ = ["InterfaceInfo", "NullInterface"]

@@ -25,19 +25,10 @@ from iecoop.exceptions import DefinitionError
 from iecoop.metadata import IecClass, kind_of
 from iecoop.sections import MISSING, FieldSpec, Kind, Section, check_st_name, sections_of
 from iecoop.writes import data_setattr
-from iecoop.memory._core import (
-    AggregateInfo,
-    ArrayInfo,
-    ElementaryInfo,
-    EnumInfo,
-    StringInfo,
-    TypeInfo,
-    _HANDLE_MASK,
-    check_block_size,
-    handle_of,
-    resolve_type,
-    target_root,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._handles import _HANDLE_MASK, check_block_size, handle_of, target_root
+from iecoop.memory._infos import ElementaryInfo, EnumInfo, StringInfo, TypeInfo
+from iecoop.memory._resolve import resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.references import ReferenceInfo

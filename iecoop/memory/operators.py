@@ -24,24 +24,19 @@ from collections.abc import Callable
 from typing import Any, TypeVar, overload
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import (
-    AggregateInfo,
-    ArrayInfo,
-    ElementaryInfo,
-    EnumInfo,
-    StringInfo,
-    TypeInfo,
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._handles import (
     access_violation,
     allocation_for_handle,
     allocation_of,
-    class_info,
     handle_of,
     hold,
     resolve,
-    resolve_type,
     table_lock,
     target_root,
 )
+from iecoop.memory._infos import ElementaryInfo, EnumInfo, StringInfo, TypeInfo
+from iecoop.memory._resolve import class_info, resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.references import ReferenceInfo

@@ -11,22 +11,17 @@ import typing
 from collections.abc import Callable
 from typing import Any, ClassVar, Generic, TypeVar
 
-from iecoop.memory._core import (
-    _HANDLE_MASK,
+from iecoop.memory._handles import (
     WILD_OFFSET,
-    Address,
-    TypeInfo,
-    _annotation_name,
-    _check_plain,
-    _kind_error,
-    _Resolver,
+    _HANDLE_MASK,
     access_violation,
     allocation_for_handle,
     hold,
-    resolve_type,
     signed_offset,
     target_root,
 )
+from iecoop.memory._infos import Address, TypeInfo, _kind_error
+from iecoop.memory._resolve import _Resolver, _annotation_name, _check_plain, resolve_type
 from iecoop.exceptions import DefinitionError
 from iecoop.memory.arrays import ARRAY
 from iecoop.memory.references import REFERENCE, ReferenceInfo

@@ -12,16 +12,10 @@ from collections.abc import Callable
 from typing import Annotated, Any, ClassVar, TypeVar
 
 from iecoop.exceptions import DefinitionError
-from iecoop.memory._core import (
-    Address,
-    AggregateInfo,
-    ArrayInfo,
-    TypeInfo,
-    _Resolver,
-    access_violation,
-    handle_of,
-    resolve_type,
-)
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._handles import access_violation, handle_of
+from iecoop.memory._infos import Address, TypeInfo
+from iecoop.memory._resolve import _Resolver, resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 
 __all__ = ["REFERENCE_TO", "ReferenceInfo"]

@@ -21,8 +21,9 @@ ST: ``nCount : INT;`` has an ``ElementaryInfo`` named ``INT``;
 """
 
 # The classes live with the memory machinery they drive; this module is their public name.
-from iecoop.memory._core import AggregateInfo, ArrayInfo, ElementaryInfo, EnumInfo
-from iecoop.memory._core import StringInfo, TypeInfo, class_info, resolve_type
+from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._infos import ElementaryInfo, EnumInfo, StringInfo, TypeInfo
+from iecoop.memory._resolve import class_info, resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.references import ReferenceInfo

@@ -47,7 +47,7 @@ from iecoop import (
 from iecoop import members as members_module
 from iecoop.gvl import global_lists
 from iecoop.interfaces import interface_members
-from iecoop.memory._core import class_for_tag
+from iecoop.memory._aggregates import class_for_tag
 from iecoop.stdlib import TON
 
 # ---------------------------------------------------------------------------

@@ -7,6 +7,7 @@ the call still runs the body, and both forms must give the same results.
 
 from __future__ import annotations
 
+import enum
 import inspect
 import linecache
 import traceback
@@ -15,7 +16,9 @@ from typing import Any
 import pytest
 
 from iecoop import (
+    ARRAY,
     BOOL,
+    DINT,
     INT,
     PRIVATE,
     TIME,
@@ -516,3 +519,80 @@ def test_checked_mode_chained_writes_assign_every_target() -> None:
     with pytest.raises(TypeError, match=r"Chain\.first: cannot store str 'text' in INT"):
         chain(value=-1)
     assert (chain.first, chain.second) == (-2, -2)  # the targets before the refused one were written
+
+
+class Cell(FunctionBlock):
+    """One cell of a Grid: counts its calls with go."""
+
+    go: BOOL = VAR_INPUT(False)
+    count: INT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        if self.go:
+            self.count += 1
+
+
+class Slot(enum.IntEnum):
+    FIRST = 2
+    LAST = 4
+
+
+class Grid(FunctionBlock):
+    """``cells : ARRAY[2..4] OF Cell;`` called and read in a loop from the body, indexed by ``at``."""
+
+    at: DINT = VAR_INPUT(2)
+    cells: ARRAY[Cell] = VAR(bounds=(2, 4))
+    total: DINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        for i in range(2, 5):
+            self.cells[i](go=i >= self.at)
+        self.total = self.cells[2].count + self.cells[3].count + self.cells[4].count
+        for index in _grid_index:
+            self.cells[index](go=True)
+
+
+#: An index of another kind than an int the body also uses, set by the test.
+_grid_index: list[Any] = []
+
+
+def test_an_array_of_blocks_is_indexed_in_place_with_the_bounds_checked() -> None:
+    grid = Grid()
+    grid(at=3)
+    grid(at=2)
+    assert [cell.count for cell in grid.cells] == [1, 2, 2]
+    assert grid.total == 5
+    assert "_iec_m_elements" in Grid.__call__.__code__.co_names  # the element views read in place
+    cells = grid.cells
+    assert all(cell is cells[i] for i, cell in zip(range(2, 5), cells))  # iterating gives the kept element views
+    try:
+        _grid_index[:] = [Slot.LAST]  # an enumeration value indexes by its number
+        grid(at=5)
+        assert grid.cells[4].count == 3
+        for bad in (1, 5, True, 3.0):
+            _grid_index[:] = [bad]
+            with pytest.raises(PlcException, match=r"index .* outside ARRAY\[2\.\.4\] OF Cell") as caught:
+                grid(at=5)
+            assert caught.value.code.name == "RTSEXCPT_ARRAYBOUNDS"
+    finally:
+        _grid_index.clear()
+    assert [cell.count for cell in grid.cells] == [1, 2, 3]
+
+
+def test_an_array_element_call_evaluates_the_index_before_the_inputs() -> None:
+    order: list[str] = []
+
+    def seen(label: str, value: Any) -> Any:
+        order.append(label)
+        return value
+
+    class Caller(FunctionBlock):
+        cells: ARRAY[Cell] = VAR(bounds=(1, 2))
+
+        def body(self) -> None:
+            self.cells[seen("index", 2)](go=seen("input", True))
+
+    caller = Caller()
+    caller()
+    assert order == ["index", "input"]
+    assert [cell.count for cell in caller.cells] == [0, 1]

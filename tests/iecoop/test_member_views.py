@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, VAR_OUTPUT, FunctionBlock, PlcException, Program, T, delete, method, new
 from iecoop.exceptions import ExceptionCode
-from iecoop.memory._core import CACHE_PREFIX, VIEW_PREFIX
+from iecoop.memory._views import CACHE_PREFIX, VIEW_PREFIX
 from iecoop.stdlib import TON
 
 

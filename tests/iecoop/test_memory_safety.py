@@ -25,7 +25,7 @@ from iecoop import (
     ExceptionCode, FunctionBlock, Interface, PlcException, Pointer, Program, Struct, T, adr, delete, memcpy,
     method, new, ref_assign, sizeof,
 )
-from iecoop.memory._core import MAX_BLOCK_SIZE
+from iecoop.memory._handles import MAX_BLOCK_SIZE
 from iecoop.runtime import Runtime, Task
 from tests import checked_only
 

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from iecoop import ARRAY, BOOL, INT, VAR, VAR_INPUT, AccessError, FunctionBlock, Program, Struct, T, _config
-from iecoop.memory._core import CheckedMemberField
+from iecoop.memory._views import CheckedMemberField
 from iecoop.runtime import Runtime, Task
 from iecoop.stdlib import R_TRIG
 

@@ -27,7 +27,7 @@ from iecoop import (
     GlobalVariables, PlcException, Program, DefinitionError, Pointer, Struct, T, adr, adr_of, gvl, is_valid_ref, memcmp,
     memcpy, memset, ref_assign, sizeof, var_info,
 )
-from iecoop.memory._core import allocation_of, free
+from iecoop.memory._handles import allocation_of, free
 from iecoop.runtime import Runtime, Task
 from iecoop.testing.strategies import ANY_INTS, LATIN_1
 
