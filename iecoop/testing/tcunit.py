@@ -7,8 +7,8 @@ has finished. A test still open ``limit_ms`` of PLC time after it started
 (default :data:`DEFAULT_LIMIT_MS`, 10 s) fails naming that limit, so a test
 that never calls ``TEST_FINISHED()`` cannot hang the run. The result holds
 one :class:`TestResult` per test: suite (instance path), name, status, and
-each failed assert with its message, expected and actual values, the first
-differing index of arrays, and the cycle.
+each failed assert with the ST file and line that called it, its message,
+expected and actual values, the first differing index of arrays, and the cycle.
 
 >>> from iecoop import Program, VAR
 >>> from iecoop.libraries import tcunit
@@ -74,12 +74,13 @@ class TestResult:
         return f"{self.suite}::{self.name}"
 
     def report(self) -> str:
-        """What failed, one line each: the assert, its message, expected and actual values, index and cycle."""
+        """What failed, one line each: where the assert is, its message, expected and actual values, index and cycle."""
         lines = []
         for failure in self.failures:
             at = f" at index {failure.index}" if failure.index else ""
+            site = f"{failure.file}:{failure.lineno}: " if failure.file else ""
             lines.append(
-                f"{failure.assertion} failed{at} in cycle {failure.cycle}: expected {failure.expected}, "
+                f"{site}{failure.assertion} failed{at} in cycle {failure.cycle}: expected {failure.expected}, "
                 f"actual {failure.actual}" + (f", message: {failure.message}" if failure.message else "")
             )
         if self.error:
@@ -100,6 +101,8 @@ class RunResult:
     fault: str = ""
     #: what a suite did wrong besides its tests (more tests or asserts than GVL_Param_TcUnit allows)
     errors: list[str] = dataclasses.field(default_factory=list)
+    #: what TcUnit logs as an error without failing a test (a test name declared twice in one cycle)
+    warnings: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def passed(self) -> bool:
@@ -141,10 +144,21 @@ def find_test_program(module: types.ModuleType, name: str | None = None) -> Any:
     raise LookupError(f"{source}: several PROGRAMs call TcUnit.RUN(): {names}; name the one to run")
 
 
-def _results(registry: tcunit.Registry) -> list[TestResult]:
+def _relative(failure: tcunit.AssertFailure, base: pathlib.Path | None) -> tcunit.AssertFailure:
+    """The failure with its file relative to ``base`` (the project's folder) when it lies inside it."""
+    if base is None or not failure.file:
+        return failure
+    try:
+        inside = pathlib.Path(failure.file).resolve().relative_to(base.resolve())
+    except ValueError:
+        return failure
+    return dataclasses.replace(failure, file=inside.as_posix())
+
+
+def _results(registry: tcunit.Registry, base: pathlib.Path | None = None) -> list[TestResult]:
     return [
         TestResult(
-            test.suite, test.name, test.status, tuple(test.failures), test.error,
+            test.suite, test.name, test.status, tuple(_relative(f, base) for f in test.failures), test.error,
             test.duration_ns / 1e6, max(0, test.finished_cycle - test.started_cycle + 1) if test.started_cycle else 0,
         )
         for test in registry.tests()
@@ -152,7 +166,7 @@ def _results(registry: tcunit.Registry) -> list[TestResult]:
 
 
 def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str, interval: int,
-           source: str) -> RunResult:
+           source: str, base: pathlib.Path | None = None) -> RunResult:
     registry.name_suites(program)
     plc = VirtualPlc(profile=profile)
     plc.add(program, interval=interval)
@@ -170,7 +184,8 @@ def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str,
     finally:
         registry.close()
     errors = [f"{suite.path}: {error}" for suite in registry.suites for error in suite.errors]
-    return RunResult(source, _results(registry), list(registry.log), len(registry.suites), plc.time_ms, fault, errors)
+    return RunResult(source, _results(registry, base), list(registry.log), len(registry.suites), plc.time_ms, fault, errors,
+                     list(registry.warnings))
 
 
 def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS, profile: str = "twincat",
@@ -209,7 +224,9 @@ def run_project(
     with tcunit.registry(limit_ms) as registry:
         module = load(source, profile=profile, **extra)
         test_program = find_test_program(module, program)
-        return _drive(registry, test_program, limit_ms, profile, interval, pathlib.Path(source).name)
+        path = pathlib.Path(source)
+        base = path if path.is_dir() else path.parent
+        return _drive(registry, test_program, limit_ms, profile, interval, path.name, base)
 
 
 # --- -k expressions ---------------------------------------------------------------------------
@@ -309,7 +326,8 @@ def write_junit(result: RunResult, path: str | os.PathLike[str], tests: Iterable
             case = ET.SubElement(element, "testcase", classname=suite, name=test.name, time=f"{test.duration_ms / 1000:.3f}")
             if test.status == "failed":
                 first = test.failures[0] if test.failures else None
-                message = (f"{first.assertion}: expected {first.expected}, actual {first.actual}; {first.message}"
+                site = f"{first.file}:{first.lineno}: " if first is not None and first.file else ""
+                message = (f"{site}{first.assertion}: expected {first.expected}, actual {first.actual}; {first.message}"
                            if first is not None else test.error)
                 failure = ET.SubElement(case, "failure", message=message, type="AssertionError")
                 failure.text = test.report()
