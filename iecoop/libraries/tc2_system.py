@@ -42,20 +42,20 @@ from typing import Annotated, Any, BinaryIO, cast
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.libraries import known
 from iecoop.libraries._printf import Arg, FormatError, render
-from iecoop.memory import Alias, IecEnum, Pointer, Struct
+from iecoop.memory import Alias, IecEnum, Pointer, Struct, memcmp, memcpy, memset
 from iecoop.pou import FunctionBlock
 from iecoop.runtime import current_task
 from iecoop.runtime.clock import current_clock
-from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, STRING, TIME, UDINT, UINT, ULINT, StringType
+from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, SINT, STRING, TIME, UDINT, UINT, ULINT, USINT, StringType
 
 __all__ = [
     "ADSLOGDINT", "ADSLOGLREAL", "ADSLOGSTR", "ADSLOG_MSGTYPE_ERROR", "ADSLOG_MSGTYPE_HINT", "ADSLOG_MSGTYPE_LOG",
     "ADSLOG_MSGTYPE_MSGBOX", "ADSLOG_MSGTYPE_RESOURCE", "ADSLOG_MSGTYPE_STRING", "ADSLOG_MSGTYPE_WARN",
-    "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen",
+    "CLEARBIT32", "CSETBIT32", "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen",
     "FB_FilePuts", "FB_FileRead", "FB_FileWrite", "FOPEN_MODEAPPEND", "FOPEN_MODEBINARY", "FOPEN_MODEPLUS",
     "FOPEN_MODEREAD", "FOPEN_MODETEXT", "FOPEN_MODEWRITE", "F_GetSystemTime", "F_GetTaskTime",
-    "F_GetVersionTcSystem", "GETCPUCOUNTER", "GETCURTASKINDEX", "GETCURTASKINDEXEX", "GETSYSTEMTIME",
-    "MAX_STRING_LENGTH", "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString",
+    "F_GetVersionTcSystem", "F_ToASC", "F_ToCHR", "GETBIT32", "GETCPUCOUNTER", "GETCURTASKINDEX", "GETCURTASKINDEXEX", "GETSYSTEMTIME",
+    "MAX_STRING_LENGTH", "MEMCMP", "MEMCPY", "MEMMOVE", "MEMSET", "SETBIT32", "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString",
     "stLibVersion_Tc2_System",
 ]
 
@@ -264,6 +264,74 @@ class GETCPUCOUNTER(FunctionBlock):
         ticks = current_clock().now_ns() // 100
         self.cpuCntLoDW = ticks & 0xFFFF_FFFF
         self.cpuCntHiDW = (ticks >> 32) & 0xFFFF_FFFF
+
+
+# --- memory and bits ---------------------------------------------------------------------------
+# Infosys, Tc2_System "MEMCPY", "MEMMOVE", "MEMSET", "MEMCMP": a 0 address or a count of 0 is refused
+# by the return value, not a fault; the ranges themselves are checked as every iecoop pointer is.
+
+
+def MEMCPY(destAddr: Pointer[Any], srcAddr: Pointer[Any], n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMCPY(destAddr, srcAddr, n)``: copy n bytes; n, or 0 (nothing copied) when an address or n is 0."""
+    if not destAddr or not srcAddr or not n:
+        return 0
+    return memcpy(destAddr, srcAddr, n)
+
+
+def MEMMOVE(destAddr: Pointer[Any], srcAddr: Pointer[Any], n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMMOVE(destAddr, srcAddr, n)``: MEMCPY for areas that may overlap (the source is read first)."""
+    return MEMCPY(destAddr, srcAddr, n)  # iecoop's copy is a move already
+
+
+def MEMSET(destAddr: Pointer[Any], fillByte: USINT, n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMSET(destAddr, fillByte, n)``: fill n bytes with fillByte; n, or 0 when destAddr or n is 0."""
+    if not destAddr or not n:
+        return 0
+    return memset(destAddr, fillByte & 0xFF, n)
+
+
+def MEMCMP(pBuf1: Pointer[Any], pBuf2: Pointer[Any], n: UDINT) -> DINT:  # noqa: N802, N803 - the ST names
+    """``MEMCMP(pBuf1, pBuf2, n)``: 0 equal, 1 / -1 as the first differing byte of pBuf1 is greater / smaller;
+    16#FF when an address or n is 0."""
+    if not pBuf1 or not pBuf2 or not n:
+        return 0xFF
+    return memcmp(pBuf1, pBuf2, n)
+
+
+# Infosys, Tc2_System "SETBIT32" ...: bitNo is taken modulo 32.
+
+
+def SETBIT32(inVal32: DWORD, bitNo: SINT) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``SETBIT32(inVal32, bitNo)``: inVal32 with bit bitNo (modulo 32) set."""
+    return (inVal32 | (1 << (bitNo % 32))) & 0xFFFF_FFFF
+
+
+def CLEARBIT32(inVal32: DWORD, bitNo: SINT) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``CLEARBIT32(inVal32, bitNo)``: inVal32 with bit bitNo (modulo 32) cleared."""
+    return inVal32 & ~(1 << (bitNo % 32)) & 0xFFFF_FFFF
+
+
+def CSETBIT32(inVal32: DWORD, bitNo: SINT, bitVal: BOOL) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``CSETBIT32(inVal32, bitNo, bitVal)``: inVal32 with bit bitNo (modulo 32) set to bitVal."""
+    return SETBIT32(inVal32, bitNo) if bitVal else CLEARBIT32(inVal32, bitNo)
+
+
+def GETBIT32(inVal32: DWORD, bitNo: SINT) -> BOOL:  # noqa: N802, N803 - the ST names
+    """``GETBIT32(inVal32, bitNo)``: whether bit bitNo (modulo 32) of inVal32 is set."""
+    return bool(inVal32 >> (bitNo % 32) & 1)
+
+
+# --- characters ---------------------------------------------------------------------------------
+
+
+def F_ToASC(str: STRING) -> BYTE:  # noqa: A002, N802 - the ST names
+    """``F_ToASC(str)``: the code of the first character of str (Latin-1); 0 for an empty string."""
+    return str.encode("latin-1")[0] if str else 0
+
+
+def F_ToCHR(c: BYTE) -> STRING:  # noqa: N802 - the ST name
+    """``F_ToCHR(c)``: the one-character STRING of code c; code 0 is the empty string (it ends a STRING)."""
+    return bytes([c & 0xFF]).decode("latin-1") if c & 0xFF else ""
 
 
 # --- tasks and random numbers -------------------------------------------------------------------
