@@ -42,12 +42,13 @@ from iecoop.types import (
 )
 
 __all__ = [
-    "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam", "FB_FormatString",
-    "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD",
-    "F_FormatArgToStr", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL",
-    "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD",
-    "LREAL_TO_FMTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64",
-    "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
+    "DT_TO_FILETIME", "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam",
+    "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_DT",
+    "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
+    "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT",
+    "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD", "LREAL_TO_FMTSTR",
+    "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING",
+    "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -550,6 +551,22 @@ def SYSTEMTIME_TO_FILETIME(systemTime: TIMESTRUCT) -> T_FILETIME:  # noqa: N802,
     """``SYSTEMTIME_TO_FILETIME(systemTime)``: a TIMESTRUCT as a T_FILETIME (an invalid date: 0)."""
     moment = _moment(systemTime)
     ticks = 0 if moment is None else (moment - _FILETIME_EPOCH) // datetime.timedelta(microseconds=1) * 10
+    return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
+
+
+#: FILETIME's ticks (100 ns since 1601-01-01) at DT#1970-01-01-00:00, where DT counts from.
+_DT_ZERO_TICKS = 116_444_736_000_000_000
+
+
+def FILETIME_TO_DT(fileTime: T_FILETIME) -> DT:  # noqa: N802, N803 - the ST names
+    """``FILETIME_TO_DT(fileTime)``: a T_FILETIME as a DT (whole seconds); a time before 1970 is DT#1970-01-01-00:00."""
+    ticks = (fileTime.dwHighDateTime << 32) | fileTime.dwLowDateTime
+    return max(0, (ticks - _DT_ZERO_TICKS) // 10_000_000) & 0xFFFF_FFFF
+
+
+def DT_TO_FILETIME(DTIN: DT) -> T_FILETIME:  # noqa: N802, N803 - the ST names
+    """``DT_TO_FILETIME(DTIN)``: a DT as a T_FILETIME."""
+    ticks = int(DTIN) * 10_000_000 + _DT_ZERO_TICKS
     return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
 
 

@@ -294,3 +294,25 @@ def test_mem_ring_buffer_without_a_buffer_is_not_ok() -> None:
 
 
 
+
+
+def test_filetime_to_dt_and_back_as_st_calls_them() -> None:
+    from iecoop import st as iecoop_st
+
+    stamp = parse_dt("DT#2024-01-28-11:05:43")
+    filetime = tu.DT_TO_FILETIME(stamp)
+    # 2024-01-28 11:05:43 UTC is 1706439943 s after 1970; FILETIME counts 100 ns from 1601
+    ticks = (filetime.dwHighDateTime << 32) | filetime.dwLowDateTime
+    assert ticks == 1_706_439_943 * 10_000_000 + 116_444_736_000_000_000
+    assert tu.FILETIME_TO_DT(filetime) == stamp
+    assert tu.FILETIME_TO_DT(tu.T_FILETIME(dwLowDateTime=5, dwHighDateTime=0)) == 0  # 1601 is before DT's range
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR stFileTime : T_FILETIME; dtStamp : DT; END_VAR
+    stFileTime := DT_TO_FILETIME(DTIN := DT#2024-01-28-11:05:43);
+    stFileTime.dwLowDateTime := stFileTime.dwLowDateTime + 9999999;  (* 0.9999999 s later: still that second *)
+    dtStamp := Tc2_Utilities.FILETIME_TO_DT(fileTime := stFileTime);
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    assert plc.MAIN.dtStamp == stamp
