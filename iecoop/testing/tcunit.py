@@ -44,7 +44,7 @@ from iecoop.testing import VirtualPlc
 
 __all__ = [
     "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
-    "run_programs", "run_project", "write_junit",
+    "run_programs", "run_project", "vendored_tcunit", "write_junit",
 ]
 
 #: How long a test may stay open, in ms of PLC time, unless told otherwise (``--timeout``).
@@ -219,6 +219,15 @@ def run_project(
         from iecoop import st
 
         load = st.load
+    copy = vendored_tcunit(source)
+    if copy is not None:
+        raise LookupError(
+            f"{copy}: the project carries its own copy of TcUnit (it declares FUNCTION_BLOCK FB_TestSuite). "
+            "iecoop runs TcUnit suites with its own TcUnit, which the copy would hide: leave the copy's files out "
+            "of the project (its <Compile> items, or the files of the folder) and reference the TcUnit library "
+            "instead; or, to run the copy as plain ST, load the project with iecoop.st.load and run its test "
+            "PROGRAM on a VirtualPlc yourself"
+        )
     # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here.
     extra: dict[str, Any] = {} if pathlib.Path(source).suffix.lower() == ".plcproj" else {"libraries": {"TcUnit": tcunit}}
     with tcunit.registry(limit_ms) as registry:
@@ -227,6 +236,43 @@ def run_project(
         path = pathlib.Path(source)
         base = path if path.is_dir() else path.parent
         return _drive(registry, test_program, limit_ms, profile, interval, path.name, base)
+
+
+#: ``FUNCTION_BLOCK FB_TestSuite`` at the start of a line: a declaration of TcUnit's own base block.
+_TESTSUITE_DECLARATION = re.compile(rb"^\s*FUNCTION_BLOCK\s+(?:(?:PUBLIC|INTERNAL|ABSTRACT|FINAL)\s+)*FB_TestSuite\b",
+                                    re.IGNORECASE | re.MULTILINE)
+#: The files looked through for a copy of TcUnit, and how much of each (a POU's declaration comes first).
+_SOURCE_SUFFIXES = frozenset({".tcpou", ".st", ".exp"})
+_LOOK_FILES, _LOOK_BYTES = 10_000, 64_000
+
+
+def vendored_tcunit(source: str | os.PathLike[str]) -> pathlib.Path | None:
+    """The file of ``source`` (a .plcproj's folder, a folder or a file) declaring TcUnit's FB_TestSuite, or None.
+
+    A project that carries TcUnit's own source (rather than referencing the library) declares it.
+    """
+    path = pathlib.Path(source)
+    folder = path.parent if path.suffix.lower() == ".plcproj" else path
+    for candidate in [folder] if folder.is_file() else _source_files(folder):
+        try:
+            with candidate.open("rb") as handle:
+                head = handle.read(_LOOK_BYTES)
+        except OSError:
+            continue
+        if _TESTSUITE_DECLARATION.search(head):
+            return candidate
+    return None
+
+
+def _source_files(folder: pathlib.Path) -> list[pathlib.Path]:
+    """The ST / TwinCAT files under ``folder``, in name order, at most _LOOK_FILES; links are not followed."""
+    found: list[pathlib.Path] = []
+    for root, folders, files in os.walk(folder):
+        folders[:] = sorted(f for f in folders if f != "__iecoop_cache__")
+        found += [pathlib.Path(root, f) for f in sorted(files) if pathlib.Path(f).suffix.lower() in _SOURCE_SUFFIXES]
+        if len(found) >= _LOOK_FILES:
+            break
+    return found[:_LOOK_FILES]
 
 
 # --- -k expressions ---------------------------------------------------------------------------

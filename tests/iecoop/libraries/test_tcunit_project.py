@@ -311,3 +311,23 @@ def test_pytest_xdist_workers_collect_the_same_items(pytester: pytest.Pytester) 
     project = _copy_demo(pytester)
     result = pytester.runpytest(str(project), "-n", "2", "-p", "no:cacheprovider")
     result.assert_outcomes(passed=7, failed=3, skipped=1)
+
+
+def test_a_project_carrying_a_copy_of_tcunit_is_told_its_choice(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], pytester: pytest.Pytester,
+) -> None:
+    project = _project(tmp_path, {
+        "FB_TestSuite": ("{attribute 'call_after_init'}\nFUNCTION_BLOCK PUBLIC FB_TestSuite\nVAR nTests : UINT; END_VAR\n", ""),
+        "FB_Checks": ("FUNCTION_BLOCK FB_Checks EXTENDS FB_TestSuite\n",
+                      "TEST('One');\nAssertTrue(Condition := TRUE, Message := 'one');\nTEST_FINISHED();\n"),
+        "PRG_TEST": _PRG,
+    })
+    assert main(["test", str(project)]) == 2
+    err = capsys.readouterr().err
+    assert "FB_TestSuite.TcPOU: the project carries its own copy of TcUnit" in err
+    assert "reference the TcUnit library instead" in err and "iecoop.st.load" in err
+    copied = pytester.path / "Checks"
+    shutil.copytree(tmp_path, copied)
+    result = pytester.runpytest(str(copied / "Checks.plcproj"), "-p", "no:cacheprovider")
+    result.stdout.fnmatch_lines(["*the project carries its own copy of TcUnit*"])
+    assert result.ret == 2  # a collection error
