@@ -51,12 +51,13 @@ from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, SINT, STRING, TIME
 __all__ = [
     "ADSLOGDINT", "ADSLOGLREAL", "ADSLOGSTR", "ADSLOG_MSGTYPE_ERROR", "ADSLOG_MSGTYPE_HINT", "ADSLOG_MSGTYPE_LOG",
     "ADSLOG_MSGTYPE_MSGBOX", "ADSLOG_MSGTYPE_RESOURCE", "ADSLOG_MSGTYPE_STRING", "ADSLOG_MSGTYPE_WARN",
-    "CLEARBIT32", "CSETBIT32", "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen",
-    "FB_FilePuts", "FB_FileRead", "FB_FileWrite", "FOPEN_MODEAPPEND", "FOPEN_MODEBINARY", "FOPEN_MODEPLUS",
-    "FOPEN_MODEREAD", "FOPEN_MODETEXT", "FOPEN_MODEWRITE", "F_GetSystemTime", "F_GetTaskTime",
-    "F_GetVersionTcSystem", "F_ToASC", "F_ToCHR", "GETBIT32", "GETCPUCOUNTER", "GETCURTASKINDEX", "GETCURTASKINDEXEX", "GETSYSTEMTIME",
-    "MAX_STRING_LENGTH", "MEMCMP", "MEMCPY", "MEMMOVE", "MEMSET", "SETBIT32", "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString",
-    "stLibVersion_Tc2_System",
+    "CLEARBIT32", "CSETBIT32", "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "E_SeekOrigin", "FB_CreateDir",
+    "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen", "FB_FilePuts", "FB_FileRead", "FB_FileRename",
+    "FB_FileSeek", "FB_FileTell", "FB_FileWrite", "FB_RemoveDir", "FOPEN_MODEAPPEND", "FOPEN_MODEBINARY",
+    "FOPEN_MODEPLUS", "FOPEN_MODEREAD", "FOPEN_MODETEXT", "FOPEN_MODEWRITE", "F_GetSystemTime", "F_GetTaskTime",
+    "F_GetVersionTcSystem", "F_ToASC", "F_ToCHR", "GETBIT32", "GETCPUCOUNTER", "GETCURTASKINDEX",
+    "GETCURTASKINDEXEX", "GETSYSTEMTIME", "MAX_STRING_LENGTH", "MEMCMP", "MEMCPY", "MEMMOVE", "MEMSET", "SETBIT32",
+    "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString", "stLibVersion_Tc2_System",
 ]
 
 # --- types and constants ------------------------------------------------------------------------
@@ -624,6 +625,105 @@ class FB_FileDelete(_FileRequest):
         if path.is_dir():
             raise _AdsError(ADSERR_DEVICE_INVALIDACCESS)
         path.unlink()
+
+
+class E_SeekOrigin(IecEnum):  # noqa: N801 - the ST name
+    """``E_SeekOrigin``: what FB_FileSeek's nSeekPos counts from."""
+
+    SEEK_SET = 0
+    SEEK_CUR = 1
+    SEEK_END = 2
+
+
+class FB_FileSeek(_FileRequest):
+    """``FB_FileSeek``: set the file pointer of hFile to nSeekPos from eOrigin (start, current, end).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; hFile : UINT; nSeekPos : DINT; eOrigin : E_SeekOrigin := SEEK_SET;
+    bExecute : BOOL; tTimeout : TIME; END_VAR``; a position before the start is ADSERR_DEVICE_INVALIDPARM.
+    """
+
+    hFile: UINT = VAR_INPUT(0)
+    nSeekPos: DINT = VAR_INPUT(0)
+    eOrigin: E_SeekOrigin = VAR_INPUT(E_SeekOrigin.SEEK_SET)
+
+    def run(self) -> None:
+        file = _file(self.hFile)
+        base = {E_SeekOrigin.SEEK_SET: 0, E_SeekOrigin.SEEK_CUR: file.tell(),
+                E_SeekOrigin.SEEK_END: os.fstat(file.fileno()).st_size}.get(E_SeekOrigin(self.eOrigin))
+        if base is None or base + self.nSeekPos < 0:
+            raise _AdsError(ADSERR_DEVICE_INVALIDPARM)
+        file.seek(base + self.nSeekPos)
+
+
+class FB_FileTell(_FileRequest):
+    """``FB_FileTell``: the file pointer of hFile, in nSeekPos (bytes from the start).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; hFile : UINT; bExecute : BOOL; tTimeout : TIME; END_VAR
+    VAR_OUTPUT ... nSeekPos : DINT; END_VAR``
+    """
+
+    hFile: UINT = VAR_INPUT(0)
+    nSeekPos: DINT = VAR_OUTPUT(0)
+
+    def run(self) -> None:
+        self.nSeekPos = _file(self.hFile).tell()
+
+    def failed(self) -> None:
+        self.nSeekPos = -1
+
+
+class FB_FileRename(_FileRequest):
+    """``FB_FileRename``: rename the file sOldName to sNewName (both in the sandbox folder).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sOldName, sNewName : T_MaxString; ePath : E_OpenPath;
+    bExecute : BOOL; tTimeout : TIME; END_VAR``; an existing sNewName is ADSERR_DEVICE_EXISTS.
+    """
+
+    sOldName: T_MaxString = VAR_INPUT("")
+    sNewName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        old, new = sandbox_path(self.sOldName), sandbox_path(self.sNewName)
+        if not old.is_file():
+            raise _AdsError(ADSERR_DEVICE_NOTFOUND if not old.exists() else ADSERR_DEVICE_INVALIDACCESS)
+        if os.path.lexists(new):
+            raise _AdsError(ADSERR_DEVICE_EXISTS)
+        old.rename(new)
+
+
+class FB_CreateDir(_FileRequest):
+    """``FB_CreateDir``: create the folder sPathName (its parent must exist).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sPathName : T_MaxString; ePath : E_OpenPath; bExecute : BOOL;
+    tTimeout : TIME; END_VAR``
+    """
+
+    sPathName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        sandbox_path(self.sPathName).mkdir()
+
+
+class FB_RemoveDir(_FileRequest):
+    """``FB_RemoveDir``: remove the empty folder sPathName.
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sPathName : T_MaxString; ePath : E_OpenPath; bExecute : BOOL;
+    tTimeout : TIME; END_VAR``; a folder that is not empty is ADSERR_DEVICE_INVALIDACCESS.
+    """
+
+    sPathName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        path = sandbox_path(self.sPathName)
+        if not path.is_dir():
+            raise _AdsError(ADSERR_DEVICE_NOTFOUND if not path.exists() else ADSERR_DEVICE_INVALIDACCESS)
+        try:
+            path.rmdir()
+        except OSError as exc:  # not empty
+            raise _AdsError(ADSERR_DEVICE_INVALIDACCESS) from exc
 
 
 class FB_FileRead(_FileRequest):

@@ -458,3 +458,51 @@ def test_f_toasc_and_f_tochr_convert_one_character() -> None:
     plc = _load("c := F_ToASC(str := 'Z'); s := Tc2_System.F_ToCHR(c := c + 1);", "c : BYTE; s : STRING(1);")
     plc.MAIN()
     assert (plc.MAIN.c, plc.MAIN.s) == (0x5A, "[")
+
+
+def test_seek_and_tell_move_the_file_pointer_from_each_origin(tmp_path: Path) -> None:
+    (tmp_path / "data.txt").write_bytes(b"0123456789")
+    opener, gets, seek, tell = tc2.FB_FileOpen(), tc2.FB_FileGets(), tc2.FB_FileSeek(), tc2.FB_FileTell()
+    with tc2.file_root(tmp_path):
+        finish(opener, sPathName="data.txt", nMode=tc2.FOPEN_MODEREAD)
+        handle = opener.hFile
+        finish(seek, hFile=handle, nSeekPos=4, eOrigin=tc2.E_SeekOrigin.SEEK_SET)
+        finish(tell, hFile=handle)
+        assert (seek.bError, tell.bError, tell.nSeekPos) == (False, False, 4)
+        finish(seek, nSeekPos=2, eOrigin=tc2.E_SeekOrigin.SEEK_CUR)
+        finish(gets, hFile=handle)
+        assert gets.sLine == "6789"
+        finish(seek, nSeekPos=-3, eOrigin=tc2.E_SeekOrigin.SEEK_END)
+        finish(tell)
+        assert tell.nSeekPos == 7
+        finish(seek, nSeekPos=-1, eOrigin=tc2.E_SeekOrigin.SEEK_SET)  # before the start
+        assert (seek.bError, seek.nErrId) == (True, 0x70B)
+        finish(tell, hFile=handle + 1)  # no such handle
+        assert (tell.bError, tell.nErrId, tell.nSeekPos) == (True, 0x70B, -1)
+
+
+def test_rename_create_and_remove_folders_in_the_sandbox(tmp_path: Path) -> None:
+    (tmp_path / "old.txt").write_text("x")
+    rename, mkdir, rmdir = tc2.FB_FileRename(), tc2.FB_CreateDir(), tc2.FB_RemoveDir()
+    with tc2.file_root(tmp_path):
+        finish(mkdir, sPathName="logs")
+        assert not mkdir.bError and (tmp_path / "logs").is_dir()
+        finish(mkdir, sPathName="logs")
+        assert (mkdir.bError, mkdir.nErrId) == (True, 0x70F)  # exists
+        finish(rename, sOldName="old.txt", sNewName="logs\\new.txt")
+        assert not rename.bError and (tmp_path / "logs" / "new.txt").read_text() == "x"
+        finish(rename, sOldName="old.txt", sNewName="again.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x70C)  # gone
+        (tmp_path / "taken.txt").write_text("y")
+        finish(rename, sOldName="logs/new.txt", sNewName="taken.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x70F)
+        finish(rename, sOldName="logs/new.txt", sNewName="..\\outside.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x704)
+        finish(rmdir, sPathName="logs")
+        assert (rmdir.bError, rmdir.nErrId) == (True, 0x704)  # not empty
+        (tmp_path / "logs" / "new.txt").unlink()
+        finish(rmdir, sPathName="logs")
+        assert not rmdir.bError and not (tmp_path / "logs").exists()
+        finish(rmdir, sPathName="logs")
+        assert (rmdir.bError, rmdir.nErrId) == (True, 0x70C)
+    assert not (tmp_path.parent / "outside.txt").exists()
