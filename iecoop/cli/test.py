@@ -7,8 +7,9 @@
     iecoop test Project.plcproj --junitxml out.xml --timeout 30s
 
 Each PATH (a ``.plcproj``, a folder, an ST or TwinCAT file) is loaded, the
-PROGRAM calling ``TcUnit.RUN()`` / ``RUN_IN_SEQUENCE()`` runs on a 10 ms task
-until every test has finished, and one line per test is printed, then
+PROGRAM calling ``TcUnit.RUN()`` / ``RUN_IN_SEQUENCE()`` runs on the project's
+task (the cycle time of its ``.TcTTO``; 10 ms when it has none) until every
+test has finished, and one line per test is printed, then
 TcUnit's summary. A test still open ``--timeout`` of PLC time after it
 started (default 10 s) fails naming the limit. ``-k`` chooses the tests
 reported and counted (pytest's syntax, on ``Suite::Test``); every suite still

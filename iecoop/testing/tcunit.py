@@ -2,7 +2,8 @@
 
 ``run_project(path)`` loads the project (``st.load``: a ``.plcproj``, a folder
 or ST files), finds the PROGRAM whose body calls ``RUN()`` or
-``RUN_IN_SEQUENCE()``, puts it on a 10 ms task and runs it until every test
+``RUN_IN_SEQUENCE()``, puts it on the project's task (the cycle time of the
+``.TcTTO`` beside it; 10 ms when there is none) and runs it until every test
 has finished. A test still open ``limit_ms`` of PLC time after it started
 (default :data:`DEFAULT_LIMIT_MS`, 10 s) fails naming that limit, so a test
 that never calls ``TEST_FINISHED()`` cannot hang the run. The result holds
@@ -43,12 +44,14 @@ from iecoop.metadata import Kind, kind_of, st_name
 from iecoop.testing import VirtualPlc
 
 __all__ = [
-    "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
-    "run_programs", "run_project", "vendored_tcunit", "write_junit",
+    "DEFAULT_INTERVAL_MS", "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
+    "project_interval", "run_programs", "run_project", "vendored_tcunit", "write_junit",
 ]
 
 #: How long a test may stay open, in ms of PLC time, unless told otherwise (``--timeout``).
 DEFAULT_LIMIT_MS = 10_000
+#: The test program's task cycle (ms) when the project has no task object of its own.
+DEFAULT_INTERVAL_MS = 10
 
 #: The names whose call in a PROGRAM's body makes it the test program.
 _RUNNERS = ("RUN", "RUN_IN_SEQUENCE")
@@ -206,10 +209,12 @@ def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS
 
 def run_project(
     source: str | os.PathLike[str], *, limit_ms: int = DEFAULT_LIMIT_MS, program: str | None = None,
-    profile: str = "twincat", interval: int = 10, load: Callable[..., types.ModuleType] | None = None,
+    profile: str = "twincat", interval: int | None = None, load: Callable[..., types.ModuleType] | None = None,
 ) -> RunResult:
     """Load ``source`` and run its TcUnit suites in virtual time (see the module docstring).
 
+    ``interval`` (ms) is the test program's task cycle: by default the cycle
+    time of the project's task (the ``.TcTTO`` beside it), else 10 ms.
     ``load`` is how the project is read (default ``iecoop.st.load``); a project
     that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
     ``.plcproj`` binds the libraries it references; a folder or ST file gets
@@ -235,7 +240,20 @@ def run_project(
         test_program = find_test_program(module, program)
         path = pathlib.Path(source)
         base = path if path.is_dir() else path.parent
-        return _drive(registry, test_program, limit_ms, profile, interval, path.name, base)
+        cycle = project_interval(source) if interval is None else interval
+        return _drive(registry, test_program, limit_ms, profile, cycle, path.name, base)
+
+
+def project_interval(source: str | os.PathLike[str]) -> int:
+    """The cycle time (ms) of the task of the ``.TcTTO`` beside ``source``; 10 when there is none."""
+    from iecoop.cli.base import UsageError
+    from iecoop.cli.st_scenario import project_task
+
+    try:
+        task = project_task(os.fspath(source))
+    except UsageError as exc:
+        raise LookupError(str(exc)) from None
+    return DEFAULT_INTERVAL_MS if task is None else int(task.interval)
 
 
 #: ``FUNCTION_BLOCK FB_TestSuite`` at the start of a line: a declaration of TcUnit's own base block.

@@ -331,3 +331,22 @@ def test_a_project_carrying_a_copy_of_tcunit_is_told_its_choice(
     result = pytester.runpytest(str(copied / "Checks.plcproj"), "-p", "no:cacheprovider")
     result.stdout.fnmatch_lines(["*the project carries its own copy of TcUnit*"])
     assert result.ret == 2  # a collection error
+
+
+def test_the_test_program_runs_at_the_cycle_time_of_the_project_s_task(tmp_path: Path) -> None:
+    project = tmp_path / "TcUnitDemo"
+    shutil.copytree(DEMO, project)
+    (project / "PlcTask.TcTTO").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
+        '  <Task Name="PlcTask" Id="{7c1e2a90-0000-4000-8000-0000000000ff}">\n'
+        "    <CycleTime>20000</CycleTime>\n    <Priority>20</Priority>\n  </Task>\n</TcPlcObject>\n")
+    result = run_project(project / "TcUnitDemo.plcproj")
+    by_id = {t.nodeid: t for t in result.tests}
+    # a 2 ms task: the 500 ms TON is done in the cycle at t = 500 ms, the 251st
+    assert by_id["PRG_TEST.fbStartDelay_Test::RunsAfterTheDelay"].cycles == 251
+    (late,) = by_id["PRG_TEST.fbStartDelay_Test::StartsTooLate"].failures
+    assert (late.expected, late.actual) == ("10", "101")
+    assert run_project(project / "TcUnitDemo.plcproj", interval=10).tests[0].cycles == 51  # told otherwise
+    (project / "PlcTask.TcTTO").write_text("<TcPlcObject><Task><CycleTime>5</CycleTime></Task></TcPlcObject>")
+    with pytest.raises(LookupError, match="not a whole number of ms"):
+        run_project(project / "TcUnitDemo.plcproj")
