@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import collections
 import datetime
+from collections.abc import Callable
 from typing import Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
@@ -42,13 +43,16 @@ from iecoop.types import (
 )
 
 __all__ = [
-    "DT_TO_FILETIME", "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam",
-    "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_DT",
-    "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
+    "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "DT_TO_FILETIME", "DT_TO_SYSTEMTIME",
+    "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
+    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
+    "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT",
     "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD", "LREAL_TO_FMTSTR",
-    "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING",
-    "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
+    "LWORD_TO_BINSTR", "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
+    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
+    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -458,14 +462,55 @@ def F_RTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
     return in_.rstrip(" ")
 
 
-def DWORD_TO_HEXSTR(in_: DWORD, iPrecision: INT, bLoCase: BOOL) -> T_MaxString:  # noqa: N802, N803
-    """``DWORD_TO_HEXSTR(in, iPrecision, bLoCase)``: ``in`` in hexadecimal, at least iPrecision digits.
+def _digits(value: int, base: int, precision: int, lower: bool = False) -> str:
+    """``value`` in ``base``, zero-filled to ``precision`` digits, never cut; 0 with precision 0 is ``''`` (Infosys)."""
+    if value == 0 and precision <= 0:
+        return ""
+    text = {2: "b", 8: "o", 10: "d", 16: "x" if lower else "X"}[base]
+    return format(value, text).rjust(max(0, int(precision)), "0")
 
-    >>> DWORD_TO_HEXSTR(0xA1, 4, False), DWORD_TO_HEXSTR(0xA1, 0, True)
-    ('00A1', 'a1')
-    """
-    text = format(in_ & 0xFFFF_FFFF, "x" if bLoCase else "X")
-    return text.rjust(max(0, int(iPrecision)), "0")
+
+def _to_digits(source: str, base: int) -> Callable[..., str]:
+    """``FUNCTION <source>_TO_<BIN|OCT|DEC|HEX>STR(in, iPrecision[, bLoCase]) : T_MaxString``."""
+    kind = {2: "BIN", 8: "OCT", 10: "DEC", 16: "HEX"}[base]
+    name = f"{source}_TO_{kind}STR"
+    annotation = {"BYTE": BYTE, "WORD": WORD, "DWORD": DWORD, "LWORD": LWORD}[source]
+    mask = {"BYTE": 0xFF, "WORD": 0xFFFF, "DWORD": 0xFFFF_FFFF, "LWORD": 0xFFFF_FFFF_FFFF_FFFF}[source]
+
+    def convert(in_: Any, iPrecision: Any, bLoCase: Any = False) -> str:  # noqa: N803 - the ST names
+        return _digits(int(in_) & mask, base, int(iPrecision), bool(bLoCase))
+
+    def convert_plain(in_: Any, iPrecision: Any) -> str:  # noqa: N803 - the ST names
+        return _digits(int(in_) & mask, base, int(iPrecision))
+
+    converter = convert if base == 16 else convert_plain
+    converter.__name__ = converter.__qualname__ = name
+    converter.__doc__ = (
+        f"``{name}(in, iPrecision{', bLoCase' if base == 16 else ''})``: ``in`` in base {base}, zero-filled to at "
+        "least iPrecision digits (never cut); 0 with iPrecision 0 is the empty string."
+    )
+    converter.__annotations__ = {"in_": annotation, "iPrecision": INT, "return": T_MaxString}
+    if base == 16:
+        converter.__annotations__["bLoCase"] = BOOL
+    return converter
+
+
+BYTE_TO_BINSTR = _to_digits("BYTE", 2)
+BYTE_TO_OCTSTR = _to_digits("BYTE", 8)
+BYTE_TO_DECSTR = _to_digits("BYTE", 10)
+BYTE_TO_HEXSTR = _to_digits("BYTE", 16)
+WORD_TO_BINSTR = _to_digits("WORD", 2)
+WORD_TO_OCTSTR = _to_digits("WORD", 8)
+WORD_TO_DECSTR = _to_digits("WORD", 10)
+WORD_TO_HEXSTR = _to_digits("WORD", 16)
+DWORD_TO_BINSTR = _to_digits("DWORD", 2)
+DWORD_TO_OCTSTR = _to_digits("DWORD", 8)
+DWORD_TO_DECSTR = _to_digits("DWORD", 10)
+DWORD_TO_HEXSTR = _to_digits("DWORD", 16)
+LWORD_TO_BINSTR = _to_digits("LWORD", 2)
+LWORD_TO_OCTSTR = _to_digits("LWORD", 8)
+LWORD_TO_DECSTR = _to_digits("LWORD", 10)
+LWORD_TO_HEXSTR = _to_digits("LWORD", 16)
 
 
 # --- time ---------------------------------------------------------------------------------------

@@ -316,3 +316,30 @@ def test_filetime_to_dt_and_back_as_st_calls_them() -> None:
     """, libraries={"Tc2_Utilities": tu})
     plc.MAIN()
     assert plc.MAIN.dtStamp == stamp
+
+
+@pytest.mark.parametrize("source", ["BYTE", "WORD", "DWORD", "LWORD"])
+def test_number_to_string_conversions_fill_never_cut_and_give_empty_for_zero(source: str) -> None:
+    hexstr, binstr = getattr(tu, f"{source}_TO_HEXSTR"), getattr(tu, f"{source}_TO_BINSTR")
+    octstr, decstr = getattr(tu, f"{source}_TO_OCTSTR"), getattr(tu, f"{source}_TO_DECSTR")
+    # Infosys BYTE_TO_HEXSTR: zeros from the left up to iPrecision, never cut; 0 with iPrecision 0 is ''
+    assert (hexstr(0xAB, 4), hexstr(0xAB, 4, True), hexstr(0xAB, 1), hexstr(0, 0), hexstr(0, 1)) == (
+        "00AB", "00ab", "AB", "", "0")
+    assert (binstr(5, 8), binstr(5, 0), octstr(8, 3), decstr(123, 5), decstr(0, 0)) == (
+        "00000101", "101", "010", "00123", "")
+    assert hexstr(-1, 0) == "F" * {"BYTE": 2, "WORD": 4, "DWORD": 8, "LWORD": 16}[source]  # the type's width
+
+
+def test_conversions_are_called_by_their_st_input_names_in_and_iprecision() -> None:
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR sHex, sBin, sUpper : STRING; nCode : BYTE := 16#0F; END_VAR
+    sHex := Tc2_Utilities.WORD_TO_HEXSTR(in := 16#BEEF, iPrecision := 6, bLoCase := TRUE);
+    sBin := BYTE_TO_BINSTR(in := nCode, iPrecision := 0);
+    sUpper := F_ToUCase(in := 'ok');
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    assert (plc.MAIN.sHex, plc.MAIN.sBin, plc.MAIN.sUpper) == ("00beef", "1111", "OK")
