@@ -47,12 +47,12 @@ __all__ = [
     "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
     "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
-    "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT",
-    "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD", "LREAL_TO_FMTSTR",
-    "LWORD_TO_BINSTR", "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
-    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
-    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
-    "stLibVersion_Tc2_Utilities",
+    "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
+    "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
+    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR", "LWORD_TO_DECSTR",
+    "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME",
+    "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64",
+    "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR", "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -597,6 +597,27 @@ def SYSTEMTIME_TO_FILETIME(systemTime: TIMESTRUCT) -> T_FILETIME:  # noqa: N802,
     moment = _moment(systemTime)
     ticks = 0 if moment is None else (moment - _FILETIME_EPOCH) // datetime.timedelta(microseconds=1) * 10
     return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
+
+
+def F_YearIsLeapYear(wYear: WORD) -> BOOL:  # noqa: N802, N803 - the ST names
+    """``F_YearIsLeapYear(wYear)``: whether wYear is a leap year of the Gregorian calendar."""
+    return wYear % 4 == 0 and (wYear % 100 != 0 or wYear % 400 == 0)
+
+
+def F_GetMaxMonthDays(wYear: WORD, wMonth: WORD) -> WORD:  # noqa: N802, N803 - the ST names
+    """``F_GetMaxMonthDays(wYear, wMonth)``: the days of month wMonth (1..12) of wYear; 0 for another wMonth."""
+    if not 1 <= wMonth <= 12:
+        return 0
+    if wMonth == 2:
+        return 29 if F_YearIsLeapYear(wYear) else 28
+    return 30 if wMonth in (4, 6, 9, 11) else 31
+
+
+def F_GetDOYOfYearMonthDay(wYear: WORD, wMonth: WORD, wDay: WORD) -> WORD:  # noqa: N802, N803 - the ST names
+    """``F_GetDOYOfYearMonthDay(wYear, wMonth, wDay)``: the day of the year (1..366); 0 for a date that does not exist."""
+    if not 1 <= wDay <= F_GetMaxMonthDays(wYear, wMonth):
+        return 0
+    return sum(F_GetMaxMonthDays(wYear, month) for month in range(1, wMonth)) + wDay
 
 
 #: FILETIME's ticks (100 ns since 1601-01-01) at DT#1970-01-01-00:00, where DT counts from.

@@ -343,3 +343,12 @@ def test_conversions_are_called_by_their_st_input_names_in_and_iprecision() -> N
     """, libraries={"Tc2_Utilities": tu})
     plc.MAIN()
     assert (plc.MAIN.sHex, plc.MAIN.sBin, plc.MAIN.sUpper) == ("00beef", "1111", "OK")
+
+
+def test_calendar_functions_follow_the_gregorian_rules() -> None:
+    assert [tu.F_YearIsLeapYear(y) for y in (1900, 2000, 2023, 2024)] == [False, True, False, True]
+    assert [tu.F_GetMaxMonthDays(2024, m) for m in (1, 2, 4, 12)] == [31, 29, 30, 31]
+    assert (tu.F_GetMaxMonthDays(2023, 2), tu.F_GetMaxMonthDays(2023, 0), tu.F_GetMaxMonthDays(2023, 13)) == (28, 0, 0)
+    assert (tu.F_GetDOYOfYearMonthDay(2024, 1, 1), tu.F_GetDOYOfYearMonthDay(2024, 12, 31),
+            tu.F_GetDOYOfYearMonthDay(2023, 12, 31), tu.F_GetDOYOfYearMonthDay(2024, 3, 1)) == (1, 366, 365, 61)
+    assert (tu.F_GetDOYOfYearMonthDay(2023, 2, 29), tu.F_GetDOYOfYearMonthDay(2023, 13, 1)) == (0, 0)
