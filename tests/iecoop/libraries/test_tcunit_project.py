@@ -350,3 +350,12 @@ def test_the_test_program_runs_at_the_cycle_time_of_the_project_s_task(tmp_path:
     (project / "PlcTask.TcTTO").write_text("<TcPlcObject><Task><CycleTime>5</CycleTime></Task></TcPlcObject>")
     with pytest.raises(LookupError, match="not a whole number of ms"):
         run_project(project / "TcUnitDemo.plcproj")
+
+
+def test_projects_listed_in_pyproject_toml_are_collected(pytester: pytest.Pytester) -> None:
+    _copy_demo(pytester)
+    pytester.makepyprojecttoml(
+        '[tool.pytest.ini_options]\niecoop_projects = ["TcUnitDemo/TcUnitDemo.plcproj"]\niecoop_tcunit_timeout = "300ms"\n')
+    result = pytester.runpytest("-p", "no:cacheprovider", "-k", "RunsAfterTheDelay or CountsUp")
+    result.assert_outcomes(passed=1, failed=1, deselected=9)  # the 500 ms test hits the 300 ms limit
+    result.stdout.fnmatch_lines(["*did not finish within T#300ms of PLC time*"])
