@@ -28,6 +28,7 @@ from collections.abc import Callable
 from typing import Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
+from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries._printf import Arg, FormatError, render
 from iecoop.libraries.tc2_system import (
     DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
@@ -49,10 +50,11 @@ __all__ = [
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
-    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR", "LWORD_TO_DECSTR",
-    "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME",
-    "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64",
-    "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR", "stLibVersion_Tc2_Utilities",
+    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
+    "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
+    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
+    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -717,6 +719,50 @@ class FB_LocalSystemTime(FunctionBlock):  # noqa: N801 - the ST name
 # --- FB_MemRingBuffer ---------------------------------------------------------------------------
 
 _HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
+
+
+#: How far FindAndReplace reads a source string looking for its end (Tc2_Utilities' Parameterlist.cMaxCharacters).
+MAX_CHARACTERS = 2048
+
+
+def _c_string(pointer: Pointer[Any], what: str) -> bytes:
+    """The STRING at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS), whatever its declared length."""
+    if not pointer:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"FindAndReplace: {what} is a null pointer")
+    data = bytearray()
+    at = pointer.typed(BYTE)
+    while len(data) < MAX_CHARACTERS:
+        value = (at + len(data)).deref
+        if value == 0:
+            break
+        data.append(value)
+    return bytes(data)
+
+
+def FindAndReplace(  # noqa: N802 - the ST name
+    pSrcString: Pointer[Any], pDeleteString: Pointer[Any] | None = None, pInsertString: Pointer[Any] | None = None,  # noqa: N803
+    pDstString: Pointer[Any] | None = None, nDstSize: UDINT = 0, *, pSrcFindString: Pointer[Any] | None = None,  # noqa: N803
+    pSrcReplaceWithString: Pointer[Any] | None = None, cbDstString: UDINT = 0,  # noqa: N803
+) -> UDINT:
+    """``FindAndReplace(pSrcString, pDeleteString, pInsertString, pDstString, nDstSize)``: every *pDeleteString in
+    *pSrcString replaced by *pInsertString, into *pDstString (nDstSize bytes, its terminator included); the count.
+
+    The strings are read to their terminating 0, as the PLC's pointers are. ``pSrcFindString``,
+    ``pSrcReplaceWithString`` and ``cbDstString`` are the names earlier Tc2_Utilities versions give the same inputs.
+    """
+    find = pDeleteString if pDeleteString is not None else pSrcFindString
+    insert = pInsertString if pInsertString is not None else pSrcReplaceWithString
+    size = nDstSize or cbDstString
+    if find is None or insert is None or pDstString is None:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "FindAndReplace: a string pointer is missing")
+    source, old, new = _c_string(pSrcString, "pSrcString"), _c_string(find, "pDeleteString"), _c_string(insert, "pInsertString")
+    count = source.count(old) if old else 0
+    result = source.replace(old, new) if count else source
+    result = result[: max(0, int(size) - 1)]
+    target = pDstString.typed(BYTE)
+    for index, value in enumerate(result + b"\x00"):
+        (target + index).deref = value
+    return count
 
 
 class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name

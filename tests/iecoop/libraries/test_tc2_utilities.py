@@ -352,3 +352,28 @@ def test_calendar_functions_follow_the_gregorian_rules() -> None:
     assert (tu.F_GetDOYOfYearMonthDay(2024, 1, 1), tu.F_GetDOYOfYearMonthDay(2024, 12, 31),
             tu.F_GetDOYOfYearMonthDay(2023, 12, 31), tu.F_GetDOYOfYearMonthDay(2024, 3, 1)) == (1, 366, 365, 61)
     assert (tu.F_GetDOYOfYearMonthDay(2023, 2, 29), tu.F_GetDOYOfYearMonthDay(2023, 13, 1)) == (0, 0)
+
+
+def test_find_and_replace_replaces_every_occurrence_into_the_destination_and_counts_them() -> None:
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR
+        sSrc : STRING(300) := 'a<b<c'; sFind : STRING := '<'; sInsert : STRING := '&lt;'; sNone : STRING := '#';
+        sDst : STRING(300); sShort : STRING(5); sSame : STRING(300);
+        nAll, nShort, nNone : UDINT;
+    END_VAR
+    nAll := FindAndReplace(pSrcString := ADR(sSrc), pDeleteString := ADR(sFind), pInsertString := ADR(sInsert),
+                           pDstString := ADR(sDst), nDstSize := SIZEOF(sDst));
+    nShort := Tc2_Utilities.FindAndReplace(pSrcString := ADR(sSrc), pSrcFindString := ADR(sFind),
+                                           pSrcReplaceWithString := ADR(sInsert), pDstString := ADR(sShort),
+                                           cbDstString := SIZEOF(sShort));
+    nNone := FindAndReplace(ADR(sSrc), ADR(sNone), ADR(sInsert), ADR(sSame), SIZEOF(sSame));
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.nAll, main.sDst) == (2, "a&lt;b&lt;c")
+    assert (main.nShort, main.sShort) == (2, "a&lt;")  # cut to the destination's size, its terminator included
+    assert (main.nNone, main.sSame) == (0, "a<b<c")  # not found: 0, and the destination is the source
