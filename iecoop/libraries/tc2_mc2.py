@@ -58,16 +58,22 @@ from iecoop.libraries._mc2_axis import (
     MC_AxisParameter, MC_AxisStates, MC_BufferMode, MC_Direction, MC_HomingMode, ST_AxisStatus, ST_MoveOptions,
 )
 from iecoop.pou import FunctionBlock
-from iecoop.memory import Alias
+from iecoop.memory import Alias, Struct
 from iecoop.types import BOOL, LREAL, UDINT, UINT
 
 __all__ = [
     "AXIS_REF", "E_JogMode", "E_ReadMode", "MC_AxisParameter", "MC_AxisStates", "MC_BufferMode", "MC_Direction",
-    "MC_GearIn", "MC_GearOut", "MC_Halt", "MC_Home", "MC_LREAL", "MC_HomingMode", "MC_Jog", "MC_MoveAbsolute", "MC_MoveModulo", "MC_MoveRelative",
-    "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition", "MC_ReadActualVelocity", "MC_ReadAxisError",
-    "MC_ReadParameter", "MC_ReadStatus", "MC_Reset", "MC_SetPosition", "MC_Stop", "NCTOPLC_AXIS_REF",
-    "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions",
+    "MC_GearIn", "MC_GearOut", "MC_Halt", "MC_Home", "MC_HomingMode", "MC_Jog", "MC_LREAL", "MC_MoveAbsolute",
+    "MC_MoveModulo", "MC_MoveRelative", "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition",
+    "MC_ReadActualVelocity", "MC_ReadAxisError", "MC_ReadParameter", "MC_ReadStatus", "MC_Reset", "MC_SetPosition",
+    "MC_Stop", "NCTOPLC_AXIS_REF", "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions", "ST_PowerOptions",
 ]
+
+class ST_PowerOptions(Struct):  # noqa: N801 - Beckhoff's name
+    """MC_Power's ``Options`` (one reserved BOOL on the PLC); accepted, not simulated."""
+
+    reserved: BOOL = False
+
 
 #: ``TYPE MC_LREAL : LREAL; END_TYPE``: the LREAL of the motion blocks' pins.
 MC_LREAL = Annotated[LREAL, Alias("MC_LREAL")]
@@ -199,6 +205,7 @@ class MC_Power(_AxisBlock):  # noqa: N801
     Enable_Negative: BOOL = VAR_INPUT(False)
     Override: LREAL = VAR_INPUT(100.0)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_PowerOptions = VAR_INPUT()
     Status: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)

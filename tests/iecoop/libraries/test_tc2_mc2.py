@@ -783,3 +783,20 @@ def test_a_move_of_the_slave_aborts_the_coupling() -> None:
     main.bRunMaster = True
     runtime.run(cycles=100)
     assert main.fbMoveSlave.Done and main.Slave.NcToPlc.SetPos == pytest.approx(50.0)  # no longer the master's
+
+
+def test_mc_power_takes_its_options_as_a_project_passes_them() -> None:
+    from iecoop import st as iecoop_st
+    from iecoop.libraries import tc2_mc2
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR Axis : AXIS_REF; fbPower : MC_Power; stOptions : ST_PowerOptions; fSpeed : MC_LREAL := 50.0; END_VAR
+    fbPower.Options := stOptions;
+    fbPower(Axis := Axis, Enable := TRUE, Enable_Positive := TRUE, Enable_Negative := TRUE, Override := fSpeed);
+    END_PROGRAM
+    """, libraries={"Tc2_MC2": tc2_mc2})
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), plc.MAIN)
+    runtime.run(cycles=2)
+    assert plc.MAIN.fbPower.Status and plc.MAIN.Axis.Sim.State == S.MC_AXISSTATE_STANDSTILL
