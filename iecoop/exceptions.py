@@ -15,6 +15,7 @@ RTSEXCPT_DIVIDEBYZERO 0x102
 from __future__ import annotations
 
 import enum
+import sys
 import types
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -29,6 +30,7 @@ __all__ = [
     "SourceLocation",
     "TryBlock",
     "location_of",
+    "st_caller",
     "try_catch",
 ]
 
@@ -122,7 +124,20 @@ def _st_frame(tb: types.TracebackType | None) -> SourceLocation | None:
         tb = tb.tb_next
     if found is None:
         return None
-    frame, code, line = found
+    return _frame_location(*found)
+
+
+def st_caller() -> SourceLocation | None:
+    """The innermost frame of the running call stack that runs loaded ST (the ST line calling the caller), or None."""
+    frame: types.FrameType | None = sys._getframe(1)
+    while frame is not None:
+        if frame.f_code.co_filename in _ST_FILES:
+            return _frame_location(frame, frame.f_code, frame.f_lineno)
+        frame = frame.f_back
+    return None
+
+
+def _frame_location(frame: types.FrameType, code: types.CodeType, line: int) -> SourceLocation:
     # The class builder compiles a body into its block's call inside helpers of its own (_iec_*).
     parts = [p for p in code.co_qualname.split(".") if p != "<locals>" and not p.startswith("_iec_")]
     owner = frame.f_locals.get("self")

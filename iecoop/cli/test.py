@@ -7,15 +7,17 @@
     iecoop test Project.plcproj --junitxml out.xml --timeout 30s
 
 Each PATH (a ``.plcproj``, a folder, an ST or TwinCAT file) is loaded, the
-PROGRAM calling ``TcUnit.RUN()`` / ``RUN_IN_SEQUENCE()`` runs on a 10 ms task
-until every test has finished, and one line per test is printed, then
+PROGRAM calling ``TcUnit.RUN()`` / ``RUN_IN_SEQUENCE()`` runs on the project's
+task (the cycle time of its ``.TcTTO``; 10 ms when it has none) until every
+test has finished, and one line per test is printed, then
 TcUnit's summary. A test still open ``--timeout`` of PLC time after it
 started (default 10 s) fails naming the limit. ``-k`` chooses the tests
 reported and counted (pytest's syntax, on ``Suite::Test``); every suite still
 runs, as on the PLC.
 
-Exit status: 0 when every chosen test passed, 1 when one failed or the PLC
-faulted, 2 for bad usage or a project that does not load.
+Exit status: 0 when every chosen test passed, 1 when one failed, the PLC
+faulted or a suite broke a ``GVL_Param_TcUnit`` limit, 2 for bad usage or a
+project that does not load.
 """
 
 from __future__ import annotations
@@ -90,7 +92,7 @@ def _summary(results: list[RunResult], chosen: list[TestResult], out: TextIO) ->
     out.write(f"Unsuccessful assertions: {asserts}\n")
     out.write(f"Duration: {seconds:.3f} s of PLC time\n")
     out.write("==================RESULT==================\n")
-    faulted = any(r.fault for r in results)
+    faulted = any(r.fault or r.errors for r in results)
     out.write("SOME TESTS FAILED\n" if failed or faulted else "ALL TESTS SUCCEEDED\n")
 
 
@@ -119,6 +121,10 @@ def test_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
             if test.status == "failed":
                 for detail in test.report().splitlines()[1:]:
                     out.write(f"    {detail}\n")
+        for warning in result.warnings:
+            err.write(f"iecoop test: {path}: warning: {warning}\n")
+        for error in result.errors:
+            err.write(f"iecoop test: {path}: {error}\n")
         if result.fault:
             err.write(f"iecoop test: {path}: {result.fault}\n")
     if args.junitxml:
@@ -128,7 +134,7 @@ def test_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     _summary(results, chosen, out)
     if args.keyword and not chosen:
         err.write(f"iecoop test: no test matches -k {args.keyword!r}\n")
-    failed = any(t.status == "failed" for t in chosen) or any(r.fault for r in results)
+    failed = any(t.status == "failed" for t in chosen) or any(r.fault or r.errors for r in results)
     return 1 if failed else 0
 
 

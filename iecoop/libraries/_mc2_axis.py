@@ -13,7 +13,7 @@ import math
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.libraries import _motion
 from iecoop.members import method
-from iecoop.memory import ARRAY, IecEnum, Struct
+from iecoop.memory import ARRAY, IecEnum, Struct, adr
 from iecoop.pou import FunctionBlock
 from iecoop.runtime.clock import task_clock
 from iecoop.types import BOOL, BYTE, DINT, DWORD, LINT, LREAL, SINT, UDINT, UINT, WORD
@@ -281,7 +281,7 @@ class ST_SimSegment(Struct):  # noqa: N801
 
 
 # Command kinds of the simulation (what the active command does to the state machine).
-_MOVE, _VELOCITY, _HALT, _STOP, _HOME = 1, 2, 3, 4, 5
+_MOVE, _VELOCITY, _HALT, _STOP, _HOME, _GEAR = 1, 2, 3, 4, 5, 6
 # What a block learns of its command (``AXIS_REF._result``).
 _PENDING, _ACTIVE, _IN_VELOCITY, _DONE, _ABORTED, _FAILED = 0, 1, 2, 3, 4, 5
 _ABORTED_CODE = 0xFFFF_FFFF
@@ -329,16 +329,23 @@ class ST_SimAxisState(Struct):  # noqa: N801
     Target: LREAL = 0.0
     Lag: LREAL = 0.0
     CycleCounter: UDINT = 0
+    GearRatio: LREAL = 0.0
+    GearMasterStart: LREAL = 0.0
+    GearSlaveStart: LREAL = 0.0
 
 
 _MOTION_STATES = frozenset({
     _STATES.MC_AXISSTATE_STANDSTILL, _STATES.MC_AXISSTATE_DISCRETEMOTION, _STATES.MC_AXISSTATE_CONTINOUSMOTION,
+    _STATES.MC_AXISSTATE_SYNCHRONIZEDMOTION,
 })
 _KIND_STATE = {
     _MOVE: _STATES.MC_AXISSTATE_DISCRETEMOTION, _HALT: _STATES.MC_AXISSTATE_DISCRETEMOTION,
     _VELOCITY: _STATES.MC_AXISSTATE_CONTINOUSMOTION, _STOP: _STATES.MC_AXISSTATE_STOPPING,
-    _HOME: _STATES.MC_AXISSTATE_HOMING,
+    _HOME: _STATES.MC_AXISSTATE_HOMING, _GEAR: _STATES.MC_AXISSTATE_SYNCHRONIZEDMOTION,
 }
+#: The master each geared slave follows (MC_GearIn), by the slave's address: a VAR_IN_OUT hands a block a
+#: view of the axis, a new Python object at each access, so only the address names the axis.
+_masters: dict[int, AXIS_REF] = {}
 
 
 class AXIS_REF(FunctionBlock):  # noqa: N801
@@ -375,6 +382,7 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         status.DiscreteMotion = state == _STATES.MC_AXISSTATE_DISCRETEMOTION
         status.ContinuousMotion = state == _STATES.MC_AXISSTATE_CONTINOUSMOTION
         status.Homing = state == _STATES.MC_AXISSTATE_HOMING
+        status.SynchronizedMotion = state == _STATES.MC_AXISSTATE_SYNCHRONIZEDMOTION
         moving = nc.SetVelo != 0.0
         speeding_up = nc.SetAcc * nc.SetVelo > 0.0
         status.ConstantVelocity = moving and nc.SetAcc == 0.0
@@ -473,7 +481,9 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
             return  # this instant is done (or a clock behind the axis' own time: the axis does not go back)
         sim.LastNs = now
         sim.CycleCounter += 1
-        if sim.Running:
+        if sim.ActiveKind == _GEAR:
+            self._follow()
+        elif sim.Running:
             self._advance(now)
         self._apply_enable()
         self._check_lag()
@@ -531,13 +541,8 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
         nc.SetPos, nc.SetVelo, nc.SetAcc = sample
         nc.ActPos = sample.position - sim.Lag
         nc.ActVelo, nc.ActAcc = sample.velocity, sample.acceleration
-        if sim.State != _STATES.MC_AXISSTATE_ERRORSTOP:
-            if p.EnableLimitPos and sample.position > p.SWLimitPos and sample.velocity > 0.0:
-                self._fault(ERR_SOFT_MAX_MOVING, immediate=False)
-                return
-            if p.EnableLimitNeg and sample.position < p.SWLimitNeg and sample.velocity < 0.0:
-                self._fault(ERR_SOFT_MIN_MOVING, immediate=False)
-                return
+        if self._crossed_limit(sample.position, sample.velocity):
+            return
         if not ended:
             return
         if sim.ProfileEndless:
@@ -545,6 +550,72 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
             return
         self._end_profile(sample.position)
         self._finish_active()
+
+    def _crossed_limit(self, position: float, velocity: float) -> bool:
+        """A set position moving past an enabled software limit: ErrorStop (0x4462 / 0x4463)."""
+        p = self.Parameters
+        if self.Sim.State == _STATES.MC_AXISSTATE_ERRORSTOP:
+            return False
+        if p.EnableLimitPos and position > p.SWLimitPos and velocity > 0.0:
+            self._fault(ERR_SOFT_MAX_MOVING, immediate=False)
+            return True
+        if p.EnableLimitNeg and position < p.SWLimitNeg and velocity < 0.0:
+            self._fault(ERR_SOFT_MIN_MOVING, immediate=False)
+            return True
+        return False
+
+    def _follow(self) -> None:
+        """A geared slave: the master's set position (this instant) times the ratio, from where both were coupled."""
+        sim, nc = self.Sim, self.NcToPlc
+        master = _masters.get(int(adr(self)))
+        if master is None:
+            return
+        master._sync()
+        source = master.NcToPlc
+        nc.SetPos = sim.GearSlaveStart + sim.GearRatio * (source.SetPos - sim.GearMasterStart)
+        nc.SetVelo, nc.SetAcc = sim.GearRatio * source.SetVelo, sim.GearRatio * source.SetAcc
+        nc.ActPos = nc.SetPos - sim.Lag
+        nc.ActVelo, nc.ActAcc = nc.SetVelo, nc.SetAcc
+        self._crossed_limit(nc.SetPos, nc.SetVelo)
+
+    def _gear_in(self, master: AXIS_REF, ratio: float) -> tuple[int, int]:
+        """MC_GearIn: couple this axis (the slave, at standstill) to ``master`` (at standstill) with ``ratio``."""
+        if master is self or not math.isfinite(ratio):
+            return 0, ERR_PARAMETER
+        master._sync()
+        # Tc2_MC2's MC_GearIn couples at standstill only; it cannot synchronize to a moving master.
+        if self.Sim.State != _STATES.MC_AXISSTATE_STANDSTILL or master.NcToPlc.SetVelo != 0.0:
+            return 0, ERR_CANNOT_START
+        sim = self.Sim
+        self._abort_commands()
+        sim.NextCmd += 1
+        sim.ActiveCmd, sim.ActiveKind = sim.NextCmd, _GEAR
+        sim.State = _STATES.MC_AXISSTATE_SYNCHRONIZEDMOTION
+        sim.GearRatio, sim.GearMasterStart, sim.GearSlaveStart = ratio, master.NcToPlc.SetPos, self.NcToPlc.SetPos
+        sim.InVelocity, sim.HasTarget = True, False  # InGear at once
+        _masters[int(adr(self))] = master
+        self._publish()
+        return sim.ActiveCmd, 0
+
+    def _gear_out(self) -> int:
+        """MC_GearOut: decouple; a moving slave keeps its velocity (ContinuousMotion) until MC_Stop / MC_Halt. 0 or an error."""
+        sim, nc = self.Sim, self.NcToPlc
+        if sim.ActiveKind != _GEAR:
+            return ERR_NOT_PERMITTED
+        self._record(sim.ActiveCmd, 0)
+        sim.ActiveCmd = sim.ActiveKind = 0
+        sim.InVelocity = False
+        _masters.pop(int(adr(self)), None)
+        velocity = nc.SetVelo
+        if velocity == 0.0:
+            self._end_profile(nc.SetPos)
+            sim.State = _STATES.MC_AXISSTATE_STANDSTILL
+            self._publish()
+            return 0
+        sim.NextCmd += 1
+        self._begin(sim.NextCmd, _VELOCITY, velocity, abs(velocity), self.Parameters.Acceleration,
+                    self.Parameters.Deceleration)
+        return 0
 
     def _finish_active(self) -> None:
         """The running profile reached its end: the command is done, the state machine moves on."""
@@ -570,6 +641,8 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
 
     def _abort_commands(self) -> None:
         sim = self.Sim
+        if sim.ActiveKind == _GEAR:
+            _masters.pop(int(adr(self)), None)
         for cmd in (sim.ActiveCmd, sim.PendingCmd):
             if cmd:
                 self._record(cmd, _ABORTED_CODE)
@@ -579,6 +652,8 @@ class AXIS_REF(FunctionBlock):  # noqa: N801
     def _fault(self, error_id: int, *, immediate: bool) -> None:
         """ErrorStop with ``error_id``: the running command fails with it, a buffered one is aborted."""
         sim, nc = self.Sim, self.NcToPlc
+        if sim.ActiveKind == _GEAR:
+            _masters.pop(int(adr(self)), None)
         if sim.ActiveCmd:
             self._record(sim.ActiveCmd, error_id)
             sim.ActiveCmd = sim.ActiveKind = 0

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.libraries import _motion
@@ -58,15 +58,25 @@ from iecoop.libraries._mc2_axis import (
     MC_AxisParameter, MC_AxisStates, MC_BufferMode, MC_Direction, MC_HomingMode, ST_AxisStatus, ST_MoveOptions,
 )
 from iecoop.pou import FunctionBlock
-from iecoop.types import BOOL, LREAL, UDINT
+from iecoop.memory import Alias, Struct
+from iecoop.types import BOOL, LREAL, UDINT, UINT
 
 __all__ = [
     "AXIS_REF", "E_JogMode", "E_ReadMode", "MC_AxisParameter", "MC_AxisStates", "MC_BufferMode", "MC_Direction",
-    "MC_Halt", "MC_Home", "MC_HomingMode", "MC_Jog", "MC_MoveAbsolute", "MC_MoveModulo", "MC_MoveRelative",
-    "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition", "MC_ReadActualVelocity", "MC_ReadAxisError",
-    "MC_ReadParameter", "MC_ReadStatus", "MC_Reset", "MC_SetPosition", "MC_Stop", "NCTOPLC_AXIS_REF",
-    "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions",
+    "MC_GearIn", "MC_GearOut", "MC_Halt", "MC_Home", "MC_HomingMode", "MC_Jog", "MC_LREAL", "MC_MoveAbsolute",
+    "MC_MoveModulo", "MC_MoveRelative", "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition",
+    "MC_ReadActualVelocity", "MC_ReadAxisError", "MC_ReadParameter", "MC_ReadStatus", "MC_Reset", "MC_SetPosition",
+    "MC_Stop", "NCTOPLC_AXIS_REF", "PLCTONC_AXIS_REF", "ST_AxisStatus", "ST_MoveOptions", "ST_PowerOptions",
 ]
+
+class ST_PowerOptions(Struct):  # noqa: N801 - Beckhoff's name
+    """MC_Power's ``Options`` (one reserved BOOL on the PLC); accepted, not simulated."""
+
+    reserved: BOOL = False
+
+
+#: ``TYPE MC_LREAL : LREAL; END_TYPE``: the LREAL of the motion blocks' pins.
+MC_LREAL = Annotated[LREAL, Alias("MC_LREAL")]
 
 # ---------------------------------------------------------------------------
 # The function blocks
@@ -78,10 +88,8 @@ def _has(cls: type, pin: str) -> bool:
     return hasattr(cls, pin)
 
 
-class _AxisBlock(FunctionBlock, abstract=True):
-    """What every MC block shares: ``Axis : AXIS_REF`` (VAR_IN_OUT) and the PLCopen output handshake."""
-
-    Axis: AXIS_REF = VAR_IN_OUT()
+class _Handshake(FunctionBlock, abstract=True):
+    """The PLCopen output handshake every MC block shares, on the axis its command runs on (``_axis()``)."""
 
     if TYPE_CHECKING:
         Execute: bool
@@ -96,13 +104,16 @@ class _AxisBlock(FunctionBlock, abstract=True):
         Shown: bool
         CmdNo: int
 
+    def _axis(self) -> AXIS_REF:
+        raise NotImplementedError
+
     def _set(self, pin: str, value: Any) -> None:
         if _has(type(self), pin):
             setattr(self, pin, value)
 
     def _edge(self, execute: bool) -> bool:
         """Advance the axis, drop outputs shown after Execute fell, and tell whether Execute rose (PLCopen)."""
-        self.Axis._sync()
+        self._axis()._sync()
         if not execute and self.Shown and not self.Busy:
             self._clear()
         rising = execute and not self.PrevExecute
@@ -110,7 +121,7 @@ class _AxisBlock(FunctionBlock, abstract=True):
         return rising
 
     def _clear(self) -> None:
-        for pin in ("Done", "CommandAborted", "Error", "InVelocity"):
+        for pin in ("Done", "CommandAborted", "Error", "InVelocity", "InGear"):
             self._set(pin, False)
         self.ErrorID = 0
         self.Shown = False
@@ -143,17 +154,19 @@ class _AxisBlock(FunctionBlock, abstract=True):
         """Follow the block's command on the axis and set the outputs when it ends."""
         if not self.Busy:
             return
-        outcome, code = self.Axis._result(self.CmdNo)
+        outcome, code = self._axis()._result(self.CmdNo)
         if outcome in (_ACTIVE, _IN_VELOCITY):
             self._set("Active", True)
             if outcome == _IN_VELOCITY:
                 self._set("InVelocity", True)
+                self._set("InGear", True)
             return
         if outcome == _PENDING:
             return
         self._set("Busy", False)
         self._set("Active", False)
         self._set("InVelocity", False)
+        self._set("InGear", False)
         if outcome == _DONE:
             self._set("Done", True)
         elif outcome == _ABORTED:
@@ -161,6 +174,15 @@ class _AxisBlock(FunctionBlock, abstract=True):
         else:
             self.Error, self.ErrorID = True, code
         self.Shown = True
+
+
+class _AxisBlock(_Handshake, abstract=True):
+    """An MC block on one axis: ``Axis : AXIS_REF`` (VAR_IN_OUT)."""
+
+    Axis: AXIS_REF = VAR_IN_OUT()
+
+    def _axis(self) -> AXIS_REF:
+        return self.Axis
 
 
 class _Command(_AxisBlock, abstract=True):
@@ -183,6 +205,7 @@ class MC_Power(_AxisBlock):  # noqa: N801
     Enable_Negative: BOOL = VAR_INPUT(False)
     Override: LREAL = VAR_INPUT(100.0)
     BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    Options: ST_PowerOptions = VAR_INPUT()
     Status: BOOL = VAR_OUTPUT(False)
     Busy: BOOL = VAR_OUTPUT(False)
     Active: BOOL = VAR_OUTPUT(False)
@@ -460,6 +483,71 @@ class MC_Stop(_Command):  # noqa: N801
             self._track()
         if not self.Execute and self.CmdNo:
             self.Axis._release_stop(self.CmdNo)
+
+
+class _SlaveCommand(_Handshake, abstract=True):
+    """A coupling block: its command runs on ``Slave``, started by a rising edge of Execute."""
+
+    Slave: AXIS_REF = VAR_IN_OUT()
+    Execute: BOOL = VAR_INPUT(False)
+    PrevExecute: BOOL = VAR(False)
+    Shown: BOOL = VAR(False)
+    CmdNo: UDINT = VAR(0)
+
+    def _axis(self) -> AXIS_REF:
+        return self.Slave
+
+
+class MC_GearIn(_SlaveCommand):  # noqa: N801
+    """MC_GearIn: couple Slave to Master with RatioNumerator / RatioDenominator (SynchronizedMotion); InGear at once.
+
+    ST: ``GearIn(Master := Axis1, Slave := Axis2, Execute := TRUE, RatioNumerator := 2.0, RatioDenominator := 1);``
+
+    As Tc2_MC2's, it couples at standstill only (a moving slave or master refuses with 0x4B01); the
+    slave's set position is then the master's times the ratio, from where both stood, each cycle.
+    Acceleration, Deceleration, Jerk and BufferMode are accepted and not used (so in Tc2_MC2 too).
+    """
+
+    Master: AXIS_REF = VAR_IN_OUT()
+    RatioNumerator: LREAL = VAR_INPUT(1.0)
+    RatioDenominator: UINT = VAR_INPUT(1)
+    Acceleration: LREAL = VAR_INPUT(0.0)
+    Deceleration: LREAL = VAR_INPUT(0.0)
+    Jerk: LREAL = VAR_INPUT(0.0)
+    BufferMode: MC_BufferMode = VAR_INPUT(MC_BufferMode.MC_Aborting)
+    InGear: BOOL = VAR_OUTPUT(False)
+    Busy: BOOL = VAR_OUTPUT(False)
+    Active: BOOL = VAR_OUTPUT(False)
+    CommandAborted: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    ErrorID: UDINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        if self._edge(self.Execute):
+            if self.RatioDenominator == 0:
+                self._started(0, ERR_PARAMETER)
+                return
+            cmd, error = self.Slave._gear_in(self.Master, self.RatioNumerator / self.RatioDenominator)
+            self._started(cmd, error)
+        else:
+            self._track()
+
+
+class MC_GearOut(_SlaveCommand):  # noqa: N801
+    """MC_GearOut: decouple Slave; a moving slave keeps its velocity (ContinuousMotion) until MC_Stop or MC_Halt.
+
+    ST: ``GearOut(Slave := Axis2, Execute := TRUE);`` Done in the call of the edge; a slave that is
+    not coupled refuses with 0x4B05.
+    """
+
+    Done: BOOL = VAR_OUTPUT(False)
+    Busy: BOOL = VAR_OUTPUT(False)
+    Error: BOOL = VAR_OUTPUT(False)
+    ErrorID: UDINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        if self._edge(self.Execute):
+            self._done_at_once(self.Slave._gear_out())
 
 
 class MC_Home(_Command):  # noqa: N801

@@ -42,21 +42,22 @@ from typing import Annotated, Any, BinaryIO, cast
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.libraries import known
 from iecoop.libraries._printf import Arg, FormatError, render
-from iecoop.memory import Alias, IecEnum, Pointer, Struct
+from iecoop.memory import Alias, IecEnum, Pointer, Struct, memcmp, memcpy, memset
 from iecoop.pou import FunctionBlock
 from iecoop.runtime import current_task
 from iecoop.runtime.clock import current_clock
-from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, STRING, TIME, UDINT, UINT, ULINT, StringType
+from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, SINT, STRING, TIME, UDINT, UINT, ULINT, USINT, StringType
 
 __all__ = [
     "ADSLOGDINT", "ADSLOGLREAL", "ADSLOGSTR", "ADSLOG_MSGTYPE_ERROR", "ADSLOG_MSGTYPE_HINT", "ADSLOG_MSGTYPE_LOG",
     "ADSLOG_MSGTYPE_MSGBOX", "ADSLOG_MSGTYPE_RESOURCE", "ADSLOG_MSGTYPE_STRING", "ADSLOG_MSGTYPE_WARN",
-    "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen",
-    "FB_FilePuts", "FB_FileRead", "FB_FileWrite", "FOPEN_MODEAPPEND", "FOPEN_MODEBINARY", "FOPEN_MODEPLUS",
-    "FOPEN_MODEREAD", "FOPEN_MODETEXT", "FOPEN_MODEWRITE", "F_GetSystemTime", "F_GetTaskTime",
-    "F_GetVersionTcSystem", "GETCPUCOUNTER", "GETCURTASKINDEX", "GETCURTASKINDEXEX", "GETSYSTEMTIME",
-    "MAX_STRING_LENGTH", "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString",
-    "stLibVersion_Tc2_System",
+    "CLEARBIT32", "CSETBIT32", "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "E_SeekOrigin", "FB_CreateDir",
+    "FB_FileClose", "FB_FileDelete", "FB_FileGets", "FB_FileOpen", "FB_FilePuts", "FB_FileRead", "FB_FileRename",
+    "FB_FileSeek", "FB_FileTell", "FB_FileWrite", "FB_RemoveDir", "FOPEN_MODEAPPEND", "FOPEN_MODEBINARY",
+    "FOPEN_MODEPLUS", "FOPEN_MODEREAD", "FOPEN_MODETEXT", "FOPEN_MODEWRITE", "F_GetSystemTime", "F_GetTaskTime",
+    "F_GetVersionTcSystem", "F_ToASC", "F_ToCHR", "GETBIT32", "GETCPUCOUNTER", "GETCURTASKINDEX",
+    "GETCURTASKINDEXEX", "GETSYSTEMTIME", "MAX_STRING_LENGTH", "MEMCMP", "MEMCPY", "MEMMOVE", "MEMSET", "SETBIT32",
+    "ST_LibVersion", "T_AmsNetId", "T_AmsPort", "T_IPv4Addr", "T_MaxString", "stLibVersion_Tc2_System",
 ]
 
 # --- types and constants ------------------------------------------------------------------------
@@ -264,6 +265,74 @@ class GETCPUCOUNTER(FunctionBlock):
         ticks = current_clock().now_ns() // 100
         self.cpuCntLoDW = ticks & 0xFFFF_FFFF
         self.cpuCntHiDW = (ticks >> 32) & 0xFFFF_FFFF
+
+
+# --- memory and bits ---------------------------------------------------------------------------
+# Infosys, Tc2_System "MEMCPY", "MEMMOVE", "MEMSET", "MEMCMP": a 0 address or a count of 0 is refused
+# by the return value, not a fault; the ranges themselves are checked as every iecoop pointer is.
+
+
+def MEMCPY(destAddr: Pointer[Any], srcAddr: Pointer[Any], n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMCPY(destAddr, srcAddr, n)``: copy n bytes; n, or 0 (nothing copied) when an address or n is 0."""
+    if not destAddr or not srcAddr or not n:
+        return 0
+    return memcpy(destAddr, srcAddr, n)
+
+
+def MEMMOVE(destAddr: Pointer[Any], srcAddr: Pointer[Any], n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMMOVE(destAddr, srcAddr, n)``: MEMCPY for areas that may overlap (the source is read first)."""
+    return MEMCPY(destAddr, srcAddr, n)  # iecoop's copy is a move already
+
+
+def MEMSET(destAddr: Pointer[Any], fillByte: USINT, n: UDINT) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``MEMSET(destAddr, fillByte, n)``: fill n bytes with fillByte; n, or 0 when destAddr or n is 0."""
+    if not destAddr or not n:
+        return 0
+    return memset(destAddr, fillByte & 0xFF, n)
+
+
+def MEMCMP(pBuf1: Pointer[Any], pBuf2: Pointer[Any], n: UDINT) -> DINT:  # noqa: N802, N803 - the ST names
+    """``MEMCMP(pBuf1, pBuf2, n)``: 0 equal, 1 / -1 as the first differing byte of pBuf1 is greater / smaller;
+    16#FF when an address or n is 0."""
+    if not pBuf1 or not pBuf2 or not n:
+        return 0xFF
+    return memcmp(pBuf1, pBuf2, n)
+
+
+# Infosys, Tc2_System "SETBIT32" ...: bitNo is taken modulo 32.
+
+
+def SETBIT32(inVal32: DWORD, bitNo: SINT) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``SETBIT32(inVal32, bitNo)``: inVal32 with bit bitNo (modulo 32) set."""
+    return (inVal32 | (1 << (bitNo % 32))) & 0xFFFF_FFFF
+
+
+def CLEARBIT32(inVal32: DWORD, bitNo: SINT) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``CLEARBIT32(inVal32, bitNo)``: inVal32 with bit bitNo (modulo 32) cleared."""
+    return inVal32 & ~(1 << (bitNo % 32)) & 0xFFFF_FFFF
+
+
+def CSETBIT32(inVal32: DWORD, bitNo: SINT, bitVal: BOOL) -> DWORD:  # noqa: N802, N803 - the ST names
+    """``CSETBIT32(inVal32, bitNo, bitVal)``: inVal32 with bit bitNo (modulo 32) set to bitVal."""
+    return SETBIT32(inVal32, bitNo) if bitVal else CLEARBIT32(inVal32, bitNo)
+
+
+def GETBIT32(inVal32: DWORD, bitNo: SINT) -> BOOL:  # noqa: N802, N803 - the ST names
+    """``GETBIT32(inVal32, bitNo)``: whether bit bitNo (modulo 32) of inVal32 is set."""
+    return bool(inVal32 >> (bitNo % 32) & 1)
+
+
+# --- characters ---------------------------------------------------------------------------------
+
+
+def F_ToASC(str: STRING) -> BYTE:  # noqa: A002, N802 - the ST names
+    """``F_ToASC(str)``: the code of the first character of str (Latin-1); 0 for an empty string."""
+    return str.encode("latin-1")[0] if str else 0
+
+
+def F_ToCHR(c: BYTE) -> STRING:  # noqa: N802 - the ST name
+    """``F_ToCHR(c)``: the one-character STRING of code c; code 0 is the empty string (it ends a STRING)."""
+    return bytes([c & 0xFF]).decode("latin-1") if c & 0xFF else ""
 
 
 # --- tasks and random numbers -------------------------------------------------------------------
@@ -556,6 +625,105 @@ class FB_FileDelete(_FileRequest):
         if path.is_dir():
             raise _AdsError(ADSERR_DEVICE_INVALIDACCESS)
         path.unlink()
+
+
+class E_SeekOrigin(IecEnum):  # noqa: N801 - the ST name
+    """``E_SeekOrigin``: what FB_FileSeek's nSeekPos counts from."""
+
+    SEEK_SET = 0
+    SEEK_CUR = 1
+    SEEK_END = 2
+
+
+class FB_FileSeek(_FileRequest):
+    """``FB_FileSeek``: set the file pointer of hFile to nSeekPos from eOrigin (start, current, end).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; hFile : UINT; nSeekPos : DINT; eOrigin : E_SeekOrigin := SEEK_SET;
+    bExecute : BOOL; tTimeout : TIME; END_VAR``; a position before the start is ADSERR_DEVICE_INVALIDPARM.
+    """
+
+    hFile: UINT = VAR_INPUT(0)
+    nSeekPos: DINT = VAR_INPUT(0)
+    eOrigin: E_SeekOrigin = VAR_INPUT(E_SeekOrigin.SEEK_SET)
+
+    def run(self) -> None:
+        file = _file(self.hFile)
+        base = {E_SeekOrigin.SEEK_SET: 0, E_SeekOrigin.SEEK_CUR: file.tell(),
+                E_SeekOrigin.SEEK_END: os.fstat(file.fileno()).st_size}.get(E_SeekOrigin(self.eOrigin))
+        if base is None or base + self.nSeekPos < 0:
+            raise _AdsError(ADSERR_DEVICE_INVALIDPARM)
+        file.seek(base + self.nSeekPos)
+
+
+class FB_FileTell(_FileRequest):
+    """``FB_FileTell``: the file pointer of hFile, in nSeekPos (bytes from the start).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; hFile : UINT; bExecute : BOOL; tTimeout : TIME; END_VAR
+    VAR_OUTPUT ... nSeekPos : DINT; END_VAR``
+    """
+
+    hFile: UINT = VAR_INPUT(0)
+    nSeekPos: DINT = VAR_OUTPUT(0)
+
+    def run(self) -> None:
+        self.nSeekPos = _file(self.hFile).tell()
+
+    def failed(self) -> None:
+        self.nSeekPos = -1
+
+
+class FB_FileRename(_FileRequest):
+    """``FB_FileRename``: rename the file sOldName to sNewName (both in the sandbox folder).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sOldName, sNewName : T_MaxString; ePath : E_OpenPath;
+    bExecute : BOOL; tTimeout : TIME; END_VAR``; an existing sNewName is ADSERR_DEVICE_EXISTS.
+    """
+
+    sOldName: T_MaxString = VAR_INPUT("")
+    sNewName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        old, new = sandbox_path(self.sOldName), sandbox_path(self.sNewName)
+        if not old.is_file():
+            raise _AdsError(ADSERR_DEVICE_NOTFOUND if not old.exists() else ADSERR_DEVICE_INVALIDACCESS)
+        if os.path.lexists(new):
+            raise _AdsError(ADSERR_DEVICE_EXISTS)
+        old.rename(new)
+
+
+class FB_CreateDir(_FileRequest):
+    """``FB_CreateDir``: create the folder sPathName (its parent must exist).
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sPathName : T_MaxString; ePath : E_OpenPath; bExecute : BOOL;
+    tTimeout : TIME; END_VAR``
+    """
+
+    sPathName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        sandbox_path(self.sPathName).mkdir()
+
+
+class FB_RemoveDir(_FileRequest):
+    """``FB_RemoveDir``: remove the empty folder sPathName.
+
+    ST: ``VAR_INPUT sNetId : T_AmsNetId; sPathName : T_MaxString; ePath : E_OpenPath; bExecute : BOOL;
+    tTimeout : TIME; END_VAR``; a folder that is not empty is ADSERR_DEVICE_INVALIDACCESS.
+    """
+
+    sPathName: T_MaxString = VAR_INPUT("")
+    ePath: E_OpenPath = VAR_INPUT(E_OpenPath.PATH_GENERIC)
+
+    def run(self) -> None:
+        path = sandbox_path(self.sPathName)
+        if not path.is_dir():
+            raise _AdsError(ADSERR_DEVICE_NOTFOUND if not path.exists() else ADSERR_DEVICE_INVALIDACCESS)
+        try:
+            path.rmdir()
+        except OSError as exc:  # not empty
+            raise _AdsError(ADSERR_DEVICE_INVALIDACCESS) from exc
 
 
 class FB_FileRead(_FileRequest):

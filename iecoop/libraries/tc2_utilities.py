@@ -24,9 +24,11 @@ from __future__ import annotations
 
 import collections
 import datetime
+from collections.abc import Callable
 from typing import Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
+from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries._printf import Arg, FormatError, render
 from iecoop.libraries.tc2_system import (
     DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
@@ -42,12 +44,17 @@ from iecoop.types import (
 )
 
 __all__ = [
-    "DT_TO_SYSTEMTIME", "DWORD_TO_HEXSTR", "E_ArgType", "E_TimeZoneID", "E_TypeFieldParam", "FB_FormatString",
-    "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD",
-    "F_FormatArgToStr", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL", "F_LTrim", "F_LWORD", "F_REAL",
-    "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT", "F_ULINT", "F_USINT", "F_WORD",
-    "LREAL_TO_FMTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64",
-    "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64", "stLibVersion_Tc2_Utilities",
+    "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "DT_TO_FILETIME", "DT_TO_SYSTEMTIME",
+    "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
+    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
+    "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
+    "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
+    "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
+    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
+    "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
+    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
+    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "stLibVersion_Tc2_Utilities",
 ]
 
 #: ``stLibVersion_Tc2_Utilities``: the version of Tc2_Utilities iecoop follows.
@@ -457,14 +464,55 @@ def F_RTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
     return in_.rstrip(" ")
 
 
-def DWORD_TO_HEXSTR(in_: DWORD, iPrecision: INT, bLoCase: BOOL) -> T_MaxString:  # noqa: N802, N803
-    """``DWORD_TO_HEXSTR(in, iPrecision, bLoCase)``: ``in`` in hexadecimal, at least iPrecision digits.
+def _digits(value: int, base: int, precision: int, lower: bool = False) -> str:
+    """``value`` in ``base``, zero-filled to ``precision`` digits, never cut; 0 with precision 0 is ``''`` (Infosys)."""
+    if value == 0 and precision <= 0:
+        return ""
+    text = {2: "b", 8: "o", 10: "d", 16: "x" if lower else "X"}[base]
+    return format(value, text).rjust(max(0, int(precision)), "0")
 
-    >>> DWORD_TO_HEXSTR(0xA1, 4, False), DWORD_TO_HEXSTR(0xA1, 0, True)
-    ('00A1', 'a1')
-    """
-    text = format(in_ & 0xFFFF_FFFF, "x" if bLoCase else "X")
-    return text.rjust(max(0, int(iPrecision)), "0")
+
+def _to_digits(source: str, base: int) -> Callable[..., str]:
+    """``FUNCTION <source>_TO_<BIN|OCT|DEC|HEX>STR(in, iPrecision[, bLoCase]) : T_MaxString``."""
+    kind = {2: "BIN", 8: "OCT", 10: "DEC", 16: "HEX"}[base]
+    name = f"{source}_TO_{kind}STR"
+    annotation = {"BYTE": BYTE, "WORD": WORD, "DWORD": DWORD, "LWORD": LWORD}[source]
+    mask = {"BYTE": 0xFF, "WORD": 0xFFFF, "DWORD": 0xFFFF_FFFF, "LWORD": 0xFFFF_FFFF_FFFF_FFFF}[source]
+
+    def convert(in_: Any, iPrecision: Any, bLoCase: Any = False) -> str:  # noqa: N803 - the ST names
+        return _digits(int(in_) & mask, base, int(iPrecision), bool(bLoCase))
+
+    def convert_plain(in_: Any, iPrecision: Any) -> str:  # noqa: N803 - the ST names
+        return _digits(int(in_) & mask, base, int(iPrecision))
+
+    converter = convert if base == 16 else convert_plain
+    converter.__name__ = converter.__qualname__ = name
+    converter.__doc__ = (
+        f"``{name}(in, iPrecision{', bLoCase' if base == 16 else ''})``: ``in`` in base {base}, zero-filled to at "
+        "least iPrecision digits (never cut); 0 with iPrecision 0 is the empty string."
+    )
+    converter.__annotations__ = {"in_": annotation, "iPrecision": INT, "return": T_MaxString}
+    if base == 16:
+        converter.__annotations__["bLoCase"] = BOOL
+    return converter
+
+
+BYTE_TO_BINSTR = _to_digits("BYTE", 2)
+BYTE_TO_OCTSTR = _to_digits("BYTE", 8)
+BYTE_TO_DECSTR = _to_digits("BYTE", 10)
+BYTE_TO_HEXSTR = _to_digits("BYTE", 16)
+WORD_TO_BINSTR = _to_digits("WORD", 2)
+WORD_TO_OCTSTR = _to_digits("WORD", 8)
+WORD_TO_DECSTR = _to_digits("WORD", 10)
+WORD_TO_HEXSTR = _to_digits("WORD", 16)
+DWORD_TO_BINSTR = _to_digits("DWORD", 2)
+DWORD_TO_OCTSTR = _to_digits("DWORD", 8)
+DWORD_TO_DECSTR = _to_digits("DWORD", 10)
+DWORD_TO_HEXSTR = _to_digits("DWORD", 16)
+LWORD_TO_BINSTR = _to_digits("LWORD", 2)
+LWORD_TO_OCTSTR = _to_digits("LWORD", 8)
+LWORD_TO_DECSTR = _to_digits("LWORD", 10)
+LWORD_TO_HEXSTR = _to_digits("LWORD", 16)
 
 
 # --- time ---------------------------------------------------------------------------------------
@@ -553,6 +601,43 @@ def SYSTEMTIME_TO_FILETIME(systemTime: TIMESTRUCT) -> T_FILETIME:  # noqa: N802,
     return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
 
 
+def F_YearIsLeapYear(wYear: WORD) -> BOOL:  # noqa: N802, N803 - the ST names
+    """``F_YearIsLeapYear(wYear)``: whether wYear is a leap year of the Gregorian calendar."""
+    return wYear % 4 == 0 and (wYear % 100 != 0 or wYear % 400 == 0)
+
+
+def F_GetMaxMonthDays(wYear: WORD, wMonth: WORD) -> WORD:  # noqa: N802, N803 - the ST names
+    """``F_GetMaxMonthDays(wYear, wMonth)``: the days of month wMonth (1..12) of wYear; 0 for another wMonth."""
+    if not 1 <= wMonth <= 12:
+        return 0
+    if wMonth == 2:
+        return 29 if F_YearIsLeapYear(wYear) else 28
+    return 30 if wMonth in (4, 6, 9, 11) else 31
+
+
+def F_GetDOYOfYearMonthDay(wYear: WORD, wMonth: WORD, wDay: WORD) -> WORD:  # noqa: N802, N803 - the ST names
+    """``F_GetDOYOfYearMonthDay(wYear, wMonth, wDay)``: the day of the year (1..366); 0 for a date that does not exist."""
+    if not 1 <= wDay <= F_GetMaxMonthDays(wYear, wMonth):
+        return 0
+    return sum(F_GetMaxMonthDays(wYear, month) for month in range(1, wMonth)) + wDay
+
+
+#: FILETIME's ticks (100 ns since 1601-01-01) at DT#1970-01-01-00:00, where DT counts from.
+_DT_ZERO_TICKS = 116_444_736_000_000_000
+
+
+def FILETIME_TO_DT(fileTime: T_FILETIME) -> DT:  # noqa: N802, N803 - the ST names
+    """``FILETIME_TO_DT(fileTime)``: a T_FILETIME as a DT (whole seconds); a time before 1970 is DT#1970-01-01-00:00."""
+    ticks = (fileTime.dwHighDateTime << 32) | fileTime.dwLowDateTime
+    return max(0, (ticks - _DT_ZERO_TICKS) // 10_000_000) & 0xFFFF_FFFF
+
+
+def DT_TO_FILETIME(DTIN: DT) -> T_FILETIME:  # noqa: N802, N803 - the ST names
+    """``DT_TO_FILETIME(DTIN)``: a DT as a T_FILETIME."""
+    ticks = int(DTIN) * 10_000_000 + _DT_ZERO_TICKS
+    return T_FILETIME(dwLowDateTime=ticks & 0xFFFF_FFFF, dwHighDateTime=ticks >> 32)
+
+
 #: ``TYPE T_FILETIME64 : ULINT``: a FILETIME in one 64-bit number.
 T_FILETIME64 = Annotated[ULINT, Alias("T_FILETIME64")]
 
@@ -634,6 +719,50 @@ class FB_LocalSystemTime(FunctionBlock):  # noqa: N801 - the ST name
 # --- FB_MemRingBuffer ---------------------------------------------------------------------------
 
 _HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
+
+
+#: How far FindAndReplace reads a source string looking for its end (Tc2_Utilities' Parameterlist.cMaxCharacters).
+MAX_CHARACTERS = 2048
+
+
+def _c_string(pointer: Pointer[Any], what: str) -> bytes:
+    """The STRING at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS), whatever its declared length."""
+    if not pointer:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"FindAndReplace: {what} is a null pointer")
+    data = bytearray()
+    at = pointer.typed(BYTE)
+    while len(data) < MAX_CHARACTERS:
+        value = (at + len(data)).deref
+        if value == 0:
+            break
+        data.append(value)
+    return bytes(data)
+
+
+def FindAndReplace(  # noqa: N802 - the ST name
+    pSrcString: Pointer[Any], pDeleteString: Pointer[Any] | None = None, pInsertString: Pointer[Any] | None = None,  # noqa: N803
+    pDstString: Pointer[Any] | None = None, nDstSize: UDINT = 0, *, pSrcFindString: Pointer[Any] | None = None,  # noqa: N803
+    pSrcReplaceWithString: Pointer[Any] | None = None, cbDstString: UDINT = 0,  # noqa: N803
+) -> UDINT:
+    """``FindAndReplace(pSrcString, pDeleteString, pInsertString, pDstString, nDstSize)``: every *pDeleteString in
+    *pSrcString replaced by *pInsertString, into *pDstString (nDstSize bytes, its terminator included); the count.
+
+    The strings are read to their terminating 0, as the PLC's pointers are. ``pSrcFindString``,
+    ``pSrcReplaceWithString`` and ``cbDstString`` are the names earlier Tc2_Utilities versions give the same inputs.
+    """
+    find = pDeleteString if pDeleteString is not None else pSrcFindString
+    insert = pInsertString if pInsertString is not None else pSrcReplaceWithString
+    size = nDstSize or cbDstString
+    if find is None or insert is None or pDstString is None:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "FindAndReplace: a string pointer is missing")
+    source, old, new = _c_string(pSrcString, "pSrcString"), _c_string(find, "pDeleteString"), _c_string(insert, "pInsertString")
+    count = source.count(old) if old else 0
+    result = source.replace(old, new) if count else source
+    result = result[: max(0, int(size) - 1)]
+    target = pDstString.typed(BYTE)
+    for index, value in enumerate(result + b"\x00"):
+        (target + index).deref = value
+    return count
 
 
 class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name

@@ -71,13 +71,18 @@ import contextlib
 import contextvars
 import dataclasses
 import math
+import os
+import sys
 from collections.abc import Callable, Iterator, Sequence
+from types import FrameType
 from typing import Any, Literal
 
-from iecoop import ARRAY, BOOL, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
-from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop import ARRAY, BOOL, DINT, DWORD, POINTER_TO, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
+from iecoop.exceptions import ExceptionCode, PlcException, st_caller
 from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
 from iecoop.generics import ANY, AnyType
+from iecoop.libraries import tc2_system
+from iecoop.libraries.tc2_system import T_MaxString
 from iecoop.memory import TYPE_CLASS, Pointer, adr, memcmp
 from iecoop.metadata import iec_class, st_name
 from iecoop.pou import FunctionBlock
@@ -86,11 +91,16 @@ from iecoop import types
 from iecoop.types import ELEMENTARY_TYPES, ElementaryType
 
 __all__ = [
-    "FB_TestSuite", "GVL_Param_TcUnit", "IS_TEST_FINISHED", "RUN", "RUN_IN_SEQUENCE", "TEST", "TEST_FINISHED",
-    "TEST_FINISHED_NAMED", "TEST_ORDERED",
+    "FB_TestSuite", "GVL_Param_TcUnit", "IS_TEST_FINISHED", "RUN", "RUN_IN_SEQUENCE", "TCUNIT_ADSLOGSTR", "TEST",
+    "TEST_FINISHED", "TEST_FINISHED_NAMED", "TEST_ORDERED", "WRITE_PROTECTED_BOOL", "WRITE_PROTECTED_BYTE",
+    "WRITE_PROTECTED_DATE", "WRITE_PROTECTED_DATE_AND_TIME", "WRITE_PROTECTED_DINT", "WRITE_PROTECTED_DWORD",
+    "WRITE_PROTECTED_INT", "WRITE_PROTECTED_LINT", "WRITE_PROTECTED_LREAL", "WRITE_PROTECTED_LWORD",
+    "WRITE_PROTECTED_REAL", "WRITE_PROTECTED_SINT", "WRITE_PROTECTED_STRING", "WRITE_PROTECTED_TIME",
+    "WRITE_PROTECTED_TIME_OF_DAY", "WRITE_PROTECTED_UDINT", "WRITE_PROTECTED_UINT", "WRITE_PROTECTED_ULINT",
+    "WRITE_PROTECTED_USINT", "WRITE_PROTECTED_WORD", "WRITE_PROTECTED_WSTRING",
 ]
 
-#: The prefix TcUnit reads as "do not run this test" (TcUnit FAQ, "disable a test").
+#: The prefix TcUnit reads as "do not run this test", in any case (TcUnit FAQ, "disable a test": ``DISABLED_``).
 DISABLED_PREFIX = "disabled_"
 
 
@@ -124,7 +134,9 @@ class AssertFailure:
     """One failed assert: the assert's name, its message, the expected and actual values as ST text.
 
     ``index`` is where two arrays first differ (``[3]``, ``[1, 2]``; empty for a
-    size difference or a scalar); ``cycle`` is the RUN() cycle it was made in (from 1).
+    size difference or a scalar); ``cycle`` is the RUN() cycle it was made in (from 1);
+    ``file`` and ``lineno`` are where the assert was called: the ST file and line
+    for loaded ST, the Python file and line for a suite written in Python.
     """
 
     test: str
@@ -135,6 +147,8 @@ class AssertFailure:
     actual: str
     cycle: int
     index: str = ""
+    file: str = ""
+    lineno: int = 0
 
     def line(self) -> str:
         """The line TcUnit logs for it: ``FAILED TEST 'PRG_TEST.fbSuite@Test', EXP: 3, ACT: 2, MSG: sum``."""
@@ -165,6 +179,8 @@ class TestRecord:
     started_ns: int = -1
     finished_ns: int = -1
     _seen: set[tuple[Any, ...]] = dataclasses.field(default_factory=set, repr=False)
+    #: the RUN() cycle TEST() last declared it in: a second declaration in one cycle is a duplicate
+    _declared_cycle: int = dataclasses.field(default=0, repr=False)
 
     @property
     def status(self) -> Status:
@@ -193,6 +209,10 @@ class SuiteState:
         self.by_name: dict[str, TestRecord] = {}
         self.current: TestRecord | None = None
         self.errors: list[str] = []
+        #: the test names declared twice in one cycle (logged once each)
+        self.duplicates: set[str] = set()
+        #: the test open is a duplicate declaration: its asserts are not recorded
+        self.ignoring = False
         self.asserts = 0
 
     def reset(self) -> None:
@@ -200,6 +220,7 @@ class SuiteState:
         self.by_name.clear()
         self.current = None
         self.errors.clear()
+        self.duplicates.clear()
         self.asserts = 0
 
     @property
@@ -229,6 +250,8 @@ class Registry:
         self.cycle = 0
         self.done = False
         self.log: list[str] = []
+        #: what TcUnit logs as an error without failing a test (a test name declared twice in one cycle)
+        self.warnings: list[str] = []
         self.clock: Clock | None = None
         self.started_ns = -1
         self.finished_ns = -1
@@ -331,12 +354,12 @@ class Registry:
         if suite.finished and suite.tests:
             return
         self.running = suite
-        suite.current = None
+        suite.current, suite.ignoring = None, False
         try:
             suite.instance()
         finally:
             self.running = None
-            suite.current = None
+            suite.current, suite.ignoring = None, False
         self._apply_limit(suite, now)
 
     def _apply_limit(self, suite: SuiteState, now: int) -> None:
@@ -404,7 +427,19 @@ class Registry:
 
     def open_test(self, name: str, ordered: bool) -> TestRecord | None:
         suite = self.suite_running("TEST_ORDERED" if ordered else "TEST")
+        name = name.strip()  # TcUnit trims the name it is given
         test = suite.by_name.get(name)
+        if test is not None and test._declared_cycle == self.cycle:
+            # Declared twice in one cycle: TcUnit logs it once and ignores the second one's asserts
+            # (a TEST_FINISHED() after it still finishes the test).
+            if name not in suite.duplicates:
+                suite.duplicates.add(name)
+                warning = f"Test with name '{name}' already exists in test suite '{suite.path}'"
+                self.log.append(warning)
+                self.warnings.append(warning)
+            suite.current, suite.ignoring = test, True
+            return None
+        suite.ignoring = False
         if test is None:
             if len(suite.tests) >= GVL_Param_TcUnit.MaxNumberOfTestsForEachTestSuite:
                 suite.errors.append(
@@ -416,9 +451,10 @@ class Registry:
             test = TestRecord(name, suite.path, ordered)
             suite.tests.append(test)
             suite.by_name[name] = test
-            if name.startswith(DISABLED_PREFIX):
+            if name.lower().startswith(DISABLED_PREFIX):
                 test.skipped = True
                 self._finish(test)
+        test._declared_cycle = self.cycle
         if test.skipped or test.finished:
             suite.current = test
             return test
@@ -442,7 +478,7 @@ class Registry:
 
     def finish_named(self, name: str) -> bool:
         suite = self.suite_running("TEST_FINISHED_NAMED")
-        test = suite.by_name.get(name)
+        test = suite.by_name.get(name.strip())
         if test is None or test not in suite.tests:
             return False
         self._finish(test)
@@ -450,7 +486,7 @@ class Registry:
 
     def is_finished(self, name: str) -> bool:
         suite = self.suite_running("IS_TEST_FINISHED")
-        test = suite.by_name.get(name)
+        test = suite.by_name.get(name.strip())
         return test is not None and test.finished
 
     def record(self, suite_fb: FB_TestSuite, assertion: str, message: str, expected: str, actual: str,
@@ -458,7 +494,7 @@ class Registry:
         """Record a failed assert of the suite's current test (ignored when no test is open)."""
         suite = self.state_of(suite_fb)
         test = suite.current
-        if test is None or test.finished or test.skipped:
+        if test is None or test.finished or test.skipped or suite.ignoring:
             return
         key = (assertion, message, expected, actual, index, self.cycle)
         if key in test._seen:
@@ -473,7 +509,24 @@ class Registry:
                 )
             test.error = test.error or "failed asserts beyond GVL_Param_TcUnit.MaxNumberOfAssertsForEachTestSuite"
             return
-        test.failures.append(AssertFailure(test.name, suite.path, assertion, message, expected, actual, self.cycle, index))
+        file, lineno = _assert_site()
+        test.failures.append(
+            AssertFailure(test.name, suite.path, assertion, message, expected, actual, self.cycle, index, file, lineno))
+
+
+#: The folder of the iecoop package: frames inside it are the library's, not the caller's.
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
+
+
+def _assert_site() -> tuple[str, int]:
+    """Where the failing assert was called: the innermost loaded-ST line, else the first frame outside iecoop."""
+    found = st_caller()
+    if found is not None:
+        return found.file, found.line
+    frame: FrameType | None = sys._getframe(1)
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(_PACKAGE):
+        frame = frame.f_back
+    return (frame.f_code.co_filename, frame.f_lineno) if frame is not None else ("", 0)
 
 
 # --- which registry ---------------------------------------------------------------------------
@@ -867,3 +920,61 @@ def RUN() -> None:
 def RUN_IN_SEQUENCE() -> None:
     """``TcUnit.RUN_IN_SEQUENCE()``: as RUN(), one suite after another in declaration order."""
     current_registry().run(in_sequence=True)
+
+
+def TCUNIT_ADSLOGSTR(msgCtrlMask: DWORD, msgFmtStr: T_MaxString, strArg: T_MaxString) -> DINT:
+    """``TCUNIT_ADSLOGSTR(msgCtrlMask, msgFmtStr, strArg)``: ``Tc2_System.ADSLOGSTR`` into TcUnit's own log too.
+
+    TcUnit buffers its log; a message written through this function keeps its
+    place among TcUnit's lines (TcUnit FAQ, "ADSLOGSTR ... correct sequence").
+    """
+    result = tc2_system.ADSLOGSTR(msgCtrlMask, msgFmtStr, strArg)
+    current_registry().log.append(tc2_system.adslog_messages()[-1].text)
+    return result
+
+
+def _write_protected(type_name: str) -> Callable[..., None]:
+    """``FUNCTION WRITE_PROTECTED_<type>(Ptr : POINTER TO <type>, Value : <type>)``: write past the access rules."""
+    element = getattr(types, _ELEMENTARY.get(type_name, type_name))
+    name = f"WRITE_PROTECTED_{type_name}"
+
+    def write_protected(Ptr: Any, Value: Any) -> None:
+        if not isinstance(Ptr, Pointer) or Ptr.is_null:
+            raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION,
+                               f"TcUnit.{name}: Ptr must be the address of a variable (ADR(...)), got {Ptr!r}")
+        try:
+            Ptr.deref = Value
+        except TypeError:  # an untyped address (PVOID): write it as the function's type
+            Ptr.typed(element).deref = Value
+
+    write_protected.__name__ = write_protected.__qualname__ = name
+    write_protected.__doc__ = (
+        f"``{name}(Ptr := ADR(x), Value := v)``: set the {type_name} at Ptr, even an input, an ``AT %I*`` "
+        "variable or another block's VAR a test may not assign (TcUnit FAQ, \"test %I* or %Q* variables\")."
+    )
+    pointer: Any = POINTER_TO  # POINTER TO <type>: the type is only known here
+    write_protected.__annotations__ = {"Ptr": pointer[element], "Value": element, "return": None}
+    return write_protected
+
+
+WRITE_PROTECTED_BOOL = _write_protected("BOOL")
+WRITE_PROTECTED_BYTE = _write_protected("BYTE")
+WRITE_PROTECTED_WORD = _write_protected("WORD")
+WRITE_PROTECTED_DWORD = _write_protected("DWORD")
+WRITE_PROTECTED_LWORD = _write_protected("LWORD")
+WRITE_PROTECTED_SINT = _write_protected("SINT")
+WRITE_PROTECTED_USINT = _write_protected("USINT")
+WRITE_PROTECTED_INT = _write_protected("INT")
+WRITE_PROTECTED_UINT = _write_protected("UINT")
+WRITE_PROTECTED_DINT = _write_protected("DINT")
+WRITE_PROTECTED_UDINT = _write_protected("UDINT")
+WRITE_PROTECTED_LINT = _write_protected("LINT")
+WRITE_PROTECTED_ULINT = _write_protected("ULINT")
+WRITE_PROTECTED_REAL = _write_protected("REAL")
+WRITE_PROTECTED_LREAL = _write_protected("LREAL")
+WRITE_PROTECTED_STRING = _write_protected("STRING")
+WRITE_PROTECTED_WSTRING = _write_protected("WSTRING")
+WRITE_PROTECTED_TIME = _write_protected("TIME")
+WRITE_PROTECTED_DATE = _write_protected("DATE")
+WRITE_PROTECTED_TIME_OF_DAY = _write_protected("TIME_OF_DAY")
+WRITE_PROTECTED_DATE_AND_TIME = _write_protected("DATE_AND_TIME")

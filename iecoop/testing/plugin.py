@@ -105,6 +105,8 @@ class TcUnitProject(pytest.File):
                 result = results[self.path] = run_project(self.path, limit_ms=_limit(self.config))
             except LookupError as exc:
                 raise self.CollectError(str(exc.args[0])) from None
+        for warning in result.warnings:
+            self.warn(pytest.PytestWarning(f"TcUnit: {warning}"))
         suites: dict[str, list[TestResult]] = {}
         for test in result.tests:
             suites.setdefault(test.suite, []).append(test)

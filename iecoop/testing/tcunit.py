@@ -2,13 +2,14 @@
 
 ``run_project(path)`` loads the project (``st.load``: a ``.plcproj``, a folder
 or ST files), finds the PROGRAM whose body calls ``RUN()`` or
-``RUN_IN_SEQUENCE()``, puts it on a 10 ms task and runs it until every test
+``RUN_IN_SEQUENCE()``, puts it on the project's task (the cycle time of the
+``.TcTTO`` beside it; 10 ms when there is none) and runs it until every test
 has finished. A test still open ``limit_ms`` of PLC time after it started
 (default :data:`DEFAULT_LIMIT_MS`, 10 s) fails naming that limit, so a test
 that never calls ``TEST_FINISHED()`` cannot hang the run. The result holds
 one :class:`TestResult` per test: suite (instance path), name, status, and
-each failed assert with its message, expected and actual values, the first
-differing index of arrays, and the cycle.
+each failed assert with the ST file and line that called it, its message,
+expected and actual values, the first differing index of arrays, and the cycle.
 
 >>> from iecoop import Program, VAR
 >>> from iecoop.libraries import tcunit
@@ -43,12 +44,14 @@ from iecoop.metadata import Kind, kind_of, st_name
 from iecoop.testing import VirtualPlc
 
 __all__ = [
-    "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
-    "run_programs", "run_project", "write_junit",
+    "DEFAULT_INTERVAL_MS", "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
+    "project_interval", "run_programs", "run_project", "vendored_tcunit", "write_junit",
 ]
 
 #: How long a test may stay open, in ms of PLC time, unless told otherwise (``--timeout``).
 DEFAULT_LIMIT_MS = 10_000
+#: The test program's task cycle (ms) when the project has no task object of its own.
+DEFAULT_INTERVAL_MS = 10
 
 #: The names whose call in a PROGRAM's body makes it the test program.
 _RUNNERS = ("RUN", "RUN_IN_SEQUENCE")
@@ -74,12 +77,13 @@ class TestResult:
         return f"{self.suite}::{self.name}"
 
     def report(self) -> str:
-        """What failed, one line each: the assert, its message, expected and actual values, index and cycle."""
+        """What failed, one line each: where the assert is, its message, expected and actual values, index and cycle."""
         lines = []
         for failure in self.failures:
             at = f" at index {failure.index}" if failure.index else ""
+            site = f"{failure.file}:{failure.lineno}: " if failure.file else ""
             lines.append(
-                f"{failure.assertion} failed{at} in cycle {failure.cycle}: expected {failure.expected}, "
+                f"{site}{failure.assertion} failed{at} in cycle {failure.cycle}: expected {failure.expected}, "
                 f"actual {failure.actual}" + (f", message: {failure.message}" if failure.message else "")
             )
         if self.error:
@@ -100,6 +104,8 @@ class RunResult:
     fault: str = ""
     #: what a suite did wrong besides its tests (more tests or asserts than GVL_Param_TcUnit allows)
     errors: list[str] = dataclasses.field(default_factory=list)
+    #: what TcUnit logs as an error without failing a test (a test name declared twice in one cycle)
+    warnings: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def passed(self) -> bool:
@@ -141,10 +147,21 @@ def find_test_program(module: types.ModuleType, name: str | None = None) -> Any:
     raise LookupError(f"{source}: several PROGRAMs call TcUnit.RUN(): {names}; name the one to run")
 
 
-def _results(registry: tcunit.Registry) -> list[TestResult]:
+def _relative(failure: tcunit.AssertFailure, base: pathlib.Path | None) -> tcunit.AssertFailure:
+    """The failure with its file relative to ``base`` (the project's folder) when it lies inside it."""
+    if base is None or not failure.file:
+        return failure
+    try:
+        inside = pathlib.Path(failure.file).resolve().relative_to(base.resolve())
+    except ValueError:
+        return failure
+    return dataclasses.replace(failure, file=inside.as_posix())
+
+
+def _results(registry: tcunit.Registry, base: pathlib.Path | None = None) -> list[TestResult]:
     return [
         TestResult(
-            test.suite, test.name, test.status, tuple(test.failures), test.error,
+            test.suite, test.name, test.status, tuple(_relative(f, base) for f in test.failures), test.error,
             test.duration_ns / 1e6, max(0, test.finished_cycle - test.started_cycle + 1) if test.started_cycle else 0,
         )
         for test in registry.tests()
@@ -152,7 +169,7 @@ def _results(registry: tcunit.Registry) -> list[TestResult]:
 
 
 def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str, interval: int,
-           source: str) -> RunResult:
+           source: str, base: pathlib.Path | None = None) -> RunResult:
     registry.name_suites(program)
     plc = VirtualPlc(profile=profile)
     plc.add(program, interval=interval)
@@ -170,7 +187,8 @@ def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str,
     finally:
         registry.close()
     errors = [f"{suite.path}: {error}" for suite in registry.suites for error in suite.errors]
-    return RunResult(source, _results(registry), list(registry.log), len(registry.suites), plc.time_ms, fault, errors)
+    return RunResult(source, _results(registry, base), list(registry.log), len(registry.suites), plc.time_ms, fault, errors,
+                     list(registry.warnings))
 
 
 def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS, profile: str = "twincat",
@@ -191,10 +209,12 @@ def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS
 
 def run_project(
     source: str | os.PathLike[str], *, limit_ms: int = DEFAULT_LIMIT_MS, program: str | None = None,
-    profile: str = "twincat", interval: int = 10, load: Callable[..., types.ModuleType] | None = None,
+    profile: str = "twincat", interval: int | None = None, load: Callable[..., types.ModuleType] | None = None,
 ) -> RunResult:
     """Load ``source`` and run its TcUnit suites in virtual time (see the module docstring).
 
+    ``interval`` (ms) is the test program's task cycle: by default the cycle
+    time of the project's task (the ``.TcTTO`` beside it), else 10 ms.
     ``load`` is how the project is read (default ``iecoop.st.load``); a project
     that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
     ``.plcproj`` binds the libraries it references; a folder or ST file gets
@@ -204,12 +224,73 @@ def run_project(
         from iecoop import st
 
         load = st.load
+    copy = vendored_tcunit(source)
+    if copy is not None:
+        raise LookupError(
+            f"{copy}: the project carries its own copy of TcUnit (it declares FUNCTION_BLOCK FB_TestSuite). "
+            "iecoop runs TcUnit suites with its own TcUnit, which the copy would hide: leave the copy's files out "
+            "of the project (its <Compile> items, or the files of the folder) and reference the TcUnit library "
+            "instead; or, to run the copy as plain ST, load the project with iecoop.st.load and run its test "
+            "PROGRAM on a VirtualPlc yourself"
+        )
     # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here.
     extra: dict[str, Any] = {} if pathlib.Path(source).suffix.lower() == ".plcproj" else {"libraries": {"TcUnit": tcunit}}
     with tcunit.registry(limit_ms) as registry:
         module = load(source, profile=profile, **extra)
         test_program = find_test_program(module, program)
-        return _drive(registry, test_program, limit_ms, profile, interval, pathlib.Path(source).name)
+        path = pathlib.Path(source)
+        base = path if path.is_dir() else path.parent
+        cycle = project_interval(source) if interval is None else interval
+        return _drive(registry, test_program, limit_ms, profile, cycle, path.name, base)
+
+
+def project_interval(source: str | os.PathLike[str]) -> int:
+    """The cycle time (ms) of the task of the ``.TcTTO`` beside ``source``; 10 when there is none."""
+    from iecoop.cli.base import UsageError
+    from iecoop.cli.st_scenario import project_task
+
+    try:
+        task = project_task(os.fspath(source))
+    except UsageError as exc:
+        raise LookupError(str(exc)) from None
+    return DEFAULT_INTERVAL_MS if task is None else int(task.interval)
+
+
+#: ``FUNCTION_BLOCK FB_TestSuite`` at the start of a line: a declaration of TcUnit's own base block.
+_TESTSUITE_DECLARATION = re.compile(rb"^\s*FUNCTION_BLOCK\s+(?:(?:PUBLIC|INTERNAL|ABSTRACT|FINAL)\s+)*FB_TestSuite\b",
+                                    re.IGNORECASE | re.MULTILINE)
+#: The files looked through for a copy of TcUnit, and how much of each (a POU's declaration comes first).
+_SOURCE_SUFFIXES = frozenset({".tcpou", ".st", ".exp"})
+_LOOK_FILES, _LOOK_BYTES = 10_000, 64_000
+
+
+def vendored_tcunit(source: str | os.PathLike[str]) -> pathlib.Path | None:
+    """The file of ``source`` (a .plcproj's folder, a folder or a file) declaring TcUnit's FB_TestSuite, or None.
+
+    A project that carries TcUnit's own source (rather than referencing the library) declares it.
+    """
+    path = pathlib.Path(source)
+    folder = path.parent if path.suffix.lower() == ".plcproj" else path
+    for candidate in [folder] if folder.is_file() else _source_files(folder):
+        try:
+            with candidate.open("rb") as handle:
+                head = handle.read(_LOOK_BYTES)
+        except OSError:
+            continue
+        if _TESTSUITE_DECLARATION.search(head):
+            return candidate
+    return None
+
+
+def _source_files(folder: pathlib.Path) -> list[pathlib.Path]:
+    """The ST / TwinCAT files under ``folder``, in name order, at most _LOOK_FILES; links are not followed."""
+    found: list[pathlib.Path] = []
+    for root, folders, files in os.walk(folder):
+        folders[:] = sorted(f for f in folders if f != "__iecoop_cache__")
+        found += [pathlib.Path(root, f) for f in sorted(files) if pathlib.Path(f).suffix.lower() in _SOURCE_SUFFIXES]
+        if len(found) >= _LOOK_FILES:
+            break
+    return found[:_LOOK_FILES]
 
 
 # --- -k expressions ---------------------------------------------------------------------------
@@ -309,7 +390,8 @@ def write_junit(result: RunResult, path: str | os.PathLike[str], tests: Iterable
             case = ET.SubElement(element, "testcase", classname=suite, name=test.name, time=f"{test.duration_ms / 1000:.3f}")
             if test.status == "failed":
                 first = test.failures[0] if test.failures else None
-                message = (f"{first.assertion}: expected {first.expected}, actual {first.actual}; {first.message}"
+                site = f"{first.file}:{first.lineno}: " if first is not None and first.file else ""
+                message = (f"{site}{first.assertion}: expected {first.expected}, actual {first.actual}; {first.message}"
                            if first is not None else test.error)
                 failure = ET.SubElement(case, "failure", message=message, type="AssertionError")
                 failure.text = test.report()

@@ -14,6 +14,7 @@ import copy
 import dataclasses
 import enum
 import inspect
+import keyword
 import os
 import pathlib
 import types
@@ -260,7 +261,9 @@ class _Binder:
             type_ = self._annotation_type(annotation) if annotation is not None else None
             if spec is not None and type_ is not None and type_.kind == "pointer" and type_.of is not None:
                 type_ = type_.of  # an output or in-out reaches its variable through a pointer
-            members.append(Member(param.name, type_, section, st=param.name))
+            # A Python keyword is spelled with a trailing underscore (in_): ST calls it by its own name (in := ...).
+            st = param.name[:-1] if param.name.endswith("_") and keyword.iskeyword(param.name[:-1]) else param.name
+            members.append(Member(param.name, type_, section, st=st))
         return signature(members)
 
     def _returns(self, function: Any) -> TypeRef | None:

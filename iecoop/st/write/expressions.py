@@ -11,6 +11,7 @@ import ast
 import enum
 import inspect
 import math
+import sys
 import typing
 from collections.abc import Callable
 from typing import Any
@@ -396,8 +397,10 @@ class ExpressionWriter(Inference):
         return None
 
     def module_constant(self, node: ast.Name, value: Any) -> str:
-        """A module constant the body reads: declared once in the constants' GVL."""
+        """A module constant the body reads: declared once in the constants' GVL (a library's is the library's)."""
         name = node.id
+        if library_constant(name, value):
+            return ident(name)
         known = self.scope.constants.get(name, value)
         if known != value:
             raise StExportError(f"{self.where_text(node)}: two module constants named {name} have different values")
@@ -674,6 +677,17 @@ class ExpressionWriter(Inference):
 
 #: The global variable list the module constants a body reads are declared in.
 _CONSTANTS_GVL = "GVL_Constants"
+
+
+def library_constant(name: str, value: Any) -> bool:
+    """``name`` is a constant of a shipped library (``ADSLOG_MSGTYPE_HINT``): declared there, never in the export."""
+    from iecoop.libraries import KNOWN
+
+    for library in KNOWN:
+        module = sys.modules.get(library.module)  # only a library the exported code imported can be where it is from
+        if module is not None and name in getattr(module, "__all__", ()) and getattr(module, name, None) == value:
+            return True
+    return False
 
 
 def _real_text(value: float) -> str:

@@ -34,7 +34,7 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING, FieldSpec
-from iecoop.types import elementary_type
+from iecoop.types import ELEMENTARY_TYPES, elementary_type
 from iecoop.st import language
 from iecoop.st.write.recorded import Bound, Declared
 from iecoop.st.language import RESERVED
@@ -222,7 +222,9 @@ def type_text(info: TypeInfo, bounds: Sequence[Bound] | None = None) -> str:
     """The ST type of a resolved TypeInfo (``STRING(20)``, ``ARRAY[1..4] OF INT``, ``POINTER TO X``); an ARRAY's
     bounds as ``bounds`` writes them when given (``1..GVL_Param.cMax``)."""
     if isinstance(info, StringInfo):
-        return info.record.name if info.length == info.record.default_length else f"{info.record.name}({info.length})"
+        # The language's default length, not the record's: a library alias (T_MaxString) has a record of its own.
+        default = ELEMENTARY_TYPES[info.record.name].default_length  # type: ignore[union-attr]
+        return info.record.name if info.length == default else f"{info.record.name}({info.length})"
     if isinstance(info, ArrayInfo):
         dims = ", ".join(f"{b.low}..{b.high}" for b in bounds) if bounds else ", ".join(f"{lo}..{hi}" for lo, hi in info.bounds)
         return f"ARRAY[{dims}] OF {type_text(info.elem)}"

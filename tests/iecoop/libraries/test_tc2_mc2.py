@@ -671,3 +671,132 @@ def test_an_st_project_sees_the_software_limit_refusal_as_the_nc_error_code() ->
     runtime.run(cycles=6)
     assert pins(main.fbShuttle, "bError", "nErrorId", "nTrips") == {"bError": True, "nErrorId": 0x4461, "nTrips": 0}
     assert main.eState == S.MC_AXISSTATE_ERRORSTOP
+
+
+# --- gearing: MC_GearIn / MC_GearOut (Infosys Tc2_MC2 "MC_GearIn", "MC_GearOut") -------------------
+
+_GEAR_CELL = """
+PROGRAM MAIN
+VAR_INPUT
+    bCouple, bDecouple, bRunMaster, bMoveSlave, bStopSlave : BOOL;
+    fNumerator : MC_LREAL := 2.0;
+    nDenominator : UINT := 1;
+END_VAR
+VAR
+    Master, Slave : AXIS_REF;
+    fbPowerM, fbPowerS : MC_Power;
+    fbGearIn : MC_GearIn;
+    fbGearOut : MC_GearOut;
+    fbRun : MC_MoveVelocity;
+    fbMoveSlave : MC_MoveAbsolute;
+    fbStopSlave : MC_Stop;
+END_VAR
+fbPowerM(Axis := Master, Enable := TRUE, Enable_Positive := TRUE, Enable_Negative := TRUE);
+fbPowerS(Axis := Slave, Enable := TRUE, Enable_Positive := TRUE, Enable_Negative := TRUE);
+fbGearIn(Master := Master, Slave := Slave, Execute := bCouple, RatioNumerator := fNumerator,
+         RatioDenominator := nDenominator);
+fbRun(Axis := Master, Execute := bRunMaster, Velocity := 10.0);
+fbMoveSlave(Axis := Slave, Execute := bMoveSlave, Position := 50.0, Velocity := 100.0);
+fbStopSlave(Axis := Slave, Execute := bStopSlave);
+fbGearOut(Slave := Slave, Execute := bDecouple);
+END_PROGRAM
+"""
+
+
+def _gear_cell() -> tuple[Any, Runtime]:
+    from iecoop import st as iecoop_st
+    from iecoop.libraries import tc2_mc2
+
+    plc = iecoop_st.load(_GEAR_CELL, libraries={"Tc2_MC2": tc2_mc2})
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), plc.MAIN)
+    runtime.run(cycles=1)  # both axes enabled: Standstill
+    return plc.MAIN, runtime
+
+
+def test_gear_in_makes_the_slave_follow_the_master_times_the_ratio() -> None:
+    main, runtime = _gear_cell()
+    main.bCouple = True
+    runtime.run(cycles=1)
+    assert (main.fbGearIn.InGear, main.fbGearIn.Busy, main.fbGearIn.Active) == (True, True, True)
+    assert main.Slave.Sim.State == S.MC_AXISSTATE_SYNCHRONIZEDMOTION
+    main.bRunMaster = True
+    positions = []
+    for _ in range(10):
+        runtime.run(cycles=1)
+        positions.append((main.Master.NcToPlc.SetPos, main.Slave.NcToPlc.SetPos, main.Slave.NcToPlc.SetVelo))
+    for master, slave, _velocity in positions:
+        assert slave == pytest.approx(2.0 * master)
+    assert positions[-1][2] == pytest.approx(20.0)  # the master at 10 units/s, the slave at twice that
+    main.Slave.ReadStatus()
+    assert main.Slave.Status.SynchronizedMotion
+
+
+def test_gear_out_while_moving_keeps_the_velocity_until_a_stop() -> None:
+    main, runtime = _gear_cell()
+    main.bCouple = True
+    runtime.run(cycles=1)
+    main.bRunMaster = True
+    runtime.run(cycles=5)
+    main.bDecouple = True
+    runtime.run(cycles=1)
+    assert (main.fbGearOut.Done, main.fbGearOut.Error) == (True, False)
+    runtime.run(cycles=1)  # MC_GearIn, called before MC_GearOut, sees the decoupling in the next cycle
+    assert (main.fbGearIn.InGear, main.fbGearIn.Busy, main.fbGearIn.CommandAborted) == (False, False, False)
+    assert main.Slave.Sim.State == S.MC_AXISSTATE_CONTINOUSMOTION
+    before = main.Slave.NcToPlc.SetPos
+    main.bRunMaster = False
+    runtime.run(cycles=10)
+    # decoupled: 10 cycles at 20 units/s more, whatever the master does
+    assert main.Slave.NcToPlc.SetVelo == pytest.approx(20.0)
+    assert main.Slave.NcToPlc.SetPos == pytest.approx(before + 10 * 0.2)
+    main.bStopSlave = True
+    runtime.run(cycles=5)
+    assert main.fbStopSlave.Done and main.Slave.NcToPlc.SetVelo == 0.0
+
+
+def test_gear_in_is_refused_on_a_moving_master_a_zero_denominator_and_gear_out_uncoupled() -> None:
+    main, runtime = _gear_cell()
+    main.bDecouple = True
+    runtime.run(cycles=1)
+    assert (main.fbGearOut.Error, main.fbGearOut.ErrorID) == (True, 0x4B05)
+    main.nDenominator = 0
+    main.bCouple = True
+    runtime.run(cycles=1)
+    assert (main.fbGearIn.Error, main.fbGearIn.ErrorID, main.fbGearIn.InGear) == (True, 0x4B06, False)
+    main.bCouple, main.nDenominator, main.bRunMaster = False, 1, True
+    runtime.run(cycles=3)
+    main.bCouple = True
+    runtime.run(cycles=1)  # Tc2_MC2 couples at standstill only
+    assert (main.fbGearIn.Error, main.fbGearIn.ErrorID) == (True, 0x4B01)
+    assert main.Slave.Sim.State == S.MC_AXISSTATE_STANDSTILL
+
+
+def test_a_move_of_the_slave_aborts_the_coupling() -> None:
+    main, runtime = _gear_cell()
+    main.bCouple = True
+    runtime.run(cycles=1)
+    main.bMoveSlave = True
+    runtime.run(cycles=2)  # the move starts in the first; MC_GearIn, called before it, shows it in the second
+    assert (main.fbGearIn.CommandAborted, main.fbGearIn.InGear, main.fbGearIn.Busy) == (True, False, False)
+    assert main.fbMoveSlave.Busy and main.Slave.Sim.State == S.MC_AXISSTATE_DISCRETEMOTION
+    main.bRunMaster = True
+    runtime.run(cycles=100)
+    assert main.fbMoveSlave.Done and main.Slave.NcToPlc.SetPos == pytest.approx(50.0)  # no longer the master's
+
+
+def test_mc_power_takes_its_options_as_a_project_passes_them() -> None:
+    from iecoop import st as iecoop_st
+    from iecoop.libraries import tc2_mc2
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR Axis : AXIS_REF; fbPower : MC_Power; stOptions : ST_PowerOptions; fSpeed : MC_LREAL := 50.0; END_VAR
+    fbPower.Options := stOptions;
+    fbPower(Axis := Axis, Enable := TRUE, Enable_Positive := TRUE, Enable_Negative := TRUE, Override := fSpeed);
+    END_PROGRAM
+    """, libraries={"Tc2_MC2": tc2_mc2})
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), plc.MAIN)
+    runtime.run(cycles=2)
+    assert plc.MAIN.fbPower.Status and plc.MAIN.Axis.Sim.State == S.MC_AXISSTATE_STANDSTILL

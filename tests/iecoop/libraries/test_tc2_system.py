@@ -406,3 +406,103 @@ def test_the_adslog_list_keeps_the_latest_messages() -> None:
     messages = tc2.adslog_messages()
     assert len(messages) == tc2.ADSLOG_KEEP
     assert (messages[0].text, messages[-1].text) == ("5", str(tc2.ADSLOG_KEEP + 4))
+
+
+# --- memory, bits and characters (Infosys values) ---------------------------------------------
+
+
+def _load(body: str, declarations: str) -> Any:
+    from iecoop import st as iecoop_st
+
+    return iecoop_st.load(f"PROGRAM MAIN\nVAR {declarations} END_VAR\n{body}\nEND_PROGRAM\n", libraries={"Tc2_System": tc2})
+
+
+def test_memcpy_memmove_memset_memcmp_as_st_calls_them_plain_and_qualified() -> None:
+    plc = _load(
+        "nCopied := Tc2_System.MEMCPY(destAddr := ADR(aTo), srcAddr := ADR(aFrom), n := SIZEOF(aFrom));\n"
+        "nSame := MEMCMP(ADR(aTo), ADR(aFrom), 4);\n"
+        "nMoved := MEMMOVE(ADR(aFrom[1]), ADR(aFrom), 3);\n"
+        "nLess := Tc2_System.MEMCMP(pBuf1 := ADR(aFrom), pBuf2 := ADR(aTo), n := 4);\n"
+        "nFilled := MEMSET(ADR(aTo), 16#FF, 2);\n"
+        "nMore := MEMCMP(ADR(aTo), ADR(aFrom), 4);\n"
+        "nNothing := MEMCPY(ADR(aTo), 0, 4) + MEMSET(ADR(aTo), 1, 0);\n"
+        "nRefused := MEMCMP(ADR(aTo), ADR(aFrom), 0);\n",
+        "aFrom : ARRAY[0..3] OF BYTE := [1, 2, 3, 4]; aTo : ARRAY[0..3] OF BYTE; nCopied, nMoved, nFilled, nNothing : UDINT;"
+        " nSame, nLess, nMore, nRefused : DINT;",
+    )
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.nCopied, main.nSame) == (4, 0)
+    assert list(main.aFrom) == [1, 1, 2, 3] and main.nMoved == 3  # overlapping areas: the source is read first
+    assert main.nLess == -1  # 1 1 2 3 against 1 2 3 4
+    assert list(main.aTo) == [0xFF, 0xFF, 3, 4] and main.nFilled == 2 and main.nMore == 1
+    assert main.nNothing == 0  # a 0 address or a count of 0: nothing done, 0 returned
+    assert main.nRefused == 0xFF
+
+
+def test_the_bit_functions_take_the_bit_number_modulo_32() -> None:
+    assert tc2.SETBIT32(0, 31) == 0x8000_0000  # Infosys SETBIT32: bit 31 of 0 is 16#80000000
+    assert tc2.CSETBIT32(0x8000_0000, 15, True) == 0x8000_8000  # Infosys CSETBIT32
+    assert tc2.CSETBIT32(0x8000_8000, 31, False) == 0x8000
+    assert tc2.CLEARBIT32(0xFFFF_FFFF, 0) == 0xFFFF_FFFE
+    assert tc2.SETBIT32(0, 33) == 2 and tc2.GETBIT32(0x8, 35) and not tc2.GETBIT32(0x8, 2)
+    plc = _load("nOut := Tc2_System.SETBIT32(inVal32 := 16#10, bitNo := 0); bBit := GETBIT32(nOut, 4);",
+                "nOut : DWORD; bBit : BOOL;")
+    plc.MAIN()
+    assert (plc.MAIN.nOut, plc.MAIN.bBit) == (0x11, True)
+
+
+def test_f_toasc_and_f_tochr_convert_one_character() -> None:
+    assert tc2.F_ToASC("1") == 0x31 and tc2.F_ToASC("AB") == 0x41 and tc2.F_ToASC("") == 0
+    assert tc2.F_ToCHR(0x31) == "1" and tc2.F_ToCHR(0xE9) == "é" and tc2.F_ToCHR(0) == ""
+    plc = _load("c := F_ToASC(str := 'Z'); s := Tc2_System.F_ToCHR(c := c + 1);", "c : BYTE; s : STRING(1);")
+    plc.MAIN()
+    assert (plc.MAIN.c, plc.MAIN.s) == (0x5A, "[")
+
+
+def test_seek_and_tell_move_the_file_pointer_from_each_origin(tmp_path: Path) -> None:
+    (tmp_path / "data.txt").write_bytes(b"0123456789")
+    opener, gets, seek, tell = tc2.FB_FileOpen(), tc2.FB_FileGets(), tc2.FB_FileSeek(), tc2.FB_FileTell()
+    with tc2.file_root(tmp_path):
+        finish(opener, sPathName="data.txt", nMode=tc2.FOPEN_MODEREAD)
+        handle = opener.hFile
+        finish(seek, hFile=handle, nSeekPos=4, eOrigin=tc2.E_SeekOrigin.SEEK_SET)
+        finish(tell, hFile=handle)
+        assert (seek.bError, tell.bError, tell.nSeekPos) == (False, False, 4)
+        finish(seek, nSeekPos=2, eOrigin=tc2.E_SeekOrigin.SEEK_CUR)
+        finish(gets, hFile=handle)
+        assert gets.sLine == "6789"
+        finish(seek, nSeekPos=-3, eOrigin=tc2.E_SeekOrigin.SEEK_END)
+        finish(tell)
+        assert tell.nSeekPos == 7
+        finish(seek, nSeekPos=-1, eOrigin=tc2.E_SeekOrigin.SEEK_SET)  # before the start
+        assert (seek.bError, seek.nErrId) == (True, 0x70B)
+        finish(tell, hFile=handle + 1)  # no such handle
+        assert (tell.bError, tell.nErrId, tell.nSeekPos) == (True, 0x70B, -1)
+
+
+def test_rename_create_and_remove_folders_in_the_sandbox(tmp_path: Path) -> None:
+    (tmp_path / "old.txt").write_text("x")
+    rename, mkdir, rmdir = tc2.FB_FileRename(), tc2.FB_CreateDir(), tc2.FB_RemoveDir()
+    with tc2.file_root(tmp_path):
+        finish(mkdir, sPathName="logs")
+        assert not mkdir.bError and (tmp_path / "logs").is_dir()
+        finish(mkdir, sPathName="logs")
+        assert (mkdir.bError, mkdir.nErrId) == (True, 0x70F)  # exists
+        finish(rename, sOldName="old.txt", sNewName="logs\\new.txt")
+        assert not rename.bError and (tmp_path / "logs" / "new.txt").read_text() == "x"
+        finish(rename, sOldName="old.txt", sNewName="again.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x70C)  # gone
+        (tmp_path / "taken.txt").write_text("y")
+        finish(rename, sOldName="logs/new.txt", sNewName="taken.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x70F)
+        finish(rename, sOldName="logs/new.txt", sNewName="..\\outside.txt")
+        assert (rename.bError, rename.nErrId) == (True, 0x704)
+        finish(rmdir, sPathName="logs")
+        assert (rmdir.bError, rmdir.nErrId) == (True, 0x704)  # not empty
+        (tmp_path / "logs" / "new.txt").unlink()
+        finish(rmdir, sPathName="logs")
+        assert not rmdir.bError and not (tmp_path / "logs").exists()
+        finish(rmdir, sPathName="logs")
+        assert (rmdir.bError, rmdir.nErrId) == (True, 0x70C)
+    assert not (tmp_path.parent / "outside.txt").exists()

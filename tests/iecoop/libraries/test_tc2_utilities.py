@@ -294,3 +294,86 @@ def test_mem_ring_buffer_without_a_buffer_is_not_ok() -> None:
 
 
 
+
+
+def test_filetime_to_dt_and_back_as_st_calls_them() -> None:
+    from iecoop import st as iecoop_st
+
+    stamp = parse_dt("DT#2024-01-28-11:05:43")
+    filetime = tu.DT_TO_FILETIME(stamp)
+    # 2024-01-28 11:05:43 UTC is 1706439943 s after 1970; FILETIME counts 100 ns from 1601
+    ticks = (filetime.dwHighDateTime << 32) | filetime.dwLowDateTime
+    assert ticks == 1_706_439_943 * 10_000_000 + 116_444_736_000_000_000
+    assert tu.FILETIME_TO_DT(filetime) == stamp
+    assert tu.FILETIME_TO_DT(tu.T_FILETIME(dwLowDateTime=5, dwHighDateTime=0)) == 0  # 1601 is before DT's range
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR stFileTime : T_FILETIME; dtStamp : DT; END_VAR
+    stFileTime := DT_TO_FILETIME(DTIN := DT#2024-01-28-11:05:43);
+    stFileTime.dwLowDateTime := stFileTime.dwLowDateTime + 9999999;  (* 0.9999999 s later: still that second *)
+    dtStamp := Tc2_Utilities.FILETIME_TO_DT(fileTime := stFileTime);
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    assert plc.MAIN.dtStamp == stamp
+
+
+@pytest.mark.parametrize("source", ["BYTE", "WORD", "DWORD", "LWORD"])
+def test_number_to_string_conversions_fill_never_cut_and_give_empty_for_zero(source: str) -> None:
+    hexstr, binstr = getattr(tu, f"{source}_TO_HEXSTR"), getattr(tu, f"{source}_TO_BINSTR")
+    octstr, decstr = getattr(tu, f"{source}_TO_OCTSTR"), getattr(tu, f"{source}_TO_DECSTR")
+    # Infosys BYTE_TO_HEXSTR: zeros from the left up to iPrecision, never cut; 0 with iPrecision 0 is ''
+    assert (hexstr(0xAB, 4), hexstr(0xAB, 4, True), hexstr(0xAB, 1), hexstr(0, 0), hexstr(0, 1)) == (
+        "00AB", "00ab", "AB", "", "0")
+    assert (binstr(5, 8), binstr(5, 0), octstr(8, 3), decstr(123, 5), decstr(0, 0)) == (
+        "00000101", "101", "010", "00123", "")
+    assert hexstr(-1, 0) == "F" * {"BYTE": 2, "WORD": 4, "DWORD": 8, "LWORD": 16}[source]  # the type's width
+
+
+def test_conversions_are_called_by_their_st_input_names_in_and_iprecision() -> None:
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR sHex, sBin, sUpper : STRING; nCode : BYTE := 16#0F; END_VAR
+    sHex := Tc2_Utilities.WORD_TO_HEXSTR(in := 16#BEEF, iPrecision := 6, bLoCase := TRUE);
+    sBin := BYTE_TO_BINSTR(in := nCode, iPrecision := 0);
+    sUpper := F_ToUCase(in := 'ok');
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    assert (plc.MAIN.sHex, plc.MAIN.sBin, plc.MAIN.sUpper) == ("00beef", "1111", "OK")
+
+
+def test_calendar_functions_follow_the_gregorian_rules() -> None:
+    assert [tu.F_YearIsLeapYear(y) for y in (1900, 2000, 2023, 2024)] == [False, True, False, True]
+    assert [tu.F_GetMaxMonthDays(2024, m) for m in (1, 2, 4, 12)] == [31, 29, 30, 31]
+    assert (tu.F_GetMaxMonthDays(2023, 2), tu.F_GetMaxMonthDays(2023, 0), tu.F_GetMaxMonthDays(2023, 13)) == (28, 0, 0)
+    assert (tu.F_GetDOYOfYearMonthDay(2024, 1, 1), tu.F_GetDOYOfYearMonthDay(2024, 12, 31),
+            tu.F_GetDOYOfYearMonthDay(2023, 12, 31), tu.F_GetDOYOfYearMonthDay(2024, 3, 1)) == (1, 366, 365, 61)
+    assert (tu.F_GetDOYOfYearMonthDay(2023, 2, 29), tu.F_GetDOYOfYearMonthDay(2023, 13, 1)) == (0, 0)
+
+
+def test_find_and_replace_replaces_every_occurrence_into_the_destination_and_counts_them() -> None:
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR
+        sSrc : STRING(300) := 'a<b<c'; sFind : STRING := '<'; sInsert : STRING := '&lt;'; sNone : STRING := '#';
+        sDst : STRING(300); sShort : STRING(5); sSame : STRING(300);
+        nAll, nShort, nNone : UDINT;
+    END_VAR
+    nAll := FindAndReplace(pSrcString := ADR(sSrc), pDeleteString := ADR(sFind), pInsertString := ADR(sInsert),
+                           pDstString := ADR(sDst), nDstSize := SIZEOF(sDst));
+    nShort := Tc2_Utilities.FindAndReplace(pSrcString := ADR(sSrc), pSrcFindString := ADR(sFind),
+                                           pSrcReplaceWithString := ADR(sInsert), pDstString := ADR(sShort),
+                                           cbDstString := SIZEOF(sShort));
+    nNone := FindAndReplace(ADR(sSrc), ADR(sNone), ADR(sInsert), ADR(sSame), SIZEOF(sSame));
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.nAll, main.sDst) == (2, "a&lt;b&lt;c")
+    assert (main.nShort, main.sShort) == (2, "a&lt;")  # cut to the destination's size, its terminator included
+    assert (main.nNone, main.sSame) == (0, "a<b<c")  # not found: 0, and the destination is the source

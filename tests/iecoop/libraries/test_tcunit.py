@@ -435,3 +435,14 @@ def test_the_library_is_known_under_both_titles() -> None:
     assert GVL_Param_TcUnit.MaxNumberOfTestsForEachTestSuite == 100
     assert GVL_Param_TcUnit.TimeBetweenTestSuitesExecution == 0
     assert {lib.name for lib in KNOWN if lib.module == tcunit.__name__} == {"TcUnit", "CfUnit"}
+
+
+def test_a_failure_of_a_python_suite_names_the_python_line_of_the_assert() -> None:
+    import inspect
+
+    line = inspect.currentframe().f_lineno + 2  # type: ignore[union-attr]
+    result = suite_running(
+        ("Fails", lambda s: s.AssertEquals_DINT(1, 2, "python")),
+    )
+    (failure,) = only(result).failures
+    assert (failure.file, failure.lineno) == (__file__, line)
