@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 from iecoop.exceptions import AccessError
 from iecoop.members import FORWARDING_CODES, caller_description, code_of
-from iecoop.metadata import st_name
+from iecoop.metadata import layout_of, st_name
 from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
 from iecoop.memory._infos import ElementaryInfo, TypeInfo
 from iecoop.memory._views import CheckedMemberField
@@ -183,7 +183,7 @@ def known_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
     known = _field_reads(cls, layout)
     for record in layout.fields:
         inner = record.info.cls if isinstance(record.info, AggregateInfo) else None
-        inner_layout = getattr(inner, "_iec_layout_", None)
+        inner_layout = layout_of(inner)
         if inner_layout is not None:  # a member's view is of exactly its declared class
             known.update({f"{record.name}.{name}": kind for name, kind in _field_reads(inner, inner_layout).items()})
     return known
