@@ -12,8 +12,8 @@ from tests import checked_only
 
 
 @gvl
-class GVL_Line(GlobalVariables):
-    """VAR_GLOBAL: the line's shared signals."""
+class GVL_CountingLine(GlobalVariables):
+    """VAR_GLOBAL: the line's shared signals (a name no project of the test data gives a list: the registry is by name)."""
 
     parts: INT = 0
     running: BOOL = False
@@ -32,35 +32,35 @@ class Counter(Program):
 
 
 def test_var_external_reads_and_writes_the_global_of_that_name() -> None:
-    GVL_Line.parts = 0
-    GVL_Line.running = True
+    GVL_CountingLine.parts = 0
+    GVL_CountingLine.running = True
     counter = Counter()
     for _ in range(3):
         counter()
-    assert GVL_Line.parts == 3 and counter.parts == 3
-    GVL_Line.parts = 99
+    assert GVL_CountingLine.parts == 3 and counter.parts == 3
+    GVL_CountingLine.parts = 99
     counter()
     counter()
-    assert GVL_Line.parts == 100  # stops at the CONSTANT limit
-    assert list(GVL_Line.speeds) == [10, 20, 30]
-    assert global_lists()["GVL_Line"] is GVL_Line
+    assert GVL_CountingLine.parts == 100  # stops at the CONSTANT limit
+    assert list(GVL_CountingLine.speeds) == [10, 20, 30]
+    assert global_lists()["GVL_CountingLine"] is GVL_CountingLine
 
 
 @checked_only
 def test_a_constant_global_cannot_be_written() -> None:
-    with pytest.raises(AccessError, match=r"GVL_Line\.MAX_PARTS is CONSTANT and cannot be written"):
-        GVL_Line.MAX_PARTS = 5
-    assert GVL_Line.MAX_PARTS == 100
+    with pytest.raises(AccessError, match=r"GVL_CountingLine\.MAX_PARTS is CONSTANT and cannot be written"):
+        GVL_CountingLine.MAX_PARTS = 5
+    assert GVL_CountingLine.MAX_PARTS == 100
 
 
 @checked_only
 def test_a_global_of_the_wrong_kind_names_the_variable() -> None:
-    with pytest.raises(TypeError, match=r"GVL_Line\.parts: cannot store str 'x' in INT"):
-        GVL_Line.parts = "x"  # type: ignore[assignment]
+    with pytest.raises(TypeError, match=r"GVL_CountingLine\.parts: cannot store str 'x' in INT"):
+        GVL_CountingLine.parts = "x"  # type: ignore[assignment]
 
 
 def test_a_global_name_is_declared_once() -> None:
-    with pytest.raises(DefinitionError, match=r"GVL GVL_Other: global 'parts' is already declared in GVL GVL_Line"):
+    with pytest.raises(DefinitionError, match=r"GVL GVL_Other: global 'parts' is already declared in GVL GVL_CountingLine"):
 
         @gvl
         class GVL_Other(GlobalVariables):
