@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import bdb
+import json
 import linecache
 import pathlib
 import re
+import subprocess
+import sys
 import traceback
 import types
 from typing import Any
@@ -112,16 +115,36 @@ class _Stops(bdb.Bdb):
         self.set_continue()
 
 
-def test_a_breakpoint_on_a_tcpou_line_stops_there() -> None:
-    plc = st.load(PROJECT)
+def breakpoint_stops(project: str, filename: str, line: int) -> tuple[list[tuple[str, int, str]], int]:
+    """Load ``project``, break at ``filename:line``, call FB_Calc with nDivisor 5: where it stopped, and nResult."""
+    plc = st.load(project)
     calc = plc.FB_Calc()
     debugger = _Stops()
-    assert debugger.set_break(CALC, DIVIDE_LINE) is None  # None: the line exists and is accepted
-    debugger.runcall(calc, nDivisor=5)
-    debugger.clear_all_breaks()
-    assert calc.nResult == 20
+    assert debugger.set_break(filename, line) is None  # None: the line exists and is accepted
+    try:
+        debugger.runcall(calc, nDivisor=5)
+    finally:
+        debugger.clear_all_breaks()
+    return debugger.stops, calc.nResult
+
+
+def test_a_breakpoint_on_a_tcpou_line_stops_there() -> None:
+    # In a process of its own: a debugger's breakpoints are process-wide (bdb keeps them on its class), and the
+    # test must not depend on what tracing or breakpoints earlier tests of the same process left behind.
+    script = (
+        "import json, sys\n"
+        "from tests.iecoop.st.test_source_maps import breakpoint_stops\n"
+        "stops, result = breakpoint_stops(sys.argv[1], sys.argv[2], int(sys.argv[3]))\n"
+        "print(json.dumps({'stops': stops, 'result': result}))\n"
+    )
+    root = pathlib.Path(__file__).resolve().parents[3]
+    done = subprocess.run([sys.executable, "-c", script, str(PROJECT), CALC, str(DIVIDE_LINE)], cwd=root,
+                          capture_output=True, text=True, timeout=600, check=False)
+    assert done.returncode == 0, done.stderr
+    found = json.loads(done.stdout.splitlines()[-1])
+    assert found["result"] == 20
     # The first stop is runcall's own start; then the breakpoint.
-    assert debugger.stops[1:] == [(CALC, DIVIDE_LINE, "Divide := nValue / nDivisor;]]></ST>")]
+    assert [tuple(stop) for stop in found["stops"][1:]] == [(CALC, DIVIDE_LINE, "Divide := nValue / nDivisor;]]></ST>")]
 
 
 def test_one_cycle_numbering_in_fault_runtime_trace_and_st_run() -> None:
