@@ -56,8 +56,9 @@ _DIGITS = r"\d(?:_?\d)*"
 _NUMBER = re.compile(rf"{_DIGITS}(?:\.{_DIGITS})?")
 _DURATION_PART = re.compile(rf"(?P<int>{_DIGITS})(?:\.(?P<frac>{_DIGITS}))?(?P<unit>[A-Za-z]+)")
 _DATE = re.compile(r"(\d{4})-(\d{1,2})-(\d{1,2})")
-_TIME_OF_DAY = re.compile(r"(\d{1,2}):(\d{1,2}):(\d{1,2})(?:\.(\d+))?")
-_DATE_AND_TIME = re.compile(r"(\d{4})-(\d{1,2})-(\d{1,2})-(\d{1,2}):(\d{1,2}):(\d{1,2})(?:\.(\d+))?")
+# The seconds may be left out (``DT#1998-02-13-14:20`` is 14:20:00, as TwinCAT's DT_TO_STRING shows).
+_TIME_OF_DAY = re.compile(r"(\d{1,2}):(\d{1,2})(?::(\d{1,2})(?:\.(\d+))?)?")
+_DATE_AND_TIME = re.compile(r"(\d{4})-(\d{1,2})-(\d{1,2})-(\d{1,2}):(\d{1,2})(?::(\d{1,2})(?:\.(\d+))?)?")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -350,7 +351,7 @@ def _tod_text(text: str) -> int:
     match = _TIME_OF_DAY.fullmatch(body)
     if match is None:
         raise _bad(kind, text, "expected hh:mm:ss or hh:mm:ss.fff")
-    hour, minute, second = (int(g) for g in match.groups()[:3])
+    hour, minute, second = (int(g or 0) for g in match.groups()[:3])
     fraction = match.group(4) or ""
     if len(fraction) > 3:
         raise _bad(kind, text, f"fraction '.{fraction}' has more than 3 digits; TOD resolution is 1 ms")
@@ -364,8 +365,8 @@ def parse_dt(text: str) -> int:
     Range DT#1970-01-01-00:00:00 .. DT#2106-02-07-06:28:15; DT counts whole
     seconds, so a fraction of a second is refused.
 
-    >>> parse_dt("DT#2024-01-28-11:05:43")
-    1706439943
+    >>> parse_dt("DT#2024-01-28-11:05:43"), parse_dt("DT#2024-01-28-11:05")
+    (1706439943, 1706439900)
     """
     try:
         return _SEEN_DT[text]
@@ -384,7 +385,7 @@ def _dt_text(text: str) -> int:
         raise _bad(kind, text, "expected YYYY-MM-DD-hh:mm:ss")
     if match.group(7) is not None:
         raise _bad(kind, text, f"fraction '.{match.group(7)}' not allowed; DT resolution is 1 s")
-    year, month, day, hour, minute, second = (int(g) for g in match.groups()[:6])
+    year, month, day, hour, minute, second = (int(g or 0) for g in match.groups()[:6])
     days = _check_date(kind, text, year, month, day)
     value = days * _S_PER_DAY + _check_time_of_day(kind, text, hour, minute, second)
     if value > _U32_MAX:

@@ -147,6 +147,13 @@ def test_time_sums_its_units(d: int, h: int, m: int, s: int, ms: int) -> None:
 Parser = Callable[[str], int]
 
 
+def test_seconds_may_be_left_out_of_a_time_of_day() -> None:
+    """TwinCAT's DT_TO_STRING(DT#1998-02-13-14:20) is 'DT#1998-02-13-14:20:00': the seconds are 0."""
+    assert parse_dt("DT#1998-02-13-14:20") == parse_dt("DT#1998-02-13-14:20:00")
+    assert format_dt(parse_dt("dt#2000-01-01-00:00")) == "DT#2000-01-01-00:00:00"
+    assert parse_tod("TOD#12:30") == parse_tod("TOD#12:30:00") == 45_000_000
+
+
 @pytest.mark.parametrize(
     ("parse", "text", "why"),
     [
@@ -189,7 +196,9 @@ Parser = Callable[[str], int]
         (parse_tod, "12:60:00", r"minute out of range"),
         (parse_tod, "12:00:60", r"second out of range"),
         (parse_tod, "12:00:00.1234", r"more than 3 digits; TOD resolution is 1 ms"),
-        (parse_tod, "12:00", r"expected hh:mm:ss"),
+        (parse_tod, "12", r"expected hh:mm:ss"),
+        (parse_tod, "12:00:", r"expected hh:mm:ss"),
+        (parse_tod, "12:00.5", r"expected hh:mm:ss"),
         (parse_tod, "", r"empty"),
         (parse_dt, "2106-02-07-06:28:16", r"bad DT literal .*: out of range"),
         (parse_dt, "1969-12-31-23:59:59", r"out of range"),
@@ -197,6 +206,8 @@ Parser = Callable[[str], int]
         (parse_dt, "2024-01-28-25:00:00", r"hour out of range"),
         (parse_dt, "2024-01-28-11:05:43.5", r"fraction '\.5' not allowed; DT resolution is 1 s"),
         (parse_dt, "2024-01-28 11:05:43", r"expected YYYY-MM-DD-hh:mm:ss"),
+        (parse_dt, "2024-01-28-11", r"expected YYYY-MM-DD-hh:mm:ss"),
+        (parse_dt, "2024-01-28-11:61", r"minute out of range"),
     ],
 )
 def test_bad_literals_say_what_is_wrong(parse: Parser, text: str, why: str) -> None:

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import blark.transform as tf
 
+from iecoop import literals
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.pywriter import PyWriter
 from iecoop.st.read.table import BOOL, LINT, LREAL, STRING, TypeRef
@@ -79,9 +80,18 @@ class Literals(PyWriter):
                 parts.append(f"{str(value).replace('_', '')}{suffix}")
         return "".join(parts) or "0ms"
 
+    def _checked(self, parse: Callable[[str], int], text: str, node: Any) -> str:
+        """``text`` when ``parse`` takes it; else the load fails at the literal's line (not the cycle that reads it)."""
+        try:
+            parse(text)
+        except ValueError as exc:
+            raise self.fail(str(exc), node) from None
+        return text
+
     def visit_Duration(self, node: tf.Duration, scope: Scope) -> Ex:
         self.need("iecoop", "T")
         text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"), ("milliseconds", "ms")])
+        self._checked(literals.T, text, node)
         code = f'T("{text}")'
         return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "TIME"), compound=node.negative)
 
@@ -89,20 +99,24 @@ class Literals(PyWriter):
         self.need("iecoop", "LTIME")
         text = self._duration(node, [("days", "d"), ("hours", "h"), ("minutes", "m"), ("seconds", "s"),
                                      ("milliseconds", "ms"), ("microseconds", "us"), ("nanoseconds", "ns")])
+        self._checked(literals.parse_ltime, text, node)
         code = f'LTIME("{text}")'
         return Ex(f"-{code}" if node.negative else code, TypeRef("elem", "LTIME"), compound=node.negative)
 
     def visit_Date(self, node: tf.Date, scope: Scope) -> Ex:
         self.need("iecoop", "D")
-        return Ex(f'D("{node.year}-{node.month}-{node.day}")', TypeRef("elem", "DATE"))
+        text = self._checked(literals.parse_date, f"{node.year}-{node.month}-{node.day}", node)
+        return Ex(f'D("{text}")', TypeRef("elem", "DATE"))
 
     def visit_TimeOfDay(self, node: tf.TimeOfDay, scope: Scope) -> Ex:
         self.need("iecoop", "TOD")
         second = f":{node.second}" if node.second is not None else ""
-        return Ex(f'TOD("{node.hour}:{node.minute}{second}")', TypeRef("elem", "TOD"))
+        text = self._checked(literals.parse_tod, f"{node.hour}:{node.minute}{second}", node)
+        return Ex(f'TOD("{text}")', TypeRef("elem", "TOD"))
 
     def visit_DateTime(self, node: tf.DateTime, scope: Scope) -> Ex:
         self.need("iecoop", "DT")
         date, time = node.date, node.time
         second = f":{time.second}" if time.second is not None else ""
-        return Ex(f'DT("{date.year}-{date.month}-{date.day}-{time.hour}:{time.minute}{second}")', TypeRef("elem", "DT"))
+        text = self._checked(literals.parse_dt, f"{date.year}-{date.month}-{date.day}-{time.hour}:{time.minute}{second}", node)
+        return Ex(f'DT("{text}")', TypeRef("elem", "DT"))

@@ -427,3 +427,32 @@ END_CASE]]></ST></Implementation>
     assert (led.nRed, led.nGreen) == (255, 0)
     with pytest.raises(AccessError, match=r"PROPERTY FB_Led.Color has no Get accessor: it can only be written"):
         led.Color
+
+
+# --- date and time literals ----------------------------------------------------------------------------
+
+
+def test_a_date_and_time_literal_may_leave_out_the_seconds() -> None:
+    from iecoop.literals import format_dt, format_tod
+
+    plc = st.load("""PROGRAM MAIN
+VAR dtStart : DT := DT#2000-01-01-00:00; todShift : TOD; nPasses : INT; END_VAR
+todShift := TOD#6:30;
+IF dtStart = DT#2000-01-01-00:00:00 THEN nPasses := nPasses + 1; END_IF
+END_PROGRAM""")
+    plc.MAIN()
+    plc.MAIN()
+    assert format_dt(plc.MAIN.dtStart) == "DT#2000-01-01-00:00:00"
+    assert format_tod(plc.MAIN.todShift) == "TOD#06:30:00"
+    assert plc.MAIN.nPasses == 2
+
+
+@pytest.mark.parametrize(
+    ("literal", "why"),
+    [("DT#2023-02-29-10:00", "day out of range"), ("TOD#24:00:00", "hour out of range"), ("D#1969-12-31", "out of range")],
+)
+def test_a_bad_date_or_time_literal_is_refused_at_load_at_its_line(tmp_path: pathlib.Path, literal: str, why: str) -> None:
+    source = tmp_path / "MAIN.st"
+    source.write_text(f"PROGRAM MAIN\nVAR nCount : INT; bLate : BOOL; END_VAR\nnCount := nCount + 1;\nIF nCount > 5 THEN nCount := 0; END_IF\nbLate := {literal} > {literal};\nEND_PROGRAM\n")
+    with pytest.raises(DefinitionError, match=rf"MAIN\.st:5: .*{why}"):  # before: a ValueError in the cycle that read it
+        st.load(source, cache=False)
