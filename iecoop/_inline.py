@@ -18,8 +18,10 @@ body or one made by ``exec`` without its source is left alone), it takes
 ``self`` alone, is no generator, returns no value and uses none of the
 call's names. Otherwise the call calls the body, as before.
 
-Compiled into the call, four of the body's own operations take the cheaper
-way to the same result: a block member read ``self.timer`` reads the view its
+Compiled into the call, five of the body's own operations take the cheaper
+way to the same result: a FOR over a block's integer variable with a
+constant range reads the counter from the loop in its passes
+(``_CounterReads``); a block member read ``self.timer`` reads the view its
 property's getter returns, kept as an instance attribute; a member call
 ``self.timer(IN=x)`` calls the member class's call directly (inputs by
 position when the keywords follow the declared order) while it is the
@@ -33,6 +35,7 @@ from __future__ import annotations
 
 import __future__
 import ast
+import builtins
 import copy
 import dis
 import functools
@@ -45,6 +48,8 @@ from collections.abc import Callable
 from typing import Any
 
 from iecoop._codegen import definition, register_definition
+from iecoop._value_class import COUNTER as _COUNTER
+from iecoop._value_class import value_class
 from iecoop.literals import D, T
 from iecoop.memory._views import ELEMENT_VIEWS, keep_member_views
 from iecoop.members import adopt_code
@@ -73,7 +78,7 @@ def inline_call(
     kwdefaults: dict[str, Any], owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
     views: dict[str, str] | None = None, known: dict[str, type] | None = None,
-    arrays: dict[str, tuple[type, int, int]] | None = None,
+    arrays: dict[str, tuple[type, int, int]] | None = None, counters: dict[str, tuple[int, int]] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -94,6 +99,8 @@ def inline_call(
     ``known`` (checked mode): the class a read of each variable gives (see ``value_class``).
     ``arrays``: per one-dimensional ARRAY OF a block, its element class and
     bounds; the body's own ``self.stations[i]`` reads the kept element in place.
+    ``counters``: per integer variable a FOR may count with, its range; a
+    ``for self.i in range(...)`` pass reads ``i`` from its local (``_CounterReads``).
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -107,6 +114,7 @@ def inline_call(
     names = dict(names)
     call = _rewritten(
         node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
+        counters or {},
     )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
@@ -216,7 +224,7 @@ def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
     positional: bool, direct: Direct | None, views: dict[str, str], known: dict[str, type],
-    arrays: dict[str, tuple[type, int, int]],
+    arrays: dict[str, tuple[type, int, int]], counters: dict[str, tuple[int, int]],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -230,8 +238,12 @@ def _rewritten(
     if own:
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
+    spans: dict[str, range] = {}
+    if counters and not _rebinds_self(node):
+        loops = _CounterReads(counters, spans, body.__globals__, {*code.co_varnames, *code.co_cellvars, *code.co_freevars})
+        call.body = [loops.visit(statement) for statement in call.body]
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names, direct, known, arrays)
+        call.body = _with_members(call.body, writes, members, names, direct, known, arrays, spans)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     # Only a body that names one of the literal functions has a literal to read (a walk of its tree otherwise saved).
@@ -243,15 +255,18 @@ def _rewritten(
 def _with_members(
     statements: list[ast.stmt], writes: dict[str, tuple[Any, bool, Any, str, Any]],
     members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
-    known: dict[str, type], arrays: dict[str, tuple[type, int, int]],
+    known: dict[str, type], arrays: dict[str, tuple[type, int, int]], spans: dict[str, range],
 ) -> list[ast.stmt]:
-    """``statements`` with the direct stores, then the member calls, then the member reads written out."""
+    """``statements`` with the direct stores, then the member calls, then the member reads written out.
+
+    ``spans``: per FOR counter a loop reads from its local (``_CounterReads``), the values it takes.
+    """
     if writes:
         statements = [_DirectStores(writes, names, known).visit(statement) for statement in statements]
         # A store becomes a list of statements.
         statements = [s for item in statements for s in (item if isinstance(item, list) else [item])]
     if members:
-        statements = [_MemberCalls(members, names, direct, arrays).visit(statement) for statement in statements]
+        statements = [_MemberCalls(members, names, direct, arrays, spans).visit(statement) for statement in statements]
         keys = {member: key for member, (key, _cls) in members.items()}
         statements = [_MemberReads(keys).visit(statement) for statement in statements]
     return statements
@@ -532,6 +547,121 @@ class _Literals(_OwnCode):
         return _located(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
 
 
+class _CounterReads(ast.NodeTransformer):
+    """``for self.i in range(1, 1000 + 1):`` over an integer variable: the pass reads ``i`` from the loop's local.
+
+    ::
+
+        for _iec_c_0_i in range(1, 1000 + 1):
+            self.i = _iec_c_0_i              # stored first, as before: a METHOD the pass calls reads it
+            ... _iec_c_0_i ...               # each read of self.i in the pass's statements
+
+    The same values for every program IEC 61131-3 allows: its FOR's repeated
+    statements shall not alter the control variable (the ST reader refuses a
+    loop that writes it; a pass whose code stores it anywhere is left alone,
+    and so is a range that is not constant or leaves the variable's type).
+    ``iecoop.conversions.MOD(i, 50)`` of such a counter that is never negative
+    is ``i % 50``, as ``MOD`` itself computes it. ``spans`` collects the values
+    each local takes, for the ARRAY element reads (``_MemberCalls``).
+    """
+
+    def __init__(self, counters: dict[str, tuple[int, int]], spans: dict[str, range], module_globals: dict[str, Any],
+                 local: set[str]) -> None:
+        self.counters, self.spans, self.globals, self.local = counters, spans, module_globals, local
+
+    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
+        return node  # a nested def or class keeps its own code
+
+    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
+
+    def visit_For(self, node: ast.For) -> ast.AST:
+        self.generic_visit(node)  # an inner loop first: its own counter, or a store of this one
+        target = node.target
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return node
+        span, values = self.counters.get(target.attr), self._range(node.iter)
+        if span is None or values is None or _stores_field(node.body, target.attr):
+            return node
+        if values and not (span[0] <= min(values) and max(values) <= span[1]):
+            return node
+        local = f"{_COUNTER}{len(self.spans)}_{target.attr}"
+        self.spans[local] = values
+        reads = _CounterRead(target.attr, local, values, self._is_mod)
+        store = ast.Assign(targets=[target], value=ast.Name(id=local, ctx=ast.Load()))
+        node.target = ast.copy_location(ast.Name(id=local, ctx=ast.Store()), target)
+        node.body = [_located(store, node), *(reads.visit(statement) for statement in node.body)]
+        return node
+
+    def _global(self, name: str) -> Any:
+        return None if name in self.local else self.globals.get(name, getattr(builtins, name, None))
+
+    def _range(self, node: ast.expr) -> range | None:
+        """The values of ``range(<constants>)`` (``range`` being Python's), else None."""
+        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and self._global(node.func.id) is range):
+            return None
+        if node.keywords or not 1 <= len(node.args) <= 3:
+            return None
+        bounds = [_int_constant(a) for a in node.args]
+        if None in bounds or bounds[2:] == [0]:
+            return None
+        return range(*(b for b in bounds if b is not None))
+
+    def _is_mod(self, node: ast.expr) -> bool:
+        from iecoop.conversions import MOD
+
+        return isinstance(node, ast.Name) and self._global(node.id) is MOD
+
+
+class _CounterRead(_OwnCode):
+    """One FOR pass's reads of ``self.<field>`` from the loop's ``local`` (see ``_CounterReads``)."""
+
+    def __init__(self, field: str, local: str, values: range, is_mod: Callable[[ast.expr], bool]) -> None:
+        self.field, self.local, self.values, self.is_mod = field, local, values, is_mod
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        self.generic_visit(node)
+        if node.attr == self.field and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            return ast.copy_location(ast.Name(id=self.local, ctx=ast.Load()), node)
+        return node
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        if not (self.is_mod(node.func) and len(node.args) == 2 and not node.keywords):
+            return node
+        counter, divisor = node.args
+        if not (isinstance(counter, ast.Name) and counter.id == self.local and min(self.values, default=0) >= 0):
+            return node
+        if not (isinstance(divisor, ast.Constant) and type(divisor.value) is int and divisor.value > 0):
+            return node
+        return _located(ast.BinOp(left=counter, op=ast.Mod(), right=divisor), node)
+
+
+def _stores_field(statements: list[ast.stmt], field: str) -> bool:
+    """Whether ``statements`` (nested code too) store or delete ``self.<field>``, or call setattr / delattr."""
+    for statement in statements:
+        for n in ast.walk(statement):
+            if isinstance(n, ast.Attribute) and n.attr == field and not isinstance(n.ctx, ast.Load):
+                return True
+            if isinstance(n, ast.Name) and n.id in ("setattr", "delattr"):
+                return True
+    return False
+
+
+def _int_constant(node: ast.expr) -> int | None:
+    """The value of an integer constant expression (``1000 + 1``, ``-5``), else None."""
+    if isinstance(node, ast.Constant):
+        return node.value if type(node.value) is int else None
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        operand = _int_constant(node.operand)
+        return None if operand is None else (-operand if isinstance(node.op, ast.USub) else operand)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+        left, right = _int_constant(node.left), _int_constant(node.right)
+        if left is None or right is None or max(abs(left), abs(right)) > 1 << 64:
+            return None
+        return left + right if isinstance(node.op, ast.Add) else left - right if isinstance(node.op, ast.Sub) else left * right
+    return None
+
+
 class _MemberCalls(_OwnCode):
     """``self.timer(IN=x)`` calls the member's class's ``__call__`` without the call protocol's detour.
 
@@ -562,10 +692,10 @@ class _MemberCalls(_OwnCode):
 
     def __init__(
         self, members: dict[str, tuple[str, type | None]], names: dict[str, Any], direct: Direct | None,
-        arrays: dict[str, tuple[type, int, int]] | None = None,
+        arrays: dict[str, tuple[type, int, int]] | None = None, spans: dict[str, range] | None = None,
     ) -> None:
         self.members, self.names, self.direct = members, names, direct
-        self.arrays = arrays or {}
+        self.arrays, self.spans = arrays or {}, spans or {}
 
     def _array(self, node: ast.expr) -> str | None:
         """The ARRAY OF blocks variable ``node`` indexes once (``self.stations[i]``, a read), else None."""
@@ -583,8 +713,13 @@ class _MemberCalls(_OwnCode):
             return node
         _cls, lo, hi = self.arrays[array]
         index, kind, whole = f"{_STORE}index", f"{_STORE}type", f"{_STORE}int"
-        self.names.update({kind: type, whole: int})
         view = ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=self.members[array][0], ctx=ast.Load())
+        counted = self.spans.get(node.slice.id) if isinstance(node.slice, ast.Name) else None
+        if counted is not None and lo <= min(counted) and max(counted) <= hi:  # a FOR counter that stays in bounds
+            elements = ast.Attribute(value=view, attr=ELEMENT_VIEWS, ctx=ast.Load())
+            offset = ast.BinOp(left=node.slice, op=ast.Sub(), right=ast.Constant(lo))
+            return _located(ast.Subscript(value=elements, slice=offset, ctx=ast.Load()), node)
+        self.names.update({kind: type, whole: int})
 
         def name(identifier: str) -> ast.Name:
             return ast.Name(id=identifier, ctx=ast.Load())
@@ -730,74 +865,6 @@ class _DirectStores(_OwnCode):
         if known is None or known is not accepted:
             statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
         return [_located(statement, node) for statement in statements]
-
-
-_INTEGER_OPS = (ast.Add, ast.Sub, ast.Mult, ast.FloorDiv, ast.Mod, ast.LShift, ast.RShift)
-_BIT_OPS = (ast.BitAnd, ast.BitOr, ast.BitXor)
-_REAL_OPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.FloorDiv, ast.Mod)
-
-
-def value_class(node: ast.expr, known: dict[str, type]) -> type | None:
-    """The exact class of the value ``node`` gives, when the code alone says it (else None).
-
-    ``known``: per variable read (``"x"`` for ``self.x``, ``"timer.Q"`` for
-    ``self.timer.Q``), the class its ctypes field gives (``bool``, ``int``,
-    ``float``). Constants, and arithmetic, comparisons and ``not`` over those,
-    follow Python's own rules for these three classes.
-    """
-    if isinstance(node, ast.Constant):
-        return type(node.value) if type(node.value) in (bool, int, float) else None
-    if isinstance(node, ast.Attribute):
-        path = _read_path(node)
-        return known.get(path) if path is not None else None
-    if isinstance(node, ast.Compare):
-        operands = [node.left, *node.comparators]
-        return bool if all(value_class(o, known) in (bool, int, float) for o in operands) else None
-    if isinstance(node, ast.BoolOp):
-        classes = {value_class(v, known) for v in node.values}
-        return classes.pop() if len(classes) == 1 else None
-    if isinstance(node, ast.IfExp):
-        body, orelse = value_class(node.body, known), value_class(node.orelse, known)
-        return body if body is orelse else None
-    if isinstance(node, ast.UnaryOp):
-        return _unary_class(node, known)
-    if isinstance(node, ast.BinOp):
-        return _binary_class(node, value_class(node.left, known), value_class(node.right, known))
-    return None
-
-
-def _unary_class(node: ast.UnaryOp, known: dict[str, type]) -> type | None:
-    if isinstance(node.op, ast.Not):
-        return bool
-    operand = value_class(node.operand, known)
-    if operand is float and not isinstance(node.op, ast.Invert):
-        return float
-    return int if operand in (bool, int) else None
-
-
-def _binary_class(node: ast.BinOp, left: type | None, right: type | None) -> type | None:
-    integers = (bool, int)
-    if left in integers and right in integers:
-        if isinstance(node.op, _BIT_OPS):
-            return bool if left is right is bool else int
-        if isinstance(node.op, _INTEGER_OPS):
-            return int
-        return float if isinstance(node.op, ast.Div) else None
-    if float in (left, right) and {left, right} <= {bool, int, float} and isinstance(node.op, _REAL_OPS):
-        return float
-    return None
-
-
-def _read_path(node: ast.Attribute) -> str | None:
-    """``self.x`` -> ``"x"``, ``self.timer.Q`` -> ``"timer.Q"`` (a read), else None."""
-    if not isinstance(node.ctx, ast.Load):
-        return None
-    if isinstance(node.value, ast.Name) and node.value.id == "self":
-        return node.attr
-    inner = node.value
-    if isinstance(inner, ast.Attribute) and isinstance(inner.value, ast.Name) and inner.value.id == "self":
-        return f"{inner.attr}.{node.attr}"
-    return None
 
 
 def _module_imports(code: types.CodeType, module_globals: dict[str, Any]) -> frozenset[str]:

@@ -90,7 +90,9 @@ from iecoop.members import (
 )
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
-from iecoop.writes import FastWrite, accepted_type, check_write, fast_writes, known_reads, pou_setattr, write_rules
+from iecoop.writes import (
+    FastWrite, accepted_type, check_write, counter_ranges, fast_writes, known_reads, pou_setattr, write_rules,
+)
 
 register_builder(__file__)
 
@@ -741,7 +743,7 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
         }
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views, known=known, arrays=arrays,
+            direct=_positional_call, views=views, known=known, arrays=arrays, counters=counter_ranges(cls, layout),
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

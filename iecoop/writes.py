@@ -49,7 +49,8 @@ if TYPE_CHECKING:
     from iecoop.memory.layout import ClassLayout, FieldRecord
 
 __all__ = [
-    "FastWrite", "WriteRule", "accepted_type", "check_write", "data_setattr", "fast_writes", "known_reads", "pou_setattr",
+    "FastWrite", "WriteRule", "accepted_type", "check_write", "counter_ranges", "data_setattr", "fast_writes", "known_reads",
+    "pou_setattr",
     "read_only_rule", "write_rule", "write_rules",
 ]
 
@@ -187,6 +188,20 @@ def known_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
         if inner_layout is not None:  # a member's view is of exactly its declared class
             known.update({f"{record.name}.{name}": kind for name, kind in _field_reads(inner, inner_layout).items()})
     return known
+
+
+def counter_ranges(cls: Any, layout: ClassLayout) -> dict[str, tuple[int, int]]:
+    """Per integer variable of a block (SINT .. ULINT, BYTE .. LWORD) that its ctypes field reads and writes
+    itself, the values its type holds: the variables a FOR of the block's own code may count with."""
+    found: dict[str, tuple[int, int]] = {}
+    for record in layout.fields:
+        info = record.info
+        attribute = next((k.__dict__[record.name] for k in cls.__mro__ if record.name in k.__dict__), None)
+        if type(info) is ElementaryInfo and attribute is record.raw and info.record.kind in ("signed", "unsigned"):
+            low, high = info.record.low, info.record.high
+            if isinstance(low, int) and isinstance(high, int):
+                found[record.name] = (low, high)
+    return found
 
 
 def _field_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
