@@ -21,7 +21,7 @@ call's names. Otherwise the call calls the body, as before.
 Compiled into the call, five of the body's own operations take the cheaper
 way to the same result: a FOR over a block's integer variable with a
 constant range reads the counter from the loop in its passes
-(``_CounterReads``); a block member read ``self.timer`` reads the view its
+(``CounterReads``); a block member read ``self.timer`` reads the view its
 property's getter returns, kept as an instance attribute; a member call
 ``self.timer(IN=x)`` calls the member class's call directly (inputs by
 position when the keywords follow the declared order) while it is the
@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import __future__
 import ast
-import builtins
 import copy
 import dis
 import functools
@@ -48,7 +47,7 @@ from collections.abc import Callable
 from typing import Any
 
 from iecoop._codegen import definition, register_definition
-from iecoop._value_class import COUNTER as _COUNTER
+from iecoop._inline_reads import CounterReads, GivenInputs, OwnCode, located
 from iecoop._value_class import value_class
 from iecoop.literals import D, T
 from iecoop.memory._views import ELEMENT_VIEWS, keep_member_views
@@ -67,6 +66,7 @@ _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 #: ``direct(cls)``: the cell a member call calls ``cls`` through with the inputs by position, and their order.
 Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
 _STORE_ATTR, _EXTENDED_ARG = dis.opmap["STORE_ATTR"], dis.opmap["EXTENDED_ARG"]
+_FOR_ITER = bytes([dis.opmap["FOR_ITER"]])
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
@@ -79,6 +79,7 @@ def inline_call(
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
     views: dict[str, str] | None = None, known: dict[str, type] | None = None,
     arrays: dict[str, tuple[type, int, int]] | None = None, counters: dict[str, tuple[int, int]] | None = None,
+    plain: list[Any] | None = None, bools: set[str] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -100,7 +101,10 @@ def inline_call(
     ``arrays``: per one-dimensional ARRAY OF a block, its element class and
     bounds; the body's own ``self.stations[i]`` reads the kept element in place.
     ``counters``: per integer variable a FOR may count with, its range; a
-    ``for self.i in range(...)`` pass reads ``i`` from its local (``_CounterReads``).
+    ``for self.i in range(...)`` pass reads ``i`` from its local (``CounterReads``).
+    ``plain``: the elementary variables read from their ctypes fields (the
+    records); ``bools``: the BOOL inputs among them, whose first reads in the
+    body take the argument given (``GivenInputs``).
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -114,7 +118,7 @@ def inline_call(
     names = dict(names)
     call = _rewritten(
         node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
-        counters or {},
+        counters or {}, {r.name for r in plain or ()}, bools or set(),
     )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
@@ -224,13 +228,16 @@ def _rewritten(
     node: ast.FunctionDef, body: types.FunctionType, params: list[str], lines: list[str], names: dict[str, Any],
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
     positional: bool, direct: Direct | None, views: dict[str, str], known: dict[str, type],
-    arrays: dict[str, tuple[type, int, int]], counters: dict[str, tuple[int, int]],
+    arrays: dict[str, tuple[type, int, int]], counters: dict[str, tuple[int, int]], plain: set[str], bools: set[str],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
     The rewrites add the objects their code reads to ``names``.
     """
     code = body.__code__
+    if bools and not _rebinds_self(node):
+        blocks = {member for member, (_key, cls) in members.items() if cls is not None}
+        GivenInputs(bools, plain, blocks).rewrite(node.body)
     call = _with_inputs(node, [p.removesuffix("=_M") for p in params] if positional else params, lines, positional)
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
@@ -239,9 +246,9 @@ def _rewritten(
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     spans: dict[str, range] = {}
-    if counters and not _rebinds_self(node):
-        loops = _CounterReads(counters, spans, body.__globals__, {*code.co_varnames, *code.co_cellvars, *code.co_freevars})
-        call.body = [loops.visit(statement) for statement in call.body]
+    # Only a body with a loop has a FOR to rewrite (its code has a FOR_ITER: a scan in C, no walk of the tree).
+    if counters and _FOR_ITER in code.co_code[::2] and not _rebinds_self(node):
+        CounterReads(counters, spans, body.__globals__, {*code.co_varnames, *code.co_cellvars, *code.co_freevars}).rewrite(call.body)
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct, known, arrays, spans)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
@@ -259,7 +266,7 @@ def _with_members(
 ) -> list[ast.stmt]:
     """``statements`` with the direct stores, then the member calls, then the member reads written out.
 
-    ``spans``: per FOR counter a loop reads from its local (``_CounterReads``), the values it takes.
+    ``spans``: per FOR counter a loop reads from its local (``CounterReads``), the values it takes.
     """
     if writes:
         statements = [_DirectStores(writes, names, known).visit(statement) for statement in statements]
@@ -297,7 +304,7 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
     fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
     handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
     prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
-    return [_located(prologue, where), *statements]  # at the def line, as the input lines
+    return [located(prologue, where), *statements]  # at the def line, as the input lines
 
 
 def _call_function(
@@ -479,25 +486,7 @@ def _rebinds_self(node: ast.FunctionDef) -> bool:
     return _survey(node).rebinds_self
 
 
-_Node = typing.TypeVar("_Node", bound=ast.AST)
-
-
-def _located(new: _Node, old: ast.AST) -> _Node:
-    """``new`` (a node a rewrite made) at ``old``'s place, with the nodes it made inside it, for the compiler."""
-    return ast.fix_missing_locations(ast.copy_location(new, old))
-
-
-class _OwnCode(ast.NodeTransformer):
-    """Leaves nested functions, lambdas, classes and comprehensions alone: their code must stay the body's."""
-
-    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
-        return node
-
-    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
-    visit_ListComp = visit_SetComp = visit_DictComp = visit_GeneratorExp = visit_FunctionDef
-
-
-class _MemberReads(_OwnCode):
+class _MemberReads(OwnCode):
     """``self.timer`` (a read) becomes ``self._iec_m_0timer``, the view the member property's getter returns."""
 
     def __init__(self, aliases: dict[str, str]) -> None:
@@ -515,7 +504,7 @@ class _MemberReads(_OwnCode):
 _LITERALS: tuple[Any, ...] = (T, D, LTIME, TOD, DT)
 
 
-class _Literals(_OwnCode):
+class _Literals(OwnCode):
     """``T("200ms")`` with a constant text becomes ``(200 if T is <iecoop's T> else T("200ms"))``.
 
     The literal is read once, when the class is built; the name is still looked
@@ -544,125 +533,10 @@ class _Literals(_OwnCode):
         known = f"{_STORE}literal_{func.id}"
         self.names[known] = literal
         test = ast.Compare(left=ast.Name(id=func.id, ctx=ast.Load()), ops=[ast.Is()], comparators=[ast.Name(id=known, ctx=ast.Load())])
-        return _located(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
+        return located(ast.IfExp(test=test, body=ast.Constant(value), orelse=node), node)
 
 
-class _CounterReads(ast.NodeTransformer):
-    """``for self.i in range(1, 1000 + 1):`` over an integer variable: the pass reads ``i`` from the loop's local.
-
-    ::
-
-        for _iec_c_0_i in range(1, 1000 + 1):
-            self.i = _iec_c_0_i              # stored first, as before: a METHOD the pass calls reads it
-            ... _iec_c_0_i ...               # each read of self.i in the pass's statements
-
-    The same values for every program IEC 61131-3 allows: its FOR's repeated
-    statements shall not alter the control variable (the ST reader refuses a
-    loop that writes it; a pass whose code stores it anywhere is left alone,
-    and so is a range that is not constant or leaves the variable's type).
-    ``iecoop.conversions.MOD(i, 50)`` of such a counter that is never negative
-    is ``i % 50``, as ``MOD`` itself computes it. ``spans`` collects the values
-    each local takes, for the ARRAY element reads (``_MemberCalls``).
-    """
-
-    def __init__(self, counters: dict[str, tuple[int, int]], spans: dict[str, range], module_globals: dict[str, Any],
-                 local: set[str]) -> None:
-        self.counters, self.spans, self.globals, self.local = counters, spans, module_globals, local
-
-    def visit_FunctionDef(self, node: ast.AST) -> ast.AST:
-        return node  # a nested def or class keeps its own code
-
-    visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
-
-    def visit_For(self, node: ast.For) -> ast.AST:
-        self.generic_visit(node)  # an inner loop first: its own counter, or a store of this one
-        target = node.target
-        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
-            return node
-        span, values = self.counters.get(target.attr), self._range(node.iter)
-        if span is None or values is None or _stores_field(node.body, target.attr):
-            return node
-        if values and not (span[0] <= min(values) and max(values) <= span[1]):
-            return node
-        local = f"{_COUNTER}{len(self.spans)}_{target.attr}"
-        self.spans[local] = values
-        reads = _CounterRead(target.attr, local, values, self._is_mod)
-        store = ast.Assign(targets=[target], value=ast.Name(id=local, ctx=ast.Load()))
-        node.target = ast.copy_location(ast.Name(id=local, ctx=ast.Store()), target)
-        node.body = [_located(store, node), *(reads.visit(statement) for statement in node.body)]
-        return node
-
-    def _global(self, name: str) -> Any:
-        return None if name in self.local else self.globals.get(name, getattr(builtins, name, None))
-
-    def _range(self, node: ast.expr) -> range | None:
-        """The values of ``range(<constants>)`` (``range`` being Python's), else None."""
-        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and self._global(node.func.id) is range):
-            return None
-        if node.keywords or not 1 <= len(node.args) <= 3:
-            return None
-        bounds = [_int_constant(a) for a in node.args]
-        if None in bounds or bounds[2:] == [0]:
-            return None
-        return range(*(b for b in bounds if b is not None))
-
-    def _is_mod(self, node: ast.expr) -> bool:
-        from iecoop.conversions import MOD
-
-        return isinstance(node, ast.Name) and self._global(node.id) is MOD
-
-
-class _CounterRead(_OwnCode):
-    """One FOR pass's reads of ``self.<field>`` from the loop's ``local`` (see ``_CounterReads``)."""
-
-    def __init__(self, field: str, local: str, values: range, is_mod: Callable[[ast.expr], bool]) -> None:
-        self.field, self.local, self.values, self.is_mod = field, local, values, is_mod
-
-    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
-        self.generic_visit(node)
-        if node.attr == self.field and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
-            return ast.copy_location(ast.Name(id=self.local, ctx=ast.Load()), node)
-        return node
-
-    def visit_Call(self, node: ast.Call) -> ast.AST:
-        self.generic_visit(node)
-        if not (self.is_mod(node.func) and len(node.args) == 2 and not node.keywords):
-            return node
-        counter, divisor = node.args
-        if not (isinstance(counter, ast.Name) and counter.id == self.local and min(self.values, default=0) >= 0):
-            return node
-        if not (isinstance(divisor, ast.Constant) and type(divisor.value) is int and divisor.value > 0):
-            return node
-        return _located(ast.BinOp(left=counter, op=ast.Mod(), right=divisor), node)
-
-
-def _stores_field(statements: list[ast.stmt], field: str) -> bool:
-    """Whether ``statements`` (nested code too) store or delete ``self.<field>``, or call setattr / delattr."""
-    for statement in statements:
-        for n in ast.walk(statement):
-            if isinstance(n, ast.Attribute) and n.attr == field and not isinstance(n.ctx, ast.Load):
-                return True
-            if isinstance(n, ast.Name) and n.id in ("setattr", "delattr"):
-                return True
-    return False
-
-
-def _int_constant(node: ast.expr) -> int | None:
-    """The value of an integer constant expression (``1000 + 1``, ``-5``), else None."""
-    if isinstance(node, ast.Constant):
-        return node.value if type(node.value) is int else None
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        operand = _int_constant(node.operand)
-        return None if operand is None else (-operand if isinstance(node.op, ast.USub) else operand)
-    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
-        left, right = _int_constant(node.left), _int_constant(node.right)
-        if left is None or right is None or max(abs(left), abs(right)) > 1 << 64:
-            return None
-        return left + right if isinstance(node.op, ast.Add) else left - right if isinstance(node.op, ast.Sub) else left * right
-    return None
-
-
-class _MemberCalls(_OwnCode):
+class _MemberCalls(OwnCode):
     """``self.timer(IN=x)`` calls the member's class's ``__call__`` without the call protocol's detour.
 
     Python runs ``type(view).__call__`` with the arguments packed into a tuple
@@ -718,7 +592,7 @@ class _MemberCalls(_OwnCode):
         if counted is not None and lo <= min(counted) and max(counted) <= hi:  # a FOR counter that stays in bounds
             elements = ast.Attribute(value=view, attr=ELEMENT_VIEWS, ctx=ast.Load())
             offset = ast.BinOp(left=node.slice, op=ast.Sub(), right=ast.Constant(lo))
-            return _located(ast.Subscript(value=elements, slice=offset, ctx=ast.Load()), node)
+            return located(ast.Subscript(value=elements, slice=offset, ctx=ast.Load()), node)
         self.names.update({kind: type, whole: int})
 
         def name(identifier: str) -> ast.Name:
@@ -731,7 +605,7 @@ class _MemberCalls(_OwnCode):
         kept = ast.Subscript(value=elements, slice=ast.BinOp(left=name(index), op=ast.Sub(), right=ast.Constant(lo)), ctx=ast.Load())
         general = ast.Subscript(value=view, slice=name(index), ctx=ast.Load())
         test = ast.BoolOp(op=ast.And(), values=[exact, inside])
-        return _located(ast.IfExp(test=test, body=kept, orelse=general), node)
+        return located(ast.IfExp(test=test, body=kept, orelse=general), node)
 
     def visit_Call(self, node: ast.Call) -> ast.AST:
         array = self._array(node.func)
@@ -758,7 +632,7 @@ class _MemberCalls(_OwnCode):
             known = f"{_STORE}call_{name}"
             self.names[known] = cell
             direct = ast.Call(func=ast.Name(id=known, ctx=ast.Load()), args=[view, *node.args], keywords=node.keywords)
-        return _located(direct, node)
+        return located(direct, node)
 
     def _by_position(self, node: ast.Call, cls: type) -> tuple[types.CellType, list[ast.expr]] | None:
         """The positional call's cell and the arguments in the class's input order (``_M`` for one not
@@ -773,7 +647,7 @@ class _MemberCalls(_OwnCode):
         return cell, [values[n] if n in values else ast.Name(id="_M", ctx=ast.Load()) for n in order]
 
 
-class _DirectStores(_OwnCode):
+class _DirectStores(OwnCode):
     """``self.x = value`` / ``self.x += value`` / ``for self.x in ...`` in the body's own statements, as checked
     ``__setattr__`` does it::
 
@@ -814,10 +688,10 @@ class _DirectStores(_OwnCode):
         if not any(fields):
             return node
         # `self.CV = cv = 0` assigns the one value to each target, left to right.
-        statements: list[ast.stmt] = [_located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
+        statements: list[ast.stmt] = [located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=node.value), node)]
         for target, field in zip(node.targets, fields):
             if field is None:
-                statements.append(_located(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
+                statements.append(located(ast.Assign(targets=[target], value=ast.Name(id=_VALUE, ctx=ast.Load())), node))
             else:
                 statements.extend(self._write(node, field, value_class(node.value, self.known)))
         return statements
@@ -842,7 +716,7 @@ class _DirectStores(_OwnCode):
         return node
 
     def _store(self, node: ast.stmt, field: str, value: ast.expr) -> list[ast.stmt]:
-        first = _located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
+        first = located(ast.Assign(targets=[ast.Name(id=_VALUE, ctx=ast.Store())], value=value), node)
         return [first, *self._write(node, field, value_class(value, self.known))]
 
     def _write(self, node: ast.stmt, field: str, known: type | None = None) -> list[ast.stmt]:
@@ -864,7 +738,7 @@ class _DirectStores(_OwnCode):
         statements: list[ast.stmt] = [ast.Expr(store_call)]
         if known is None or known is not accepted:
             statements.insert(0, ast.If(test=kind, body=[ast.Expr(check)], orelse=[]))
-        return [_located(statement, node) for statement in statements]
+        return [located(statement, node) for statement in statements]
 
 
 def _module_imports(code: types.CodeType, module_globals: dict[str, Any]) -> frozenset[str]:

@@ -91,7 +91,8 @@ from iecoop.members import (
 from iecoop.metadata import IecClass, iec_class, kind_of
 from iecoop.sections import SECTION_RULES, AtCall, Kind, Section, Storage, sections_of
 from iecoop.writes import (
-    FastWrite, accepted_type, check_write, counter_ranges, fast_writes, known_reads, pou_setattr, write_rules,
+    FastWrite, accepted_type, check_write, counter_ranges, fast_writes, known_reads, pou_setattr, raw_elementary,
+    write_rules,
 )
 
 register_builder(__file__)
@@ -741,9 +742,11 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             if isinstance(r.info, ArrayInfo) and len(r.info.bounds) == 1 and isinstance(r.info.elem, AggregateInfo)
             and getattr(r.info.elem.cls, "_iec_tagged_", False)
         }
+        plain = raw_elementary(cls, layout)  # read from their ctypes fields: no code runs on a read
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views, known=known, arrays=arrays, counters=counter_ranges(cls, layout),
+            direct=_positional_call, views=views, known=known, arrays=arrays, plain=plain,
+            counters=counter_ranges(plain), bools={r.name for r in plain if accepted_type(r.info) is bool} & {r.name for r in inputs},
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

@@ -34,6 +34,7 @@ ST::
 from __future__ import annotations
 
 import sys
+import typing
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -50,7 +51,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FastWrite", "WriteRule", "accepted_type", "check_write", "counter_ranges", "data_setattr", "fast_writes", "known_reads",
-    "pou_setattr",
+    "pou_setattr", "raw_elementary",
     "read_only_rule", "write_rule", "write_rules",
 ]
 
@@ -190,17 +191,29 @@ def known_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
     return known
 
 
-def counter_ranges(cls: Any, layout: ClassLayout) -> dict[str, tuple[int, int]]:
-    """Per integer variable of a block (SINT .. ULINT, BYTE .. LWORD) that its ctypes field reads and writes
-    itself, the values its type holds: the variables a FOR of the block's own code may count with."""
-    found: dict[str, tuple[int, int]] = {}
+def raw_elementary(cls: Any, layout: ClassLayout) -> list[FieldRecord]:
+    """The elementary variables of a block that its ctypes fields read and write themselves (no code runs)."""
+    found = []
+    classes = [k.__dict__ for k in cls.__mro__]
     for record in layout.fields:
-        info = record.info
-        attribute = next((k.__dict__[record.name] for k in cls.__mro__ if record.name in k.__dict__), None)
-        if type(info) is ElementaryInfo and attribute is record.raw and info.record.kind in ("signed", "unsigned"):
-            low, high = info.record.low, info.record.high
-            if isinstance(low, int) and isinstance(high, int):
-                found[record.name] = (low, high)
+        if type(record.info) is not ElementaryInfo:
+            continue
+        name = record.name
+        attribute = next((d[name] for d in classes if name in d), None)
+        if attribute is record.raw:
+            found.append(record)
+    return found
+
+
+def counter_ranges(records: list[FieldRecord]) -> dict[str, tuple[int, int]]:
+    """Per integer variable of ``raw_elementary`` (SINT .. ULINT, BYTE .. LWORD), the values its type holds:
+    the variables a FOR of the block's own code may count with."""
+    found: dict[str, tuple[int, int]] = {}
+    for record in records:
+        info = typing.cast(ElementaryInfo, record.info)
+        low, high = info.record.low, info.record.high
+        if info.record.kind in ("signed", "unsigned") and isinstance(low, int) and isinstance(high, int):
+            found[record.name] = (low, high)
     return found
 
 

@@ -39,11 +39,13 @@ Flat = tuple[str, str, LineMap]
 class Parser(typing.NamedTuple):
     """How to parse one flat source: in this process (``parse``: blark's tree and comments), in a worker
     (``as_data``, a module-level function: the tree as ``cache.entry_data``, None when it has no such
-    form), and the name of the grammar a text needs."""
+    form), the name of the grammar a text needs, and how to build the grammars some texts need
+    (``prepare``: before the workers start, so a forked worker starts with them built)."""
 
     parse: Callable[[str, str, LineMap], Parsed]
     as_data: Callable[[str, str, LineMap], dict[str, Any] | None]
     grammar: Callable[[str], str]
+    prepare: Callable[[Sequence[str]], None] = lambda texts: None
 
 
 def cores() -> int:
@@ -122,6 +124,7 @@ def _in_pool(flat: Sequence[Flat], parser: Parser) -> list[Result]:
     with contextlib.ExitStack() as stack:
         futures = {}
         if away:
+            parser.prepare([text for text, _, _ in flat])  # a forked worker inherits the grammars built here
             pool = stack.enter_context(concurrent.futures.ProcessPoolExecutor(len(away), mp_context=_context()))
             sent = sorted((index for share in away for index in share), key=lambda i: -len(flat[i][0]))  # longest first
             futures = {index: pool.submit(parser.as_data, *flat[index]) for index in sent}

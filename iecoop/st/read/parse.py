@@ -17,7 +17,7 @@ import functools
 import os
 import pathlib
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 from iecoop.exceptions import DefinitionError
@@ -105,7 +105,7 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
     from iecoop.st.read.trees import drop_empty_arguments  # on the tree as the cache gives it back too
 
     flat = list(_flat_sources(path))
-    parsed = parse_files(flat, cache, Parser(parse_one, parse_as_data, grammar_of))
+    parsed = parse_files(flat, cache, Parser(parse_one, parse_as_data, grammar_of, build_grammars))
     units = [
         _parse_text(text, name, line_map) if done is None else Unit(drop_empty_arguments(done[0]), name, line_map, done[1])
         for (text, name, line_map), done in zip(flat, parsed)
@@ -419,6 +419,17 @@ def _overlay_parser() -> Any:
         propagate_positions=True,
         start=[rule.name for rule in BlarkStartingRule],
     )
+
+
+def build_grammars(texts: Sequence[str]) -> None:
+    """Build the Earley parsers ``texts`` need (blark's, and the overlay's if one needs it): each takes a while."""
+    import blark.parse
+
+    names = {grammar_of(text) for text in texts}
+    if "blark" in names:
+        blark.parse.get_parser()
+    if names - {"blark"}:
+        _overlay_parser()
 
 
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
