@@ -136,6 +136,14 @@ class Locals(Declarations):
     def _non_local_block(self, block: Any, scope: Scope, statics: list[tuple[Any, str, TypeRef | None]]) -> bool:
         """Handle a VAR section that declares no plain local (parameters, VAR_STAT, VAR_EXTERNAL); True if handled."""
         section = _SECTION_OF.get(type(block))
+        if section == "VAR_INST" and scope.owner is not None and scope.owner.method_inst:
+            method = scope.pou.split(".", 1)[1].lower()
+            for item in block.items:  # a name another METHOD declares too: this METHOD's own field
+                for name, _ in self._item_types(item):
+                    own = scope.owner.method_inst.get((method, name.lower()))
+                    if own is not None:
+                        scope.locals[name.lower()] = Member.field_of("self", own.name, own.type, "STAT", st=name)
+            return True
         if section in ("VAR_INPUT", "VAR_INST"):
             return True
         if section in ("VAR_OUTPUT", "VAR_IN_OUT"):

@@ -181,6 +181,8 @@ class Decl:
     st: str = ""
     #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
     declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+    #: (METHOD's Python name, ST name), lower case -> the field of a VAR_INST whose name another METHOD declares too
+    method_inst: dict[tuple[str, str], Member] = dataclasses.field(default_factory=dict)
     #: a bound library's declaration: the module the generated code imports it from, and the import
     #: (``TON``, or ``FB_Log as TCU_FB_Log`` when the name is taken); never emitted
     library: str = ""

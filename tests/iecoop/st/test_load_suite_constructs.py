@@ -1,0 +1,58 @@
+"""Constructs public TwinCAT projects' TcUnit suites write that the reader refused: each loaded and run."""
+
+from __future__ import annotations
+
+import pytest
+
+st = pytest.importorskip("iecoop.st")
+
+
+def test_two_methods_may_each_keep_a_var_inst_of_the_same_name() -> None:
+    # each METHOD's VAR_INST is its own: Up counts by 1, Down by -10, over three calls each
+    plc = st.load("""FUNCTION_BLOCK FB_TwoCounters
+VAR_OUTPUT nUp : INT; nDown : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Up : INT
+VAR_INST nCount : INT; tWait : TON := (PT := T#1S); END_VAR
+nCount := nCount + 1;
+tWait(IN := TRUE);
+nUp := nCount;
+Up := nCount;
+END_METHOD
+METHOD Down : INT
+VAR_INST nCount : INT := 100; END_VAR
+nCount := nCount - 10;
+nDown := nCount;
+Down := nCount;
+END_METHOD""")
+    fb = plc.FB_TwoCounters()
+    for _ in range(3):
+        fb.Up()
+        fb.Down()
+    assert (fb.nUp, fb.nDown) == (3, 70)
+    assert fb.Up() == 4 and fb.Down() == 60
+
+
+def test_a_var_inst_name_twice_in_one_method_is_still_refused() -> None:
+    with pytest.raises(st.DefinitionError, match=r"VAR_INST nCount of METHOD FB_Twice.Up is declared twice"):
+        st.load("""FUNCTION_BLOCK FB_Twice
+END_FUNCTION_BLOCK
+METHOD Up : INT
+VAR_INST nCount : INT; nCount : DINT; END_VAR
+Up := 1;
+END_METHOD""")
+
+
+def test_an_instance_declared_with_empty_parentheses_is_a_plain_instance() -> None:
+    # bEdge : R_TRIG(); is an FB_init call without arguments: the edge still fires once per rising input
+    plc = st.load("""FUNCTION_BLOCK FB_EdgeCount
+VAR_INPUT bIn : BOOL; END_VAR
+VAR_OUTPUT nEdges : INT; END_VAR
+VAR bEdge : R_TRIG(); END_VAR
+bEdge(CLK := bIn);
+IF bEdge.Q THEN nEdges := nEdges + 1; END_IF
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_EdgeCount()
+    for value in (True, True, False, True, False, False, True):
+        fb(bIn=value)
+    assert fb.nEdges == 3
