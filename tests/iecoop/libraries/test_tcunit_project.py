@@ -339,7 +339,7 @@ def test_the_test_program_runs_at_the_cycle_time_of_the_project_s_task(tmp_path:
     (project / "PlcTask.TcTTO").write_text(
         '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
         '  <Task Name="PlcTask" Id="{7c1e2a90-0000-4000-8000-0000000000ff}">\n'
-        "    <CycleTime>20000</CycleTime>\n    <Priority>20</Priority>\n  </Task>\n</TcPlcObject>\n")
+        "    <!--CycleTime in micro seconds.-->\n    <CycleTime>2000</CycleTime>\n    <Priority>20</Priority>\n  </Task>\n</TcPlcObject>\n")
     result = run_project(project / "TcUnitDemo.plcproj")
     by_id = {t.nodeid: t for t in result.tests}
     # a 2 ms task: the 500 ms TON is done in the cycle at t = 500 ms, the 251st
