@@ -57,7 +57,8 @@ TcUnit's documentation (https://tcunit.org, "API" and "FAQ"):
 - ``TEST_ORDERED`` tests run one after another, in the order of their first
   call: it returns TRUE only for the first one not finished;
 - ``RUN_IN_SEQUENCE()`` runs the suites one after another, in declaration
-  order, ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution`` apart;
+  order, the TIME it is given apart (``RUN_IN_SEQUENCE(T#5S)``; by default
+  ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution``);
 - asserts identical in test, values, message and cycle are reported once;
 - a test named with the prefix ``disabled_`` is not run and is reported as
   skipped;
@@ -318,7 +319,8 @@ class Registry:
     def _now_ns(self) -> int:
         return task_clock.get().now_ns()
 
-    def run(self, in_sequence: bool) -> None:
+    def run(self, in_sequence: bool, pause_ms: int | None = None) -> None:
+        """One RUN() cycle; ``pause_ms``: RUN_IN_SEQUENCE's time between suites (default the GVL_Param_TcUnit one)."""
         self.cycle += 1
         now = self.last_ns = self._now_ns()
         if self.started_ns < 0:
@@ -326,16 +328,17 @@ class Registry:
         if self.done:
             return
         if in_sequence:
-            self._run_sequence(now)
+            self._run_sequence(now, GVL_Param_TcUnit.TimeBetweenTestSuitesExecution if pause_ms is None else pause_ms)
         else:
             for suite in self.suites:
                 self._call(suite, now)
-        if all(suite.finished for suite in self.suites):
+        # in sequence, a suite not yet called has declared no test: the run is done once the last one has run
+        if self._sequence >= len(self.suites) if in_sequence else all(suite.finished for suite in self.suites):
             self.done = True
             self.finished_ns = now
             self.log.extend(self.summary())
 
-    def _run_sequence(self, now: int) -> None:
+    def _run_sequence(self, now: int, pause_ms: int) -> None:
         while self._sequence < len(self.suites):
             suite = self.suites[self._sequence]
             if now < self._next_start_ns:
@@ -344,8 +347,8 @@ class Registry:
             if not suite.finished:
                 return
             self._sequence += 1
-            self._next_start_ns = now + GVL_Param_TcUnit.TimeBetweenTestSuitesExecution * 1_000_000
-            if GVL_Param_TcUnit.TimeBetweenTestSuitesExecution:
+            self._next_start_ns = now + pause_ms * 1_000_000
+            if pause_ms:
                 return
 
     def _call(self, suite: SuiteState, now: int) -> None:
@@ -744,9 +747,12 @@ def RUN() -> None:
     current_registry().run(in_sequence=False)
 
 
-def RUN_IN_SEQUENCE() -> None:
-    """``TcUnit.RUN_IN_SEQUENCE()``: as RUN(), one suite after another in declaration order."""
-    current_registry().run(in_sequence=True)
+def RUN_IN_SEQUENCE(TimeBetweenTestSuitesExecution: TIME | None = None) -> None:
+    """``TcUnit.RUN_IN_SEQUENCE(T#5S)``: as RUN(), one suite after another in declaration order.
+
+    The time between suites is the input, else ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution``.
+    """
+    current_registry().run(in_sequence=True, pause_ms=TimeBetweenTestSuitesExecution)
 
 
 def TCUNIT_ADSLOGSTR(msgCtrlMask: DWORD, msgFmtStr: T_MaxString, strArg: T_MaxString) -> DINT:
