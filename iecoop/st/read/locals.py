@@ -17,6 +17,7 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
+from iecoop.st.read.trees import names_read
 
 
 class Locals(Declarations):
@@ -89,6 +90,14 @@ class Locals(Declarations):
             moved = self.out[mark:]
             del self.out[mark:]
             self.out[start:start] = moved
+        for py, type_, init in scope.local_inits:  # [nFirst, nSecond]: once the locals it reads have their values
+            self.emit(f"_var.{py} = {self.initial_value(type_, init, scope)}", level)
+        scope.local_inits.clear()
+
+    @staticmethod
+    def _reads_locals(init: Any, scope: Scope) -> bool:
+        """Whether the initial value ``init`` reads a (non-constant) local declared before it."""
+        return any(getattr(scope.locals.get(name), "section", "CONSTANT") != "CONSTANT" for name in names_read(init))
 
     def _addressed_inputs(self, inputs_addressed: frozenset[str], scope: Scope, arrays: list[tuple[Member, Any]]) -> list[str]:
         """The inputs whose address is taken (ADR of an input): copied where they have one, read and written there."""
@@ -180,7 +189,11 @@ class Locals(Declarations):
         if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
             if not scope.pou:
                 raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
-            arrays.append((Member(py, type_, "LOCAL", st=name), getattr(item, "init", None)))
+            init = getattr(item, "init", None)
+            if init is not None and self._reads_locals(init, scope):
+                scope.local_inits.append((py, type_, init))
+                init = None
+            arrays.append((Member(py, type_, "LOCAL", st=name), init))
             if type_.kind == "array" and name.lower() in scope.addressed:
                 # passed as an in-out or output: read and written as the holder's field, which has an address
                 scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)

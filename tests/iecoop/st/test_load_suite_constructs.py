@@ -56,3 +56,25 @@ END_FUNCTION_BLOCK""")
     for value in (True, True, False, True, False, False, True):
         fb(bIn=value)
     assert fb.nEdges == 3
+
+
+def test_a_local_array_may_start_from_the_locals_declared_before_it() -> None:
+    # aBytes := [nHigh, nLow] and the STRUCT's field read the locals above them, at every call
+    plc = st.load("""TYPE ST_Pair : STRUCT nFirst : INT; nSecond : INT; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Packer
+VAR_INPUT nBase : BYTE; END_VAR
+END_FUNCTION_BLOCK
+METHOD Packed : UINT
+VAR
+    nHigh : BYTE := nBase;
+    nLow : BYTE := 16#34;
+    aBytes : ARRAY[1..4] OF BYTE := [nHigh, nLow, 2(7)];
+    stPair : ST_Pair := (nFirst := nLow, nSecond := 5);
+END_VAR
+Packed := BYTE_TO_UINT(aBytes[1]) * 256 + BYTE_TO_UINT(aBytes[2]) + aBytes[3] + aBytes[4] + stPair.nFirst + stPair.nSecond;
+END_METHOD""")
+    fb = plc.FB_Packer()
+    fb.nBase = 0x12
+    assert fb.Packed() == 0x1234 + 14 + 0x34 + 5
+    fb.nBase = 0x01
+    assert fb.Packed() == 0x0134 + 14 + 0x34 + 5  # made again at the next call, from the new input
