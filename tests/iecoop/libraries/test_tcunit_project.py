@@ -325,7 +325,10 @@ def test_a_project_carrying_a_copy_of_tcunit_is_told_its_choice(
     assert main(["test", str(project)]) == 2
     err = capsys.readouterr().err
     assert "FB_TestSuite.TcPOU: the project carries its own copy of TcUnit" in err
-    assert "reference the TcUnit library instead" in err and "iecoop.st.load" in err
+    assert "choose --tcunit iecoop" in err and "running the copy itself as ST is not offered" in err
+    # here the copy lies in the project's own folder: leaving it out is refused too, saying why
+    assert main(["test", str(project), "--tcunit", "iecoop"]) == 2
+    assert "lies in the project's own folder" in capsys.readouterr().err
     copied = pytester.path / "Checks"
     shutil.copytree(tmp_path, copied)
     result = pytester.runpytest(str(copied / "Checks.plcproj"), "-p", "no:cacheprovider")
