@@ -128,6 +128,10 @@ class Expressions(Literals):
         return result
 
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
+        if type_ is not None and type_.kind == "pointer" and value.this == "THIS":
+            # THIS is a POINTER TO the block: stored in a pointer (pSelf := THIS) it is the instance's address
+            self.need("iecoop", "adr")
+            value = Ex("adr(self)", TypeRef("pointer", "POINTER_TO", of=value.type) if value.type is not None else type_)
         if type_ is not None and type_.is_bool and type(value.constant) is int and value.constant in (0, 1):
             return Ex(str(bool(value.constant)), type_, constant=bool(value.constant))  # BOOL := 0 / 1, as TwinCAT reads it
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
@@ -171,6 +175,8 @@ class Expressions(Literals):
         return self._arithmetic(op, node, left, right)
 
     def _comparison(self, py: str, left: Ex, right: Ex) -> Ex:
+        if "THIS" in (left.this, right.this):  # a pointer compared with THIS (aSuites[i] = THIS) compares addresses
+            left, right = self.coerce(left, right.type), self.coerce(right, left.type)
         for side, other in ((left, right), (right, left)):
             if isinstance(other.constant, int) and other.constant == 0 and side.type is not None and self._is_handle(side.type):
                 self.need("iecoop", "NULL")

@@ -78,3 +78,47 @@ END_METHOD""")
     assert fb.Packed() == 0x1234 + 14 + 0x34 + 5
     fb.nBase = 0x01
     assert fb.Packed() == 0x0134 + 14 + 0x34 + 5  # made again at the next call, from the new input
+
+
+def test_this_is_the_instance_s_address_where_a_pointer_takes_it() -> None:
+    # each block registers itself from FB_init (aKnown[n] := THIS), as a framework keeps its suites; the
+    # pointers call the derived block's METHOD, and a pointer compares equal to THIS of its own block only
+    plc = st.load("""{attribute 'qualified_only'}
+VAR_GLOBAL
+    nKnown : INT;
+    aKnown : ARRAY[1..4] OF POINTER TO FB_Base;
+END_VAR
+FUNCTION_BLOCK FB_Base
+VAR bIsFirst : BOOL; END_VAR
+END_FUNCTION_BLOCK
+METHOD FB_init : BOOL
+VAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR
+GVL.nKnown := GVL.nKnown + 1;
+GVL.aKnown[GVL.nKnown] := THIS;
+END_METHOD
+METHOD Kind : INT
+Kind := 1;
+bIsFirst := GVL.aKnown[1] = THIS;
+END_METHOD
+METHOD Self : POINTER TO FB_Base
+Self := THIS;
+END_METHOD
+FUNCTION_BLOCK FB_Derived EXTENDS FB_Base
+END_FUNCTION_BLOCK
+METHOD Kind : INT
+Kind := 20;
+bIsFirst := GVL.aKnown[1] = THIS;
+END_METHOD
+FUNCTION_BLOCK FB_Holder
+VAR_INPUT pHeld : POINTER TO FB_Base; END_VAR
+END_FUNCTION_BLOCK
+PROGRAM P
+VAR fbPlain : FB_Base; fbDerived : FB_Derived; fbHolder : FB_Holder; nSum : INT; END_VAR
+nSum := GVL.aKnown[1]^.Kind() + GVL.aKnown[2]^.Kind();
+fbHolder(pHeld := fbDerived.Self());
+nSum := nSum + 100 * fbHolder.pHeld^.Kind();
+END_PROGRAM""")
+    plc.P()
+    assert plc.GVL.nKnown == 2
+    assert plc.P.nSum == 1 + 20 + 100 * 20
+    assert (plc.P.fbPlain.bIsFirst, plc.P.fbDerived.bIsFirst) == (True, False)
