@@ -276,9 +276,8 @@ def project_interval(source: str | os.PathLike[str]) -> int:
 TCUNIT_CHOICES = ("iecoop",)
 #: Why running the copy itself as ST is not offered: what of TcUnit's own source iecoop does not run.
 SOURCE_NOT_RUN = (
-    "its FB_TestSuite registers each suite from FB_init by storing THIS in GVL_TcUnit.TestSuiteAddresses, an ARRAY OF "
-    "POINTER TO FB_TestSuite, which fails here (THIS is stored as the block, not as its address); it names each suite "
-    "by {attribute 'instance-path'}, which iecoop leaves empty; and it reads IBaseLibrary.TypeClass and "
+    "its FB_TestSuite names each suite (and TcUnit finds the suite a test belongs to) by a variable marked "
+    "{attribute 'instance-path'}, which iecoop leaves empty; and it reads IBaseLibrary.TypeClass and "
     "TwinCAT_SystemInfoVarList._TaskInfo[...].CycleCount, which iecoop's reader does not know"
 )
 #: The folders of a TwinCAT project's own layout: a copy's FB_TestSuite in ``TcUnit/POUs`` leaves ``TcUnit/`` out.
