@@ -6,8 +6,6 @@ can type each expression and order the classes so a class exists before it is us
 
 from __future__ import annotations
 
-import dataclasses
-
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -22,7 +20,7 @@ from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
-    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
+    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
 )
 from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
 
@@ -272,28 +270,11 @@ class Symbols:
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = signature(list(decl.members.values()))
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
-            self._method_instance_members(decl)
-
-    def _method_instance_members(self, decl: Decl) -> None:
-        """Each METHOD's VAR_INST: fields of the instance, beside the block's own.
-
-        A name that two METHODs both declare is a field of each, named after its METHOD
-        (``Up_nCount``): TwinCAT keeps each METHOD's VAR_INST apart, as TcUnit suites use them.
-        """
-        found = [(node, member) for node in decl.method_nodes for block in node.declarations
-                 if isinstance(block, tf.MethodInstanceVariableDeclarations)
-                 for member in self._block_members(block, attribute=True)]
-        methods_of: dict[str, set[str]] = {}
-        for node, member in found:
-            methods_of.setdefault(member.st.lower(), set()).add(str(node.name).lower())
-        for node, member in found:
-            if len(methods_of[member.st.lower()]) > 1:
-                method = decl.methods[str(node.name).lower()].name
-                own = dataclasses.replace(member, name=f"{method}_{member.name}", st=f"{node.name}_{member.st}")
+            found = [(decl.methods[str(n.name).lower()].name, m) for n in decl.method_nodes for b in n.declarations
+                     if isinstance(b, tf.MethodInstanceVariableDeclarations) for m in self._block_members(b, attribute=True)]
+            for method, member, own in own_method_fields(found):  # a METHOD's VAR_INST: fields of the instance
                 self._add_member(decl, own)
-                decl.method_inst[(method.lower(), member.st.lower())] = own
-            else:
-                self._add_member(decl, member)
+                decl.method_inst.update({(method.lower(), member.st.lower()): own} if own is not member else {})
 
     def _resolve_variables(self, decl: Decl) -> None:
         """The variables of a POU, STRUCT, UNION or GVL, and an alias's target type."""
