@@ -122,3 +122,29 @@ END_PROGRAM""")
     assert plc.GVL.nKnown == 2
     assert plc.P.nSum == 1 + 20 + 100 * 20
     assert (plc.P.fbPlain.bIsFirst, plc.P.fbDerived.bIsFirst) == (True, False)
+
+
+def test_task_info_of_the_system_list_indexed_by_getcurtaskindex_is_the_running_task_s() -> None:
+    from iecoop.exceptions import PlcException
+    from iecoop.libraries import tc2_system
+    from iecoop.testing import VirtualPlc
+
+    # TwinCAT_SystemInfoVarList._TaskInfo[fbTask.index], as Beckhoff's GETCURTASKINDEX example reads the cycle count
+    plc = st.load("""PROGRAM MAIN
+VAR_INPUT nOther : BYTE; END_VAR
+VAR fbTask : GETCURTASKINDEX; nCycles : UDINT; nFirst : INT; END_VAR
+fbTask();
+nCycles := TwinCAT_SystemInfoVarList._TaskInfo[fbTask.index].CycleCount;
+IF _TaskInfo[fbTask.index].FirstCycle THEN nFirst := nFirst + 1; END_IF
+IF nOther > 0 THEN nCycles := _TaskInfo[nOther].CycleCount; END_IF
+END_PROGRAM""", libraries={"Tc2_System": tc2_system})
+    virtual = VirtualPlc()
+    virtual.add(plc.MAIN)
+    virtual.run_cycles(3)
+    counts = [plc.MAIN.nCycles]
+    virtual.run_cycles(1)
+    counts.append(plc.MAIN.nCycles)
+    assert counts[1] == counts[0] + 1 and plc.MAIN.nFirst == 1
+    plc.MAIN.nOther = plc.MAIN.fbTask.index + 1  # another task's index: iecoop knows the running one only
+    with pytest.raises(PlcException, match=r"_TaskInfo\[\d+\]: iecoop knows the running task's information only"):
+        virtual.run_cycles(1)
