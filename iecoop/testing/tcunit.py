@@ -277,8 +277,8 @@ TCUNIT_CHOICES = ("iecoop",)
 #: Why running the copy itself as ST is not offered: what of TcUnit's own source iecoop does not run.
 SOURCE_NOT_RUN = (
     "its FB_TestSuite names each suite (and TcUnit finds the suite a test belongs to) by a variable marked "
-    "{attribute 'instance-path'}, which iecoop leaves empty; and it reads IBaseLibrary.TypeClass and "
-    "TwinCAT_SystemInfoVarList._TaskInfo[...].CycleCount, which iecoop's reader does not know"
+    "{attribute 'instance-path'}, which iecoop leaves empty; and its asserts read IBaseLibrary.TypeClass, which "
+    "iecoop's reader does not know"
 )
 #: The folders of a TwinCAT project's own layout: a copy's FB_TestSuite in ``TcUnit/POUs`` leaves ``TcUnit/`` out.
 _LAYOUT_FOLDERS = frozenset({"pous", "duts", "gvls", "itfs", "functions"})
