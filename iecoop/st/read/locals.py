@@ -90,8 +90,9 @@ class Locals(Declarations):
             moved = self.out[mark:]
             del self.out[mark:]
             self.out[start:start] = moved
-        for py, type_, init in scope.local_inits:  # [nFirst, nSecond]: once the locals it reads have their values
-            self.emit(f"_var.{py} = {self.initial_value(type_, init, scope)}", level)
+            for py, type_, init in scope.local_inits:  # [nFirst, nSecond]: once the locals it reads have their values
+                # made by a holder of its own, so the field takes a value of its exact class (checked or not)
+                self.emit(f"_var.{py} = {holder}({py}={self.initial_value(type_, init, scope)}).{py}", level)
         scope.local_inits.clear()
 
     @staticmethod
