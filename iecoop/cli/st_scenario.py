@@ -1,6 +1,7 @@
 """What ``iecoop st run`` takes from a project and its command line: the ``.TcTTO`` task, ``--set`` and ``--trace``.
 
-A TwinCAT task object (``PlcTask.TcTTO``) gives ``<CycleTime>`` in units of 100 ns (100000 is 10 ms) and
+A TwinCAT task object (``PlcTask.TcTTO``) gives ``<CycleTime>`` in microseconds (10000 is 10 ms, as TwinCAT's
+comment in the file says) and
 ``<Priority>``; ``--set MAIN.bStart=TRUE@100ms`` writes a value at a PLC time (``Runtime.write``, applied
 at the next cycle start), ``--trace MAIN.eState,MAIN.fbStation.nBottles`` chooses the traced variables.
 """
@@ -41,7 +42,7 @@ def project_task(source: str) -> Task | None:
     fields = {child.tag.rsplit("}", 1)[-1]: (child.text or "").strip() for child in task if isinstance(child.tag, str)}
     cycle, priority = fields.get("CycleTime"), fields.get("Priority")
     try:
-        interval_us = int(cycle or "100000") // 10  # <CycleTime> counts 100 ns
+        interval_us = int(cycle or "10000")  # <CycleTime> counts microseconds (the task's CycleTime, 100 ns)
         level = int(priority or "20")
     except ValueError:
         raise UsageError(f"{found[0]}: <CycleTime> and <Priority> must be whole numbers") from None

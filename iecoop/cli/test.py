@@ -15,6 +15,11 @@ started (default 10 s) fails naming the limit. ``-k`` chooses the tests
 reported and counted (pytest's syntax, on ``Suite::Test``); every suite still
 runs, as on the PLC.
 
+A project that carries its own copy of TcUnit's source (it declares
+``FUNCTION_BLOCK FB_TestSuite``) is refused naming the choice:
+``--tcunit iecoop`` leaves the copy's folder out of the load and runs the
+suites with iecoop's TcUnit.
+
 Exit status: 0 when every chosen test passed, 1 when one failed, the PLC
 faulted or a suite broke a ``GVL_Param_TcUnit`` limit, 2 for bad usage or a
 project that does not load.
@@ -30,7 +35,8 @@ from iecoop import T, st
 from iecoop.cli.base import Command, UsageError, usage_errors
 from iecoop.cli.st import translated
 from iecoop.testing.tcunit import (
-    DEFAULT_LIMIT_MS, KeywordError, RunResult, TestResult, keyword_matcher, run_project, write_junit,
+    DEFAULT_LIMIT_MS, TCUNIT_CHOICES, KeywordError, RunResult, TestResult, check_tcunit, keyword_matcher,
+    run_project, write_junit,
 )
 
 __all__ = ["HELP", "add_arguments", "command", "test_command"]
@@ -61,6 +67,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="PLC time a test may stay open, a TIME literal such as 30s (default 10s)")
     parser.add_argument("--program", default=None, help="the test PROGRAM (default: the one calling TcUnit.RUN())")
     parser.add_argument("--profile", choices=("twincat", "codesys"), default="twincat", help="the PLC profile")
+    parser.add_argument("--tcunit", type=_tcunit_choice, default=None, metavar="{" + ",".join(TCUNIT_CHOICES) + "}",
+                        help="for a project carrying its own copy of TcUnit's source: iecoop leaves the copy's folder out "
+                             "and runs the suites with iecoop's TcUnit")
+
+
+def _tcunit_choice(text: str) -> str:
+    try:
+        check_tcunit(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
 
 
 def _load(path: str) -> Any:
@@ -110,7 +127,7 @@ def test_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
             raise UsageError(f"{path}: does not exist")
         try:
             result = run_project(path, limit_ms=args.timeout, program=args.program, profile=args.profile,
-                                 load=_load(path))
+                                 load=_load(path), tcunit=args.tcunit)
         except LookupError as exc:
             raise UsageError(str(exc.args[0])) from None
         results.append(result)

@@ -59,6 +59,7 @@ KNOWN: tuple[Library, ...] = (
     Library("Tc2_System", "iecoop.libraries.tc2_system", _BECKHOFF, "3.4.26.0", _INFOSYS + "tcplclib_tc2_system/index.html"),
     Library("Tc2_Utilities", "iecoop.libraries.tc2_utilities", _BECKHOFF, "3.3.59.0", _INFOSYS + "tcplclib_tc2_utilities/index.html"),
     Library("Tc2_MC2", "iecoop.libraries.tc2_mc2", _BECKHOFF, "3.3.52.0", _INFOSYS + "tcplclib_tc2_mc2/index.html"),
+    Library("Tc3_Module", "iecoop.libraries.tc3_module", _BECKHOFF, "3.4.5.0", _INFOSYS + "tcplclib_tc3_module/index.html"),
     Library("Standard", "iecoop.libraries.codesys_standard", _CODESYS, "3.5.17.0", "https://content.helpme-codesys.com/en/libs/Standard/Current/index.html"),
     Library("Util", "iecoop.libraries.codesys_util", _CODESYS, "3.5.17.0", "https://content.helpme-codesys.com/en/libs/Util/Current/index.html"),
     Library("TcUnit", "iecoop.libraries.tcunit", "www.tcunit.org", "1.3.1.0", "https://tcunit.org/#/api"),

@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Annotated, Any, BinaryIO, cast
 
 from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
+from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries import known
 from iecoop.libraries._printf import Arg, FormatError, render
 from iecoop.memory import Alias, IecEnum, Pointer, Struct, memcmp, memcpy, memset
@@ -347,6 +348,19 @@ def GETCURTASKINDEXEX() -> BYTE:  # noqa: N802 - the ST name
     except RuntimeError:
         return 1  # outside a runtime cycle the code is in the one task there is
     return _task_numbers.setdefault(name, len(_task_numbers) + 1)
+
+
+def task_info_at(index: int) -> Any:
+    """``_TaskInfo[index]`` (TwinCAT_SystemInfoVarList): the running task's info when ``index`` is its GETCURTASKINDEX.
+
+    iecoop knows the running task's information only: another index is an
+    RTSEXCPT_ARRAYBOUNDS naming both.
+    """
+    own = GETCURTASKINDEXEX()
+    if index != own:
+        raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
+                           f"_TaskInfo[{index}]: iecoop knows the running task's information only (its index is {own})")
+    return current_task()
 
 
 class GETCURTASKINDEX(FunctionBlock):

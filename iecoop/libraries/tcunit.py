@@ -57,7 +57,8 @@ TcUnit's documentation (https://tcunit.org, "API" and "FAQ"):
 - ``TEST_ORDERED`` tests run one after another, in the order of their first
   call: it returns TRUE only for the first one not finished;
 - ``RUN_IN_SEQUENCE()`` runs the suites one after another, in declaration
-  order, ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution`` apart;
+  order, the TIME it is given apart (``RUN_IN_SEQUENCE(T#5S)``; by default
+  ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution``);
 - asserts identical in test, values, message and cycle are reported once;
 - a test named with the prefix ``disabled_`` is not run and is reported as
   skipped;
@@ -70,25 +71,23 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import dataclasses
-import math
 import os
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from types import FrameType
 from typing import Any, Literal
 
-from iecoop import ARRAY, BOOL, DINT, DWORD, POINTER_TO, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
+from iecoop import BOOL, DINT, DWORD, POINTER_TO, STRING, TIME, UDINT, UINT, VAR, GlobalVariables, gvl, method
 from iecoop.exceptions import ExceptionCode, PlcException, st_caller
-from iecoop.literals import format_date, format_dt, format_ltime, format_time, format_tod
+from iecoop.literals import format_time
 from iecoop.generics import ANY, AnyType
-from iecoop.libraries import tc2_system
+from iecoop.libraries import _tcunit_asserts as asserts, tc2_system
 from iecoop.libraries.tc2_system import T_MaxString
-from iecoop.memory import TYPE_CLASS, Pointer, adr, memcmp
+from iecoop.memory import Pointer, adr, memcmp
 from iecoop.metadata import iec_class, st_name
 from iecoop.pou import FunctionBlock
 from iecoop.runtime.clock import Clock, task_clock
 from iecoop import types
-from iecoop.types import ELEMENTARY_TYPES, ElementaryType
 
 __all__ = [
     "FB_TestSuite", "GVL_Param_TcUnit", "IS_TEST_FINISHED", "RUN", "RUN_IN_SEQUENCE", "TCUNIT_ADSLOGSTR", "TEST",
@@ -320,7 +319,8 @@ class Registry:
     def _now_ns(self) -> int:
         return task_clock.get().now_ns()
 
-    def run(self, in_sequence: bool) -> None:
+    def run(self, in_sequence: bool, pause_ms: int | None = None) -> None:
+        """One RUN() cycle; ``pause_ms``: RUN_IN_SEQUENCE's time between suites (default the GVL_Param_TcUnit one)."""
         self.cycle += 1
         now = self.last_ns = self._now_ns()
         if self.started_ns < 0:
@@ -328,16 +328,17 @@ class Registry:
         if self.done:
             return
         if in_sequence:
-            self._run_sequence(now)
+            self._run_sequence(now, GVL_Param_TcUnit.TimeBetweenTestSuitesExecution if pause_ms is None else pause_ms)
         else:
             for suite in self.suites:
                 self._call(suite, now)
-        if all(suite.finished for suite in self.suites):
+        # in sequence, a suite not yet called has declared no test: the run is done once the last one has run
+        if self._sequence >= len(self.suites) if in_sequence else all(suite.finished for suite in self.suites):
             self.done = True
             self.finished_ns = now
             self.log.extend(self.summary())
 
-    def _run_sequence(self, now: int) -> None:
+    def _run_sequence(self, now: int, pause_ms: int) -> None:
         while self._sequence < len(self.suites):
             suite = self.suites[self._sequence]
             if now < self._next_start_ns:
@@ -346,8 +347,8 @@ class Registry:
             if not suite.finished:
                 return
             self._sequence += 1
-            self._next_start_ns = now + GVL_Param_TcUnit.TimeBetweenTestSuitesExecution * 1_000_000
-            if GVL_Param_TcUnit.TimeBetweenTestSuitesExecution:
+            self._next_start_ns = now + pause_ms * 1_000_000
+            if pause_ms:
                 return
 
     def _call(self, suite: SuiteState, now: int) -> None:
@@ -588,177 +589,6 @@ def _register(suite: FB_TestSuite) -> None:
         _pending.append(suite)
 
 
-# --- comparing and printing values ------------------------------------------------------------
-
-_BIT_STRINGS = frozenset({"BYTE", "WORD", "DWORD", "LWORD"})
-_FORMATS = {"TIME": format_time, "LTIME": format_ltime, "DATE": format_date, "TIME_OF_DAY": format_tod,
-            "TOD": format_tod, "DATE_AND_TIME": format_dt, "DT": format_dt}
-#: The elementary type behind each TcUnit type suffix.
-_ELEMENTARY = {"TIME_OF_DAY": "TOD", "DATE_AND_TIME": "DT"}
-
-
-def _stored(type_name: str, value: Any) -> Any:
-    record = ELEMENTARY_TYPES[_ELEMENTARY.get(type_name, type_name)]
-    if isinstance(record, ElementaryType):
-        return record.store(value)
-    return str(value)
-
-
-def _text(type_name: str, value: Any) -> str:
-    """``value`` as TcUnit prints it: TRUE / FALSE, 16#.. for bit strings, ST literals for times and dates."""
-    if type_name == "BOOL":
-        return "TRUE" if value else "FALSE"
-    if type_name in _BIT_STRINGS:
-        return f"16#{value:X}"
-    if type_name in _FORMATS:
-        try:
-            return _FORMATS[type_name](value)
-        except ValueError:
-            return str(value)
-    if isinstance(value, float):
-        return repr(value)
-    return str(value)
-
-
-_TEXT_CLASSES = frozenset({TYPE_CLASS.TYPE_STRING, TYPE_CLASS.TYPE_WSTRING})
-#: The type classes AssertEquals(ANY) compares by value; the others (STRUCT, ARRAY, blocks ...) byte by byte.
-_ELEMENTARY_CLASSES = frozenset(TYPE_CLASS(n) for n in range(0, 22)) | {TYPE_CLASS.TYPE_LTIME, TYPE_CLASS.TYPE_ENUM}
-
-
-def _any_text(value: AnyType) -> str:
-    """An ANY argument's value as ST text."""
-    if value.TypeClass in _ELEMENTARY_CLASSES:
-        return _text(value.type_name.split("(")[0], value.value)
-    return f"{value.type_name} ({value.diSize} bytes)"
-
-
-def _typed_text(value: AnyType) -> str:
-    return f"({value.type_name}) {_any_text(value)}"
-
-
-def _differs(expected: Any, actual: Any, delta: float | None) -> bool:
-    if delta is not None:
-        difference = abs(expected - actual)
-        return not (difference <= abs(delta)) and not (math.isinf(expected) and expected == actual)
-    return bool(expected != actual)
-
-
-def _elements(values: Any, depth: int, where: str) -> tuple[list[int], list[tuple[tuple[int, ...], Any]]]:
-    """The shape (elements per dimension) and (index, value) pairs of an ARRAY or nested sequence.
-
-    ST indices are used for an iecoop ARRAY (its declared bounds), 0-based ones for a Python list.
-    """
-    if isinstance(values, Pointer):  # a VAR_IN_OUT passed by address: the array it points at
-        values = values.deref
-    bounds = getattr(values, "bounds", None)
-    if bounds is not None:
-        if len(bounds) != depth:
-            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                               f"TcUnit.{where}: expects {depth}-dimensional arrays, got ARRAY[{bounds}]")
-        shape = [hi - lo + 1 for lo, hi in bounds]
-        pairs: list[tuple[tuple[int, ...], Any]] = []
-        indices: list[tuple[int, ...]] = [()]
-        for lo, hi in bounds:
-            indices = [(*prefix, i) for prefix in indices for i in range(lo, hi + 1)]
-        for index in indices:
-            pairs.append((index, values[index if depth > 1 else index[0]]))
-        return shape, pairs
-    shape = []
-    level: Any = values
-    for _ in range(depth):
-        if not isinstance(level, Sequence) or isinstance(level, str):
-            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                               f"TcUnit.{where}: expects {depth}-dimensional arrays (lists or ARRAYs), got {values!r}")
-        shape.append(len(level))
-        level = level[0] if len(level) else []
-
-    def walk(node: Any, prefix: tuple[int, ...], left: int) -> Iterator[tuple[tuple[int, ...], Any]]:
-        if left == 0:
-            yield prefix, node
-            return
-        if not isinstance(node, Sequence) or isinstance(node, str) or len(node) != shape[depth - left]:
-            raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
-                               f"TcUnit.{where}: the nested lists are not rectangular at index {list(prefix)}")
-        for i, item in enumerate(node):
-            yield from walk(item, (*prefix, i), left - 1)
-
-    return shape, list(walk(values, (), depth))
-
-
-# --- FB_TestSuite -----------------------------------------------------------------------------
-
-
-def _equals(type_name: str, with_delta: bool = False) -> Any:
-    """``METHOD AssertEquals_<type>(Expected, Actual[, Delta], Message)``: one per TcUnit type."""
-    annotation = getattr(types, _ELEMENTARY.get(type_name, type_name))
-    name = f"AssertEquals_{type_name}"
-
-    def assert_equals(self: FB_TestSuite, Expected: Any, Actual: Any, Delta: Any = 0.0, Message: Any = "") -> None:
-        expected, actual = _stored(type_name, Expected), _stored(type_name, Actual)
-        if _differs(expected, actual, _stored(type_name, Delta) if with_delta else None):
-            self._registry().record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual))
-
-    function: Callable[..., None]
-    if not with_delta:
-        def assert_equals_plain(self: FB_TestSuite, Expected: Any, Actual: Any, Message: Any = "") -> None:
-            assert_equals(self, Expected, Actual, 0.0, Message)
-
-        function = assert_equals_plain
-    else:
-        function = assert_equals
-    function.__name__ = function.__qualname__ = name
-    function.__doc__ = (
-        f"``{name}(Expected, Actual{', Delta' if with_delta else ''}, Message)``: fails when the two "
-        f"{type_name} values differ{' by more than Delta' if with_delta else ''}."
-    )
-    function.__annotations__ = {"Expected": annotation, "Actual": annotation, "Message": STRING, "return": None}
-    if with_delta:
-        function.__annotations__["Delta"] = annotation
-    return method(function)
-
-
-def _array_equals(type_name: str, depth: int = 1, with_delta: bool = False) -> Any:
-    """``METHOD AssertArray[2d|3d]Equals_<type>(Expecteds, Actuals : ARRAY[*] OF <type> (VAR_IN_OUT), [Delta,] Message)``."""
-    dims = {1: "", 2: "2d", 3: "3d"}[depth]
-    name = f"AssertArray{dims}Equals_{type_name}"
-
-    def assert_array_equals(self: FB_TestSuite, Expecteds: Any, Actuals: Any, Delta: Any = 0.0, Message: Any = "") -> None:
-        registry = self._registry()
-        expected_shape, expecteds = _elements(Expecteds, depth, name)
-        actual_shape, actuals = _elements(Actuals, depth, name)
-        if expected_shape != actual_shape:
-            registry.record(self, name, str(Message), "SIZE " + " x ".join(map(str, expected_shape)),
-                            "SIZE " + " x ".join(map(str, actual_shape)))
-            return
-        tolerance = _stored(type_name, Delta) if with_delta else None
-        for (index, expected), (actual_index, actual) in zip(expecteds, actuals):
-            expected, actual = _stored(type_name, expected), _stored(type_name, actual)
-            if _differs(expected, actual, tolerance):
-                where = ", ".join(map(str, actual_index))
-                registry.record(self, name, str(Message), _text(type_name, expected), _text(type_name, actual), f"[{where}]")
-                return
-
-    function: Callable[..., None]
-    if not with_delta:
-        def assert_array_plain(self: FB_TestSuite, Expecteds: Any, Actuals: Any, Message: Any = "") -> None:
-            assert_array_equals(self, Expecteds, Actuals, 0.0, Message)
-
-        function = assert_array_plain
-    else:
-        function = assert_array_equals
-    function.__name__ = function.__qualname__ = name
-    function.__doc__ = (
-        f"``{name}(Expecteds, Actuals{', Delta' if with_delta else ''}, Message)``: fails when the "
-        f"{type_name} arrays differ in size or in an element (the first differing index is reported)."
-    )
-    element = getattr(types, type_name)
-    array: Any = ARRAY  # ARRAY[*] OF <type>: the element type is only known here
-    function.__annotations__ = {"Expecteds": array[element], "Actuals": array[element], "Message": STRING, "return": None}
-    if with_delta:
-        function.__annotations__["Delta"] = element
-    return method(function)
-
-
 class FB_TestSuite(FunctionBlock):
     """``FUNCTION_BLOCK FB_TestSuite``: the base of a test suite; its asserts are METHODs.
 
@@ -797,57 +627,57 @@ class FB_TestSuite(FunctionBlock):
         """
         expected, actual = AnyType.of(Expected), AnyType.of(Actual)
         same_type = expected.TypeClass == actual.TypeClass and (
-            expected.TypeClass in _TEXT_CLASSES or expected.diSize == actual.diSize)
+            expected.TypeClass in asserts.TEXT_CLASSES or expected.diSize == actual.diSize)
         if not same_type:
-            self._registry().record(self, "AssertEquals", str(Message), _typed_text(expected), _typed_text(actual))
-        elif expected.TypeClass in _ELEMENTARY_CLASSES:
+            self._registry().record(self, "AssertEquals", str(Message), asserts.typed_text(expected), asserts.typed_text(actual))
+        elif expected.TypeClass in asserts.ELEMENTARY_CLASSES:
             if expected.value != actual.value:
-                self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
+                self._registry().record(self, "AssertEquals", str(Message), asserts.any_text(expected), asserts.any_text(actual))
         elif memcmp(expected.pValue, actual.pValue, expected.diSize) != 0:
-            self._registry().record(self, "AssertEquals", str(Message), _any_text(expected), _any_text(actual))
+            self._registry().record(self, "AssertEquals", str(Message), asserts.any_text(expected), asserts.any_text(actual))
 
-    AssertEquals_BOOL = _equals("BOOL")
-    AssertEquals_BYTE = _equals("BYTE")
-    AssertEquals_WORD = _equals("WORD")
-    AssertEquals_DWORD = _equals("DWORD")
-    AssertEquals_LWORD = _equals("LWORD")
-    AssertEquals_SINT = _equals("SINT")
-    AssertEquals_USINT = _equals("USINT")
-    AssertEquals_INT = _equals("INT")
-    AssertEquals_UINT = _equals("UINT")
-    AssertEquals_DINT = _equals("DINT")
-    AssertEquals_UDINT = _equals("UDINT")
-    AssertEquals_LINT = _equals("LINT")
-    AssertEquals_ULINT = _equals("ULINT")
-    AssertEquals_REAL = _equals("REAL", with_delta=True)
-    AssertEquals_LREAL = _equals("LREAL", with_delta=True)
-    AssertEquals_STRING = _equals("STRING")
-    AssertEquals_WSTRING = _equals("WSTRING")
-    AssertEquals_TIME = _equals("TIME")
-    AssertEquals_LTIME = _equals("LTIME")
-    AssertEquals_DATE = _equals("DATE")
-    AssertEquals_TIME_OF_DAY = _equals("TIME_OF_DAY")
-    AssertEquals_DATE_AND_TIME = _equals("DATE_AND_TIME")
+    AssertEquals_BOOL = asserts.equals("BOOL")
+    AssertEquals_BYTE = asserts.equals("BYTE")
+    AssertEquals_WORD = asserts.equals("WORD")
+    AssertEquals_DWORD = asserts.equals("DWORD")
+    AssertEquals_LWORD = asserts.equals("LWORD")
+    AssertEquals_SINT = asserts.equals("SINT")
+    AssertEquals_USINT = asserts.equals("USINT")
+    AssertEquals_INT = asserts.equals("INT")
+    AssertEquals_UINT = asserts.equals("UINT")
+    AssertEquals_DINT = asserts.equals("DINT")
+    AssertEquals_UDINT = asserts.equals("UDINT")
+    AssertEquals_LINT = asserts.equals("LINT")
+    AssertEquals_ULINT = asserts.equals("ULINT")
+    AssertEquals_REAL = asserts.equals("REAL", with_delta=True)
+    AssertEquals_LREAL = asserts.equals("LREAL", with_delta=True)
+    AssertEquals_STRING = asserts.equals("STRING")
+    AssertEquals_WSTRING = asserts.equals("WSTRING")
+    AssertEquals_TIME = asserts.equals("TIME")
+    AssertEquals_LTIME = asserts.equals("LTIME")
+    AssertEquals_DATE = asserts.equals("DATE")
+    AssertEquals_TIME_OF_DAY = asserts.equals("TIME_OF_DAY")
+    AssertEquals_DATE_AND_TIME = asserts.equals("DATE_AND_TIME")
 
-    AssertArrayEquals_BOOL = _array_equals("BOOL")
-    AssertArrayEquals_BYTE = _array_equals("BYTE")
-    AssertArrayEquals_WORD = _array_equals("WORD")
-    AssertArrayEquals_DWORD = _array_equals("DWORD")
-    AssertArrayEquals_LWORD = _array_equals("LWORD")
-    AssertArrayEquals_SINT = _array_equals("SINT")
-    AssertArrayEquals_USINT = _array_equals("USINT")
-    AssertArrayEquals_INT = _array_equals("INT")
-    AssertArrayEquals_UINT = _array_equals("UINT")
-    AssertArrayEquals_DINT = _array_equals("DINT")
-    AssertArrayEquals_UDINT = _array_equals("UDINT")
-    AssertArrayEquals_LINT = _array_equals("LINT")
-    AssertArrayEquals_ULINT = _array_equals("ULINT")
-    AssertArrayEquals_REAL = _array_equals("REAL", with_delta=True)
-    AssertArrayEquals_LREAL = _array_equals("LREAL", with_delta=True)
-    AssertArray2dEquals_REAL = _array_equals("REAL", 2, with_delta=True)
-    AssertArray2dEquals_LREAL = _array_equals("LREAL", 2, with_delta=True)
-    AssertArray3dEquals_REAL = _array_equals("REAL", 3, with_delta=True)
-    AssertArray3dEquals_LREAL = _array_equals("LREAL", 3, with_delta=True)
+    AssertArrayEquals_BOOL = asserts.array_equals("BOOL")
+    AssertArrayEquals_BYTE = asserts.array_equals("BYTE")
+    AssertArrayEquals_WORD = asserts.array_equals("WORD")
+    AssertArrayEquals_DWORD = asserts.array_equals("DWORD")
+    AssertArrayEquals_LWORD = asserts.array_equals("LWORD")
+    AssertArrayEquals_SINT = asserts.array_equals("SINT")
+    AssertArrayEquals_USINT = asserts.array_equals("USINT")
+    AssertArrayEquals_INT = asserts.array_equals("INT")
+    AssertArrayEquals_UINT = asserts.array_equals("UINT")
+    AssertArrayEquals_DINT = asserts.array_equals("DINT")
+    AssertArrayEquals_UDINT = asserts.array_equals("UDINT")
+    AssertArrayEquals_LINT = asserts.array_equals("LINT")
+    AssertArrayEquals_ULINT = asserts.array_equals("ULINT")
+    AssertArrayEquals_REAL = asserts.array_equals("REAL", with_delta=True)
+    AssertArrayEquals_LREAL = asserts.array_equals("LREAL", with_delta=True)
+    AssertArray2dEquals_REAL = asserts.array_equals("REAL", 2, with_delta=True)
+    AssertArray2dEquals_LREAL = asserts.array_equals("LREAL", 2, with_delta=True)
+    AssertArray3dEquals_REAL = asserts.array_equals("REAL", 3, with_delta=True)
+    AssertArray3dEquals_LREAL = asserts.array_equals("LREAL", 3, with_delta=True)
 
     # -- what a suite can read of its tests -----------------------------------------------------
 
@@ -917,9 +747,12 @@ def RUN() -> None:
     current_registry().run(in_sequence=False)
 
 
-def RUN_IN_SEQUENCE() -> None:
-    """``TcUnit.RUN_IN_SEQUENCE()``: as RUN(), one suite after another in declaration order."""
-    current_registry().run(in_sequence=True)
+def RUN_IN_SEQUENCE(TimeBetweenTestSuitesExecution: TIME | None = None) -> None:
+    """``TcUnit.RUN_IN_SEQUENCE(T#5S)``: as RUN(), one suite after another in declaration order.
+
+    The time between suites is the input, else ``GVL_Param_TcUnit.TimeBetweenTestSuitesExecution``.
+    """
+    current_registry().run(in_sequence=True, pause_ms=TimeBetweenTestSuitesExecution)
 
 
 def TCUNIT_ADSLOGSTR(msgCtrlMask: DWORD, msgFmtStr: T_MaxString, strArg: T_MaxString) -> DINT:
@@ -935,7 +768,7 @@ def TCUNIT_ADSLOGSTR(msgCtrlMask: DWORD, msgFmtStr: T_MaxString, strArg: T_MaxSt
 
 def _write_protected(type_name: str) -> Callable[..., None]:
     """``FUNCTION WRITE_PROTECTED_<type>(Ptr : POINTER TO <type>, Value : <type>)``: write past the access rules."""
-    element = getattr(types, _ELEMENTARY.get(type_name, type_name))
+    element = getattr(types, asserts.ELEMENTARY.get(type_name, type_name))
     name = f"WRITE_PROTECTED_{type_name}"
 
     def write_protected(Ptr: Any, Value: Any) -> None:

@@ -17,7 +17,8 @@ suites in virtual time and reports one item per test, node id
 actual values. The projects listed under the ini key ``iecoop_projects`` are
 collected too when pytest runs without explicit paths (as ``testpaths`` are);
 ``iecoop_tcunit_timeout`` (a TIME literal, default 10s) is the PLC time a test
-may stay open.
+may stay open; ``iecoop_tcunit = iecoop`` runs a project that carries its own
+copy of TcUnit's source with iecoop's TcUnit, the copy's folder left out.
 """
 
 from __future__ import annotations
@@ -52,6 +53,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                   type="paths", default=[])
     parser.addini("iecoop_tcunit_timeout", "PLC time a TcUnit test may stay open (a TIME literal, default 10s)",
                   default="10s")
+    parser.addini("iecoop_tcunit", "for a project carrying its own copy of TcUnit's source: iecoop (leave the copy's "
+                  "folder out and run the suites with iecoop's TcUnit)", default="")
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -61,6 +64,7 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "st_project(path): the ST project the st_project fixture loads")
     config.stash[_RESULTS] = {}
     config.stash[_MODULES] = {}
+    _tcunit_choice(config)  # a wrong iecoop_tcunit is a usage error before collection
     projects = _ini_projects(config)
     if projects and config.args_source is not pytest.Config.ArgsSource.ARGS:
         config.args = [*config.args, *(str(p) for p in projects)]
@@ -76,6 +80,19 @@ def _limit(config: pytest.Config) -> int:
         return T(text)
     except ValueError as exc:
         raise pytest.UsageError(f"iecoop_tcunit_timeout: {exc}") from None
+
+
+def _tcunit_choice(config: pytest.Config) -> str | None:
+    """The ini key ``iecoop_tcunit`` (empty: none), checked against the choices ``run_project`` takes."""
+    text = str(config.getini("iecoop_tcunit") or "").strip()
+    if not text:
+        return None  # and TcUnit is not imported by a pytest run that names no choice
+    from iecoop.testing.tcunit import check_tcunit
+
+    try:
+        return check_tcunit(text)
+    except ValueError as exc:
+        raise pytest.UsageError(f"iecoop_tcunit = {exc}") from None
 
 
 def pytest_collect_file(file_path: pathlib.Path, parent: pytest.Collector) -> TcUnitProject | None:
@@ -102,7 +119,7 @@ class TcUnitProject(pytest.File):
         result = results.get(self.path)
         if result is None:
             try:
-                result = results[self.path] = run_project(self.path, limit_ms=_limit(self.config))
+                result = results[self.path] = run_project(self.path, limit_ms=_limit(self.config), tcunit=_tcunit_choice(self.config))
             except LookupError as exc:
                 raise self.CollectError(str(exc.args[0])) from None
         for warning in result.warnings:

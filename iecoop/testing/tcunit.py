@@ -39,13 +39,14 @@ from collections.abc import Callable, Iterable
 from typing import Any
 
 from iecoop.exceptions import PlcException
-from iecoop.libraries import tcunit
+from iecoop.libraries import tcunit as _tcunit
 from iecoop.metadata import Kind, kind_of, st_name
 from iecoop.testing import VirtualPlc
 
 __all__ = [
-    "DEFAULT_INTERVAL_MS", "DEFAULT_LIMIT_MS", "KeywordError", "RunResult", "TestResult", "find_test_program", "keyword_matcher",
-    "project_interval", "run_programs", "run_project", "vendored_tcunit", "write_junit",
+    "DEFAULT_INTERVAL_MS", "DEFAULT_LIMIT_MS", "SOURCE_NOT_RUN", "TCUNIT_CHOICES", "KeywordError", "RunResult", "TestResult",
+    "check_tcunit", "find_test_program", "keyword_matcher", "project_interval", "run_programs", "run_project", "tcunit_copy_folder",
+    "vendored_tcunit", "write_junit",
 ]
 
 #: How long a test may stay open, in ms of PLC time, unless told otherwise (``--timeout``).
@@ -66,7 +67,7 @@ class TestResult:
     suite: str
     name: str
     status: str
-    failures: tuple[tcunit.AssertFailure, ...] = ()
+    failures: tuple[_tcunit.AssertFailure, ...] = ()
     error: str = ""
     duration_ms: float = 0.0
     cycles: int = 0
@@ -147,7 +148,7 @@ def find_test_program(module: types.ModuleType, name: str | None = None) -> Any:
     raise LookupError(f"{source}: several PROGRAMs call TcUnit.RUN(): {names}; name the one to run")
 
 
-def _relative(failure: tcunit.AssertFailure, base: pathlib.Path | None) -> tcunit.AssertFailure:
+def _relative(failure: _tcunit.AssertFailure, base: pathlib.Path | None) -> _tcunit.AssertFailure:
     """The failure with its file relative to ``base`` (the project's folder) when it lies inside it."""
     if base is None or not failure.file:
         return failure
@@ -158,7 +159,7 @@ def _relative(failure: tcunit.AssertFailure, base: pathlib.Path | None) -> tcuni
     return dataclasses.replace(failure, file=inside.as_posix())
 
 
-def _results(registry: tcunit.Registry, base: pathlib.Path | None = None) -> list[TestResult]:
+def _results(registry: _tcunit.Registry, base: pathlib.Path | None = None) -> list[TestResult]:
     return [
         TestResult(
             test.suite, test.name, test.status, tuple(_relative(f, base) for f in test.failures), test.error,
@@ -168,7 +169,7 @@ def _results(registry: tcunit.Registry, base: pathlib.Path | None = None) -> lis
     ]
 
 
-def _drive(registry: tcunit.Registry, program: Any, limit_ms: int, profile: str, interval: int,
+def _drive(registry: _tcunit.Registry, program: Any, limit_ms: int, profile: str, interval: int,
            source: str, base: pathlib.Path | None = None) -> RunResult:
     registry.name_suites(program)
     plc = VirtualPlc(profile=profile)
@@ -202,7 +203,7 @@ def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS
             f"run_programs takes the Program class (or a function making it), not the instance {program!r}: "
             "its suites must be created inside the run to register with it"
         )
-    with tcunit.registry(limit_ms) as registry:
+    with _tcunit.registry(limit_ms) as registry:
         instance = program()
         return _drive(registry, instance, limit_ms, profile, interval, st_name(type(instance)))
 
@@ -210,6 +211,7 @@ def run_programs(program: Callable[[], Any], *, limit_ms: int = DEFAULT_LIMIT_MS
 def run_project(
     source: str | os.PathLike[str], *, limit_ms: int = DEFAULT_LIMIT_MS, program: str | None = None,
     profile: str = "twincat", interval: int | None = None, load: Callable[..., types.ModuleType] | None = None,
+    tcunit: str | None = None,
 ) -> RunResult:
     """Load ``source`` and run its TcUnit suites in virtual time (see the module docstring).
 
@@ -219,24 +221,37 @@ def run_project(
     that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
     ``.plcproj`` binds the libraries it references; a folder or ST file gets
     TcUnit bound (``TcUnit.RUN()`` and the plain names work).
+
+    A project that carries its own copy of TcUnit's source is refused (a
+    LookupError naming the choice) unless ``tcunit="iecoop"``: then the folder
+    of the copy is left out of the load and iecoop's TcUnit is bound in its
+    place (see :func:`tcunit_copy_folder`).
     """
+    check_tcunit(tcunit)
     if load is None:
         from iecoop import st
 
         load = st.load
     copy = vendored_tcunit(source)
+    left_out: list[pathlib.Path] = []
     if copy is not None:
-        raise LookupError(
-            f"{copy}: the project carries its own copy of TcUnit (it declares FUNCTION_BLOCK FB_TestSuite). "
-            "iecoop runs TcUnit suites with its own TcUnit, which the copy would hide: leave the copy's files out "
-            "of the project (its <Compile> items, or the files of the folder) and reference the TcUnit library "
-            "instead; or, to run the copy as plain ST, load the project with iecoop.st.load and run its test "
-            "PROGRAM on a VirtualPlc yourself"
-        )
-    # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here.
-    extra: dict[str, Any] = {} if pathlib.Path(source).suffix.lower() == ".plcproj" else {"libraries": {"TcUnit": tcunit}}
-    with tcunit.registry(limit_ms) as registry:
-        module = load(source, profile=profile, **extra)
+        if tcunit is None:
+            try:
+                folder = str(tcunit_copy_folder(source, copy))
+            except LookupError:
+                folder = ""  # --tcunit iecoop says why it cannot leave the copy out
+            raise LookupError(f"{copy}: the project carries its own copy of TcUnit (it declares FUNCTION_BLOCK FB_TestSuite): "
+                              f"{_choice_text(None, folder)}")
+        left_out.append(tcunit_copy_folder(source, copy))
+    # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here, and a
+    # project whose copy of TcUnit is left out gets iecoop's in its place.
+    bind = pathlib.Path(source).suffix.lower() != ".plcproj" or bool(left_out)
+    extra: dict[str, Any] = {"libraries": {"TcUnit": _tcunit}} if bind else {}
+    from iecoop.st.read.parse import leaving_out
+
+    with _tcunit.registry(limit_ms) as registry:
+        with leaving_out(*left_out):
+            module = load(source, profile=profile, **extra)
         test_program = find_test_program(module, program)
         path = pathlib.Path(source)
         base = path if path.is_dir() else path.parent
@@ -256,6 +271,65 @@ def project_interval(source: str | os.PathLike[str]) -> int:
     return DEFAULT_INTERVAL_MS if task is None else int(task.interval)
 
 
+#: What ``tcunit=`` (``iecoop test --tcunit``, the ini key ``iecoop_tcunit``) may choose for a project that
+#: carries its own copy of TcUnit's source: ``iecoop`` runs its suites with iecoop's TcUnit.
+TCUNIT_CHOICES = ("iecoop",)
+#: Why running the copy itself as ST is not offered: what of TcUnit's own source iecoop does not run.
+SOURCE_NOT_RUN = (
+    "its FB_TestSuite names each suite (and TcUnit finds the suite a test belongs to) by a variable marked "
+    "{attribute 'instance-path'}, which iecoop leaves empty; and its asserts read IBaseLibrary.TypeClass, which "
+    "iecoop's reader does not know"
+)
+#: The folders of a TwinCAT project's own layout: a copy's FB_TestSuite in ``TcUnit/POUs`` leaves ``TcUnit/`` out.
+_LAYOUT_FOLDERS = frozenset({"pous", "duts", "gvls", "itfs", "functions"})
+#: A suite of the project's own: a block that extends FB_TestSuite (left out with the copy, it would not run).
+_SUITE_DECLARATION = re.compile(rb"\bEXTENDS\s+(?:\w+\.)?FB_TestSuite\b", re.IGNORECASE)
+
+
+def check_tcunit(choice: str | None) -> str | None:
+    """``choice`` when it is one of :data:`TCUNIT_CHOICES` (or None); a ValueError saying why not (``source``: what of
+    TcUnit's source iecoop does not run)."""
+    if choice is not None and choice not in TCUNIT_CHOICES:
+        raise ValueError(f"{choice!r}: {_choice_text(choice)}")
+    return choice
+
+
+def _choice_text(given: str | None, folder: str = "") -> str:
+    """The choice a project carrying TcUnit's source has, and why running that source is not offered."""
+    head = "" if given is None else ("running the project's copy of TcUnit as ST is not offered: " + SOURCE_NOT_RUN + ". "
+                                     if given == "source" else f"not one of {', '.join(TCUNIT_CHOICES)}. ")
+    return (head + ("choose" if given is None else "Choose") + " --tcunit iecoop (pytest: the ini key iecoop_tcunit = iecoop; "
+            "run_project(..., tcunit='iecoop')) to leave the copy's folder" + (f" {folder}" if folder else "")
+            + " out of the load and run the suites with iecoop's TcUnit"
+            + (f"; running the copy itself as ST is not offered: {SOURCE_NOT_RUN}" if given is None else ""))
+
+
+def tcunit_copy_folder(source: str | os.PathLike[str], copy: pathlib.Path) -> pathlib.Path:
+    """The folder of the copy of TcUnit a project carries (``copy`` declares its FB_TestSuite), left out by ``tcunit="iecoop"``.
+
+    It is the folder that holds ``copy`` (``TcUnit/``; from ``TcUnit/POUs/`` up to
+    ``TcUnit/``, TwinCAT's own layout below the copy). A LookupError says why
+    when that folder is the project's own folder, or holds suites of the project.
+    """
+    path = pathlib.Path(source)
+    root = (path if path.is_dir() else path.parent).resolve()
+    folder = copy.resolve().parent
+    while folder.name.lower() in _LAYOUT_FOLDERS and folder.parent != root and folder.parent.is_relative_to(root):
+        folder = folder.parent
+    if folder == root or not folder.is_relative_to(root):
+        raise LookupError(
+            f"{copy}: the project's copy of TcUnit (FB_TestSuite) lies in the project's own folder {root}, not in a folder of "
+            "its own: leaving it out would leave the project out. Move TcUnit's files into a folder of their own (TcUnit/) "
+            "or leave them out of the project and reference the TcUnit library")
+    suite = _first_declaring(_source_files(folder), _SUITE_DECLARATION)
+    if suite is not None:
+        raise LookupError(
+            f"{suite}: the folder {folder} that holds the project's copy of TcUnit holds a suite of the project too "
+            "(it EXTENDS FB_TestSuite): leaving the folder out would leave the suite out. Move TcUnit's files into a "
+            "folder of their own")
+    return folder
+
+
 #: ``FUNCTION_BLOCK FB_TestSuite`` at the start of a line: a declaration of TcUnit's own base block.
 _TESTSUITE_DECLARATION = re.compile(rb"^\s*FUNCTION_BLOCK\s+(?:(?:PUBLIC|INTERNAL|ABSTRACT|FINAL)\s+)*FB_TestSuite\b",
                                     re.IGNORECASE | re.MULTILINE)
@@ -271,13 +345,18 @@ def vendored_tcunit(source: str | os.PathLike[str]) -> pathlib.Path | None:
     """
     path = pathlib.Path(source)
     folder = path.parent if path.suffix.lower() == ".plcproj" else path
-    for candidate in [folder] if folder.is_file() else _source_files(folder):
+    return _first_declaring([folder] if folder.is_file() else _source_files(folder), _TESTSUITE_DECLARATION)
+
+
+def _first_declaring(files: Iterable[pathlib.Path], pattern: re.Pattern[bytes]) -> pathlib.Path | None:
+    """The first of ``files`` whose head (``_LOOK_BYTES``) ``pattern`` finds, or None."""
+    for candidate in files:
         try:
             with candidate.open("rb") as handle:
                 head = handle.read(_LOOK_BYTES)
         except OSError:
             continue
-        if _TESTSUITE_DECLARATION.search(head):
+        if pattern.search(head):
             return candidate
     return None
 

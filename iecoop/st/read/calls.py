@@ -28,15 +28,19 @@ class Calls(Expressions):
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
         """The Python arguments of a METHOD or FUNCTION call; ``declared``: its parameters, None when unknown."""
-        self.check_argument_order(params, node)
+        self.check_argument_order(params, node, declared)
         args = []
+        named = False
         for index, param in enumerate(params):
             if isinstance(param, tf.OutputParameterAssignment):
                 args.extend(self._output_argument(param, declared, scope, node))
             elif param.name is not None:
                 args.append(self._named_argument(param, declared, scope, node))
+                named = True
             else:
-                args.append(self._positional_argument(param, declared[index] if declared is not None and index < len(declared) else None, scope))
+                match = declared[index] if declared is not None and index < len(declared) else None
+                code = self._positional_argument(param, match, scope)
+                args.append(f"{match.name}={code}" if named and match is not None else code)
         return args
 
     def _positional_argument(self, param: Any, match: Member | None, scope: Scope) -> str:
@@ -48,13 +52,24 @@ class Calls(Expressions):
         expected = match.type if match is not None else None
         return self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code
 
-    def check_argument_order(self, params: Sequence[Any], node: Any) -> None:
-        """A positional argument after a named one is refused, as IEC 61131-3 and the compilers refuse it."""
-        named = next((p for p in params if p.name is not None), None)
-        if named is not None and any(p.name is None for p in params[params.index(named):]):
-            raise self.fail(
-                f"a positional argument follows the named argument {named.name.name}: name every argument after the "
-                "first named one (TwinCAT and CODESYS refuse the mix)", node)
+    def check_argument_order(self, params: Sequence[Any], node: Any, declared: Sequence[Member] | None) -> None:
+        """A positional argument after a named one takes the parameter of its place, as TwinCAT binds it (TcUnit's
+        examples write ``AssertEquals(Expected := e, Actual := a, 'message')``); refused where the parameters are
+        not known here, past the last one, or on a parameter a named argument sets too."""
+        first = next((p for p in params if p.name is not None), None)
+        if first is None:
+            return
+        names = {str(p.name.name).lower() for p in params if p.name is not None}
+        for index in range(params.index(first), len(params)):
+            if params[index].name is not None:
+                continue
+            if declared is None or index >= len(declared):
+                raise self.fail(
+                    f"a positional argument follows the named argument {first.name.name} and has no parameter at its "
+                    f"place ({index + 1}): name it", node)
+            if declared[index].st.lower() in names:
+                raise self.fail(f"argument {index + 1} is {declared[index].st} by its place, which a named argument "
+                                "sets too", node)
 
     def in_out_argument(self, value: Any, param: Member, scope: Scope) -> str:
         """The caller's variable a VAR_IN_OUT gets: its address, or for an ``ARRAY[*]`` the array itself (a view of it)."""
@@ -210,9 +225,9 @@ class Calls(Expressions):
 
     def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
         inputs, outputs = [], []
-        self.check_argument_order(node.parameters, node)
         # IEC 61131-3's non-formal call: fb(1, 2) sets the inputs (and in-outs) in the order the block declares them
         positional = [m for d in reversed(list(self.lineage(decl))) for m in d.members.values() if m.section in ("VAR_INPUT", "VAR_IN_OUT")]
+        self.check_argument_order(node.parameters, node, positional)
         for index, param in enumerate(node.parameters):
             if param.name is None:
                 if index >= len(positional):

@@ -192,7 +192,9 @@ class Declarations(Statements):
         elif isinstance(init, tf.TypeInitialization) and isinstance(init.spec, tf.IndirectSimpleSpecification) and init.spec.init_parameters:
             call = init
             type_name, parameters = str(init.spec.type.type), init.spec.init_parameters
-        if call is not None:
+        # ``R_TRIG()``: empty parentheses, an FB_init call without arguments (blark gives a None parameter)
+        parameters = [p for p in parameters if p is not None] if call is not None else []
+        if parameters:
             decl = self.decls.get(type_name.lower())
             fb_init = self.find_member(decl, "FB_init") if decl is not None else None
             params = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []

@@ -128,6 +128,10 @@ class Expressions(Literals):
         return result
 
     def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
+        if type_ is not None and type_.kind == "pointer" and value.this == "THIS":
+            # THIS is a POINTER TO the block: stored in a pointer (pSelf := THIS) it is the instance's address
+            self.need("iecoop", "adr")
+            value = Ex("adr(self)", TypeRef("pointer", "POINTER_TO", of=value.type) if value.type is not None else type_)
         if type_ is not None and type_.is_bool and type(value.constant) is int and value.constant in (0, 1):
             return Ex(str(bool(value.constant)), type_, constant=bool(value.constant))  # BOOL := 0 / 1, as TwinCAT reads it
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
@@ -171,6 +175,8 @@ class Expressions(Literals):
         return self._arithmetic(op, node, left, right)
 
     def _comparison(self, py: str, left: Ex, right: Ex) -> Ex:
+        if "THIS" in (left.this, right.this):  # a pointer compared with THIS (aSuites[i] = THIS) compares addresses
+            left, right = self.coerce(left, right.type), self.coerce(right, left.type)
         for side, other in ((left, right), (right, left)):
             if isinstance(other.constant, int) and other.constant == 0 and side.type is not None and self._is_handle(side.type):
                 self.need("iecoop", "NULL")
@@ -390,7 +396,11 @@ class Expressions(Literals):
 
     def visit_MultiElementVariable(self, node: tf.MultiElementVariable, scope: Scope, store: bool = False) -> Ex:
         if str(node.name.name).lower() == "_taskinfo":
-            return self.task_info(node, store)
+            return self.task_info(list(node.elements), node, scope, store)
+        first = node.elements[0] if node.elements else None
+        if str(node.name.name).lower() == "twincat_systeminfovarlist" and isinstance(first, tf.FieldSelector) \
+                and str(first.field).lower() == "_taskinfo":  # the system list's name written out
+            return self.task_info(list(node.elements[1:]), node, scope, store)
         current = self.visit_SimpleVariable(node.name, scope)
         elements = list(node.elements)
         for index, element in enumerate(elements):
@@ -417,13 +427,14 @@ class Expressions(Literals):
                 current = self.deref(current, node)
         return current
 
-    def task_info(self, node: Any, store: bool) -> Ex:
-        """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``."""
-        elements = list(node.elements)
+    def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
+        """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;
+        ``_TaskInfo[fbTask.index]`` checks at run time that the index is the running task's (``task_info_at``)."""
         index = elements[0].subscripts if elements and isinstance(elements[0], tf.SubscriptList) else []
         call = index[0] if len(index) == 1 else None
-        if not (isinstance(call, tf.FunctionCall) and str(call.name).upper() == "GETCURTASKINDEXEX" and not call.parameters):
-            raise self.fail("_TaskInfo indexed by anything but GETCURTASKINDEXEX() (iecoop knows the running task only)", node)
+        if len(index) != 1:
+            raise self.fail("_TaskInfo takes one index, the task's (GETCURTASKINDEX)", node)
+        running = isinstance(call, tf.FunctionCall) and str(call.name).upper() == "GETCURTASKINDEXEX" and not call.parameters
         field = elements[1].field if len(elements) == 2 and isinstance(elements[1], tf.FieldSelector) else None
         name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
         member = next((m for m in TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
@@ -431,9 +442,12 @@ class Expressions(Literals):
             raise self.fail(f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(TASK_INFO_MEMBERS)}", node)
         if store:
             raise self.fail(f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)", node)
-        self.need("iecoop.runtime", "current_task")
         type_ = STRING if member == "TaskName" else TypeRef("elem", TASK_INFO_MEMBERS[member])
-        return Ex(f"current_task().{member}", type_)
+        if running:
+            self.need("iecoop.runtime", "current_task")
+            return Ex(f"current_task().{member}", type_)
+        self.need("iecoop.libraries.tc2_system", "task_info_at")
+        return Ex(f"task_info_at({self.expr(call, scope).code}).{member}", type_)
 
     def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
         if not isinstance(target, tf.MultiElementVariable) or not target.elements:

@@ -76,6 +76,9 @@ class Scope:
         self.addressed: set[str] = set()
         #: the indentation of the assignment whose right side is being read: a query there is written before it
         self.statement_level: int | None = None
+        #: ARRAY / STRUCT locals whose initial value reads locals declared before them: (Python name, type, init),
+        #: set once those are (the holder that makes them knows only constants)
+        self.local_inits: list[tuple[str, Any, Any]] = []
 
     def temp(self, stem: str) -> str:
         self.counter += 1

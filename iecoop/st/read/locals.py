@@ -17,6 +17,7 @@ from iecoop.st.read.frames import Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
+from iecoop.st.read.trees import names_read
 
 
 class Locals(Declarations):
@@ -89,6 +90,15 @@ class Locals(Declarations):
             moved = self.out[mark:]
             del self.out[mark:]
             self.out[start:start] = moved
+            for py, type_, init in scope.local_inits:  # [nFirst, nSecond]: once the locals it reads have their values
+                # made by a holder of its own, so the field takes a value of its exact class (checked or not)
+                self.emit(f"_var.{py} = {holder}({py}={self.initial_value(type_, init, scope)}).{py}", level)
+        scope.local_inits.clear()
+
+    @staticmethod
+    def _reads_locals(init: Any, scope: Scope) -> bool:
+        """Whether the initial value ``init`` reads a (non-constant) local declared before it."""
+        return any(getattr(scope.locals.get(name), "section", "CONSTANT") != "CONSTANT" for name in names_read(init))
 
     def _addressed_inputs(self, inputs_addressed: frozenset[str], scope: Scope, arrays: list[tuple[Member, Any]]) -> list[str]:
         """The inputs whose address is taken (ADR of an input): copied where they have one, read and written there."""
@@ -136,6 +146,14 @@ class Locals(Declarations):
     def _non_local_block(self, block: Any, scope: Scope, statics: list[tuple[Any, str, TypeRef | None]]) -> bool:
         """Handle a VAR section that declares no plain local (parameters, VAR_STAT, VAR_EXTERNAL); True if handled."""
         section = _SECTION_OF.get(type(block))
+        if section == "VAR_INST" and scope.owner is not None and scope.owner.method_inst:
+            method = scope.pou.split(".", 1)[1].lower()
+            for item in block.items:  # a name another METHOD declares too: this METHOD's own field
+                for name, _ in self._item_types(item):
+                    own = scope.owner.method_inst.get((method, name.lower()))
+                    if own is not None:
+                        scope.locals[name.lower()] = Member.field_of("self", own.name, own.type, "STAT", st=name)
+            return True
         if section in ("VAR_INPUT", "VAR_INST"):
             return True
         if section in ("VAR_OUTPUT", "VAR_IN_OUT"):
@@ -172,7 +190,11 @@ class Locals(Declarations):
         if type_.kind == "array" or initialised:  # a STRUCT with its own initial values too: made by the holder
             if not scope.pou:
                 raise self.fail(f"{'ARRAY' if type_.kind == 'array' else 'initialised STRUCT'} local {name} in a {scope.kind} is not supported (declare it in the block)", item)
-            arrays.append((Member(py, type_, "LOCAL", st=name), getattr(item, "init", None)))
+            init = getattr(item, "init", None)
+            if init is not None and self._reads_locals(init, scope):
+                scope.local_inits.append((py, type_, init))
+                init = None
+            arrays.append((Member(py, type_, "LOCAL", st=name), init))
             if type_.kind == "array" and name.lower() in scope.addressed:
                 # passed as an in-out or output: read and written as the holder's field, which has an address
                 scope.locals[name.lower()] = Member.field_of("_var", py, type_, "STAT", st=name)

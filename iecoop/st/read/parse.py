@@ -12,6 +12,8 @@ messages pointing at the real source.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
 import functools
 import os
@@ -22,7 +24,7 @@ from typing import Any
 
 from iecoop.exceptions import DefinitionError
 
-__all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "parse_sources"]
+__all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "leaving_out", "parse_sources"]
 
 #: The TwinCAT file kinds blark reads (POUs, data types, global and I/O lists).
 TWINCAT_SUFFIXES = (".tcpou", ".tcdut", ".tcgvl", ".tcio")
@@ -120,10 +122,32 @@ def _looks_like_path(text: str) -> bool:
     return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj") or pathlib.Path(text).is_dir()
 
 
+#: The folders whose files a folder or ``.plcproj`` read inside ``leaving_out`` does not read.
+_LEFT_OUT: contextvars.ContextVar[tuple[pathlib.Path, ...]] = contextvars.ContextVar("iecoop_st_left_out", default=())
+
+
+@contextlib.contextmanager
+def leaving_out(*folders: str | os.PathLike[str]) -> Iterator[None]:
+    """Inside the block, a folder or ``.plcproj`` is read without the files below ``folders``.
+
+    ``iecoop test --tcunit iecoop`` reads a project this way without the copy of TcUnit's source it carries.
+    """
+    token = _LEFT_OUT.set(_LEFT_OUT.get() + tuple(pathlib.Path(folder).resolve() for folder in folders))
+    try:
+        yield
+    finally:
+        _LEFT_OUT.reset(token)
+
+
+def _left_out(path: pathlib.Path) -> bool:
+    folders = _LEFT_OUT.get()
+    return bool(folders) and any(path.resolve().is_relative_to(folder) for folder in folders)
+
+
 def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tuple[str, int]]]]:
     if path.is_dir():
         for child in sorted(path.rglob("*")):
-            if child.is_file() and child.suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES):
+            if child.is_file() and child.suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES) and not _left_out(child):
                 yield from _flat_sources(child)
         return
     suffix = path.suffix.lower()
@@ -133,7 +157,8 @@ def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tupl
         yield _flatten_twincat(path)
     elif suffix == ".plcproj":
         for included in _plcproj_files(path):
-            yield from _flat_sources(included)
+            if not _left_out(included):
+                yield from _flat_sources(included)
     else:
         raise StUnsupportedError(f"{path}: unsupported file kind {path.suffix!r} (use .st, .TcPOU, .TcDUT, .TcGVL, .TcIO, .plcproj or a folder)")
 

@@ -158,7 +158,7 @@ class Pous(Locals):
                 for item in block.items:
                     self.line = item.meta.line if item.meta else self.line
                     for var_name, _ in self._item_types(item):
-                        member = decl.members[var_name.lower()]
+                        member = decl.method_inst.get((method.name.lower(), var_name.lower())) or decl.members[var_name.lower()]
                         self._need_type(member.type)
                         self.need("iecoop", "VAR_INST")
                         extra = f'method="{LIFECYCLE.get(method.st.upper()) or method.name}"'

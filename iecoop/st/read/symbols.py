@@ -20,7 +20,7 @@ from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
-    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef,
+    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
 )
 from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
 
@@ -270,11 +270,11 @@ class Symbols:
                 returns = self._spec_type(decl.node.return_type, decl.node) if decl.node.return_type else None
                 params = signature(list(decl.members.values()))
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
-            for node in decl.method_nodes:  # a METHOD's VAR_INST: fields of the instance, beside the block's own
-                for block in node.declarations:
-                    if isinstance(block, tf.MethodInstanceVariableDeclarations):
-                        for member in self._block_members(block, attribute=True):
-                            self._add_member(decl, member)
+            found = [(decl.methods[str(n.name).lower()].name, m) for n in decl.method_nodes for b in n.declarations
+                     if isinstance(b, tf.MethodInstanceVariableDeclarations) for m in self._block_members(b, attribute=True)]
+            for method, member, own in own_method_fields(found):  # a METHOD's VAR_INST: fields of the instance
+                self._add_member(decl, own)
+                decl.method_inst.update({(method.lower(), member.st.lower()): own} if own is not member else {})
 
     def _resolve_variables(self, decl: Decl) -> None:
         """The variables of a POU, STRUCT, UNION or GVL, and an alias's target type."""

@@ -181,6 +181,8 @@ class Decl:
     st: str = ""
     #: ST name (lower case) -> where it is declared ("file:line"), for the duplicate check
     declared: dict[str, tuple[str, str]] = dataclasses.field(default_factory=dict)
+    #: (METHOD's Python name, ST name), lower case -> the field of a VAR_INST whose name another METHOD declares too
+    method_inst: dict[tuple[str, str], Member] = dataclasses.field(default_factory=dict)
     #: a bound library's declaration: the module the generated code imports it from, and the import
     #: (``TON``, or ``FB_Log as TCU_FB_Log`` when the name is taken); never emitted
     library: str = ""
@@ -222,3 +224,14 @@ ANYTYPE = Decl("struct", "AnyType", members={
     "pvalue": Member("pValue", TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")), "VAR", st="pValue"),
     "disize": Member("diSize", TypeRef("elem", "DINT"), "VAR", st="diSize"),
 })
+
+
+def own_method_fields(found: list[tuple[str, Member]]) -> list[tuple[str, Member, Member]]:
+    """(METHOD, VAR_INST, its field) for each METHOD's VAR_INST: the variable itself, or, for a name two METHODs
+    declare, a field named after its METHOD (``Up_nCount``): TwinCAT keeps each METHOD's VAR_INST apart, as
+    TcUnit suites' test methods keep their blocks under test."""
+    methods_of: dict[str, set[str]] = {}
+    for method, member in found:
+        methods_of.setdefault(member.st.lower(), set()).add(method.lower())
+    return [(method, member, member if len(methods_of[member.st.lower()]) == 1 else
+             dataclasses.replace(member, name=f"{method}_{member.name}", st=f"{method}_{member.st}")) for method, member in found]

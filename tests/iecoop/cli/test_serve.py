@@ -37,5 +37,5 @@ def test_serve_takes_the_task_of_the_project(tmp_path: Path) -> None:
     status = serve([str(project), "--endpoint", "opc.tcp://127.0.0.1:0", "--duration", "20ms"], out, err)
     assert status == 0, err.getvalue()
     lines = out.getvalue().splitlines()
-    assert lines[0] == f"iecoop serve: MAIN of {project} on PlcTask (5 ms)"  # <CycleTime>50000</CycleTime>
+    assert lines[0] == f"iecoop serve: MAIN of {project} on PlcTask (5 ms)"  # <CycleTime>5000</CycleTime>
     assert lines[-1] == "iecoop serve: stopped after 20 ms of PLC time"

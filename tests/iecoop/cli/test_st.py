@@ -103,7 +103,7 @@ def test_an_exported_project_runs_on_its_task_and_strings_stay_on_their_row(tmp_
     status, out, err = call(st_run, str(tmp_path / "out"), "--cycles", "8", "--trace", "MAIN.sText")
     assert (status, err) == (0, "")
     lines = out.splitlines()
-    assert lines[0].startswith("MAIN on PlcTask (2 ms)")  # <CycleTime>20000</CycleTime>
+    assert lines[0].startswith("MAIN on PlcTask (2 ms)")  # <CycleTime>2000</CycleTime>
     assert lines[3].split() == ["10", "6", "zero", "pack$N"]  # 'pack$N' holds a line break: shown as ST writes it
     status, out, _ = call(st_run, str(PROJECTS / "PackLine"), "--cycles", "2")
     assert status == 0 and out.splitlines()[1].split()[:3] == ["time", "ms", "cycle"]

@@ -15,7 +15,7 @@ PAGES = {
     "iecoop.libraries.tc2_standard": "tc2_standard.md", "iecoop.libraries.tc2_system": "tc2_system.md",
     "iecoop.libraries.tc2_utilities": "tc2_utilities.md", "iecoop.libraries.tc2_mc2": "tc2_mc2.md",
     "iecoop.libraries.codesys_standard": "codesys_standard.md", "iecoop.libraries.codesys_util": "codesys_util.md",
-    "iecoop.libraries.tcunit": "tcunit.md",
+    "iecoop.libraries.tc3_module": "tc3_module.md", "iecoop.libraries.tcunit": "tcunit.md",
 }
 
 

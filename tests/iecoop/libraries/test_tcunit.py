@@ -318,23 +318,25 @@ def test_a_suite_reads_its_counts() -> None:
     assert counts == [(3, 1, 1, 1, True)]
 
 
+def _two_step_suite(label: str, trace: list[tuple[str, int]], stamp: Callable[[int], int]) -> type[FB_TestSuite]:
+    """A suite of one test that takes two calls; each call appends (label, stamp(its call number)) to ``trace``."""
+
+    class FB_Step(FB_TestSuite):
+        n: INT = VAR()
+
+        def body(self) -> None:
+            tcunit.TEST("Step")
+            self.n += 1
+            trace.append((label, stamp(self.n)))
+            if self.n == 2:
+                tcunit.TEST_FINISHED()
+
+    return FB_Step
+
+
 def test_run_in_sequence_runs_suites_one_after_another_in_declaration_order() -> None:
     trace: list[tuple[str, int]] = []
-
-    def suite(label: str) -> type[FB_TestSuite]:
-        class FB_Step(FB_TestSuite):
-            n: INT = VAR()
-
-            def body(self) -> None:
-                tcunit.TEST("Step")
-                self.n += 1
-                trace.append((label, self.n))
-                if self.n == 2:
-                    tcunit.TEST_FINISHED()
-
-        return FB_Step
-
-    First, Second = suite("first"), suite("second")
+    First, Second = (_two_step_suite(label, trace, lambda n: n) for label in ("first", "second"))
 
     class PRG_TEST(Program):
         fbFirst: First = VAR()  # type: ignore[valid-type]
@@ -346,6 +348,25 @@ def test_run_in_sequence_runs_suites_one_after_another_in_declaration_order() ->
     result = run_programs(PRG_TEST)
     assert trace == [("first", 1), ("first", 2), ("second", 1), ("second", 2)]
     assert [t.nodeid for t in result.tests] == ["PRG_TEST.fbFirst::Step", "PRG_TEST.fbSecond::Step"]
+
+
+def test_run_in_sequence_waits_the_time_it_is_given_between_suites() -> None:
+    trace: list[tuple[str, int]] = []
+    First, Second, Third = (_two_step_suite(label, trace, lambda n: tcunit.current_registry().cycle)
+                            for label in ("first", "second", "third"))
+
+    class PRG_TEST(Program):
+        fbFirst: First = VAR()  # type: ignore[valid-type]
+        fbSecond: Second = VAR()  # type: ignore[valid-type]
+        fbThird: Third = VAR()  # type: ignore[valid-type]
+
+        def body(self) -> None:
+            tcunit.RUN_IN_SEQUENCE(T("T#50MS"))
+
+    result = run_programs(PRG_TEST, interval=10)
+    # 10 ms cycles: the first suite finishes in cycle 2 (t = 10 ms), the next may start at t = 60 ms, cycle 7
+    assert trace == [("first", 1), ("first", 2), ("second", 7), ("second", 8), ("third", 13), ("third", 14)]
+    assert [t.status for t in result.tests] == ["passed"] * 3
 
 
 def test_each_runtime_gets_a_fresh_registry_without_registry_scope() -> None:

@@ -325,7 +325,10 @@ def test_a_project_carrying_a_copy_of_tcunit_is_told_its_choice(
     assert main(["test", str(project)]) == 2
     err = capsys.readouterr().err
     assert "FB_TestSuite.TcPOU: the project carries its own copy of TcUnit" in err
-    assert "reference the TcUnit library instead" in err and "iecoop.st.load" in err
+    assert "choose --tcunit iecoop" in err and "running the copy itself as ST is not offered" in err
+    # here the copy lies in the project's own folder: leaving it out is refused too, saying why
+    assert main(["test", str(project), "--tcunit", "iecoop"]) == 2
+    assert "lies in the project's own folder" in capsys.readouterr().err
     copied = pytester.path / "Checks"
     shutil.copytree(tmp_path, copied)
     result = pytester.runpytest(str(copied / "Checks.plcproj"), "-p", "no:cacheprovider")
@@ -339,7 +342,7 @@ def test_the_test_program_runs_at_the_cycle_time_of_the_project_s_task(tmp_path:
     (project / "PlcTask.TcTTO").write_text(
         '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
         '  <Task Name="PlcTask" Id="{7c1e2a90-0000-4000-8000-0000000000ff}">\n'
-        "    <CycleTime>20000</CycleTime>\n    <Priority>20</Priority>\n  </Task>\n</TcPlcObject>\n")
+        "    <!--CycleTime in micro seconds.-->\n    <CycleTime>2000</CycleTime>\n    <Priority>20</Priority>\n  </Task>\n</TcPlcObject>\n")
     result = run_project(project / "TcUnitDemo.plcproj")
     by_id = {t.nodeid: t for t in result.tests}
     # a 2 ms task: the 500 ms TON is done in the cycle at t = 500 ms, the 251st
@@ -359,3 +362,16 @@ def test_projects_listed_in_pyproject_toml_are_collected(pytester: pytest.Pytest
     result = pytester.runpytest("-p", "no:cacheprovider", "-k", "RunsAfterTheDelay or CountsUp")
     result.assert_outcomes(passed=1, failed=1, deselected=9)  # the 500 ms test hits the 300 ms limit
     result.stdout.fnmatch_lines(["*did not finish within T#300ms of PLC time*"])
+
+
+def test_a_project_referencing_tc3_module_runs_and_one_using_its_names_is_refused_naming_them(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    checks = ("FUNCTION_BLOCK FB_Checks EXTENDS TcUnit.FB_TestSuite\n",
+              "TEST('Template');\nAssertEquals_INT(Expected := 3, Actual := 1 + 2, Message := 'sum');\nTEST_FINISHED();\n")
+    project = _project(tmp_path, {"FB_Checks": checks, "PRG_TEST": _PRG}, references="Tc2_Standard Tc2_System Tc3_Module TcUnit")
+    assert [(t.name, t.status) for t in run_project(project).tests] == [("Template", "passed")]
+    using = ("FUNCTION_BLOCK FB_Checks EXTENDS TcUnit.FB_TestSuite\nVAR nObject : Tc3_Module.OTCID; END_VAR\n", checks[1])
+    project = _project(tmp_path, {"FB_Checks": using, "PRG_TEST": _PRG}, references="Tc3_Module TcUnit")
+    assert main(["test", str(project)]) == 2
+    assert "FB_Checks.TcPOU:4: unknown type 'Tc3_Module.OTCID': library Tc3_Module declares no OTCID" in capsys.readouterr().err

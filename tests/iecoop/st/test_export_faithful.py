@@ -188,7 +188,7 @@ def test_st_run_takes_the_tcTTO_task_set_and_trace(capsys: pytest.CaptureFixture
     ]
     assert main(argv) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[0].startswith("MAIN on PlcTask (5 ms)") and "12 cycles" in out[0]  # <CycleTime>50000</CycleTime>: 5 ms
+    assert out[0].startswith("MAIN on PlcTask (5 ms)") and "12 cycles" in out[0]  # <CycleTime>5000</CycleTime>: 5 ms
     assert out[1].split()[-2:] == ["MAIN.eState", "MAIN.fbStation.nBottles"]
     rows = [line.split() for line in out[2:]]
     assert rows[0][2:] == ["IDLE", "0"]

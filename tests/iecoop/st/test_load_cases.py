@@ -157,7 +157,7 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
      "<st>:2: VAR_EXTERNAL nMissing of F names no VAR_GLOBAL"),
     ("FUNCTION F : INT\nVAR_INPUT x : INT; END_VAR\nVAR r : REFERENCE TO INT; END_VAR\nr REF= x;\nEND_FUNCTION\n",
      "<st>:4: x is a local variable; ADR / REF= need a variable of a block, struct or GVL"),
-    (prog("t : UDINT; i : DINT;", "t := _TaskInfo[i].CycleTime;"), r"<st>:5: _TaskInfo indexed by anything but GETCURTASKINDEXEX\(\)"),
+    (prog("t : UDINT; i : DINT;", "t := _TaskInfo[i, 2].CycleTime;"), r"<st>:5: _TaskInfo takes one index, the task's"),
     (prog("t : UDINT;", "t := _TaskInfo[GETCURTASKINDEXEX()].AdsPort;"), r"_TaskInfo\[...\].AdsPort: iecoop's TaskInfo has CycleTime"),
     (prog("t : UDINT;", "_TaskInfo[GETCURTASKINDEXEX()].CycleTime := t;"), "assignment to _TaskInfo"),
     (prog("info : __SYSTEM.VAR_INFO;", ""), "<st>:3: VAR info : __SYSTEM.VAR_INFO .declare it as a local of a METHOD or FUNCTION."),

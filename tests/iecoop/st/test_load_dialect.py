@@ -24,17 +24,35 @@ def test_an_empty_struct_is_named_with_its_line() -> None:
         st.load("\nTYPE ST_E : STRUCT END_STRUCT END_TYPE")
 
 
-def test_a_positional_argument_after_a_named_one_is_refused() -> None:
+def test_a_positional_argument_after_a_named_one_takes_the_parameter_of_its_place() -> None:
+    source = """FUNCTION F : INT
+VAR_INPUT a : INT; b : INT; c : INT; END_VAR
+F := a * 100 + b * 10 + c;
+END_FUNCTION
+PROGRAM P
+VAR x : INT; y : INT; END_VAR
+x := F(a := 5, 2, c := 1);
+y := F(b := 5, a := 2, 3);
+END_PROGRAM"""
+    plc = st.load(source)
+    plc.P()
+    assert (plc.P.x, plc.P.y) == (521, 253)
+
+
+def test_a_positional_argument_after_a_named_one_is_refused_where_its_place_is_taken() -> None:
     source = """FUNCTION F : INT
 VAR_INPUT a : INT; b : INT; END_VAR
 F := a + b;
 END_FUNCTION
 PROGRAM P
 VAR x : INT; END_VAR
-x := F(a := 5, 2);
+x := F(b := 5, 2);
 END_PROGRAM"""
-    with pytest.raises(st.StUnsupportedError, match=r"<st>:7: a positional argument follows the named argument a"):
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:7: argument 2 is b by its place, which a named argument sets too"):
         st.load(source)
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:7: a positional argument follows the named argument a and has no "
+                                                     r"parameter at its place \(3\)"):
+        st.load(source.replace("F(b := 5, 2)", "F(a := 5, b := 2, 3)"))
 
 
 def test_an_interface_named_with_its_descendant_loads() -> None:
