@@ -90,15 +90,16 @@ def _on_delay(tick: int, mask: int) -> Callable[[_Timer], None]:
                     self.ET = elapsed
             if not prev:
                 self.PREV_IN = True
-        else:
+        elif self.PREV_IN:
+            # IN fell since the last call: reset the rest. Every call with IN TRUE ends with PREV_IN TRUE and
+            # this branch resets all four, so while IN stays FALSE nothing is left to reset (one read a call).
+            self.PREV_IN = False
             if self.STATE:
                 self.STATE = 0
             if self.Q:
                 self.Q = False
             if self.ET:
                 self.ET = 0
-            if self.PREV_IN:
-                self.PREV_IN = False
 
     return body
 
