@@ -19,10 +19,11 @@ import functools
 import os
 import pathlib
 import re
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from typing import Any
 
 from iecoop.exceptions import DefinitionError
+from iecoop.st.read.grammar import build_grammars, grammar_of, needs_overlay, overlay_parser
 
 __all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "leaving_out", "parse_sources"]
 
@@ -408,79 +409,11 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
     return "\n".join(lines) + "\n", str(path), line_map
 
 
-#: What blark's grammar lacks and the vendors accept, added to it with Lark's ``%extend``
-#: (kept small and self-contained, so it could go upstream as is). Only a source that
-#: uses one of these words is parsed with the extended grammar.
-GRAMMAR_OVERLAY = r"""
-%extend _statement: try_statement
-%extend _case_element_statement: try_statement
-try_statement: _TRY [ statement_list ] [ catch_clause ] [ finally_clause ] _ENDTRY ";"*
-catch_clause: _CATCH "(" _variable ")" [ statement_list ]
-finally_clause: _FINALLY [ statement_list ]
-_TRY.2: /\b__TRY\b/i
-_CATCH.2: /\b__CATCH\b/i
-_FINALLY.2: /\b__FINALLY\b/i
-_ENDTRY.2: /\b__ENDTRY\b/i
-"""
-_OVERLAY_WORDS = re.compile(r"\b__(TRY|CATCH|FINALLY|ENDTRY)\b", re.IGNORECASE)
-
-
-@functools.lru_cache(maxsize=1)
-def _overlay_parser() -> Any:
-    """blark's own grammar (read from the installed package) with ``GRAMMAR_OVERLAY`` added."""
-    import importlib.resources
-
-    import blark
-    import lark
-    from blark.parse import BlarkStartingRule
-
-    from iecoop.st.read.dialect import DIALECT_OVERLAY
-
-    grammar = importlib.resources.files(blark).joinpath(blark.GRAMMAR_FILENAME.name).read_text()
-    return lark.Lark(
-        grammar + GRAMMAR_OVERLAY + DIALECT_OVERLAY,
-        parser="earley",
-        maybe_placeholders=True,
-        propagate_positions=True,
-        start=[rule.name for rule in BlarkStartingRule],
-    )
-
-
-def build_grammars(texts: Sequence[str]) -> None:
-    """Build the Earley parsers ``texts`` need (blark's, and the overlay's if one needs it): each takes a while."""
-    import blark.parse
-
-    names = {grammar_of(text) for text in texts}
-    if "blark" in names:
-        blark.parse.get_parser()
-    if names - {"blark"}:
-        _overlay_parser()
-
-
 def _parse_text(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> Unit:
     from iecoop.st.read.trees import drop_empty_arguments
 
     tree, comments = _tree(text, filename, tuple(sorted(line_map.items())))
     return Unit(drop_empty_arguments(tree), filename, line_map, comments)
-
-
-def grammar_of(text: str) -> str:
-    """The grammar ``text`` is parsed with: blark's, or blark's with iecoop's overlay and dialect (named by
-    their hash, with the dialect's tree rewrite, whose result the cache keeps)."""
-    from iecoop.st.read.dialect import needs_dialect
-
-    return _overlay_name() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else "blark"
-
-
-@functools.cache
-def _overlay_name() -> str:
-    import hashlib
-    import inspect
-
-    from iecoop.st.read import dialect
-
-    overlay = GRAMMAR_OVERLAY + dialect.DIALECT_OVERLAY + inspect.getsource(dialect)
-    return "overlay-" + hashlib.sha256(overlay.encode()).hexdigest()[:16]
 
 
 @functools.lru_cache(maxsize=128)
@@ -515,9 +448,9 @@ def raw_tree(text: str, filename: str, line_map: dict[int, tuple[str, int]]) -> 
     import blark
     import lark
 
-    from iecoop.st.read.dialect import needs_dialect, rewrite
+    from iecoop.st.read.dialect import rewrite
 
-    parser = _overlay_parser() if _OVERLAY_WORDS.search(text) or needs_dialect(text) else None
+    parser = overlay_parser() if needs_overlay(text) else None
     try:
         result = blark.parse_source_code(text, fn=filename, parser=parser)
     except (IndexError, ValueError, KeyError) as scanned:  # blark's comment scanner on unbalanced (* *) and { }
