@@ -79,7 +79,7 @@ def inline_call(
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
     views: dict[str, str] | None = None, known: dict[str, type] | None = None,
     arrays: dict[str, tuple[type, int, int]] | None = None, counters: dict[str, tuple[int, int]] | None = None,
-    plain: list[Any] | None = None, bools: set[str] | None = None,
+    plain: set[str] | None = None, bools: set[str] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -102,9 +102,9 @@ def inline_call(
     bounds; the body's own ``self.stations[i]`` reads the kept element in place.
     ``counters``: per integer variable a FOR may count with, its range; a
     ``for self.i in range(...)`` pass reads ``i`` from its local (``CounterReads``).
-    ``plain``: the elementary variables read from their ctypes fields (the
-    records); ``bools``: the BOOL inputs among them, whose first reads in the
-    body take the argument given (``GivenInputs``).
+    ``plain``: the elementary variables read from their ctypes fields;
+    ``bools``: the BOOL inputs among them, whose first reads in the body take
+    the argument given (``GivenInputs``).
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -118,7 +118,7 @@ def inline_call(
     names = dict(names)
     call = _rewritten(
         node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
-        counters or {}, {r.name for r in plain or ()}, bools or set(),
+        counters or {}, plain or set(), bools or set(),
     )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
@@ -235,6 +235,7 @@ def _rewritten(
     The rewrites add the objects their code reads to ``names``.
     """
     code = body.__code__
+    local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     if bools and not _rebinds_self(node):
         blocks = {member for member, (_key, cls) in members.items() if cls is not None}
         GivenInputs(bools, plain, blocks).rewrite(node.body)
@@ -248,11 +249,10 @@ def _rewritten(
     spans: dict[str, range] = {}
     # Only a body with a loop has a FOR to rewrite (its code has a FOR_ITER: a scan in C, no walk of the tree).
     if counters and _FOR_ITER in code.co_code[::2] and not _rebinds_self(node):
-        CounterReads(counters, spans, body.__globals__, {*code.co_varnames, *code.co_cellvars, *code.co_freevars}).rewrite(call.body)
+        CounterReads(counters, spans, body.__globals__, local).rewrite(call.body)
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct, known, arrays, spans)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
-    local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
     # Only a body that names one of the literal functions has a literal to read (a walk of its tree otherwise saved).
     if any(body.__globals__.get(name) is literal for name in code.co_names for literal in _LITERALS):
         call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]

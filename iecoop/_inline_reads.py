@@ -119,7 +119,7 @@ class _CounterRead(OwnCode):
 
     def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
         self.generic_visit(node)
-        if node.attr == self.field and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name) and node.value.id == "self":
+        if _self_read(node) == self.field:
             return ast.copy_location(ast.Name(id=self.local, ctx=ast.Load()), node)
         return node
 

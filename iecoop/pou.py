@@ -743,10 +743,11 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             and getattr(r.info.elem.cls, "_iec_tagged_", False)
         }
         plain = raw_elementary(cls, layout)  # read from their ctypes fields: no code runs on a read
+        bools = {r.name for r in plain if accepted_type(r.info) is bool} & {r.name for r in inputs}
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
-            direct=_positional_call, views=views, known=known, arrays=arrays, plain=plain,
-            counters=counter_ranges(plain), bools={r.name for r in plain if accepted_type(r.info) is bool} & {r.name for r in inputs},
+            direct=_positional_call, views=views, known=known, arrays=arrays,
+            plain={r.name for r in plain}, counters=counter_ranges(plain), bools=bools,
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."

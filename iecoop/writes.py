@@ -219,13 +219,10 @@ def counter_ranges(records: list[FieldRecord]) -> dict[str, tuple[int, int]]:
 
 def _field_reads(cls: Any, layout: ClassLayout) -> dict[str, type]:
     found: dict[str, type] = {}
-    for record in layout.fields:
-        # Only a read the ctypes field answers itself: the attribute the class finds is the field.
-        attribute = next((k.__dict__[record.name] for k in cls.__mro__ if record.name in k.__dict__), None)
-        if type(record.info) is ElementaryInfo and attribute is record.raw:
-            kind = type(record.info.ctype().value)
-            if kind is accepted_type(record.info):
-                found[record.name] = kind
+    for record in raw_elementary(cls, layout):  # only a read the ctypes field answers itself
+        kind = type(typing.cast(ElementaryInfo, record.info).ctype().value)
+        if kind is accepted_type(record.info):
+            found[record.name] = kind
     return found
 
 
