@@ -193,7 +193,7 @@ class GivenInputs:
                     statement.value = self._given(statement.value)
                 continue
             if isinstance(statement, ast.If) and self._plain(statement.test):
-                statement.test = self._given(statement.test)
+                statement.test = self._given_test(statement.test)
             elif isinstance(statement, ast.Expr) and self._member_call(statement.value):
                 call = typing.cast(ast.Call, statement.value)
                 call.args = [self._given(a) for a in call.args]
@@ -223,6 +223,28 @@ class GivenInputs:
             elif not isinstance(n, _PLAIN_NODES):
                 return None
         return reads
+
+    def _given_test(self, node: ast.expr) -> ast.expr:
+        """``node`` rewritten where only its truth is used (an ``if``'s test): there, ``self.IN`` is
+
+            IN is True or IN is not False and self.IN
+
+        which answers an exact ``bool`` in one identity test; the operands of
+        ``and`` / ``or`` / ``not`` in such a place are in one too."""
+        field = _self_read(node)
+        if field in self.bools:
+            place = {name: getattr(node, name) for name in ("lineno", "col_offset", "end_lineno", "end_col_offset")}
+            load = ast.Load()
+            given, other = (ast.Compare(ast.Name(field, load, **place), [test], [ast.Constant(v, **place)], **place)
+                            for test, v in ((ast.Is(), True), (ast.IsNot(), False)))
+            return ast.BoolOp(ast.Or(), [given, ast.BoolOp(ast.And(), [other, node], **place)], **place)
+        if isinstance(node, ast.BoolOp):
+            node.values = [self._given_test(v) for v in node.values]
+            return node
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not):
+            node.operand = self._given_test(node.operand)
+            return node
+        return self._given(node)
 
     def _given(self, node: ast.expr) -> ast.expr:
         bools = self.bools

@@ -671,6 +671,8 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
     lines: list[str] = []
+    # The inputs a read of `self.x` takes from the ctypes field itself, with no code run.
+    raw = {r.name for r in raw_elementary(cls, layout)}
     for i, record in enumerate(inputs):
         params.append(f"{record.name}=_M")
         info = record.info
@@ -682,16 +684,30 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             # an ARRAY / STRUCT input also takes a list / dict (fb(points := [1, 2, 3]))
             globs[f"_store{i}"] = info.store
             lines.append(f"    if {record.name} is not _M: _store{i}(self, {record.offset}, {record.name}, {record.where!r})")
-        elif info.direct and _config.CHECKS:
+        elif info.direct:
+            accepted = accepted_type(info)
+            # A value of the accepted class equal to the one held stores nothing new (see _changed).
+            changed = _changed(record.name, accepted) if accepted is not None and record.name in raw else None
+            globs[f"_type{i}"] = accepted
+            if not _config.CHECKS:
+                # fast mode: a plain attribute store reaches the ctypes field in C
+                # Identity decides for BOOL whatever the value; another type compares a value of its class only.
+                test = (
+                    "" if changed is None else f" and {changed}" if accepted is bool
+                    else f" and ({record.name}.__class__ is not _type{i} or {changed})"
+                )
+                lines.append(f"    if {record.name} is not _M{test}: self.{record.name} = {record.name}")
+                continue
             globs[f"_check{i}"] = info.validate
             globs[f"_set{i}"] = record.raw.__set__
-            globs[f"_type{i}"] = accepted_type(info)
             lines.append(f"    if {record.name} is not _M:")
-            lines.append(f"        if {record.name}.__class__ is not _type{i}: _check{i}({record.name}, {record.where!r})")
-            lines.append(f"        _set{i}(self, {record.name})")
-        elif info.direct:
-            # fast mode: a plain attribute store reaches the ctypes field in C
-            lines.append(f"    if {record.name} is not _M: self.{record.name} = {record.name}")
+            lines.append(f"        if {record.name}.__class__ is not _type{i}:")
+            lines.append(f"            _check{i}({record.name}, {record.where!r})")
+            if changed is None:
+                lines.append(f"        _set{i}(self, {record.name})")
+            else:
+                lines.append(f"            _set{i}(self, {record.name})")
+                lines.append(f"        elif {changed}: _set{i}(self, {record.name})")
         else:
             globs[f"_desc{i}"] = getattr(cls, record.name).__set__
             lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")
@@ -768,6 +784,23 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     call.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
     own_code(call.__code__, cls)
     return call
+
+
+def _changed(name: str, accepted: type | None) -> str:
+    """The test that a given input of class ``accepted`` differs from the value its field holds.
+
+    An input a scan passes again and again (``fb(enable := bSensor)``) mostly
+    holds it already, and a read of the field costs less than a store. The test
+    is exact: a BOOL field holds ``True`` or ``False``, so identity decides; an
+    integer equal to the held one stores that same value; a REAL equal to the
+    held one is the same number except for a zero's sign, so zero is always
+    stored.
+    """
+    if accepted is bool:
+        return f"{name} is not self.{name}"
+    if accepted is float:
+        return f"{name} != self.{name} or not {name}"
+    return f"{name} != self.{name}"
 
 
 def _positional_call(cls: Any) -> tuple[types.CellType, tuple[str, ...]]:

@@ -48,9 +48,9 @@ def test_a_given_bool_is_read_from_the_argument_and_a_left_out_one_from_the_vari
     gate(enable=True)
     assert (gate.count, gate.seen) == (3, True)
     # both reads test the argument (the input lines use it twice), each keeping the variable's read for a call
-    # that leaves the input out
+    # that leaves the input out; the input lines read the variable once, to store only a changed value
     assert _loads(Gate, "LOAD_FAST", "enable") >= 2 + 2 * 2
-    assert _loads(Gate, "LOAD_ATTR", "enable") == 2
+    assert _loads(Gate, "LOAD_ATTR", "enable") == 1 + 2
 
 
 @pytest.mark.skipif(_config.CHECKS, reason="checked mode refuses a BOOL input that is not a bool")
@@ -118,3 +118,35 @@ def test_a_member_calls_arguments_take_the_given_input() -> None:
     clock.advance(30_000_000)
     delay()  # left out: FALSE kept
     assert (delay.done, delay.timer.Q) == (False, False)
+
+
+class Interlock(FunctionBlock):
+    """``IF bRun AND NOT bStop OR bJog THEN nCount := nCount + 1; END_IF``: the inputs only tested for truth."""
+
+    run: BOOL = VAR_INPUT()
+    stop: BOOL = VAR_INPUT()
+    jog: BOOL = VAR_INPUT()
+    count: INT = VAR_OUTPUT()
+
+    def body(self) -> None:
+        if self.run and not self.stop or self.jog:
+            self.count += 1
+
+
+def test_inputs_tested_for_truth_take_the_argument_given_and_the_variable_left_out() -> None:
+    fb = Interlock()
+    held = {"run": False, "stop": False, "jog": False}
+    expected = 0
+    cases: list[dict[str, Any]] = [
+        {"run": True}, {}, {"stop": True}, {"jog": True}, {"jog": False}, {"stop": False}, {"run": False, "jog": True},
+        {"run": True, "stop": True, "jog": False}, {}, {"stop": False},
+    ]
+    if not _config.CHECKS:
+        cases += [{"run": 0, "stop": 0}, {"run": 3}, {}]  # fast mode: other values held as the BOOL stored
+    for given in cases:
+        fb(**given)
+        held.update({name: bool(value) for name, value in given.items()})
+        expected += held["run"] and not held["stop"] or held["jog"]
+        assert fb.count == expected, given
+    # each input's read is kept for a call that leaves it out, the argument tested first
+    assert all(_loads(Interlock, "LOAD_ATTR", name) >= 1 for name in held)
