@@ -48,13 +48,14 @@ from typing import Any
 
 from iecoop._codegen import definition, register_definition
 from iecoop._inline_reads import CounterReads, GivenInputs, OwnCode, located
+from iecoop._loop_locals import LoopLocals
 from iecoop._value_class import value_class
 from iecoop.literals import D, T
 from iecoop.memory._views import ELEMENT_VIEWS, keep_member_views
 from iecoop.members import adopt_code
 from iecoop.types import DT, LTIME, TOD
 
-__all__ = ["compile_own_writes", "inline_call"]
+__all__ = ["compile_own_loops", "compile_own_writes", "inline_call"]
 
 _FUTURE_FLAGS = 0
 for _feature in __future__.all_feature_names:
@@ -67,6 +68,7 @@ _NOT_PLAIN |= inspect.CO_VARARGS | inspect.CO_VARKEYWORDS
 Direct = Callable[[type], tuple[types.CellType, tuple[str, ...]]]
 _STORE_ATTR, _EXTENDED_ARG = dis.opmap["STORE_ATTR"], dis.opmap["EXTENDED_ARG"]
 _FOR_ITER = bytes([dis.opmap["FOR_ITER"]])
+_JUMP_BACKWARD = bytes([dis.opmap["JUMP_BACKWARD"]])
 _FACTORY = "_iec_factory_"
 _CLASS = "_iec_class_"
 _STORE = "_iec_w_"
@@ -79,7 +81,7 @@ def inline_call(
     members: dict[str, tuple[str, type | None]], *, positional: bool = False, direct: Direct | None = None,
     views: dict[str, str] | None = None, known: dict[str, type] | None = None,
     arrays: dict[str, tuple[type, int, int]] | None = None, counters: dict[str, tuple[int, int]] | None = None,
-    plain: set[str] | None = None, bools: set[str] | None = None,
+    plain: set[str] | None = None, bools: set[str] | None = None, loops: dict[str, Any] | None = None,
 ) -> Callable[..., None] | None:
     """``__call__(self, *, <params>)``: ``lines`` (which set the inputs, using ``names``) then ``body``'s statements.
 
@@ -104,7 +106,8 @@ def inline_call(
     ``for self.i in range(...)`` pass reads ``i`` from its local (``CounterReads``).
     ``plain``: the elementary variables read from their ctypes fields;
     ``bools``: the BOOL inputs among them, whose first reads in the body take
-    the argument given (``GivenInputs``).
+    the argument given (``GivenInputs``). ``loops`` (fast mode): per variable a
+    loop that calls nothing may keep in a local, its ctypes type (``LoopLocals``).
     None when the body cannot be compiled into the call as the same code.
     """
     code = body.__code__
@@ -118,7 +121,7 @@ def inline_call(
     names = dict(names)
     call = _rewritten(
         node, body, params, lines, names, owner, stores, members, positional, direct, views or {}, known or {}, arrays or {},
-        counters or {}, plain or set(), bools or set(),
+        counters or {}, plain or set(), bools or set(), loops or {},
     )
     merged = _compile_in(call, code, sorted(names), flags, imports)
     if merged is None:
@@ -154,12 +157,41 @@ def compile_own_writes(
     return _method_from(merged, func, names, owner) if merged is not None else None
 
 
-def _may_compile_method(func: types.FunctionType, owner: type, stores: dict[str, Any]) -> bool:
-    """An ordinary function of ``self`` (no generator, no wrapper), the class's own code, storing one of ``stores``."""
+def compile_own_loops(func: types.FunctionType, owner: type, loops: dict[str, Any]) -> types.FunctionType | None:
+    """Fast mode: ``func`` (a METHOD of ``owner``) with its loops that call nothing keeping ``loops`` in locals.
+
+    The same function otherwise, as ``compile_own_writes`` makes it; ``loops``
+    is the call's (see ``inline_call``). None when the method cannot be
+    compiled as the same code, or no loop of it keeps a variable.
+    """
+    code = func.__code__
+    node = _function_node(func, decorated=True) if _may_compile_method(func, owner) and _has_loop(code) else None
+    setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
+    if node is None or setting is None:
+        return None
+    flags, imports = setting
+    names: dict[str, Any] = {}
+    local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
+    if not LoopLocals(loops, func.__globals__, local, names).rewrite(node.body):
+        return None
+    merged = _compile_in(node, code, sorted(names), flags, imports)
+    return _method_from(merged, func, names, owner) if merged is not None else None
+
+
+def _has_loop(code: types.CodeType) -> bool:
+    """Whether ``code`` itself has a loop: a FOR's iteration or a jump back (a scan of its opcodes, in C)."""
+    ops = code.co_code[::2]
+    return _FOR_ITER in ops or _JUMP_BACKWARD in ops
+
+
+def _may_compile_method(func: types.FunctionType, owner: type, stores: dict[str, Any] | None = None) -> bool:
+    """An ordinary function of ``self`` (no generator, no wrapper), the class's own code, storing one of
+    ``stores`` when given."""
     code = func.__code__
     if code.co_flags & _NOT_ORDINARY or code.co_argcount < 1 or code.co_varnames[:1] != ("self",):
         return False
-    return not hasattr(func, "__wrapped__") and code in getattr(owner, "_iec_codes_", ()) and _stores_attribute(code, stores)
+    own = not hasattr(func, "__wrapped__") and code in getattr(owner, "_iec_codes_", ())
+    return own and (stores is None or _stores_attribute(code, stores))
 
 
 def _method_from(merged: types.CodeType, func: types.FunctionType, names: dict[str, Any], owner: type) -> types.FunctionType:
@@ -229,6 +261,7 @@ def _rewritten(
     owner: type, stores: dict[str, tuple[Any, bool, Any, str, Any]], members: dict[str, tuple[str, type | None]],
     positional: bool, direct: Direct | None, views: dict[str, str], known: dict[str, type],
     arrays: dict[str, tuple[type, int, int]], counters: dict[str, tuple[int, int]], plain: set[str], bools: set[str],
+    loops: dict[str, Any],
 ) -> ast.FunctionDef:
     """The call's ``def``: the input lines, then the body's statements with stores, members and literals rewritten.
 
@@ -250,6 +283,8 @@ def _rewritten(
     # Only a body with a loop has a FOR to rewrite (its code has a FOR_ITER: a scan in C, no walk of the tree).
     if counters and _FOR_ITER in code.co_code[::2] and not _rebinds_self(node):
         CounterReads(counters, spans, body.__globals__, local).rewrite(call.body)
+    if loops and _has_loop(code) and not _rebinds_self(node):
+        LoopLocals(loops, body.__globals__, local, names).rewrite(call.body)
     if (writes or members) and not _rebinds_self(node):
         call.body = _with_members(call.body, writes, members, names, direct, known, arrays, spans)
     call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)

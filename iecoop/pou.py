@@ -44,7 +44,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from iecoop import _config
 from iecoop._codegen import compile_source
-from iecoop._inline import compile_own_writes, inline_call
+from iecoop._inline import compile_own_loops, compile_own_writes, inline_call
+from iecoop._loop_locals import loop_types
 from iecoop.exceptions import AccessError, DefinitionError
 from iecoop.gvl import find_global
 from iecoop.interfaces import Interface, interface_members
@@ -416,17 +417,26 @@ class _PouBuilder:
         cls._iec_call_cell_ = types.CellType(cls.__call__)
         if _config.CHECKS:
             cls.__setattr__ = pou_setattr(cls, layout, st_aliases(cls, layout))
-            _compile_methods(cls, layout, self.original_namespace)
+        _compile_methods(cls, layout, self.original_namespace)
 
 
 def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -> None:
-    """Checked mode: each METHOD's own writes written out, as the call writes the body's (``compile_own_writes``)."""
-    stores = fast_writes(layout, cls._iec_write_rules_)
-    known = known_reads(cls, layout)
+    """Each METHOD compiled as the call compiles the body: in checked mode its own writes written out
+    (``compile_own_writes``), in fast mode its loops that call nothing keeping the variables in locals
+    (``compile_own_loops``)."""
+    if _config.CHECKS:
+        stores = fast_writes(layout, cls._iec_write_rules_)
+        known = known_reads(cls, layout)
+        if not stores:
+            return
+    else:
+        loops = _loop_fields(cls, layout)
+        if not loops:
+            return
     for name, func in namespace.items():
         if not isinstance(func, types.FunctionType) or name == "body" or (name.startswith("__") and name.endswith("__")):
             continue
-        compiled = compile_own_writes(func, cls, stores, known) if stores else None
+        compiled = compile_own_writes(func, cls, stores, known) if _config.CHECKS else compile_own_loops(func, cls, loops)
         if compiled is None:
             continue
         installed = cls.__dict__.get(name)
@@ -434,6 +444,11 @@ def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -
             setattr(cls, name, compiled)
         else:  # PRIVATE, PROTECTED or INTERNAL: the guard calls the compiled method
             rewrap(installed, func, compiled)
+
+
+def _loop_fields(cls: Any, layout: ClassLayout) -> dict[str, Any]:
+    """Fast mode: per variable a loop of the block's own code that calls nothing may keep in a local, its ctypes type."""
+    return loop_types({r.name: r.info.ctype for r in raw_elementary(cls, layout)})
 
 
 def _record(cls: type) -> IecClass:
@@ -764,6 +779,7 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
             direct=_positional_call, views=views, known=known, arrays=arrays,
             plain={r.name for r in plain}, counters=counter_ranges(plain), bools=bools,
+            loops=None if _config.CHECKS else _loop_fields(cls, layout),
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
