@@ -162,18 +162,27 @@ def compile_own_loops(func: types.FunctionType, owner: type, loops: dict[str, An
 
     The same function otherwise, as ``compile_own_writes`` makes it; ``loops``
     is the call's (see ``inline_call``). None when the method cannot be
-    compiled as the same code, or no loop of it keeps a variable.
+    compiled as the same code, writes none of ``loops``, or no loop of it
+    keeps a variable.
     """
     code = func.__code__
-    node = _function_node(func, decorated=True) if _may_compile_method(func, owner) and _has_loop(code) else None
-    setting = _recompiles(node, func, set()) if node is not None and not _rebinds_self(node) else None
-    if node is None or setting is None:
+    # Cheap tests first, on the code's opcodes and names: a loop, and a store of a variable (most loops that
+    # write no variable of the block call something); the source is parsed only for what passes.
+    if not (_has_loop(code) and not loops.keys().isdisjoint(code.co_names) and _stores_attribute(code, loops)):
         return None
-    flags, imports = setting
+    if not _may_compile_method(func, owner):
+        return None
+    node = _function_node(func, decorated=True)
     names: dict[str, Any] = {}
     local = {*code.co_varnames, *code.co_cellvars, *code.co_freevars}
-    if not LoopLocals(loops, func.__globals__, local, names).rewrite(node.body):
+    keeping = LoopLocals(loops, func.__globals__, local, names)
+    if node is None or _rebinds_self(node) or not keeping.finds(node.body):
         return None
+    setting = _recompiles(node, func, set())
+    if setting is None:
+        return None
+    flags, imports = setting
+    keeping.rewrite(node.body)
     merged = _compile_in(node, code, sorted(names), flags, imports)
     return _method_from(merged, func, names, owner) if merged is not None else None
 
@@ -246,6 +255,9 @@ def _meets_call(used: set[str], call_names: set[str]) -> bool:
 
 def _returns_value(node: ast.FunctionDef) -> bool:
     """Whether the body's own code has ``return value``: the call returns None."""
+    known = _survey(node).returns_value
+    if known is not None:
+        return known
     return any(isinstance(n, ast.Return) and n.value is not None for n in _own_nodes(node))
 
 
@@ -272,7 +284,6 @@ def _rewritten(
     if bools and not _rebinds_self(node):
         blocks = {member for member, (_key, cls) in members.items() if cls is not None}
         GivenInputs(bools, plain, blocks).rewrite(node.body)
-    call = _with_inputs(node, [p.removesuffix("=_M") for p in params] if positional else params, lines, positional)
     # The rule check is skipped only where __setattr__ skips it: the body is the block's own code.
     own = code in getattr(owner, "_iec_codes_", ())
     writes = {field: spec for field, spec in stores.items() if own or not spec[1]}
@@ -280,17 +291,20 @@ def _rewritten(
         # Only the block's own code may read a STRUCT / ARRAY view without the read-only rule.
         members = {**members, **{field: (key, None) for field, key in views.items()}}
     spans: dict[str, range] = {}
+    # The rewrites see the body's own statements only: the input lines are the builder's, with nothing to rewrite.
+    statements = node.body
     # Only a body with a loop has a FOR to rewrite (its code has a FOR_ITER: a scan in C, no walk of the tree).
     if counters and _FOR_ITER in code.co_code[::2] and not _rebinds_self(node):
-        CounterReads(counters, spans, body.__globals__, local).rewrite(call.body)
+        CounterReads(counters, spans, body.__globals__, local).rewrite(statements)
     if loops and _has_loop(code) and not _rebinds_self(node):
-        LoopLocals(loops, body.__globals__, local, names).rewrite(call.body)
+        LoopLocals(loops, body.__globals__, local, names).rewrite(statements)
     if (writes or members) and not _rebinds_self(node):
-        call.body = _with_members(call.body, writes, members, names, direct, known, arrays, spans)
-    call.body = _with_views_kept(call.body, {key for key, _cls in members.values()}, names, call)
+        statements = _with_members(statements, writes, members, names, direct, known, arrays, spans)
     # Only a body that names one of the literal functions has a literal to read (a walk of its tree otherwise saved).
     if any(body.__globals__.get(name) is literal for name in code.co_names for literal in _LITERALS):
-        call.body = [_Literals(body.__globals__, local, names).visit(statement) for statement in call.body]
+        statements = [_Literals(body.__globals__, local, names).visit(statement) for statement in statements]
+    node.body = _with_views_kept(statements, {key for key, _cls in members.values()}, names, node)
+    call = _with_inputs(node, [p.removesuffix("=_M") for p in params] if positional else params, lines, positional)
     return call
 
 
@@ -326,16 +340,17 @@ def _with_views_kept(statements: list[ast.stmt], keys: set[str], names: dict[str
 
     One key present means every key of the instance's class is (``keep_member_views``).
     """
-    used = sorted(
+    # The first key read, in the order of the statements: the walk ends there.
+    probed = next((
         n.attr for statement in statements for n in ast.walk(statement)
         if isinstance(n, ast.Attribute) and n.attr in keys and isinstance(n.value, ast.Name) and n.value.id == "self"
-    )
-    if not used:
+    ), None) if keys else None
+    if probed is None:
         return statements
     keep, error = f"{_STORE}keep_views", f"{_STORE}attribute_error"
     # The builtin itself: the body's module may bind the name AttributeError to something else.
     names.update({keep: keep_member_views, error: AttributeError})
-    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=used[0], ctx=ast.Load()))
+    probe = ast.Expr(ast.Attribute(value=ast.Name(id="self", ctx=ast.Load()), attr=probed, ctx=ast.Load()))
     fill = ast.Expr(ast.Call(func=ast.Name(id=keep, ctx=ast.Load()), args=[ast.Name(id="self", ctx=ast.Load())], keywords=[]))
     handler = ast.ExceptHandler(type=ast.Name(id=error, ctx=ast.Load()), name=None, body=[fill])
     prologue = ast.Try(body=[probe], handlers=[handler], orelse=[], finalbody=[])
@@ -440,6 +455,8 @@ class _Survey(typing.NamedTuple):
     used: set[str]
     rebinds_self: bool
     calls_attribute: bool
+    #: Whether it has ``return value``, when the walk can tell (None: a nested def or lambda may hold it).
+    returns_value: bool | None
 
 
 def _survey(node: ast.FunctionDef) -> _Survey:
@@ -458,8 +475,12 @@ def _used_names(node: ast.FunctionDef) -> set[str]:
 
 def _walk_survey(node: ast.FunctionDef) -> _Survey:
     found: set[str] = set()
-    rebinds = called = False
+    rebinds = called = returns = nested = False
     for n in ast.walk(node):
+        if isinstance(n, ast.Return):
+            returns = returns or n.value is not None
+        elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)) and n is not node:
+            nested = True
         if isinstance(n, ast.Name):
             found.add(n.id)
             rebinds = rebinds or (n.id == "self" and not isinstance(n.ctx, ast.Load))
@@ -471,7 +492,7 @@ def _walk_survey(node: ast.FunctionDef) -> _Survey:
             rebinds = rebinds or "self" in n.names
         elif (bound := _bound_name(n, node)) is not None:
             found.add(bound)
-    return _Survey(found, rebinds, called)
+    return _Survey(found, rebinds, called, None if returns and nested else returns)
 
 
 def _bound_name(n: ast.AST, top: ast.FunctionDef) -> str | None:

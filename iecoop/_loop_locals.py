@@ -92,6 +92,19 @@ class LoopLocals:
                 changed = self.rewrite(handler.body) or changed
         return changed
 
+    def finds(self, statements: list[ast.stmt]) -> bool:
+        """Whether ``rewrite`` would keep a variable of a loop of ``statements`` in a local (nothing changed)."""
+        for statement in statements:
+            if isinstance(statement, (ast.For, ast.While)) and self._used(statement):
+                return True
+            if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                continue
+            inner = [getattr(statement, part, None) for part in ("body", "orelse", "finalbody")]
+            inner += [h.body for h in (*getattr(statement, "handlers", ()), *getattr(statement, "cases", ()))]
+            if any(isinstance(part, list) and self.finds(part) for part in inner):
+                return True
+        return False
+
     # -- which loops, which variables ------------------------------------------
 
     def _used(self, loop: ast.For | ast.While) -> dict[str, bool] | None:

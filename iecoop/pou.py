@@ -430,7 +430,7 @@ def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -
         if not stores:
             return
     else:
-        loops = _loop_fields(cls, layout)
+        loops = _loop_fields(raw_elementary(cls, layout))
         if not loops:
             return
     for name, func in namespace.items():
@@ -446,9 +446,10 @@ def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -
             rewrap(installed, func, compiled)
 
 
-def _loop_fields(cls: Any, layout: ClassLayout) -> dict[str, Any]:
-    """Fast mode: per variable a loop of the block's own code that calls nothing may keep in a local, its ctypes type."""
-    return loop_types({r.name: r.info.ctype for r in raw_elementary(cls, layout)})
+def _loop_fields(plain: list[FieldRecord]) -> dict[str, Any]:
+    """Fast mode: of the variables read from their ctypes fields (``raw_elementary``), those a loop of the
+    block's own code that calls nothing may keep in a local, with their ctypes types."""
+    return loop_types({r.name: r.info.ctype for r in plain})
 
 
 def _record(cls: type) -> IecClass:
@@ -686,8 +687,9 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
     params: list[str] = []
     lines: list[str] = []
-    # The inputs a read of `self.x` takes from the ctypes field itself, with no code run.
-    raw = {r.name for r in raw_elementary(cls, layout)}
+    # The variables a read of `self.x` takes from the ctypes field itself, with no code run.
+    plain = raw_elementary(cls, layout)
+    raw = {r.name for r in plain}
     for i, record in enumerate(inputs):
         params.append(f"{record.name}=_M")
         info = record.info
@@ -773,13 +775,12 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             if isinstance(r.info, ArrayInfo) and len(r.info.bounds) == 1 and isinstance(r.info.elem, AggregateInfo)
             and getattr(r.info.elem.cls, "_iec_tagged_", False)
         }
-        plain = raw_elementary(cls, layout)  # read from their ctypes fields: no code runs on a read
         bools = {r.name for r in plain if accepted_type(r.info) is bool} & {r.name for r in inputs}
         inlined = inline_call(
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
             direct=_positional_call, views=views, known=known, arrays=arrays,
-            plain={r.name for r in plain}, counters=counter_ranges(plain), bools=bools,
-            loops=None if _config.CHECKS else _loop_fields(cls, layout),
+            plain=raw, counters=counter_ranges(plain), bools=bools,
+            loops=None if _config.CHECKS else _loop_fields(plain),
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
