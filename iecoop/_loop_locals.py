@@ -3,8 +3,9 @@
 In fast mode a read of ``self.x`` is a ctypes field read and ``self.x = v`` a
 ctypes store, each many times the cost of a local's. A loop whose statements
 call nothing, and read and write only local names and the block's own
-elementary variables, lets no other code look at the block between two of its
-passes. So, as a compiler keeps a variable in a register through a loop, the
+elementary variables, lets no other code of the program run between two of
+its passes (a client reading from another thread sees the value from before
+the loop, as a PLC's client sees what its compiled code has stored so far). So, as a compiler keeps a variable in a register through a loop, the
 loop reads each such variable once before it starts, works on a local, and
 stores what it wrote when it ends, by whatever way it ends (``finally``)::
 
