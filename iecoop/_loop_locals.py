@@ -9,14 +9,14 @@ the loop, as a PLC's client sees what its compiled code has stored so far). So, 
 loop reads each such variable once before it starts, works on a local, and
 stores what it wrote when it ends, by whatever way it ends (``finally``)::
 
-    _iec_w_l_x = self.x
+    _iec_w_l_f_x = self.x
     try:
         for _ in range(n):
-            _iec_w_l_value = _iec_w_l_x + 1
-            _iec_w_l_x = (_iec_w_l_value if _iec_w_l_value.__class__ is _iec_w_l_int
-                          and -32768 <= _iec_w_l_value <= 32767 else _iec_w_l_x_type(_iec_w_l_value).value)
+            _iec_w_l_value = _iec_w_l_f_x + 1
+            _iec_w_l_f_x = (_iec_w_l_value if _iec_w_l_value.__class__ is _iec_w_l_int
+                            and -32768 <= _iec_w_l_value <= 32767 else _iec_w_l_t_x(_iec_w_l_value).value)
     finally:
-        self.x = _iec_w_l_x
+        self.x = _iec_w_l_f_x
 
 Each store to the local takes the value the field would hold after the store:
 an ``int`` within the type's range (a ``bool`` for BOOL, a ``float`` for
@@ -172,7 +172,7 @@ class LoopLocals:
     def _kept(self, loop: ast.For | ast.While, used: dict[str, bool]) -> list[ast.stmt]:
         """The loop between the reads of its variables into locals and the stores of those it writes."""
         for field in used:
-            self.names[f"{_PREFIX}{field}_type"] = self.fields[field]
+            self.names[_type(field)] = self.fields[field]
         _Locals(self).visit(loop)
         reads = [_assign(_local(f), _self(f, ast.Load())) for f in sorted(used)]
         stores: list[ast.stmt] = [_assign(_self(f, ast.Store()), ast.Name(_local(f), ast.Load())) for f in sorted(used) if used[f]]
@@ -187,7 +187,7 @@ class LoopLocals:
         """The value the field would hold after storing ``value`` (a name, read more than once)."""
         ctype = self.fields[field]
         convert = ast.Attribute(
-            ast.Call(ast.Name(f"{_PREFIX}{field}_type", ast.Load()), [value], []), "value", ast.Load(),
+            ast.Call(ast.Name(_type(field), ast.Load()), [value], []), "value", ast.Load(),
         )
         if ctype is ctypes.c_bool:
             test: ast.expr = ast.BoolOp(ast.Or(), [
@@ -266,7 +266,13 @@ def _self_field(node: ast.expr) -> str | None:
 
 
 def _local(field: str) -> str:
-    return f"{_PREFIX}{field}"
+    """The local a loop keeps ``field`` in: a name of its own beside the rewrite's (``_VALUE``, ``_INT``, ``_FLOAT``)."""
+    return f"{_PREFIX}f_{field}"
+
+
+def _type(field: str) -> str:
+    """The name the rewritten code reads ``field``'s ctypes type under."""
+    return f"{_PREFIX}t_{field}"
 
 
 def _self(field: str, ctx: ast.expr_context) -> ast.Attribute:

@@ -226,6 +226,29 @@ def test_checked_mode_loops_read_and_write_the_block_on_every_pass() -> None:
     assert "LOAD_ATTR" in _attribute_ops(Totals.__dict__["add"], "passes")
 
 
+class Named(FunctionBlock):
+    """Variables named as the rewrite's own names might be: each keeps its own value."""
+
+    value: INT = VAR(0)
+    int: DINT = VAR(0)
+    float: LREAL = VAR(0.0)
+    t_value: INT = VAR(0)
+
+    @method
+    def run(self, n: DINT) -> None:
+        for k in range(n):
+            self.value = self.value + 2
+            self.int = k
+            self.t_value = self.value + 1
+            self.float = self.float + 0.5
+
+
+def test_variables_named_as_the_rewrites_names_keep_their_own_values() -> None:
+    fb = Named()
+    fb.run(10)
+    assert (fb.value, fb.int, fb.t_value, fb.float) == (20, 9, 21, 5.0)
+
+
 # -- random loops: compiled from their source, and run as written ---------------------------------
 
 FIELDS = {"a": ("INT", 16, True), "b": ("USINT", 8, False), "c": ("DINT", 32, True)}
