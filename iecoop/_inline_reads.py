@@ -18,7 +18,7 @@ from typing import Any
 
 from iecoop._value_class import COUNTER
 
-__all__ = ["CounterReads", "GivenInputs", "OwnCode", "located"]
+__all__ = ["PLAIN_NODES", "CounterReads", "GivenInputs", "OwnCode", "inner_statements", "located", "python_global", "self_field"]
 
 _Node = typing.TypeVar("_Node", bound=ast.AST)
 
@@ -36,6 +36,21 @@ class OwnCode(ast.NodeTransformer):
 
     visit_AsyncFunctionDef = visit_Lambda = visit_ClassDef = visit_FunctionDef
     visit_ListComp = visit_SetComp = visit_DictComp = visit_GeneratorExp = visit_FunctionDef
+
+
+def inner_statements(statement: ast.stmt) -> list[list[ast.stmt]]:
+    """The lists of statements ``statement`` holds (its body, else, finally, handlers, cases); none for a def
+    or class, whose code is its own."""
+    if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+        return []
+    found = [inner for part in ("body", "orelse", "finalbody") if isinstance(inner := getattr(statement, part, None), list)]
+    return found + [part.body for part in (*getattr(statement, "handlers", ()), *getattr(statement, "cases", ()))]
+
+
+def python_global(name: str, local: set[str], module_globals: dict[str, Any]) -> Any:
+    """What the name ``name`` of a function's code reads, when it is not one of its ``local`` names: the
+    module's global, else the builtin (None when neither)."""
+    return None if name in local else module_globals.get(name, getattr(builtins, name, None))
 
 
 class CounterReads:
@@ -64,35 +79,29 @@ class CounterReads:
         """Rewrite, in place, every FOR of ``statements`` at any depth of statements (an inner loop first);
         the expressions are not walked, nor the defs and classes nested in them."""
         for statement in statements:
-            if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-                continue
-            for field in ("body", "orelse", "finalbody"):
-                inner = getattr(statement, field, None)
-                if isinstance(inner, list):
-                    self.rewrite(inner)
-            for part in (*getattr(statement, "handlers", ()), *getattr(statement, "cases", ())):
-                self.rewrite(part.body)
+            for inner in inner_statements(statement):
+                self.rewrite(inner)
             if isinstance(statement, ast.For):
                 self._counted(statement)
 
     def _counted(self, node: ast.For) -> None:
-        target = node.target
-        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+        target, field = node.target, self_field(node.target)
+        if field is None:
             return
-        span, values = self.counters.get(target.attr), self._range(node.iter)
-        if span is None or values is None or _stores_field(node.body, target.attr):
+        span, values = self.counters.get(field), self._range(node.iter)
+        if span is None or values is None or _stores_field(node.body, field):
             return
         if values and not (span[0] <= min(values) and max(values) <= span[1]):
             return
-        local = f"{COUNTER}{len(self.spans)}_{target.attr}"
+        local = f"{COUNTER}{len(self.spans)}_{field}"
         self.spans[local] = values
-        reads = _CounterRead(target.attr, local, values, self._is_mod)
+        reads = _CounterRead(field, local, values, self._is_mod)
         store = ast.Assign(targets=[target], value=ast.Name(id=local, ctx=ast.Load()))
         node.target = ast.copy_location(ast.Name(id=local, ctx=ast.Store()), target)
         node.body = [located(store, node), *(reads.visit(statement) for statement in node.body)]
 
     def _global(self, name: str) -> Any:
-        return None if name in self.local else self.globals.get(name, getattr(builtins, name, None))
+        return python_global(name, self.local, self.globals)
 
     def _range(self, node: ast.expr) -> range | None:
         """The values of ``range(<constants>)`` (``range`` being Python's), else None."""
@@ -220,7 +229,7 @@ class GivenInputs:
             elif isinstance(n, ast.Name):
                 if not isinstance(n.ctx, ast.Load):
                     return None
-            elif not isinstance(n, _PLAIN_NODES):
+            elif not isinstance(n, PLAIN_NODES):
                 return None
         return reads
 
@@ -268,12 +277,17 @@ class GivenInputs:
 
 
 #: The nodes of an expression that runs no code of its own: constants and operators over the values read.
-_PLAIN_NODES = (ast.Constant, ast.BoolOp, ast.UnaryOp, ast.Compare, ast.BinOp, ast.IfExp, ast.boolop, ast.unaryop,
+PLAIN_NODES = (ast.Constant, ast.BoolOp, ast.UnaryOp, ast.Compare, ast.BinOp, ast.IfExp, ast.boolop, ast.unaryop,
                 ast.cmpop, ast.operator, ast.expr_context)
+
+
+def self_field(node: ast.expr) -> str | None:
+    """``self.x`` (read, stored or deleted) -> ``"x"``, else None."""
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":
+        return node.attr
+    return None
 
 
 def _self_read(node: ast.expr) -> str | None:
     """``self.x`` (a read) -> ``"x"``, else None."""
-    if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load) and isinstance(node.value, ast.Name):
-        return node.attr if node.value.id == "self" else None
-    return None
+    return self_field(node) if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load) else None

@@ -5,9 +5,10 @@ ctypes store, each many times the cost of a local's. A loop whose statements
 call nothing, and read and write only local names and the block's own
 elementary variables, lets no other code of the program run between two of
 its passes (a client reading from another thread sees the value from before
-the loop, as a PLC's client sees what its compiled code has stored so far). So, as a compiler keeps a variable in a register through a loop, the
-loop reads each such variable once before it starts, works on a local, and
-stores what it wrote when it ends, by whatever way it ends (``finally``)::
+the loop, as a PLC's client sees what its compiled code has stored so far).
+So, as a compiler keeps a variable in a register through a loop, the loop
+reads each such variable once before it starts, works on a local, and stores
+what it wrote when it ends, by whatever way it ends (``finally``)::
 
     _iec_w_l_f_x = self.x
     try:
@@ -30,11 +31,13 @@ in the loop sees the block's memory as the code left it.
 from __future__ import annotations
 
 import ast
-import builtins
 import ctypes
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from iecoop._inline_reads import located
+from iecoop._inline_reads import PLAIN_NODES, inner_statements, located, python_global, self_field
+
+if TYPE_CHECKING:
+    from iecoop.memory.layout import FieldRecord
 
 __all__ = ["LoopLocals", "loop_types"]
 
@@ -45,16 +48,15 @@ _INTEGERS = (
     ctypes.c_int8, ctypes.c_uint8, ctypes.c_int16, ctypes.c_uint16, ctypes.c_int32, ctypes.c_uint32,
     ctypes.c_int64, ctypes.c_uint64,
 )
-#: The nodes of an expression that runs no code of its own: constants and operators over the values read.
-_VALUE_NODES = (
-    ast.Constant, ast.Name, ast.BoolOp, ast.UnaryOp, ast.Compare, ast.BinOp, ast.IfExp, ast.boolop, ast.unaryop,
-    ast.cmpop, ast.operator, ast.expr_context,
-)
+#: The nodes of an expression that runs no code of its own: constants, names and operators over the values read.
+_VALUE_NODES = (*PLAIN_NODES, ast.Name)
+_KEPT = (*_INTEGERS, ctypes.c_bool, ctypes.c_double)
 
 
-def loop_types(fields: dict[str, Any]) -> dict[str, Any]:
-    """Of ``fields`` (per elementary variable read from its ctypes field, its ctypes type), those a loop may keep."""
-    return {name: ctype for name, ctype in fields.items() if ctype in _INTEGERS or ctype in (ctypes.c_bool, ctypes.c_double)}
+def loop_types(plain: list[FieldRecord]) -> dict[str, Any]:
+    """Of the elementary variables read from their ctypes fields (``writes.raw_elementary``), those a loop may
+    keep in a local, with their ctypes types."""
+    return {r.name: r.info.ctype for r in plain if r.info.ctype in _KEPT}
 
 
 class LoopLocals:
@@ -75,36 +77,24 @@ class LoopLocals:
         index = 0
         while index < len(statements):
             statement = statements[index]
-            used = self._used(statement) if isinstance(statement, (ast.For, ast.While)) else None
-            if used and isinstance(statement, (ast.For, ast.While)):
+            if isinstance(statement, (ast.For, ast.While)) and (used := self._used(statement)):
                 kept = self._kept(statement, used)
                 statements[index:index + 1] = kept
                 index += len(kept)
                 changed = True
                 continue
             index += 1
-            if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-                continue
-            for part in ("body", "orelse", "finalbody"):
-                inner = getattr(statement, part, None)
-                if isinstance(inner, list):
-                    changed = self.rewrite(inner) or changed
-            for handler in (*getattr(statement, "handlers", ()), *getattr(statement, "cases", ())):
-                changed = self.rewrite(handler.body) or changed
+            for inner in inner_statements(statement):
+                changed = self.rewrite(inner) or changed
         return changed
 
     def finds(self, statements: list[ast.stmt]) -> bool:
         """Whether ``rewrite`` would keep a variable of a loop of ``statements`` in a local (nothing changed)."""
-        for statement in statements:
-            if isinstance(statement, (ast.For, ast.While)) and self._used(statement):
-                return True
-            if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-                continue
-            inner = [getattr(statement, part, None) for part in ("body", "orelse", "finalbody")]
-            inner += [h.body for h in (*getattr(statement, "handlers", ()), *getattr(statement, "cases", ()))]
-            if any(isinstance(part, list) and self.finds(part) for part in inner):
-                return True
-        return False
+        return any(
+            isinstance(statement, (ast.For, ast.While)) and self._used(statement)
+            or any(self.finds(inner) for inner in inner_statements(statement))
+            for statement in statements
+        )
 
     # -- which loops, which variables ------------------------------------------
 
@@ -137,7 +127,7 @@ class LoopLocals:
     def _target(self, node: ast.expr, used: dict[str, bool]) -> bool:
         if isinstance(node, ast.Name):
             return node.id != "self"
-        field = _self_field(node)
+        field = self_field(node)
         if field is None or field not in self.fields:
             return False
         used[field] = True
@@ -149,7 +139,7 @@ class LoopLocals:
         while todo:
             n = todo.pop()
             if isinstance(n, ast.Attribute):
-                field = _self_field(n)
+                field = self_field(n)
                 if field is None or field not in self.fields:
                     return False
                 used.setdefault(field, False)
@@ -163,8 +153,7 @@ class LoopLocals:
         """``range(<values>)``, ``range`` being Python's."""
         if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.keywords):
             return False
-        name = node.func.id
-        found = None if name in self.local else self.globals.get(name, getattr(builtins, name, None))
+        found = python_global(node.func.id, self.local, self.globals)
         return found is range and 1 <= len(node.args) <= 3 and all(self._value(a, used) for a in node.args)
 
     # -- the rewrite -----------------------------------------------------------
@@ -216,7 +205,7 @@ class _Locals(ast.NodeTransformer):
         self.loops = loops
 
     def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
-        field = _self_field(node)
+        field = self_field(node)
         if field is not None and field in self.loops.fields and isinstance(node.ctx, ast.Load):
             return ast.copy_location(ast.Name(_local(field), ast.Load()), node)
         return self.generic_visit(node)
@@ -232,7 +221,7 @@ class _Locals(ast.NodeTransformer):
         return done
 
     def visit_AugAssign(self, node: ast.AugAssign) -> Any:
-        field = _self_field(node.target)
+        field = self_field(node.target)
         node.value = self.visit(node.value)
         if field is None:
             return node
@@ -252,17 +241,10 @@ class _Locals(ast.NodeTransformer):
     def _store(self, target: ast.expr) -> ast.stmt:
         """``target = _iec_w_l_value``, a kept variable's local taking the value its field would hold."""
         value = ast.Name(_VALUE, ast.Load())
-        field = _self_field(target)
+        field = self_field(target)
         if field is None:
             return ast.Assign(targets=[target], value=value)
         return _assign(_local(field), self.loops.converted(field, value))
-
-
-def _self_field(node: ast.expr) -> str | None:
-    """``self.x`` -> ``"x"``, else None."""
-    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":
-        return node.attr
-    return None
 
 
 def _local(field: str) -> str:

@@ -430,7 +430,7 @@ def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -
         if not stores:
             return
     else:
-        loops = _loop_fields(raw_elementary(cls, layout))
+        loops = loop_types(raw_elementary(cls, layout))
         if not loops:
             return
     for name, func in namespace.items():
@@ -444,12 +444,6 @@ def _compile_methods(cls: Any, layout: ClassLayout, namespace: dict[str, Any]) -
             setattr(cls, name, compiled)
         else:  # PRIVATE, PROTECTED or INTERNAL: the guard calls the compiled method
             rewrap(installed, func, compiled)
-
-
-def _loop_fields(plain: list[FieldRecord]) -> dict[str, Any]:
-    """Fast mode: of the variables read from their ctypes fields (``raw_elementary``), those a loop of the
-    block's own code that calls nothing may keep in a local, with their ctypes types."""
-    return loop_types({r.name: r.info.ctype for r in plain})
 
 
 def _record(cls: type) -> IecClass:
@@ -702,17 +696,13 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             globs[f"_store{i}"] = info.store
             lines.append(f"    if {record.name} is not _M: _store{i}(self, {record.offset}, {record.name}, {record.where!r})")
         elif info.direct:
-            accepted = accepted_type(info)
-            # A value of the accepted class equal to the one held stores nothing new (see _changed).
-            changed = _changed(record.name, accepted) if accepted is not None and record.name in raw else None
-            globs[f"_type{i}"] = accepted
+            accepted = globs[f"_type{i}"] = accepted_type(info)
+            # A value equal to the one its field holds stores nothing new (see _changed); only a field
+            # read with no code run is compared.
+            compared = accepted is not None and record.name in raw
             if not _config.CHECKS:
                 # fast mode: a plain attribute store reaches the ctypes field in C
-                # Identity decides for BOOL whatever the value; another type compares a value of its class only.
-                test = (
-                    "" if changed is None else f" and {changed}" if accepted is bool
-                    else f" and ({record.name}.__class__ is not _type{i} or {changed})"
-                )
+                test = f" and ({_changed(record.name, accepted, f'_type{i}')})" if compared else ""
                 lines.append(f"    if {record.name} is not _M{test}: self.{record.name} = {record.name}")
                 continue
             globs[f"_check{i}"] = info.validate
@@ -720,11 +710,11 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             lines.append(f"    if {record.name} is not _M:")
             lines.append(f"        if {record.name}.__class__ is not _type{i}:")
             lines.append(f"            _check{i}({record.name}, {record.where!r})")
-            if changed is None:
-                lines.append(f"        _set{i}(self, {record.name})")
-            else:
+            if compared:
                 lines.append(f"            _set{i}(self, {record.name})")
-                lines.append(f"        elif {changed}: _set{i}(self, {record.name})")
+                lines.append(f"        elif {_changed(record.name, accepted)}: _set{i}(self, {record.name})")
+            else:
+                lines.append(f"        _set{i}(self, {record.name})")
         else:
             globs[f"_desc{i}"] = getattr(cls, record.name).__set__
             lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")
@@ -780,7 +770,7 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             name, body, params, lines, globs, given, cls, stores, members, positional=positional,
             direct=_positional_call, views=views, known=known, arrays=arrays,
             plain=raw, counters=counter_ranges(plain), bools=bools,
-            loops=None if _config.CHECKS else _loop_fields(plain),
+            loops=None if _config.CHECKS else loop_types(plain),
         )
         if inlined is not None:
             inlined.__doc__ = f"Call {name}: set the named inputs, bind the in-outs, run body()."
@@ -803,21 +793,21 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     return call
 
 
-def _changed(name: str, accepted: type | None) -> str:
-    """The test that a given input of class ``accepted`` differs from the value its field holds.
+def _changed(name: str, accepted: type | None, unchecked: str | None = None) -> str:
+    """The test that a given input differs from the value its field holds, for a value of class ``accepted``;
+    ``unchecked``: the name of that class, when the value's class is not known yet (fast mode).
 
     An input a scan passes again and again (``fb(enable := bSensor)``) mostly
     holds it already, and a read of the field costs less than a store. The test
-    is exact: a BOOL field holds ``True`` or ``False``, so identity decides; an
-    integer equal to the held one stores that same value; a REAL equal to the
-    held one is the same number except for a zero's sign, so zero is always
-    stored.
+    is exact: a BOOL field holds ``True`` or ``False``, so identity decides
+    whatever the value; an integer equal to the held one stores that same
+    value; a REAL equal to the held one is the same number except for a zero's
+    sign, so zero is always stored. A value of another class is always stored.
     """
     if accepted is bool:
         return f"{name} is not self.{name}"
-    if accepted is float:
-        return f"{name} != self.{name} or not {name}"
-    return f"{name} != self.{name}"
+    test = f"{name} != self.{name} or not {name}" if accepted is float else f"{name} != self.{name}"
+    return test if unchecked is None else f"{name}.__class__ is not {unchecked} or {test}"
 
 
 def _positional_call(cls: Any) -> tuple[types.CellType, tuple[str, ...]]:
