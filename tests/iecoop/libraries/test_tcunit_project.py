@@ -371,7 +371,7 @@ def test_a_project_referencing_tc3_module_runs_and_one_using_its_names_is_refuse
               "TEST('Template');\nAssertEquals_INT(Expected := 3, Actual := 1 + 2, Message := 'sum');\nTEST_FINISHED();\n")
     project = _project(tmp_path, {"FB_Checks": checks, "PRG_TEST": _PRG}, references="Tc2_Standard Tc2_System Tc3_Module TcUnit")
     assert [(t.name, t.status) for t in run_project(project).tests] == [("Template", "passed")]
-    using = ("FUNCTION_BLOCK FB_Checks EXTENDS TcUnit.FB_TestSuite\nVAR nObject : Tc3_Module.OTCID; END_VAR\n", checks[1])
+    using = ("FUNCTION_BLOCK FB_Checks EXTENDS TcUnit.FB_TestSuite\nVAR ipObject : Tc3_Module.ITComObject; END_VAR\n", checks[1])
     project = _project(tmp_path, {"FB_Checks": using, "PRG_TEST": _PRG}, references="Tc3_Module TcUnit")
     assert main(["test", str(project)]) == 2
-    assert "FB_Checks.TcPOU:4: unknown type 'Tc3_Module.OTCID': library Tc3_Module declares no OTCID" in capsys.readouterr().err
+    assert "FB_Checks.TcPOU:4: unknown type 'Tc3_Module.ITComObject': library Tc3_Module declares no ITComObject" in capsys.readouterr().err
