@@ -269,6 +269,8 @@ class Calls(Expressions):
         upper = name.upper()
         if self._user_named(name, scope):
             return None
+        if upper == "__POUNAME":
+            return self._pou_name(node, scope)
         if upper in ("ADR", "__QUERYPOINTER", "__QUERYINTERFACE", "__ISVALIDREF", "TEST_AND_SET", "TESTANDSET",
                      "SIZEOF", "__NEW", "__DELETE", "__VARINFO"):
             return self.operator_call(upper, node, scope, level)  # operands that are types, not values
@@ -290,6 +292,13 @@ class Calls(Expressions):
         if upper in ("AND", "OR", "XOR", "NOT"):
             raise self.fail(f"{upper} in function form is not supported (use the operator)", node)
         return None
+
+    def _pou_name(self, node: Any, scope: Scope) -> Ex:
+        """``__POUNAME()``: the name of the POU the code stands in (a METHOD's qualified with its block's), a STRING."""
+        if node.parameters:
+            raise self.fail("__POUNAME() takes no operands", node)
+        name = scope.pou_name or (scope.owner.st if scope.owner is not None else "")
+        return Ex(repr(name), STRING)
 
     def _numeric_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
         """ABS, the math functions, MIN / MAX / LIMIT / SEL / MUX, MOVE, the shifts and rotations, TRUNC; else None."""

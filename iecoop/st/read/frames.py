@@ -65,6 +65,8 @@ class Scope:
         self.output_inits: list[str] = []
         #: ``FB_X.Method`` or ``F_Name`` for a METHOD or FUNCTION: names its helper classes
         self.pou = ""
+        #: what ``__POUNAME()`` gives here, when it is not the owner's ST name: ``FB_X.Method``, ``FB_X.Prop.Get``, ``F_Name``
+        self.pou_name = ""
         #: the ARRAY and structured inputs passed by value, with their initialisers: copied at the call
         self.by_value: list[tuple[Member, Any]] = []
         #: whether the top statement list (the only one that may hold labels) is being written

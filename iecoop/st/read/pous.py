@@ -152,6 +152,7 @@ class Pous(Locals):
             method = decl.methods[str(node.name).lower()]
             scope = Scope(decl, "method")
             scope.pou = f"{decl.name}.{method.name}"
+            scope.pou_name = f"{decl.st}.{node.name}"
             for block in node.declarations:
                 if not isinstance(block, tf.MethodInstanceVariableDeclarations):
                     continue
@@ -290,6 +291,7 @@ class Pous(Locals):
         scope = Scope(decl, "method", return_name=python_name(name) if info.returns is not None else None)
         scope.return_st = name
         scope.pou = f"{decl.name}.{info.name}"
+        scope.pou_name = f"{decl.st}.{name}"
         self.emit("", 0)
         self.comments(node, 1)
         decorators = []
@@ -343,7 +345,9 @@ class Pous(Locals):
             self.emit(self._access_decorator(None, st=name, python=python_name(name, attribute=True)), 1)
             self.emit(f"def {python_name(name, attribute=True)}(self) -> None:", 1)
             self.emit(f'"""ACTION {name}."""', 2)
-            self._emit_statements(statements_of(node.body), Scope(decl, "body"), 2)
+            scope = Scope(decl, "body")
+            scope.pou_name = f"{decl.st}.{name}"
+            self._emit_statements(statements_of(node.body), scope, 2)
 
     def prototype(self, returns: TypeRef | None, level: int) -> None:
         """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
@@ -412,6 +416,7 @@ class Pous(Locals):
             else:
                 scope = Scope(decl, "getter", return_name=python_name(prop.st))
                 scope.return_st = prop.st
+                scope.pou_name = f"{decl.st}.{prop.st}.Get"
                 self._emit_callable_body(getter, scope, prop.type, 2)
             if setter is not None:
                 self.emit("", 0)
@@ -427,6 +432,7 @@ class Pous(Locals):
                     self.emit("...", 2)
                 else:
                     scope = Scope(decl, "setter")
+                    scope.pou_name = f"{decl.st}.{prop.st}.Set"
                     scope.locals[prop.st.lower()] = Member(python_name(prop.st), prop.type, "VAR_INPUT", st=prop.st)
                     self._emit_callable_body(setter, scope, None, 2)
 
@@ -485,6 +491,7 @@ class Pous(Locals):
         scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
         scope.return_st = decl.st
         scope.pou = decl.name
+        scope.pou_name = decl.st
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)
         self._need_type(info.returns)
