@@ -364,6 +364,10 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
+        if name.upper() == "PVOID" and "pvoid" not in self.decls:
+            # TwinCAT's untyped address (an alias of __UXINT): a POINTER TO BYTE here, which takes any address
+            # and gives it on to MEMCPY and the like; ST never dereferences a PVOID
+            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE"))
         system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
         if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
             return TypeRef("elem", system)
