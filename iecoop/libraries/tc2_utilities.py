@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import collections
 import datetime
+import math
 from collections.abc import Callable
 from typing import Annotated, Any
 
@@ -51,7 +52,7 @@ __all__ = [
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
     "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
-    "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
+    "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "LrealIsFinite", "LrealIsNaN", "NT_GetTime", "SYSTEMTIME_TO_DT",
     "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
     "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
     "stLibVersion_Tc2_Utilities",
@@ -462,6 +463,16 @@ def F_LTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
 def F_RTrim(in_: T_MaxString) -> T_MaxString:  # noqa: N802 - the ST name
     """``F_RTrim(in)``: ``in`` without its trailing blanks."""
     return in_.rstrip(" ")
+
+
+def LrealIsNaN(x: LREAL) -> BOOL:  # noqa: N802 - the ST name
+    """``LrealIsNaN(x)``: TRUE when x is not a number (NaN)."""
+    return math.isnan(x)
+
+
+def LrealIsFinite(x: LREAL) -> BOOL:  # noqa: N802 - the ST name
+    """``LrealIsFinite(x)``: TRUE when x is neither infinite nor NaN."""
+    return math.isfinite(x)
 
 
 def _digits(value: int, base: int, precision: int, lower: bool = False) -> str:
