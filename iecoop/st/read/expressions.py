@@ -8,10 +8,12 @@ from typing import Any
 
 import blark.transform as tf
 
+from iecoop.exceptions import DefinitionError
 from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, VAR_INFO_MEMBERS
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
+from iecoop.st.read.lookup import unknown_name
 from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, variables
 
@@ -401,7 +403,13 @@ class Expressions(Literals):
         if str(node.name.name).lower() == "twincat_systeminfovarlist" and isinstance(first, tf.FieldSelector) \
                 and str(first.field).lower() == "_taskinfo":  # the system list's name written out
             return self.task_info(list(node.elements[1:]), node, scope, store)
-        current = self.visit_SimpleVariable(node.name, scope)
+        try:
+            current = self.visit_SimpleVariable(node.name, scope)
+        except DefinitionError:
+            if isinstance(first, tf.FieldSelector) and str(node.name.name).lower() in self.decls.namespaces:
+                # Tc2_Utilities.NoSuch(x): say which library lacks which name, not that the namespace is no variable
+                raise self.fail(unknown_name("name", f"{node.name.name}.{first.field}", self.decls), node) from None
+            raise
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):

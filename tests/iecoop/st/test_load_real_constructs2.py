@@ -1,0 +1,169 @@
+"""More constructs public TwinCAT projects write: each loaded and run, the values worked by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+from iecoop.exceptions import DefinitionError
+from iecoop.libraries import tc3_module
+
+st = pytest.importorskip("iecoop.st")
+
+
+# --- HRESULT and its constants, from Tc3_Module -----------------------------------------------------
+
+RESULTS = """FUNCTION F_Worse : HRESULT
+VAR_INPUT hrA : HRESULT; hrB : HRESULT; END_VAR
+IF hrA.31 THEN F_Worse := hrA;
+ELSIF hrB.31 THEN F_Worse := hrB;
+ELSIF hrA >= hrB THEN F_Worse := hrA;
+ELSE F_Worse := hrB;
+END_IF
+END_FUNCTION
+FUNCTION_BLOCK FB_Step
+VAR_INPUT nCycle : INT; END_VAR
+VAR_OUTPUT hrLast : HRESULT; bFailed : BOOL; bOk : BOOL; nCode : DWORD; idObject : OTCID := 16#71010005; END_VAR
+VAR hrNow : HRESULT; END_VAR
+CASE nCycle OF
+    1: hrNow := S_OK;
+    2: hrNow := S_PENDING;
+    3: hrNow := DWORD_TO_DINT(16#98110704);
+ELSE hrNow := S_FALSE;
+END_CASE
+hrLast := F_Worse(hrLast, hrNow);
+bFailed := FAILED(hrLast);
+bOk := SUCCEEDED(hrNow) AND hrNow <> S_FALSE;
+nCode := TO_DWORD(hrLast) AND 16#FFF;
+END_FUNCTION_BLOCK
+"""
+
+
+def test_hresult_and_the_status_constants_of_tc3_module() -> None:
+    # TYPE HRESULT : DINT; S_OK 0, S_FALSE 1, S_PENDING 16#203; SUCCEEDED(hr) is hr >= 0, FAILED(hr) hr < 0
+    plc = st.load(RESULTS, libraries={"Tc3_Module": tc3_module})
+    fb = plc.FB_Step()
+    seen = []
+    for cycle in (1, 2, 4, 3, 1):
+        fb(nCycle=cycle)
+        seen.append((fb.hrLast, fb.bFailed, fb.bOk, fb.nCode))
+    assert seen == [
+        (0, False, True, 0),  # S_OK
+        (0x203, False, True, 0x203),  # S_PENDING outranks S_OK
+        (0x203, False, False, 0x203),  # S_FALSE (1) is lower than S_PENDING, and not OK
+        (0x98110704 - 2**32, True, False, 0x704),  # an error (bit 31 set) wins, as a negative DINT
+        (0x98110704 - 2**32, True, True, 0x704),  # and stays: a later S_OK is not worse
+    ]
+    assert fb.idObject == 0x71010005  # OTCID is a UDINT
+
+
+def test_hresult_is_a_name_of_tc3_module_only() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:2: unknown type 'HRESULT'"):
+        st.load(RESULTS)
+
+
+# --- __POUNAME() ------------------------------------------------------------------------------------
+
+POU_NAMES = """FUNCTION F_Tag : STRING
+VAR_INPUT sWhat : STRING; END_VAR
+F_Tag := CONCAT(CONCAT(__POUNAME(), ':'), sWhat);
+END_FUNCTION
+FUNCTION_BLOCK FB_Valve
+VAR_OUTPUT sClass : STRING := __POUNAME(); sLast : STRING; nCalls : INT; END_VAR
+nCalls := nCalls + 1;
+sLast := CONCAT(__POUNAME(), INT_TO_STRING(nCalls));
+END_FUNCTION_BLOCK
+METHOD Describe : STRING
+Describe := CONCAT(__POUNAME(), F_Tag('open'));
+END_METHOD
+PROGRAM P_Line
+VAR sName : STRING(40) := __POUNAME(); fbValve : FB_Valve; sInfo : STRING; END_VAR
+fbValve();
+sInfo := fbValve.Describe();
+END_PROGRAM
+"""
+
+
+def test_pouname_is_the_name_of_the_pou_it_stands_in() -> None:
+    # __POUNAME() is the name of the POU whose code it stands in, as a STRING: in a METHOD the block's
+    # name with the method's (FB_Valve.Describe), as TwinCAT writes it
+    plc = st.load(POU_NAMES)
+    assert plc.F_Tag("x") == "F_Tag:x"
+    valve = plc.FB_Valve()
+    assert valve.sClass == "FB_Valve"
+    valve()
+    valve()
+    assert (valve.sLast, valve.nCalls) == ("FB_Valve2", 2)
+    plc.P_Line()
+    assert plc.P_Line.sName == "P_Line"
+    assert plc.P_Line.sInfo == "FB_Valve.DescribeF_Tag:open"
+
+
+def test_pouname_takes_no_operands() -> None:
+    with pytest.raises(DefinitionError, match=r"__POUNAME\(\) takes no operands"):
+        st.load("FUNCTION F_Bad : STRING\nF_Bad := __POUNAME(1);\nEND_FUNCTION\n")
+
+
+# --- PVOID -----------------------------------------------------------------------------------------
+
+UNTYPED = """FUNCTION F_CopyInto : UDINT
+VAR_INPUT pDest : PVOID; pSrc : PVOID; cb : UDINT; END_VAR
+IF pDest = 0 OR pSrc = 0 THEN RETURN; END_IF
+F_CopyInto := MEMCPY(pDest, pSrc, cb);
+END_FUNCTION
+FUNCTION_BLOCK FB_Register
+VAR_OUTPUT nValue : UINT; nCopied : UDINT; END_VAR
+VAR nRaw : UINT := 16#1234; pLast : PVOID; END_VAR
+pLast := THIS^.pBuffer;
+nCopied := F_CopyInto(pLast, ADR(nRaw), SIZEOF(nRaw));
+nRaw := nRaw + 1;
+END_FUNCTION_BLOCK
+PROPERTY PROTECTED pBuffer : PVOID
+pBuffer := ADR(nValue);
+END_PROPERTY
+"""
+
+
+def test_pvoid_is_an_untyped_address() -> None:
+    # PVOID holds any address (a PROPERTY gives it, a local keeps it, a FUNCTION takes it) for MEMCPY to use
+    plc = st.load(UNTYPED)
+    reg = plc.FB_Register()
+    reg()
+    assert (reg.nValue, reg.nCopied) == (0x1234, 2)
+    reg()
+    assert (reg.nValue, reg.nCopied) == (0x1235, 2)
+    assert plc.F_CopyInto(cb=4) == 0  # null addresses (the inputs' default) copy nothing
+
+
+# --- Tc2_Utilities' LREAL checks, called qualified ----------------------------------------------------
+
+CLAMP = """FUNCTION_BLOCK FB_Clamp
+VAR_INPUT fIn : LREAL; fMax : LREAL; END_VAR
+VAR_OUTPUT fOut : LREAL; bNaN : BOOL; bFinite : BOOL; END_VAR
+fOut := fIn;
+bNaN := Tc2_Utilities.LrealIsNaN(fMax);
+bFinite := LrealIsFinite(fIn);
+IF NOT bNaN AND_THEN fOut > fMax THEN fOut := fMax; END_IF
+END_FUNCTION_BLOCK
+"""
+
+
+def test_lrealisnan_and_lrealisfinite_of_tc2_utilities() -> None:
+    # a NaN limit (the unset default of the block this comes from) clamps nothing; an infinite input is not finite
+    from iecoop.libraries import tc2_utilities
+
+    plc = st.load(CLAMP, libraries={"Tc2_Utilities": tc2_utilities})
+    fb = plc.FB_Clamp()
+    seen = []
+    for value, limit in ((5.0, 3.0), (5.0, float("nan")), (float("inf"), 3.0), (float("-inf"), float("nan"))):
+        fb(fIn=value, fMax=limit)
+        seen.append((fb.fOut, fb.bNaN, fb.bFinite))
+    assert seen == [(3.0, False, True), (5.0, True, True), (3.0, False, False), (float("-inf"), True, False)]
+
+
+def test_a_qualified_name_a_library_lacks_is_named_with_its_library() -> None:
+    from iecoop.libraries import tc2_utilities
+
+    with pytest.raises(DefinitionError, match=r"<st>:4: unknown name 'Tc2_Utilities.LrealIsHuge': "
+                                              r"library Tc2_Utilities declares no LrealIsHuge"):
+        st.load(CLAMP.replace("Tc2_Utilities.LrealIsNaN", "Tc2_Utilities.LrealIsHuge").replace("fOut := fIn;\n", ""),
+                libraries={"Tc2_Utilities": tc2_utilities})
