@@ -49,6 +49,11 @@ REFUSED: dict[str, list[str]] = {
     "generic types (`ANY_NUM` ...) outside a VAR_INPUT of a FUNCTION or METHOD": [
         "FUNCTION_BLOCK FB_G\nVAR_INPUT x : ANY_NUM; END_VAR\nEND_FUNCTION_BLOCK",
     ],
+    "`__SYSTEM.AnyType` as a declared type": [
+        "TYPE T_Any : __SYSTEM.AnyType; END_TYPE",
+        "FUNCTION F : DINT\nVAR a : __SYSTEM.AnyType; END_VAR\nF := a.diSize;\nEND_FUNCTION",
+        "TYPE ST_Slot : STRUCT item : __SYSTEM.AnyType; END_STRUCT END_TYPE",
+    ],
     "an inline enumeration in a GVL or a STRUCT": [
         "VAR_GLOBAL eMode : (MODE_A, MODE_B); END_VAR",
         "TYPE ST_X : STRUCT eMode : (MODE_A, MODE_B); END_STRUCT END_TYPE",

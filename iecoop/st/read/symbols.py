@@ -364,6 +364,10 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
+        if name.upper() == "__SYSTEM.ANYTYPE":
+            raise self.fail("__SYSTEM.AnyType as a declared type (a variable, STRUCT member or TYPE alias) is not supported: "
+                            "declare a generic input (x : ANY) of a FUNCTION or METHOD, which receives one, and read its "
+                            "TypeClass, pValue and diSize there", node)
         if name.upper() == "PVOID" and "pvoid" not in self.decls:
             # TwinCAT's untyped address (an alias of __UXINT): a POINTER TO BYTE here, which takes any address
             # and gives it on to MEMCPY and the like; ST never dereferences a PVOID

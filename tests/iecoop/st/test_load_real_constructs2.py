@@ -167,3 +167,9 @@ def test_a_qualified_name_a_library_lacks_is_named_with_its_library() -> None:
                                               r"library Tc2_Utilities declares no LrealIsHuge"):
         st.load(CLAMP.replace("Tc2_Utilities.LrealIsNaN", "Tc2_Utilities.LrealIsHuge").replace("fOut := fIn;\n", ""),
                 libraries={"Tc2_Utilities": tc2_utilities})
+
+
+def test_anytype_as_a_declared_type_is_refused_saying_what_to_write() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:1: __SYSTEM.AnyType as a declared type \(a variable, STRUCT member "
+                                              r"or TYPE alias\) is not supported: declare a generic input \(x : ANY\)"):
+        st.load("TYPE T_Generic : __SYSTEM.AnyType; END_TYPE\n")
