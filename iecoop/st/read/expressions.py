@@ -403,13 +403,7 @@ class Expressions(Literals):
         if str(node.name.name).lower() == "twincat_systeminfovarlist" and isinstance(first, tf.FieldSelector) \
                 and str(first.field).lower() == "_taskinfo":  # the system list's name written out
             return self.task_info(list(node.elements[1:]), node, scope, store)
-        try:
-            current = self.visit_SimpleVariable(node.name, scope)
-        except DefinitionError:
-            if isinstance(first, tf.FieldSelector) and str(node.name.name).lower() in self.decls.namespaces:
-                # Tc2_Utilities.NoSuch(x): say which library lacks which name, not that the namespace is no variable
-                raise self.fail(unknown_name("name", f"{node.name.name}.{first.field}", self.decls), node) from None
-            raise
+        current = self._head(node, first, scope)
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):
@@ -434,6 +428,15 @@ class Expressions(Literals):
             if isinstance(field, tf.SimpleVariable) and field.dereferenced:
                 current = self.deref(current, node)
         return current
+
+    def _head(self, node: tf.MultiElementVariable, first: Any, scope: Scope) -> Ex:
+        """The variable ``a`` of ``a.b.c``; ``Tc2_Utilities.NoSuch(x)`` is refused naming the library and the name."""
+        try:
+            return self.visit_SimpleVariable(node.name, scope)
+        except DefinitionError:
+            if isinstance(first, tf.FieldSelector) and str(node.name.name).lower() in self.decls.namespaces:
+                raise self.fail(unknown_name("name", f"{node.name.name}.{first.field}", self.decls), node) from None
+            raise
 
     def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
         """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;

@@ -225,6 +225,44 @@ def _check_xml_names(path: pathlib.Path, root: Any) -> None:
             )
 
 
+#: The owners of an <Implementation>, as the refusal of a graphical body names them.
+_BODY_OWNERS = {"POU": "", "Method": "METHOD", "Action": "ACTION", "Get": "PROPERTY", "Set": "PROPERTY", "Transition": "TRANSITION"}
+#: An <NWL> network list's DefaultViewMode -> the language TwinCAT edits it in.
+_NETWORK_MODES = {"fbd": "FBD", "ld": "LD", "il": "IL"}
+
+
+def _check_bodies(path: pathlib.Path, root: Any) -> None:
+    """Every body is ST: blark skips a body in FBD, LD, IL, SFC or CFC, which would then run as an empty one."""
+    for implementation in root.iter("{*}Implementation"):
+        for body in implementation:
+            if not isinstance(body.tag, str) or body.tag.rsplit("}", 1)[-1] == "ST":
+                continue
+            tag = body.tag.rsplit("}", 1)[-1]
+            mode = next((v.text or "" for v in body.iter("{*}v") if v.get("n") == "DefaultViewMode"), "")
+            language = _NETWORK_MODES.get(mode.strip('"').lower(), "a network (FBD, LD or IL)") if tag == "NWL" else tag
+            raise StUnsupportedError(f"{path}:{body.sourceline}: {_body_owner(implementation.getparent())}: its body is written in "
+                                     f"{language}, not Structured Text: iecoop reads ST only (write the body in ST)")
+
+
+def _body_owner(element: Any) -> str:
+    """``PROGRAM P_Pump``, ``METHOD FB_X.Step``, ``PROPERTY FB_X.Speed``: the POU part a body belongs to."""
+    names = []
+    kind = ""
+    while element is not None and isinstance(element.tag, str):
+        tag = element.tag.rsplit("}", 1)[-1]
+        if tag in _BODY_OWNERS and element.get("Name") and tag not in ("Get", "Set"):
+            names.append(element.get("Name"))
+            kind = kind or _BODY_OWNERS[tag]
+        elif tag in ("Get", "Set"):
+            kind = "PROPERTY"
+        if tag == "POU":
+            declaration = element.find("{*}Declaration")
+            words = re.findall(r"\b(PROGRAM|FUNCTION_BLOCK|FUNCTION)\b", declaration.text or "") if declaration is not None else []
+            kind = kind or (words[0] if words else "POU")
+        element = element.getparent()
+    return f"{kind} {'.'.join(reversed(names))}"
+
+
 def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
     """The TwinCAT files a ``.plcproj`` compiles: each must exist and lie below the project's folder."""
     root = read_xml(path)
@@ -400,6 +438,7 @@ def _flatten_twincat(path: pathlib.Path) -> tuple[str, str, dict[int, tuple[str,
 
     root = read_xml(path)
     _check_xml_names(path, root)
+    _check_bodies(path, root)
     try:
         items = TcSource.from_xml(root, filename=path).to_blark()
     except Exception as exc:  # blark's reader has no error type of its own; any failure means a file it cannot read

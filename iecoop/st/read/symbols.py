@@ -19,8 +19,8 @@ from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.table import (
-    ANYTYPE, GENERIC_FAMILIES,
-    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
+    ANYTYPE, ANYTYPE_DECLARED, GENERIC_FAMILIES,
+    Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields, system_type,
 )
 from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
 
@@ -365,20 +365,10 @@ class Symbols:
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
         if name.upper() == "__SYSTEM.ANYTYPE":
-            raise self.fail("__SYSTEM.AnyType as a declared type (a variable, STRUCT member or TYPE alias) is not supported: "
-                            "declare a generic input (x : ANY) of a FUNCTION or METHOD, which receives one, and read its "
-                            "TypeClass, pValue and diSize there", node)
-        if name.upper() == "PVOID" and "pvoid" not in self.decls:
-            # TwinCAT's untyped address (an alias of __UXINT): a POINTER TO BYTE here, which takes any address
-            # and gives it on to MEMCPY and the like; ST never dereferences a PVOID
-            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE"))
-        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
-        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
-            return TypeRef("elem", system)
-        if name.upper() == "__SYSTEM.VAR_INFO":
-            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
-        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
-            return TypeRef("user", IQUERYINTERFACE.name)
+            raise self.fail(ANYTYPE_DECLARED, node)
+        system = system_type(name)
+        if system is not None and name.lower() not in self.decls:
+            return system
         if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
             return TypeRef("any", name.upper())
         decl = self.decls.get(name.lower())

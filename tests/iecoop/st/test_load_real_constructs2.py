@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import pytest
 
 from iecoop.exceptions import DefinitionError
@@ -173,3 +175,42 @@ def test_anytype_as_a_declared_type_is_refused_saying_what_to_write() -> None:
     with pytest.raises(DefinitionError, match=r"<st>:1: __SYSTEM.AnyType as a declared type \(a variable, STRUCT member "
                                               r"or TYPE alias\) is not supported: declare a generic input \(x : ANY\)"):
         st.load("TYPE T_Generic : __SYSTEM.AnyType; END_TYPE\n")
+
+
+# --- a body in a graphical language -------------------------------------------------------------------
+
+def _pou_file(folder: pathlib.Path, name: str, implementation: str, extra: str = "") -> pathlib.Path:
+    path = folder / f"{name}.TcPOU"
+    path.write_text('<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1">\n'
+                    f'  <POU Name="{name}" Id="{{00000000-0000-0000-0000-000000000001}}" SpecialFunc="None">\n'
+                    f"    <Declaration><![CDATA[PROGRAM {name}\nVAR nCount : INT; END_VAR\n]]></Declaration>\n"
+                    f"    <Implementation>\n{implementation}\n    </Implementation>\n{extra}  </POU>\n</TcPlcObject>\n")
+    return path
+
+
+NETWORK = ('      <NWL>\n        <XmlArchive>\n          <Data>\n            <o xml:space="preserve" t="NWLImplementationObject">\n'
+           '              <v n="DefaultViewMode">"{mode}"</v>\n            </o>\n          </Data>\n        </XmlArchive>\n      </NWL>')
+
+
+@pytest.mark.parametrize(("mode", "language"), [("Fbd", "FBD"), ("Ld", "LD"), ("IL", "IL")])
+def test_a_body_in_a_network_language_is_refused_not_read_as_empty(tmp_path: pathlib.Path, mode: str, language: str) -> None:
+    # TwinCAT keeps FBD, LD and IL bodies as an XML network list; iecoop reads ST only, and an empty body in its place
+    # would run as doing nothing
+    path = _pou_file(tmp_path, "P_Pump", NETWORK.format(mode=mode))
+    with pytest.raises(DefinitionError, match=rf"P_Pump.TcPOU:8: PROGRAM P_Pump: its body is written in {language}, "
+                                              r"not Structured Text: iecoop reads ST only \(write the body in ST\)"):
+        st.load(path)
+
+
+def test_a_method_in_sfc_is_refused_naming_the_method(tmp_path: pathlib.Path) -> None:
+    method = ('    <Method Name="Step" Id="{00000000-0000-0000-0000-000000000002}">\n'
+              "      <Declaration><![CDATA[METHOD Step : BOOL\n]]></Declaration>\n"
+              "      <Implementation>\n        <SFC />\n      </Implementation>\n    </Method>\n")
+    path = _pou_file(tmp_path, "P_Fill", "      <ST><![CDATA[nCount := nCount + 1;]]></ST>", extra=method)
+    with pytest.raises(DefinitionError, match=r"P_Fill.TcPOU:14: METHOD P_Fill.Step: its body is written in SFC"):
+        st.load(path)
+    path.write_text(path.read_text().replace("<SFC />", "<ST><![CDATA[Step := TRUE;]]></ST>"))
+    plc = st.load(path)  # the same POU in ST loads and runs
+    plc.P_Fill()
+    plc.P_Fill()
+    assert plc.P_Fill.nCount == 2 and plc.P_Fill.Step() is True
