@@ -407,11 +407,7 @@ class Expressions(Literals):
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):
-                indices = [self.expr(s, scope).code for s in element.subscripts]
-                element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
-                current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
-                if element.dereferenced:
-                    current = self.deref(current, node)
+                current = self._subscript(current, element, node, scope)
                 continue
             field = element.field
             field_name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
@@ -428,6 +424,26 @@ class Expressions(Literals):
             if isinstance(field, tf.SimpleVariable) and field.dereferenced:
                 current = self.deref(current, node)
         return current
+
+    def _subscript(self, current: Ex, element: tf.SubscriptList, node: Any, scope: Scope) -> Ex:
+        """``a[i, j]`` of an ARRAY, ``p[i]`` of a POINTER; ``a[i]^`` dereferences the element."""
+        indices = [self.expr(s, scope).code for s in element.subscripts]
+        if current.type is not None and current.type.deref().kind == "pointer":
+            current = self._pointer_element(current, indices, node)
+        else:
+            element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
+            current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
+        return self.deref(current, node) if element.dereferenced else current
+
+    def _pointer_element(self, pointer: Ex, indices: list[str], node: Any) -> Ex:
+        """``p[i]`` of a ``POINTER TO T``: the T at ``i * SIZEOF(T)`` bytes past ``p``, read or written (``p^`` is ``p[0]``)."""
+        target = pointer.type.deref().of if pointer.type is not None else None
+        if len(indices) != 1 or target is None or target.kind not in ("elem", "user", "pointer"):
+            raise self.fail(f"{pointer.code}[{', '.join(indices)}]: a POINTER is indexed with one index, and only a POINTER "
+                            "TO an elementary type, a STRUCT, UNION, block or POINTER (use ^ on a POINTER TO STRING or ARRAY)", node)
+        self.need("iecoop", "sizeof")
+        self._need_type(target)
+        return Ex.attribute(f"({pointer.p()} + ({indices[0]}) * sizeof({target.annotation()}))", "deref", target)
 
     def _head(self, node: tf.MultiElementVariable, first: Any, scope: Scope) -> Ex:
         """The variable ``a`` of ``a.b.c``; ``Tc2_Utilities.NoSuch(x)`` is refused naming the library and the name."""

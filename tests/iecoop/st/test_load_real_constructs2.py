@@ -214,3 +214,54 @@ def test_a_method_in_sfc_is_refused_naming_the_method(tmp_path: pathlib.Path) ->
     plc.P_Fill()
     plc.P_Fill()
     assert plc.P_Fill.nCount == 2 and plc.P_Fill.Step() is True
+
+
+# --- a POINTER indexed like an ARRAY -----------------------------------------------------------------
+
+BYTES = """TYPE ST_Slot : STRUCT nId : INT; fLoad : REAL; END_STRUCT END_TYPE
+FUNCTION F_Digits : STRING
+VAR_INPUT sIn : STRING; END_VAR
+VAR pIn : POINTER TO BYTE; pOut : POINTER TO BYTE; sOut : STRING; i : INT; k : INT; END_VAR
+pIn := ADR(sIn);
+pOut := ADR(sOut);
+WHILE pIn[i] <> 0 DO
+    IF pIn[i] >= 16#30 AND pIn[i] <= 16#39 THEN pOut[k] := pIn[i]; k := k + 1; END_IF
+    i := i + 1;
+END_WHILE
+pOut[k] := 0;
+F_Digits := sOut;
+END_FUNCTION
+FUNCTION_BLOCK FB_Slots
+VAR_INPUT nReach : INT; END_VAR
+VAR_OUTPUT nIds : INT; fTotal : REAL; END_VAR
+VAR aSlots : ARRAY[1..3] OF ST_Slot; pSlot : POINTER TO ST_Slot; i : INT; END_VAR
+pSlot := ADR(aSlots);
+FOR i := 0 TO nReach DO
+    pSlot[i].nId := (i + 1) * 10;
+    pSlot[i].fLoad := pSlot[i].fLoad + 0.5;
+END_FOR
+nIds := aSlots[1].nId + aSlots[2].nId + aSlots[3].nId;
+fTotal := aSlots[1].fLoad + aSlots[2].fLoad + aSlots[3].fLoad;
+END_FUNCTION_BLOCK
+"""
+
+
+def test_a_pointer_indexed_like_an_array_reads_and_writes_the_element_at_its_offset() -> None:
+    # p[i] is the element i * SIZEOF(T) bytes past p: a byte scan of a STRING, and the members of STRUCTs
+    from iecoop import ExceptionCode, PlcException
+
+    plc = st.load(BYTES)
+    assert plc.F_Digits("a1b22c3") == "1223"
+    assert plc.F_Digits("none") == ""
+    slots = plc.FB_Slots()
+    slots(nReach=2)
+    slots(nReach=2)
+    assert (slots.nIds, slots.fTotal) == (60, 3.0)  # 10 + 20 + 30; each load 0.5 twice
+    with pytest.raises(PlcException) as fault:
+        slots(nReach=3)  # pSlot[3] is past the ARRAY
+    assert fault.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_pointer_takes_one_index() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:4: .*a POINTER is indexed with one index"):
+        st.load("FUNCTION F : BYTE\nVAR_INPUT n : INT; END_VAR\nVAR p : POINTER TO BYTE; END_VAR\nF := p[n, 1];\nEND_FUNCTION\n")
