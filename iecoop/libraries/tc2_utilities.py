@@ -45,7 +45,8 @@ from iecoop.types import (
 )
 
 __all__ = [
-    "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "DT_TO_FILETIME", "DT_TO_SYSTEMTIME",
+    "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "CSVFIELD_TO_STRING", "DT_TO_FILETIME",
+    "DT_TO_SYSTEMTIME",
     "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
     "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
@@ -53,7 +54,7 @@ __all__ = [
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
     "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
     "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "LrealIsFinite", "LrealIsNaN", "NT_GetTime", "SYSTEMTIME_TO_DT",
-    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
+    "STRING_TO_CSVFIELD", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
     "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
     "stLibVersion_Tc2_Utilities",
 ]
@@ -473,6 +474,29 @@ def LrealIsNaN(x: LREAL) -> BOOL:  # noqa: N802 - the ST name
 def LrealIsFinite(x: LREAL) -> BOOL:  # noqa: N802 - the ST name
     """``LrealIsFinite(x)``: TRUE when x is neither infinite nor NaN."""
     return math.isfinite(x)
+
+
+def STRING_TO_CSVFIELD(in_: T_MaxString, bQM: BOOL) -> T_MaxString:  # noqa: N802, N803 - the ST names
+    """``STRING_TO_CSVFIELD(in, bQM)``: ``in`` as a CSV data field, each ``"`` doubled, enclosed in ``"`` when bQM.
+
+    A field longer than T_MaxString (255 characters) is an error: the result is ''.
+    """
+    field = in_.replace('"', '""')
+    field = f'"{field}"' if bQM else field
+    return field if len(field) <= MAX_STRING_LENGTH else ""
+
+
+def CSVFIELD_TO_STRING(in_: T_MaxString, bQM: BOOL) -> T_MaxString:  # noqa: N802, N803 - the ST names
+    """``CSVFIELD_TO_STRING(in, bQM)``: the value of the CSV data field ``in``, each ``""`` one ``"``; with bQM the
+    enclosing ``"`` are removed. A field bQM finds unenclosed, or with a ``"`` not doubled, is an error: ''."""
+    body = in_
+    if bQM:
+        if len(in_) < 2 or in_[0] != '"' or in_[-1] != '"':
+            return ""
+        body = in_[1:-1]
+    if body.replace('""', "").count('"'):
+        return ""
+    return body.replace('""', '"')
 
 
 def _digits(value: int, base: int, precision: int, lower: bool = False) -> str:

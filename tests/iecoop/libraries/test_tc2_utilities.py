@@ -377,3 +377,25 @@ def test_find_and_replace_replaces_every_occurrence_into_the_destination_and_cou
     assert (main.nAll, main.sDst) == (2, "a&lt;b&lt;c")
     assert (main.nShort, main.sShort) == (2, "a&lt;")  # cut to the destination's size, its terminator included
     assert (main.nNone, main.sSame) == (0, "a<b<c")  # not found: 0, and the destination is the source
+
+
+def test_csv_fields_double_their_quotation_marks_and_are_enclosed_on_request() -> None:
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR s1, s2, s3, s4, s5 : STRING; END_VAR
+    s1 := STRING_TO_CSVFIELD('Valve "A"; open', TRUE);
+    s2 := STRING_TO_CSVFIELD('Pump_50', FALSE);
+    s3 := CSVFIELD_TO_STRING('"Valve ""A""; open"', TRUE);
+    s4 := CSVFIELD_TO_STRING('Pump_50', TRUE);
+    s5 := CSVFIELD_TO_STRING('ab""cd', FALSE);
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.s1, main.s2, main.s3, main.s5) == ('"Valve ""A""; open"', "Pump_50", 'Valve "A"; open', 'ab"cd')
+    assert main.s4 == ""  # bQM, but the field is not enclosed: an error
+    assert tu.CSVFIELD_TO_STRING('a"b', False) == ""  # a quotation mark not doubled
+    assert tu.STRING_TO_CSVFIELD('"' * 200, False) == ""  # 400 characters do not fit T_MaxString
+    assert tu.CSVFIELD_TO_STRING(tu.STRING_TO_CSVFIELD('x;"y"', True), True) == 'x;"y"'
