@@ -18,6 +18,12 @@ from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, variables
 
 
+#: TwinCAT's POUs for implicit checks (lower case): the code inside one of them is not checked by the others.
+_CHECK_FUNCTIONS = frozenset(name.lower() for name in (
+    "CheckBounds", "CheckDivDInt", "CheckDivLInt", "CheckDivReal", "CheckDivLReal", "CheckRangeSigned",
+    "CheckRangeUnsigned", "CheckLRangeSigned", "CheckLRangeUnsigned", "CheckPointer"))
+
+
 def _plain(type_: TypeRef | None) -> TypeRef | None:
     """The type an operand is computed in: a REFERENCE TO's target."""
     return type_.deref() if type_ is not None else None
@@ -174,7 +180,7 @@ class Expressions(Literals):
             return self._comparison(COMPARISONS[op], left, right)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             return self._logical(op, node, left, right, scope)
-        return self._arithmetic(op, node, left, right)
+        return self._arithmetic(op, node, left, self._checked_divisor(op, left, right, scope))
 
     def _comparison(self, py: str, left: Ex, right: Ex) -> Ex:
         if "THIS" in (left.this, right.this):  # a pointer compared with THIS (aSuites[i] = THIS) compares addresses
@@ -206,6 +212,24 @@ class Expressions(Literals):
         symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
         level = PRECEDENCE[symbol]
         return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+
+    def implicit_check(self, name: str, scope: Scope) -> str | None:
+        """The Python name of the project's FUNCTION ``name`` (CheckBounds, CheckDivDInt...) when TwinCAT would call
+        it implicitly here; None when the project declares none, or the code is that check function's own."""
+        decl = self.decls.get(name.lower())
+        if decl is None or decl.kind != "function" or scope.pou_name.lower() in _CHECK_FUNCTIONS:
+            return None
+        return str(decl.name)
+
+    def _checked_divisor(self, op: str, left: Ex, right: Ex, scope: Scope) -> Ex:
+        """The divisor of ``/``, passed through CheckDivDInt / CheckDivLInt / CheckDivReal / CheckDivLReal if declared."""
+        if op != "/":
+            return right
+        kind = self.wider(_plain(left.type), _plain(right.type))
+        name = "CheckDivLReal" if kind == LREAL else "CheckDivReal" if kind is not None and kind.is_real else \
+            "CheckDivLInt" if kind is not None and kind.name in ("LINT", "ULINT", "LWORD") else "CheckDivDInt"
+        check = self.implicit_check(name, scope)
+        return right if check is None else Ex(f"{check}({right.code})", right.type)
 
     def _arithmetic(self, op: str, node: tf.BinaryOperation, left: Ex, right: Ex) -> Ex:
         lt, rt = _plain(left.type), _plain(right.type)
@@ -431,8 +455,12 @@ class Expressions(Literals):
         if current.type is not None and current.type.deref().kind == "pointer":
             current = self._pointer_element(current, indices, node)
         else:
-            element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
-            current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
+            array = current.type.deref() if current.type is not None and current.type.deref().kind == "array" else None
+            check = self.implicit_check("CheckBounds", scope) if array is not None and array.bounds else None
+            if check is not None and array is not None and array.bounds is not None and len(array.bounds) == len(indices):
+                # TwinCAT hands each index to the project's CheckBounds with its dimension's bounds and uses its result
+                indices = [f"{check}({index}, {low}, {high})" for index, (low, high) in zip(indices, array.bounds)]
+            current = Ex(f"{current.p()}[{', '.join(indices)}]", array.of if array is not None else None)
         return self.deref(current, node) if element.dereferenced else current
 
     def _pointer_element(self, pointer: Ex, indices: list[str], node: Any) -> Ex:

@@ -265,3 +265,60 @@ def test_a_pointer_indexed_like_an_array_reads_and_writes_the_element_at_its_off
 def test_a_pointer_takes_one_index() -> None:
     with pytest.raises(DefinitionError, match=r"<st>:4: .*a POINTER is indexed with one index"):
         st.load("FUNCTION F : BYTE\nVAR_INPUT n : INT; END_VAR\nVAR p : POINTER TO BYTE; END_VAR\nF := p[n, 1];\nEND_FUNCTION\n")
+
+
+# --- POUs for implicit checks ---------------------------------------------------------------------------
+
+CHECKED = """FUNCTION CheckBounds : DINT
+VAR_INPUT index, lower, upper : DINT; END_VAR
+{noflow}
+IF index < lower THEN CheckBounds := lower;
+ELSIF index > upper THEN CheckBounds := upper;
+ELSE CheckBounds := index;
+END_IF
+{flow}
+END_FUNCTION
+FUNCTION CheckDivDInt : DINT
+VAR_INPUT divisor : DINT; END_VAR
+IF divisor = 0 THEN CheckDivDInt := 1; ELSE CheckDivDInt := divisor; END_IF
+END_FUNCTION
+FUNCTION CheckDivLReal : LREAL
+VAR_INPUT divisor : LREAL; END_VAR
+IF divisor = 0 THEN CheckDivLReal := 1; ELSE CheckDivLReal := divisor; END_IF
+END_FUNCTION
+FUNCTION_BLOCK FB_Table
+VAR_INPUT nAt : INT; nDiv : DINT; fDiv : LREAL; END_VAR
+VAR_OUTPUT nRead : INT; nQuot : DINT; fQuot : LREAL; END_VAR
+VAR aCells : ARRAY[1..4] OF INT := [10, 20, 30, 40]; aGrid : ARRAY[0..1, 0..2] OF INT; END_VAR
+nRead := aCells[nAt];
+aCells[nAt] := aCells[nAt] + 1;
+aGrid[nAt, nAt] := nAt;
+nQuot := 100 / nDiv;
+fQuot := 7.5 / fDiv;
+END_FUNCTION_BLOCK
+"""
+
+
+def test_a_project_s_implicit_checks_are_called_as_twincat_calls_them() -> None:
+    # CheckBounds gets every ARRAY index with the dimension's bounds, and the index it gives is used;
+    # CheckDivDInt and CheckDivLReal get the divisor of every integer and LREAL division
+    plc = st.load(CHECKED)
+    table = plc.FB_Table()
+    table(nAt=2, nDiv=7, fDiv=2.5)
+    assert (table.nRead, table.nQuot, table.fQuot) == (20, 14, 3.0)
+    table(nAt=9, nDiv=0, fDiv=0.0)  # index 9 is held to 4 (and to 1 and 2 in the grid), the divisors 0 made 1
+    assert (table.nRead, table.nQuot, table.fQuot) == (40, 100, 7.5)
+    table(nAt=-3, nDiv=-5, fDiv=-0.5)
+    assert (table.nRead, table.nQuot, table.fQuot) == (10, -20, -15.0)
+    table(nAt=4, nDiv=1, fDiv=1.0)
+    assert table.nRead == 41  # 40, plus one from the call whose index 9 was held to 4 (-3 was held to 1)
+
+
+def test_without_check_functions_an_index_out_of_bounds_faults() -> None:
+    from iecoop import ExceptionCode, PlcException
+
+    plc = st.load(CHECKED.replace("FUNCTION CheckBounds", "FUNCTION NoCheckBounds").replace("CheckBounds :=", "NoCheckBounds :="))
+    table = plc.FB_Table()
+    with pytest.raises(PlcException) as fault:
+        table(nAt=9, nDiv=1, fDiv=1.0)
+    assert fault.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
