@@ -54,7 +54,9 @@ class Locals(Declarations):
             return f"null({decl.name})"
         if decl is not None and decl.kind == "alias" and decl.alias_of is not None:
             return self.zero(decl.alias_of)
-        if decl is not None and decl.kind in ("struct", "union", "fb"):
+        if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
+            if decl.kind == "stdfb":  # a standard block as a local of a FUNCTION: a new instance at every call
+                self.need("iecoop.stdlib", decl.name)
             return f"{decl.name}()"
         raise self.fail(f"a local or input of type {type_.annotation()} has no zero value here")
 

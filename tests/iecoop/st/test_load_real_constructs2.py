@@ -322,3 +322,27 @@ def test_without_check_functions_an_index_out_of_bounds_faults() -> None:
     with pytest.raises(PlcException) as fault:
         table(nAt=9, nDiv=1, fDiv=1.0)
     assert fault.value.code == ExceptionCode.RTSEXCPT_ARRAYBOUNDS
+
+
+# --- a standard block as a local of a FUNCTION ----------------------------------------------------------
+
+def test_a_standard_block_local_of_a_function_is_new_at_every_call() -> None:
+    # a FUNCTION's locals live for one call: its R_TRIG has seen no earlier CLK, so a TRUE input is an edge every
+    # call, and its CTU has counted that one edge only
+    plc = st.load("""FUNCTION F_Edge : BOOL
+VAR_INPUT bIn : BOOL; END_VAR
+VAR rt : R_TRIG; ctEdges : CTU; END_VAR
+rt(CLK := bIn);
+ctEdges(CU := rt.Q, PV := 1);
+F_Edge := rt.Q AND ctEdges.Q AND ctEdges.CV = 1;
+END_FUNCTION
+FUNCTION_BLOCK FB_Count
+VAR_INPUT bIn : BOOL; END_VAR
+VAR_OUTPUT nEdges : INT; END_VAR
+IF F_Edge(bIn) THEN nEdges := nEdges + 1; END_IF
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Count()
+    for value in (True, True, False, True):
+        fb(bIn=value)
+    assert fb.nEdges == 3  # every TRUE call, the held ones too
+    assert plc.F_Edge(False) is False
