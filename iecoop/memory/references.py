@@ -123,7 +123,10 @@ def _resolve_reference(annotation: Any, where: str, length: int | None, bounds: 
     if len(rest) < len(metadata) - 1:
         # Annotated flattens REFERENCE_TO[REFERENCE_TO[T]] into one marker list: T with two markers.
         target = ReferenceInfo(target)
-    if isinstance(target, (InterfaceInfo, ReferenceInfo)):
+    if isinstance(target, InterfaceInfo):
+        raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed; declare the variable as {target.name} "
+                              "itself (an interface variable refers to its instance already)")
+    if isinstance(target, ReferenceInfo):
         raise DefinitionError(f"{where}: REFERENCE TO {target.name} is not allowed")
     return ReferenceInfo(target)
 

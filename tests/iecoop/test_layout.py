@@ -704,7 +704,7 @@ def test_a_reference_to_an_interface_is_refused_at_definition() -> None:
     class I_Probe(Interface):
         pass
 
-    with pytest.raises(DefinitionError, match=r"ToInterface\.r: REFERENCE TO I_Probe is not allowed"):
+    with pytest.raises(DefinitionError, match=r"ToInterface\.r: REFERENCE TO I_Probe is not allowed; declare the variable as I_Probe itself"):
         class ToInterface(Struct):
             r: REFERENCE_TO[I_Probe] = VAR()
 
