@@ -411,7 +411,9 @@ class Statements(Calls):
             if jumps_in_loop(statement):
                 raise self.fail("JMP inside a FOR, WHILE or REPEAT loop is not supported (labels and JMPs outside loops)", statement)
         scope.jump = scope.temp("jump")
-        self.emit(f'{scope.jump} = ""  # JMP: the label the code runs from next', level)
+        # a body that starts with a label starts at that label
+        start = parts[1][0].lower() if not parts[0][1] and len(parts) > 1 else ""
+        self.emit(f'{scope.jump} = "{start}"  # JMP: the label the code runs from next', level)
         self.emit("while True:", level)
         for index, (label, body) in enumerate(parts):
             if index == 0 and not body:

@@ -346,3 +346,26 @@ END_FUNCTION_BLOCK""")
         fb(bIn=value)
     assert fb.nEdges == 3  # every TRUE call, the held ones too
     assert plc.F_Edge(False) is False
+
+
+# --- a body whose first statement has a label -------------------------------------------------------------
+
+def test_a_body_that_starts_with_a_label_runs_from_it() -> None:
+    # the first part of the body is the labelled one: it runs on entry, and the JMP runs it again until i is 3
+    plc = st.load("""FUNCTION F_Retry : INT
+VAR i : INT; END_VAR
+lblTry: i := i + 1;
+IF i < 3 THEN JMP lblTry; END_IF
+F_Retry := i * 10;
+END_FUNCTION
+PROGRAM P_Loop
+VAR n : INT; nRuns : INT; END_VAR
+lblStart: n := n + 1;
+IF n MOD 4 <> 0 THEN JMP lblStart; END_IF
+nRuns := nRuns + 1;
+END_PROGRAM""")
+    assert plc.F_Retry() == 30
+    plc.P_Loop()
+    assert (plc.P_Loop.n, plc.P_Loop.nRuns) == (4, 1)
+    plc.P_Loop()
+    assert (plc.P_Loop.n, plc.P_Loop.nRuns) == (8, 2)
