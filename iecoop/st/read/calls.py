@@ -373,6 +373,8 @@ class Calls(Expressions):
         source = TYPE_SYNONYMS.get(source, source) if source else None
         target = TYPE_SYNONYMS.get(target, target)
         value = args[0]
+        if source is None and value.type is not None and value.type.deref().kind == "string":
+            source = value.type.deref().name  # TO_REAL(sText) reads the text as STRING_TO_REAL does
         result_type = self._elem_or_none(target)
         if result_type is None:
             raise self.fail(f"conversion to {target} is not supported", node)

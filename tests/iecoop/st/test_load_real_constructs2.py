@@ -369,3 +369,20 @@ END_PROGRAM""")
     assert (plc.P_Loop.n, plc.P_Loop.nRuns) == (4, 1)
     plc.P_Loop()
     assert (plc.P_Loop.n, plc.P_Loop.nRuns) == (8, 2)
+
+
+# --- TO_<type> of a STRING -------------------------------------------------------------------------------
+
+def test_to_type_of_a_string_reads_the_text_as_string_to_type_does() -> None:
+    plc = st.load("""FUNCTION_BLOCK FB_Parse
+VAR_INPUT sIn : STRING; END_VAR
+VAR_OUTPUT fValue : REAL; nValue : DINT; fLit : LREAL; END_VAR
+fValue := TO_REAL(sIn);
+nValue := TO_DINT(sIn) + STRING_TO_DINT(sIn);
+fLit := TO_LREAL('2.5E2');
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Parse()
+    fb(sIn="-17")
+    assert (fb.fValue, fb.nValue, fb.fLit) == (-17.0, -34, 250.0)
+    fb(sIn="1.5")
+    assert fb.fValue == 1.5
