@@ -150,7 +150,9 @@ __all__ = [
     "TOD_TO_STRING",
     "TO_BOOL",
     "TO_BYTE",
+    "TO_DATE",
     "TO_DINT",
+    "TO_DT",
     "TO_DWORD",
     "TO_INT",
     "TO_LINT",
@@ -161,6 +163,7 @@ __all__ = [
     "TO_SINT",
     "TO_STRING",
     "TO_TIME",
+    "TO_TOD",
     "TO_UDINT",
     "TO_UINT",
     "TO_ULINT",
@@ -343,6 +346,21 @@ def TO_TIME(x: Number) -> int:
     (1500, 2)
     """
     return _to_integer(x, TIME_T, "TO_TIME")
+
+
+def TO_DATE(x: Number) -> int:
+    """TO_DATE: ``x`` seconds since 1970-01-01, stored as a DATE (wraps modulo 2^32)."""
+    return _to_integer(x, DATE_T, "TO_DATE")
+
+
+def TO_TOD(x: Number) -> int:
+    """TO_TOD: ``x`` milliseconds since midnight, stored as a TOD (wraps modulo 2^32, as a TOD's 32 bits do)."""
+    return _to_integer(x, TOD_T, "TO_TOD")
+
+
+def TO_DT(x: Number) -> int:
+    """TO_DT: ``x`` seconds since 1970-01-01 00:00:00, stored as a DT (wraps modulo 2^32)."""
+    return _to_integer(x, DT_T, "TO_DT")
 
 
 def TO_LTIME(x: Number) -> int:

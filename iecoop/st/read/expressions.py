@@ -10,6 +10,7 @@ import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
 from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, VAR_INFO_MEMBERS
+from iecoop.st.read.dates import date_arithmetic
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
@@ -232,6 +233,11 @@ class Expressions(Literals):
         return right if check is None else Ex(f"{check}({right.code})", right.type)
 
     def _arithmetic(self, op: str, node: tf.BinaryOperation, left: Ex, right: Ex) -> Ex:
+        dated = date_arithmetic(op, left, right)
+        if isinstance(dated, str):
+            raise self.fail(dated, node)
+        if dated is not None:
+            return dated
         lt, rt = _plain(left.type), _plain(right.type)
         if op == "/" and not ((lt is not None and lt.is_real) or (rt is not None and rt.is_real)):
             op = "DIV"  # ST's / on integers truncates

@@ -386,3 +386,32 @@ END_FUNCTION_BLOCK""")
     assert (fb.fValue, fb.nValue, fb.fLit) == (-17.0, -34, 250.0)
     fb(sIn="1.5")
     assert fb.fValue == 1.5
+
+
+# --- arithmetic on TOD, DT and DATE --------------------------------------------------------------------------
+
+def test_tod_dt_and_date_take_time_and_give_time_as_iec_61131_3_defines() -> None:
+    plc = st.load("""FUNCTION_BLOCK FB_Shift
+VAR_INPUT tStep : TIME; END_VAR
+VAR_OUTPUT todEnd : TOD; dtEnd : DT; tLeft : TIME; tSpan : TIME; tDays : TIME; todBack : TOD; END_VAR
+VAR todStart : TOD := TOD#06:00:00; dtStart : DT := DT#2024-02-28-22:00:00; END_VAR
+todEnd := todStart + tStep;
+todBack := T#30M + todStart - T#1H;
+dtEnd := dtStart + tStep;
+tLeft := TOD#22:00:00 - todEnd;
+tSpan := dtEnd - dtStart;
+tDays := D#2024-03-01 - D#2024-02-28;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Shift()
+    fb(tStep=8 * 3600_000 + 1500)  # T#8H1S500MS: the DT keeps the whole seconds
+    assert fb.todEnd == (14 * 3600 + 1) * 1000 + 500
+    assert fb.todBack == 5 * 3600_000 + 30 * 60_000
+    assert fb.dtEnd == fb.dtStart + 8 * 3600 + 1  # DT#2024-02-29-06:00:01
+    assert fb.tLeft == (8 * 3600 - 1) * 1000 - 500
+    assert fb.tSpan == (8 * 3600 + 1) * 1000
+    assert fb.tDays == 2 * 86_400_000  # 2024 is a leap year
+
+
+def test_other_arithmetic_on_a_date_type_is_refused_naming_what_iec_defines() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:3: DT \+ DT is not supported: IEC 61131-3 defines TOD \+ TIME"):
+        st.load("FUNCTION F : DT\nVAR a, b : DT; END_VAR\nF := a + b;\nEND_FUNCTION\n")
