@@ -456,8 +456,25 @@ class Calls(Expressions):
         decl = self.decl_of(ex.type)
         if decl is not None and decl.kind in ("struct", "union", "fb", "stdfb"):
             return Ex(f"sizeof({ex.code})", TypeRef("elem", "UDINT"))
+        static = self._static_size(ex.type) if ex.place is None and ex.type is not None else None
+        if static is not None:  # a local, an input or an ARRAY element: its size is its type's
+            return Ex(static, TypeRef("elem", "UDINT"))
         holder, field = self.holder_field(target, scope)
         return Ex(f'sizeof({holder}, "{field}")', TypeRef("elem", "UDINT"))
+
+    def _static_size(self, type_: TypeRef) -> str | None:
+        """SIZEOF of a value of ``type_`` as Python code, or None when only its holder can tell."""
+        if type_.kind == "elem":
+            self._need_type(type_)
+            return f"sizeof({type_.name})"
+        if type_.kind == "string" and type_.length is not None:  # the characters and the terminating 0
+            return f"(({type_.length}) + 1)" if type_.name == "STRING" else f"(2 * (({type_.length}) + 1))"
+        if type_.kind == "array" and type_.bounds and type_.of is not None:
+            each = self._static_size(type_.of)
+            counts = " * ".join(f"(({high}) - ({low}) + 1)" for low, high in type_.bounds)
+            return None if each is None else f"({counts} * {each})"
+        decl = self.decl_of(type_)
+        return f"sizeof({decl.name})" if decl is not None and decl.kind in ("struct", "union", "fb") else None
 
     def _sizeof_type(self, name: str) -> Ex | None:
         """``SIZEOF(T)`` of a type name, or None when ``name`` is not one."""

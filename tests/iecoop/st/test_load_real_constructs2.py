@@ -415,3 +415,30 @@ END_FUNCTION_BLOCK""")
 def test_other_arithmetic_on_a_date_type_is_refused_naming_what_iec_defines() -> None:
     with pytest.raises(DefinitionError, match=r"<st>:3: DT \+ DT is not supported: IEC 61131-3 defines TOD \+ TIME"):
         st.load("FUNCTION F : DT\nVAR a, b : DT; END_VAR\nF := a + b;\nEND_FUNCTION\n")
+
+
+# --- SIZEOF of a local, an input or an ARRAY element -------------------------------------------------------
+
+def test_sizeof_of_a_local_an_input_and_an_array_element() -> None:
+    plc = st.load("""TYPE ST_Pair : STRUCT a : INT; b : LREAL; END_STRUCT END_TYPE
+FUNCTION F_Sizes : UDINT
+VAR_INPUT sName : STRING(20); END_VAR
+VAR aValues : ARRAY[1..10] OF LREAL; n : DINT; aGrid : ARRAY[0..1, 1..3] OF WORD; stPair : ST_Pair; aPairs : ARRAY[1..2] OF ST_Pair; END_VAR
+F_Sizes := SIZEOF(aValues) * 1000000 + SIZEOF(n) * 10000 + SIZEOF(sName) * 100 + SIZEOF(aGrid);
+END_FUNCTION
+FUNCTION F_Count : UDINT
+VAR aPairs : ARRAY[1..4] OF ST_Pair; aBuf : ARRAY[0..7] OF BYTE; END_VAR
+MEMSET(ADR(aBuf), 3, SIZEOF(aBuf));
+F_Count := SIZEOF(aPairs) / SIZEOF(aPairs[1]) + aBuf[7];
+END_FUNCTION
+FUNCTION_BLOCK FB_Table
+VAR aCells : ARRAY[1..6] OF INT; END_VAR
+VAR_OUTPUT nCells : UDINT; END_VAR
+nCells := SIZEOF(aCells) / SIZEOF(aCells[1]);
+END_FUNCTION_BLOCK""")
+    # 10 LREALs, a DINT, STRING(20) with its 0, 2 x 3 WORDs
+    assert plc.F_Sizes() == 80 * 1000000 + 4 * 10000 + 21 * 100 + 12
+    assert plc.F_Count() == 4 + 3  # ST_Pair is 16 bytes (INT, padding, LREAL)
+    table = plc.FB_Table()
+    table()
+    assert table.nCells == 6
