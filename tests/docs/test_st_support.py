@@ -49,6 +49,10 @@ REFUSED: dict[str, list[str]] = {
     "generic types (`ANY_NUM` ...) outside a VAR_INPUT of a FUNCTION or METHOD": [
         "FUNCTION_BLOCK FB_G\nVAR_INPUT x : ANY_NUM; END_VAR\nEND_FUNCTION_BLOCK",
     ],
+    "`__NEW` of an elementary type, an array on the heap": [
+        "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO DWORD; END_VAR\np := __NEW(DWORD, 16);\nEND_FUNCTION_BLOCK",
+        "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO BYTE; END_VAR\np := __NEW(BYTE);\nEND_FUNCTION_BLOCK",
+    ],
     "`__SYSTEM.AnyType` as a declared type": [
         "TYPE T_Any : __SYSTEM.AnyType; END_TYPE",
         "FUNCTION F : DINT\nVAR a : __SYSTEM.AnyType; END_VAR\nF := a.diSize;\nEND_FUNCTION",

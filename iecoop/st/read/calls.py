@@ -495,6 +495,9 @@ class Calls(Expressions):
         if not isinstance(target, tf.SimpleVariable):
             raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
         decl = self.decls.get(str(target.name).lower())
+        if decl is None and self._elem_or_none(str(target.name)) is not None:
+            raise self.fail(f"__NEW of {target.name} (an array of an elementary type) is not supported: declare an ARRAY "
+                            f"[0..n] OF {target.name} in the block or a GVL and take its ADR", node)
         if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
             raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
         if decl.kind == "stdfb":
