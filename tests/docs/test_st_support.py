@@ -49,6 +49,10 @@ REFUSED: dict[str, list[str]] = {
     "generic types (`ANY_NUM` ...) outside a VAR_INPUT of a FUNCTION or METHOD": [
         "FUNCTION_BLOCK FB_G\nVAR_INPUT x : ANY_NUM; END_VAR\nEND_FUNCTION_BLOCK",
     ],
+    "a METHOD, FUNCTION or PROPERTY result of type `REFERENCE TO` an elementary type": [
+        _FB_A + "METHOD Cell : REFERENCE TO INT\nCell REF= n;\nEND_METHOD",
+        _FB_A + "PROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY",
+    ],
     "`__NEW` of an elementary type, an array on the heap": [
         "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO DWORD; END_VAR\np := __NEW(DWORD, 16);\nEND_FUNCTION_BLOCK",
         "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO BYTE; END_VAR\np := __NEW(BYTE);\nEND_FUNCTION_BLOCK",

@@ -353,16 +353,24 @@ class Pous(Locals):
         """The body of an interface or ABSTRACT member: no code, and nothing a type checker reads as a return."""
         self.emit("..." if returns is None else "raise NotImplementedError", level)
 
+    def _emit_result(self, scope: Scope, returns: TypeRef, level: int) -> None:
+        """The result variable of a METHOD, FUNCTION or PROPERTY accessor, a local named as the POU."""
+        assert scope.return_name is not None
+        key = (scope.return_st or scope.return_name).lower()
+        scope.locals[key] = Member(scope.return_name, returns, "RETURN", st=scope.return_st or scope.return_name)
+        if self._local_reference(returns):
+            # REFERENCE TO a STRUCT or block: ``F REF= x`` names the variable itself, which is what Python returns
+            assert returns.of is not None
+            self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
+        elif returns.kind == "reference" and returns.of is not None:
+            raise self.fail(f"a result of type REFERENCE TO {returns.of.annotation()} is not supported (REFERENCE TO a "
+                            f"STRUCT or block is): return a POINTER TO {returns.of.annotation()}, the ADR of the variable")
+        else:
+            self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
+
     def _emit_callable_body(self, node: Any, scope: Scope, returns: TypeRef | None, level: int) -> None:
         if returns is not None and scope.return_name is not None:
-            key = (scope.return_st or scope.return_name).lower()
-            scope.locals[key] = Member(scope.return_name, returns, "RETURN", st=scope.return_st or scope.return_name)
-            if self._local_reference(returns):
-                # REFERENCE TO a STRUCT or block: ``F REF= x`` names the variable itself, which is what Python returns
-                assert returns.of is not None
-                self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
-            else:
-                self.emit(f"{scope.return_name}: {returns.annotation()} = {self.zero(returns)}", level)
+            self._emit_result(scope, returns, level)
         in_out = {c.st.lower() for d in self.decls.values() for c in d.methods.values()
                   if any(p.section == "VAR_IN_OUT" or p.type is not None and p.type.kind == "any" for p in c.params)}
         scope.addressed = set(by_reference_arguments(node.body, in_out)) | set(by_reference_arguments(node.declarations, in_out))
