@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import keyword
+import re
 from collections.abc import Iterator
 from typing import Any
 
@@ -134,6 +135,9 @@ class Declarations(Statements):
         self.comments(node, 0)
         self.emit(f"class {decl.name}({bases}{st_keyword(decl.st, decl.name)}):", 0)
         self.emit(f'"""TYPE {decl.name} : {keyword}."""', 1)
+        pack = self._pack_mode(node)
+        if pack is not None:  # ctypes lays the members out with at most this alignment, as TwinCAT's pack_mode does
+            self.emit(f"_pack_ = {pack}", 1)
         scope = Scope(decl, "const")
         for element in node.declarations:
             self.line = element.meta.line if element.meta else self.line
@@ -148,6 +152,17 @@ class Declarations(Statements):
             self.trail(index, trailing)
         if not node.declarations:
             self.emit("pass", 1)
+
+    def _pack_mode(self, node: Any) -> int | None:
+        """``{attribute 'pack_mode' := 'n'}`` before a STRUCT or UNION: its members' largest alignment (0 is 1)."""
+        for pragma in self.pragmas(node):
+            found = re.fullmatch(r"\{\s*attribute\s+'pack_mode'\s*:=\s*'([^']*)'\s*\}", pragma, re.IGNORECASE)
+            if found is None:
+                continue
+            if found.group(1).strip() not in ("0", "1", "2", "4", "8"):
+                raise self.fail(f"{pragma}: pack_mode is 0, 1, 2, 4 or 8 (the largest alignment of the members)", node)
+            return max(int(found.group(1)), 1)
+        return None
 
     # --- field declarations ---
 

@@ -442,3 +442,30 @@ END_FUNCTION_BLOCK""")
     table = plc.FB_Table()
     table()
     assert table.nCells == 6
+
+
+# --- {attribute 'pack_mode'} ------------------------------------------------------------------------------
+
+def test_pack_mode_lays_a_struct_out_without_its_alignment_gaps() -> None:
+    # pack_mode 1 (and 0): no gaps, as a fieldbus or ADS telegram lays its bytes; 2: members on even offsets
+    plc = st.load("""{attribute 'pack_mode' := '1'}
+TYPE ST_Telegram : STRUCT nCmd : BYTE; nValue : DINT; fSpeed : LREAL; END_STRUCT END_TYPE
+{attribute 'pack_mode' := '2'}
+TYPE ST_Even : STRUCT nCmd : BYTE; nValue : DINT; END_STRUCT END_TYPE
+TYPE ST_Aligned : STRUCT nCmd : BYTE; nValue : DINT; END_STRUCT END_TYPE
+FUNCTION F_Decode : DINT
+VAR aRaw : ARRAY[0..12] OF BYTE := [7, 16#04, 16#03, 16#02, 16#01]; stT : ST_Telegram; END_VAR
+MEMCPY(ADR(stT), ADR(aRaw), SIZEOF(stT));
+F_Decode := stT.nValue;
+END_FUNCTION
+FUNCTION F_Sizes : UDINT
+VAR a : ST_Telegram; b : ST_Even; c : ST_Aligned; END_VAR
+F_Sizes := SIZEOF(a) * 10000 + SIZEOF(b) * 100 + SIZEOF(c);
+END_FUNCTION""")
+    assert plc.F_Sizes() == 13 * 10000 + 6 * 100 + 8
+    assert plc.F_Decode() == 0x01020304  # the DINT right after the command byte, as the telegram has it
+
+
+def test_a_pack_mode_twincat_does_not_know_is_refused() -> None:
+    with pytest.raises(DefinitionError, match=r"<st>:2: \{attribute 'pack_mode' := '3'\}: pack_mode is 0, 1, 2, 4 or 8"):
+        st.load("{attribute 'pack_mode' := '3'}\nTYPE ST_X : STRUCT a : BYTE; END_STRUCT END_TYPE\n")
