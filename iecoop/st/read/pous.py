@@ -21,6 +21,9 @@ from iecoop.st.read.trees import (
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
+#: The pragmas of a POU and its STRING that give the STRING the instance's path (``VAR(instance_path=True)``).
+_REFLECTION = re.compile(r"\{\s*attribute\s+'reflection'\s*\}", re.IGNORECASE)
+_INSTANCE_PATH = re.compile(r"\{\s*attribute\s+'instance-path'\s*\}", re.IGNORECASE)
 
 
 def _parameter_inits(blocks: Sequence[Any]) -> dict[str, Any]:
@@ -123,14 +126,20 @@ class Pous(Locals):
                     del scope.locals[key]
 
     def _emit_field_blocks(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None) -> None:
+        # {attribute 'instance-path'} takes effect in a POU marked {attribute 'reflection'}, as the PLC's compiler does
+        reflection = method is None and any(_REFLECTION.fullmatch(p) for p in self.pragmas(decl.node))
         for block in blocks:
             self.comments(block, level)
             section = _SECTION_OF.get(type(block))
             extra = flag_keywords(getattr(block, "attrs", None), tf.VariableAttributes, _QUALIFIERS)
             if method is not None and section == "VAR_INST":
                 extra.append(f'method="{method}"')
+            previous = block.meta.line if block.meta else None
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
+                pragmas = self.pragmas(item, previous) if reflection and section == "VAR" else []
+                previous = getattr(item.meta, "end_line", None) or self.line
+                path = ["instance_path=True"] if any(_INSTANCE_PATH.fullmatch(p) for p in pragmas) else []
                 trailing = self.comments(item, level, inline=True)
                 index = len(self.out)
                 if section == "VAR_EXTERNAL":
@@ -143,7 +152,7 @@ class Pous(Locals):
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
                     member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
-                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
+                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra + path)), level)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_method_instance_fields(self, decl: Decl) -> None:
