@@ -47,7 +47,7 @@ from iecoop.memory._resolve import class_info
 from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
-from iecoop.metadata import Kind, iec_class, kind_of, st_name
+from iecoop.metadata import Kind, iec_class, kind_of, layout_of, st_name
 
 __all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
@@ -181,7 +181,7 @@ class _PathPlan:
 
     def __init__(self, cls: type) -> None:
         self.owner = cls
-        layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
+        layout = layout_of(cls)
         self.own = tuple(record for record in layout.fields if record.spec.instance_path) if layout is not None else ()
         #: (ST name, the member instances of an object, the index written after the name of each)
         self.members: list[tuple[str, Callable[[Any], list[Any]], list[str]]] = []
