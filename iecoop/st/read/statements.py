@@ -411,7 +411,9 @@ class Statements(Calls):
             if jumps_in_loop(statement):
                 raise self.fail("JMP inside a FOR, WHILE or REPEAT loop is not supported (labels and JMPs outside loops)", statement)
         scope.jump = scope.temp("jump")
-        self.emit(f'{scope.jump} = ""  # JMP: the label the code runs from next', level)
+        # A body that opens with a label starts at that label's part (the part before it is empty and left out).
+        first = parts[0][0] if parts[0][1] else parts[1][0].lower()
+        self.emit(f'{scope.jump} = "{first}"  # JMP: the label the code runs from next', level)
         self.emit("while True:", level)
         for index, (label, body) in enumerate(parts):
             if index == 0 and not body:

@@ -142,6 +142,10 @@ END_ACTION
                             "IF n > 1 THEN JMP done; END_IF\nx := x * 2;\ndone:\nn := n + 10;"), 2,
      # cycle 1: x counts to 3, doubled to 6, n = 11; cycle 2: x to 3, n = 12 > 1 skips the doubling, n = 22
      lambda m: (m.x, m.n), (3, 22)),
+    ("jmp-to-a-label-that-opens-the-body", prog("x : INT; n : INT;",
+                                                "again: x := x + 1;\nIF x MOD 3 <> 0 THEN JMP again; END_IF\nn := n + 1;"), 2,
+     # the body starts at its first statement though it carries a label: x counts to 3, then to 6
+     lambda m: (m.x, m.n), (6, 2)),
     ("jmp-in-a-method-and-case", """
 FUNCTION_BLOCK FB_J
 END_FUNCTION_BLOCK
