@@ -228,6 +228,31 @@ END_PROGRAM
     assert (plc.MAIN.t, plc.MAIN.w, plc.MAIN.r, plc.MAIN.d) == (5000, 255, 7.5, 42)
 
 
+
+def test_the_largest_ulint_literal_loads_in_each_base() -> None:
+    plc = st.load(program("").replace("END_VAR", "u : ULINT := 18446744073709551615; h : LWORD := 16#FFFF_FFFF_FFFF_FFFF;\n"
+                                      "o : ULINT := 8#1777777777777777777777;\nEND_VAR"))
+    assert (plc.MAIN.u, plc.MAIN.h, plc.MAIN.o) == (2**64 - 1, 2**64 - 1, 2**64 - 1)
+
+
+@pytest.mark.parametrize("literal, shown", [
+    ("18446744073709551616", "18446744073709551616"),
+    ("9" * 5000, r"99999999999999999999\.\.\.9999999999 \(5000 digits\)"),
+    ("16#1_0000_0000_0000_0000", "1_0000_0000_0000_0000"),
+    ("2#" + "1" * 20000, r"1{20}\.\.\.1{10} \(20000 digits\)"),
+    ("LINT#" + "9" * 5000, r"9{20}\.\.\.9{10} \(5000 digits\)"),
+])
+@pytest.mark.parametrize("where", ["n := {};", "CASE n OF {}: n := 1; END_CASE", "a[{}] := 1;"])
+def test_an_integer_literal_larger_than_ulint_is_refused_at_its_line(literal: str, shown: str, where: str) -> None:
+    """Python itself refuses to read or print integers of more than 4300 decimal digits; ST's types end at 64 bits."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:8: the integer literal {shown} is larger than any integer type holds"):
+        st.load(program(where.format(literal)))
+
+
+def test_an_integer_literal_larger_than_ulint_is_refused_in_a_declaration() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"^<st>:\d+: the integer literal .* \(5000 digits\) is larger than any"):
+        st.load(program("").replace("END_VAR", "big : ARRAY[0.." + "9" * 5000 + "] OF INT;\nEND_VAR"))
+
 # 6. Nesting limits: checked on the parse tree, named in the error, before any Python is generated.
 
 def program(body: str) -> str:
