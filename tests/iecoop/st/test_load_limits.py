@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import re
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -158,6 +161,33 @@ def test_a_project_reads_nothing_outside_its_folder(tmp_path: Path, include: str
     with pytest.raises(st.StSyntaxError, match=rf"Counter\.plcproj:5: Compile Include=.* is (an )?{rule}"):
         st.load(project(tmp_path, include))
 
+
+
+@pytest.mark.skipif(not hasattr(os, "symlink") or sys.platform == "win32", reason="symbolic links need privileges on Windows")
+@pytest.mark.parametrize("name", ["leak.st", "POUs/leak.TcPOU"])
+def test_a_folder_reads_nothing_outside_it_through_a_link(tmp_path: Path, name: str) -> None:
+    secret = write(tmp_path / "secret.txt", "PASSWORD := hunter2\n")
+    folder = tmp_path / "project"
+    write(folder / "POUs" / "FB_Counter.TcPOU", pou())
+    os.symlink(secret, folder / name)
+    with pytest.raises(st.StSyntaxError, match=rf"{re.escape(name)}: a link to .*secret\.txt', outside the folder .*project'") as caught:
+        st.load(folder)
+    assert "hunter2" not in str(caught.value)
+
+
+@pytest.mark.skipif(not hasattr(os, "symlink") or sys.platform == "win32", reason="symbolic links need privileges on Windows")
+def test_a_link_that_stays_inside_the_folder_is_read(tmp_path: Path) -> None:
+    folder = tmp_path / "project"
+    write(folder / "versions" / "FB_Counter.v2", pou())
+    os.symlink(folder / "versions" / "FB_Counter.v2", folder / "FB_Counter.TcPOU")
+    assert st.load(folder).FB_Counter().Count == 0
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_pipe_named_as_a_source_is_refused_not_read_for_ever(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "main.st")
+    with pytest.raises(st.StUnsupportedError, match=r"main\.st: not a regular file \(a pipe, device or socket is not read"):
+        st.load(tmp_path / "main.st")
 
 # 4. XML is parsed without DTDs, entities or network; every XML failure names the file and line.
 
