@@ -146,6 +146,11 @@ END_ACTION
                                                 "again: x := x + 1;\nIF x MOD 3 <> 0 THEN JMP again; END_IF\nn := n + 1;"), 2,
      # the body starts at its first statement though it carries a label: x counts to 3, then to 6
      lambda m: (m.x, m.n), (6, 2)),
+    ("continue-in-repeat-goes-on-at-until", prog("i : INT; n : INT; k : INT; j : INT;",
+                                                 "REPEAT i := i + 1; IF i = 3 THEN CONTINUE; END_IF n := n + 1; UNTIL i >= 3 END_REPEAT\n"
+                                                 "REPEAT k := k + 1; FOR j := 1 TO 2 DO CONTINUE; END_FOR UNTIL k >= 2 END_REPEAT"), 1,
+     # i = 3 continues to UNTIL, which ends the loop (i 3, n 2); a nested loop's CONTINUE is its own
+     lambda m: (m.i, m.n, m.k, m.j), (3, 2, 2, 3)),
     ("jmp-in-a-method-and-case", """
 FUNCTION_BLOCK FB_J
 END_FUNCTION_BLOCK
@@ -209,6 +214,10 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT;", "JMP nowhere;"), "JMP nowhere: no label nowhere"),
     (prog("i : INT;", "FOR i := 1 TO 10 DO IF i = 2 THEN i := 5; END_IF END_FOR"), "the FOR loop writes its control variable i"),
     (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
+    (prog("i : INT;", "i := 1;\nEXIT;"), r"^<st>:\d+: EXIT outside a FOR, WHILE or REPEAT loop"),
+    (prog("i : INT;", "IF i = 0 THEN CONTINUE; END_IF"), r"^<st>:\d+: CONTINUE outside a FOR, WHILE or REPEAT loop"),
+    # the loop a body with labels runs in is no ST loop: EXIT there would end the body silently
+    (prog("i : INT;", "a: i := i + 1;\nIF i > 2 THEN EXIT; END_IF\nJMP a;"), "EXIT outside a FOR, WHILE or REPEAT loop"),
     (prog("i : INT(0..10);", "i := 11;"), "11 is outside the subrange INT[(]0..10[)]"),
     (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
     ("FUNCTION F : INT\nVAR_INPUT n : INT(0..10); END_VAR\nF := n;\nEND_FUNCTION\n" + prog("i : INT;", "i := F(n := 11);"),
