@@ -8,7 +8,8 @@ from typing import Any
 
 import pytest
 
-from iecoop import st
+from iecoop import ExceptionCode, PlcException, T, st
+from iecoop.runtime import Runtime, Task
 from tests.iecoop.st.test_load import prog, run
 
 COUNTER = """
@@ -151,6 +152,11 @@ END_ACTION
                                                  "REPEAT k := k + 1; FOR j := 1 TO 2 DO CONTINUE; END_FOR UNTIL k >= 2 END_REPEAT"), 1,
      # i = 3 continues to UNTIL, which ends the loop (i 3, n 2); a nested loop's CONTINUE is its own
      lambda m: (m.i, m.n, m.k, m.j), (3, 2, 2, 3)),
+    ("function-calls-itself", "FUNCTION F_Fact : LINT\nVAR_INPUT n : INT; END_VAR\n"
+                              "IF n <= 1 THEN F_Fact := 1; ELSE F_Fact := n * F_Fact(n - 1); END_IF\nEND_FUNCTION\n"
+     + prog("x : LINT; y : LINT;", "x := F_Fact(10); y := F_Fact(n := 1);"), 1,
+     # in its own body F_Fact is the result where it is read or written and the FUNCTION where it is called
+     lambda m: (m.x, m.y), (3628800, 1)),
     ("jmp-in-a-method-and-case", """
 FUNCTION_BLOCK FB_J
 END_FUNCTION_BLOCK
@@ -200,6 +206,15 @@ END_PROPERTY
 @pytest.mark.parametrize("source, cycles, read, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
 def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expected: Any) -> None:
     assert read(run(source, cycles)) == expected
+
+
+def test_a_function_that_calls_itself_for_ever_is_a_stack_overflow() -> None:
+    module = st.load("FUNCTION F : INT\nVAR_INPUT n : INT; END_VAR\nF := F(n + 1);\nEND_FUNCTION\n" + prog("x : INT;", "x := F(0);"))
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), module.MAIN)
+    with pytest.raises(PlcException) as caught:
+        runtime.run(cycles=1)
+    assert caught.value.code == ExceptionCode.RTSEXCPT_STACK_OVERFLOW
 
 
 def test_function_var_stat_counts_every_call() -> None:
