@@ -346,6 +346,41 @@ def test_translation_too_deep_for_the_stack_is_an_st_error(monkeypatch: pytest.M
         st.load(program("n := " + " + ".join(["2"] * 3000) + ";"))
 
 
+
+@pytest.mark.parametrize("source, chain", [
+    ("FUNCTION_BLOCK FB_A EXTENDS FB_B\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK FB_B EXTENDS FB_A\nEND_FUNCTION_BLOCK\n",
+     "FUNCTION_BLOCK FB_A is built from itself: FB_A -> FB_B -> FB_A"),
+    ("FUNCTION_BLOCK FB_A EXTENDS fb_a\nEND_FUNCTION_BLOCK\n", "FUNCTION_BLOCK FB_A is built from itself: FB_A -> FB_A"),
+    ("INTERFACE I_A EXTENDS I_C\nEND_INTERFACE\nINTERFACE I_B EXTENDS I_A\nEND_INTERFACE\nINTERFACE I_C EXTENDS I_X, I_B\nEND_INTERFACE\n"
+     "INTERFACE I_X\nEND_INTERFACE\n", "INTERFACE I_A is built from itself: I_A -> I_C -> I_B -> I_A"),
+    ("TYPE ST_A EXTENDS ST_A : STRUCT a : INT; END_STRUCT END_TYPE\n", "STRUCT ST_A is built from itself: ST_A -> ST_A"),
+    ("TYPE T_A : T_B; END_TYPE\nTYPE T_B : T_A; END_TYPE\n", "TYPE T_A is built from itself: T_A -> T_B -> T_A"),
+    ("TYPE T_A : T_A; END_TYPE\n", "TYPE T_A is built from itself: T_A -> T_A"),
+])
+def test_a_type_built_from_itself_is_refused_naming_the_chain(source: str, chain: str) -> None:
+    """Before, a Python NameError or "nests too deeply" without a line said it."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:1: {chain} \(EXTENDS and aliases may not come back"):
+        st.load(source + program("").replace("n : INT;", "n : INT; p : POINTER TO T_Node;")
+                + "TYPE T_Node : STRUCT pNext : POINTER TO T_Node; END_STRUCT END_TYPE\n")
+
+
+def test_a_long_chain_of_extends_loads() -> None:
+    blocks = "".join(f"FUNCTION_BLOCK FB_{i}{f' EXTENDS FB_{i - 1}' if i else ''}\nEND_FUNCTION_BLOCK\n" for i in range(40))
+    plc = st.load(blocks)
+    assert plc.FB_0 in plc.FB_39.__mro__
+
+
+def _no_memory() -> bool:
+    raise MemoryError
+
+
+def test_a_program_the_machine_has_no_memory_for_is_an_st_error_naming_it() -> None:
+    """As a 2 GiB ARRAY where the process may hold less: the load fails naming the PROGRAM, not with a bare MemoryError."""
+    source = ("FUNCTION F_Alloc : BOOL\nEND_FUNCTION\n" + program("n := 1;")
+              + "METHOD FB_init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR\nFB_init := F_Alloc();\nEND_METHOD\n")
+    with pytest.raises(st.StUnsupportedError, match=r"^<st>:3: PROGRAM MAIN cannot be made: MemoryError: the machine has no memory"):
+        st.load(source, externals={"F_Alloc": _no_memory})
+
 # 7. Encodings: UTF-8 (with or without BOM), else Windows-1252; XML as its declaration says.
 
 ST_SOURCE = "PROGRAM MAIN\nVAR\n    s : STRING := '°C';\nEND_VAR\n// 20 °C is room temperature\nEND_PROGRAM\n"
