@@ -86,7 +86,23 @@ def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--duration", metavar="T", help="run for a PLC time (2s, 500ms) instead of --cycles")
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE@TIME",
                         help="write a value at a PLC time, e.g. MAIN.bStart=TRUE@100ms (repeatable)")
+    parser.add_argument("--watchdog", type=_watchdog, default=DEFAULT_WATCHDOG, metavar="T",
+                        help="stop a cycle that runs longer than T of the machine's time, a PLC fault "
+                             f"RTSEXCPT_WATCHDOG (default {DEFAULT_WATCHDOG}; 0: none)")
     add_trace_arguments(parser)
+
+
+#: The watchdog of ``iecoop st run``'s task: a cycle that never ends (WHILE TRUE) is a PLC fault, not a hung command.
+DEFAULT_WATCHDOG = "10s"
+
+
+def _watchdog(text: str) -> str:
+    """An argparse type: a TIME (``2s``, ``T#500ms``) or 0."""
+    try:
+        T(text if text.strip() != "0" else "0ms")
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected a TIME such as 10s or 500ms, or 0 for none: {exc}") from None
+    return text
 
 
 def add_st_arguments(parser: argparse.ArgumentParser) -> None:
@@ -265,7 +281,9 @@ def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     tasks = load_tasks(args.source, args.program, args.profile)
     writes = [parse_set(text) for text in args.set]
     runtime = Runtime(store=":memory:", profile=args.profile)
+    watchdog = int(T(args.watchdog if args.watchdog.strip() != "0" else "0ms")) or None
     for task, programs in tasks:
+        task.watchdog = watchdog
         runtime.add_task(task, *(program for _, program in programs))
     first_task, ((_, program), *_) = tasks[0]
     cycles = args.cycles

@@ -454,7 +454,8 @@ def _make_programs(namespace: dict[str, Any], names: list[tuple[str, str]], sour
         if kind == "program" and isinstance(namespace[name], type):
             try:
                 namespace[name] = namespace[name]()
-            except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
+            except (DefinitionError, TypeError, ValueError, AttributeError, MemoryError, RecursionError) as exc:  # FB_init ...
                 where, _ = _declared_at(source, name)
                 error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
-                raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc
+                why = str(exc) or ("the machine has no memory for its variables" if isinstance(exc, MemoryError) else "")
+                raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {why}") from exc

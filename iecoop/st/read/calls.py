@@ -180,7 +180,8 @@ class Calls(Expressions):
         if standard is not None:
             return standard
         decl = self.decls.get(key)
-        if decl is not None and decl.kind == "function" and key not in scope.locals:
+        # a FUNCTION's name in its own body is its result, except where it is called: F := n * F(n - 1)
+        if decl is not None and decl.kind == "function" and (key not in scope.locals or scope.locals[key].section == "RETURN"):
             info = decl.methods["()"]
             args = self.arguments(node.parameters, info.params, scope, node)
             return Ex(f"{decl.name}({', '.join(args)})", info.returns)

@@ -16,7 +16,8 @@ from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
 from iecoop.st.read.trees import (
-    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, signature, statements_of, variables,
+    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, nodes_below, signature,
+    statements_of, variables,
 )
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
@@ -494,6 +495,9 @@ class Pous(Locals):
         scope = Scope(None, "function", return_name=decl.name if info.returns is not None else None)
         scope.return_st = decl.st
         scope.pou = decl.name
+        if info.returns is not None and any(isinstance(n, tf.FunctionCall) and str(n.name).lower() == decl.st.lower()
+                                            for n in nodes_below(node.body)):
+            scope.return_name = scope.temp(decl.name)  # F := F(n - 1) * n: the call names the FUNCTION, not its result
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)
         self._need_type(info.returns)

@@ -38,6 +38,27 @@ def test_st_run_fault_exits_1(tmp_path: pathlib.Path) -> None:
     assert status == 1 and f"PLC fault in cycle 1 at {source}:3 (MAIN): RTSEXCPT_DIVIDEBYZERO" in err
 
 
+RUNAWAY = "PROGRAM MAIN\nVAR x : INT; END_VAR\nx := x + 1;\nWHILE x > 1 DO x := 5; END_WHILE\nEND_PROGRAM\n"
+
+
+def test_st_run_stops_a_cycle_that_never_ends_as_a_watchdog_fault(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    source = tmp_path / "loop.st"
+    source.write_text(RUNAWAY)
+    status, out, err = call(st_run, str(source), "--cycles", "3", "--watchdog", "50ms")
+    assert status == 1 and f"PLC fault in cycle 2 at {source}:4 (MAIN): RTSEXCPT_WATCHDOG" in err and "watchdog 50 ms" in err
+    monkeypatch.setattr("iecoop.cli.st.DEFAULT_WATCHDOG", "40ms")  # the default, made short for the test
+    status, out, err = call(st_run, str(source), "--cycles", "3")
+    assert status == 1 and "RTSEXCPT_WATCHDOG" in err and "watchdog 40 ms" in err
+
+
+def test_st_run_watchdog_takes_a_time_or_0(tmp_path: pathlib.Path) -> None:
+    source = tmp_path / "count.st"
+    source.write_text("PROGRAM MAIN\nVAR x : INT; END_VAR\nx := x + 1;\nEND_PROGRAM\n")
+    assert call(st_run, str(source), "--cycles", "2", "--watchdog", "0")[0] == 0
+    with pytest.raises(SystemExit):
+        call(st_run, str(source), "--watchdog", "soon")
+
+
 def test_st_run_bad_source_and_unknown_program_exit_2(tmp_path: pathlib.Path) -> None:
     source = tmp_path / "bad.st"
     source.write_text("PROGRAM MAIN\nVAR x : FB_Nowhere; END_VAR\nEND_PROGRAM\n")
