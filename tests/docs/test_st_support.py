@@ -65,6 +65,12 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
         "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
     ],
+    "a `REFERENCE TO` or `POINTER TO` bound to a variable in an initialiser outside a block": [
+        "FUNCTION_BLOCK FB_R\nVAR_INPUT r : REFERENCE TO INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+        "VAR_GLOBAL n : INT; fbR : FB_R := (r := n); END_VAR",
+        "FUNCTION_BLOCK FB_P\nVAR_INPUT p : POINTER TO INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+        "VAR_GLOBAL n : INT; fbP : FB_P := (p := ADR(n)); END_VAR",
+    ],
 }
 
 #: Rows the reader does not refuse yet: it loads them with a different meaning, so the row stays.

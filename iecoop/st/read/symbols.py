@@ -66,6 +66,10 @@ class Symbols:
         #: ids of the comment tokens pass 2 has written (or that are marks)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
+        #: ``fb : FB_X := (ref := x, p := ADR(y))``: (the field's Python path, the member, its type, the value), bound after init
+        self.pending_member_references: list[tuple[str, str, Any, Any]] = []
+        #: the Python path of the field whose initial value is being written (``self.fb``), or None outside a block
+        self.field_path: str | None = None
         #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)

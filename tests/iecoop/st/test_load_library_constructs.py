@@ -44,3 +44,44 @@ END_FUNCTION_BLOCK""")
     fb()
     assert fb.nSeen == 7
 
+
+
+def test_a_block_initialiser_binds_a_reference_and_a_pointer_to_variables_beside_it() -> None:
+    # fbWatch := (bRef := bFlag, pCount := ADR(nCount)): each cycle it reads bFlag, inverts it and adds 5 to nCount;
+    # a VAR_INST of a METHOD is bound the same way (to the block's nCount): it adds 1 at each call
+    plc = st.load("""FUNCTION_BLOCK FB_Watch
+VAR_INPUT bRef : REFERENCE TO BOOL; pCount : POINTER TO DINT; nStep : DINT := 5; END_VAR
+VAR_OUTPUT bSeen : BOOL; END_VAR
+IF __ISVALIDREF(bRef) THEN bSeen := bRef; bRef := NOT bRef; END_IF
+IF pCount <> 0 THEN pCount^ := pCount^ + nStep; END_IF
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Owner
+VAR_OUTPUT bOut : BOOL; bFlag : BOOL := TRUE; nCount : DINT; END_VAR
+VAR fbWatch : FB_Watch := (bRef := bFlag, pCount := ADR(nCount)); fbIdle : FB_Watch := (pCount := 0); END_VAR
+fbWatch();
+fbIdle();
+bOut := fbWatch.bSeen;
+Bump();
+END_FUNCTION_BLOCK
+METHOD Bump
+VAR_INST fbOne : FB_Watch := (pCount := ADR(nCount), nStep := 1); END_VAR
+fbOne();
+END_METHOD""")
+    fb = plc.FB_Owner()
+    fb()
+    assert (fb.bOut, fb.bFlag, fb.nCount) == (True, False, 6)
+    fb()
+    assert (fb.bOut, fb.bFlag, fb.nCount) == (False, True, 12)
+    assert not fb.fbIdle.bSeen
+
+
+def test_a_reference_in_an_initialiser_outside_a_block_is_refused_by_name() -> None:
+    # a STRUCT type's default cannot name a variable: the error says where and what to write instead
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:6: bRef := \.\.\.: a REFERENCE TO or POINTER TO .* not supported outside a block's VAR \(bind it in code"):
+        st.load("""FUNCTION_BLOCK FB_Watch
+VAR_INPUT bRef : REFERENCE TO BOOL; END_VAR
+END_FUNCTION_BLOCK
+VAR_GLOBAL
+bFlag : BOOL;
+fbGlobal : FB_Watch := (bRef := bFlag);
+END_VAR""")
