@@ -377,6 +377,8 @@ class Symbols:
             return TypeRef("user", IQUERYINTERFACE.name)
         if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
             return TypeRef("any", name.upper())
+        if name.upper() == "__SYSTEM.ANYTYPE":
+            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(unknown_name("type", name, self.decls), node)
@@ -384,7 +386,7 @@ class Symbols:
             # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
             # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
             target = decl.alias_of or self._alias_target(decl.node)
-            if target.kind == "string" and target.length not in (None, "80") or target.kind == "array":
+            if target.kind == "string" and target.length not in (None, "80") or target.kind in ("array", "any"):
                 return target
         return TypeRef("user", decl.name)
 

@@ -85,3 +85,39 @@ VAR_GLOBAL
 bFlag : BOOL;
 fbGlobal : FB_Watch := (bRef := bFlag);
 END_VAR""")
+
+
+def test_an_alias_of_the_system_any_type_is_a_generic_input() -> None:
+    # TYPE T_Any : __SYSTEM.AnyType: an input of that type takes any value as ANY does (TypeClass, pValue,
+    # diSize); F_SizeOf reads diSize, F_FirstByte reads through pValue, F_Kind hands it on to another function
+    plc = st.load("""TYPE T_Any : __SYSTEM.AnyType; END_TYPE
+FUNCTION F_SizeOf : DINT
+VAR_INPUT aValue : T_Any; END_VAR
+F_SizeOf := aValue.diSize;
+END_FUNCTION
+FUNCTION F_FirstByte : BYTE
+VAR_INPUT aValue : __SYSTEM.AnyType; END_VAR
+F_FirstByte := aValue.pValue^;
+END_FUNCTION
+FUNCTION F_IsReal : BOOL
+VAR_INPUT aValue : T_Any; END_VAR
+F_IsReal := aValue.TypeClass = __SYSTEM.TYPE_CLASS.TYPE_LREAL;
+END_FUNCTION
+FUNCTION F_Kind : BOOL
+VAR_INPUT aAnything : ANY; END_VAR
+F_Kind := F_IsReal(aAnything);
+END_FUNCTION
+FUNCTION_BLOCK FB_Probe
+VAR_OUTPUT nSize : DINT; nByte : BYTE; bReal : BOOL; bIntReal : BOOL; END_VAR
+VAR nWord : WORD := 16#1234; fValue : LREAL := 2.5; nStep : WORD := 16#0101; END_VAR
+nSize := F_SizeOf(nWord) + F_SizeOf(fValue);
+nByte := F_FirstByte(nWord);
+bReal := F_Kind(fValue);
+bIntReal := F_Kind(nWord);
+nWord := nWord + nStep;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Probe()
+    fb()
+    assert (fb.nSize, fb.nByte, fb.bReal, fb.bIntReal) == (10, 0x34, True, False)
+    fb()
+    assert fb.nByte == 0x35  # 16#1335: the low byte comes first
