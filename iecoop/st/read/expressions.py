@@ -12,7 +12,7 @@ from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, V
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
-from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, variables
 
 
@@ -34,7 +34,7 @@ class Expressions(Literals):
 
     def enum_ref(self, enum_name: str | None, value: str, node: Any) -> str:
         if enum_name is not None:
-            decl = self.decls.get(enum_name.lower())
+            decl = self._enum_through_alias(self.decls.get(enum_name.lower()))
             if decl is None or decl.kind != "enum":
                 raise self.fail(f"unknown enumeration {enum_name!r}", node)
             match = next((v for v in decl.values if v.lower() == value.lower()), None)
@@ -48,6 +48,14 @@ class Expressions(Literals):
         if found is None:
             raise self.fail(f"unknown enumeration value {value!r}", node)
         return f"{found[0]}.{found[1]}"
+
+    def _enum_through_alias(self, decl: Decl | None) -> Decl | None:
+        """``decl``, or the enumeration an alias of it names (``TYPE T_Order : E_Order``: T_Order.Before)."""
+        if decl is not None and decl.kind == "alias":
+            target = self.decl_of(TypeRef("user", decl.name))
+            if target is not None and target.kind == "enum":
+                return target
+        return decl
 
     def _aggregate(self, type_: TypeRef) -> bool:
         """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
@@ -321,7 +329,7 @@ class Expressions(Literals):
         if key in self.globals:
             gvl_name, member = self.globals[key]
             return Ex.attribute(gvl_name, member.name, member.type)
-        decl = self.decls.get(key)
+        decl = self._enum_through_alias(self.decls.get(key))
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
         if key in self.enum_values:

@@ -121,3 +121,28 @@ END_FUNCTION_BLOCK""")
     assert (fb.nSize, fb.nByte, fb.bReal, fb.bIntReal) == (10, 0x34, True, False)
     fb()
     assert fb.nByte == 0x35  # 16#1335: the low byte comes first
+
+
+def test_the_values_of_an_enumeration_are_named_through_an_alias_of_it() -> None:
+    # TYPE T_Order : E_Order: T_Order.Before is E_Order.Before; F_Order gives Before, Same, After for 1-2, 2-2, 3-2
+    plc = st.load("""{attribute 'qualified_only'}
+TYPE E_Order : (Unknown := 0, Before, Same, After) BYTE; END_TYPE
+TYPE T_Order : E_Order; END_TYPE
+FUNCTION F_Order : T_Order
+VAR_INPUT a : INT; b : INT; END_VAR
+F_Order := SEL(a = b, SEL(a > b, T_Order.Before, T_Order.After), T_Order.Same);
+END_FUNCTION
+FUNCTION_BLOCK FB_Sorter
+VAR_OUTPUT eLast : T_Order; nAfter : INT; END_VAR
+VAR n : INT := 1; END_VAR
+eLast := F_Order(n, 2);
+CASE eLast OF T_Order.After: nAfter := nAfter + 1; E_Order.Before: nAfter := nAfter + 10; END_CASE
+n := n + 1;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Sorter()
+    fb()
+    assert (fb.eLast, fb.nAfter) == (plc.E_Order.Before, 10)
+    fb()
+    assert (fb.eLast, fb.nAfter) == (plc.E_Order.Same, 10)
+    fb()
+    assert (fb.eLast, fb.nAfter) == (plc.E_Order.After, 11)
