@@ -50,10 +50,11 @@ __all__ = [
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
-    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
+    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LEN2", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
     "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "NT_GetTime", "SYSTEMTIME_TO_DT",
-    "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
-    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "STRING_TO_WSTRING2", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
+    "T_FILETIME", "T_FILETIME64", "WLEN2", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "WSTRING_TO_STRING2",
     "stLibVersion_Tc2_Utilities",
 ]
 
@@ -725,18 +726,56 @@ _HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
 MAX_CHARACTERS = 2048
 
 
-def _c_string(pointer: Pointer[Any], what: str) -> bytes:
-    """The STRING at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS), whatever its declared length."""
+def _c_string(pointer: Pointer[Any], what: str, function: str = "FindAndReplace", width: int = 1) -> bytes:
+    """The STRING (``width`` 1) or WSTRING (2) at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS
+    characters), whatever its declared length: its bytes, the terminator left out."""
     if not pointer:
-        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"FindAndReplace: {what} is a null pointer")
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"{function}: {what} is a null pointer")
     data = bytearray()
-    at = pointer.typed(BYTE)
-    while len(data) < MAX_CHARACTERS:
+    at = pointer.typed(BYTE if width == 1 else WORD)
+    while len(data) < MAX_CHARACTERS * width:
         value = (at + len(data)).deref
         if value == 0:
             break
-        data.append(value)
+        data += value.to_bytes(width, "little")
     return bytes(data)
+
+
+def _put_c_string(pointer: Pointer[Any], data: bytes, size: int, width: int) -> bool:
+    """``data`` written at ``pointer`` into ``size`` bytes, cut to whole characters and a 0 after them; all of it?"""
+    room = max(0, (int(size) - width) // width * width)
+    target = pointer.typed(BYTE)
+    for index, value in enumerate(data[:room] + b"\x00" * width):
+        (target + index).deref = value
+    return len(data) <= room
+
+
+def LEN2(pSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``LEN2(pSTRING)``: the number of characters of the STRING at pSTRING, counted to its 0 (any length)."""
+    return len(_c_string(pSTRING, "pSTRING", "LEN2"))
+
+
+def WLEN2(pWSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``WLEN2(pWSTRING)``: the number of characters of the WSTRING at pWSTRING, counted to its 0."""
+    return len(_c_string(pWSTRING, "pWSTRING", "WLEN2", 2)) // 2
+
+
+def WSTRING_TO_STRING2(pDstString: Pointer[Any], pSrcWString: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
+    """``WSTRING_TO_STRING2(pDstString, pSrcWString, nDstSize)``: the WSTRING as a STRING into nDstSize bytes (its
+    0 included); characters a STRING cannot hold are left out. FALSE when the result was cut to fit."""
+    text = _c_string(pSrcWString, "pSrcWString", "WSTRING_TO_STRING2", 2).decode("utf-16-le", errors="ignore")
+    if not pDstString:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "WSTRING_TO_STRING2: pDstString is a null pointer")
+    return _put_c_string(pDstString, text.encode("latin-1", errors="ignore"), nDstSize, 1)
+
+
+def STRING_TO_WSTRING2(pDstWSTRING: Pointer[Any], pSrcSTRING: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
+    """``STRING_TO_WSTRING2(pDstWSTRING, pSrcSTRING, nDstSize)``: the STRING as a WSTRING into nDstSize bytes (its
+    0 included). FALSE when the result was cut to fit."""
+    text = _c_string(pSrcSTRING, "pSrcSTRING", "STRING_TO_WSTRING2").decode("latin-1")
+    if not pDstWSTRING:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "STRING_TO_WSTRING2: pDstWSTRING is a null pointer")
+    return _put_c_string(pDstWSTRING, text.encode("utf-16-le"), nDstSize, 2)
 
 
 def FindAndReplace(  # noqa: N802 - the ST name
