@@ -33,6 +33,12 @@ _SECTION_OF = {
 }
 
 
+
+#: TwinCAT's platform pseudo types on a 64-bit target (Infosys: "Special data types XINT, UXINT, XWORD and
+#: PVOID"); PVOID, an untyped address, is read as POINTER TO BYTE: ADR, MEMCPY, arithmetic and 0 work on it.
+_PLATFORM_TYPES = {"UXINT": "ULINT", "__UXINT": "ULINT", "XINT": "LINT", "__XINT": "LINT", "XWORD": "LWORD",
+                   "__XWORD": "LWORD", "PVOID": "PVOID"}
+
 class Symbols:
     """Pass 1's symbol table, and the error and line bookkeeping every phase shares."""
 
@@ -368,6 +374,9 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
+        platform = _PLATFORM_TYPES.get(name.upper()) if name.lower() not in self.decls else None
+        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
+            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
         system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
         if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
             return TypeRef("elem", system)

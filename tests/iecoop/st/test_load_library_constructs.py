@@ -146,3 +146,26 @@ END_FUNCTION_BLOCK""")
     assert (fb.eLast, fb.nAfter) == (plc.E_Order.Same, 10)
     fb()
     assert (fb.eLast, fb.nAfter) == (plc.E_Order.After, 11)
+
+
+def test_the_platform_types_pvoid_uxint_xint_and_xword_are_declared() -> None:
+    # TwinCAT's pseudo types on a 64-bit target: PVOID an untyped address (here POINTER TO BYTE), UXINT ULINT,
+    # XINT LINT, XWORD LWORD; pAny walks aSrc, nCount counts cycles in all three widths
+    plc = st.load("""FUNCTION_BLOCK FB_Walk
+VAR_OUTPUT nFirst : INT; nSecond : INT; bNull : BOOL; nBig : UXINT; nSigned : __XINT; wMask : XWORD; END_VAR
+VAR aSrc : ARRAY[0..1] OF INT := [7, 9]; pAny : PVOID; pNone : PVOID; pInt : POINTER TO INT; END_VAR
+pAny := ADR(aSrc);
+MEMCPY(ADR(nFirst), pAny, SIZEOF(nFirst));
+bNull := pNone = 0 AND pAny <> 0;
+pInt := pAny + SIZEOF(INT);
+nSecond := pInt^;
+aSrc[1] := aSrc[1] * 2;
+nBig := nBig + 16#1_0000_0000;
+nSigned := nSigned - 1;
+wMask := SHL(wMask, 1) OR 1;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Walk()
+    fb()
+    assert (fb.nFirst, fb.nSecond, fb.bNull, fb.nBig, fb.nSigned, fb.wMask) == (7, 9, True, 2**32, -1, 1)
+    fb()
+    assert (fb.nSecond, fb.nBig, fb.nSigned, fb.wMask) == (18, 2**33, -2, 3)
