@@ -169,3 +169,32 @@ END_FUNCTION_BLOCK""")
     assert (fb.nFirst, fb.nSecond, fb.bNull, fb.nBig, fb.nSigned, fb.wMask) == (7, 9, True, 2**32, -1, 1)
     fb()
     assert (fb.nSecond, fb.nBig, fb.nSigned, fb.wMask) == (18, 2**33, -2, 3)
+
+
+def test_numbers_convert_to_date_time_of_day_and_date_and_time() -> None:
+    # TO_DT / UDINT_TO_DT take seconds since 1970, TO_DATE too, TO_TOD milliseconds; DT_TO_DATE and DT_TO_TOD
+    # split a DT into its day and its time of day; a DATE is a DT at midnight
+    plc = st.load("""FUNCTION_BLOCK FB_Clock
+VAR_OUTPUT dtNow : DT; dDay : DATE; tdNow : TOD; dtMidnight : DT; tdLate : TOD; END_VAR
+VAR nSeconds : UDINT := 86400 + 3600; fMs : LREAL := 1500.4; END_VAR
+dtNow := UDINT_TO_DT(nSeconds);
+dDay := DT_TO_DATE(dtNow);
+tdNow := DT_TO_TOD(dtNow);
+dtMidnight := TO_DT(dDay);
+tdLate := TO_TOD(fMs);
+nSeconds := nSeconds + 60;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Clock()
+    fb()
+    assert (fb.dtNow, fb.dDay, fb.tdNow, fb.dtMidnight, fb.tdLate) == (90000, 86400, 3_600_000, 86400, 1500)
+    fb()
+    assert (fb.dtNow, fb.dDay, fb.tdNow) == (90060, 86400, 3_660_000)
+
+
+def test_a_conversion_between_date_and_time_types_of_other_units_is_refused() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:4: TO_DT of a TOD is not supported \(write DT_TO_TOD"):
+        st.load("""FUNCTION F_Bad : DT
+VAR_INPUT td : TOD; END_VAR
+VAR p : POINTER TO TOD; END_VAR
+F_Bad := TO_DT(td);
+END_FUNCTION""")
