@@ -198,3 +198,28 @@ VAR_INPUT td : TOD; END_VAR
 VAR p : POINTER TO TOD; END_VAR
 F_Bad := TO_DT(td);
 END_FUNCTION""")
+
+
+def test_a_var_info_is_an_input_of_a_method() -> None:
+    # Describe(info, ...) reads the symbol and type name of the variable __VARINFO described; not given, the
+    # input is the zero VAR_INFO (an empty symbol)
+    plc = st.load("""FUNCTION_BLOCK FB_Log
+VAR_OUTPUT sLine : STRING; sEmpty : STRING; END_VAR
+VAR nSpeed : INT := 3; END_VAR
+METHOD Describe : STRING
+VAR_INPUT stInfo : __SYSTEM.VAR_INFO; nValue : INT; END_VAR
+Describe := CONCAT(CONCAT(stInfo.Symbol, CONCAT(':', stInfo.TypeName)), CONCAT('=', INT_TO_STRING(nValue)));
+END_METHOD
+METHOD Run
+VAR stSpeed : __SYSTEM.VAR_INFO; END_VAR
+stSpeed := __VARINFO(nSpeed);
+sLine := Describe(stSpeed, nSpeed);
+sEmpty := Describe(nValue := 0);
+nSpeed := nSpeed * 2;
+END_METHOD
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Log()
+    fb.Run()
+    assert fb.sLine.endswith("nSpeed:INT=3") and fb.sEmpty == ":=0"
+    fb.Run()
+    assert fb.sLine.endswith("nSpeed:INT=6")
