@@ -57,6 +57,14 @@ class Expressions(Literals):
                 return target
         return decl
 
+    def _system_alias(self, decl: Decl) -> Ex | None:
+        """``TYPE T_Kind : __SYSTEM.TYPE_CLASS``: T_Kind names the system enumeration (T_Kind.TYPE_LREAL); else None."""
+        spec = getattr(getattr(decl.node, "init", None), "spec", None)
+        if str(spec).strip().upper() == "__SYSTEM.TYPE_CLASS":
+            self.need("iecoop", "TYPE_CLASS")
+            return Ex("TYPE_CLASS", TypeRef("user", "__SYSTEM.TYPE_CLASS"))
+        return None
+
     def _aggregate(self, type_: TypeRef) -> bool:
         """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
         decl = self.decl_of(type_) if type_.kind == "user" else None
@@ -330,6 +338,10 @@ class Expressions(Literals):
             gvl_name, member = self.globals[key]
             return Ex.attribute(gvl_name, member.name, member.type)
         decl = self._enum_through_alias(self.decls.get(key))
+        if decl is not None and decl.kind == "alias":
+            system = self._system_alias(decl)
+            if system is not None:
+                return system
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
         if key in self.enum_values:

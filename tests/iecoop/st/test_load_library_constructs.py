@@ -223,3 +223,26 @@ END_FUNCTION_BLOCK""")
     assert fb.sLine.endswith("nSpeed:INT=3") and fb.sEmpty == ":=0"
     fb.Run()
     assert fb.sLine.endswith("nSpeed:INT=6")
+
+
+def test_the_values_of_the_type_class_are_named_through_an_alias_of_it() -> None:
+    # TYPE T_Kind : __SYSTEM.TYPE_CLASS: T_Kind.TYPE_LREAL is __SYSTEM.TYPE_CLASS.TYPE_LREAL, compared with an ANY's
+    plc = st.load("""TYPE T_Kind : __SYSTEM.TYPE_CLASS; END_TYPE
+FUNCTION F_IsReal : BOOL
+VAR_INPUT aValue : ANY; END_VAR
+VAR eKind : T_Kind; END_VAR
+eKind := aValue.TypeClass;
+F_IsReal := eKind = T_Kind.TYPE_LREAL OR eKind = T_Kind.TYPE_REAL;
+END_FUNCTION
+FUNCTION_BLOCK FB_Probe
+VAR_OUTPUT nReals : INT; END_VAR
+VAR fValue : LREAL := 1.5; nValue : INT; rValue : REAL; END_VAR
+IF F_IsReal(fValue) THEN nReals := nReals + 1; END_IF
+IF F_IsReal(nValue) THEN nReals := nReals + 10; END_IF
+IF F_IsReal(rValue) THEN nReals := nReals + 100; END_IF
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Probe()
+    fb()
+    assert fb.nReals == 101
+    fb()
+    assert fb.nReals == 202
