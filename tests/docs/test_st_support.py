@@ -65,6 +65,9 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
         "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
     ],
+    "indexing a `POINTER TO` an ARRAY": [
+        "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; p : POINTER TO ARRAY[0..1] OF INT; END_VAR\np := ADR(a);\nF := p[0];\nEND_FUNCTION",
+    ],
     "a conversion into DATE, TOD or DT of a date or time type that counts in another unit": [
         "FUNCTION F : DT\nVAR_INPUT td : TOD; END_VAR\nF := TO_DT(td);\nEND_FUNCTION",
         "FUNCTION F : TOD\nVAR_INPUT d : DATE; END_VAR\nF := DATE_TO_TOD(d);\nEND_FUNCTION",

@@ -425,11 +425,7 @@ class Expressions(Literals):
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):
-                indices = [self.expr(s, scope).code for s in element.subscripts]
-                element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
-                current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
-                if element.dereferenced:
-                    current = self.deref(current, node)
+                current = self._subscripted(current, element, scope, node)
                 continue
             field = element.field
             field_name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
@@ -446,6 +442,30 @@ class Expressions(Literals):
             if isinstance(field, tf.SimpleVariable) and field.dereferenced:
                 current = self.deref(current, node)
         return current
+
+    def _subscripted(self, current: Ex, element: tf.SubscriptList, scope: Scope, node: Any) -> Ex:
+        """``a[i, j]`` of an ARRAY (or of a pointer: ``_pointer_element``), dereferenced when ``^`` follows."""
+        indices = [self.expr(s, scope).code for s in element.subscripts]
+        if current.type is not None and current.type.kind == "pointer":
+            current = self._pointer_element(current, indices, node)
+        else:
+            element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
+            current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
+        return self.deref(current, node) if element.dereferenced else current
+
+    def _pointer_element(self, pointer: Ex, indices: list[str], node: Any) -> Ex:
+        """``p[i]`` of a ``POINTER TO T``: the i-th T from where p points, ``(p + i * SIZEOF(T))^``; of a POINTER TO
+        STRING its i-th byte (TwinCAT, CODESYS: index access through a pointer)."""
+        target = pointer.type.of if pointer.type is not None else None
+        if len(indices) != 1 or target is None:
+            raise self.fail(f"{pointer.code}[...]: a pointer is indexed with one index, through a POINTER TO a type", node)
+        if target.kind == "string":
+            self.need("iecoop", "BYTE")
+            return Ex.attribute(f"({pointer.p()}.typed(BYTE) + ({indices[0]}))", "deref", TypeRef("elem", "BYTE"))
+        if target.kind not in ("elem", "user"):
+            raise self.fail(f"indexing a POINTER TO {target.annotation()} is not supported (index the variable it points to)", node)
+        self.need("iecoop", "sizeof")
+        return Ex.attribute(f"({pointer.p()} + ({indices[0]}) * sizeof({target.annotation()}))", "deref", target)
 
     def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
         """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;

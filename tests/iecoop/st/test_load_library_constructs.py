@@ -246,3 +246,34 @@ END_FUNCTION_BLOCK""")
     assert fb.nReals == 101
     fb()
     assert fb.nReals == 202
+
+
+def test_a_pointer_is_indexed_as_the_elements_it_points_to() -> None:
+    # pWord[i] is the i-th WORD from pWord (its address + i * 2), pText[i] the i-th character's byte of a STRING;
+    # a store through pWord[0] changes aWords[0]: 10, 11, 12 over the cycles
+    plc = st.load("""FUNCTION_BLOCK FB_Walk
+VAR_OUTPUT nSum : WORD; nLetter : BYTE; nFirst : WORD; END_VAR
+VAR aWords : ARRAY[0..2] OF WORD := [10, 20, 30]; pWord : POINTER TO WORD; sText : STRING := 'AZ';
+    pText : POINTER TO STRING; i : INT; END_VAR
+pWord := ADR(aWords);
+nSum := 0;
+FOR i := 0 TO 2 DO nSum := nSum + pWord[i]; END_FOR
+pText := ADR(sText);
+nLetter := pText[1];
+nFirst := aWords[0];
+pWord[0] := pWord[0] + 1;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Walk()
+    fb()
+    assert (fb.nSum, fb.nLetter, fb.nFirst) == (60, ord("Z"), 10)
+    fb()
+    assert (fb.nSum, fb.nFirst, fb.aWords[0]) == (61, 11, 12)
+
+
+def test_indexing_a_pointer_to_an_array_is_refused_by_name() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:4: indexing a POINTER TO ARRAY.* is not supported \(index the variable"):
+        st.load("""FUNCTION F_Bad : INT
+VAR aRow : ARRAY[0..1] OF INT; pRow : POINTER TO ARRAY[0..1] OF INT; END_VAR
+pRow := ADR(aRow);
+F_Bad := pRow[0];
+END_FUNCTION""")
