@@ -6,6 +6,8 @@ can type each expression and order the classes so a class exists before it is us
 
 from __future__ import annotations
 
+import dataclasses
+
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -319,6 +321,34 @@ class Symbols:
             returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
             decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
+    def align_prototype_names(self) -> None:
+        """A METHOD's inputs take the Python names of the first METHOD it overrides or implements, and so do the
+        other prototypes it implements (ST names are case-insensitive: ``Text`` of one interface is ``text`` of
+        the block or of another interface), so the signatures match and every call passes them by one name."""
+        for decl in self.decls.values():
+            if decl.library or decl.kind != "fb":
+                continue
+            for key, info in decl.methods.items():
+                protos = self._prototypes(decl, key)
+                for other in protos[1:] + [info] if protos else []:
+                    _align_params(other, protos[0])
+
+    def _prototypes(self, decl: Decl, key: str) -> list[Callable_]:
+        """The METHODs ``key`` of the blocks ``decl`` extends and the interfaces it or they implement, nearest first."""
+        seen: set[str] = set()
+        found: list[Callable_] = []
+        pending = list(decl.bases) + list(decl.implements)
+        while pending:
+            other = self.decls.get(pending.pop(0).lower())
+            if other is None or other.name in seen:
+                continue
+            seen.add(other.name)
+            method: Callable_ | None = other.methods.get(key) if other.kind in ("fb", "interface") else None
+            if method is not None:
+                found.append(method)
+            pending += other.bases + other.implements
+        return found
+
     def collect_named_programs(self) -> None:
         """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
 
@@ -613,3 +643,9 @@ class Symbols:
                 return "method", current.methods[key]
         return None
 
+
+def _align_params(method: Callable_, proto: Callable_) -> None:
+    """``method``'s inputs named as ``proto``'s where their ST names agree but for the case."""
+    if len(method.params) == len(proto.params):
+        method.params[:] = [dataclasses.replace(own, name=theirs.name) if own.st.lower() == theirs.st.lower() else own
+                            for own, theirs in zip(method.params, proto.params)]

@@ -79,6 +79,7 @@ class Translator(Pous):
         self.collect()
         rename_shadowed(self)
         self.resolve_members()
+        self.align_prototype_names()
         self.collect_named_programs()
         self.freeze()
         body: list[str] = []

@@ -277,3 +277,53 @@ VAR aRow : ARRAY[0..1] OF INT; pRow : POINTER TO ARRAY[0..1] OF INT; END_VAR
 pRow := ADR(aRow);
 F_Bad := pRow[0];
 END_FUNCTION""")
+
+
+def test_a_method_implements_its_prototype_whatever_the_case_of_its_input_names() -> None:
+    # ST names are case-insensitive: I_Sink.Put(Text) and I_Small.Put(TEXT) are implemented by Put(text); called
+    # through either interface and on the block, with the input named in any case: 'abb', then 'c' and 'd' added
+    plc = st.load("""INTERFACE I_Sink
+END_INTERFACE
+METHOD Put : I_Sink
+VAR_INPUT Text : STRING; Times : INT; END_VAR
+END_METHOD
+INTERFACE I_Small
+END_INTERFACE
+METHOD Put : I_Sink
+VAR_INPUT TEXT : STRING; TIMES : INT; END_VAR
+END_METHOD
+FUNCTION_BLOCK FB_Base
+VAR_OUTPUT sAll : STRING; END_VAR
+END_FUNCTION_BLOCK
+METHOD Clear : BOOL
+VAR_INPUT bKeepLast : BOOL; END_VAR
+sAll := '';
+END_METHOD
+FUNCTION_BLOCK FB_Sink EXTENDS FB_Base IMPLEMENTS I_Sink, I_Small
+END_FUNCTION_BLOCK
+METHOD Put : I_Sink
+VAR_INPUT text : STRING; times : INT; END_VAR
+VAR i : INT; END_VAR
+FOR i := 1 TO times DO sAll := CONCAT(sAll, text); END_FOR
+Put := THIS^;
+END_METHOD
+METHOD Clear : BOOL
+VAR_INPUT BKEEPLAST : BOOL; END_VAR
+IF NOT BKEEPLAST THEN sAll := ''; END_IF
+END_METHOD
+FUNCTION_BLOCK FB_User
+VAR_OUTPUT sOut : STRING; END_VAR
+VAR fbSink : FB_Sink; itf : I_Sink; itfSmall : I_Small; nCycle : INT; END_VAR
+itf := fbSink;
+itfSmall := fbSink;
+nCycle := nCycle + 1;
+IF nCycle = 1 THEN itf.Put(TEXT := 'a', times := 1).Put('b', 2);
+ELSE fbSink.Put(Text := 'c', TIMES := 1); fbSink.Clear(bKeepLast := TRUE); itfSmall.Put(text := 'd', Times := 1);
+END_IF
+sOut := fbSink.sAll;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_User()
+    fb()
+    assert fb.sOut == "abb"
+    fb()
+    assert fb.sOut == "abbcd"
