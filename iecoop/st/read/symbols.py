@@ -322,30 +322,37 @@ class Symbols:
             decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
     def align_prototype_names(self) -> None:
-        """A METHOD's inputs take the Python names of the first METHOD it overrides or implements, and so do the
-        other prototypes it implements (ST names are case-insensitive: ``Text`` of one interface is ``text`` of
-        the block or of another interface), so the signatures match and every call passes them by one name."""
+        """A METHOD or PROPERTY takes the Python name of the first one it overrides or implements, and a METHOD's
+        inputs take that one's input names; so do the other prototypes it implements. ST names are
+        case-insensitive (``Append(Text)`` of an interface is ``append(text)`` of the block), Python's are not:
+        aligned, the signatures match and a call through the interface, the base or the block reaches the same
+        METHOD with the same names."""
         for decl in self.decls.values():
             if decl.library or decl.kind != "fb":
                 continue
-            for key, info in decl.methods.items():
-                protos = self._prototypes(decl, key)
-                for other in protos[1:] + [info] if protos else []:
-                    _align_params(other, protos[0])
+            for key in list(decl.methods):
+                protos = self._prototypes(decl, key, "methods")
+                for owner, other in protos[1:] + [(decl, decl.methods[key])] if protos else []:
+                    owner.methods[key] = _aligned(other, protos[0][1])
+            for key in list(decl.props):
+                props = self._prototypes(decl, key, "props")
+                for owner, other in props[1:] + [(decl, decl.props[key])] if props else []:
+                    owner.props[key] = dataclasses.replace(other, name=props[0][1].name)
 
-    def _prototypes(self, decl: Decl, key: str) -> list[Callable_]:
-        """The METHODs ``key`` of the blocks ``decl`` extends and the interfaces it or they implement, nearest first."""
+    def _prototypes(self, decl: Decl, key: str, table: str) -> list[tuple[Decl, Any]]:
+        """The METHODs (``table`` "methods") or PROPERTYs ("props") ``key`` of the blocks ``decl`` extends and of
+        the interfaces it or they implement, nearest first, each with the declaration it belongs to."""
         seen: set[str] = set()
-        found: list[Callable_] = []
+        found: list[tuple[Decl, Any]] = []
         pending = list(decl.bases) + list(decl.implements)
         while pending:
             other = self.decls.get(pending.pop(0).lower())
             if other is None or other.name in seen:
                 continue
             seen.add(other.name)
-            method: Callable_ | None = other.methods.get(key) if other.kind in ("fb", "interface") else None
-            if method is not None:
-                found.append(method)
+            member = getattr(other, table).get(key) if other.kind in ("fb", "interface") and not other.library else None
+            if member is not None:
+                found.append((other, member))
             pending += other.bases + other.implements
         return found
 
@@ -644,8 +651,10 @@ class Symbols:
         return None
 
 
-def _align_params(method: Callable_, proto: Callable_) -> None:
-    """``method``'s inputs named as ``proto``'s where their ST names agree but for the case."""
-    if len(method.params) == len(proto.params):
-        method.params[:] = [dataclasses.replace(own, name=theirs.name) if own.st.lower() == theirs.st.lower() else own
-                            for own, theirs in zip(method.params, proto.params)]
+def _aligned(method: Callable_, proto: Callable_) -> Callable_:
+    """``method`` named as ``proto``, its inputs too where their ST names agree but for the case."""
+    params = method.params
+    if len(params) == len(proto.params):
+        params = [dataclasses.replace(own, name=theirs.name) if own.st.lower() == theirs.st.lower() else own
+                  for own, theirs in zip(params, proto.params)]
+    return dataclasses.replace(method, name=proto.name, params=params)

@@ -327,3 +327,47 @@ END_FUNCTION_BLOCK""")
     assert fb.sOut == "abb"
     fb()
     assert fb.sOut == "abbcd"
+
+
+def test_a_method_or_property_spelt_in_another_case_overrides_and_implements() -> None:
+    # FB_Fast.STEP overrides FB_Slow.Step: Run (in the base) calls the override, +10 a cycle; LEVEL and doIt
+    # implement I_Level's Level and DoIt, read through the interface
+    plc = st.load("""INTERFACE I_Level
+END_INTERFACE
+METHOD DoIt : INT
+END_METHOD
+PROPERTY Level : INT
+END_PROPERTY
+FUNCTION_BLOCK FB_Slow
+VAR_OUTPUT n : INT; END_VAR
+END_FUNCTION_BLOCK
+METHOD Step : INT
+n := n + 1;
+END_METHOD
+METHOD Run
+Step();
+END_METHOD
+FUNCTION_BLOCK FB_Fast EXTENDS FB_Slow IMPLEMENTS I_Level
+END_FUNCTION_BLOCK
+METHOD STEP : INT
+n := n + 10;
+END_METHOD
+METHOD doIt : INT
+doIt := n + 1;
+END_METHOD
+PROPERTY LEVEL : INT
+LEVEL := n * 2;
+END_PROPERTY
+FUNCTION_BLOCK FB_User
+VAR_OUTPUT nDone : INT; nLevel : INT; END_VAR
+VAR fbFast : FB_Fast; itf : I_Level; END_VAR
+fbFast.Run();
+itf := fbFast;
+nDone := itf.DoIt();
+nLevel := itf.Level;
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_User()
+    fb()
+    assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (10, 11, 20)
+    fb()
+    assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (20, 21, 40)
