@@ -25,7 +25,7 @@ from __future__ import annotations
 import collections
 import datetime
 from collections.abc import Callable
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.exceptions import ExceptionCode, PlcException
@@ -46,7 +46,7 @@ from iecoop.types import (
 __all__ = [
     "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "DT_TO_FILETIME", "DT_TO_SYSTEMTIME",
     "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
-    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
+    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FB_StringRingBuffer", "FILETIME64_TO_SYSTEMTIME",
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
@@ -804,7 +804,64 @@ def FindAndReplace(  # noqa: N802 - the ST name
     return count
 
 
-class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
+class _RingBuffer(FunctionBlock, abstract=True):
+    """The record ring of FB_MemRingBuffer and FB_StringRingBuffer: each record its UDINT length, then its bytes,
+    in the caller's buffer (pBuffer, cbBuffer); nCount records of cbSize bytes in all."""
+
+    idxFirst: UDINT = VAR(0)
+    idxLast: UDINT = VAR(0)
+    if TYPE_CHECKING:  # declared by each block, in the order of its ST declaration
+        pBuffer: Pointer[Any]
+        cbBuffer: int
+        nCount: int
+        cbSize: int
+
+    def _head(self, remove: bool) -> None:
+        """The oldest record handed out (each block its own way), and removed when ``remove``."""
+        raise NotImplementedError
+
+    @method
+    def A_GetHead(self) -> None:  # noqa: N802 - the ST name
+        """The oldest record read out (FB_MemRingBuffer: to pRead; FB_StringRingBuffer: into getValue), kept."""
+        self._head(remove=False)
+
+    @method
+    def A_RemoveHead(self) -> None:  # noqa: N802 - the ST name
+        """The oldest record read out as A_GetHead does, and removed."""
+        self._head(remove=True)
+
+    def _byte(self, index: int) -> Any:
+        return self.pBuffer.typed(BYTE) + index % self.cbBuffer
+
+    def _put(self, data: bytes) -> bool:
+        """``data`` appended as a record; FALSE when it does not fit."""
+        need = _HEADER + len(data)
+        if not self.pBuffer or not self.cbBuffer or self.cbSize + need > self.cbBuffer:
+            return False
+        for i, value in enumerate(len(data).to_bytes(4, "little") + data):
+            self._byte(self.idxLast + i).deref = value
+        self.idxLast = (self.idxLast + need) % self.cbBuffer
+        self.nCount += 1
+        self.cbSize += need
+        return True
+
+    def _first(self) -> bytes | None:
+        """The oldest record's bytes, or None when there is none."""
+        if not self.nCount or not self.pBuffer or not self.cbBuffer:
+            return None
+        size = int.from_bytes(bytes(self._byte(self.idxFirst + i).deref for i in range(_HEADER)), "little")
+        return bytes(self._byte(self.idxFirst + _HEADER + i).deref for i in range(size))
+
+    def _drop(self, size: int) -> None:
+        """The oldest record, of ``size`` bytes, removed."""
+        self.idxFirst = (self.idxFirst + _HEADER + size) % self.cbBuffer
+        self.nCount -= 1
+        self.cbSize -= _HEADER + size
+        if not self.nCount:
+            self.idxFirst = self.idxLast = 0
+
+
+class FB_MemRingBuffer(_RingBuffer):  # noqa: N801 - the ST name
     """``FB_MemRingBuffer``: a FIFO of byte records of any length in a buffer the caller gives.
 
     ST: ``VAR_INPUT pWrite : PVOID; cbWrite : UDINT; pRead : PVOID; cbRead : UDINT;
@@ -827,50 +884,30 @@ class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
     nCount: UDINT = VAR_OUTPUT(0)
     cbSize: UDINT = VAR_OUTPUT(0)
     cbReturn: UDINT = VAR_OUTPUT(0)
-    idxFirst: UDINT = VAR(0)
-    idxLast: UDINT = VAR(0)
 
     def body(self) -> None:
         """Calling the block itself changes nothing; its actions do the work."""
-
-    def _byte(self, index: int) -> Any:
-        return self.pBuffer.typed(BYTE) + index % self.cbBuffer
-
-    def _copy_in(self, index: int, data: bytes) -> None:
-        for i, value in enumerate(data):
-            self._byte(index + i).deref = value
-
-    def _copy_out(self, index: int, size: int) -> bytes:
-        return bytes(self._byte(index + i).deref for i in range(size))
 
     @method
     def A_AddTail(self) -> None:  # noqa: N802 - the ST name
         """Append cbWrite bytes from pWrite; bOk FALSE when they do not fit."""
         self.cbReturn = 0
-        need = _HEADER + self.cbWrite
-        if not self.pBuffer or not self.cbBuffer or (self.cbWrite and not self.pWrite) or self.cbSize + need > self.cbBuffer:
+        if self.cbWrite and not self.pWrite:
             self.bOk = False
             return
-        data = self.cbWrite.to_bytes(4, "little")
-        if self.cbWrite:
-            source = self.pWrite.typed(BYTE)
-            data += bytes((source + i).deref for i in range(self.cbWrite))
-        self._copy_in(self.idxLast, data)
-        self.idxLast = (self.idxLast + need) % self.cbBuffer
-        self.nCount += 1
-        self.cbSize += need
-        self.bOk = True
+        source = self.pWrite.typed(BYTE) if self.cbWrite else None
+        self.bOk = self._put(bytes((source + i).deref for i in range(self.cbWrite)) if source is not None else b"")
 
     def _head(self, remove: bool) -> None:
         self.cbReturn = 0
-        if not self.nCount or not self.pBuffer or not self.cbBuffer:
+        data = self._first()
+        if data is None:
             self.bOk = False
             return
-        size = int.from_bytes(self._copy_out(self.idxFirst, _HEADER), "little")
+        size = len(data)
         if size > self.cbRead or (size and not self.pRead):
             self.bOk, self.cbReturn = False, size
             return
-        data = self._copy_out(self.idxFirst + _HEADER, size)
         target = self.pRead.typed(BYTE) if size else None
         for i, value in enumerate(data):
             assert target is not None
@@ -878,25 +915,59 @@ class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
         self.cbReturn = size
         self.bOk = True
         if remove:
-            self.idxFirst = (self.idxFirst + _HEADER + size) % self.cbBuffer
-            self.nCount -= 1
-            self.cbSize -= _HEADER + size
-            if not self.nCount:
-                self.idxFirst = self.idxLast = 0
-
-    @method
-    def A_RemoveHead(self) -> None:  # noqa: N802 - the ST name
-        """Copy the oldest entry to pRead (cbRead bytes at most) and remove it; cbReturn is its size."""
-        self._head(remove=True)
-
-    @method
-    def A_GetHead(self) -> None:  # noqa: N802 - the ST name
-        """Copy the oldest entry to pRead without removing it."""
-        self._head(remove=False)
+            self._drop(size)
 
     @method
     def A_Reset(self) -> None:  # noqa: N802 - the ST name
         """Empty the buffer."""
         self.idxFirst = self.idxLast = self.nCount = self.cbSize = self.cbReturn = 0
+        self.bOk = True
+
+
+class FB_StringRingBuffer(_RingBuffer):  # noqa: N801 - the ST name
+    """``FB_StringRingBuffer``: a FIFO of STRINGs in a buffer the caller gives, kept as FB_MemRingBuffer keeps its
+    records (each its 4-byte length, then the string and its 0).
+
+    ST: ``VAR_INPUT bOverwrite : BOOL; putValue : T_MaxString; pBuffer : POINTER TO BYTE; cbBuffer : UDINT;
+    END_VAR  VAR_OUTPUT bOk : BOOL; getValue : T_MaxString; nCount : UDINT; cbSize : UDINT; END_VAR`` and the
+    actions A_AddTail (putValue), A_GetHead / A_RemoveHead (into getValue), A_Reset. bOk FALSE: the buffer is
+    full (with bOverwrite the oldest strings make room instead) or empty.
+    """
+
+    bOverwrite: BOOL = VAR_INPUT(False)
+    putValue: T_MaxString = VAR_INPUT("")
+    pBuffer: Pointer[Any] = VAR_INPUT()
+    cbBuffer: UDINT = VAR_INPUT(0)
+    bOk: BOOL = VAR_OUTPUT(False)
+    getValue: T_MaxString = VAR_OUTPUT("")
+    nCount: UDINT = VAR_OUTPUT(0)
+    cbSize: UDINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        """Calling the block itself changes nothing; its actions do the work."""
+
+    @method
+    def A_AddTail(self) -> None:  # noqa: N802 - the ST name
+        """Append putValue; with bOverwrite the oldest strings are removed until it fits."""
+        data = self.putValue.encode("latin-1", errors="replace") + b"\x00"
+        fits = self.cbBuffer and _HEADER + len(data) <= self.cbBuffer
+        while self.bOverwrite and fits and self.nCount and self.cbSize + _HEADER + len(data) > self.cbBuffer:
+            head = self._first()
+            assert head is not None
+            self._drop(len(head))
+        self.bOk = self._put(data)
+
+    def _head(self, remove: bool) -> None:
+        data = self._first()
+        self.bOk = data is not None
+        if data is not None:
+            self.getValue = data.split(b"\x00", 1)[0].decode("latin-1")
+            if remove:
+                self._drop(len(data))
+
+    @method
+    def A_Reset(self) -> None:  # noqa: N802 - the ST name
+        """Empty the buffer."""
+        self.idxFirst = self.idxLast = self.nCount = self.cbSize = 0
         self.bOk = True
 

@@ -413,3 +413,37 @@ def test_the_pointer_string_functions_measure_and_convert_to_the_terminator() ->
     with pytest.raises(PlcException) as caught:
         tu.LEN2(Pointer(0))
     assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION and "LEN2: pSTRING is a null pointer" in str(caught.value)
+
+
+def test_the_string_ring_buffer_keeps_strings_first_in_first_out() -> None:
+    # 24 bytes hold two 'abcd'-long records (4 + 5 bytes each): the third is refused, or with bOverwrite it
+    # pushes the oldest out; A_GetHead leaves the head, A_RemoveHead takes it
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR
+        aMem : ARRAY[0..23] OF BYTE; fifo : FB_StringRingBuffer; nStep : INT;
+        bThird, bForced : BOOL; sPeek, sFirst, sSecond : STRING; nAfter : UDINT; bEmpty : BOOL := TRUE;
+    END_VAR
+    nStep := nStep + 1;
+    fifo(pBuffer := ADR(aMem), cbBuffer := SIZEOF(aMem));
+    IF nStep = 1 THEN
+        fifo.putValue := 'abcd'; fifo.A_AddTail();
+        fifo.putValue := 'efgh'; fifo.A_AddTail();
+        fifo.putValue := 'ijkl'; fifo.A_AddTail(); bThird := fifo.bOk;
+    ELSE
+        fifo(bOverwrite := TRUE, putValue := 'mnop'); fifo.A_AddTail(); bForced := fifo.bOk;
+        fifo.A_GetHead(); sPeek := fifo.getValue;
+        fifo.A_RemoveHead(); sFirst := fifo.getValue;
+        fifo.A_RemoveHead(); sSecond := fifo.getValue; nAfter := fifo.nCount;
+        fifo.A_RemoveHead(); bEmpty := fifo.bOk;
+    END_IF
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.bThird, main.fifo.nCount, main.fifo.cbSize) == (False, 2, 18)
+    plc.MAIN()
+    assert (main.bForced, main.sPeek, main.sFirst, main.sSecond) == (True, "efgh", "efgh", "mnop")
+    assert (main.nAfter, main.bEmpty) == (0, False)
