@@ -12,7 +12,7 @@ from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, V
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
-from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, variables
 
 
@@ -34,7 +34,7 @@ class Expressions(Literals):
 
     def enum_ref(self, enum_name: str | None, value: str, node: Any) -> str:
         if enum_name is not None:
-            decl = self.decls.get(enum_name.lower())
+            decl = self._enum_through_alias(self.decls.get(enum_name.lower()))
             if decl is None or decl.kind != "enum":
                 raise self.fail(f"unknown enumeration {enum_name!r}", node)
             match = next((v for v in decl.values if v.lower() == value.lower()), None)
@@ -48,6 +48,22 @@ class Expressions(Literals):
         if found is None:
             raise self.fail(f"unknown enumeration value {value!r}", node)
         return f"{found[0]}.{found[1]}"
+
+    def _enum_through_alias(self, decl: Decl | None) -> Decl | None:
+        """``decl``, or the enumeration an alias of it names (``TYPE T_Order : E_Order``: T_Order.Before)."""
+        if decl is not None and decl.kind == "alias":
+            target = self.decl_of(TypeRef("user", decl.name))
+            if target is not None and target.kind == "enum":
+                return target
+        return decl
+
+    def _system_alias(self, decl: Decl) -> Ex | None:
+        """``TYPE T_Kind : __SYSTEM.TYPE_CLASS``: T_Kind names the system enumeration (T_Kind.TYPE_LREAL); else None."""
+        spec = getattr(getattr(decl.node, "init", None), "spec", None)
+        if str(spec).strip().upper() == "__SYSTEM.TYPE_CLASS":
+            self.need("iecoop", "TYPE_CLASS")
+            return Ex("TYPE_CLASS", TypeRef("user", "__SYSTEM.TYPE_CLASS"))
+        return None
 
     def _aggregate(self, type_: TypeRef) -> bool:
         """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
@@ -321,7 +337,11 @@ class Expressions(Literals):
         if key in self.globals:
             gvl_name, member = self.globals[key]
             return Ex.attribute(gvl_name, member.name, member.type)
-        decl = self.decls.get(key)
+        decl = self._enum_through_alias(self.decls.get(key))
+        if decl is not None and decl.kind == "alias":
+            system = self._system_alias(decl)
+            if system is not None:
+                return system
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
         if key in self.enum_values:
@@ -405,11 +425,7 @@ class Expressions(Literals):
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):
-                indices = [self.expr(s, scope).code for s in element.subscripts]
-                element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
-                current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
-                if element.dereferenced:
-                    current = self.deref(current, node)
+                current = self._subscripted(current, element, scope, node)
                 continue
             field = element.field
             field_name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
@@ -426,6 +442,30 @@ class Expressions(Literals):
             if isinstance(field, tf.SimpleVariable) and field.dereferenced:
                 current = self.deref(current, node)
         return current
+
+    def _subscripted(self, current: Ex, element: tf.SubscriptList, scope: Scope, node: Any) -> Ex:
+        """``a[i, j]`` of an ARRAY (or of a pointer: ``_pointer_element``), dereferenced when ``^`` follows."""
+        indices = [self.expr(s, scope).code for s in element.subscripts]
+        if current.type is not None and current.type.kind == "pointer":
+            current = self._pointer_element(current, indices, node)
+        else:
+            element_type = current.type.deref().of if current.type is not None and current.type.deref().kind == "array" else None
+            current = Ex(f"{current.p()}[{', '.join(indices)}]", element_type)
+        return self.deref(current, node) if element.dereferenced else current
+
+    def _pointer_element(self, pointer: Ex, indices: list[str], node: Any) -> Ex:
+        """``p[i]`` of a ``POINTER TO T``: the i-th T from where p points, ``(p + i * SIZEOF(T))^``; of a POINTER TO
+        STRING its i-th byte (TwinCAT, CODESYS: index access through a pointer)."""
+        target = pointer.type.of if pointer.type is not None else None
+        if len(indices) != 1 or target is None:
+            raise self.fail(f"{pointer.code}[...]: a pointer is indexed with one index, through a POINTER TO a type", node)
+        if target.kind == "string":
+            self.need("iecoop", "BYTE")
+            return Ex.attribute(f"({pointer.p()}.typed(BYTE) + ({indices[0]}))", "deref", TypeRef("elem", "BYTE"))
+        if target.kind not in ("elem", "user"):
+            raise self.fail(f"indexing a POINTER TO {target.annotation()} is not supported (index the variable it points to)", node)
+        self.need("iecoop", "sizeof")
+        return Ex.attribute(f"({pointer.p()} + ({indices[0]}) * sizeof({target.annotation()}))", "deref", target)
 
     def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
         """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;

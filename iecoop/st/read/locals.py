@@ -46,6 +46,9 @@ class Locals(Declarations):
         if type_.kind == "pointer":
             self.need("iecoop", "Pointer")
             return "Pointer(0, None)"
+        if type_.kind == "varinfo":  # a VAR_INFO input not given: all of it zero, as the PLC's memory starts
+            self.need("iecoop", "VarInfo", "TYPE_CLASS")
+            return 'VarInfo("", 0, 0, 0, 0, 0, TYPE_CLASS.TYPE_BOOL, "", 0, 0, TYPE_CLASS.TYPE_BOOL)'
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
             return self.enum_default(decl)

@@ -192,9 +192,10 @@ class Pous(Locals):
 
     def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
         """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
-        if not self.pending_references:
+        if not self.pending_references and not self.pending_member_references:
             return
         self.pending_references = []
+        members, self.pending_member_references = self.pending_member_references, []
         self.need("iecoop", "call_after_init", "ref_assign")
         self.emit("", 0)
         self.emit("@call_after_init", 1)
@@ -210,6 +211,11 @@ class Pous(Locals):
                     target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
                 for var in item.variables:
                     self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
+        for path, name, type_, value in members:  # fb : FB_X := (ref := x, p := ADR(y))
+            if type_.kind == "reference":
+                self.emit(f'ref_assign({path}, "{name}", {self.address_of(value, scope)})', 2)
+            else:
+                self.emit(f"{path}.{name} = {self.expr(value, scope, expected=type_).code}", 2)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> list[str]:
         """The Python parameters of a METHOD or FUNCTION, in order; each becomes a name of ``scope``."""

@@ -118,6 +118,7 @@ class Translator(Pous):
         self._refuse_self_built()
         rename_shadowed(self)
         self.resolve_members()
+        self.align_prototype_names()
         self.collect_named_programs()
         self.freeze()
         body: list[str] = []
