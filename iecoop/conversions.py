@@ -88,7 +88,9 @@ __all__ = [
     "DINT_TO_TIME",
     "DINT_TO_WSTRING",
     "DIV",
+    "DT_TO_DATE",
     "DT_TO_STRING",
+    "DT_TO_TOD",
     "DWORD_TO_DINT",
     "DWORD_TO_STRING",
     "INT_TO_BOOL",
@@ -348,24 +350,38 @@ def TO_TIME(x: Number) -> int:
     return _to_integer(x, TIME_T, "TO_TIME")
 
 
+def TO_LTIME(x: Number) -> int:
+    """TO_LTIME: ``x`` nanoseconds, rounded to the nearest, stored as an LTIME (wraps modulo 2^64)."""
+    return _to_integer(x, LTIME_T, "TO_LTIME")
+
+
 def TO_DATE(x: Number) -> int:
-    """TO_DATE: ``x`` seconds since 1970-01-01, stored as a DATE (wraps modulo 2^32)."""
+    """TO_DATE: ``x`` seconds since 1970-01-01, rounded to the nearest, stored as a DATE (wraps modulo 2^32)."""
     return _to_integer(x, DATE_T, "TO_DATE")
 
 
 def TO_TOD(x: Number) -> int:
-    """TO_TOD: ``x`` milliseconds since midnight, stored as a TOD (wraps modulo 2^32, as a TOD's 32 bits do)."""
+    """TO_TOD: ``x`` milliseconds after midnight, rounded to the nearest, stored as a TIME_OF_DAY."""
     return _to_integer(x, TOD_T, "TO_TOD")
 
 
 def TO_DT(x: Number) -> int:
-    """TO_DT: ``x`` seconds since 1970-01-01 00:00:00, stored as a DT (wraps modulo 2^32)."""
+    """TO_DT: ``x`` seconds since 1970-01-01, rounded to the nearest, stored as a DATE_AND_TIME (wraps modulo 2^32).
+
+    >>> TO_DT(86400 + 3600)  # DT#1970-01-02-01:00:00
+    90000
+    """
     return _to_integer(x, DT_T, "TO_DT")
 
 
-def TO_LTIME(x: Number) -> int:
-    """TO_LTIME: ``x`` nanoseconds, rounded to the nearest, stored as an LTIME (wraps modulo 2^64)."""
-    return _to_integer(x, LTIME_T, "TO_LTIME")
+def DT_TO_DATE(x: int) -> int:
+    """DT_TO_DATE: the day of a DATE_AND_TIME (its midnight)."""
+    return int(DT_T.store(x)) // 86_400 * 86_400
+
+
+def DT_TO_TOD(x: int) -> int:
+    """DT_TO_TOD: the time of day of a DATE_AND_TIME, in milliseconds after midnight."""
+    return int(DT_T.store(x)) % 86_400 * 1_000
 
 
 # --- REAL_TO_<type> --------------------------------------------------------------------------

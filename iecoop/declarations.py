@@ -57,24 +57,24 @@ def _spec(st_name: str | None, section: Section, initial: Any, **options: Any) -
 def VAR(
     *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
-    st_name: str | None = None,
+    st_name: str | None = None, instance_path: bool = False,
 ) -> Any: ...
 @overload
 def VAR(
     initial: list[Any] | dict[str, Any], *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
-    st_name: str | None = None,
+    st_name: str | None = None, instance_path: bool = False,
 ) -> Any: ...
 @overload
 def VAR(
     initial: _T, *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
-    st_name: str | None = None,
+    st_name: str | None = None, instance_path: bool = False,
 ) -> _T: ...
 def VAR(
     initial: Any = MISSING, *, length: int | None = None, bounds: object = None, retain: bool = False,
     persistent: bool = False, constant: bool = False, fb_init: dict[str, Any] | list[dict[str, Any]] | None = None,
-    st_name: str | None = None,
+    st_name: str | None = None, instance_path: bool = False,
 ) -> Any:
     """``VAR``: a local variable of the POU (or a member of a STRUCT).
 
@@ -85,11 +85,16 @@ def VAR(
     For a function block member, ``fb_init={...}`` passes FB_init arguments
     (ST: ``motor : FB_Motor(axis_id := 3);``) and a dict initial value sets
     inputs at the declaration (ST: ``motor : FB_Motor := (speed := 1.5);``).
+
+    ``instance_path=True`` on a STRING of a function block or program gives
+    it the instance's path when the instance is initialised, before FB_init
+    (ST: ``{attribute 'instance-path'} {attribute 'noinit'} sPath : STRING;``):
+    ``<project>.MAIN.fbLogger``.
     """
     return _spec(
         st_name,
         Section.VAR, initial, length=length, bounds=bounds, retain=retain, persistent=persistent, constant=constant,
-        fb_init=fb_init,
+        fb_init=fb_init, instance_path=instance_path,
     )
 
 

@@ -69,8 +69,10 @@ def SHL(value: int, n: int, type_: object) -> int:
     >>> SHL(0x45, 2, BYTE), SHL(1, 16, WORD)
     (20, 0)
     """
-    mask = (1 << _bits(type_, "SHL")) - 1
-    return ((value & mask) << _count(n, "SHL")) & mask
+    bits = _bits(type_, "SHL")
+    n = _count(n, "SHL")
+    # every bit falls off: answered without building a shifted integer of n bits (SHL(x, 16#FFFFFFFF))
+    return ((value & ((1 << (bits - n)) - 1)) << n) if n < bits else 0
 
 
 def SHR(value: int, n: int, type_: object) -> int:

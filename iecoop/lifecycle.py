@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import ctypes
 import inspect
+import itertools
 import sys
 import typing
 from collections.abc import Callable, Iterator
@@ -40,12 +41,13 @@ from typing import Any, TypeVar
 
 from iecoop.exceptions import AccessError, ExceptionCode, PlcException
 from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
+from iecoop.memory._infos import StringInfo
 from iecoop.memory._handles import allocation_for_handle, free, poison, register, release_held, resolve, table_lock
 from iecoop.memory._resolve import class_info
 from iecoop.memory.pointers import Pointer
 from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
-from iecoop.metadata import Kind, iec_class, kind_of
+from iecoop.metadata import Kind, iec_class, kind_of, layout_of, st_name
 
 __all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
 
@@ -164,7 +166,67 @@ def initialise(
         ctypes.memset(ctypes.addressof(obj), 0, ctypes.sizeof(obj))
         release_held(obj)
     type(obj)._iec_implicit_init_(obj)
+    paths = _path_plan(type(obj))
+    if paths.members or paths.own:
+        root = _root_path(type(obj))
+        if root is not None:
+            paths.fill(obj, root)
     _init_tree(obj, init_retains, in_copy_code, args or _EMPTY, None)
+
+
+class _PathPlan:
+    """Where a class's instance tree holds ``instance_path=`` STRINGs: its own, and the members that hold some."""
+
+    __slots__ = ("members", "owner", "own")
+
+    def __init__(self, cls: type) -> None:
+        self.owner = cls
+        layout = layout_of(cls)
+        self.own = tuple(record for record in layout.fields if record.spec.instance_path) if layout is not None else ()
+        #: (ST name, the member instances of an object, the index written after the name of each)
+        self.members: list[tuple[str, Callable[[Any], list[Any]], list[str]]] = []
+        for record, members in getattr(cls, "_iec_children_", ()):
+            info = record.info
+            element = info.elem if isinstance(info, ArrayInfo) else info
+            plan = _path_plan(typing.cast(AggregateInfo, element).cls)
+            if not (plan.own or plan.members):
+                continue
+            if isinstance(info, ArrayInfo):
+                ranges = [range(low, high + 1) for low, high in info.bounds]
+                labels = [f"[{', '.join(map(str, index))}]" for index in itertools.product(*ranges)]
+            else:
+                labels = [""]
+            self.members.append((record.st_name, members, labels))
+
+    def fill(self, obj: Any, path: str) -> None:
+        for record in self.own:
+            # into memory, as initialisation writes (the block's own write rules are for code); a STRING(n)
+            # keeps the path's first n characters, as any store does
+            typing.cast(StringInfo, record.info).store(obj, record.offset, path, record.where)
+        for name, members, labels in self.members:
+            for child, label in zip(members(obj), labels):
+                _path_plan(type(child)).fill(child, f"{path}.{name}{label}")
+
+
+def _path_plan(cls: type) -> _PathPlan:
+    plan: _PathPlan | None = cls.__dict__.get("_iec_path_plan_")
+    if plan is None:
+        plan = _PathPlan(cls)
+        setattr(cls, "_iec_path_plan_", plan)
+    return plan
+
+
+def _root_path(cls: type) -> str | None:
+    """``<project>.MAIN`` of a PROGRAM or GVL, the start of its members' instance paths; None for any other instance.
+
+    The project is the one the class was loaded from (the ``.plcproj``'s name), or the top package of a Python module.
+    """
+    if kind_of(cls) not in (Kind.PROGRAM, Kind.GVL):
+        return None
+    module = sys.modules.get(cls.__module__)
+    project = getattr(module, "__st_project__", None) if hasattr(module, "__st_project__") else cls.__module__.split(".")[0]
+    name = st_name(cls)
+    return f"{project}.{name}" if project and project != "__main__" else name
 
 
 def finalise(obj: Any, *, in_copy_code: bool, static_type: type | None = None) -> None:

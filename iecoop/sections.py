@@ -241,6 +241,7 @@ class FieldSpec:
 
     __slots__ = (
         "section", "initial", "length", "bounds", "retain", "persistent", "constant", "method", "fb_init", "st_name",
+        "instance_path",
     )
 
     def __init__(
@@ -256,6 +257,7 @@ class FieldSpec:
         method: str | None = None,
         fb_init: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
         st_name: str | None = None,
+        instance_path: bool = False,
     ) -> None:
         self.section = Section(section)
         self.initial = initial
@@ -267,6 +269,8 @@ class FieldSpec:
         self.method = method
         #: The variable's ST name when Python could not spell it (``in`` for the field ``in_``); checked by the builder.
         self.st_name = st_name
+        #: ``{attribute 'instance-path'}``: the STRING holds the instance's path, set when the instance is initialised.
+        self.instance_path = instance_path
         # One dict of FB_init inputs, or one per element of an ARRAY OF FB.
         self.fb_init: dict[str, Any] | list[dict[str, Any]] | None
         if not fb_init:
@@ -289,7 +293,7 @@ class FieldSpec:
     def as_python(self) -> str:
         """The specifier call as the user writes it: ``VAR(10, constant=True)``."""
         args = [] if self.initial is MISSING else [repr(self.initial)]
-        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init", "st_name"):
+        for option in ("length", "bounds", "retain", "persistent", "constant", "method", "fb_init", "st_name", "instance_path"):
             value = getattr(self, option)
             if value:
                 args.append(f"{option}={value!r}")

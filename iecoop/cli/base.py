@@ -60,6 +60,8 @@ class Served:
     title: str
     runtime: Runtime
     script: Callable[[int], None] | None = None
+    #: The PROGRAMs of an ST source served (their located variables go to Modbus), by name.
+    programs: tuple[str, ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)

@@ -42,8 +42,7 @@ from typing import Any, TextIO
 
 from iecoop import PlcException, T
 from iecoop.cli.base import Command, Names, Served, UsageError, usage_errors
-from iecoop.cli.st import load_program, plc_task, translated
-from iecoop.cli.st_scenario import project_task
+from iecoop.cli.st import load_tasks, translated
 from iecoop.cli.trace import Progress, add_trace_arguments, check_trace_options, write_trace
 from iecoop.exceptions import AccessError
 from iecoop.runtime import Runtime, Trace
@@ -83,7 +82,8 @@ def _port(text: str) -> int:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``iecoop serve``."""
     parser.add_argument("name", help="an ST file or folder, or a name from 'iecoop list', e.g. state")
-    parser.add_argument("--program", default="MAIN", help="the PROGRAM of an ST source to serve (default MAIN)")
+    parser.add_argument("--program", default=None,
+                        help="the PROGRAM of an ST source to serve (default: those its tasks call, else MAIN)")
     parser.add_argument("--opcua", "--endpoint", dest="opcua", metavar="URL",
                         help=f"serve OPC UA at URL (default when no server is named: {_OPCUA}; port 0 picks one)")
     parser.add_argument("--ads", nargs="?", const=_ADS_PORT, type=_port, metavar="PORT",
@@ -113,11 +113,15 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _st_source(args: argparse.Namespace) -> Served:
-    program = load_program(args.name, args.program, args.profile)
+    # The project's .TcTTO tasks with the programs they call (cycle time and priority), as `iecoop st run` runs them.
+    tasks = load_tasks(args.name, args.program, args.profile)
     runtime = Runtime(store=":memory:", profile=args.profile)
-    task = project_task(args.name) or plc_task()  # the project's .TcTTO cycle time and priority, when it has one
-    runtime.add_task(task, program)
-    return Served(args.program, f"{args.program} of {args.name} on {task.name} ({task.interval} ms)", runtime)
+    for task, programs in tasks:
+        runtime.add_task(task, *(program for _, program in programs))
+    on = [f"{', '.join(name for name, _ in programs)} on {task.name} ({task.interval} ms)" for task, programs in tasks]
+    names = tuple(name for _, programs in tasks for name, _ in programs)
+    first, _, rest = on[0].partition(" on ")
+    return Served(", ".join(names), "; ".join([f"{first} of {args.name} on {rest}", *on[1:]]), runtime, programs=names)
 
 
 def _served(args: argparse.Namespace, names: Names | None, err: TextIO) -> Served | None:
@@ -132,14 +136,15 @@ def _served(args: argparse.Namespace, names: Names | None, err: TextIO) -> Serve
     return None
 
 
-def located_in(source: str, program: str) -> dict[str, str]:
-    """The located variables (``bStart AT %IX0.0 : BOOL;``) of PROGRAM ``program`` and of the named GVLs in ``source``.
+def located_in(source: str, *programs: str) -> dict[str, str]:
+    """The located variables (``bStart AT %IX0.0 : BOOL;``) of the PROGRAMs ``programs`` and of the named GVLs in ``source``.
 
     Symbol path -> address; ``AT %I*`` (placed by the I/O configuration) is left out.
     """
     from iecoop.st.read.parse import is_st_identifier, parse_sources
 
     units = translated(source, lambda path: parse_sources(path))
+    wanted = {program.casefold() for program in programs}
     found: dict[str, str] = {}
 
     def add(owner: str, name: str, location: Any) -> None:
@@ -150,7 +155,7 @@ def located_in(source: str, program: str) -> dict[str, str]:
     for unit in units:
         for item in unit.tree.items:
             kind, owner = type(item).__name__, str(getattr(item, "name", "") or "")
-            if kind == "Program" and owner.casefold() == program.casefold():
+            if kind == "Program" and owner.casefold() in wanted:
                 for block in item.declarations:
                     for declaration in block.items:
                         for variable in getattr(declaration, "variables", ()):
@@ -226,10 +231,10 @@ def _start_servers(served: Served, args: argparse.Namespace, stack: contextlib.E
         online = ", online write and force" if args.online else ""
         out.write(f"ADS server at {ads.host}:{ads.port}, AMS Net ID {ads.net_id}, AMS port {ads.ams_port}{online}\n")
     if args.modbus is not None:
-        located = located_in(args.name, args.program) if pathlib.Path(args.name).exists() else {}
+        located = located_in(args.name, *served.programs) if served.programs else {}
         if not located:
             raise UsageError(f"--modbus: {args.name} declares no located variable (bStart AT %IX0.0 : BOOL;) "
-                             f"in PROGRAM {args.program} or a GVL")
+                             f"in {'PROGRAM ' + ', '.join(served.programs) if served.programs else 'its PROGRAMs'} or a GVL")
         try:
             from iecoop.modbus import ModbusServer
             from iecoop.modbus import CODESYS_DEVICE_TABLES, DEFAULT_TABLES

@@ -3,12 +3,13 @@
 ::
 
     iecoop st2py FILE_OR_FOLDER... [-o DIR]      the Python of each source (to DIR/<name>.py, or printed)
-    iecoop st run FILE_OR_FOLDER --program MAIN --cycles N [--every K] [--profile codesys]
+    iecoop st run FILE_OR_FOLDER [--program MAIN] --cycles N [--every K] [--profile codesys]
 
-``st run`` loads the source, puts its PROGRAM on a 10 ms ``PlcTask`` of a
-``Runtime(store=":memory:")`` in virtual time and prints the same trace table
-as ``iecoop run``: the program's first elementary variables, by default only
-the cycles where one of them changed. A source that does not translate exits
+``st run`` loads the source, puts the programs its ``.TcTTO`` tasks call on
+those tasks (else MAIN on a 10 ms ``PlcTask``) of a ``Runtime(store=":memory:")``
+in virtual time and prints the same trace table as ``iecoop run``: the first
+program's first elementary variables, by default only the cycles where one of
+them changed. A source that does not translate exits
 with status 2, a PLC fault during the run with status 1.
 
 >>> import pathlib, tempfile
@@ -44,14 +45,14 @@ from typing import TextIO, TypeVar
 
 from iecoop import DefinitionError, Program, T, st
 from iecoop.cli.base import UsageError, positive, usage_errors
-from iecoop.cli.st_scenario import parse_set, project_task, writes_before
+from iecoop.cli.st_scenario import ProjectTask, parse_set, project_tasks, writes_before
 from iecoop.cli.trace import (
     add_trace_arguments, check_trace_options, fault_text, run_cycles, run_streamed, variable_probes, write_trace,
 )
 from iecoop.runtime import Runtime, Task
 
 __all__ = [
-    "ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "load_program", "plc_task", "st2py",
+    "ST2PY_HELP", "ST_HELP", "add_st2py_arguments", "add_st_arguments", "load_program", "load_tasks", "plc_task", "st2py",
     "st2py_command", "st_command", "st_run", "translated",
 ]
 
@@ -76,7 +77,8 @@ def _st2py_parser() -> argparse.ArgumentParser:
 
 def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("source", metavar="FILE_OR_FOLDER")
-    parser.add_argument("--program", default="MAIN", help="the PROGRAM to run (default MAIN)")
+    parser.add_argument("--program", default=None,
+                        help="the PROGRAM to run (default: those the project's tasks call, else MAIN)")
     parser.add_argument("--cycles", type=positive, default=100, metavar="N", help="cycles to run (default 100)")
     parser.add_argument("--every", type=positive, default=None, metavar="K",
                         help="show every K-th cycle instead of the changes")
@@ -84,7 +86,23 @@ def _add_run_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--duration", metavar="T", help="run for a PLC time (2s, 500ms) instead of --cycles")
     parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE@TIME",
                         help="write a value at a PLC time, e.g. MAIN.bStart=TRUE@100ms (repeatable)")
+    parser.add_argument("--watchdog", type=_watchdog, default=DEFAULT_WATCHDOG, metavar="T",
+                        help="stop a cycle that runs longer than T of the machine's time, a PLC fault "
+                             f"RTSEXCPT_WATCHDOG (default {DEFAULT_WATCHDOG}; 0: none)")
     add_trace_arguments(parser)
+
+
+#: The watchdog of ``iecoop st run``'s task: a cycle that never ends (WHILE TRUE) is a PLC fault, not a hung command.
+DEFAULT_WATCHDOG = "10s"
+
+
+def _watchdog(text: str) -> str:
+    """An argparse type: a TIME (``2s``, ``T#500ms``) or 0."""
+    try:
+        T(text if text.strip() != "0" else "0ms")
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected a TIME such as 10s or 500ms, or 0 for none: {exc}") from None
+    return text
 
 
 def add_st_arguments(parser: argparse.ArgumentParser) -> None:
@@ -211,29 +229,66 @@ def plc_task() -> Task:
     return Task("PlcTask", interval=T("10ms"), priority=20)
 
 
+def load_tasks(source: str, name: str | None, profile: str) -> list[tuple[Task, list[tuple[str, Program]]]]:
+    """The tasks to run the ST ``source`` on, loaded under ``profile``, each with its PROGRAMs by name.
+
+    ``name`` (``--program``) runs that PROGRAM alone, on the task that calls it (else the first). Without it, the
+    programs the project's ``.TcTTO`` task files call, on those tasks, as TwinCAT runs them; a project
+    without task calls runs MAIN, or its one PROGRAM. :class:`UsageError` when there is no such choice.
+    """
+    module = translated(source, lambda path: st.load(path, profile=profile))
+    declared = {key: value for key, value in vars(module).items() if isinstance(value, Program)}
+    tasks = project_tasks(source)
+    if name is not None:
+        own = next((entry.task for entry in tasks if name.casefold() in (call.casefold() for call in entry.calls)), None)
+        return [(own or (tasks[0].task if tasks else plc_task()), [_program(module, source, name)])]
+    called = [entry for entry in tasks if entry.calls]
+    if called:
+        return [(entry.task, [_called(declared, entry, call) for call in entry.calls]) for entry in called]
+    task = tasks[0].task if tasks else plc_task()
+    if "MAIN" in declared or len(declared) != 1:
+        return [(task, [_program(module, source, "MAIN", sorted(declared))])]
+    return [(task, list(declared.items()))]
+
+
 def load_program(source: str, name: str, profile: str) -> Program:
     """The PROGRAM ``name`` of the ST ``source``, loaded under ``profile``; :class:`UsageError` if it cannot be."""
-    module = translated(source, lambda path: st.load(path, profile=profile))
+    return load_tasks(source, name, profile)[0][1][0][1]
+
+
+def _program(module: object, source: str, name: str, others: Sequence[str] = ()) -> tuple[str, Program]:
     program = getattr(module, name, None)
     if program is None:
-        raise UsageError(f"{source} declares no PROGRAM {name}")
+        choice = f"; its PROGRAMs: {', '.join(others)} (choose one with --program)" if others else ""
+        raise UsageError(f"{source} declares no PROGRAM {name}{choice}")
     if not isinstance(program, Program):
         raise UsageError(f"{name} is not a PROGRAM")
-    return program
+    return name, program
+
+
+def _called(declared: dict[str, Program], entry: ProjectTask, call: str) -> tuple[str, Program]:
+    """The PROGRAM a task file calls: by its name as declared, case aside as ST names are."""
+    found = next(((key, value) for key, value in declared.items() if key.casefold() == call.casefold()), None)
+    if found is None:
+        raise UsageError(f"{entry.file}: task {entry.task.name} calls {call}, which the project declares no PROGRAM of")
+    return found
 
 
 @usage_errors("iecoop st run")
 def st_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     """``iecoop st run`` with its parsed arguments."""
     check_trace_options(args)
-    program = load_program(args.source, args.program, args.profile)
+    tasks = load_tasks(args.source, args.program, args.profile)
     writes = [parse_set(text) for text in args.set]
     runtime = Runtime(store=":memory:", profile=args.profile)
-    task = project_task(args.source) or plc_task()
-    runtime.add_task(task, program)
+    watchdog = int(T(args.watchdog if args.watchdog.strip() != "0" else "0ms")) or None
+    for task, programs in tasks:
+        task.watchdog = watchdog
+        runtime.add_task(task, *(program for _, program in programs))
+    first_task, ((_, program), *_) = tasks[0]
     cycles = args.cycles
     if args.duration is not None:
-        cycles = max(1, -(-int(T(args.duration)) // int(task.interval)))
+        cycles = max(1, -(-int(T(args.duration)) // int(first_task.interval)))
     rows = "a row every cycle" if args.every == 1 else f"a row every {args.every} cycles" if args.every else "rows where a traced value changed"
     probes = variable_probes(program)
     trace = run_streamed(

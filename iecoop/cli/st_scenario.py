@@ -1,8 +1,8 @@
-"""What ``iecoop st run`` takes from a project and its command line: the ``.TcTTO`` task, ``--set`` and ``--trace``.
+"""What ``iecoop st run`` takes from a project and its command line: the ``.TcTTO`` tasks, ``--set`` and ``--trace``.
 
 A TwinCAT task object (``PlcTask.TcTTO``) gives ``<CycleTime>`` in microseconds (10000 is 10 ms, as TwinCAT's
-comment in the file says) and
-``<Priority>``; ``--set MAIN.bStart=TRUE@100ms`` writes a value at a PLC time (``Runtime.write``, applied
+comment in the file says), ``<Priority>`` and the programs the task calls, in order
+(``<PouCall><Name>MAIN</Name></PouCall>``); ``--set MAIN.bStart=TRUE@100ms`` writes a value at a PLC time (``Runtime.write``, applied
 at the next cycle start), ``--trace MAIN.eState,MAIN.fbStation.nBottles`` chooses the traced variables.
 """
 
@@ -18,37 +18,64 @@ from iecoop import T
 from iecoop.cli.base import UsageError
 from iecoop.runtime import Runtime, Task
 
-__all__ = ["Write", "project_task", "parse_set", "writes_before"]
+__all__ = ["ProjectTask", "Write", "parse_set", "project_task", "project_tasks", "writes_before"]
 
 _TIME = re.compile(r"^\d+(\.\d+)?(ms|s|us|m|h)$", re.IGNORECASE)
 
 
-def project_task(source: str) -> Task | None:
-    """The task of the ``.TcTTO`` beside ``source`` (a folder, ``.plcproj`` or file), None when there is none."""
+@dataclasses.dataclass(frozen=True)
+class ProjectTask:
+    """A task of the project's ``.TcTTO`` files and the POUs it calls (``<PouCall><Name>MAIN</Name></PouCall>``), in order."""
+
+    task: Task
+    calls: tuple[str, ...]
+    file: pathlib.Path
+
+
+def project_tasks(source: str) -> list[ProjectTask]:
+    """The tasks of the ``.TcTTO`` files beside ``source`` (a folder, ``.plcproj`` or file), by file name; [] when there is none."""
     path = pathlib.Path(source)
     folder = path if path.is_dir() else path.parent
     found = sorted(folder.rglob("*.TcTTO")) if folder.is_dir() else []
-    if not found:
-        return None
+    return [_task_file(file) for file in found]
+
+
+def project_task(source: str) -> Task | None:
+    """The task of the first ``.TcTTO`` beside ``source`` (a folder, ``.plcproj`` or file), None when there is none."""
+    tasks = project_tasks(source)
+    return tasks[0].task if tasks else None
+
+
+def _task_file(file: pathlib.Path) -> ProjectTask:
     from iecoop.st.read.parse import StSyntaxError, read_xml  # the reader's safe XML: no DTD, entity or network
 
     try:
-        root = read_xml(found[0])
+        root = read_xml(file)
     except StSyntaxError as exc:
         raise UsageError(f"not a TwinCAT task file: {exc}") from None
-    task = next((e for e in root.iter() if isinstance(e.tag, str) and e.tag.rsplit("}", 1)[-1] == "Task"), None)
+    task = next((e for e in root.iter() if isinstance(e.tag, str) and _local(e.tag) == "Task"), None)
     if task is None:
-        raise UsageError(f"{found[0]}: no <Task> in it")
-    fields = {child.tag.rsplit("}", 1)[-1]: (child.text or "").strip() for child in task if isinstance(child.tag, str)}
+        raise UsageError(f"{file}: no <Task> in it")
+    fields = {_local(child.tag): (child.text or "").strip() for child in task if isinstance(child.tag, str)}
     cycle, priority = fields.get("CycleTime"), fields.get("Priority")
     try:
         interval_us = int(cycle or "10000")  # <CycleTime> counts microseconds (the task's CycleTime, 100 ns)
         level = int(priority or "20")
     except ValueError:
-        raise UsageError(f"{found[0]}: <CycleTime> and <Priority> must be whole numbers") from None
+        raise UsageError(f"{file}: <CycleTime> and <Priority> must be whole numbers") from None
     if interval_us < 1000 or interval_us % 1000:
-        raise UsageError(f"{found[0]}: a cycle time of {interval_us} us is not a whole number of ms, which iecoop's runtime counts in")
-    return Task(task.get("Name") or "PlcTask", interval=T(f"{interval_us // 1000}ms"), priority=level)
+        raise UsageError(f"{file}: a cycle time of {interval_us} us is not a whole number of ms, which iecoop's runtime counts in")
+    calls = tuple(
+        (name.text or "").strip()
+        for call in task if isinstance(call.tag, str) and _local(call.tag) == "PouCall"
+        for name in call if isinstance(name.tag, str) and _local(name.tag) == "Name" and (name.text or "").strip()
+    )
+    interval = T(f"{interval_us // 1000}ms")
+    return ProjectTask(Task(task.get("Name") or "PlcTask", interval=interval, priority=level), calls, file)
+
+
+def _local(tag: str) -> str:
+    return tag.rsplit("}", 1)[-1]
 
 
 @dataclasses.dataclass(frozen=True)

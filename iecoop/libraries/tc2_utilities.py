@@ -26,7 +26,7 @@ import collections
 import datetime
 import math
 from collections.abc import Callable
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.exceptions import ExceptionCode, PlcException
@@ -48,14 +48,15 @@ __all__ = [
     "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "CSVFIELD_TO_STRING", "DT_TO_FILETIME",
     "DT_TO_SYSTEMTIME",
     "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
-    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FILETIME64_TO_SYSTEMTIME",
+    "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FB_StringRingBuffer", "FILETIME64_TO_SYSTEMTIME",
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
     "F_LTrim", "F_LWORD", "F_REAL", "F_RTrim", "F_SINT", "F_STRING", "F_ToLCase", "F_ToUCase", "F_UDINT", "F_UINT",
-    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LREAL_TO_FMTSTR", "LWORD_TO_BINSTR",
-    "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "LrealIsFinite", "LrealIsNaN", "NT_GetTime", "SYSTEMTIME_TO_DT",
-    "STRING_TO_CSVFIELD", "SYSTEMTIME_TO_FILETIME", "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg",
-    "T_FILETIME", "T_FILETIME64", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR",
+    "F_ULINT", "F_USINT", "F_WORD", "F_YearIsLeapYear", "FindAndReplace", "LEN2", "LREAL_TO_FMTSTR",
+    "LWORD_TO_BINSTR", "LWORD_TO_DECSTR", "LWORD_TO_HEXSTR", "LWORD_TO_OCTSTR", "LrealIsFinite", "LrealIsNaN",
+    "NT_GetTime", "STRING_TO_CSVFIELD", "STRING_TO_WSTRING2", "SYSTEMTIME_TO_DT", "SYSTEMTIME_TO_FILETIME",
+    "SYSTEMTIME_TO_FILETIME64", "SYSTEMTIME_TO_STRING", "TIMESTRUCT", "T_Arg", "T_FILETIME", "T_FILETIME64",
+    "WLEN2", "WORD_TO_BINSTR", "WORD_TO_DECSTR", "WORD_TO_HEXSTR", "WORD_TO_OCTSTR", "WSTRING_TO_STRING2",
     "stLibVersion_Tc2_Utilities",
 ]
 
@@ -760,18 +761,56 @@ _HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
 MAX_CHARACTERS = 2048
 
 
-def _c_string(pointer: Pointer[Any], what: str) -> bytes:
-    """The STRING at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS), whatever its declared length."""
+def _c_string(pointer: Pointer[Any], what: str, function: str = "FindAndReplace", width: int = 1) -> bytes:
+    """The STRING (``width`` 1) or WSTRING (2) at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS
+    characters), whatever its declared length: its bytes, the terminator left out."""
     if not pointer:
-        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"FindAndReplace: {what} is a null pointer")
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"{function}: {what} is a null pointer")
     data = bytearray()
-    at = pointer.typed(BYTE)
-    while len(data) < MAX_CHARACTERS:
+    at = pointer.typed(BYTE if width == 1 else WORD)
+    while len(data) < MAX_CHARACTERS * width:
         value = (at + len(data)).deref
         if value == 0:
             break
-        data.append(value)
+        data += value.to_bytes(width, "little")
     return bytes(data)
+
+
+def _put_c_string(pointer: Pointer[Any], data: bytes, size: int, width: int) -> bool:
+    """``data`` written at ``pointer`` into ``size`` bytes, cut to whole characters and a 0 after them; all of it?"""
+    room = max(0, (int(size) - width) // width * width)
+    target = pointer.typed(BYTE)
+    for index, value in enumerate(data[:room] + b"\x00" * width):
+        (target + index).deref = value
+    return len(data) <= room
+
+
+def LEN2(pSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``LEN2(pSTRING)``: the number of characters of the STRING at pSTRING, counted to its 0 (any length)."""
+    return len(_c_string(pSTRING, "pSTRING", "LEN2"))
+
+
+def WLEN2(pWSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
+    """``WLEN2(pWSTRING)``: the number of characters of the WSTRING at pWSTRING, counted to its 0."""
+    return len(_c_string(pWSTRING, "pWSTRING", "WLEN2", 2)) // 2
+
+
+def WSTRING_TO_STRING2(pDstString: Pointer[Any], pSrcWString: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
+    """``WSTRING_TO_STRING2(pDstString, pSrcWString, nDstSize)``: the WSTRING as a STRING into nDstSize bytes (its
+    0 included); characters a STRING cannot hold are left out. FALSE when the result was cut to fit."""
+    text = _c_string(pSrcWString, "pSrcWString", "WSTRING_TO_STRING2", 2).decode("utf-16-le", errors="ignore")
+    if not pDstString:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "WSTRING_TO_STRING2: pDstString is a null pointer")
+    return _put_c_string(pDstString, text.encode("latin-1", errors="ignore"), nDstSize, 1)
+
+
+def STRING_TO_WSTRING2(pDstWSTRING: Pointer[Any], pSrcSTRING: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
+    """``STRING_TO_WSTRING2(pDstWSTRING, pSrcSTRING, nDstSize)``: the STRING as a WSTRING into nDstSize bytes (its
+    0 included). FALSE when the result was cut to fit."""
+    text = _c_string(pSrcSTRING, "pSrcSTRING", "STRING_TO_WSTRING2").decode("latin-1")
+    if not pDstWSTRING:
+        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "STRING_TO_WSTRING2: pDstWSTRING is a null pointer")
+    return _put_c_string(pDstWSTRING, text.encode("utf-16-le"), nDstSize, 2)
 
 
 def FindAndReplace(  # noqa: N802 - the ST name
@@ -800,7 +839,64 @@ def FindAndReplace(  # noqa: N802 - the ST name
     return count
 
 
-class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
+class _RingBuffer(FunctionBlock, abstract=True):
+    """The record ring of FB_MemRingBuffer and FB_StringRingBuffer: each record its UDINT length, then its bytes,
+    in the caller's buffer (pBuffer, cbBuffer); nCount records of cbSize bytes in all."""
+
+    idxFirst: UDINT = VAR(0)
+    idxLast: UDINT = VAR(0)
+    if TYPE_CHECKING:  # declared by each block, in the order of its ST declaration
+        pBuffer: Pointer[Any]
+        cbBuffer: int
+        nCount: int
+        cbSize: int
+
+    def _head(self, remove: bool) -> None:
+        """The oldest record handed out (each block its own way), and removed when ``remove``."""
+        raise NotImplementedError
+
+    @method
+    def A_GetHead(self) -> None:  # noqa: N802 - the ST name
+        """The oldest record read out (FB_MemRingBuffer: to pRead; FB_StringRingBuffer: into getValue), kept."""
+        self._head(remove=False)
+
+    @method
+    def A_RemoveHead(self) -> None:  # noqa: N802 - the ST name
+        """The oldest record read out as A_GetHead does, and removed."""
+        self._head(remove=True)
+
+    def _byte(self, index: int) -> Any:
+        return self.pBuffer.typed(BYTE) + index % self.cbBuffer
+
+    def _put(self, data: bytes) -> bool:
+        """``data`` appended as a record; FALSE when it does not fit."""
+        need = _HEADER + len(data)
+        if not self.pBuffer or not self.cbBuffer or self.cbSize + need > self.cbBuffer:
+            return False
+        for i, value in enumerate(len(data).to_bytes(4, "little") + data):
+            self._byte(self.idxLast + i).deref = value
+        self.idxLast = (self.idxLast + need) % self.cbBuffer
+        self.nCount += 1
+        self.cbSize += need
+        return True
+
+    def _first(self) -> bytes | None:
+        """The oldest record's bytes, or None when there is none."""
+        if not self.nCount or not self.pBuffer or not self.cbBuffer:
+            return None
+        size = int.from_bytes(bytes(self._byte(self.idxFirst + i).deref for i in range(_HEADER)), "little")
+        return bytes(self._byte(self.idxFirst + _HEADER + i).deref for i in range(size))
+
+    def _drop(self, size: int) -> None:
+        """The oldest record, of ``size`` bytes, removed."""
+        self.idxFirst = (self.idxFirst + _HEADER + size) % self.cbBuffer
+        self.nCount -= 1
+        self.cbSize -= _HEADER + size
+        if not self.nCount:
+            self.idxFirst = self.idxLast = 0
+
+
+class FB_MemRingBuffer(_RingBuffer):  # noqa: N801 - the ST name
     """``FB_MemRingBuffer``: a FIFO of byte records of any length in a buffer the caller gives.
 
     ST: ``VAR_INPUT pWrite : PVOID; cbWrite : UDINT; pRead : PVOID; cbRead : UDINT;
@@ -823,50 +919,30 @@ class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
     nCount: UDINT = VAR_OUTPUT(0)
     cbSize: UDINT = VAR_OUTPUT(0)
     cbReturn: UDINT = VAR_OUTPUT(0)
-    idxFirst: UDINT = VAR(0)
-    idxLast: UDINT = VAR(0)
 
     def body(self) -> None:
         """Calling the block itself changes nothing; its actions do the work."""
-
-    def _byte(self, index: int) -> Any:
-        return self.pBuffer.typed(BYTE) + index % self.cbBuffer
-
-    def _copy_in(self, index: int, data: bytes) -> None:
-        for i, value in enumerate(data):
-            self._byte(index + i).deref = value
-
-    def _copy_out(self, index: int, size: int) -> bytes:
-        return bytes(self._byte(index + i).deref for i in range(size))
 
     @method
     def A_AddTail(self) -> None:  # noqa: N802 - the ST name
         """Append cbWrite bytes from pWrite; bOk FALSE when they do not fit."""
         self.cbReturn = 0
-        need = _HEADER + self.cbWrite
-        if not self.pBuffer or not self.cbBuffer or (self.cbWrite and not self.pWrite) or self.cbSize + need > self.cbBuffer:
+        if self.cbWrite and not self.pWrite:
             self.bOk = False
             return
-        data = self.cbWrite.to_bytes(4, "little")
-        if self.cbWrite:
-            source = self.pWrite.typed(BYTE)
-            data += bytes((source + i).deref for i in range(self.cbWrite))
-        self._copy_in(self.idxLast, data)
-        self.idxLast = (self.idxLast + need) % self.cbBuffer
-        self.nCount += 1
-        self.cbSize += need
-        self.bOk = True
+        source = self.pWrite.typed(BYTE) if self.cbWrite else None
+        self.bOk = self._put(bytes((source + i).deref for i in range(self.cbWrite)) if source is not None else b"")
 
     def _head(self, remove: bool) -> None:
         self.cbReturn = 0
-        if not self.nCount or not self.pBuffer or not self.cbBuffer:
+        data = self._first()
+        if data is None:
             self.bOk = False
             return
-        size = int.from_bytes(self._copy_out(self.idxFirst, _HEADER), "little")
+        size = len(data)
         if size > self.cbRead or (size and not self.pRead):
             self.bOk, self.cbReturn = False, size
             return
-        data = self._copy_out(self.idxFirst + _HEADER, size)
         target = self.pRead.typed(BYTE) if size else None
         for i, value in enumerate(data):
             assert target is not None
@@ -874,25 +950,59 @@ class FB_MemRingBuffer(FunctionBlock):  # noqa: N801 - the ST name
         self.cbReturn = size
         self.bOk = True
         if remove:
-            self.idxFirst = (self.idxFirst + _HEADER + size) % self.cbBuffer
-            self.nCount -= 1
-            self.cbSize -= _HEADER + size
-            if not self.nCount:
-                self.idxFirst = self.idxLast = 0
-
-    @method
-    def A_RemoveHead(self) -> None:  # noqa: N802 - the ST name
-        """Copy the oldest entry to pRead (cbRead bytes at most) and remove it; cbReturn is its size."""
-        self._head(remove=True)
-
-    @method
-    def A_GetHead(self) -> None:  # noqa: N802 - the ST name
-        """Copy the oldest entry to pRead without removing it."""
-        self._head(remove=False)
+            self._drop(size)
 
     @method
     def A_Reset(self) -> None:  # noqa: N802 - the ST name
         """Empty the buffer."""
         self.idxFirst = self.idxLast = self.nCount = self.cbSize = self.cbReturn = 0
+        self.bOk = True
+
+
+class FB_StringRingBuffer(_RingBuffer):  # noqa: N801 - the ST name
+    """``FB_StringRingBuffer``: a FIFO of STRINGs in a buffer the caller gives, kept as FB_MemRingBuffer keeps its
+    records (each its 4-byte length, then the string and its 0).
+
+    ST: ``VAR_INPUT bOverwrite : BOOL; putValue : T_MaxString; pBuffer : POINTER TO BYTE; cbBuffer : UDINT;
+    END_VAR  VAR_OUTPUT bOk : BOOL; getValue : T_MaxString; nCount : UDINT; cbSize : UDINT; END_VAR`` and the
+    actions A_AddTail (putValue), A_GetHead / A_RemoveHead (into getValue), A_Reset. bOk FALSE: the buffer is
+    full (with bOverwrite the oldest strings make room instead) or empty.
+    """
+
+    bOverwrite: BOOL = VAR_INPUT(False)
+    putValue: T_MaxString = VAR_INPUT("")
+    pBuffer: Pointer[Any] = VAR_INPUT()
+    cbBuffer: UDINT = VAR_INPUT(0)
+    bOk: BOOL = VAR_OUTPUT(False)
+    getValue: T_MaxString = VAR_OUTPUT("")
+    nCount: UDINT = VAR_OUTPUT(0)
+    cbSize: UDINT = VAR_OUTPUT(0)
+
+    def body(self) -> None:
+        """Calling the block itself changes nothing; its actions do the work."""
+
+    @method
+    def A_AddTail(self) -> None:  # noqa: N802 - the ST name
+        """Append putValue; with bOverwrite the oldest strings are removed until it fits."""
+        data = self.putValue.encode("latin-1", errors="replace") + b"\x00"
+        fits = self.cbBuffer and _HEADER + len(data) <= self.cbBuffer
+        while self.bOverwrite and fits and self.nCount and self.cbSize + _HEADER + len(data) > self.cbBuffer:
+            head = self._first()
+            assert head is not None
+            self._drop(len(head))
+        self.bOk = self._put(data)
+
+    def _head(self, remove: bool) -> None:
+        data = self._first()
+        self.bOk = data is not None
+        if data is not None:
+            self.getValue = data.split(b"\x00", 1)[0].decode("latin-1")
+            if remove:
+                self._drop(len(data))
+
+    @method
+    def A_Reset(self) -> None:  # noqa: N802 - the ST name
+        """Empty the buffer."""
+        self.idxFirst = self.idxLast = self.nCount = self.cbSize = 0
         self.bOk = True
 

@@ -257,6 +257,12 @@ class LayoutBuilder:
             info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
             if self.adjust is not None:
                 info = self.adjust(info, spec, where)
+            if spec.instance_path and not (isinstance(info, StringInfo) and spec.section is Section.VAR
+                                           and self.kind in ("FUNCTION_BLOCK", "PROGRAM")):
+                raise DefinitionError(f"{where}: instance_path= is for a STRING or WSTRING VAR of a FUNCTION_BLOCK or "
+                                      f"PROGRAM (ST: {{attribute 'instance-path'}} above a local STRING), not {spec.section} {info.name}")
+            if spec.instance_path and spec.initial is not MISSING:
+                raise DefinitionError(f"{where}: an instance_path= STRING takes no initial value (the path is its value; ST: {{attribute 'noinit'}})")
             spec = _with_alias_initial(spec, info)
             if isinstance(info, PointerInfo) and isinstance(spec.initial, Pointer) and spec.initial:
                 spec = copy.copy(spec)

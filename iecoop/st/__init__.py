@@ -367,6 +367,8 @@ def _load(
         raise ValueError(f"st.load: package must be a dotted Python name, got {package!r}")
     generated = _Generated(source, text, origins, number)
     module = _new_module(f"{package}.iecoop_st_{number}" if package else f"iecoop_st_{number}", generated, names, qualified)
+    # before the PROGRAMs and GVLs are made: their blocks' instance paths start with it (<project>.MAIN.fbLog)
+    module.__st_project__ = origin.project_name(source)
     try:
         with use_profile(profile) if profile is not None else contextlib.nullcontext():
             _run(module, generated)
@@ -382,7 +384,6 @@ def _load(
         raise
     # what each object was read from: export writes an object unchanged in Python back as it was read
     module.__st_sources__ = origin.sources(units, module.__dict__, source if isinstance(source, str) and _source_name(source) == "st" else None)
-    module.__st_project__ = origin.project_name(source)
     module.__st_references__ = library_references(source)
     return module
 
@@ -453,7 +454,8 @@ def _make_programs(namespace: dict[str, Any], names: list[tuple[str, str]], sour
         if kind == "program" and isinstance(namespace[name], type):
             try:
                 namespace[name] = namespace[name]()
-            except (DefinitionError, TypeError, ValueError, AttributeError) as exc:  # its initial values, FB_init ...
+            except (DefinitionError, TypeError, ValueError, AttributeError, MemoryError, RecursionError) as exc:  # FB_init ...
                 where, _ = _declared_at(source, name)
                 error = type(exc) if isinstance(exc, DefinitionError) else StUnsupportedError
-                raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {exc}") from exc
+                why = str(exc) or ("the machine has no memory for its variables" if isinstance(exc, MemoryError) else "")
+                raise error(f"{where}: PROGRAM {name} cannot be made: {type(exc).__name__}: {why}") from exc

@@ -83,11 +83,12 @@ class VirtualPlc:
     def __init__(self, profile: str | Profile = "twincat") -> None:
         self.runtime = Runtime(store=":memory:", profile=profile)
 
-    def add(self, program: _P, *, task: str = "PlcTask", interval: int = 10, priority: int = 20) -> _P:
-        """Call ``program`` every ``interval`` ms on the task ``task`` (created on first use)."""
+    def add(self, program: _P, *, task: str = "PlcTask", interval: int = 10, priority: int = 20,
+            watchdog: int | None = None) -> _P:
+        """Call ``program`` every ``interval`` ms on the task ``task`` (created on first use, with ``watchdog``)."""
         existing = next((t for t in self.runtime.tasks if t.name == task), None)
         if existing is None:
-            self.runtime.add_task(Task(task, interval=interval, priority=priority), program)
+            self.runtime.add_task(Task(task, interval=interval, priority=priority, watchdog=watchdog), program)
         else:
             if existing.interval != interval or existing.priority != priority:
                 raise ValueError(

@@ -159,6 +159,10 @@ def _relative(failure: _tcunit.AssertFailure, base: pathlib.Path | None) -> _tcu
     return dataclasses.replace(failure, file=inside.as_posix())
 
 
+#: The test task's watchdog (ms of the machine's time): a test whose cycle never ends is a PLC fault, not a hung run.
+WATCHDOG_MS = 10_000
+
+
 def _results(registry: _tcunit.Registry, base: pathlib.Path | None = None) -> list[TestResult]:
     return [
         TestResult(
@@ -173,7 +177,7 @@ def _drive(registry: _tcunit.Registry, program: Any, limit_ms: int, profile: str
            source: str, base: pathlib.Path | None = None) -> RunResult:
     registry.name_suites(program)
     plc = VirtualPlc(profile=profile)
-    plc.add(program, interval=interval)
+    plc.add(program, interval=interval, watchdog=WATCHDOG_MS)
     fault = ""
     try:
         while not registry.done:

@@ -57,8 +57,7 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO DWORD; END_VAR\np := __NEW(DWORD, 16);\nEND_FUNCTION_BLOCK",
         "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO BYTE; END_VAR\np := __NEW(BYTE);\nEND_FUNCTION_BLOCK",
     ],
-    "`__SYSTEM.AnyType` as a declared type": [
-        "TYPE T_Any : __SYSTEM.AnyType; END_TYPE",
+    "`__SYSTEM.AnyType` as the type of a variable or STRUCT member": [
         "FUNCTION F : DINT\nVAR a : __SYSTEM.AnyType; END_VAR\nF := a.diSize;\nEND_FUNCTION",
         "TYPE ST_Slot : STRUCT item : __SYSTEM.AnyType; END_STRUCT END_TYPE",
     ],
@@ -77,6 +76,19 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION F : DATE\nF := STRING_TO_DATE('D#2024-01-01');\nEND_FUNCTION",
         "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
         "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
+    ],
+    "indexing a `POINTER TO` an ARRAY": [
+        "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; p : POINTER TO ARRAY[0..1] OF INT; END_VAR\np := ADR(a);\nF := p[0];\nEND_FUNCTION",
+    ],
+    "a conversion into DATE, TOD or DT of a date or time type that counts in another unit": [
+        "FUNCTION F : DT\nVAR_INPUT td : TOD; END_VAR\nF := TO_DT(td);\nEND_FUNCTION",
+        "FUNCTION F : TOD\nVAR_INPUT d : DATE; END_VAR\nF := DATE_TO_TOD(d);\nEND_FUNCTION",
+    ],
+    "a `REFERENCE TO` or `POINTER TO` bound to a variable in an initialiser outside a block": [
+        "FUNCTION_BLOCK FB_R\nVAR_INPUT r : REFERENCE TO INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+        "VAR_GLOBAL n : INT; fbR : FB_R := (r := n); END_VAR",
+        "FUNCTION_BLOCK FB_P\nVAR_INPUT p : POINTER TO INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+        "VAR_GLOBAL n : INT; fbP : FB_P := (p := ADR(n)); END_VAR",
     ],
 }
 

@@ -131,6 +131,14 @@ def test_limit_stays_inside_its_bounds(mn: int, value: int, mx: int) -> None:
 # --- refusals name the function and the rule ----------------------------------------------------
 
 
+@given(st.sampled_from(WIDTHS), st.integers(0, 2**64 - 1), st.integers(0, 2**64 - 1))
+def test_a_shift_by_the_width_or_more_gives_zero(width: tuple[object, int], value: int, extra: int) -> None:
+    """A count of ULINT size answers at once: no shifted integer of that many bits is ever built."""
+    type_, bits = width
+    assert SHL(value, bits + extra, type_) == 0
+    assert SHR(value, bits + extra, type_) == 0
+
+
 def test_a_shift_needs_an_integer_width() -> None:
     with pytest.raises(TypeError, match="ROL: the width is an integer or bit-string type"):
         ROL(1, 1, REAL)

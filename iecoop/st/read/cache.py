@@ -5,7 +5,7 @@ kilobyte); the translation after it is quick. So each source file's tree
 (blark's dataclasses, as ``read.nodedata`` writes them) and comment tokens
 are kept in ``__iecoop_cache__/<file>.json`` beside it (as ``__pycache__``
 keeps bytecode), or in the user's cache folder when that one cannot be
-written. An entry is used only when everything it was made from is the same:
+written or is a link to somewhere else. An entry is used only when everything it was made from is the same:
 the flat ST text (its SHA-256), the versions of iecoop, blark, lark and
 Python, blark's grammar and transform files, and the grammar used.
 
@@ -178,6 +178,8 @@ def store_entry(source: pathlib.Path, text: str, grammar: str, nodes: dict[str, 
     body = json.dumps({"identity": _identity(text, grammar), "nodes": nodes}, separators=(",", ":")).encode()
     data = hmac.new(key, body, hashlib.sha256).hexdigest().encode() + b"\n" + body
     for path in _entry_paths(source):
+        if path.parent.is_symlink() and path.parent.parent == source.parent:
+            continue  # a project's __iecoop_cache__ that links elsewhere: nothing is written outside the project
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             # Written whole then renamed: a reader sees the old entry or the new one, never half of one.

@@ -19,6 +19,11 @@ from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, Reference
 from iecoop.st.read.trees import assigned, variables
 
 
+
+#: The unit each date and time type counts in: a conversion between two of them keeps the number only when it
+#: is the same (DATE into DT, TOD into TIME).
+_CALENDAR_UNITS = {"TIME": "ms", "TOD": "ms", "LTIME": "ns", "DATE": "s", "DT": "s"}
+
 class Calls(Expressions):
     """Reads calls: the callee, its arguments by name, and the standard functions."""
 
@@ -180,7 +185,8 @@ class Calls(Expressions):
         if standard is not None:
             return standard
         decl = self.decls.get(key)
-        if decl is not None and decl.kind == "function" and key not in scope.locals:
+        # a FUNCTION's name in its own body is its result, except where it is called: F := n * F(n - 1)
+        if decl is not None and decl.kind == "function" and (key not in scope.locals or scope.locals[key].section == "RETURN"):
             info = decl.methods["()"]
             args = self.arguments(node.parameters, info.params, scope, node)
             return Ex(f"{decl.name}({', '.join(args)})", info.returns)
@@ -387,6 +393,7 @@ class Calls(Expressions):
             self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
             return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)
         name = f"{source}_TO_{target}" if source else f"TO_{target}"
+        name = self._calendar_conversion(name, source, target, value, node)
         if source is not None and name not in conversions.__all__:
             if source == "BOOL":
                 name = f"TO_{target}"
@@ -400,6 +407,20 @@ class Calls(Expressions):
             raise self.fail(f"conversion {name} is not supported", node)
         self.need("iecoop.conversions", name)
         return Ex(f"{name}({value.code})", result_type)
+
+    def _calendar_conversion(self, name: str, source: str | None, target: str, value: Ex, node: Any) -> str:
+        """A conversion into DATE, TOD or DT by what its argument holds: a DT's day or time of day is DT_TO_DATE /
+        DT_TO_TOD; between units that do not match (a TOD's milliseconds into a DT's seconds) it is refused."""
+        if target not in ("DATE", "TOD", "DT"):
+            return name
+        held = source or (value.type.name if value.type is not None and value.type.kind == "elem" else None)
+        held = TYPE_SYNONYMS.get(held, held) if held else None
+        if held == "DT" and target in ("DATE", "TOD"):
+            return f"DT_TO_{target}"
+        if held in _CALENDAR_UNITS and _CALENDAR_UNITS[held] != _CALENDAR_UNITS[target]:
+            raise self.fail(f"{name} of a {held} is not supported (write DT_TO_TOD or DT_TO_DATE to split a DT, "
+                            "or convert the number it holds)", node)
+        return name
 
     def _to_string(self, source: str | None, target: str, value: Ex, result_type: TypeRef, node: Any) -> Ex:
         """``*_TO_STRING``: iecoop's write the vendor text (T#1s500ms, 1.5, TRUE).

@@ -181,7 +181,7 @@ class Declarations(Statements):
             raise self.fail(f"{member.section} {member.st} : __SYSTEM.VAR_INFO (declare it as a local of a METHOD or FUNCTION)")
         self._need_type(type_)
         args: list[str] = []
-        value = self.initial_value(type_, init, scope)
+        value = self._field_initial_value(member.name, type_, init, scope)
         if value is not None:
             args.append(value)
         kwargs = _shape_keywords(type_)
@@ -198,6 +198,14 @@ class Declarations(Statements):
             return f"{member.name}: {type_.annotation()} = {value}{note}"
         self.need("iecoop", section)
         return f"{member.name}: {type_.annotation()} = {section}({', '.join(args + kwargs)}){note}"
+
+    def _field_initial_value(self, name: str, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        """The initial value of the field ``name``; in a block, a reference or pointer its initialiser binds waits."""
+        self.field_path = f"self.{name}" if scope.owner is not None and scope.kind in ("body", "method") else None
+        try:
+            return self.initial_value(type_, init, scope)
+        finally:
+            self.field_path = None
 
     def fb_init_args(self, init: Any, scope: Scope) -> str:
         call: Any = None
@@ -298,12 +306,31 @@ class Declarations(Statements):
                 found = self.find_member(decl, element_name) if decl is not None else None
                 name = found[1].name if found is not None else python_name(element_name, attribute=True)
                 member_type = found[1].type if found is not None and isinstance(found[1], Member) else None
-                pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
+                if member_type is not None and member_type.kind in ("reference", "pointer") and self._bound_later(name, member_type, element_value):
+                    continue
+                outer, self.field_path = self.field_path, f"{self.field_path}.{name}" if self.field_path else None
+                try:
+                    pairs.append(f'"{name}": {self.init_value(element_value, member_type, scope)}')
+                finally:
+                    self.field_path = outer
             return "{" + ", ".join(pairs) + "}"
         if isinstance(value, tf.EnumeratedValue):
             enum_name = str(value.type_name) if value.type_name is not None else None
             return self.enum_ref(enum_name, str(value.name), value)
         return self.coerce(self.expr(value, scope, expected=type_), type_).code
+
+    def _bound_later(self, name: str, type_: TypeRef, value: Any) -> bool:
+        """``(ref := x)`` / ``(p := ADR(x))`` in a block's field initialiser: bound after init, as the PLC binds it.
+
+        A constant (``p := 0``) is an initial value like any other; a variable's address is known only once the
+        instance exists, so the binding waits for ``call_after_init`` (see ``_emit_reference_inits``).
+        """
+        if type_.kind == "pointer" and not isinstance(value, tf.FunctionCall):
+            return False
+        if self.field_path is None:
+            raise self.fail(f"{name} := ...: a REFERENCE TO or POINTER TO bound to a variable in an initialiser is not supported outside a block's VAR (bind it in code, REF= or := ADR(...))", value)
+        self.pending_member_references.append((self.field_path, name, type_, value))
+        return True
 
     def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
         for item in value.elements:

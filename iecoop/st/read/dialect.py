@@ -6,7 +6,8 @@ Each addition is a form TwinCAT, CODESYS or IEC 61131-3 (3rd edition) code is wr
 - a METHOD or PROPERTY written inside its FUNCTION_BLOCK (the IEC / open-compiler form), a PROPERTY there
   with ``GET ... END_GET`` and ``SET ... END_SET`` accessors, and ``CLASS ... END_CLASS`` (a FUNCTION_BLOCK
   without a body): the members are moved after their block, where the flat form has them;
-- ``REF_TO`` (IEC 61131-3's spelling of ``REFERENCE TO``), ``PROGRAM INTERNAL``, ``VAR_TEMP`` in a FUNCTION;
+- ``REF_TO`` (IEC 61131-3's spelling of ``REFERENCE TO``), ``PROGRAM INTERNAL``, ``INTERFACE INTERNAL``,
+  ``VAR_TEMP`` in a FUNCTION;
 - ``LTIME#1US5NS`` (a unit followed by a smaller one below the millisecond), a trailing comma after the
   names of ``EXTENDS``, an empty initialiser ``:= ()`` and an array literal assigned in code
   (``aPoints := [(x := 1), (x := 2)];``), and a member of what a call's pointer result points to (``F(x)^.y``).
@@ -32,6 +33,7 @@ _CLASS.2: /\bCLASS\b/i
 _END_CLASS.2: /\bEND_CLASS\b/i
 %extend program_declaration: _PROGRAM _PROGRAM_ACCESS program_type_name program_var_declarations [ function_block_body ] _END_PROGRAM ";"*
 _PROGRAM_ACCESS.2: /\b(INTERNAL|PUBLIC)\b/i
+%extend interface_declaration: _INTERFACE _PROGRAM_ACCESS IDENTIFIER [ extends ] interface_var_declaration* _END_INTERFACE? ";"*
 %extend function_var_block: temp_var_decls
 %override REFERENCE_TO: /\bREFERENCE\b\s+\bTO\b/i | /\bREF_TO\b/i
 %override extends: _EXTENDS DOTTED_IDENTIFIER ("," DOTTED_IDENTIFIER)* [ "," ]
@@ -45,7 +47,7 @@ call_member: function_call field_selector+
 
 #: Words and forms that need the overlay; a source without them is parsed by blark's grammar as it is.
 _TRIGGERS = re.compile(
-    r"\bEND_CLASS\b|\bEND_GET\b|\bEND_SET\b|\bREF_TO\b|\bPROGRAM\s+(?:INTERNAL|PUBLIC)\b|\bVAR_TEMP\b"
+    r"\bEND_CLASS\b|\bEND_GET\b|\bEND_SET\b|\bREF_TO\b|\b(?:PROGRAM|INTERFACE)\s+(?:INTERNAL|PUBLIC)\b|\bVAR_TEMP\b"
     r"|\bL?T(?:IME)?#[-\d_.a-z]*\d(?:ms|us)_?\d|\bEXTENDS\b[ \t\w.,]*,[ \t]*(?:\r?\n|$)|:=\s*\(\s*\)"
     r"|^\s*[\w.\[\]^]+\s*:=\s*\[|\)\s*\^\s*\.\s*[a-z_]",
     re.IGNORECASE | re.MULTILINE,

@@ -10,19 +10,14 @@ import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
 from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, VAR_INFO_MEMBERS
+from iecoop.st.read.checks import checked_divisor, checked_indices
 from iecoop.st.read.dates import date_arithmetic
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
 from iecoop.st.read.lookup import unknown_name
-from iecoop.st.read.table import BOOL, Callable_, LREAL, Member, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import has_call, variables
-
-
-#: TwinCAT's POUs for implicit checks (lower case): the code inside one of them is not checked by the others.
-_CHECK_FUNCTIONS = frozenset(name.lower() for name in (
-    "CheckBounds", "CheckDivDInt", "CheckDivLInt", "CheckDivReal", "CheckDivLReal", "CheckRangeSigned",
-    "CheckRangeUnsigned", "CheckLRangeSigned", "CheckLRangeUnsigned", "CheckPointer"))
 
 
 def _plain(type_: TypeRef | None) -> TypeRef | None:
@@ -43,7 +38,7 @@ class Expressions(Literals):
 
     def enum_ref(self, enum_name: str | None, value: str, node: Any) -> str:
         if enum_name is not None:
-            decl = self.decls.get(enum_name.lower())
+            decl = self._enum_through_alias(self.decls.get(enum_name.lower()))
             if decl is None or decl.kind != "enum":
                 raise self.fail(f"unknown enumeration {enum_name!r}", node)
             match = next((v for v in decl.values if v.lower() == value.lower()), None)
@@ -57,6 +52,22 @@ class Expressions(Literals):
         if found is None:
             raise self.fail(f"unknown enumeration value {value!r}", node)
         return f"{found[0]}.{found[1]}"
+
+    def _enum_through_alias(self, decl: Decl | None) -> Decl | None:
+        """``decl``, or the enumeration an alias of it names (``TYPE T_Order : E_Order``: T_Order.Before)."""
+        if decl is not None and decl.kind == "alias":
+            target = self.decl_of(TypeRef("user", decl.name))
+            if target is not None and target.kind == "enum":
+                return target
+        return decl
+
+    def _system_alias(self, decl: Decl) -> Ex | None:
+        """``TYPE T_Kind : __SYSTEM.TYPE_CLASS``: T_Kind names the system enumeration (T_Kind.TYPE_LREAL); else None."""
+        spec = getattr(getattr(decl.node, "init", None), "spec", None)
+        if str(spec).strip().upper() == "__SYSTEM.TYPE_CLASS":
+            self.need("iecoop", "TYPE_CLASS")
+            return Ex("TYPE_CLASS", TypeRef("user", "__SYSTEM.TYPE_CLASS"))
+        return None
 
     def _aggregate(self, type_: TypeRef) -> bool:
         """Whether a value of ``type_`` is an ARRAY, STRUCT or UNION (copied when passed by value)."""
@@ -181,7 +192,8 @@ class Expressions(Literals):
             return self._comparison(COMPARISONS[op], left, right)
         if op in ("AND", "&", "OR", "XOR", "AND_THEN", "OR_ELSE"):
             return self._logical(op, node, left, right, scope)
-        return self._arithmetic(op, node, left, self._checked_divisor(op, left, right, scope))
+        right = checked_divisor(self.decls, op, self.wider(_plain(left.type), _plain(right.type)), right, scope)
+        return self._arithmetic(op, node, left, right)
 
     def _comparison(self, py: str, left: Ex, right: Ex) -> Ex:
         if "THIS" in (left.this, right.this):  # a pointer compared with THIS (aSuites[i] = THIS) compares addresses
@@ -213,24 +225,6 @@ class Expressions(Literals):
         symbol = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}[op]
         level = PRECEDENCE[symbol]
         return Ex(f"{left.wrap(level)} {symbol} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
-
-    def implicit_check(self, name: str, scope: Scope) -> str | None:
-        """The Python name of the project's FUNCTION ``name`` (CheckBounds, CheckDivDInt...) when TwinCAT would call
-        it implicitly here; None when the project declares none, or the code is that check function's own."""
-        decl = self.decls.get(name.lower())
-        if decl is None or decl.kind != "function" or scope.pou_name.lower() in _CHECK_FUNCTIONS:
-            return None
-        return str(decl.name)
-
-    def _checked_divisor(self, op: str, left: Ex, right: Ex, scope: Scope) -> Ex:
-        """The divisor of ``/``, passed through CheckDivDInt / CheckDivLInt / CheckDivReal / CheckDivLReal if declared."""
-        if op != "/":
-            return right
-        kind = self.wider(_plain(left.type), _plain(right.type))
-        name = "CheckDivLReal" if kind == LREAL else "CheckDivReal" if kind is not None and kind.is_real else \
-            "CheckDivLInt" if kind is not None and kind.name in ("LINT", "ULINT", "LWORD") else "CheckDivDInt"
-        check = self.implicit_check(name, scope)
-        return right if check is None else Ex(f"{check}({right.code})", right.type)
 
     def _arithmetic(self, op: str, node: tf.BinaryOperation, left: Ex, right: Ex) -> Ex:
         dated = date_arithmetic(op, left, right)
@@ -353,7 +347,11 @@ class Expressions(Literals):
         if key in self.globals:
             gvl_name, member = self.globals[key]
             return Ex.attribute(gvl_name, member.name, member.type)
-        decl = self.decls.get(key)
+        decl = self._enum_through_alias(self.decls.get(key))
+        if decl is not None and decl.kind == "alias":
+            system = self._system_alias(decl)
+            if system is not None:
+                return system
         if decl is not None and decl.kind != "stdfb":
             return Ex(decl.name, TypeRef("user", decl.name) if decl.kind in ("gvl", "enum", "program") else None)
         if key in self.enum_values:
@@ -437,7 +435,7 @@ class Expressions(Literals):
         elements = list(node.elements)
         for index, element in enumerate(elements):
             if isinstance(element, tf.SubscriptList):
-                current = self._subscript(current, element, node, scope)
+                current = self._subscripted(current, element, scope, node)
                 continue
             field = element.field
             field_name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
@@ -455,26 +453,28 @@ class Expressions(Literals):
                 current = self.deref(current, node)
         return current
 
-    def _subscript(self, current: Ex, element: tf.SubscriptList, node: Any, scope: Scope) -> Ex:
-        """``a[i, j]`` of an ARRAY, ``p[i]`` of a POINTER; ``a[i]^`` dereferences the element."""
+    def _subscripted(self, current: Ex, element: tf.SubscriptList, scope: Scope, node: Any) -> Ex:
+        """``a[i, j]`` of an ARRAY (or of a pointer: ``_pointer_element``), dereferenced when ``^`` follows."""
         indices = [self.expr(s, scope).code for s in element.subscripts]
-        if current.type is not None and current.type.deref().kind == "pointer":
+        if current.type is not None and current.type.kind == "pointer":
             current = self._pointer_element(current, indices, node)
         else:
             array = current.type.deref() if current.type is not None and current.type.deref().kind == "array" else None
-            check = self.implicit_check("CheckBounds", scope) if array is not None and array.bounds else None
-            if check is not None and array is not None and array.bounds is not None and len(array.bounds) == len(indices):
-                # TwinCAT hands each index to the project's CheckBounds with its dimension's bounds and uses its result
-                indices = [f"{check}({index}, {low}, {high})" for index, (low, high) in zip(indices, array.bounds)]
+            indices = checked_indices(self.decls, array, indices, scope)  # the project's CheckBounds, if any
             current = Ex(f"{current.p()}[{', '.join(indices)}]", array.of if array is not None else None)
         return self.deref(current, node) if element.dereferenced else current
 
     def _pointer_element(self, pointer: Ex, indices: list[str], node: Any) -> Ex:
-        """``p[i]`` of a ``POINTER TO T``: the T at ``i * SIZEOF(T)`` bytes past ``p``, read or written (``p^`` is ``p[0]``)."""
-        target = pointer.type.deref().of if pointer.type is not None else None
-        if len(indices) != 1 or target is None or target.kind not in ("elem", "user", "pointer"):
-            raise self.fail(f"{pointer.code}[{', '.join(indices)}]: a POINTER is indexed with one index, and only a POINTER "
-                            "TO an elementary type, a STRUCT, UNION, block or POINTER (use ^ on a POINTER TO STRING or ARRAY)", node)
+        """``p[i]`` of a ``POINTER TO T``: the i-th T from where p points, ``(p + i * SIZEOF(T))^``; of a POINTER TO
+        STRING its i-th byte (TwinCAT, CODESYS: index access through a pointer)."""
+        target = pointer.type.of if pointer.type is not None else None
+        if len(indices) != 1 or target is None:
+            raise self.fail(f"{pointer.code}[...]: a pointer is indexed with one index, through a POINTER TO a type", node)
+        if target.kind == "string":
+            self.need("iecoop", "BYTE")
+            return Ex.attribute(f"({pointer.p()}.typed(BYTE) + ({indices[0]}))", "deref", TypeRef("elem", "BYTE"))
+        if target.kind not in ("elem", "user", "pointer"):
+            raise self.fail(f"indexing a POINTER TO {target.annotation()} is not supported (index the variable it points to)", node)
         self.need("iecoop", "sizeof")
         self._need_type(target)
         return Ex.attribute(f"({pointer.p()} + ({indices[0]}) * sizeof({target.annotation()}))", "deref", target)

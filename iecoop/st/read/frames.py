@@ -74,6 +74,8 @@ class Scope:
         #: JMP targets of the body (lower case) and the variable that names the part to run next
         self.labels: set[str] = set()
         self.jump = ""
+        #: the FOR, WHILE and REPEAT loops around the statement being written: EXIT and CONTINUE need one
+        self.loops = 0
         #: elementary locals given to a call as an output (=>) or in-out: they live in the holder STRUCT, which has addresses
         self.addressed: set[str] = set()
         #: the indentation of the assignment whose right side is being read: a query there is written before it

@@ -15,6 +15,10 @@ from iecoop.st.read.table import BOOL, LINT, LREAL, STRING, TypeRef
 from iecoop.st.read.trees import python_string
 
 
+#: ULINT's largest value: no integer literal of any type is larger
+_LARGEST = (1 << 64) - 1
+
+
 class Literals(PyWriter):
     """ST literals as Python: ``16#FF`` is ``0xFF``, ``T#1s`` is ``T("1s")``, ``INT#5`` is 5 typed INT."""
 
@@ -27,16 +31,31 @@ class Literals(PyWriter):
     def visit_Integer(self, node: tf.Integer, scope: Scope) -> Ex:
         text = str(node.value).replace("_", "")
         type_ = self._literal_type(node.type_name, LINT)
+        if type_.is_real:  # REAL#5: any number of digits is a float (inf beyond LREAL's range)
+            return Ex(f"{text.lstrip('0') or '0'}.0", type_, constant=float(text))
+        if len(text.lstrip("0")) > len(str(_LARGEST)):  # before int(): Python refuses to read very long digit strings
+            raise self._literal_too_large(text, node)
+        value = int(text)
+        self._literal_fits(value, text, node)
         if type_.is_bool:
-            return Ex("True" if int(text) else "False", BOOL)
-        if type_.is_real:
-            return Ex(f"{int(text)}.0", type_, constant=float(int(text)))
-        return Ex(str(int(text)), type_ if node.type_name is not None else None, constant=int(text))  # 007 is 7; Python refuses the zeros
+            return Ex("True" if value else "False", BOOL)
+        return Ex(str(value), type_ if node.type_name is not None else None, constant=value)  # 007 is 7; Python refuses the zeros
 
     def _based(self, node: Any, prefix: str, base: int) -> Ex:
         text = str(node.value).replace("_", "")
         type_ = self._literal_type(node.type_name, LINT)
+        digits = text.lstrip("0")
+        if base != 10 or digits.isdigit():  # more than 64 digits is more than 64 bits in any base
+            self._literal_fits(int(digits or "0", base) if len(digits) <= 64 else _LARGEST + 1, str(node.value), node)
         return Ex(f"{prefix}{text.upper() if base == 16 else text}", type_ if node.type_name is not None else None)
+
+    def _literal_fits(self, value: int, text: str, node: Any) -> None:
+        if value > _LARGEST:
+            raise self._literal_too_large(text, node)
+
+    def _literal_too_large(self, text: str, node: Any) -> Exception:
+        shown = text if len(text) <= 40 else f"{text[:20]}...{text[-10:]} ({len(text)} digits)"
+        return self.fail(f"the integer literal {shown} is larger than any integer type holds (ULINT: 0..{_LARGEST})", node)
 
     def visit_HexInteger(self, node: tf.HexInteger, scope: Scope) -> Ex:
         return self._based(node, "0x", 16)

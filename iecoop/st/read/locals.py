@@ -46,6 +46,9 @@ class Locals(Declarations):
         if type_.kind == "pointer":
             self.need("iecoop", "Pointer")
             return "Pointer(0, None)"
+        if type_.kind == "varinfo":  # a VAR_INFO input not given: all of it zero, as the PLC's memory starts
+            self.need("iecoop", "VarInfo", "TYPE_CLASS")
+            return 'VarInfo("", 0, 0, 0, 0, 0, TYPE_CLASS.TYPE_BOOL, "", 0, 0, TYPE_CLASS.TYPE_BOOL)'
         decl = self.decl_of(type_)
         if decl is not None and decl.kind == "enum":
             return self.enum_default(decl)
@@ -207,6 +210,8 @@ class Locals(Declarations):
 
     def _declare_local(self, item: Any, name: str, type_: TypeRef, scope: Scope, level: int, constant: Any) -> None:
         """Emit the Python local of one ST variable of a method or function body."""
+        if type_.kind == "any":  # __SYSTEM.AnyType as a local: only a generic input receives one
+            raise self.fail(f"VAR {name} : {type_.name}: a generic type is not supported outside a VAR_INPUT of a FUNCTION or METHOD", item)
         py = python_name(name)
         self._need_type(type_)
         init = getattr(item, "init", None)

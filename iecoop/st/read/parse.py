@@ -19,6 +19,7 @@ import functools
 import os
 import pathlib
 import re
+import stat
 from collections.abc import Iterator
 from typing import Any
 
@@ -147,8 +148,12 @@ def _left_out(path: pathlib.Path) -> bool:
 
 def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tuple[str, int]]]]:
     if path.is_dir():
+        folder = path.resolve()
         for child in sorted(path.rglob("*")):
             if child.is_file() and child.suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES) and not _left_out(child):
+                if not child.resolve().is_relative_to(folder):  # as a .plcproj's Include: nothing read from outside
+                    raise StSyntaxError(f"{child}: a link to {str(child.resolve())!r}, outside the folder {str(folder)!r}; "
+                                        "a folder reads only files below it")
                 yield from _flat_sources(child)
         return
     suffix = path.suffix.lower()
@@ -165,9 +170,13 @@ def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tupl
 
 
 def _read_bytes(path: pathlib.Path) -> bytes:
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise StUnsupportedError(f"{path}: {path.stat().st_size} bytes is more than the {MAX_FILE_BYTES} bytes one file may hold")
-    return path.read_bytes()
+    if not stat.S_ISREG(path.stat().st_mode):  # a pipe or a device would be read for ever
+        raise StUnsupportedError(f"{path}: not a regular file (a pipe, device or socket is not read as a source)")
+    with path.open("rb") as file:
+        data = file.read(MAX_FILE_BYTES + 1)  # not the size stat gave: a file may grow while it is read
+    if len(data) > MAX_FILE_BYTES:
+        raise StUnsupportedError(f"{path}: {max(len(data), path.stat().st_size)} bytes is more than the {MAX_FILE_BYTES} bytes one file may hold")
+    return data
 
 
 def _read_text(path: pathlib.Path) -> str:

@@ -16,11 +16,15 @@ from iecoop.st.read.names import python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
 from iecoop.st.read.trees import (
-    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, signature, statements_of, variables,
+    accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, nodes_below, signature,
+    statements_of, variables,
 )
 
 #: The qualifiers of a VAR or VAR_GLOBAL block, as blark's flags and iecoop's specifier keywords name them.
 _QUALIFIERS = ("constant", "retain", "persistent")
+#: The pragmas of a POU and its STRING that give the STRING the instance's path (``VAR(instance_path=True)``).
+_REFLECTION = re.compile(r"\{\s*attribute\s+'reflection'\s*\}", re.IGNORECASE)
+_INSTANCE_PATH = re.compile(r"\{\s*attribute\s+'instance-path'\s*\}", re.IGNORECASE)
 
 
 def _parameter_inits(blocks: Sequence[Any]) -> dict[str, Any]:
@@ -123,14 +127,20 @@ class Pous(Locals):
                     del scope.locals[key]
 
     def _emit_field_blocks(self, decl: Decl, blocks: Sequence[Any], scope: Scope, level: int, method: str | None) -> None:
+        # {attribute 'instance-path'} takes effect in a POU marked {attribute 'reflection'}, as the PLC's compiler does
+        reflection = method is None and any(_REFLECTION.fullmatch(p) for p in self.pragmas(decl.node))
         for block in blocks:
             self.comments(block, level)
             section = _SECTION_OF.get(type(block))
             extra = flag_keywords(getattr(block, "attrs", None), tf.VariableAttributes, _QUALIFIERS)
             if method is not None and section == "VAR_INST":
                 extra.append(f'method="{method}"')
+            previous = block.meta.line if block.meta else None
             for item in block.items:
                 self.line = item.meta.line if item.meta else self.line
+                pragmas = self.pragmas(item, previous) if reflection and section == "VAR" else []
+                previous = getattr(item.meta, "end_line", None) or self.line
+                path = ["instance_path=True"] if any(_INSTANCE_PATH.fullmatch(p) for p in pragmas) else []
                 trailing = self.comments(item, level, inline=True)
                 index = len(self.out)
                 if section == "VAR_EXTERNAL":
@@ -143,7 +153,7 @@ class Pous(Locals):
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
                     member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
-                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), level)
+                    self.emit(self.field_line(member, init, scope, extra=", ".join(extra + path)), level)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
     def _emit_method_instance_fields(self, decl: Decl) -> None:
@@ -183,9 +193,10 @@ class Pous(Locals):
 
     def _emit_reference_inits(self, decl: Decl, scope: Scope) -> None:
         """``ref : REFERENCE TO T := x;`` binds after initialisation, as the PLC binds it: REF= in a call_after_init."""
-        if not self.pending_references:
+        if not self.pending_references and not self.pending_member_references:
             return
         self.pending_references = []
+        members, self.pending_member_references = self.pending_member_references, []
         self.need("iecoop", "call_after_init", "ref_assign")
         self.emit("", 0)
         self.emit("@call_after_init", 1)
@@ -201,6 +212,11 @@ class Pous(Locals):
                     target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
                 for var in item.variables:
                     self.emit(f'ref_assign(self, "{python_name(str(var.variable.name), attribute=True)}", {self.address_of(target, scope)})', 2)
+        for path, name, type_, value in members:  # fb : FB_X := (ref := x, p := ADR(y))
+            if type_.kind == "reference":
+                self.emit(f'ref_assign({path}, "{name}", {self.address_of(value, scope)})', 2)
+            else:
+                self.emit(f"{path}.{name} = {self.expr(value, scope, expected=type_).code}", 2)
 
     def _params(self, params: Sequence[Member], blocks: Sequence[Any], scope: Scope) -> list[str]:
         """The Python parameters of a METHOD or FUNCTION, in order; each becomes a name of ``scope``."""
@@ -500,6 +516,9 @@ class Pous(Locals):
         scope.return_st = decl.st
         scope.pou = decl.name
         scope.pou_name = decl.st
+        if info.returns is not None and any(isinstance(n, tf.FunctionCall) and str(n.name).lower() == decl.st.lower()
+                                            for n in nodes_below(node.body)):
+            scope.return_name = scope.temp(decl.name)  # F := F(n - 1) * n: the call names the FUNCTION, not its result
         self.comments(node, 0)
         params = self._params(info.params, node.declarations, scope)
         self._need_type(info.returns)

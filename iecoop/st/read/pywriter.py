@@ -118,12 +118,12 @@ class PyWriter(Symbols):
             line.origin = origin_of(self.out[index])
             self.out[index] = line
 
-    def pragmas(self, node: Any) -> list[str]:
-        """The pragmas (``{attribute 'x'}``) written before ``node``, within the current item's lines."""
+    def pragmas(self, node: Any, after: int | None = None) -> list[str]:
+        """The pragmas (``{attribute 'x'}``) written before ``node``, within the current item's lines (after line ``after``)."""
         line = getattr(getattr(node, "meta", None), "line", None)
         if line is None or self.unit is None:
             return []
-        low = self.window[0]
+        low = self.window[0] if after is None else max(self.window[0], after + 1)
         return [str(t).strip() for t in self.unit.comments if low <= t.line <= line and str(t).strip().startswith("{")]
 
     def _need_type(self, type_: TypeRef | None) -> None:

@@ -11,7 +11,7 @@ import blark.transform as tf
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
-from iecoop.st.read.trees import assigned, exact_real, has_call, is_zero, jumps_in_loop, variables
+from iecoop.st.read.trees import assigned, exact_real, has_call, is_zero, jumps_in_loop, variables, walk
 
 
 class Statements(Calls):
@@ -294,7 +294,7 @@ class Statements(Calls):
             header = loop
             after = Ex(f"{loop}.start + {loop}.step * len({loop})", start.type or stop.type, True, PRECEDENCE["+"])
         self.emit(f"for {control.code} in {header}:", level)
-        self._emit_statements(node.statements.statements, scope, level + 1)
+        self._emit_loop_body(node.statements.statements, scope, level + 1)
         self.at(node)
         self.emit("else:  # the first value past the end, as ST leaves it", level)
         self.assign(node.control, after, scope, level + 1)
@@ -342,24 +342,48 @@ class Statements(Calls):
             test = f"({counter.code} <= {end.p()} if {by.code} > 0 else {counter.code} >= {end.p()})"
         self.emit(f"if not {test}:", level + 1)
         self.emit("break  # the counter is the first value past the end, as ST leaves it", level + 2)
-        self._emit_statements(node.statements.statements, scope, level + 1)
+        self._emit_loop_body(node.statements.statements, scope, level + 1)
 
     def visit_WhileStatement(self, node: tf.WhileStatement, scope: Scope, level: int) -> None:
         self.emit(f"while {self.condition(node.expression, scope)}:", level)
-        self._emit_statements(node.statements.statements, scope, level + 1)
+        self._emit_loop_body(node.statements.statements, scope, level + 1)
 
     def visit_RepeatStatement(self, node: tf.RepeatStatement, scope: Scope, level: int) -> None:
+        loops = (tf.ForStatement, tf.WhileStatement, tf.RepeatStatement)
+        if any(isinstance(n, tf.ContinueStatement) for n in walk(node.statements.statements, lambda n: isinstance(n, loops))):
+            # CONTINUE goes on at UNTIL (IEC 61131-3: after the loop's last statement), so the test heads the loop
+            again = scope.temp("again")
+            self.emit(f"{again} = False  # True once a pass has run: UNTIL is tested before each later one", level)
+            self.at(node)
+            self.emit(f"while not {again} or not ({self.condition(node.expression, scope)}):", level)
+            self.emit(f"{again} = True", level + 1)
+            self._emit_loop_body(node.statements.statements, scope, level + 1)
+            return
         self.emit("while True:", level)
-        self._emit_statements(node.statements.statements, scope, level + 1)
+        self._emit_loop_body(node.statements.statements, scope, level + 1)
         self.at(node)  # UNTIL: the REPEAT's line, not the last statement's
         self.emit(f"if {self.condition(node.expression, scope)}:", level + 1)
         self.emit("break", level + 2)
 
+    def _emit_loop_body(self, statements: Sequence[Any], scope: Scope, level: int) -> None:
+        scope.loops += 1
+        try:
+            self._emit_statements(statements, scope, level)
+        finally:
+            scope.loops -= 1
+
     def visit_ExitStatement(self, node: tf.ExitStatement, scope: Scope, level: int) -> None:
+        self._in_loop("EXIT", node, scope)
         self.emit("break", level)
 
     def visit_ContinueStatement(self, node: tf.ContinueStatement, scope: Scope, level: int) -> None:
+        self._in_loop("CONTINUE", node, scope)
         self.emit("continue", level)
+
+    def _in_loop(self, statement: str, node: Any, scope: Scope) -> None:
+        """EXIT and CONTINUE stand in a FOR, WHILE or REPEAT (else Python's break would end a JMP's loop, or not compile)."""
+        if not scope.loops:
+            raise self.fail(f"{statement} outside a FOR, WHILE or REPEAT loop", node)
 
     def visit_ReturnStatement(self, node: tf.ReturnStatement, scope: Scope, level: int) -> None:
         self.emit(f"return {scope.return_name}" if scope.return_name else "return", level)
@@ -411,9 +435,9 @@ class Statements(Calls):
             if jumps_in_loop(statement):
                 raise self.fail("JMP inside a FOR, WHILE or REPEAT loop is not supported (labels and JMPs outside loops)", statement)
         scope.jump = scope.temp("jump")
-        # a body that starts with a label starts at that label
-        start = parts[1][0].lower() if not parts[0][1] and len(parts) > 1 else ""
-        self.emit(f'{scope.jump} = "{start}"  # JMP: the label the code runs from next', level)
+        # A body that opens with a label starts at that label's part (the part before it is empty and left out).
+        first = parts[0][0] if parts[0][1] else parts[1][0].lower()
+        self.emit(f'{scope.jump} = "{first}"  # JMP: the label the code runs from next', level)
         self.emit("while True:", level)
         for index, (label, body) in enumerate(parts):
             if index == 0 and not body:

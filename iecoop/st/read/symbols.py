@@ -6,6 +6,8 @@ can type each expression and order the classes so a class exists before it is us
 
 from __future__ import annotations
 
+import dataclasses
+
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -19,8 +21,8 @@ from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
 from iecoop.st.read.names import python_name
 from iecoop.st.read.table import (
-    ANYTYPE, ANYTYPE_DECLARED, GENERIC_FAMILIES,
-    Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields, system_type,
+    ANYTYPE, GENERIC_FAMILIES,
+    IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
 )
 from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
 
@@ -32,6 +34,12 @@ _SECTION_OF = {
     tf.ExternalVariableDeclarations: "VAR_EXTERNAL", tf.FunctionVariableDeclarations: "VAR",
 }
 
+
+
+#: TwinCAT's platform pseudo types on a 64-bit target (Infosys: "Special data types XINT, UXINT, XWORD and
+#: PVOID"); PVOID, an untyped address, is read as POINTER TO BYTE: ADR, MEMCPY, arithmetic and 0 work on it.
+_PLATFORM_TYPES = {"UXINT": "ULINT", "__UXINT": "ULINT", "XINT": "LINT", "__XINT": "LINT", "XWORD": "LWORD",
+                   "__XWORD": "LWORD", "PVOID": "PVOID"}
 
 class Symbols:
     """Pass 1's symbol table, and the error and line bookkeeping every phase shares."""
@@ -66,6 +74,10 @@ class Symbols:
         #: ids of the comment tokens pass 2 has written (or that are marks)
         self.used_comments: set[int] = set()
         self.pending_references: list[Any] = []
+        #: ``fb : FB_X := (ref := x, p := ADR(y))``: (the field's Python path, the member, its type, the value), bound after init
+        self.pending_member_references: list[tuple[str, str, Any, Any]] = []
+        #: the Python path of the field whose initial value is being written (``self.fb``), or None outside a block
+        self.field_path: str | None = None
         #: id of a PROPERTY node -> "get" / "set", for accessors marked by a ``// Get`` / ``// Set`` line
         self.marked_accessors: dict[int, str] = {}
         #: PROGRAMs whose variables another POU reads or writes (P_Count.counter)
@@ -309,6 +321,41 @@ class Symbols:
             returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
             decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
+    def align_prototype_names(self) -> None:
+        """A METHOD or PROPERTY takes the Python name of the first one it overrides or implements, and a METHOD's
+        inputs take that one's input names; so do the other prototypes it implements. ST names are
+        case-insensitive (``Append(Text)`` of an interface is ``append(text)`` of the block), Python's are not:
+        aligned, the signatures match and a call through the interface, the base or the block reaches the same
+        METHOD with the same names."""
+        for decl in self.decls.values():
+            if decl.library or decl.kind != "fb":
+                continue
+            for key in list(decl.methods):
+                protos = self._prototypes(decl, key, "methods")
+                for owner, other in protos[1:] + [(decl, decl.methods[key])] if protos else []:
+                    owner.methods[key] = _aligned(other, protos[0][1])
+            for key in list(decl.props):
+                props = self._prototypes(decl, key, "props")
+                for owner, other in props[1:] + [(decl, decl.props[key])] if props else []:
+                    owner.props[key] = dataclasses.replace(other, name=props[0][1].name)
+
+    def _prototypes(self, decl: Decl, key: str, table: str) -> list[tuple[Decl, Any]]:
+        """The METHODs (``table`` "methods") or PROPERTYs ("props") ``key`` of the blocks ``decl`` extends and of
+        the interfaces it or they implement, nearest first, each with the declaration it belongs to."""
+        seen: set[str] = set()
+        found: list[tuple[Decl, Any]] = []
+        pending = list(decl.bases) + list(decl.implements)
+        while pending:
+            other = self.decls.get(pending.pop(0).lower())
+            if other is None or other.name in seen:
+                continue
+            seen.add(other.name)
+            member = getattr(other, table).get(key) if other.kind in ("fb", "interface") and not other.library else None
+            if member is not None:
+                found.append((other, member))
+            pending += other.bases + other.implements
+        return found
+
     def collect_named_programs(self) -> None:
         """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
 
@@ -364,13 +411,20 @@ class Symbols:
             # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
             # of its own byte: the same values, another layout
             return TypeRef("elem", "BOOL")
-        if name.upper() == "__SYSTEM.ANYTYPE":
-            raise self.fail(ANYTYPE_DECLARED, node)
-        system = system_type(name)
-        if system is not None and name.lower() not in self.decls:
-            return system
+        platform = _PLATFORM_TYPES.get(name.upper()) if name.lower() not in self.decls else None
+        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
+            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
+        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
+        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
+            return TypeRef("elem", system)
+        if name.upper() == "__SYSTEM.VAR_INFO":
+            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
+            return TypeRef("user", IQUERYINTERFACE.name)
         if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
             return TypeRef("any", name.upper())
+        if name.upper() == "__SYSTEM.ANYTYPE":
+            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(unknown_name("type", name, self.decls), node)
@@ -378,7 +432,7 @@ class Symbols:
             # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
             # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
             target = decl.alias_of or self._alias_target(decl.node)
-            if target.kind == "string" and target.length not in (None, "80") or target.kind == "array":
+            if target.kind == "string" and target.length not in (None, "80") or target.kind in ("array", "any"):
                 return target
         return TypeRef("user", decl.name)
 
@@ -596,3 +650,11 @@ class Symbols:
                 return "method", current.methods[key]
         return None
 
+
+def _aligned(method: Callable_, proto: Callable_) -> Callable_:
+    """``method`` named as ``proto``, its inputs too where their ST names agree but for the case."""
+    params = method.params
+    if len(params) == len(proto.params):
+        params = [dataclasses.replace(own, name=theirs.name) if own.st.lower() == theirs.st.lower() else own
+                  for own, theirs in zip(params, proto.params)]
+    return dataclasses.replace(method, name=proto.name, params=params)

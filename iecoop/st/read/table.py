@@ -216,29 +216,6 @@ IQUERYINTERFACE.freeze()
 SYSTEM_DECLS: dict[str, Decl] = FrozenDict({IQUERYINTERFACE.name.lower(): IQUERYINTERFACE})
 
 
-#: The refusal of ``__SYSTEM.AnyType`` as the type of a variable, STRUCT member or alias, and what to write instead.
-ANYTYPE_DECLARED = ("__SYSTEM.AnyType as a declared type (a variable, STRUCT member or TYPE alias) is not supported: "
-                    "declare a generic input (x : ANY) of a FUNCTION or METHOD, which receives one, and read its "
-                    "TypeClass, pValue and diSize there")
-
-
-def system_type(name: str) -> TypeRef | None:
-    """The type a system name stands for (``__SYSTEM.TYPE_CLASS``, ``__SYSTEM.VAR_INFO``, ``PVOID``...), or None."""
-    upper = name.upper()
-    base = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(upper)
-    if base is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
-        return TypeRef("elem", base)
-    if upper == "__SYSTEM.VAR_INFO":
-        return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
-    if upper == "__SYSTEM.IQUERYINTERFACE":
-        return TypeRef("user", IQUERYINTERFACE.name)
-    if upper == "PVOID":
-        # TwinCAT's untyped address (an alias of __UXINT): a POINTER TO BYTE here, which takes any address
-        # and gives it on to MEMCPY and the like; ST never dereferences a PVOID
-        return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE"))
-    return None
-
-
 #: The generic type families a FUNCTION's or METHOD's VAR_INPUT may have (IEC 61131-3; iecoop.generics).
 GENERIC_FAMILIES = ("ANY", "ANY_ELEMENTARY", "ANY_NUM", "ANY_INT", "ANY_REAL", "ANY_BIT", "ANY_STRING", "ANY_DATE")
 #: ``__SYSTEM.AnyType``, what a generic input is in the body: its members, as ``x.TypeClass`` reads them.

@@ -29,6 +29,44 @@ _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNOR
 class Translator(Pous):
     """The whole translation: pass 1, then each declaration in dependency order."""
 
+    def _built_from(self, decl: Decl) -> Iterator[Decl]:
+        """What ``decl`` is made of before its own class exists: what it EXTENDS, or the type it is an alias of."""
+        names = list(decl.bases)
+        if decl.kind == "alias" and isinstance(decl.node, tf.SimpleTypeDeclaration):
+            names.append(str(decl.node.init.spec))  # TYPE T_A : T_B (a POINTER TO or REFERENCE TO stays a name of its own)
+        found = (self.decls.get(name.lower()) for name in names)
+        yield from (d for d in found if d is not None and not d.library)
+
+    def _refuse_self_built(self) -> None:
+        """EXTENDS or an alias that comes back to where it started is refused at its line, naming the chain.
+
+        (FB_A EXTENDS FB_B and FB_B EXTENDS FB_A; TYPE T_A : T_B and TYPE T_B : T_A.) A walk with a stack of
+        its own, as a chain may be as long as the source is.
+        """
+        done: set[int] = set()
+        for start in self.decls.values():
+            path: list[Decl] = []
+            stack: list[tuple[Decl, Iterator[Decl]]] = [(start, self._built_from(start))]
+            path.append(start)
+            while stack:
+                decl, below = stack[-1]
+                step = next(below, None)
+                if step is None:
+                    done.add(id(decl))
+                    stack.pop()
+                    path.pop()
+                    continue
+                if id(step) in done:
+                    continue
+                if any(step is d for d in path):
+                    chain = path[next(i for i, d in enumerate(path) if d is step):] + [step]
+                    keyword = {"fb": "FUNCTION_BLOCK", "alias": "TYPE"}.get(step.kind, step.kind.upper())
+                    self.unit = step.unit
+                    raise self.fail(f"{keyword} {step.st} is built from itself: {' -> '.join(d.st for d in chain)} "
+                                    "(EXTENDS and aliases may not come back to the type they start from)", step.node)
+                path.append(step)
+                stack.append((step, self._built_from(step)))
+
     def ordered(self) -> list[Decl]:
         """User declarations, each after the ones it needs at class creation."""
         order: list[Decl] = []
@@ -77,8 +115,10 @@ class Translator(Pous):
         bind(self, self.libraries)
         collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
+        self._refuse_self_built()
         rename_shadowed(self)
         self.resolve_members()
+        self.align_prototype_names()
         self.collect_named_programs()
         self.freeze()
         body: list[str] = []

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import struct
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -204,8 +205,8 @@ def lark_token_type() -> type:
 
 
 def python_string(text: str) -> str:
-    """An ST string literal ('...' or "...") as a Python literal."""
-    quote = text[0]
+    """An ST string literal ('...' or "...") as a Python literal: ``$41`` in a STRING, ``$0041`` in a WSTRING."""
+    digits = 4 if text[0] == '"' else 2  # IEC 61131-3: a WSTRING's character code is four hex digits
     body = text[1:-1]
     escapes = {"$$": "$", "$'": "'", '$"': '"', "$L": "\n", "$N": "\n", "$P": "\f", "$R": "\r", "$T": "\t"}
     out = []
@@ -217,14 +218,15 @@ def python_string(text: str) -> str:
                 out.append(escapes[pair])
                 i += 2
                 continue
-            if i + 2 < len(body) and all(c in "0123456789abcdefABCDEF" for c in body[i + 1:i + 3]):
-                out.append(chr(int(body[i + 1:i + 3], 16)))
-                i += 3
+            code = body[i + 1:i + 1 + digits]
+            if len(code) == digits and all(c in "0123456789abcdefABCDEF" for c in code):
+                out.append(chr(int(code, 16)))
+                i += 1 + digits
                 continue
         out.append(body[i])
         i += 1
-    del quote
-    return json.dumps("".join(out), ensure_ascii=False)
+    # A lone UTF-16 half ($D800) is a WSTRING character, but no UTF-8 file (the cache, linecache) can hold it raw.
+    return re.sub("[\ud800-\udfff]", lambda half: f"\\u{ord(half.group()):04x}", json.dumps("".join(out), ensure_ascii=False))
 
 
 def nodes_below(node: Any) -> Iterator[Any]:

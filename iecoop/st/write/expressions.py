@@ -712,7 +712,7 @@ def _string_text(value: str, quote: str = "'") -> str:
     for char in value:
         if char in _ESCAPES or char == quote:
             out.append(_ESCAPES.get(char) or "$" + char)
-        elif char < " " or "\x7f" <= char <= "\x9f":
+        elif char < " " or "\x7f" <= char <= "\x9f" or char in "\ufffe\uffff":  # the last two: no XML holds them
             out.append(f"${ord(char):0{digits}X}")
         else:
             out.append(char)

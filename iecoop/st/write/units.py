@@ -184,11 +184,18 @@ def variable_line(
     return text + ";" + renamed_note(name)
 
 
-def _noted(line: str, name: str, declared: Declared | None) -> list[str]:
+def _noted(line: str, name: str, declared: Declared | None, attributes: Sequence[str] = ()) -> list[str]:
     """A variable's declaration line (indented), after the pragmas and comments its loaded source had before
-    it, and with the comment it had after it."""
+    it (and the pragmas of ``attributes`` it did not have), and with the comment it had after it."""
     before, after = declared.notes.get(name.lower(), ((), "")) if declared is not None else ((), "")
-    return [*(f"    {note}" for note in before), f"    {line}" + (f"   {after}" if after else "")]
+    had = {"".join(note.split()).lower() for note in before}
+    added = [pragma(a) for a in attributes if "".join(pragma(a).split()).lower() not in had]
+    return [*(f"    {note}" for note in (*before, *added)), f"    {line}" + (f"   {after}" if after else "")]
+
+
+#: The attributes of a STRING that holds its instance's path (``VAR(instance_path=True)``), and of its POU.
+_INSTANCE_PATH = ("instance-path", "noinit")
+_REFLECTION = "reflection"
 
 
 def _declared_type(field: FieldDecl) -> TypeInfo:
@@ -212,7 +219,9 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         lines.append(f"{section} {qualifier}".rstrip())
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
-            lines += _noted(variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared), field.name, declared)
+            attributes = _INSTANCE_PATH if field.spec.instance_path else ()
+            line = variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared)
+            lines += _noted(line, field.name, declared, attributes)
         lines.append("END_VAR")
     return lines
 
@@ -414,7 +423,10 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
                 temps[0] = "VAR_TEMP"
         decl_lines += sections(meta.fields, name, declared=meta.declared) + temps
     parts = _pou_parts(meta, writer, interface)
-    declaration, attributes = _headed(meta, [_CALL_AFTER_INIT] if after_init else [], decl_lines)
+    own = [_CALL_AFTER_INIT] if after_init else []
+    if any(field.spec.instance_path for field in meta.fields):
+        own.append(_REFLECTION)  # the PLC's compiler fills an instance-path STRING of a POU marked so only
+    declaration, attributes = _headed(meta, own, decl_lines)
     return Unit(meta.kind, name, declaration + "\n", implementation, parts, meta, attributes=attributes)
 
 

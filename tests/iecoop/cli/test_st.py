@@ -38,6 +38,27 @@ def test_st_run_fault_exits_1(tmp_path: pathlib.Path) -> None:
     assert status == 1 and f"PLC fault in cycle 1 at {source}:3 (MAIN): RTSEXCPT_DIVIDEBYZERO" in err
 
 
+RUNAWAY = "PROGRAM MAIN\nVAR x : INT; END_VAR\nx := x + 1;\nWHILE x > 1 DO x := 5; END_WHILE\nEND_PROGRAM\n"
+
+
+def test_st_run_stops_a_cycle_that_never_ends_as_a_watchdog_fault(tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    source = tmp_path / "loop.st"
+    source.write_text(RUNAWAY)
+    status, out, err = call(st_run, str(source), "--cycles", "3", "--watchdog", "50ms")
+    assert status == 1 and f"PLC fault in cycle 2 at {source}:4 (MAIN): RTSEXCPT_WATCHDOG" in err and "watchdog 50 ms" in err
+    monkeypatch.setattr("iecoop.cli.st.DEFAULT_WATCHDOG", "40ms")  # the default, made short for the test
+    status, out, err = call(st_run, str(source), "--cycles", "3")
+    assert status == 1 and "RTSEXCPT_WATCHDOG" in err and "watchdog 40 ms" in err
+
+
+def test_st_run_watchdog_takes_a_time_or_0(tmp_path: pathlib.Path) -> None:
+    source = tmp_path / "count.st"
+    source.write_text("PROGRAM MAIN\nVAR x : INT; END_VAR\nx := x + 1;\nEND_PROGRAM\n")
+    assert call(st_run, str(source), "--cycles", "2", "--watchdog", "0")[0] == 0
+    with pytest.raises(SystemExit):
+        call(st_run, str(source), "--watchdog", "soon")
+
+
 def test_st_run_bad_source_and_unknown_program_exit_2(tmp_path: pathlib.Path) -> None:
     source = tmp_path / "bad.st"
     source.write_text("PROGRAM MAIN\nVAR x : FB_Nowhere; END_VAR\nEND_PROGRAM\n")
@@ -107,3 +128,60 @@ def test_an_exported_project_runs_on_its_task_and_strings_stay_on_their_row(tmp_
     assert lines[3].split() == ["10", "6", "zero", "pack$N"]  # 'pack$N' holds a line break: shown as ST writes it
     status, out, _ = call(st_run, str(PROJECTS / "PackLine"), "--cycles", "2")
     assert status == 0 and out.splitlines()[1].split()[:3] == ["time", "ms", "cycle"]
+
+
+def _task_file(folder: pathlib.Path, name: str, cycle_us: int, priority: int, *calls: str) -> None:
+    pou_calls = "".join(f"    <PouCall>\n      <Name>{call}</Name>\n    </PouCall>\n" for call in calls)
+    (folder / f"{name}.TcTTO").write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n<TcPlcObject Version="1.1.0.1" ProductVersion="3.1.4024.12">\n'
+        f'  <Task Name="{name}" Id="{{00000000-0000-0000-0000-00000000000{priority % 10}}}">\n'
+        f"    <CycleTime>{cycle_us}</CycleTime>\n    <Priority>{priority}</Priority>\n{pou_calls}  </Task>\n</TcPlcObject>\n"
+    )
+
+
+def _two_programs(folder: pathlib.Path) -> pathlib.Path:
+    folder.mkdir()
+    (folder / "lines.st").write_text(
+        "PROGRAM PRG_Fast\nVAR nCount : INT; END_VAR\nnCount := nCount + 1;\nEND_PROGRAM\n"
+        "PROGRAM PRG_Slow\nVAR nCount : INT; END_VAR\nnCount := nCount + 10;\nEND_PROGRAM\n"
+    )
+    return folder
+
+
+def test_st_run_runs_the_programs_each_task_file_calls_on_its_own_task(tmp_path: pathlib.Path) -> None:
+    project = _two_programs(tmp_path / "cell")
+    _task_file(project, "FastTask", 2000, 10, "PRG_Fast")
+    _task_file(project, "SlowTask", 10000, 20, "prg_slow")  # ST names: case aside
+    status, out, err = call(st_run, str(project), "--duration", "20ms", "--every", "1",
+                            "--trace", "PRG_Fast.nCount,PRG_Slow.nCount")
+    assert (status, err) == (0, "")
+    lines = out.splitlines()
+    assert lines[0].startswith("PRG_Fast on FastTask (2 ms); PRG_Slow on SlowTask (10 ms), twincat profile, 10 cycles")
+    # every 2 ms the fast program counts one, every 10 ms the slow one ten: at 0 and 10 ms
+    assert [line.split() for line in lines[2:]] == [
+        [str(2 * n), str(n + 1), str(n + 1), str(10 if n < 5 else 20)] for n in range(10)
+    ]
+    # --program runs one alone, on the task that calls it
+    status, out, _ = call(st_run, str(project), "--program", "PRG_Slow", "--cycles", "3", "--every", "1")
+    assert status == 0 and out.splitlines()[0].startswith("PRG_Slow on SlowTask (10 ms)")
+    assert [line.split()[-1] for line in out.splitlines()[2:]] == ["10", "20", "30"]
+
+
+def test_st_run_without_task_calls_runs_main_or_the_one_program(tmp_path: pathlib.Path) -> None:
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    (alone / "p.st").write_text("PROGRAM P_Only\nVAR n : INT; END_VAR\nn := n + 2;\nEND_PROGRAM\n")
+    _task_file(alone, "PlcTask", 5000, 20)  # a task that calls nothing: its cycle time still counts
+    status, out, _ = call(st_run, str(alone), "--cycles", "2", "--every", "1")
+    assert status == 0 and out.splitlines()[0].startswith("P_Only on PlcTask (5 ms)")
+    assert [line.split() for line in out.splitlines()[2:]] == [["0", "1", "2"], ["5", "2", "4"]]
+    status, _, err = call(st_run, str(_two_programs(tmp_path / "two")))
+    assert status == 2 and "declares no PROGRAM MAIN; its PROGRAMs: PRG_Fast, PRG_Slow (choose one with --program)" in err
+
+
+def test_st_run_of_a_task_file_calling_an_absent_program_names_the_file_and_task(tmp_path: pathlib.Path) -> None:
+    project = _two_programs(tmp_path / "cell")
+    _task_file(project, "PlcTask", 10000, 20, "PRG_Fast", "PRG_Gone")
+    status, out, err = call(st_run, str(project))
+    assert (status, out) == (2, "")
+    assert f"{project / 'PlcTask.TcTTO'}: task PlcTask calls PRG_Gone, which the project declares no PROGRAM of" in err

@@ -10,10 +10,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from iecoop import ARRAY, BYTE, DINT, Program, Struct, T, VAR, adr, sizeof
+from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries import known, module_of
 from iecoop.libraries import tc2_utilities as tu
 from iecoop.libraries.tc2_system import T_MaxString
 from iecoop.literals import parse_dt
+from iecoop.memory import Pointer
 from iecoop.runtime import Runtime, Task
 from iecoop.runtime.clock import default_clock
 
@@ -399,3 +401,71 @@ def test_csv_fields_double_their_quotation_marks_and_are_enclosed_on_request() -
     assert tu.CSVFIELD_TO_STRING('a"b', False) == ""  # a quotation mark not doubled
     assert tu.STRING_TO_CSVFIELD('"' * 200, False) == ""  # 400 characters do not fit T_MaxString
     assert tu.CSVFIELD_TO_STRING(tu.STRING_TO_CSVFIELD('x;"y"', True), True) == 'x;"y"'
+
+
+def test_the_pointer_string_functions_measure_and_convert_to_the_terminator() -> None:
+    # LEN2 / WLEN2 count characters up to the 0 (a STRING(300) beyond 255 too); WSTRING_TO_STRING2 and
+    # STRING_TO_WSTRING2 convert into nDstSize bytes, the terminator included, and say whether all of it fitted
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR
+        sLong : STRING(300); wsText : WSTRING := "Grüße"; sBack : STRING; sCut : STRING(3);
+        wsBack : WSTRING; wsCut : WSTRING(2); sPlain : STRING := 'abc';
+        nLong, nW, nEmpty : UDINT; bAll, bCutOk, bWide, bWideCut : BOOL; i : INT;
+    END_VAR
+    FOR i := 1 TO 26 DO sLong := CONCAT(sLong, '0123456789'); END_FOR
+    nLong := LEN2(ADR(sLong));
+    nW := Tc2_Utilities.WLEN2(ADR(wsText));
+    nEmpty := LEN2(ADR(sBack));
+    bAll := WSTRING_TO_STRING2(ADR(sBack), ADR(wsText), SIZEOF(sBack));
+    bCutOk := WSTRING_TO_STRING2(pDstString := ADR(sCut), pSrcWString := ADR(wsText), nDstSize := SIZEOF(sCut));
+    bWide := STRING_TO_WSTRING2(ADR(wsBack), ADR(sPlain), SIZEOF(wsBack));
+    bWideCut := STRING_TO_WSTRING2(pDstWSTRING := ADR(wsCut), pSrcSTRING := ADR(sPlain), nDstSize := SIZEOF(wsCut));
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.nLong, main.nW, main.nEmpty) == (260, 5, 0)
+    assert (main.bAll, main.sBack) == (True, "Grüße")
+    assert (main.bCutOk, main.sCut) == (False, "Grü")  # 4 bytes: 3 characters and the 0
+    assert (main.bWide, main.wsBack) == (True, "abc")
+    assert (main.bWideCut, main.wsCut) == (False, "ab")  # 6 bytes: 2 characters and the 0
+    with pytest.raises(PlcException) as caught:
+        tu.LEN2(Pointer(0))
+    assert caught.value.code == ExceptionCode.RTSEXCPT_ACCESS_VIOLATION and "LEN2: pSTRING is a null pointer" in str(caught.value)
+
+
+def test_the_string_ring_buffer_keeps_strings_first_in_first_out() -> None:
+    # 24 bytes hold two 'abcd'-long records (4 + 5 bytes each): the third is refused, or with bOverwrite it
+    # pushes the oldest out; A_GetHead leaves the head, A_RemoveHead takes it
+    from iecoop import st as iecoop_st
+
+    plc = iecoop_st.load("""
+    PROGRAM MAIN
+    VAR
+        aMem : ARRAY[0..23] OF BYTE; fifo : FB_StringRingBuffer; nStep : INT;
+        bThird, bForced : BOOL; sPeek, sFirst, sSecond : STRING; nAfter : UDINT; bEmpty : BOOL := TRUE;
+    END_VAR
+    nStep := nStep + 1;
+    fifo(pBuffer := ADR(aMem), cbBuffer := SIZEOF(aMem));
+    IF nStep = 1 THEN
+        fifo.putValue := 'abcd'; fifo.A_AddTail();
+        fifo.putValue := 'efgh'; fifo.A_AddTail();
+        fifo.putValue := 'ijkl'; fifo.A_AddTail(); bThird := fifo.bOk;
+    ELSE
+        fifo(bOverwrite := TRUE, putValue := 'mnop'); fifo.A_AddTail(); bForced := fifo.bOk;
+        fifo.A_GetHead(); sPeek := fifo.getValue;
+        fifo.A_RemoveHead(); sFirst := fifo.getValue;
+        fifo.A_RemoveHead(); sSecond := fifo.getValue; nAfter := fifo.nCount;
+        fifo.A_RemoveHead(); bEmpty := fifo.bOk;
+    END_IF
+    END_PROGRAM
+    """, libraries={"Tc2_Utilities": tu})
+    plc.MAIN()
+    main = plc.MAIN
+    assert (main.bThird, main.fifo.nCount, main.fifo.cbSize) == (False, 2, 18)
+    plc.MAIN()
+    assert (main.bForced, main.sPeek, main.sFirst, main.sSecond) == (True, "efgh", "efgh", "mnop")
+    assert (main.nAfter, main.bEmpty) == (0, False)

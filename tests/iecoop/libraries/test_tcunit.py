@@ -436,6 +436,27 @@ def test_a_plc_fault_in_a_suite_ends_the_run_and_is_reported() -> None:
     assert only(result).error == "the run ended before the test finished (TEST_FINISHED() was never called)"
 
 
+def test_a_suite_whose_cycle_never_ends_is_stopped_by_the_watchdog(monkeypatch: pytest.MonkeyPatch) -> None:
+    class FB_Spins(FB_TestSuite):
+        n: INT = VAR(1)
+
+        def body(self) -> None:
+            tcunit.TEST("Spins")
+            while self.n > 0:  # WHILE n > 0 DO END_WHILE: never ends
+                pass
+
+    class PRG_TEST(Program):
+        fbSpins: FB_Spins = VAR()
+
+        def body(self) -> None:
+            tcunit.RUN()
+
+    monkeypatch.setattr("iecoop.testing.tcunit.WATCHDOG_MS", 50)  # 10 s of the machine's time in a real run
+    result = run_programs(PRG_TEST)
+    assert "PLC fault in cycle 1" in result.fault and "RTSEXCPT_WATCHDOG" in result.fault and "watchdog 50 ms" in result.fault
+    assert not result.passed
+
+
 def test_test_outside_a_running_suite_is_a_plc_exception() -> None:
     with tcunit.registry(), pytest.raises(PlcException, match="TEST: called outside a test suite"):
         tcunit.TEST("Loose")

@@ -5,8 +5,10 @@ from __future__ import annotations
 import hashlib
 import hmac
 import json
+import os
 import pathlib
 import shutil
+import sys
 from collections.abc import Iterator
 from typing import Any
 
@@ -241,6 +243,22 @@ def test_the_cache_writes_only_in_its_folders(project: pathlib.Path, user_cache:
         "plc/__iecoop_cache__/FB_Calc.TcPOU.json", "plc/__iecoop_cache__/MAIN.TcPOU.json", "user-cache/iecoop/signing.key",
     }
     assert (user_cache / "signing.key").stat().st_mode & 0o077 == 0  # the key is the user's alone
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="symbolic links need privileges on Windows")
+def test_a_cache_folder_that_is_a_link_out_is_not_written_through(
+    project: pathlib.Path, parsed: list[str], user_cache: pathlib.Path, tmp_path: pathlib.Path,
+) -> None:
+    """A project may come with __iecoop_cache__ as a link to a folder elsewhere: nothing is written there."""
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    os.symlink(elsewhere, project / cache.CACHE_FOLDER)
+    st.load(project)
+    assert list(elsewhere.iterdir()) == []
+    assert sorted(p.name.split(".")[0] for p in (user_cache / "st").iterdir()) == ["FB_Calc", "MAIN"]
+    parsed.clear()
+    st.load(project)
+    assert parsed == []
 
 
 def test_an_unwritable_source_folder_uses_the_user_cache(project: pathlib.Path, parsed: list[str], user_cache: pathlib.Path) -> None:

@@ -15,7 +15,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
-from iecoop import INT, STRING, VAR, VAR_INST, FunctionBlock, GlobalVariables, IecEnum, Interface, Program, Struct, method
+from iecoop import INT, STRING, VAR, WSTRING, VAR_INST, FunctionBlock, GlobalVariables, IecEnum, Interface, Program, Struct, method
+from iecoop.exceptions import DefinitionError
 from iecoop.st import load
 from iecoop.st.export import StExportError, dump, export
 from iecoop.st.read.names import st_name_of
@@ -212,6 +213,28 @@ def test_a_control_character_in_a_string_initial_value_is_escaped_and_reads_back
 def test_each_control_character_is_written_as_two_hex_digits() -> None:
     fb = _fb("FB_Hex", {"s": STRING}, s=VAR("\x01\x1b\x7f\x0c\r\n\t$'"))
     assert "s : STRING := '$01$1B$7F$P$R$N$T$$$'';" in dump([fb])
+
+
+WIDE = [c for c in CONTROL if c != "\x00"] + ["\u20ac", "\uffff", "\ufffe"]
+
+
+@pytest.mark.parametrize("char", WIDE, ids=[f"{ord(c):02x}" for c in WIDE])
+def test_a_wstring_initial_value_reads_back_as_written(tmp_path: Path, char: str) -> None:
+    """A WSTRING's character code is four hex digits ($000A): read as two, the text was cut at the NUL of $00."""
+    value = f"a{char}b"
+    fb = _fb("FB_Wide", {"w": WSTRING}, w=VAR(value))
+    written = export([fb], tmp_path, format="twincat")[0]
+    assert load(written).FB_Wide().w == fb().w == value
+
+
+def test_a_wstring_code_is_four_hex_digits_and_a_string_code_two() -> None:
+    plc = load("PROGRAM P\nVAR w : WSTRING := \"$0041$00E9$20AC$000A$$\"; s : STRING := '$41$E9$0A0'; END_VAR\nEND_PROGRAM\n")
+    assert (plc.P.w, plc.P.s) == ("A\u00e9\u20ac\n$", "A\u00e9\n0")
+
+
+def test_a_wstring_code_no_utf8_file_can_hold_is_refused_at_its_line() -> None:
+    with pytest.raises(DefinitionError, match=r"^<st>:1: P\.w: initial value of the wrong type: WSTRING holds UCS-2"):
+        load('PROGRAM P\nVAR w : WSTRING := "$D800"; END_VAR\nEND_PROGRAM\n')
 
 
 class StringBody(Program):

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import re
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -159,6 +162,33 @@ def test_a_project_reads_nothing_outside_its_folder(tmp_path: Path, include: str
         st.load(project(tmp_path, include))
 
 
+
+@pytest.mark.skipif(not hasattr(os, "symlink") or sys.platform == "win32", reason="symbolic links need privileges on Windows")
+@pytest.mark.parametrize("name", ["leak.st", "POUs/leak.TcPOU"])
+def test_a_folder_reads_nothing_outside_it_through_a_link(tmp_path: Path, name: str) -> None:
+    secret = write(tmp_path / "secret.txt", "PASSWORD := hunter2\n")
+    folder = tmp_path / "project"
+    write(folder / "POUs" / "FB_Counter.TcPOU", pou())
+    os.symlink(secret, folder / name)
+    with pytest.raises(st.StSyntaxError, match=rf"{re.escape(name)}: a link to .*secret\.txt', outside the folder .*project'") as caught:
+        st.load(folder)
+    assert "hunter2" not in str(caught.value)
+
+
+@pytest.mark.skipif(not hasattr(os, "symlink") or sys.platform == "win32", reason="symbolic links need privileges on Windows")
+def test_a_link_that_stays_inside_the_folder_is_read(tmp_path: Path) -> None:
+    folder = tmp_path / "project"
+    write(folder / "versions" / "FB_Counter.v2", pou())
+    os.symlink(folder / "versions" / "FB_Counter.v2", folder / "FB_Counter.TcPOU")
+    assert st.load(folder).FB_Counter().Count == 0
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_pipe_named_as_a_source_is_refused_not_read_for_ever(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "main.st")
+    with pytest.raises(st.StUnsupportedError, match=r"main\.st: not a regular file \(a pipe, device or socket is not read"):
+        st.load(tmp_path / "main.st")
+
 # 4. XML is parsed without DTDs, entities or network; every XML failure names the file and line.
 
 BOMB = """<?xml version="1.0"?>
@@ -228,6 +258,31 @@ END_PROGRAM
     assert (plc.MAIN.t, plc.MAIN.w, plc.MAIN.r, plc.MAIN.d) == (5000, 255, 7.5, 42)
 
 
+
+def test_the_largest_ulint_literal_loads_in_each_base() -> None:
+    plc = st.load(program("").replace("END_VAR", "u : ULINT := 18446744073709551615; h : LWORD := 16#FFFF_FFFF_FFFF_FFFF;\n"
+                                      "o : ULINT := 8#1777777777777777777777;\nEND_VAR"))
+    assert (plc.MAIN.u, plc.MAIN.h, plc.MAIN.o) == (2**64 - 1, 2**64 - 1, 2**64 - 1)
+
+
+@pytest.mark.parametrize("literal, shown", [
+    ("18446744073709551616", "18446744073709551616"),
+    ("9" * 5000, r"99999999999999999999\.\.\.9999999999 \(5000 digits\)"),
+    ("16#1_0000_0000_0000_0000", "1_0000_0000_0000_0000"),
+    ("2#" + "1" * 20000, r"1{20}\.\.\.1{10} \(20000 digits\)"),
+    ("LINT#" + "9" * 5000, r"9{20}\.\.\.9{10} \(5000 digits\)"),
+])
+@pytest.mark.parametrize("where", ["n := {};", "CASE n OF {}: n := 1; END_CASE", "a[{}] := 1;"])
+def test_an_integer_literal_larger_than_ulint_is_refused_at_its_line(literal: str, shown: str, where: str) -> None:
+    """Python itself refuses to read or print integers of more than 4300 decimal digits; ST's types end at 64 bits."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:8: the integer literal {shown} is larger than any integer type holds"):
+        st.load(program(where.format(literal)))
+
+
+def test_an_integer_literal_larger_than_ulint_is_refused_in_a_declaration() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"^<st>:\d+: the integer literal .* \(5000 digits\) is larger than any"):
+        st.load(program("").replace("END_VAR", "big : ARRAY[0.." + "9" * 5000 + "] OF INT;\nEND_VAR"))
+
 # 6. Nesting limits: checked on the parse tree, named in the error, before any Python is generated.
 
 def program(body: str) -> str:
@@ -290,6 +345,41 @@ def test_translation_too_deep_for_the_stack_is_an_st_error(monkeypatch: pytest.M
     with pytest.raises(st.StUnsupportedError, match=r"^st: the source nests too deeply to translate"):
         st.load(program("n := " + " + ".join(["2"] * 3000) + ";"))
 
+
+
+@pytest.mark.parametrize("source, chain", [
+    ("FUNCTION_BLOCK FB_A EXTENDS FB_B\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK FB_B EXTENDS FB_A\nEND_FUNCTION_BLOCK\n",
+     "FUNCTION_BLOCK FB_A is built from itself: FB_A -> FB_B -> FB_A"),
+    ("FUNCTION_BLOCK FB_A EXTENDS fb_a\nEND_FUNCTION_BLOCK\n", "FUNCTION_BLOCK FB_A is built from itself: FB_A -> FB_A"),
+    ("INTERFACE I_A EXTENDS I_C\nEND_INTERFACE\nINTERFACE I_B EXTENDS I_A\nEND_INTERFACE\nINTERFACE I_C EXTENDS I_X, I_B\nEND_INTERFACE\n"
+     "INTERFACE I_X\nEND_INTERFACE\n", "INTERFACE I_A is built from itself: I_A -> I_C -> I_B -> I_A"),
+    ("TYPE ST_A EXTENDS ST_A : STRUCT a : INT; END_STRUCT END_TYPE\n", "STRUCT ST_A is built from itself: ST_A -> ST_A"),
+    ("TYPE T_A : T_B; END_TYPE\nTYPE T_B : T_A; END_TYPE\n", "TYPE T_A is built from itself: T_A -> T_B -> T_A"),
+    ("TYPE T_A : T_A; END_TYPE\n", "TYPE T_A is built from itself: T_A -> T_A"),
+])
+def test_a_type_built_from_itself_is_refused_naming_the_chain(source: str, chain: str) -> None:
+    """Before, a Python NameError or "nests too deeply" without a line said it."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:1: {chain} \(EXTENDS and aliases may not come back"):
+        st.load(source + program("").replace("n : INT;", "n : INT; p : POINTER TO T_Node;")
+                + "TYPE T_Node : STRUCT pNext : POINTER TO T_Node; END_STRUCT END_TYPE\n")
+
+
+def test_a_long_chain_of_extends_loads() -> None:
+    blocks = "".join(f"FUNCTION_BLOCK FB_{i}{f' EXTENDS FB_{i - 1}' if i else ''}\nEND_FUNCTION_BLOCK\n" for i in range(40))
+    plc = st.load(blocks)
+    assert plc.FB_0 in plc.FB_39.__mro__
+
+
+def _no_memory() -> bool:
+    raise MemoryError
+
+
+def test_a_program_the_machine_has_no_memory_for_is_an_st_error_naming_it() -> None:
+    """As a 2 GiB ARRAY where the process may hold less: the load fails naming the PROGRAM, not with a bare MemoryError."""
+    source = ("FUNCTION F_Alloc : BOOL\nEND_FUNCTION\n" + program("n := 1;")
+              + "METHOD FB_init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR\nFB_init := F_Alloc();\nEND_METHOD\n")
+    with pytest.raises(st.StUnsupportedError, match=r"^<st>:3: PROGRAM MAIN cannot be made: MemoryError: the machine has no memory"):
+        st.load(source, externals={"F_Alloc": _no_memory})
 
 # 7. Encodings: UTF-8 (with or without BOM), else Windows-1252; XML as its declaration says.
 

@@ -171,10 +171,16 @@ def test_a_qualified_name_a_library_lacks_is_named_with_its_library() -> None:
                 libraries={"Tc2_Utilities": tc2_utilities})
 
 
-def test_anytype_as_a_declared_type_is_refused_saying_what_to_write() -> None:
-    with pytest.raises(DefinitionError, match=r"<st>:1: __SYSTEM.AnyType as a declared type \(a variable, STRUCT member "
-                                              r"or TYPE alias\) is not supported: declare a generic input \(x : ANY\)"):
-        st.load("TYPE T_Generic : __SYSTEM.AnyType; END_TYPE\n")
+@pytest.mark.parametrize(("source", "line", "name"), [
+    ("FUNCTION F_Size : DINT\nVAR vAny : __SYSTEM.AnyType; END_VAR\nF_Size := vAny.diSize;\nEND_FUNCTION", 2, "vAny"),
+    ("FUNCTION_BLOCK FB_Box\nVAR vHeld : __SYSTEM.AnyType; END_VAR\nEND_FUNCTION_BLOCK", 2, "vHeld"),
+    ("TYPE ST_Cell :\nSTRUCT\n  vItem : __SYSTEM.AnyType;\nEND_STRUCT\nEND_TYPE", 3, "vItem"),
+])
+def test_anytype_as_a_stored_type_is_refused_naming_the_generic_input(source: str, line: int, name: str) -> None:
+    # only a generic input of a FUNCTION or METHOD receives an AnyType; a local, member or STRUCT field of it is refused
+    with pytest.raises(st.StUnsupportedError, match=rf"<st>:{line}: VAR\w* {name} : ANY: a generic type is not supported "
+                                                    r"outside a VAR_INPUT of a FUNCTION or METHOD"):
+        st.load(source)
 
 
 # --- a body in a graphical language -------------------------------------------------------------------
@@ -263,7 +269,7 @@ def test_a_pointer_indexed_like_an_array_reads_and_writes_the_element_at_its_off
 
 
 def test_a_pointer_takes_one_index() -> None:
-    with pytest.raises(DefinitionError, match=r"<st>:4: .*a POINTER is indexed with one index"):
+    with pytest.raises(DefinitionError, match=r"<st>:4: .*a pointer is indexed with one index"):
         st.load("FUNCTION F : BYTE\nVAR_INPUT n : INT; END_VAR\nVAR p : POINTER TO BYTE; END_VAR\nF := p[n, 1];\nEND_FUNCTION\n")
 
 

@@ -8,7 +8,8 @@ from typing import Any
 
 import pytest
 
-from iecoop import st
+from iecoop import ExceptionCode, PlcException, T, st
+from iecoop.runtime import Runtime, Task
 from tests.iecoop.st.test_load import prog, run
 
 COUNTER = """
@@ -142,6 +143,20 @@ END_ACTION
                             "IF n > 1 THEN JMP done; END_IF\nx := x * 2;\ndone:\nn := n + 10;"), 2,
      # cycle 1: x counts to 3, doubled to 6, n = 11; cycle 2: x to 3, n = 12 > 1 skips the doubling, n = 22
      lambda m: (m.x, m.n), (3, 22)),
+    ("jmp-to-a-label-that-opens-the-body", prog("x : INT; n : INT;",
+                                                "again: x := x + 1;\nIF x MOD 3 <> 0 THEN JMP again; END_IF\nn := n + 1;"), 2,
+     # the body starts at its first statement though it carries a label: x counts to 3, then to 6
+     lambda m: (m.x, m.n), (6, 2)),
+    ("continue-in-repeat-goes-on-at-until", prog("i : INT; n : INT; k : INT; j : INT;",
+                                                 "REPEAT i := i + 1; IF i = 3 THEN CONTINUE; END_IF n := n + 1; UNTIL i >= 3 END_REPEAT\n"
+                                                 "REPEAT k := k + 1; FOR j := 1 TO 2 DO CONTINUE; END_FOR UNTIL k >= 2 END_REPEAT"), 1,
+     # i = 3 continues to UNTIL, which ends the loop (i 3, n 2); a nested loop's CONTINUE is its own
+     lambda m: (m.i, m.n, m.k, m.j), (3, 2, 2, 3)),
+    ("function-calls-itself", "FUNCTION F_Fact : LINT\nVAR_INPUT n : INT; END_VAR\n"
+                              "IF n <= 1 THEN F_Fact := 1; ELSE F_Fact := n * F_Fact(n - 1); END_IF\nEND_FUNCTION\n"
+     + prog("x : LINT; y : LINT;", "x := F_Fact(10); y := F_Fact(n := 1);"), 1,
+     # in its own body F_Fact is the result where it is read or written and the FUNCTION where it is called
+     lambda m: (m.x, m.y), (3628800, 1)),
     ("jmp-in-a-method-and-case", """
 FUNCTION_BLOCK FB_J
 END_FUNCTION_BLOCK
@@ -193,6 +208,15 @@ def test_construct(source: str, cycles: int, read: Callable[[Any], Any], expecte
     assert read(run(source, cycles)) == expected
 
 
+def test_a_function_that_calls_itself_for_ever_is_a_stack_overflow() -> None:
+    module = st.load("FUNCTION F : INT\nVAR_INPUT n : INT; END_VAR\nF := F(n + 1);\nEND_FUNCTION\n" + prog("x : INT;", "x := F(0);"))
+    runtime = Runtime(store=":memory:")
+    runtime.add_task(Task("PlcTask", interval=T("10ms")), module.MAIN)
+    with pytest.raises(PlcException) as caught:
+        runtime.run(cycles=1)
+    assert caught.value.code == ExceptionCode.RTSEXCPT_STACK_OVERFLOW
+
+
 def test_function_var_stat_counts_every_call() -> None:
     module = st.load(COUNTER)
     for result in (True, False, True):
@@ -205,6 +229,10 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT;", "JMP nowhere;"), "JMP nowhere: no label nowhere"),
     (prog("i : INT;", "FOR i := 1 TO 10 DO IF i = 2 THEN i := 5; END_IF END_FOR"), "the FOR loop writes its control variable i"),
     (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
+    (prog("i : INT;", "i := 1;\nEXIT;"), r"^<st>:\d+: EXIT outside a FOR, WHILE or REPEAT loop"),
+    (prog("i : INT;", "IF i = 0 THEN CONTINUE; END_IF"), r"^<st>:\d+: CONTINUE outside a FOR, WHILE or REPEAT loop"),
+    # the loop a body with labels runs in is no ST loop: EXIT there would end the body silently
+    (prog("i : INT;", "a: i := i + 1;\nIF i > 2 THEN EXIT; END_IF\nJMP a;"), "EXIT outside a FOR, WHILE or REPEAT loop"),
     (prog("i : INT(0..10);", "i := 11;"), "11 is outside the subrange INT[(]0..10[)]"),
     (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
     ("FUNCTION F : INT\nVAR_INPUT n : INT(0..10); END_VAR\nF := n;\nEND_FUNCTION\n" + prog("i : INT;", "i := F(n := 11);"),
