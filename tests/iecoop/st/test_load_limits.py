@@ -381,6 +381,23 @@ def test_a_program_the_machine_has_no_memory_for_is_an_st_error_naming_it() -> N
     with pytest.raises(st.StUnsupportedError, match=r"^<st>:3: PROGRAM MAIN cannot be made: MemoryError: the machine has no memory"):
         st.load(source, externals={"F_Alloc": _no_memory})
 
+
+@pytest.mark.parametrize("declaration, body", [
+    ("z : ARRAY[0..3] OF INT := [1000000000000(0)];", ""),
+    ("z : ARRAY[0..3] OF INT := [1000(1000(1000(0)))];", ""),
+    ("z : ARRAY[0..3] OF INT := [600000(1), 600000(2)];", ""),
+    ("z : ARRAY[0..3] OF INT;", "z := [1000000000000(0)];"),
+], ids=["repeated", "nested", "summed", "assigned"])
+def test_an_array_initialiser_of_too_many_values_is_refused_before_they_are_made(declaration: str, body: str) -> None:
+    """A repetition count is counted, not expanded: [10**12(0)] took hours and all memory building its list."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:\d+: an ARRAY initialiser of more than {1 << 20} values"):
+        st.load(program(body).replace("END_VAR", declaration + "\nEND_VAR", 1))
+
+
+def test_an_array_initialiser_with_repetitions_loads() -> None:
+    plc = st.load(program("").replace("END_VAR", "r : ARRAY[0..5] OF INT := [2(1), 2(2(3))];\nEND_VAR", 1))
+    assert list(plc.MAIN.r) == [1, 1, 3, 3, 3, 3]
+
 # 7. Encodings: UTF-8 (with or without BOM), else Windows-1252; XML as its declaration says.
 
 ST_SOURCE = "PROGRAM MAIN\nVAR\n    s : STRING := '°C';\nEND_VAR\n// 20 °C is room temperature\nEND_PROGRAM\n"
