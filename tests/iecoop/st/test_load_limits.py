@@ -403,7 +403,7 @@ def test_an_array_initialiser_with_repetitions_loads() -> None:
 ST_SOURCE = "PROGRAM MAIN\nVAR\n    s : STRING := '°C';\nEND_VAR\n// 20 °C is room temperature\nEND_PROGRAM\n"
 
 
-@pytest.mark.parametrize("encoding", ["cp1252", "utf-8-sig", "utf-8"])
+@pytest.mark.parametrize("encoding", ["cp1252", "utf-8-sig", "utf-8", "utf-16", "utf-32"])
 def test_an_st_file_is_read_in_its_encoding(tmp_path: Path, encoding: str) -> None:
     plc = st.load(write(tmp_path / "main.st", ST_SOURCE.encode(encoding)))
     assert plc.MAIN.s == "°C"
