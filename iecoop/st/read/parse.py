@@ -247,7 +247,7 @@ def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
     for element in root.iter():
         if not isinstance(element.tag, str) or element.tag.rsplit("}", 1)[-1] != "Compile":
             continue
-        include = element.get("Include", "")
+        include = element.get("Include", "").strip()  # as MSBuild reads an item: spaces around it are not part of the name
         where = f"{path}:{element.sourceline}"
         relative = include.replace("\\", "/")
         if pathlib.PureWindowsPath(include).is_absolute() or pathlib.PureWindowsPath(include).drive or relative.startswith("/"):

@@ -127,6 +127,18 @@ def test_a_gvl_named_like_a_pou_is_refused_naming_both(tmp_path: Path, gvl_file:
 
 # 3. A .plcproj reads only existing files below its own folder.
 
+GVL_MAIN = """<?xml version="1.0" encoding="utf-8"?>
+<TcPlcObject Version="1.1.0.1">
+  <GVL Name="GVL_Main" Id="{5a0e3c57-0000-4000-8000-000000000009}">
+    <Declaration><![CDATA[VAR_GLOBAL
+    nLimit : INT := 7;
+END_VAR
+]]></Declaration>
+  </GVL>
+</TcPlcObject>
+"""
+
+
 def project(tmp_path: Path, include: str) -> Path:
     write(tmp_path / "proj" / "POUs" / "FB_Counter.TcPOU", pou())
     return write(tmp_path / "proj" / "Counter.plcproj", f"""<?xml version="1.0" encoding="utf-8"?>
@@ -143,6 +155,13 @@ def project(tmp_path: Path, include: str) -> Path:
 def test_a_project_loads_its_files_and_skips_what_is_not_structured_text(tmp_path: Path) -> None:
     plc = st.load(project(tmp_path, "VISUs\\Visu.TcVIS"))
     assert plc.FB_Counter().Count == 0
+
+
+def test_an_include_with_spaces_around_it_is_read_not_skipped(tmp_path: Path) -> None:
+    """MSBuild trims an item's Include; read with its spaces, the suffix was '.TcPOU ' and the POU silently left out."""
+    write(tmp_path / "proj" / "GVLs" / "GVL_Main.TcGVL", GVL_MAIN)
+    plc = st.load(project(tmp_path, "  GVLs\\GVL_Main.TcGVL \n    "))
+    assert plc.GVL_Main.nLimit == 7
 
 
 def test_a_project_listing_a_missing_file_is_refused(tmp_path: Path) -> None:
