@@ -123,7 +123,7 @@ class Statements(Calls):
         if target is None:
             return value.code
         target = target.deref()
-        value = self.coerce(value, target) if target.is_bool else value  # b := 1
+        value = self.coerce(value, target) if target.is_bool or target.is_string else value  # b := 1; s := 5 is refused
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
