@@ -107,6 +107,17 @@ def test_a_name_from_xml_that_is_no_identifier_is_refused(tmp_path: Path, elemen
 
 # 2. A GVL takes its name from its file name: an ASCII ST identifier, and no POU's name.
 
+@pytest.mark.parametrize("source, words", [
+    ("FUNCTION_BLOCK INT\nVAR_OUTPUT q : INT; END_VAR\nEND_FUNCTION_BLOCK\n", "FUNCTION_BLOCK INT: INT is an ST keyword"),
+    ("TYPE string : STRUCT a : INT; END_STRUCT END_TYPE\n", "STRUCT string: STRING is an ST keyword"),
+    ("FUNCTION True : BOOL\nEND_FUNCTION\n", "FUNCTION True: TRUE is an ST keyword"),
+])
+def test_a_pou_or_type_named_like_a_keyword_is_refused(source: str, words: str) -> None:
+    """plc.INT was iecoop's INT (the module imports it), not the FUNCTION_BLOCK INT the source declared."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:1: {words}, which no POU, type or GVL may be named"):
+        st.load(source)
+
+
 def test_a_gvl_file_with_fullwidth_letters_does_not_replace_main(tmp_path: Path) -> None:
     write(tmp_path / "ＭＡＩＮ.st", "VAR_GLOBAL\n    x : INT;\nEND_VAR\n")
     write(tmp_path / "prog.st", "PROGRAM MAIN\nVAR y : INT; END_VAR\ny := 1;\nEND_PROGRAM\n")
