@@ -221,6 +221,8 @@ class Expressions(Literals):
         if op in ("+", "-", "*", "/"):
             level = PRECEDENCE[op]
             return Ex(f"{left.wrap(level)} {op} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+        if op == "MOD" and any(t is not None and t.is_real for t in (lt, rt)):
+            raise self.fail("MOD of a REAL: MOD is defined for integers (IEC 61131-3 ANY_INT)", node)
         if op in ("DIV", "MOD"):
             self.need("iecoop.conversions", op)
             return Ex(f"{op}({left.code}, {right.code})", self.wider(lt, rt))

@@ -236,6 +236,7 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT; n : INT; r : REAL := 2;", "FOR i := 1 TO r DO n := n + 1; END_FOR"),
      r"^<st>:5: FOR i: its end is a REAL; a FOR counts in integers"),
     (prog("i : INT; n : INT;", "FOR i := 1 TO 5 BY 0.5 DO n := i; END_FOR"), r"^<st>:5: FOR i: its step is a REAL"),
+    (prog("r : REAL := 7.5; n : INT := 2;", "r := r MOD n;"), r"^<st>:5: MOD of a REAL: MOD is defined for integers"),
     (prog("b : BOOL;", "b := 32767;"), r"^<st>:5: the number 32767 cannot be stored in a BOOL \(TRUE or FALSE\)"),
     (prog("i : INT;", "IF i = 0 THEN CONTINUE; END_IF"), r"^<st>:\d+: CONTINUE outside a FOR, WHILE or REPEAT loop"),
     # the loop a body with labels runs in is no ST loop: EXIT there would end the body silently
