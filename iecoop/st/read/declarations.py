@@ -15,6 +15,9 @@ from iecoop.st.read.statements import Statements
 from iecoop.st.read.table import Callable_, Decl, Member, TypeRef
 from iecoop.st.read.trees import flag_keywords, lark_token_type, python_string, structure_elements
 
+#: The most values one ARRAY initialiser gives (each is a line of the generated code's list).
+MAX_INITIAL_VALUES = 1 << 20
+
 
 def _declared_value(init: Any) -> Any:
     """The value node a declaration gives its variable (``:= 5``, ``:= (a := 1)``, a block's inputs), or None."""
@@ -333,18 +336,21 @@ class Declarations(Statements):
         return True
 
     def _array_elements(self, value: Any, element: TypeRef | None, scope: Scope) -> Iterator[str]:
+        produced = 0
         for item in value.elements:
             count = 1
             if item.count is not None:
                 count = int(eval(self.expr(item.count, scope).code, {}))
             if isinstance(item.element, tf.ArrayInitialization) and not item.element.brackets:
-                inner = list(self._array_elements(item.element, element, scope))
-                for _ in range(count):
-                    yield from inner
-                continue
-            text = self.init_value(item.element, element, scope)
+                values = list(self._array_elements(item.element, element, scope))
+            else:
+                values = [self.init_value(item.element, element, scope)]
+            produced += count * len(values)
+            if produced > MAX_INITIAL_VALUES:  # counted before they are made: [1000000000(0)] would take hours
+                raise self.fail(f"an ARRAY initialiser of more than {MAX_INITIAL_VALUES} values (n(x) is n values) is not "
+                                "supported: set the elements in a FOR loop or FB_init", value)
             for _ in range(count):
-                yield text
+                yield from values
 
     # --- POUs ---
 

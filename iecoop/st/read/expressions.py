@@ -154,6 +154,7 @@ class Expressions(Literals):
             value = Ex("adr(self)", TypeRef("pointer", "POINTER_TO", of=value.type) if value.type is not None else type_)
         if type_ is not None and type_.is_bool and type(value.constant) is int and value.constant in (0, 1):
             return Ex(str(bool(value.constant)), type_, constant=bool(value.constant))  # BOOL := 0 / 1, as TwinCAT reads it
+        self._refuse_number_in(type_, value)
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
             return Ex(f"{value.code}.0", type_, constant=float(value.constant))
         if type_ is not None and type_.kind == "pointer" and type_.of is not None and value.type is not None \
@@ -161,6 +162,14 @@ class Expressions(Literals):
             self._need_type(type_)
             return Ex(f"{value.p()}.typed({type_.of.annotation()})", type_)  # ST converts pointers implicitly: the same address
         return value
+
+    def _refuse_number_in(self, type_: TypeRef | None, value: Ex) -> None:
+        """A number stored in a STRING or BOOL is refused where a compiler refuses it, not when a cycle stores it
+        (a TypeError there, RTSEXCPT_UNKNOWN)."""
+        target = type_.deref() if type_ is not None else None
+        if target is not None and type(value.constant) in (int, float) and (target.is_string or target.is_bool):
+            raise self.fail(f"the number {value.code} cannot be stored in a {target.name} "
+                            f"({'a string literal or a conversion such as INT_TO_STRING' if target.is_string else 'TRUE or FALSE'})")
 
     def visit_ParenthesizedExpression(self, node: tf.ParenthesizedExpression, scope: Scope) -> Ex:
         inner = self.expr(node.expr, scope)
@@ -238,6 +247,8 @@ class Expressions(Literals):
         if op in ("+", "-", "*", "/"):
             level = PRECEDENCE[op]
             return Ex(f"{left.wrap(level)} {op} {right.wrap(level + 1)}", self.wider(lt, rt), True, level)
+        if op == "MOD" and any(t is not None and t.is_real for t in (lt, rt)):
+            raise self.fail("MOD of a REAL: MOD is defined for integers (IEC 61131-3 ANY_INT)", node)
         if op in ("DIV", "MOD"):
             self.need("iecoop.conversions", op)
             return Ex(f"{op}({left.code}, {right.code})", self.wider(lt, rt))

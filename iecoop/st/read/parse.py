@@ -180,10 +180,14 @@ def _read_bytes(path: pathlib.Path) -> bytes:
 
 
 def _read_text(path: pathlib.Path) -> str:
-    """An ST file's text: UTF-8 with a byte order mark, else strict UTF-8, else Windows-1252."""
+    """An ST file's text: UTF-8, UTF-16 or UTF-32 with a byte order mark, else strict UTF-8, else Windows-1252."""
     data = _read_bytes(path)
     if data.startswith(b"\xef\xbb\xbf"):
         encodings: tuple[str, ...] = ("utf-8-sig",)
+    elif data.startswith((b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")):
+        encodings = ("utf-32",)
+    elif data.startswith((b"\xff\xfe", b"\xfe\xff")):  # as Windows' editors save "Unicode"
+        encodings = ("utf-16",)
     else:
         encodings = ST_ENCODINGS
     for encoding in encodings:
@@ -193,7 +197,8 @@ def _read_text(path: pathlib.Path) -> str:
             failure = exc
     line = data[: failure.start].count(b"\n") + 1
     raise StSyntaxError(
-        f"{path}:{line}: cannot decode byte {data[failure.start]:#04x} as {' or '.join(encodings)} (ST files are UTF-8 or Windows-1252)"
+        f"{path}:{line}: cannot decode byte {data[failure.start]:#04x} as {' or '.join(encodings)} "
+        "(ST files are UTF-8 or Windows-1252, or UTF-16 or UTF-32 after a byte order mark)"
     ) from None
 
 
@@ -280,7 +285,7 @@ def _plcproj_files(path: pathlib.Path) -> list[pathlib.Path]:
     for element in root.iter():
         if not isinstance(element.tag, str) or element.tag.rsplit("}", 1)[-1] != "Compile":
             continue
-        include = element.get("Include", "")
+        include = element.get("Include", "").strip()  # as MSBuild reads an item: spaces around it are not part of the name
         where = f"{path}:{element.sourceline}"
         relative = include.replace("\\", "/")
         if pathlib.PureWindowsPath(include).is_absolute() or pathlib.PureWindowsPath(include).drive or relative.startswith("/"):

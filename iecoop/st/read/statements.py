@@ -123,7 +123,7 @@ class Statements(Calls):
         if target is None:
             return value.code
         target = target.deref()
-        value = self.coerce(value, target) if target.is_bool else value  # b := 1
+        value = self.coerce(value, target) if target.is_bool or target.is_string else value  # b := 1; s := 5 is refused
         limited = self.limit(target, value)
         if limited is not value:
             return limited.code
@@ -277,6 +277,7 @@ class Statements(Calls):
         start = self.expr(node.from_, scope)
         stop = self.expr(node.to, scope)
         step = self.expr(node.step, scope) if node.step is not None else None
+        self._integer_counts(node, start, stop, step)
         if self._for_end_moves(node):
             self._for_checked_each_pass(node, control, start, step, scope, level)
             return
@@ -298,6 +299,12 @@ class Statements(Calls):
         self.at(node)
         self.emit("else:  # the first value past the end, as ST leaves it", level)
         self.assign(node.control, after, scope, level + 1)
+
+    def _integer_counts(self, node: tf.ForStatement, start: Ex, stop: Ex, step: Ex | None) -> None:
+        """A FOR counts in integers (IEC 61131-3): a REAL start, end or step is refused here, not by a cycle's TypeError."""
+        for part, value in (("start", start), ("end", stop), ("step", step)):
+            if value is not None and (isinstance(value.constant, float) or value.type is not None and value.type.deref().is_real):
+                raise self.fail(f"FOR {node.control.name}: its {part} is a REAL; a FOR counts in integers", node)
 
     @staticmethod
     def _for_end_moves(node: tf.ForStatement) -> bool:

@@ -16,6 +16,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 import blark.transform as tf
 
+from iecoop.st.language import is_reserved
 from iecoop.st.read.parse import Unit
 from iecoop.st.read.pous import Pous
 from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
@@ -28,6 +29,15 @@ _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNOR
 
 class Translator(Pous):
     """The whole translation: pass 1, then each declaration in dependency order."""
+
+    def _refuse_keyword_names(self) -> None:
+        """FUNCTION_BLOCK INT is refused, as TwinCAT refuses it: it would stand beside iecoop's INT, and plc.INT name the type."""
+        for decl in self.decls.values():
+            if not decl.library and decl.kind != "stdfb" and is_reserved(decl.st):
+                keyword = {"fb": "FUNCTION_BLOCK", "gvl": "GVL", "alias": "TYPE"}.get(decl.kind, decl.kind.upper())
+                self.unit = decl.unit
+                raise self.fail(f"{keyword} {decl.st}: {decl.st.upper()} is an ST keyword, which no POU, type or GVL may be named",
+                                decl.item if decl.kind != "gvl" else decl.node[0])
 
     def _built_from(self, decl: Decl) -> Iterator[Decl]:
         """What ``decl`` is made of before its own class exists: what it EXTENDS, or the type it is an alias of."""
@@ -115,6 +125,7 @@ class Translator(Pous):
         bind(self, self.libraries)
         collapse_namespaces(self.units, self.decls, self.globals)
         self.collect()
+        self._refuse_keyword_names()
         self._refuse_self_built()
         rename_shadowed(self)
         self.resolve_members()

@@ -107,6 +107,17 @@ def test_a_name_from_xml_that_is_no_identifier_is_refused(tmp_path: Path, elemen
 
 # 2. A GVL takes its name from its file name: an ASCII ST identifier, and no POU's name.
 
+@pytest.mark.parametrize("source, words", [
+    ("FUNCTION_BLOCK INT\nVAR_OUTPUT q : INT; END_VAR\nEND_FUNCTION_BLOCK\n", "FUNCTION_BLOCK INT: INT is an ST keyword"),
+    ("TYPE string : STRUCT a : INT; END_STRUCT END_TYPE\n", "STRUCT string: STRING is an ST keyword"),
+    ("FUNCTION True : BOOL\nEND_FUNCTION\n", "FUNCTION True: TRUE is an ST keyword"),
+])
+def test_a_pou_or_type_named_like_a_keyword_is_refused(source: str, words: str) -> None:
+    """plc.INT was iecoop's INT (the module imports it), not the FUNCTION_BLOCK INT the source declared."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:1: {words}, which no POU, type or GVL may be named"):
+        st.load(source)
+
+
 def test_a_gvl_file_with_fullwidth_letters_does_not_replace_main(tmp_path: Path) -> None:
     write(tmp_path / "ＭＡＩＮ.st", "VAR_GLOBAL\n    x : INT;\nEND_VAR\n")
     write(tmp_path / "prog.st", "PROGRAM MAIN\nVAR y : INT; END_VAR\ny := 1;\nEND_PROGRAM\n")
@@ -127,6 +138,18 @@ def test_a_gvl_named_like_a_pou_is_refused_naming_both(tmp_path: Path, gvl_file:
 
 # 3. A .plcproj reads only existing files below its own folder.
 
+GVL_MAIN = """<?xml version="1.0" encoding="utf-8"?>
+<TcPlcObject Version="1.1.0.1">
+  <GVL Name="GVL_Main" Id="{5a0e3c57-0000-4000-8000-000000000009}">
+    <Declaration><![CDATA[VAR_GLOBAL
+    nLimit : INT := 7;
+END_VAR
+]]></Declaration>
+  </GVL>
+</TcPlcObject>
+"""
+
+
 def project(tmp_path: Path, include: str) -> Path:
     write(tmp_path / "proj" / "POUs" / "FB_Counter.TcPOU", pou())
     return write(tmp_path / "proj" / "Counter.plcproj", f"""<?xml version="1.0" encoding="utf-8"?>
@@ -143,6 +166,13 @@ def project(tmp_path: Path, include: str) -> Path:
 def test_a_project_loads_its_files_and_skips_what_is_not_structured_text(tmp_path: Path) -> None:
     plc = st.load(project(tmp_path, "VISUs\\Visu.TcVIS"))
     assert plc.FB_Counter().Count == 0
+
+
+def test_an_include_with_spaces_around_it_is_read_not_skipped(tmp_path: Path) -> None:
+    """MSBuild trims an item's Include; read with its spaces, the suffix was '.TcPOU ' and the POU silently left out."""
+    write(tmp_path / "proj" / "GVLs" / "GVL_Main.TcGVL", GVL_MAIN)
+    plc = st.load(project(tmp_path, "  GVLs\\GVL_Main.TcGVL \n    "))
+    assert plc.GVL_Main.nLimit == 7
 
 
 def test_a_project_listing_a_missing_file_is_refused(tmp_path: Path) -> None:
@@ -381,12 +411,29 @@ def test_a_program_the_machine_has_no_memory_for_is_an_st_error_naming_it() -> N
     with pytest.raises(st.StUnsupportedError, match=r"^<st>:3: PROGRAM MAIN cannot be made: MemoryError: the machine has no memory"):
         st.load(source, externals={"F_Alloc": _no_memory})
 
+
+@pytest.mark.parametrize("declaration, body", [
+    ("z : ARRAY[0..3] OF INT := [1000000000000(0)];", ""),
+    ("z : ARRAY[0..3] OF INT := [1000(1000(1000(0)))];", ""),
+    ("z : ARRAY[0..3] OF INT := [600000(1), 600000(2)];", ""),
+    ("z : ARRAY[0..3] OF INT;", "z := [1000000000000(0)];"),
+], ids=["repeated", "nested", "summed", "assigned"])
+def test_an_array_initialiser_of_too_many_values_is_refused_before_they_are_made(declaration: str, body: str) -> None:
+    """A repetition count is counted, not expanded: [10**12(0)] took hours and all memory building its list."""
+    with pytest.raises(st.StUnsupportedError, match=rf"^<st>:\d+: an ARRAY initialiser of more than {1 << 20} values"):
+        st.load(program(body).replace("END_VAR", declaration + "\nEND_VAR", 1))
+
+
+def test_an_array_initialiser_with_repetitions_loads() -> None:
+    plc = st.load(program("").replace("END_VAR", "r : ARRAY[0..5] OF INT := [2(1), 2(2(3))];\nEND_VAR", 1))
+    assert list(plc.MAIN.r) == [1, 1, 3, 3, 3, 3]
+
 # 7. Encodings: UTF-8 (with or without BOM), else Windows-1252; XML as its declaration says.
 
 ST_SOURCE = "PROGRAM MAIN\nVAR\n    s : STRING := '°C';\nEND_VAR\n// 20 °C is room temperature\nEND_PROGRAM\n"
 
 
-@pytest.mark.parametrize("encoding", ["cp1252", "utf-8-sig", "utf-8"])
+@pytest.mark.parametrize("encoding", ["cp1252", "utf-8-sig", "utf-8", "utf-16", "utf-32"])
 def test_an_st_file_is_read_in_its_encoding(tmp_path: Path, encoding: str) -> None:
     plc = st.load(write(tmp_path / "main.st", ST_SOURCE.encode(encoding)))
     assert plc.MAIN.s == "°C"

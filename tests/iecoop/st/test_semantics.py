@@ -230,6 +230,14 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT;", "FOR i := 1 TO 10 DO IF i = 2 THEN i := 5; END_IF END_FOR"), "the FOR loop writes its control variable i"),
     (prog("i : INT;", "a: i := 1; a: i := 2;"), "label a is declared twice"),
     (prog("i : INT;", "i := 1;\nEXIT;"), r"^<st>:\d+: EXIT outside a FOR, WHILE or REPEAT loop"),
+    # a number where a compiler wants a string or a BOOL: at load, where a cycle raised a TypeError (RTSEXCPT_UNKNOWN)
+    (prog("s : STRING(20);", "s := 5;"), r"^<st>:5: the number 5 cannot be stored in a STRING \(a string literal or a conversion"),
+    (prog("w : WSTRING;", "w := 2.5;"), r"^<st>:5: the number 2.5 cannot be stored in a WSTRING"),
+    (prog("i : INT; n : INT; r : REAL := 2;", "FOR i := 1 TO r DO n := n + 1; END_FOR"),
+     r"^<st>:5: FOR i: its end is a REAL; a FOR counts in integers"),
+    (prog("i : INT; n : INT;", "FOR i := 1 TO 5 BY 0.5 DO n := i; END_FOR"), r"^<st>:5: FOR i: its step is a REAL"),
+    (prog("r : REAL := 7.5; n : INT := 2;", "r := r MOD n;"), r"^<st>:5: MOD of a REAL: MOD is defined for integers"),
+    (prog("b : BOOL;", "b := 32767;"), r"^<st>:5: the number 32767 cannot be stored in a BOOL \(TRUE or FALSE\)"),
     (prog("i : INT;", "IF i = 0 THEN CONTINUE; END_IF"), r"^<st>:\d+: CONTINUE outside a FOR, WHILE or REPEAT loop"),
     # the loop a body with labels runs in is no ST loop: EXIT there would end the body silently
     (prog("i : INT;", "a: i := i + 1;\nIF i > 2 THEN EXIT; END_IF\nJMP a;"), "EXIT outside a FOR, WHILE or REPEAT loop"),
