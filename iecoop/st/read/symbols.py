@@ -404,37 +404,44 @@ class Symbols:
     # --- types from blark nodes ---
 
     def type_named(self, name: str, node: Any) -> TypeRef:
-        elem = self._elem_or_none(name)
-        if elem is not None:
-            return elem
-        if name.upper() == "BIT" and "bit" not in self.decls:
-            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
-            # of its own byte: the same values, another layout
-            return TypeRef("elem", "BOOL")
-        platform = _PLATFORM_TYPES.get(name.upper()) if name.lower() not in self.decls else None
-        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
-            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
-        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
-        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
-            return TypeRef("elem", system)
-        if name.upper() == "__SYSTEM.VAR_INFO":
-            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
-        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
-            return TypeRef("user", IQUERYINTERFACE.name)
-        if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
-            return TypeRef("any", name.upper())
-        if name.upper() == "__SYSTEM.ANYTYPE":
-            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
+        builtin = self._elem_or_none(name) or self._builtin_type(name)
+        if builtin is not None:
+            return builtin
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(unknown_name("type", name, self.decls), node)
-        if decl.kind == "alias":
+        if decl.kind == "alias" and (decl.alias_of is not None or decl.node is not None):
             # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
-            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
+            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands);
+            # a library's alias whose target iecoop cannot tell has no node to read it from
             target = decl.alias_of or self._alias_target(decl.node)
             if target.kind == "string" and target.length not in (None, "80") or target.kind in ("array", "any"):
                 return target
         return TypeRef("user", decl.name)
+
+    def _builtin_type(self, name: str) -> TypeRef | None:
+        """The type of a name the compiler knows, unless the project declares one so: BIT, the platform types,
+        the generic families and __SYSTEM's types; None for any other name."""
+        upper, declared = name.upper(), name.lower() in self.decls
+        if upper == "BIT" and not declared:
+            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
+            # of its own byte: the same values, another layout
+            return TypeRef("elem", "BOOL")
+        platform = _PLATFORM_TYPES.get(upper) if not declared else None
+        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
+            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
+        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(upper)
+        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
+            return TypeRef("elem", system)
+        if upper == "__SYSTEM.VAR_INFO":
+            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if upper == "__SYSTEM.IQUERYINTERFACE":
+            return TypeRef("user", IQUERYINTERFACE.name)
+        if upper in GENERIC_FAMILIES and not declared:
+            return TypeRef("any", upper)
+        if upper == "__SYSTEM.ANYTYPE":
+            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
+        return None
 
     def _string_type(self, spec: Any) -> TypeRef:
         kind = str(spec.type_name).upper()
