@@ -371,3 +371,23 @@ END_FUNCTION_BLOCK""")
     assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (10, 11, 20)
     fb()
     assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (20, 21, 40)
+
+
+def test_the_wstring_functions_work_on_characters() -> None:
+    # WCONCAT, WLEN, WLEFT, WMID, WFIND, WREPLACE of Tc2_Standard on a WSTRING that grows by one 'ü' a cycle
+    plc = st.load("""FUNCTION_BLOCK FB_Wide
+VAR_OUTPUT wsAll : WSTRING; nLen : INT; wsHead : WSTRING; wsMid : WSTRING; nAt : INT; wsSwap : WSTRING; END_VAR
+VAR wsGrow : WSTRING := "Grö"; END_VAR
+wsGrow := WCONCAT(wsGrow, "ü");
+wsAll := wsGrow;
+nLen := WLEN(wsAll);
+wsHead := WLEFT(wsAll, 2);
+wsMid := WMID(wsAll, 2, 3);
+nAt := WFIND(wsAll, "ü");
+wsSwap := WREPLACE(wsAll, "o", 1, 3);
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Wide()
+    fb()
+    assert (fb.wsAll, fb.nLen, fb.wsHead, fb.wsMid, fb.nAt, fb.wsSwap) == ("Gröü", 4, "Gr", "öü", 4, "Groü")
+    fb()
+    assert (fb.wsAll, fb.nLen, fb.wsMid) == ("Gröüü", 5, "öü")
