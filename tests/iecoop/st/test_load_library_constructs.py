@@ -391,3 +391,48 @@ END_FUNCTION_BLOCK""")
     assert (fb.wsAll, fb.nLen, fb.wsHead, fb.wsMid, fb.nAt, fb.wsSwap) == ("Gröü", 4, "Gr", "öü", 4, "Groü")
     fb()
     assert (fb.wsAll, fb.nLen, fb.wsMid) == ("Gröüü", 5, "öü")
+
+
+def test_an_interface_holds_its_methods_and_properties_inside_it() -> None:
+    # the IEC form: METHOD and PROPERTY prototypes written inside INTERFACE ... END_INTERFACE (an access specifier
+    # and EXTENDS too); the block adds 2 a call, Total is ten times the sum
+    plc = st.load("""INTERFACE I_Sum
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+END_METHOD
+PROPERTY Total : DINT
+END_PROPERTY
+END_INTERFACE
+INTERFACE INTERNAL I_Labelled EXTENDS I_Sum
+METHOD Label : STRING
+END_METHOD
+END_INTERFACE
+FUNCTION_BLOCK FB_Sum IMPLEMENTS I_Labelled
+VAR n : DINT; END_VAR
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+n := n + nBy;
+Add := n;
+END_METHOD
+METHOD Label : STRING
+Label := 'sum';
+END_METHOD
+PROPERTY Total : DINT
+GET
+Total := n * 10;
+END_GET
+END_PROPERTY
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Reader
+VAR_OUTPUT nLast : DINT; nTotal : DINT; sLabel : STRING; END_VAR
+VAR fbSum : FB_Sum; itf : I_Labelled; END_VAR
+itf := fbSum;
+nLast := itf.Add(2);
+nTotal := itf.Total;
+sLabel := itf.Label();
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Reader()
+    fb()
+    assert (fb.nLast, fb.nTotal, fb.sLabel) == (2, 20, "sum")
+    fb()
+    assert (fb.nLast, fb.nTotal) == (4, 40)
