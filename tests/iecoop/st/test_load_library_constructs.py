@@ -7,45 +7,6 @@ import pytest
 st = pytest.importorskip("iecoop.st")
 
 
-def test_an_interface_with_an_access_specifier_is_called_through() -> None:
-    # INTERFACE INTERNAL / PUBLIC: a library's own interface; the counter adds 3 then 4 through it: 3, 7
-    plc = st.load("""INTERFACE INTERNAL I_Adder
-END_INTERFACE
-METHOD Add : DINT
-VAR_INPUT nBy : DINT; END_VAR
-END_METHOD
-INTERFACE PUBLIC I_Named
-END_INTERFACE
-METHOD Name : STRING
-END_METHOD
-FUNCTION_BLOCK FB_Counter IMPLEMENTS I_Adder, I_Named
-VAR nSum : DINT; END_VAR
-END_FUNCTION_BLOCK
-METHOD Add : DINT
-VAR_INPUT nBy : DINT; END_VAR
-nSum := nSum + nBy;
-Add := nSum;
-END_METHOD
-METHOD Name : STRING
-Name := 'counter';
-END_METHOD
-FUNCTION_BLOCK FB_User
-VAR_OUTPUT nSeen : DINT; sName : STRING; END_VAR
-VAR fbCounter : FB_Counter; itfAdd : I_Adder; itfName : I_Named; nCycle : DINT; END_VAR
-itfAdd := fbCounter;
-itfName := fbCounter;
-nCycle := nCycle + 1;
-nSeen := itfAdd.Add(nCycle + 2);
-sName := itfName.Name();
-END_FUNCTION_BLOCK""")
-    fb = plc.FB_User()
-    fb()
-    assert (fb.nSeen, fb.sName) == (3, "counter")
-    fb()
-    assert fb.nSeen == 7
-
-
-
 def test_a_block_initialiser_binds_a_reference_and_a_pointer_to_variables_beside_it() -> None:
     # fbWatch := (bRef := bFlag, pCount := ADR(nCount)): each cycle it reads bFlag, inverts it and adds 5 to nCount;
     # a VAR_INST of a METHOD is bound the same way (to the block's nCount): it adds 1 at each call
@@ -393,10 +354,22 @@ END_FUNCTION_BLOCK""")
     assert (fb.wsAll, fb.nLen, fb.wsMid) == ("Gröüü", 5, "öü")
 
 
-def test_an_interface_holds_its_methods_and_properties_inside_it() -> None:
-    # the IEC form: METHOD and PROPERTY prototypes written inside INTERFACE ... END_INTERFACE (an access specifier
-    # and EXTENDS too); the block adds 2 a call, Total is ten times the sum
-    plc = st.load("""INTERFACE I_Sum
+_SUM_INTERFACES = {
+    # TwinCAT's form: the prototypes after their INTERFACE (an access specifier on each: INTERNAL, PUBLIC)
+    "after": """INTERFACE INTERNAL I_Sum
+END_INTERFACE
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+END_METHOD
+PROPERTY Total : DINT
+END_PROPERTY
+INTERFACE PUBLIC I_Labelled EXTENDS I_Sum
+END_INTERFACE
+METHOD Label : STRING
+END_METHOD
+""",
+    # the IEC form: the prototypes inside INTERFACE ... END_INTERFACE
+    "inside": """INTERFACE I_Sum
 METHOD Add : DINT
 VAR_INPUT nBy : DINT; END_VAR
 END_METHOD
@@ -407,7 +380,14 @@ INTERFACE INTERNAL I_Labelled EXTENDS I_Sum
 METHOD Label : STRING
 END_METHOD
 END_INTERFACE
-FUNCTION_BLOCK FB_Sum IMPLEMENTS I_Labelled
+""",
+}
+
+
+@pytest.mark.parametrize("form", sorted(_SUM_INTERFACES))
+def test_an_interface_with_an_access_specifier_and_its_prototypes_after_or_inside_it(form: str) -> None:
+    # the block adds 2 a call through the interface; Total is ten times the sum
+    plc = st.load(_SUM_INTERFACES[form] + """FUNCTION_BLOCK FB_Sum IMPLEMENTS I_Labelled
 VAR n : DINT; END_VAR
 METHOD Add : DINT
 VAR_INPUT nBy : DINT; END_VAR
