@@ -321,41 +321,6 @@ class Symbols:
             returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
             decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
-    def align_prototype_names(self) -> None:
-        """A METHOD or PROPERTY takes the Python name of the first one it overrides or implements, and a METHOD's
-        inputs take that one's input names; so do the other prototypes it implements. ST names are
-        case-insensitive (``Append(Text)`` of an interface is ``append(text)`` of the block), Python's are not:
-        aligned, the signatures match and a call through the interface, the base or the block reaches the same
-        METHOD with the same names."""
-        for decl in self.decls.values():
-            if decl.library or decl.kind != "fb":
-                continue
-            for key in list(decl.methods):
-                protos = self._prototypes(decl, key, "methods")
-                for owner, other in protos[1:] + [(decl, decl.methods[key])] if protos else []:
-                    owner.methods[key] = _aligned(other, protos[0][1])
-            for key in list(decl.props):
-                props = self._prototypes(decl, key, "props")
-                for owner, other in props[1:] + [(decl, decl.props[key])] if props else []:
-                    owner.props[key] = dataclasses.replace(other, name=props[0][1].name)
-
-    def _prototypes(self, decl: Decl, key: str, table: str) -> list[tuple[Decl, Any]]:
-        """The METHODs (``table`` "methods") or PROPERTYs ("props") ``key`` of the blocks ``decl`` extends and of
-        the interfaces it or they implement, nearest first, each with the declaration it belongs to."""
-        seen: set[str] = set()
-        found: list[tuple[Decl, Any]] = []
-        pending = list(decl.bases) + list(decl.implements)
-        while pending:
-            other = self.decls.get(pending.pop(0).lower())
-            if other is None or other.name in seen:
-                continue
-            seen.add(other.name)
-            member = getattr(other, table).get(key) if other.kind in ("fb", "interface") and not other.library else None
-            if member is not None:
-                found.append((other, member))
-            pending += other.bases + other.implements
-        return found
-
     def collect_named_programs(self) -> None:
         """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
 
@@ -656,6 +621,42 @@ class Symbols:
             if key in current.methods:
                 return "method", current.methods[key]
         return None
+
+
+def align_prototype_names(symbols: Symbols) -> None:
+    """A METHOD or PROPERTY takes the Python name of the first one it overrides or implements, and a METHOD's
+    inputs take that one's input names; so do the other prototypes it implements. ST names are
+    case-insensitive (``Append(Text)`` of an interface is ``append(text)`` of the block), Python's are not:
+    aligned, the signatures match and a call through the interface, the base or the block reaches the same
+    METHOD with the same names."""
+    for decl in symbols.decls.values():
+        if decl.library or decl.kind != "fb":
+            continue
+        for key in list(decl.methods):
+            protos = _prototypes(symbols, decl, key, "methods")
+            for owner, other in protos[1:] + [(decl, decl.methods[key])] if protos else []:
+                owner.methods[key] = _aligned(other, protos[0][1])
+        for key in list(decl.props):
+            props = _prototypes(symbols, decl, key, "props")
+            for owner, other in props[1:] + [(decl, decl.props[key])] if props else []:
+                owner.props[key] = dataclasses.replace(other, name=props[0][1].name)
+
+def _prototypes(symbols: Symbols, decl: Decl, key: str, table: str) -> list[tuple[Decl, Any]]:
+    """The METHODs (``table`` "methods") or PROPERTYs ("props") ``key`` of the blocks ``decl`` extends and of
+    the interfaces it or they implement, nearest first, each with the declaration it belongs to."""
+    seen: set[str] = set()
+    found: list[tuple[Decl, Any]] = []
+    pending = list(decl.bases) + list(decl.implements)
+    while pending:
+        other = symbols.decls.get(pending.pop(0).lower())
+        if other is None or other.name in seen:
+            continue
+        seen.add(other.name)
+        member = getattr(other, table).get(key) if other.kind in ("fb", "interface") and not other.library else None
+        if member is not None:
+            found.append((other, member))
+        pending += other.bases + other.implements
+    return found
 
 
 def _aligned(method: Callable_, proto: Callable_) -> Callable_:
