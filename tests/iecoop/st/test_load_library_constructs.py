@@ -416,3 +416,25 @@ END_FUNCTION_BLOCK""")
     assert (fb.nLast, fb.nTotal, fb.sLabel) == (2, 20, "sum")
     fb()
     assert (fb.nLast, fb.nTotal) == (4, 40)
+
+
+def test_a_block_local_of_a_method_with_an_initialiser_is_refused_at_load() -> None:
+    # it used to load and fail when the METHOD ran; a VAR_INST with the same initialiser is the way
+    source = """FUNCTION_BLOCK FB_Twice
+VAR_INPUT k : INT; END_VAR
+VAR_OUTPUT d : INT; END_VAR
+d := k * 2;
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Host
+VAR_OUTPUT n : INT; END_VAR
+METHOD Run
+VAR{section} fbTwice : FB_Twice := (k := 5); END_VAR
+fbTwice();
+n := fbTwice.d;
+END_METHOD
+END_FUNCTION_BLOCK"""
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:9: fbTwice : FB_Twice := \(\.\.\.\): a FUNCTION_BLOCK local of a method .*not supported \(declare it in the block's VAR or the METHOD's VAR_INST\)"):
+        st.load(source.format(section=""))
+    fb = st.load(source.format(section="_INST")).FB_Host()
+    fb.Run()
+    assert fb.n == 10
