@@ -65,6 +65,9 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
         "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
     ],
+    "a FUNCTION_BLOCK member of a STRUCT with an initialiser": [
+        "TYPE ST_T : STRUCT t : TON := (PT := T#1S); END_STRUCT END_TYPE",
+    ],
     "a FUNCTION_BLOCK local of a METHOD or FUNCTION with an initialiser": [
         _FB_A + "METHOD M : INT\nVAR fbLocal : FB_A := (n := 2); END_VAR\nM := fbLocal.n;\nEND_METHOD",
     ],

@@ -438,3 +438,25 @@ END_FUNCTION_BLOCK"""
     fb = st.load(source.format(section="_INST")).FB_Host()
     fb.Run()
     assert fb.n == 10
+
+
+@pytest.mark.parametrize("member", ["fbTwice : FB_Twice := (k := 5);", "tDelay : TON := (PT := T#1S);"])
+def test_a_block_member_of_a_struct_with_an_initialiser_is_refused_at_load(member: str) -> None:
+    # it loaded with the block's own values (k 0, PT 0), the initialiser silently left out
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:5: STRUCT member \w+ : \w+ := \(\.\.\.\): a FUNCTION_BLOCK member of a STRUCT with an initialiser is not supported"):
+        st.load(f"""FUNCTION_BLOCK FB_Twice
+VAR_INPUT k : INT; END_VAR
+END_FUNCTION_BLOCK
+TYPE ST_Holder : STRUCT
+{member}
+nPlain : INT := 3;
+END_STRUCT END_TYPE""")
+    plc = st.load("""TYPE ST_Plain : STRUCT tDelay : TON; nPlain : INT := 3; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Use
+VAR_OUTPUT n : INT; END_VAR
+VAR s : ST_Plain; END_VAR
+n := s.nPlain + TIME_TO_INT(s.tDelay.PT);
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Use()
+    fb()
+    assert fb.n == 3
