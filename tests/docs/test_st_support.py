@@ -77,6 +77,12 @@ REFUSED: dict[str, list[str]] = {
         "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
         "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
     ],
+    "a FUNCTION_BLOCK member of a STRUCT with an initialiser": [
+        "TYPE ST_T : STRUCT t : TON := (PT := T#1S); END_STRUCT END_TYPE",
+    ],
+    "a FUNCTION_BLOCK local of a METHOD or FUNCTION with an initialiser": [
+        _FB_A + "METHOD M : INT\nVAR fbLocal : FB_A := (n := 2); END_VAR\nM := fbLocal.n;\nEND_METHOD",
+    ],
     "indexing a `POINTER TO` an ARRAY": [
         "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; p : POINTER TO ARRAY[0..1] OF INT; END_VAR\np := ADR(a);\nF := p[0];\nEND_FUNCTION",
     ],

@@ -441,10 +441,14 @@ class Calls(Expressions):
         return Ex(f"{form}({value.code})", result_type)
 
     def string_call(self, upper: str, args: list[Ex], node: Any) -> Ex | None:
-        if upper not in STRING_FUNCTIONS:
+        """LEN, CONCAT ... and their WSTRING forms WLEN, WCONCAT ... (Tc2_Standard): the same functions on
+        characters, which a Python str holds either way; the W forms give a WSTRING."""
+        wide = upper not in STRING_FUNCTIONS and upper.startswith("W") and upper[1:] in STRING_FUNCTIONS
+        name = upper[1:] if wide else upper
+        if name not in STRING_FUNCTIONS:
             return None
-        result = TypeRef("elem", "INT") if upper in ("LEN", "FIND") else STRING
-        return self.function_call(upper, [a.code for a in args], result)
+        result = TypeRef("elem", "INT") if name in ("LEN", "FIND") else TypeRef("string", "WSTRING", length="80") if wide else STRING
+        return self.function_call(name, [a.code for a in args], result)
 
     def function_call(self, name: str, codes: Sequence[str], type_: TypeRef | None) -> Ex:
         """A call of the standard function ``name`` of ``iecoop.functions``: the form the Rosetta teaches."""

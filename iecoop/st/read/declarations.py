@@ -151,6 +151,11 @@ class Declarations(Statements):
             if isinstance(element, tf.UnionElementDeclaration):
                 init = None
             for member in members:
+                if init is not None and getattr(self.decl_of(member.type), "kind", None) in ("fb", "stdfb") and _declared_value(init) is not None:
+                    # a STRUCT's block member would start from the block's own values, not these: refused, not ignored
+                    raise self.fail(f"{keyword} member {member.st} : {member.type.annotation() if member.type else ''} := (...): a "
+                                    "FUNCTION_BLOCK member of a STRUCT with an initialiser is not supported (set its inputs in code, "
+                                    "or make the STRUCT a FUNCTION_BLOCK)", element)
                 self.emit(self.field_line(member, init, scope, plain=True), 1)
             self.trail(index, trailing)
         if not node.declarations:

@@ -3,7 +3,7 @@ and the rewrite of the raw parse tree into the shapes blark's transformer knows.
 
 Each addition is a form TwinCAT, CODESYS or IEC 61131-3 (3rd edition) code is written in:
 
-- a METHOD or PROPERTY written inside its FUNCTION_BLOCK (the IEC / open-compiler form), a PROPERTY there
+- a METHOD or PROPERTY written inside its FUNCTION_BLOCK or INTERFACE (the IEC / open-compiler form), a PROPERTY there
   with ``GET ... END_GET`` and ``SET ... END_SET`` accessors, and ``CLASS ... END_CLASS`` (a FUNCTION_BLOCK
   without a body): the members are moved after their block, where the flat form has them;
 - ``REF_TO`` (IEC 61131-3's spelling of ``REFERENCE TO``), ``PROGRAM INTERNAL``, ``INTERFACE INTERNAL``,
@@ -34,6 +34,7 @@ _END_CLASS.2: /\bEND_CLASS\b/i
 %extend program_declaration: _PROGRAM _PROGRAM_ACCESS program_type_name program_var_declarations [ function_block_body ] _END_PROGRAM ";"*
 _PROGRAM_ACCESS.2: /\b(INTERNAL|PUBLIC)\b/i
 %extend interface_declaration: _INTERFACE _PROGRAM_ACCESS IDENTIFIER [ extends ] interface_var_declaration* _END_INTERFACE? ";"*
+%extend interface_declaration: _INTERFACE _PROGRAM_ACCESS? IDENTIFIER [ extends ] interface_var_declaration* nested_members _END_INTERFACE ";"*
 %extend function_var_block: temp_var_decls
 %override REFERENCE_TO: /\bREFERENCE\b\s+\bTO\b/i | /\bREF_TO\b/i
 %override extends: _EXTENDS DOTTED_IDENTIFIER ("," DOTTED_IDENTIFIER)* [ "," ]
@@ -52,7 +53,7 @@ _TRIGGERS = re.compile(
     r"|^\s*[\w.\[\]^]+\s*:=\s*\[|\)\s*\^\s*\.\s*[a-z_]",
     re.IGNORECASE | re.MULTILINE,
 )
-_BLOCK_WORDS = re.compile(r"\b(END_FUNCTION_BLOCK|FUNCTION_BLOCK|METHOD|PROPERTY)\b", re.IGNORECASE)
+_BLOCK_WORDS = re.compile(r"\b(END_FUNCTION_BLOCK|FUNCTION_BLOCK|END_INTERFACE|INTERFACE|METHOD|PROPERTY)\b", re.IGNORECASE)
 
 
 def needs_dialect(text: str) -> bool:
@@ -62,9 +63,9 @@ def needs_dialect(text: str) -> bool:
     inside = False  # a METHOD or PROPERTY before its block's END_FUNCTION_BLOCK
     for word in _BLOCK_WORDS.finditer(text):
         keyword = word.group(1).upper()
-        if keyword == "FUNCTION_BLOCK":
+        if keyword in ("FUNCTION_BLOCK", "INTERFACE"):
             inside = True
-        elif keyword == "END_FUNCTION_BLOCK":
+        elif keyword in ("END_FUNCTION_BLOCK", "END_INTERFACE"):
             inside = False
         elif inside:
             return True
@@ -89,7 +90,7 @@ def rewrite(tree: Any) -> None:
         if child.data == "class_declaration":
             child = _as_function_block(child, lark)
         members: list[Any] = []
-        if child.data == "function_block_type_declaration":
+        if child.data in ("function_block_type_declaration", "interface_declaration"):
             kept = []
             for part in child.children:
                 if isinstance(part, lark.Tree) and part.data == "nested_members":

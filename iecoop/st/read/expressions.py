@@ -17,7 +17,7 @@ from iecoop.st.read.names import python_name
 from iecoop.st.read.literals import Literals
 from iecoop.st.read.lookup import unknown_name
 from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
-from iecoop.st.read.trees import has_call, variables
+from iecoop.st.read.trees import has_call, task_info_member, variables
 
 
 def _plain(type_: TypeRef | None) -> TypeRef | None:
@@ -502,24 +502,16 @@ class Expressions(Literals):
     def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
         """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;
         ``_TaskInfo[fbTask.index]`` checks at run time that the index is the running task's (``task_info_at``)."""
-        index = elements[0].subscripts if elements and isinstance(elements[0], tf.SubscriptList) else []
-        call = index[0] if len(index) == 1 else None
-        if len(index) != 1:
-            raise self.fail("_TaskInfo takes one index, the task's (GETCURTASKINDEX)", node)
-        running = isinstance(call, tf.FunctionCall) and str(call.name).upper() == "GETCURTASKINDEXEX" and not call.parameters
-        field = elements[1].field if len(elements) == 2 and isinstance(elements[1], tf.FieldSelector) else None
-        name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
-        member = next((m for m in TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
-        if member is None:
-            raise self.fail(f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(TASK_INFO_MEMBERS)}", node)
-        if store:
-            raise self.fail(f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)", node)
+        found = task_info_member(elements, store)
+        if isinstance(found, str):
+            raise self.fail(found, node)
+        member, index, running = found
         type_ = STRING if member == "TaskName" else TypeRef("elem", TASK_INFO_MEMBERS[member])
         if running:
             self.need("iecoop.runtime", "current_task")
             return Ex(f"current_task().{member}", type_)
         self.need("iecoop.libraries.tc2_system", "task_info_at")
-        return Ex(f"task_info_at({self.expr(call, scope).code}).{member}", type_)
+        return Ex(f"task_info_at({self.expr(index, scope).code}).{member}", type_)
 
     def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
         if not isinstance(target, tf.MultiElementVariable) or not target.elements:

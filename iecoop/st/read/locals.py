@@ -232,7 +232,11 @@ class Locals(Declarations):
             scope.locals[name.lower()] = ReferenceLocal(py, type_.of, "VAR_IN_OUT", st=name)
             self.emit(f"{py}: POINTER_TO[{type_.of.annotation()}] = Pointer(0, None).typed({type_.of.annotation()})", level)
             return
-        value = self.initial_value(type_, init, scope) or self.zero(type_)
+        value = self.initial_value(type_, init, scope)
+        if value is not None and getattr(self.decl_of(type_), "kind", None) == "fb":
+            raise self.fail(f"{name} : {type_.annotation()} := (...): a FUNCTION_BLOCK local of a {scope.kind} with an initialiser is "
+                            "not supported (declare it in the block's VAR or the METHOD's VAR_INST)", item)
+        value = value or self.zero(type_)
         scope.locals[name.lower()] = Member(py, type_, "CONSTANT" if constant else "LOCAL", st=name)
         self.emit(f"{py}: {self.local_annotation(type_)} = {value}", level)
 

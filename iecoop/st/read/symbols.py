@@ -6,7 +6,6 @@ can type each expression and order the classes so a class exists before it is us
 
 from __future__ import annotations
 
-import dataclasses
 
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
@@ -24,7 +23,9 @@ from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
 )
-from iecoop.st.read.trees import inline_enumerations, lark_token_type, names_read, nodes_below, signature, valued_constants
+from iecoop.st.read.trees import (
+    accessor_mark, inline_enumerations, lark_token_type, list_mark, names_read, nodes_below, signature, valued_constants,
+)
 
 _SECTION_OF = {
     tf.LocatedVariableDeclarations: "VAR", tf.IncompleteLocatedVariableDeclarations: "VAR",
@@ -131,8 +132,10 @@ class Symbols:
                     (current.method_nodes if isinstance(item, tf.Method) else current.prop_nodes).append(item)
                     for init, declaration in inline_enumerations(item, f"{current.st}_{item.name}".replace(".", "_")):
                         self.inline_enums[id(init)] = str(self._collect_data_type(unit, declaration).st)
-                    if isinstance(item, tf.Property):
-                        self._mark_accessor(unit, item)
+                    mark = accessor_mark(unit, item) if isinstance(item, tf.Property) else None
+                    if mark is not None:
+                        self.marked_accessors[id(item)] = mark[0]
+                        self.marks.add(mark[1])  # a mark, not a comment to carry over
                     continue
                 if isinstance(item, tf.Action):
                     if current is None or current.kind not in ("fb", "program"):
@@ -142,42 +145,6 @@ class Symbols:
                 current = self._collect_item(unit, item)
                 if current is not None:
                     current.item = item
-
-    def _mark_accessor(self, unit: Unit, node: Any) -> None:
-        """Note a PROPERTY block marked by a ``// Get`` or ``// Set`` comment on the line before it.
-
-        Besides ``Name.Get`` / ``Name.Set``, the plain-text form iecoop's ST writer uses
-        (``iecoop.st.dump``) for a property with both accessors: two blocks of the same name.
-        """
-        line = getattr(node.meta, "line", None) if node.meta else None
-        for token in unit.comments:
-            if line is not None and token.line == line - 1:
-                marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
-                if marker in ("get", "set"):
-                    self.marked_accessors[id(node)] = marker
-                    self.marks.add(id(token))  # a mark, not a comment to carry over
-
-    def _marked_list_name(self, unit: Unit, node: Any) -> str | None:
-        """The name of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its pragmas), as dump writes it."""
-        line = getattr(node.meta, "line", None) if node.meta else None
-        if line is None:
-            return None
-        above = [t for t in unit.comments if t.line < line]
-        # The mark is on the line right above the block or above the pragmas ({attribute ...}) heading it.
-        expected = line - 1
-        for token in sorted(above, key=lambda t: -t.line):
-            text = str(token).strip()
-            if token.line != expected:
-                return None
-            if text.startswith("{"):
-                expected -= 1
-                continue
-            words = text[2:].split() if text.startswith("//") else []
-            if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier():
-                self.marks.add(id(token))  # a mark, not a comment to carry over
-                return words[1]
-            return None
-        return None
 
     def declare(self, registry: dict[str, tuple[str, str]], what: str, name: str, node: Any = None) -> None:
         """Note that ``what name`` is declared here; DefinitionError naming both if ``registry`` has it already."""
@@ -228,7 +195,10 @@ class Symbols:
         name = str(item.name or "")
         if not name.isidentifier():
             stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
-            name = self._marked_list_name(unit, item) or (stem if stem.isidentifier() else "GVL")
+            mark = list_mark(unit, item)
+            if mark is not None:
+                self.marks.add(mark[1])  # a mark, not a comment to carry over
+            name = mark[0] if mark is not None else stem if stem.isidentifier() else "GVL"
         existing = dict.get(self.decls, str(name).lower())
         if existing is not None and existing.kind == "gvl" and not existing.library:
             existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)
@@ -321,41 +291,6 @@ class Symbols:
             returns = self._spec_type(node.return_type.spec, node) if node.return_type is not None else None
             decl.methods[name.lower()] = Callable_(python_name(name, attribute=True), returns, signature(members), st=name)
 
-    def align_prototype_names(self) -> None:
-        """A METHOD or PROPERTY takes the Python name of the first one it overrides or implements, and a METHOD's
-        inputs take that one's input names; so do the other prototypes it implements. ST names are
-        case-insensitive (``Append(Text)`` of an interface is ``append(text)`` of the block), Python's are not:
-        aligned, the signatures match and a call through the interface, the base or the block reaches the same
-        METHOD with the same names."""
-        for decl in self.decls.values():
-            if decl.library or decl.kind != "fb":
-                continue
-            for key in list(decl.methods):
-                protos = self._prototypes(decl, key, "methods")
-                for owner, other in protos[1:] + [(decl, decl.methods[key])] if protos else []:
-                    owner.methods[key] = _aligned(other, protos[0][1])
-            for key in list(decl.props):
-                props = self._prototypes(decl, key, "props")
-                for owner, other in props[1:] + [(decl, decl.props[key])] if props else []:
-                    owner.props[key] = dataclasses.replace(other, name=props[0][1].name)
-
-    def _prototypes(self, decl: Decl, key: str, table: str) -> list[tuple[Decl, Any]]:
-        """The METHODs (``table`` "methods") or PROPERTYs ("props") ``key`` of the blocks ``decl`` extends and of
-        the interfaces it or they implement, nearest first, each with the declaration it belongs to."""
-        seen: set[str] = set()
-        found: list[tuple[Decl, Any]] = []
-        pending = list(decl.bases) + list(decl.implements)
-        while pending:
-            other = self.decls.get(pending.pop(0).lower())
-            if other is None or other.name in seen:
-                continue
-            seen.add(other.name)
-            member = getattr(other, table).get(key) if other.kind in ("fb", "interface") and not other.library else None
-            if member is not None:
-                found.append((other, member))
-            pending += other.bases + other.implements
-        return found
-
     def collect_named_programs(self) -> None:
         """The PROGRAMs another POU reads by name (``P_Count.counter``, ``P_Count.Reset()``): each becomes its one instance.
 
@@ -404,37 +339,44 @@ class Symbols:
     # --- types from blark nodes ---
 
     def type_named(self, name: str, node: Any) -> TypeRef:
-        elem = self._elem_or_none(name)
-        if elem is not None:
-            return elem
-        if name.upper() == "BIT" and "bit" not in self.decls:
-            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
-            # of its own byte: the same values, another layout
-            return TypeRef("elem", "BOOL")
-        platform = _PLATFORM_TYPES.get(name.upper()) if name.lower() not in self.decls else None
-        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
-            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
-        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(name.upper())
-        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
-            return TypeRef("elem", system)
-        if name.upper() == "__SYSTEM.VAR_INFO":
-            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
-        if name.upper() == "__SYSTEM.IQUERYINTERFACE":
-            return TypeRef("user", IQUERYINTERFACE.name)
-        if name.upper() in GENERIC_FAMILIES and name.lower() not in self.decls:
-            return TypeRef("any", name.upper())
-        if name.upper() == "__SYSTEM.ANYTYPE":
-            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
+        builtin = self._elem_or_none(name) or self._builtin_type(name)
+        if builtin is not None:
+            return builtin
         decl = self.decls.get(name.lower())
         if decl is None:
             raise self.fail(unknown_name("type", name, self.decls), node)
-        if decl.kind == "alias":
+        if decl.kind == "alias" and (decl.alias_of is not None or decl.node is not None):
             # TYPE T_MaxString : STRING(255): iecoop's Alias carries no length or bounds, so a variable of
-            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands)
+            # such an alias is declared with its target's (T_MaxString is STRING(255) wherever it stands);
+            # a library's alias whose target iecoop cannot tell has no node to read it from
             target = decl.alias_of or self._alias_target(decl.node)
             if target.kind == "string" and target.length not in (None, "80") or target.kind in ("array", "any"):
                 return target
         return TypeRef("user", decl.name)
+
+    def _builtin_type(self, name: str) -> TypeRef | None:
+        """The type of a name the compiler knows, unless the project declares one so: BIT, the platform types,
+        the generic families and __SYSTEM's types; None for any other name."""
+        upper, declared = name.upper(), name.lower() in self.decls
+        if upper == "BIT" and not declared:
+            # TwinCAT's BIT (a STRUCT or block member) packs into bytes with its neighbours; here it is a BOOL
+            # of its own byte: the same values, another layout
+            return TypeRef("elem", "BOOL")
+        platform = _PLATFORM_TYPES.get(upper) if not declared else None
+        if platform is not None:  # TwinCAT's pseudo types, as a 64-bit target has them
+            return TypeRef("pointer", "POINTER_TO", of=TypeRef("elem", "BYTE")) if platform == "PVOID" else TypeRef("elem", platform)
+        system = {"__SYSTEM.EXCEPTIONCODE": "UDINT", "__SYSTEM.TYPE_CLASS": "DINT"}.get(upper)
+        if system is not None:  # an enumeration's base type: it compares equal to the members (ExceptionCode, x.TypeClass)
+            return TypeRef("elem", system)
+        if upper == "__SYSTEM.VAR_INFO":
+            return TypeRef("varinfo", "VarInfo")  # what __VARINFO(x) gives: a local of a METHOD or FUNCTION
+        if upper == "__SYSTEM.IQUERYINTERFACE":
+            return TypeRef("user", IQUERYINTERFACE.name)
+        if upper in GENERIC_FAMILIES and not declared:
+            return TypeRef("any", upper)
+        if upper == "__SYSTEM.ANYTYPE":
+            return TypeRef("any", "ANY")  # the structure an ANY input is (TypeClass, pValue, diSize): an ANY input
+        return None
 
     def _string_type(self, spec: Any) -> TypeRef:
         kind = str(spec.type_name).upper()
@@ -649,12 +591,3 @@ class Symbols:
             if key in current.methods:
                 return "method", current.methods[key]
         return None
-
-
-def _aligned(method: Callable_, proto: Callable_) -> Callable_:
-    """``method`` named as ``proto``, its inputs too where their ST names agree but for the case."""
-    params = method.params
-    if len(params) == len(proto.params):
-        params = [dataclasses.replace(own, name=theirs.name) if own.st.lower() == theirs.st.lower() else own
-                  for own, theirs in zip(params, proto.params)]
-    return dataclasses.replace(method, name=proto.name, params=params)

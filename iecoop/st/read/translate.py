@@ -22,6 +22,7 @@ from iecoop.st.read.pous import Pous
 from iecoop.st.read.libraries import bind, collapse_namespaces, rename_shadowed
 from iecoop.st.read.lookup import BoundLibrary
 from iecoop.st.read.pywriter import origin_of
+from iecoop.st.read.prototypes import align_prototype_names
 from iecoop.st.read.table import Decl
 
 _QUALIFIED_ONLY = re.compile(r"\{\s*attribute\s+'qualified_only'\s*\}", re.IGNORECASE)
@@ -129,7 +130,7 @@ class Translator(Pous):
         self._refuse_self_built()
         rename_shadowed(self)
         self.resolve_members()
-        self.align_prototype_names()
+        align_prototype_names(self.decls)
         self.collect_named_programs()
         self.freeze()
         body: list[str] = []

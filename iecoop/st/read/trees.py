@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import blark.transform as tf
 
+from iecoop.st.language import TASK_INFO_MEMBERS
+
 if TYPE_CHECKING:  # symbols imports this module
     from iecoop.st.read.table import Member
 
@@ -296,3 +298,58 @@ def names_read(expression: Any) -> Iterator[str]:
         if isinstance(node, (tf.SimpleVariable, tf.MultiElementVariable)):
             name = node.name.name if isinstance(node.name, tf.SimpleVariable) else node.name
             yield str(name).lower()
+
+
+# --- the marks iecoop's ST writer leaves in plain text (``iecoop.st.dump``) ---------------------------------
+
+def accessor_mark(unit: Any, node: Any) -> tuple[str, int] | None:
+    """``("get" | "set", the comment's id)`` of a PROPERTY block marked by a ``// Get`` or ``// Set`` line before it.
+
+    Besides ``Name.Get`` / ``Name.Set``, the plain-text form iecoop's ST writer uses for a property with both
+    accessors: two blocks of the same name.
+    """
+    line = getattr(node.meta, "line", None) if node.meta else None
+    for token in unit.comments:
+        if line is not None and token.line == line - 1:
+            marker = str(token).strip()[2:].strip().lower() if str(token).strip().startswith("//") else ""
+            if marker in ("get", "set"):
+                return marker, id(token)
+    return None
+
+
+def list_mark(unit: Any, node: Any) -> tuple[str, int] | None:
+    """``(name, the comment's id)`` of a VAR_GLOBAL block marked by a ``// GVL <name>`` line above it (and its
+    pragmas), as dump writes it."""
+    line = getattr(node.meta, "line", None) if node.meta else None
+    if line is None:
+        return None
+    # The mark is on the line right above the block or above the pragmas ({attribute ...}) heading it.
+    expected = line - 1
+    for token in sorted((t for t in unit.comments if t.line < line), key=lambda t: -t.line):
+        text = str(token).strip()
+        if token.line != expected:
+            return None
+        if text.startswith("{"):
+            expected -= 1
+            continue
+        words = text[2:].split() if text.startswith("//") else []
+        return (words[1], id(token)) if len(words) == 2 and words[0] == "GVL" and words[1].isidentifier() else None
+    return None
+
+
+def task_info_member(elements: Sequence[Any], store: bool) -> tuple[str, Any, bool] | str:
+    """``_TaskInfo[index].Member``'s (member as TaskInfo spells it, the index expression, whether the index is
+    GETCURTASKINDEXEX(), the running task's), or the refusal's message."""
+    index = elements[0].subscripts if elements and isinstance(elements[0], tf.SubscriptList) else []
+    if len(index) != 1:
+        return "_TaskInfo takes one index, the task's (GETCURTASKINDEX)"
+    call = index[0]
+    running = isinstance(call, tf.FunctionCall) and str(call.name).upper() == "GETCURTASKINDEXEX" and not call.parameters
+    field = elements[1].field if len(elements) == 2 and isinstance(elements[1], tf.FieldSelector) else None
+    name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field)
+    member = next((m for m in TASK_INFO_MEMBERS if m.lower() == name.lower()), None) if field is not None else None
+    if member is None:
+        return f"_TaskInfo[...].{name if field is not None else ''}: iecoop's TaskInfo has {', '.join(TASK_INFO_MEMBERS)}"
+    if store:
+        return f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)"
+    return member, call, running

@@ -7,45 +7,6 @@ import pytest
 st = pytest.importorskip("iecoop.st")
 
 
-def test_an_interface_with_an_access_specifier_is_called_through() -> None:
-    # INTERFACE INTERNAL / PUBLIC: a library's own interface; the counter adds 3 then 4 through it: 3, 7
-    plc = st.load("""INTERFACE INTERNAL I_Adder
-END_INTERFACE
-METHOD Add : DINT
-VAR_INPUT nBy : DINT; END_VAR
-END_METHOD
-INTERFACE PUBLIC I_Named
-END_INTERFACE
-METHOD Name : STRING
-END_METHOD
-FUNCTION_BLOCK FB_Counter IMPLEMENTS I_Adder, I_Named
-VAR nSum : DINT; END_VAR
-END_FUNCTION_BLOCK
-METHOD Add : DINT
-VAR_INPUT nBy : DINT; END_VAR
-nSum := nSum + nBy;
-Add := nSum;
-END_METHOD
-METHOD Name : STRING
-Name := 'counter';
-END_METHOD
-FUNCTION_BLOCK FB_User
-VAR_OUTPUT nSeen : DINT; sName : STRING; END_VAR
-VAR fbCounter : FB_Counter; itfAdd : I_Adder; itfName : I_Named; nCycle : DINT; END_VAR
-itfAdd := fbCounter;
-itfName := fbCounter;
-nCycle := nCycle + 1;
-nSeen := itfAdd.Add(nCycle + 2);
-sName := itfName.Name();
-END_FUNCTION_BLOCK""")
-    fb = plc.FB_User()
-    fb()
-    assert (fb.nSeen, fb.sName) == (3, "counter")
-    fb()
-    assert fb.nSeen == 7
-
-
-
 def test_a_block_initialiser_binds_a_reference_and_a_pointer_to_variables_beside_it() -> None:
     # fbWatch := (bRef := bFlag, pCount := ADR(nCount)): each cycle it reads bFlag, inverts it and adds 5 to nCount;
     # a VAR_INST of a METHOD is bound the same way (to the block's nCount): it adds 1 at each call
@@ -371,3 +332,131 @@ END_FUNCTION_BLOCK""")
     assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (10, 11, 20)
     fb()
     assert (fb.fbFast.n, fb.nDone, fb.nLevel) == (20, 21, 40)
+
+
+def test_the_wstring_functions_work_on_characters() -> None:
+    # WCONCAT, WLEN, WLEFT, WMID, WFIND, WREPLACE of Tc2_Standard on a WSTRING that grows by one 'ü' a cycle
+    plc = st.load("""FUNCTION_BLOCK FB_Wide
+VAR_OUTPUT wsAll : WSTRING; nLen : INT; wsHead : WSTRING; wsMid : WSTRING; nAt : INT; wsSwap : WSTRING; END_VAR
+VAR wsGrow : WSTRING := "Grö"; END_VAR
+wsGrow := WCONCAT(wsGrow, "ü");
+wsAll := wsGrow;
+nLen := WLEN(wsAll);
+wsHead := WLEFT(wsAll, 2);
+wsMid := WMID(wsAll, 2, 3);
+nAt := WFIND(wsAll, "ü");
+wsSwap := WREPLACE(wsAll, "o", 1, 3);
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Wide()
+    fb()
+    assert (fb.wsAll, fb.nLen, fb.wsHead, fb.wsMid, fb.nAt, fb.wsSwap) == ("Gröü", 4, "Gr", "öü", 4, "Groü")
+    fb()
+    assert (fb.wsAll, fb.nLen, fb.wsMid) == ("Gröüü", 5, "öü")
+
+
+_SUM_INTERFACES = {
+    # TwinCAT's form: the prototypes after their INTERFACE (an access specifier on each: INTERNAL, PUBLIC)
+    "after": """INTERFACE INTERNAL I_Sum
+END_INTERFACE
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+END_METHOD
+PROPERTY Total : DINT
+END_PROPERTY
+INTERFACE PUBLIC I_Labelled EXTENDS I_Sum
+END_INTERFACE
+METHOD Label : STRING
+END_METHOD
+""",
+    # the IEC form: the prototypes inside INTERFACE ... END_INTERFACE
+    "inside": """INTERFACE I_Sum
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+END_METHOD
+PROPERTY Total : DINT
+END_PROPERTY
+END_INTERFACE
+INTERFACE INTERNAL I_Labelled EXTENDS I_Sum
+METHOD Label : STRING
+END_METHOD
+END_INTERFACE
+""",
+}
+
+
+@pytest.mark.parametrize("form", sorted(_SUM_INTERFACES))
+def test_an_interface_with_an_access_specifier_and_its_prototypes_after_or_inside_it(form: str) -> None:
+    # the block adds 2 a call through the interface; Total is ten times the sum
+    plc = st.load(_SUM_INTERFACES[form] + """FUNCTION_BLOCK FB_Sum IMPLEMENTS I_Labelled
+VAR n : DINT; END_VAR
+METHOD Add : DINT
+VAR_INPUT nBy : DINT; END_VAR
+n := n + nBy;
+Add := n;
+END_METHOD
+METHOD Label : STRING
+Label := 'sum';
+END_METHOD
+PROPERTY Total : DINT
+GET
+Total := n * 10;
+END_GET
+END_PROPERTY
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Reader
+VAR_OUTPUT nLast : DINT; nTotal : DINT; sLabel : STRING; END_VAR
+VAR fbSum : FB_Sum; itf : I_Labelled; END_VAR
+itf := fbSum;
+nLast := itf.Add(2);
+nTotal := itf.Total;
+sLabel := itf.Label();
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Reader()
+    fb()
+    assert (fb.nLast, fb.nTotal, fb.sLabel) == (2, 20, "sum")
+    fb()
+    assert (fb.nLast, fb.nTotal) == (4, 40)
+
+
+def test_a_block_local_of_a_method_with_an_initialiser_is_refused_at_load() -> None:
+    # it used to load and fail when the METHOD ran; a VAR_INST with the same initialiser is the way
+    source = """FUNCTION_BLOCK FB_Twice
+VAR_INPUT k : INT; END_VAR
+VAR_OUTPUT d : INT; END_VAR
+d := k * 2;
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Host
+VAR_OUTPUT n : INT; END_VAR
+METHOD Run
+VAR{section} fbTwice : FB_Twice := (k := 5); END_VAR
+fbTwice();
+n := fbTwice.d;
+END_METHOD
+END_FUNCTION_BLOCK"""
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:9: fbTwice : FB_Twice := \(\.\.\.\): a FUNCTION_BLOCK local of a method .*not supported \(declare it in the block's VAR or the METHOD's VAR_INST\)"):
+        st.load(source.format(section=""))
+    fb = st.load(source.format(section="_INST")).FB_Host()
+    fb.Run()
+    assert fb.n == 10
+
+
+@pytest.mark.parametrize("member", ["fbTwice : FB_Twice := (k := 5);", "tDelay : TON := (PT := T#1S);"])
+def test_a_block_member_of_a_struct_with_an_initialiser_is_refused_at_load(member: str) -> None:
+    # it loaded with the block's own values (k 0, PT 0), the initialiser silently left out
+    with pytest.raises(st.StUnsupportedError, match=r"<st>:5: STRUCT member \w+ : \w+ := \(\.\.\.\): a FUNCTION_BLOCK member of a STRUCT with an initialiser is not supported"):
+        st.load(f"""FUNCTION_BLOCK FB_Twice
+VAR_INPUT k : INT; END_VAR
+END_FUNCTION_BLOCK
+TYPE ST_Holder : STRUCT
+{member}
+nPlain : INT := 3;
+END_STRUCT END_TYPE""")
+    plc = st.load("""TYPE ST_Plain : STRUCT tDelay : TON; nPlain : INT := 3; END_STRUCT END_TYPE
+FUNCTION_BLOCK FB_Use
+VAR_OUTPUT n : INT; END_VAR
+VAR s : ST_Plain; END_VAR
+n := s.nPlain + TIME_TO_INT(s.tDelay.PT);
+END_FUNCTION_BLOCK""")
+    fb = plc.FB_Use()
+    fb()
+    assert fb.n == 3
