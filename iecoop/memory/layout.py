@@ -261,6 +261,13 @@ class LayoutBuilder:
                                            and self.kind in ("FUNCTION_BLOCK", "PROGRAM")):
                 raise DefinitionError(f"{where}: instance_path= is for a STRING or WSTRING VAR of a FUNCTION_BLOCK or "
                                       f"PROGRAM (ST: {{attribute 'instance-path'}} above a local STRING), not {spec.section} {info.name}")
+            if self.kind in ("STRUCT", "UNION") and (isinstance(spec.initial, (dict, list, tuple)) or spec.fb_init) \
+                    and _holds_blocks(info):
+                raise DefinitionError(
+                    f"{where}: a FUNCTION_BLOCK member of a {self.kind} takes no inputs or fb_init= at its declaration "
+                    f"(iecoop applies neither to a block inside a STRUCT: they would be lost): set them in code, or make "
+                    f"{self.label} a FUNCTION_BLOCK"
+                )
             if spec.instance_path and spec.initial is not MISSING:
                 raise DefinitionError(f"{where}: an instance_path= STRING takes no initial value (the path is its value; ST: {{attribute 'noinit'}})")
             spec = _with_alias_initial(spec, info)
@@ -339,6 +346,12 @@ def check_unannotated(title: str, namespace: Mapping[str, Any], annotations: Map
                 f"{title}: {field} = {written} has no type, so it declares no variable; "
                 f"annotate it: {field}: {_suggested_type(value.initial)} = {written}"
             )
+
+
+def _holds_blocks(info: TypeInfo) -> bool:
+    """A function block, or an ARRAY of them."""
+    element = info.elem if isinstance(info, ArrayInfo) else info
+    return isinstance(element, AggregateInfo) and kind_of(element.cls) is Kind.FUNCTION_BLOCK
 
 
 def build_layout(

@@ -732,3 +732,21 @@ def test_a_pointer_to_a_reference_is_refused_at_definition() -> None:
     late = Late()
     with pytest.raises(DefinitionError, match=r"Late\.p: POINTER TO REFERENCE is not allowed"):
         late.p.deref
+
+
+def test_a_block_member_of_a_struct_with_declared_inputs_is_refused_not_left_at_its_defaults() -> None:
+    from iecoop import ARRAY, INT, FunctionBlock, Struct, VAR, VAR_INPUT
+
+    class FB_Gain(FunctionBlock):
+        k: INT = VAR_INPUT(1)
+
+    class ST_Plain(Struct):
+        gain: FB_Gain = VAR()
+
+    assert ST_Plain().gain.k == 1  # without inputs it is the block's own initial values
+    for spec in (VAR({"k": 5}), VAR(fb_init={"k": 5})):
+        with pytest.raises(DefinitionError, match=r"ST_Gains\.gain: a FUNCTION_BLOCK member of a STRUCT takes no inputs "
+                                                  r"or fb_init= at its declaration .* make ST_Gains a FUNCTION_BLOCK"):
+            type("ST_Gains", (Struct,), {"__annotations__": {"gain": FB_Gain}, "gain": spec})
+    with pytest.raises(DefinitionError, match=r"ST_Row\.gains: a FUNCTION_BLOCK member of a STRUCT"):
+        type("ST_Row", (Struct,), {"__annotations__": {"gains": ARRAY[FB_Gain]}, "gains": VAR([{"k": 2}], bounds=(1, 2))})
