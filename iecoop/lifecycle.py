@@ -49,7 +49,7 @@ from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
 from iecoop.metadata import Kind, iec_class, kind_of, layout_of, st_name
 
-__all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "reinitialise"]
+__all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "project_of", "reinitialise"]
 
 _T = TypeVar("_T")
 
@@ -217,16 +217,22 @@ def _path_plan(cls: type) -> _PathPlan:
 
 
 def _root_path(cls: type) -> str | None:
-    """``<project>.MAIN`` of a PROGRAM or GVL, the start of its members' instance paths; None for any other instance.
-
-    The project is the one the class was loaded from (the ``.plcproj``'s name), or the top package of a Python module.
-    """
+    """``<project>.MAIN`` of a PROGRAM or GVL, the start of its members' instance paths; None for any other instance."""
     if kind_of(cls) not in (Kind.PROGRAM, Kind.GVL):
         return None
-    module = sys.modules.get(cls.__module__)
-    project = getattr(module, "__st_project__", None) if hasattr(module, "__st_project__") else cls.__module__.split(".")[0]
-    name = st_name(cls)
-    return f"{project}.{name}" if project and project != "__main__" else name
+    project, name = project_of(cls.__module__), st_name(cls)
+    return f"{project}.{name}" if project else name
+
+
+def project_of(module: str) -> str:
+    """The project the code of ``module`` belongs to, as TwinCAT's ``_AppInfo.ProjectName`` and instance paths name it:
+    the ``.plcproj``'s (folder's, file's) name of code loaded from ST, else the module's top package; "" for
+    ST given as text and for ``__main__``."""
+    found = sys.modules.get(module)
+    if hasattr(found, "__st_project__"):
+        return str(getattr(found, "__st_project__") or "")
+    top = module.split(".")[0]
+    return "" if top == "__main__" else top
 
 
 def finalise(obj: Any, *, in_copy_code: bool, static_type: type | None = None) -> None:

@@ -43,6 +43,7 @@ from iecoop.declarations import VAR, VAR_INPUT, VAR_OUTPUT
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries import known
 from iecoop.libraries._printf import Arg, FormatError, render
+from iecoop.lifecycle import project_of
 from iecoop.memory import Alias, IecEnum, Pointer, Struct, memcmp, memcpy, memset
 from iecoop.pou import FunctionBlock
 from iecoop.runtime import current_task
@@ -361,6 +362,22 @@ def task_info_at(index: int) -> Any:
         raise PlcException(ExceptionCode.RTSEXCPT_ARRAYBOUNDS,
                            f"_TaskInfo[{index}]: iecoop knows the running task's information only (its index is {own})")
     return current_task()
+
+
+@dataclasses.dataclass(frozen=True)
+class AppInfo:
+    """What iecoop's virtual PLC reports of TwinCAT's ``_AppInfo`` (``PlcAppSystemInfo``): the project's name,
+    the application's and its ADS port, as a TwinCAT 3 PLC's first application (port 851) has them."""
+
+    ProjectName: str
+    AppName: str = "Port_851"
+    AdsPort: int = 851
+
+
+def app_info(module: str) -> AppInfo:
+    """``TwinCAT_SystemInfoVarList._AppInfo`` as the code of ``module`` reads it (its ProjectName: the project the
+    code was loaded from, as instance paths start with it)."""
+    return AppInfo(project_of(module))
 
 
 class GETCURTASKINDEX(FunctionBlock):

@@ -187,6 +187,8 @@ TASK_INFO_MEMBERS: Final = {
     "CycleTime": "UDINT", "CycleCount": "UDINT", "LastExecTime": "UDINT", "Priority": "UINT",
     "FirstCycle": "BOOL", "CycleTimeExceeded": "BOOL", "TaskName": "STRING",
 }
+#: The members of TwinCAT's PlcAppSystemInfo (``_AppInfo``) that iecoop's AppInfo has, and their ST types.
+APP_INFO_MEMBERS: Final = {"ProjectName": "STRING", "AppName": "STRING", "AdsPort": "UINT"}
 #: The members of ``__SYSTEM.VAR_INFO`` (iecoop's VarInfo) and their ST types; TypeClass compares with TYPE_CLASS values.
 VAR_INFO_MEMBERS: Final = {
     "Symbol": "STRING", "ByteAddress": "ULINT", "ByteOffset": "UDINT", "Area": "DINT", "BitNr": "UINT",

@@ -218,3 +218,58 @@ def test_a_python_block_exports_its_instance_path_as_the_plc_declares_it(tmp_pat
     folder.mkdir()
     (folder / "note.st").write_text(text)
     assert st.load(folder).MAIN.fbNote.sWhere == "NoteCell.MAIN.fbNote"  # read back: the path again
+
+
+APP_SOURCE = """\
+{attribute 'reflection'}
+FUNCTION_BLOCK FB_Suite
+VAR
+    {attribute 'instance-path'}
+    {attribute 'noinit'}
+    sPath : STRING(255);
+END_VAR
+END_FUNCTION_BLOCK
+
+PROGRAM MAIN
+VAR
+    fbSuite : FB_Suite;
+    sProject : STRING;
+    sApp : STRING;
+    nPort : UINT;
+    nAt : INT;
+    sShort : STRING;
+END_VAR
+sProject := TwinCAT_SystemInfoVarList._AppInfo.ProjectName;
+sApp := _AppInfo.AppName;
+nPort := _AppInfo.AdsPort;
+// a test suite's name: its instance path without the project's name and the dot after it
+nAt := FIND(fbSuite.sPath, CONCAT(sProject, '.'));
+sShort := DELETE(fbSuite.sPath, LEN(sProject) + 1, nAt);
+END_PROGRAM
+"""
+
+
+def test_app_info_names_the_project_instance_paths_start_with(tmp_path: pathlib.Path) -> None:
+    folder = tmp_path / "Conveyor"
+    folder.mkdir()
+    (folder / "main.st").write_text(APP_SOURCE)
+    plc = st.load(folder)
+    rt = Runtime(store=":memory:")
+    rt.add_task(Task("PlcTask", interval=10), plc.MAIN)
+    rt.run(cycles=2)
+    main = plc.MAIN
+    assert (main.sProject, main.sApp, main.nPort) == ("Conveyor", "Port_851", 851)
+    assert main.fbSuite.sPath == "Conveyor.MAIN.fbSuite" and main.nAt == 1 and main.sShort == "MAIN.fbSuite"
+
+
+@pytest.mark.parametrize(
+    ("line", "message"),
+    [
+        ("n := _AppInfo.OnlineChangeCnt;", r"_AppInfo\.OnlineChangeCnt: iecoop's AppInfo has ProjectName, AppName, AdsPort"),
+        ("_AppInfo.AdsPort := 852;", r"_AppInfo: assignment to AdsPort \(the PLC's application information is read-only\)"),
+    ],
+)
+def test_app_info_refuses_what_it_does_not_have_at_the_line(line: str, message: str) -> None:
+    source = f"PROGRAM MAIN\nVAR n : UDINT; END_VAR\n{line}\nEND_PROGRAM\n"
+    with pytest.raises(st.StUnsupportedError, match=rf"<st>:3: {message}"):
+        st.load(source)

@@ -9,15 +9,15 @@ from typing import Any
 import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
-from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, TASK_INFO_MEMBERS, VAR_INFO_MEMBERS
+from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, VAR_INFO_MEMBERS
 from iecoop.st.read.checks import checked_divisor, checked_indices
 from iecoop.st.read.dates import date_arithmetic
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.names import python_name
-from iecoop.st.read.literals import Literals
+from iecoop.st.read.system import SystemLists
 from iecoop.st.read.lookup import unknown_name
 from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
-from iecoop.st.read.trees import has_call, task_info_member, variables
+from iecoop.st.read.trees import has_call, system_list_entry, variables
 
 
 def _plain(type_: TypeRef | None) -> TypeRef | None:
@@ -25,7 +25,7 @@ def _plain(type_: TypeRef | None) -> TypeRef | None:
     return type_.deref() if type_ is not None else None
 
 
-class Expressions(Literals):
+class Expressions(SystemLists):
     """Reads ST expressions into ``Ex`` objects: Python code with its ST type."""
 
     def arguments(self, params: Sequence[Any], declared: Sequence[Member] | None, scope: Scope, node: Any) -> list[str]:
@@ -436,12 +436,10 @@ class Expressions(Literals):
         return Ex.attribute("super()", member.name, member.type)
 
     def visit_MultiElementVariable(self, node: tf.MultiElementVariable, scope: Scope, store: bool = False) -> Ex:
-        if str(node.name.name).lower() == "_taskinfo":
-            return self.task_info(list(node.elements), node, scope, store)
+        system = system_list_entry(node)  # TwinCAT_SystemInfoVarList's _TaskInfo and _AppInfo
+        if system is not None:
+            return self.task_info(system[1], node, scope, store) if system[0] == "_taskinfo" else self.app_info(system[1], node, store)
         first = node.elements[0] if node.elements else None
-        if str(node.name.name).lower() == "twincat_systeminfovarlist" and isinstance(first, tf.FieldSelector) \
-                and str(first.field).lower() == "_taskinfo":  # the system list's name written out
-            return self.task_info(list(node.elements[1:]), node, scope, store)
         current = self._head(node, first, scope)
         elements = list(node.elements)
         for index, element in enumerate(elements):
@@ -498,20 +496,6 @@ class Expressions(Literals):
             if isinstance(first, tf.FieldSelector) and str(node.name.name).lower() in self.decls.namespaces:
                 raise self.fail(unknown_name("name", f"{node.name.name}.{first.field}", self.decls), node) from None
             raise
-
-    def task_info(self, elements: list[Any], node: Any, scope: Scope, store: bool) -> Ex:
-        """``_TaskInfo[GETCURTASKINDEXEX()].CycleTime`` (TwinCAT's Tc2_System): the running task's ``current_task()``;
-        ``_TaskInfo[fbTask.index]`` checks at run time that the index is the running task's (``task_info_at``)."""
-        found = task_info_member(elements, store)
-        if isinstance(found, str):
-            raise self.fail(found, node)
-        member, index, running = found
-        type_ = STRING if member == "TaskName" else TypeRef("elem", TASK_INFO_MEMBERS[member])
-        if running:
-            self.need("iecoop.runtime", "current_task")
-            return Ex(f"current_task().{member}", type_)
-        self.need("iecoop.libraries.tc2_system", "task_info_at")
-        return Ex(f"task_info_at({self.expr(index, scope).code}).{member}", type_)
 
     def bit_target(self, target: Any, scope: Scope) -> tuple[str, str] | None:
         if not isinstance(target, tf.MultiElementVariable) or not target.elements:

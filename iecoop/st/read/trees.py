@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import blark.transform as tf
 
-from iecoop.st.language import TASK_INFO_MEMBERS
+from iecoop.st.language import APP_INFO_MEMBERS, TASK_INFO_MEMBERS
 
 if TYPE_CHECKING:  # symbols imports this module
     from iecoop.st.read.table import Member
@@ -353,3 +353,25 @@ def task_info_member(elements: Sequence[Any], store: bool) -> tuple[str, Any, bo
     if store:
         return f"assignment to _TaskInfo[...].{member} (the PLC's task information is read-only)"
     return member, call, running
+
+
+def system_list_entry(node: tf.MultiElementVariable) -> tuple[str, list[Any]] | None:
+    """``("_taskinfo" | "_appinfo", the elements after it)`` of ``_TaskInfo[i].X`` / ``_AppInfo.X``, bare or written
+    with their list's name (``TwinCAT_SystemInfoVarList._AppInfo.ProjectName``); None for any other variable."""
+    name, elements = str(node.name.name).lower(), list(node.elements)
+    if name == "twincat_systeminfovarlist" and elements and isinstance(elements[0], tf.FieldSelector):
+        name, elements = str(elements[0].field).lower(), elements[1:]
+    return (name, elements) if name in ("_taskinfo", "_appinfo") else None
+
+
+def app_info_member(elements: Sequence[Any], store: bool) -> str:
+    """``_AppInfo.Member``'s member as AppInfo spells it; a refusal's message (it starts with ``_AppInfo``) for
+    another member or a store."""
+    field = elements[0].field if len(elements) == 1 and isinstance(elements[0], tf.FieldSelector) else None
+    name = str(field.name) if isinstance(field, tf.SimpleVariable) else str(field) if field is not None else ""
+    member = next((m for m in APP_INFO_MEMBERS if m.lower() == name.lower()), None)
+    if member is None:
+        return f"_AppInfo.{name}: iecoop's AppInfo has {', '.join(APP_INFO_MEMBERS)}"
+    if store:
+        return f"_AppInfo: assignment to {member} (the PLC's application information is read-only)"
+    return member
