@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.exceptions import ExceptionCode, PlcException
+from iecoop.libraries._cstrings import c_string, put_c_string
 from iecoop.libraries._printf import Arg, FormatError, render
 from iecoop.libraries.tc2_system import (
     DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
@@ -757,60 +758,32 @@ class FB_LocalSystemTime(FunctionBlock):  # noqa: N801 - the ST name
 _HEADER = 4  # each entry is stored as its UDINT byte length, then its bytes
 
 
-#: How far FindAndReplace reads a source string looking for its end (Tc2_Utilities' Parameterlist.cMaxCharacters).
-MAX_CHARACTERS = 2048
-
-
-def _c_string(pointer: Pointer[Any], what: str, function: str = "FindAndReplace", width: int = 1) -> bytes:
-    """The STRING (``width`` 1) or WSTRING (2) at ``pointer``, read to its terminating 0 (at most MAX_CHARACTERS
-    characters), whatever its declared length: its bytes, the terminator left out."""
-    if not pointer:
-        raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, f"{function}: {what} is a null pointer")
-    data = bytearray()
-    at = pointer.typed(BYTE if width == 1 else WORD)
-    while len(data) < MAX_CHARACTERS * width:
-        value = (at + len(data)).deref
-        if value == 0:
-            break
-        data += value.to_bytes(width, "little")
-    return bytes(data)
-
-
-def _put_c_string(pointer: Pointer[Any], data: bytes, size: int, width: int) -> bool:
-    """``data`` written at ``pointer`` into ``size`` bytes, cut to whole characters and a 0 after them; all of it?"""
-    room = max(0, (int(size) - width) // width * width)
-    target = pointer.typed(BYTE)
-    for index, value in enumerate(data[:room] + b"\x00" * width):
-        (target + index).deref = value
-    return len(data) <= room
-
-
 def LEN2(pSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
     """``LEN2(pSTRING)``: the number of characters of the STRING at pSTRING, counted to its 0 (any length)."""
-    return len(_c_string(pSTRING, "pSTRING", "LEN2"))
+    return len(c_string(pSTRING, "pSTRING", "LEN2"))
 
 
 def WLEN2(pWSTRING: Pointer[Any]) -> UDINT:  # noqa: N802, N803 - the ST names
     """``WLEN2(pWSTRING)``: the number of characters of the WSTRING at pWSTRING, counted to its 0."""
-    return len(_c_string(pWSTRING, "pWSTRING", "WLEN2", 2)) // 2
+    return len(c_string(pWSTRING, "pWSTRING", "WLEN2", 2)) // 2
 
 
 def WSTRING_TO_STRING2(pDstString: Pointer[Any], pSrcWString: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
     """``WSTRING_TO_STRING2(pDstString, pSrcWString, nDstSize)``: the WSTRING as a STRING into nDstSize bytes (its
     0 included); characters a STRING cannot hold are left out. FALSE when the result was cut to fit."""
-    text = _c_string(pSrcWString, "pSrcWString", "WSTRING_TO_STRING2", 2).decode("utf-16-le", errors="ignore")
+    text = c_string(pSrcWString, "pSrcWString", "WSTRING_TO_STRING2", 2).decode("utf-16-le", errors="ignore")
     if not pDstString:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "WSTRING_TO_STRING2: pDstString is a null pointer")
-    return _put_c_string(pDstString, text.encode("latin-1", errors="ignore"), nDstSize, 1)
+    return put_c_string(pDstString, text.encode("latin-1", errors="ignore"), nDstSize, 1)
 
 
 def STRING_TO_WSTRING2(pDstWSTRING: Pointer[Any], pSrcSTRING: Pointer[Any], nDstSize: UDINT) -> BOOL:  # noqa: N802, N803
     """``STRING_TO_WSTRING2(pDstWSTRING, pSrcSTRING, nDstSize)``: the STRING as a WSTRING into nDstSize bytes (its
     0 included). FALSE when the result was cut to fit."""
-    text = _c_string(pSrcSTRING, "pSrcSTRING", "STRING_TO_WSTRING2").decode("latin-1")
+    text = c_string(pSrcSTRING, "pSrcSTRING", "STRING_TO_WSTRING2").decode("latin-1")
     if not pDstWSTRING:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "STRING_TO_WSTRING2: pDstWSTRING is a null pointer")
-    return _put_c_string(pDstWSTRING, text.encode("utf-16-le"), nDstSize, 2)
+    return put_c_string(pDstWSTRING, text.encode("utf-16-le"), nDstSize, 2)
 
 
 def FindAndReplace(  # noqa: N802 - the ST name
@@ -829,7 +802,7 @@ def FindAndReplace(  # noqa: N802 - the ST name
     size = nDstSize or cbDstString
     if find is None or insert is None or pDstString is None:
         raise PlcException(ExceptionCode.RTSEXCPT_ACCESS_VIOLATION, "FindAndReplace: a string pointer is missing")
-    source, old, new = _c_string(pSrcString, "pSrcString"), _c_string(find, "pDeleteString"), _c_string(insert, "pInsertString")
+    source, old, new = c_string(pSrcString, "pSrcString"), c_string(find, "pDeleteString"), c_string(insert, "pInsertString")
     count = source.count(old) if old else 0
     result = source.replace(old, new) if count else source
     result = result[: max(0, int(size) - 1)]
