@@ -32,6 +32,7 @@ False
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import inspect
 import itertools
 import sys
@@ -49,21 +50,61 @@ from iecoop.memory.layout import ClassLayout, FieldRecord
 from iecoop.members import caller_description
 from iecoop.metadata import Kind, iec_class, kind_of, layout_of, st_name
 
-__all__ = ["delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "project_of", "reinitialise"]
+__all__ = ["Child", "delete", "fb_children", "finalise", "heap_blocks", "initialise", "new", "project_of", "reinitialise"]
 
 _T = TypeVar("_T")
 
 _EMPTY: dict[str, Any] = {}
 
 
-def fb_children(layout: ClassLayout) -> Iterator[tuple[FieldRecord, Callable[[Any], list[Any]]]]:
-    """Nested function block members (and arrays of them), in declaration order."""
+@dataclasses.dataclass(frozen=True)
+class Child:
+    """The function block instances one member holds: itself, an ARRAY's elements, or those inside a STRUCT."""
+
+    record: FieldRecord
+    #: The instances, in declaration (and element) order.
+    members: Callable[[Any], list[Any]]
+    #: What each instance's path adds to its holder's: ``.fbAxis``, ``.aAxes[2]``, ``.stCell.fbTimer``.
+    labels: tuple[str, ...]
+    #: True for a member of the block itself, whose declaration may give inputs and FB_init values.
+    direct: bool
+    #: The block types the instances are of.
+    classes: tuple[type, ...]
+
+
+def fb_children(layout: ClassLayout) -> Iterator[Child]:
+    """Nested function block members (and ARRAYs of them, and those inside STRUCT members), in declaration order."""
     for record in layout.fields:
         info = record.info
-        if isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
-            yield record, _single(record.raw.__get__)
-        elif isinstance(info, ArrayInfo) and isinstance(info.elem, AggregateInfo) and kind_of(info.elem.cls) is Kind.FUNCTION_BLOCK:
-            yield record, _elements(record.raw.__get__, info.ctype.__mro__[1].__getitem__, info.count)
+        get = record.raw.__get__
+        if isinstance(info, ArrayInfo):
+            raw_get, count = info.ctype.__mro__[1].__getitem__, info.count
+            ranges = [range(low, high + 1) for low, high in info.bounds]
+            labels = tuple(f".{record.st_name}[{', '.join(map(str, index))}]" for index in itertools.product(*ranges))
+            element = info.elem
+            if isinstance(element, AggregateInfo) and kind_of(element.cls) is Kind.FUNCTION_BLOCK:
+                yield Child(record, _elements(get, raw_get, count), labels, True, (element.cls,))
+            elif isinstance(element, AggregateInfo) and (inside := _inside(element.cls)):
+                # element by element, as declared: aBays[1].stStation.fbPart, aBays[1].aSpares[1], ... aBays[2]...
+                yield Child(record, _through(_elements(get, raw_get, count), _all(inside)),
+                            tuple(outer + label for outer in labels for inner in inside for label in inner.labels),
+                            False, tuple({cls: None for inner in inside for cls in inner.classes}))
+        elif isinstance(info, AggregateInfo) and kind_of(info.cls) is Kind.FUNCTION_BLOCK:
+            yield Child(record, _single(get), (f".{record.st_name}",), True, (info.cls,))
+        elif isinstance(info, AggregateInfo):
+            for inner in _inside(info.cls):
+                yield Child(record, _through(_single(get), inner.members),
+                            tuple(f".{record.st_name}{label}" for label in inner.labels), False, inner.classes)
+
+
+def _inside(cls: type) -> list[Child]:
+    """The blocks a STRUCT (or UNION) holds, found once per type: FB_init runs for them as for a block's members."""
+    found: list[Child] | None = cls.__dict__.get("_iec_struct_children_")
+    if found is None:
+        layout = layout_of(cls)
+        found = [] if layout is None or kind_of(cls) is not Kind.STRUCT else list(fb_children(layout))
+        setattr(cls, "_iec_struct_children_", found)
+    return found
 
 
 def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
@@ -72,6 +113,16 @@ def _single(get: Callable[[Any], Any]) -> Callable[[Any], list[Any]]:
 
 def _elements(get: Callable[[Any], Any], raw_get: Callable[[Any, int], Any], count: int) -> Callable[[Any], list[Any]]:
     return lambda obj: [raw_get(get(obj), i) for i in range(count)]
+
+
+def _all(children: list[Child]) -> Callable[[Any], list[Any]]:
+    return lambda holder: [child for inner in children for child in inner.members(holder)]
+
+
+def _through(holders: Callable[[Any], list[Any]], members: Callable[[Any], list[Any]]) -> Callable[[Any], list[Any]]:
+    return lambda obj: [child for holder in holders(obj) for child in members(holder)]
+
+
 #: Instances created by new(): kept alive until delete(), as a PLC heap block is.
 _heap: dict[int, Any] = {}
 #: Instances whose FB_exit is running inside delete(): deleting one again only clears the pointer.
@@ -133,17 +184,18 @@ def _init_tree(
     obj: Any, init_retains: bool, in_copy_code: bool, args: dict[str, Any], declared: dict[str, Any] | None
 ) -> None:
     cls = type(obj)
-    for record, members in cls._iec_children_:
-        spec = record.spec
-        initial = spec.initial
-        for index, child in enumerate(members(obj)):
+    for found in cls._iec_children_:
+        # a block inside a STRUCT takes no declared inputs or FB_init values (refused at the STRUCT's definition)
+        spec = found.record.spec if found.direct else None
+        initial = spec.initial if spec is not None else None
+        for index, child in enumerate(found.members(obj)):
             # ARRAY OF FB: one initialiser per element, (in := x) applied after its FB_init like a single member's.
             if isinstance(initial, (list, tuple)):
                 item = initial[index] if index < len(initial) else None
                 member_inputs = item if isinstance(item, dict) else None
             else:
                 member_inputs = initial if isinstance(initial, dict) else None
-            fb_init = spec.fb_init
+            fb_init = spec.fb_init if spec is not None else None
             if isinstance(fb_init, list):  # one entry per ARRAY element (ST: aAxes : ARRAY[1..2] OF FB_Axis[(n := 1), (n := 2)])
                 fb_init = fb_init[index] if index < len(fb_init) else None
             _init_tree(child, init_retains, in_copy_code, fb_init or _EMPTY, member_inputs)
@@ -183,29 +235,20 @@ class _PathPlan:
         self.owner = cls
         layout = layout_of(cls)
         self.own = tuple(record for record in layout.fields if record.spec.instance_path) if layout is not None else ()
-        #: (ST name, the member instances of an object, the index written after the name of each)
-        self.members: list[tuple[str, Callable[[Any], list[Any]], list[str]]] = []
-        for record, members in getattr(cls, "_iec_children_", ()):
-            info = record.info
-            element = info.elem if isinstance(info, ArrayInfo) else info
-            plan = _path_plan(typing.cast(AggregateInfo, element).cls)
-            if not (plan.own or plan.members):
-                continue
-            if isinstance(info, ArrayInfo):
-                ranges = [range(low, high + 1) for low, high in info.bounds]
-                labels = [f"[{', '.join(map(str, index))}]" for index in itertools.product(*ranges)]
-            else:
-                labels = [""]
-            self.members.append((record.st_name, members, labels))
+        #: the member instances of an object, what each adds to the path
+        self.members: list[tuple[Callable[[Any], list[Any]], tuple[str, ...]]] = []
+        for found in getattr(cls, "_iec_children_", ()):
+            if any(plan.own or plan.members for plan in map(_path_plan, found.classes)):
+                self.members.append((found.members, found.labels))
 
     def fill(self, obj: Any, path: str) -> None:
         for record in self.own:
             # into memory, as initialisation writes (the block's own write rules are for code); a STRING(n)
             # keeps the path's first n characters, as any store does
             typing.cast(StringInfo, record.info).store(obj, record.offset, path, record.where)
-        for name, members, labels in self.members:
+        for members, labels in self.members:
             for child, label in zip(members(obj), labels):
-                _path_plan(type(child)).fill(child, f"{path}.{name}{label}")
+                _path_plan(type(child)).fill(child, path + label)
 
 
 def _path_plan(cls: type) -> _PathPlan:
@@ -244,15 +287,15 @@ def finalise(obj: Any, *, in_copy_code: bool, static_type: type | None = None) -
     cls = static_type or type(obj)
     for fb_exit in _plan(cls).exit_chain:
         fb_exit(obj, in_copy_code)
-    for _record, members in reversed(type(obj)._iec_children_):
-        for child in reversed(members(obj)):
+    for found in reversed(type(obj)._iec_children_):
+        for child in reversed(found.members(obj)):
             finalise(child, in_copy_code=in_copy_code)
 
 
 def reinitialise(obj: Any) -> None:
     """FB_reinit after an online-change copy: members first, then the most derived FB_reinit."""
-    for _record, members in type(obj)._iec_children_:
-        for child in members(obj):
+    for found in type(obj)._iec_children_:
+        for child in found.members(obj):
             reinitialise(child)
     reinit = getattr(type(obj), "fb_reinit", None)
     if reinit is not None:

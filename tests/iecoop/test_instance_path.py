@@ -87,6 +87,27 @@ def test_the_path_is_a_variable_the_block_writes_and_a_reset_sets_again() -> Non
     assert main.fbStation.fbLog.sPath == path and main.fbStation.fbLog.nCalls == 0
 
 
+class ST_Slot(Struct):
+    nId: INT = VAR(0)
+    fbLog: FB_Log = VAR()
+
+
+class ST_Rack(Struct):
+    aSlots: ARRAY[ST_Slot] = VAR(bounds=(1, 2))
+
+
+class RACKS(Program):
+    stRack: ST_Rack = VAR()
+    aRacks: ARRAY[ST_Rack] = VAR(bounds=(0, 1))
+
+
+def test_a_block_inside_a_struct_holds_its_path_through_the_struct() -> None:
+    racks = RACKS()
+    project = __name__.split(".")[0]
+    assert racks.stRack.aSlots[2].fbLog.sPath == f"{project}.RACKS.stRack.aSlots[2].fbLog"
+    assert racks.aRacks[1].aSlots[1].fbLog.sAtInit == f"{project}.RACKS.aRacks[1].aSlots[1].fbLog"
+
+
 def test_a_block_of_no_program_or_gvl_has_an_empty_path() -> None:
     assert FB_Log().sPath == "" and FB_Station().fbLog.sPath == ""
     pointer = new(FB_Log)

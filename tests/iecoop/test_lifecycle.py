@@ -323,6 +323,76 @@ def test_an_instance_is_usable_with_the_values_fb_init_set() -> None:
     assert counter.count == 88
 
 
+class Tagged(FunctionBlock):
+    """A block that numbers itself in FB_init, so each instance shows in the log."""
+
+    counter = [0]
+    tag: INT = VAR_OUTPUT(0)
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
+        Tagged.counter[0] += 1
+        self.tag = Tagged.counter[0]
+        log.append(("Tagged.fb_init", self.tag))
+        return True
+
+    @call_after_init
+    def ready(self) -> None:
+        log.append(("Tagged.after_init", self.tag))
+
+    def fb_exit(self, in_copy_code: BOOL) -> BOOL:
+        log.append(("Tagged.fb_exit", self.tag))
+        return True
+
+    def fb_reinit(self) -> BOOL:
+        log.append(("Tagged.fb_reinit", self.tag))
+        return True
+
+
+class Station(Struct):
+    """ST: STRUCT nId : INT; fbPart : FB_Part; END_STRUCT: a block inside a STRUCT."""
+
+    ident: INT = VAR(5)
+    part: Tagged = VAR()
+
+
+class Bay(Struct):
+    """A STRUCT holding a STRUCT that holds a block, and an ARRAY of blocks."""
+
+    station: Station = VAR()
+    spares: ARRAY[Tagged] = VAR(bounds=(1, 2))
+
+
+class Cell(FunctionBlock):
+    bays: ARRAY[Bay] = VAR(bounds=(1, 2))
+    station: Station = VAR()
+
+    def fb_init(self, init_retains: BOOL, in_copy_code: BOOL) -> BOOL:
+        log.append(("Cell.fb_init", self.station.part.tag, self.bays[2].spares[2].tag))
+        return True
+
+
+def test_blocks_inside_struct_members_get_fb_init_first_in_declaration_order() -> None:
+    Tagged.counter[0] = 0
+    cell = Cell()
+    # each block's FB_init ran once, in declaration order through the STRUCTs and ARRAYs, before the holder's
+    assert log == [entry for tag in range(1, 8) for entry in (("Tagged.fb_init", tag), ("Tagged.after_init", tag))] + [
+        ("Cell.fb_init", 7, 6)
+    ]
+    assert (cell.bays[1].station.part.tag, cell.bays[1].spares[1].tag, cell.bays[2].spares[2].tag) == (1, 2, 6)
+    assert cell.station.ident == 5 and cell.bays[2].station.ident == 5
+
+
+def test_blocks_inside_struct_members_get_fb_exit_in_reverse_and_fb_reinit() -> None:
+    Tagged.counter[0] = 0
+    cell = Cell()
+    log.clear()
+    finalise(cell, in_copy_code=False)
+    assert log == [("Tagged.fb_exit", tag) for tag in range(7, 0, -1)]
+    log.clear()
+    reinitialise(cell)
+    assert log == [("Tagged.fb_reinit", tag) for tag in range(1, 8)]
+
+
 # ---------------------------------------------------------------------------
 # FB_exit and FB_reinit
 # ---------------------------------------------------------------------------

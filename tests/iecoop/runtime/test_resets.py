@@ -263,14 +263,9 @@ def _instance_paths(block: Any, path: str, into: dict[int, str], *, root: bool =
     """
     if root:
         into[ctypes.addressof(block)] = path
-    for record, members in type(block)._iec_children_:
-        children = members(block)
-        value = getattr(block, record.name)
-        if hasattr(value, "low"):
-            for index, child in zip(range(value.low, value.high + 1), children):
-                _instance_paths(child, f"{path}.{record.name}[{index}]", into)
-        else:
-            _instance_paths(children[0], f"{path}.{record.name}", into)
+    for found in type(block)._iec_children_:
+        for child, label in zip(found.members(block), found.labels):
+            _instance_paths(child, path + label, into)
     return into
 
 

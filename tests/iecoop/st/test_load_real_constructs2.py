@@ -475,3 +475,43 @@ END_FUNCTION""")
 def test_a_pack_mode_twincat_does_not_know_is_refused() -> None:
     with pytest.raises(DefinitionError, match=r"<st>:2: \{attribute 'pack_mode' := '3'\}: pack_mode is 0, 1, 2, 4 or 8"):
         st.load("{attribute 'pack_mode' := '3'}\nTYPE ST_X : STRUCT a : BYTE; END_STRUCT END_TYPE\n")
+
+
+# --- a block inside a STRUCT gets its FB_init, as every instance on the PLC does --------------------
+
+STRUCT_BLOCKS = """TYPE ST_Channel :
+STRUCT
+    nId : INT := 4;
+    fbFilter : FB_Filter;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK FB_Filter
+VAR_INPUT rIn : REAL; END_VAR
+VAR_OUTPUT rOut : REAL; nInits : INT; END_VAR
+VAR rFactor : REAL; END_VAR
+METHOD FB_init : BOOL
+VAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR
+rFactor := 0.5;
+nInits := nInits + 1;
+END_METHOD
+rOut := rOut + (rIn - rOut) * rFactor;
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR
+    stChannel : ST_Channel;
+    aChannels : ARRAY[1..2] OF ST_Channel;
+END_VAR
+stChannel.fbFilter(rIn := 8.0);
+aChannels[2].fbFilter(rIn := 4.0);
+END_PROGRAM
+"""
+
+
+def test_a_block_inside_a_struct_runs_with_what_its_fb_init_set() -> None:
+    main = st.load(STRUCT_BLOCKS).MAIN
+    for expected in (4.0, 6.0, 7.0):
+        main()
+        assert main.stChannel.fbFilter.rOut == expected  # rFactor 0.5 from FB_init: without it the filter stays at 0
+    assert main.aChannels[2].fbFilter.rOut == 3.5 and main.aChannels[1].fbFilter.rOut == 0.0
+    assert [main.stChannel.fbFilter.nInits, *(channel.fbFilter.nInits for channel in main.aChannels)] == [1, 1, 1]
+    assert main.stChannel.nId == 4
