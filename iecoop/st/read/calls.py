@@ -55,7 +55,8 @@ class Calls(Expressions):
         if match is not None and match.type is not None and match.type.kind == "any":
             return self.generic_argument(param.value, match, scope)
         expected = match.type if match is not None else None
-        return self.limit(expected, self.coerce(self.expr(param.value, scope), expected)).code
+        into = f"input {match.st}" if match is not None else None
+        return self.limit(expected, self.coerce(self.expr(param.value, scope), expected, into)).code
 
     def check_argument_order(self, params: Sequence[Any], node: Any, declared: Sequence[Member] | None) -> None:
         """A positional argument after a named one takes the parameter of its place, as TwinCAT binds it (TcUnit's
@@ -159,7 +160,8 @@ class Calls(Expressions):
         value = self.expr(param.value, scope)
         expected = match.type if match is not None else None
         # A subrange input is held to its limits at the call, as a store into it is (CheckRange).
-        return f"{match.name if match else python_name(name)}={self.limit(expected, self.coerce(value, expected)).code}"
+        stored = self.coerce(value, expected, f"input {name}")
+        return f"{match.name if match else python_name(name)}={self.limit(expected, stored).code}"
 
     def by_reference_argument(self, value: Any, scope: Scope, arrow: str) -> str:
         """The caller's variable an output (``=>``) or an in-out (``:=``) of a METHOD / FUNCTION is bound to."""
@@ -252,7 +254,7 @@ class Calls(Expressions):
             if member.section == "VAR_IN_OUT":
                 value = self.address_of(param.value, scope)
             else:
-                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type)).code
+                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type, f"input {member.st}")).code
             inputs.append(f"{member.name}={value}")
         code = f"{callee.code}({', '.join(inputs)})"
         if outputs:

@@ -10,6 +10,7 @@ import blark.transform as tf
 
 from iecoop.exceptions import DefinitionError
 from iecoop.st.language import COMPARISONS, INTEGER_LAYOUT, VAR_INFO_MEMBERS
+from iecoop.st.read.assignable import comparison_mismatch, store_mismatch
 from iecoop.st.read.checks import checked_divisor, checked_indices
 from iecoop.st.read.dates import date_arithmetic
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
@@ -147,14 +148,15 @@ class Expressions(SystemLists):
         result: Ex = handler(node, scope) if not store else handler(node, scope, store=True) if type(node).__name__ in ("SimpleVariable", "MultiElementVariable") else handler(node, scope)
         return result
 
-    def coerce(self, value: Ex, type_: TypeRef | None) -> Ex:
+    def coerce(self, value: Ex, type_: TypeRef | None, into: str | None = None) -> Ex:
+        """``value`` as stored in a ``type_`` (``into`` names the variable or input, for the refusal's message)."""
         if type_ is not None and type_.kind == "pointer" and value.this == "THIS":
             # THIS is a POINTER TO the block: stored in a pointer (pSelf := THIS) it is the instance's address
             self.need("iecoop", "adr")
             value = Ex("adr(self)", TypeRef("pointer", "POINTER_TO", of=value.type) if value.type is not None else type_)
         if type_ is not None and type_.is_bool and type(value.constant) is int and value.constant in (0, 1):
             return Ex(str(bool(value.constant)), type_, constant=bool(value.constant))  # BOOL := 0 / 1, as TwinCAT reads it
-        self._refuse_number_in(type_, value)
+        self._refuse_mismatch(type_, value, into)
         if type_ is not None and type_.is_real and isinstance(value.constant, int):
             return Ex(f"{value.code}.0", type_, constant=float(value.constant))
         if type_ is not None and type_.kind == "pointer" and type_.of is not None and value.type is not None \
@@ -163,9 +165,12 @@ class Expressions(SystemLists):
             return Ex(f"{value.p()}.typed({type_.of.annotation()})", type_)  # ST converts pointers implicitly: the same address
         return value
 
-    def _refuse_number_in(self, type_: TypeRef | None, value: Ex) -> None:
-        """A number stored in a STRING or BOOL is refused where a compiler refuses it, not when a cycle stores it
-        (a TypeError there, RTSEXCPT_UNKNOWN)."""
+    def _refuse_mismatch(self, type_: TypeRef | None, value: Ex, into: str | None) -> None:
+        """A value ST does not convert implicitly (a number stored in a STRING or BOOL, a STRING in an INT...) is
+        refused where a compiler refuses it, not when a cycle stores it (a TypeError there, RTSEXCPT_UNKNOWN)."""
+        why = store_mismatch(type_, value.type, self.decl_of) if value.constant is None else None
+        if why is not None:
+            raise self.fail(f"{into}: {why}" if into else why)
         target = type_.deref() if type_ is not None else None
         if target is not None and type(value.constant) in (int, float) and (target.is_string or target.is_bool):
             raise self.fail(f"the number {value.code} cannot be stored in a {target.name} "
@@ -211,6 +216,9 @@ class Expressions(SystemLists):
             if isinstance(other.constant, int) and other.constant == 0 and side.type is not None and self._is_handle(side.type):
                 self.need("iecoop", "NULL")
                 return Ex(f"{side.p()} {py} NULL", BOOL, True)
+        why = comparison_mismatch(left.type, right.type, self.decl_of)
+        if why is not None:
+            raise self.fail(why)
         level = PRECEDENCE["compare"]  # both sides wrapped when they compare too: Python would chain them
         return Ex(f"{left.wrap(level + 1)} {py} {right.wrap(level + 1)}", BOOL, True, level)
 

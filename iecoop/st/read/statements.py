@@ -8,6 +8,7 @@ from typing import Any
 
 import blark.transform as tf
 
+from iecoop.st.read.assignable import store_mismatch
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
@@ -104,7 +105,7 @@ class Statements(Calls):
         if lhs.super_property:  # SUPER^.Prop := value: Python's super() refuses attribute writes
             assert lhs.place is not None  # made by Ex.attribute("super()", name)
             name = lhs.place[1]
-            self.emit(f'super_set(super(), "{name}", {self.store_value(lhs.type, value, False)})', level)
+            self.emit(f'super_set(super(), "{name}", {self.store_value(lhs.type, value, False, str(target))})', level)
             return
         local = self.local_of(target, scope)
         if local is not None and local.section == "CONSTANT":
@@ -116,13 +117,17 @@ class Statements(Calls):
             # a Python local names a view: ST's assignment of a STRUCT, ARRAY or block copies the value
             self.need("copy", "copy")
             value = Ex(f"copy({value.code})", value.type)
-        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, local is not None and not by_reference and local.section != 'STAT')}", level)
+        is_local = local is not None and not by_reference and local.section != "STAT"
+        self.emit(f"{lhs.code} = {self.store_value(lhs.type, value, is_local, str(target))}", level)
 
-    def store_value(self, target: TypeRef | None, value: Ex, is_local: bool) -> str:
+    def store_value(self, target: TypeRef | None, value: Ex, is_local: bool, into: str | None = None) -> str:
         """What to store: converted where ST converts implicitly, wrapped where a Python local would not."""
         if target is None:
             return value.code
         target = target.deref()
+        why = store_mismatch(target, value.type, self.decl_of) if value.constant is None else None
+        if why is not None:
+            raise self.fail(f"{into} := ...: {why}" if into else why)
         value = self.coerce(value, target) if target.is_bool or target.is_string else value  # b := 1; s := 5 is refused
         limited = self.limit(target, value)
         if limited is not value:

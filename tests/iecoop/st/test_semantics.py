@@ -260,6 +260,50 @@ def test_unsupported_forms_raise(source: str, construct: str) -> None:
         st.load(source)
 
 
+TYPES = """TYPE ST_Pos : STRUCT x : INT; END_STRUCT END_TYPE
+TYPE T_Name : STRING(40); END_TYPE
+FUNCTION F_Twice : INT
+VAR_INPUT n : INT; END_VAR
+F_Twice := n * 2;
+END_FUNCTION
+FUNCTION_BLOCK FB_Scale
+VAR_INPUT rIn : REAL; END_VAR
+VAR_OUTPUT sText : STRING; END_VAR
+END_FUNCTION_BLOCK
+"""
+
+
+@pytest.mark.parametrize("declarations, statement, message", [
+    ("s : STRING := '12'; n : INT;", "n := s;",
+     r"^<st>:15: n := \.\.\.: cannot convert type STRING to type INT \(ST converts no STRING implicitly: convert it with "
+     r"STRING_TO_INT or TO_INT\)"),
+    ("s : STRING; n : DINT := 3;", "s := n;", r"s := \.\.\.: cannot convert type DINT to type STRING \(.*DINT_TO_STRING"),
+    ("s : T_Name; r : LREAL;", "s := r;", r"cannot convert type LREAL to type STRING .*LREAL_TO_STRING"),  # an alias of STRING
+    ("s : STRING; t : TIME;", "s := t;", "cannot convert type TIME to type STRING"),
+    ("p : ST_Pos; n : INT;", "p := n;", r"p := \.\.\.: cannot convert type INT to type ST_Pos \(a STRUCT\)"),
+    ("p : ST_Pos; n : INT;", "n := p;", r"cannot convert type ST_Pos \(a STRUCT\) to type INT"),
+    ("a : ARRAY[0..2] OF INT; n : INT;", "a := n;", "cannot convert type INT to type ARRAY OF INT"),
+    ("fb : FB_Scale; n : INT;", "n := fb;", r"cannot convert type FB_Scale \(a FUNCTION_BLOCK\) to type INT"),
+    ("s : STRING := 'a'; n : INT;", "n := F_Twice(s);", r"input n: cannot convert type STRING to type INT"),
+    ("s : STRING := 'a'; n : INT;", "n := F_Twice(n := s);", r"input n: cannot convert type STRING to type INT"),
+    ("fb : FB_Scale; s : STRING := '1.5';", "fb(rIn := s);", r"input rIn: cannot convert type STRING to type REAL"),
+    ("fb : FB_Scale; n : INT;", "n := fb.sText;", "cannot convert type STRING to type INT"),
+    ("s : STRING; n : INT; b : BOOL;", "b := s = n;", r"cannot compare type STRING with type INT \(a STRING compares"),
+    ("s : STRING; t : TIME; b : BOOL;", "b := t < s;", "cannot compare type TIME with type STRING"),
+])
+def test_a_value_st_does_not_convert_implicitly_is_refused_at_its_line(declarations: str, statement: str, message: str) -> None:
+    with pytest.raises(st.StUnsupportedError, match=message):
+        st.load(TYPES + prog(declarations, statement))
+
+
+def test_what_st_converts_implicitly_loads_and_runs() -> None:
+    """Numbers into numbers, TIME and integers, aliases of STRING, STRING into STRING: converted as ST does."""
+    main = run(TYPES + prog(
+        "n : INT := 7; r : LREAL; t : TIME; d : DINT; s : STRING := 'ab'; name : T_Name; b : BOOL; p : ST_Pos; q : ST_Pos;",
+        "r := n; t := n; d := t; name := s; s := name; b := name = s; p.x := 3; q := p; n := F_Twice(d);"), 1)
+    assert (main.r, main.t, main.d, main.name, main.b, main.q.x, main.n) == (7.0, 7, 7, "ab", True, 3, 14)
+
+
 def test_generated_python_reads_as_the_rules() -> None:
     code = st.to_python(COUNTER + prog("fb : FB_Probe; a : BOOL; i : INT;",
                                        "a := a AND fb.Hit(TRUE); a := a AND_THEN fb.Hit(TRUE); a := a AND TRUE; "
