@@ -103,10 +103,10 @@ def _st(unit: Any, text: str | None) -> Iterable[Source]:
         if not isinstance(start, int) or not isinstance(end, int):
             continue
         if type(item).__name__ in _MEMBER_NODES and spans:
-            spans[-1][2] = end
+            spans[-1][2] = max(spans[-1][2], end)  # a METHOD written inside its FUNCTION_BLOCK ends before the block
         else:
             spans.append([object_name(item), previous_end + 1, end])
-        previous_end = end
+        previous_end = max(previous_end, end)
     found = []
     for name, first, last in spans:
         if name is not None:

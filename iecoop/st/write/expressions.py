@@ -18,7 +18,7 @@ from typing import Any
 
 from iecoop.metadata import kind_of
 from iecoop.exceptions import ExceptionCode
-from iecoop.literals import D, T, format_date, format_ltime, format_time, parse_ltime
+from iecoop.literals import D, T, format_date, format_dt, format_ltime, format_time, format_tod, parse_dt, parse_ltime, parse_tod
 from iecoop.parameters import parameter_sections
 from iecoop.memory.typeinfo import (
     AggregateInfo,
@@ -49,7 +49,7 @@ from iecoop.st.write.infer import (
     _member_function,
 )
 from iecoop.st.language import BUILTIN_FUNCTIONS, ELEMENTARY, INTEGER_TYPES, MATH_BY_PYTHON, OPERATOR_FUNCTIONS, PRECEDENCE
-from iecoop.st.write.model import StExportError, ident, type_text
+from iecoop.st.write.model import StExportError, field_ident, ident, type_text
 
 __all__ = ["ExpressionWriter", "literal"]
 
@@ -385,7 +385,7 @@ class ExpressionWriter(Inference):
             return self.module_constant(node, value)
         if isinstance(value, type):
             return value.__name__
-        if kind_of(type(value)) == "gvl":
+        if kind_of(type(value)) in ("gvl", "program"):  # a PROGRAM is named as its instance is: MAIN.Next()
             return type(value).__name__
         if typing.get_origin(value) is typing.Annotated:
             from iecoop.memory.typeinfo import resolve_type as _resolve
@@ -399,7 +399,7 @@ class ExpressionWriter(Inference):
     def module_constant(self, node: ast.Name, value: Any) -> str:
         """A module constant the body reads: declared once in the constants' GVL (a library's is the library's)."""
         name = node.id
-        if library_constant(name, value):
+        if library_name(name, value):  # a shipped library's constant (ADSLOG_MSGTYPE_HINT)
             return ident(name)
         known = self.scope.constants.get(name, value)
         if known != value:
@@ -433,14 +433,15 @@ class ExpressionWriter(Inference):
             return typed
         if isinstance(base, ast.Call):
             return self.call_member(node, base)
-        return f"{self.expr(base, _ATOM)[0]}.{ident(attr)}"
+        return f"{self.expr(base, _ATOM)[0]}.{field_ident(_class_of(self.typeof(base)), attr)}"
 
     def own_member(self, attr: str) -> str:
         """``self.x``: ``x``, or ``THIS^.x`` where a local, input or the result of the same name hides it (ST ignores case)."""
         hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
-        if attr.lower() in {n.lower() for n in hiding}:
-            return f"THIS^.{ident(attr)}"
-        return ident(attr)
+        name = field_ident(self.scope.cls, attr)
+        if name.lower() in {n.lower() for n in hiding}:
+            return f"THIS^.{name}"
+        return name
 
     def constant_member(self, node: ast.Attribute, owner: Any) -> str:
         """A member of a module-level object: an exception code or an enumeration value."""
@@ -494,7 +495,7 @@ class ExpressionWriter(Inference):
             self.fail(field, "a member name that is not a string literal")
         if isinstance(holder, ast.Name) and holder.id == "self":
             return self.attribute(ast.Attribute(holder, field.value, ast.Load()))
-        return f"{self.expr(holder, _ATOM)[0]}.{field.value}"
+        return f"{self.expr(holder, _ATOM)[0]}.{field_ident(_class_of(self.typeof(holder)), field.value)}"
 
     def address_operand(self, node: ast.Call) -> str:
         """``adr(obj)`` / ``adr(obj, "field")`` / ``adr(array, index)``: the variable ADR takes."""
@@ -563,15 +564,16 @@ class ExpressionWriter(Inference):
         if sections:
             return self.formal_arguments(node, callee, sections)
         parts = [self.expr(a)[0] for a in node.args]
+        block = _class_of(self.typeof(node.func))  # a block's inputs keep their ST names: fb(st_bIn_=x) is fb(_bIn := x)
         for kw in node.keywords:
             if kw.arg is None:
                 self.fail(node, "**arguments")
             value = kw.value
             if kw.arg in in_outs and isinstance(value, ast.Call) and self.resolves_to(value.func, "adr"):
                 # fb(buffer=adr(self, "data")) binds a VAR_IN_OUT: ST passes the variable itself.
-                parts.append(f"{ident(kw.arg)} := {self.address_operand(value)}")
+                parts.append(f"{field_ident(block, kw.arg)} := {self.address_operand(value)}")
                 continue
-            parts.append(f"{ident(kw.arg)} := {self.expr(value)[0]}")
+            parts.append(f"{field_ident(block, kw.arg)} := {self.expr(value)[0]}")
         return ", ".join(parts)
 
     def callee(self, node: ast.Call) -> Any:
@@ -627,7 +629,7 @@ class ExpressionWriter(Inference):
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
         value = self.globals.get(name)
         library = _from_iecoop(value)
-        if name == "T" and value is T or name == "D" and value is D or name == "LTIME" and library:
+        if name == "T" and value is T or name == "D" and value is D or name in ("LTIME", "DT", "TOD") and library:
             return self.time_literal(node, name), _ATOM
         # A builtin only while no module name hides it; iecoop's operators only when they are iecoop's.
         rules = _BUILTIN_CALLS if value is None else _LIBRARY_CALLS if library else {}
@@ -635,8 +637,9 @@ class ExpressionWriter(Inference):
         found = rule(self, node) if rule is not None else None
         if found is not None:
             return found
-        if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name):
-            # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...).
+        if library and callable(value) and (name.isupper() or name[:1].isupper() and "_TO_" in name or library_name(name, value)):
+            # iecoop's IEC functions carry their ST names (TO_INT, LIMIT, SHL, REAL_TO_INT...), a shipped
+            # library's FUNCTIONs theirs (Tc2_Utilities' LrealIsNaN).
             return f"{name}({self.arguments(node)})", _ATOM
         found = self.declared_call(node, name, value)
         if found is not None:
@@ -660,7 +663,7 @@ class ExpressionWriter(Inference):
         return None
 
     def time_literal(self, node: ast.Call, name: str) -> str:
-        """``T("2s")`` / ``LTIME("1ms")`` / ``D("2024-01-31")``: the typed ST literal."""
+        """``T("2s")`` / ``LTIME("1ms")`` / ``D("2024-01-31")`` / ``DT(...)`` / ``TOD(...)``: the typed ST literal."""
         args = node.args
         if len(args) != 1 or not (isinstance(args[0], ast.Constant) and isinstance(args[0].value, str)):
             self.fail(node, f"{name}() of a value that is not a string literal")
@@ -669,6 +672,10 @@ class ExpressionWriter(Inference):
             return format_time(T(text)).upper()
         if name == "D":
             return format_date(D(text))
+        if name == "DT":
+            return format_dt(parse_dt(text))
+        if name == "TOD":
+            return format_tod(parse_tod(text))
         return format_ltime(parse_ltime(text)).upper()
 
 
@@ -679,8 +686,8 @@ class ExpressionWriter(Inference):
 _CONSTANTS_GVL = "GVL_Constants"
 
 
-def library_constant(name: str, value: Any) -> bool:
-    """``name`` is a constant of a shipped library (``ADSLOG_MSGTYPE_HINT``): declared there, never in the export."""
+def library_name(name: str, value: Any) -> bool:
+    """``name`` is what a shipped library declares by that name (a constant, a FUNCTION): never in the export."""
     from iecoop.libraries import KNOWN
 
     for library in KNOWN:
@@ -720,7 +727,7 @@ def _string_text(value: str, quote: str = "'") -> str:
 
 
 def literal(value: Any, info: TypeInfo | None = None) -> str:
-    """A Python value as an ST literal of type ``info`` (TIME values as ``T#...``)."""
+    """A Python value as an ST literal of type ``info`` (TIME values as ``T#...``, DT as ``DT#...``...)."""
     if isinstance(value, enum.Enum):
         return f"{type(value).__name__}.{ident(value.name)}"
     if isinstance(value, bool):
@@ -733,6 +740,10 @@ def literal(value: Any, info: TypeInfo | None = None) -> str:
             return format_ltime(value).upper()
         if name == "DATE":
             return format_date(value)
+        if name in ("DT", "DATE_AND_TIME"):
+            return format_dt(value)
+        if name in ("TOD", "TIME_OF_DAY"):
+            return format_tod(value)
         if kind == "real":
             return _real_text(value)
     if isinstance(value, int):

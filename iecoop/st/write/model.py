@@ -301,6 +301,14 @@ def ident(name: str, where: str | None = None) -> str:
     return f"{name}_" if name.upper() in RESERVED else name
 
 
+def field_ident(cls: Any, name: str) -> str:
+    """The ST name of the variable ``name`` (its Python name) of ``cls``: the ``st_name=`` the reader kept for a
+    name Python could not take (``_nCount`` is ``st_nCount_`` in Python), else ``ident(name)``."""
+    layout = layout_of(cls) if cls is not None else None
+    record = layout.by_name.get(name) if layout is not None else None
+    return record.spec.st_name if record is not None and record.spec.st_name else ident(name)
+
+
 def renamed_note(name: str) -> str:
     """The comment a declaration carries when ``ident`` renamed its Python name (empty otherwise)."""
     return f" // {name} is an ST keyword: {ident(name)} in ST" if ident(name) != name else ""

@@ -169,6 +169,10 @@ class StatementWriter(ReaderForms):
         info = annotation_info(ast.unparse(node.annotation), self.func, f"{self.func.__qualname__}.{node.target.id}", self.scope.cls)
         if info is None:
             self.fail(node, "a local annotated None")
+        if isinstance(info, AggregateInfo) and isinstance(node.value, ast.Call) and not node.value.args \
+                and not node.value.keywords and self.constant_object(node.value.func) is info.cls:
+            self.declare(node.target.id, info, node)  # ``p: FB_P = FB_P()``: the METHOD's local ``p : FB_P;``
+            return
         bound_by_call = isinstance(node.value, ast.Call) and isinstance(self.typeof(node.value), ReferenceInfo)
         if not (isinstance(info, AggregateInfo) and node.value is not None and (not isinstance(node.value, ast.Call) or bound_by_call)):
             self.declare(node.target.id, info, node)
@@ -551,7 +555,7 @@ class StatementWriter(ReaderForms):
         if not isinstance(target, ast.Name):
             return
         name = target.id
-        if name in self.locals or name in self.params or self.declare_operator_result(name, value, node):
+        if name in self.locals or name in self.params or name == self.result_local or self.declare_operator_result(name, value, node):
             return
         info = self.typeof(value)
         if info is None:

@@ -15,7 +15,7 @@ import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from iecoop import NullInterface
+from iecoop import NullInterface, Pointer
 from iecoop.metadata import field_record, fields_of, is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
@@ -29,6 +29,7 @@ from iecoop.st.write.statements import BodyWriter
 from iecoop.st.write.model import (
     LIFECYCLE,
     ClassMeta,
+    field_ident,
     FieldDecl,
     MemberDecl,
     StExportError,
@@ -124,10 +125,10 @@ def initial_text(info: TypeInfo, value: Any, where: str) -> str:
         return "[" + ", ".join(initial_text(info.elem, v, where) for v in value) + "]"
     if isinstance(info, AggregateInfo):
         if isinstance(value, dict):
-            parts = [f"{ident(k, where)} := {initial_text(field_record(info.cls, k).info, v, f'{where}.{k}')}" for k, v in value.items()]
+            parts = [f"{field_ident(info.cls, k)} := {initial_text(field_record(info.cls, k).info, v, f'{where}.{k}')}" for k, v in value.items()]
             return "(" + ", ".join(parts) + ")"
         if isinstance(value, info.cls):
-            parts = [f"{ident(f.name)} := {initial_text(f.info, getattr(value, f.name), where)}" for f in fields_of(info.cls)]
+            parts = [f"{field_ident(info.cls, f.name)} := {initial_text(f.info, getattr(value, f.name), where)}" for f in fields_of(info.cls)]
             return "(" + ", ".join(parts) + ")"
     try:
         return literal(value, info)
@@ -146,7 +147,8 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
         return value == 0 and not isinstance(value, bool) or value is False
     if isinstance(value, str):
         return value == ""
-    return value is None or isinstance(value, NullInterface)  # a null interface reference is the zero
+    # a null interface reference, a null POINTER (a METHOD's POINTER TO input without a value) are the zero
+    return value is None or isinstance(value, NullInterface) or isinstance(value, Pointer) and not value
 
 
 def _argument(value: Any, where: str) -> str:
@@ -220,8 +222,9 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
         for field in members:
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
             attributes = _INSTANCE_PATH if field.spec.instance_path else ()
-            line = variable_line(field.name, _declared_type(field), initial, owner, field.spec.fb_init, declared=declared)
-            lines += _noted(line, field.name, declared, attributes)
+            name = field.spec.st_name or field.name
+            line = variable_line(name, _declared_type(field), initial, owner, field.spec.fb_init, python_name=field.name, declared=declared)
+            lines += _noted(line, name, declared, attributes)
         lines.append("END_VAR")
     return lines
 
@@ -256,7 +259,8 @@ def _type_unit(meta: ClassMeta) -> Unit:
         extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
         lines = [f"TYPE {name}{extends} :", word]
         for field in meta.fields:
-            lines += _noted(variable_line(field.name, field.info, field.spec.initial, name, declared=meta.declared), field.name, meta.declared)
+            st = field.spec.st_name or field.name
+            lines += _noted(variable_line(st, field.info, field.spec.initial, name, python_name=field.name, declared=meta.declared), st, meta.declared)
         lines += [f"END_{word}", "END_TYPE", ""]
     declaration, attributes = _headed(meta, (), lines)
     return Unit(meta.kind, name, declaration, meta=meta, attributes=attributes)
