@@ -21,13 +21,24 @@ class Alias:
     ``Annotated[DINT, Alias("T_Index", initial=-1)]``): a variable of the alias
     type starts with it unless its declaration gives one, and so does each
     element of an ARRAY OF the alias.
+
+    ``length=``, ``bounds=`` and ``limits=`` say what the TYPE declares of a
+    STRING, an ARRAY or a subrange (``TYPE T_Name : STRING(20)``,
+    ``ARRAY[1..3] OF INT``, ``INT(0..100)``), so the alias is written back as
+    declared; the variables declared with it carry the same themselves.
     """
 
-    __slots__ = ("name", "initial")
+    __slots__ = ("bounds", "initial", "length", "limits", "name")
 
-    def __init__(self, name: str, initial: Any = None) -> None:
+    def __init__(self, name: str, initial: Any = None, *, length: int | None = None,
+                 bounds: tuple[tuple[int, int], ...] | None = None, limits: tuple[int, int] | None = None) -> None:
         self.name = name
         self.initial = initial
+        self.length = length
+        self.bounds = bounds
+        self.limits = limits
 
     def __repr__(self) -> str:
-        return f"Alias({self.name!r})" if self.initial is None else f"Alias({self.name!r}, initial={self.initial!r})"
+        extra = [f"initial={self.initial!r}"] if self.initial is not None else []
+        extra += [f"{k}={getattr(self, k)!r}" for k in ("length", "bounds", "limits") if getattr(self, k) is not None]
+        return f"Alias({', '.join([repr(self.name), *extra])})"

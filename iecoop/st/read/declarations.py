@@ -114,6 +114,13 @@ class Declarations(Statements):
         if shaped:
             shape = f"STRING({target.length})" if target.kind == "string" else "its ARRAY bounds"
             self.emit(f"# TYPE {decl.st} is {shape}: the variables declared with it carry that", 0)
+        # what the TYPE declares of its STRING, ARRAY or subrange, for writing it back
+        if target.kind == "string" and target.length not in (None, "80"):
+            initial += f", length={target.length}"
+        if target.kind == "array" and target.bounds:
+            initial += f", bounds=({''.join(f'({low}, {high}), ' for low, high in target.bounds)})"
+        if target.limits is not None:
+            initial += f", limits=({target.limits[0]}, {target.limits[1]})"
         self.emit(f'{decl.name} = Annotated[{target.annotation()}, Alias("{decl.name}"{initial})]', 0)
 
     def _emit_struct(self, decl: Decl) -> None:

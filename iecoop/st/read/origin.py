@@ -121,10 +121,10 @@ def object_name(item: Any) -> str | None:
     if name is None:
         declaration = getattr(item, "declaration", None)
         name = getattr(declaration, "name", None)
-    if type(item).__name__ == "GlobalVariableDeclarations" and not str(name or "").isidentifier():
+    if type(item).__name__ == "GlobalVariableDeclarations":
         # a global list of flat text is named by the ``// GVL name`` line above it, as dump writes it
         marks = [str(t).split()[2:] for t in getattr(getattr(item, "meta", None), "comments", None) or () if str(t).split()[:2] == ["//", "GVL"]]
-        name = next((words[0] for words in marks if len(words) == 1 and words[0].isidentifier()), None)
+        name = next((words[0] for words in marks if len(words) == 1 and words[0].isidentifier()), name)
     return str(name) if name is not None else None
 
 

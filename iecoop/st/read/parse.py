@@ -23,7 +23,7 @@ import stat
 from collections.abc import Iterator
 from typing import Any
 
-from iecoop.exceptions import DefinitionError
+from iecoop.st.read.errors import StSyntaxError, StUnsupportedError
 from iecoop.st.read.grammar import build_grammars, grammar_of, needs_overlay, overlay_parser
 
 __all__ = ["StSyntaxError", "StUnsupportedError", "Unit", "leaving_out", "parse_sources"]
@@ -55,18 +55,6 @@ _ST_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _PROPERTY_NAME = re.compile(
     r"^(\s*PROPERTY\s+(?:(?:PUBLIC|PRIVATE|PROTECTED|INTERNAL|ABSTRACT|FINAL)\s+)*)([A-Za-z_]\w*)", re.IGNORECASE | re.MULTILINE
 )
-
-
-class StSyntaxError(DefinitionError):
-    """The source is not valid Structured Text (blark could not parse it); names the file and line."""
-
-    __module__ = "iecoop.st"
-
-
-class StUnsupportedError(DefinitionError):
-    """A construct that iecoop cannot translate faithfully; names the file, line and construct."""
-
-    __module__ = "iecoop.st"
 
 
 @dataclasses.dataclass
@@ -121,7 +109,7 @@ def parse_sources(source: str | os.PathLike[str], *, cache: bool | None = None) 
 def _looks_like_path(text: str) -> bool:
     if not text.strip():
         return False  # Path("") is the current folder: an empty text is empty Structured Text
-    return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj") or pathlib.Path(text).is_dir()
+    return pathlib.Path(text).suffix.lower() in (*ST_SUFFIXES, *TWINCAT_SUFFIXES, ".plcproj", ".xml") or pathlib.Path(text).is_dir()
 
 
 #: The folders whose files a folder or ``.plcproj`` read inside ``leaving_out`` does not read.
@@ -161,12 +149,16 @@ def _flat_sources(path: pathlib.Path) -> Iterator[tuple[str, str, dict[int, tupl
         yield _read_text(path), str(path), {}
     elif suffix in TWINCAT_SUFFIXES:
         yield _flatten_twincat(path)
+    elif suffix == ".xml":
+        from iecoop.st.read.plcopen import flatten_plcopen  # a PLCopen XML export (CODESYS's text form)
+        yield flatten_plcopen(path, read_xml(path))
     elif suffix == ".plcproj":
         for included in _plcproj_files(path):
             if not _left_out(included):
                 yield from _flat_sources(included)
     else:
-        raise StUnsupportedError(f"{path}: unsupported file kind {path.suffix!r} (use .st, .TcPOU, .TcDUT, .TcGVL, .TcIO, .plcproj or a folder)")
+        raise StUnsupportedError(f"{path}: unsupported file kind {path.suffix!r} (use .st, .TcPOU, .TcDUT, .TcGVL, .TcIO, "
+                                 ".plcproj, PLCopen .xml or a folder)")
 
 
 def _read_bytes(path: pathlib.Path) -> bytes:

@@ -193,12 +193,13 @@ class Symbols:
     def _collect_global_list(self, unit: Unit, item: Any) -> None:
         """A VAR_GLOBAL block: its list, named by the block, a ``// GVL name`` mark, or its file."""
         name = str(item.name or "")
-        if not name.isidentifier():
+        mark = list_mark(unit, item)  # flat text names each of its lists so (dump's files, a PLCopen export's)
+        if mark is not None:
+            self.marks.add(mark[1])  # a mark, not a comment to carry over
+            name = mark[0]
+        elif not name.isidentifier():
             stem = unit.filename.replace("\\", "/").rsplit("/", 1)[-1].split(".")[0]
-            mark = list_mark(unit, item)
-            if mark is not None:
-                self.marks.add(mark[1])  # a mark, not a comment to carry over
-            name = mark[0] if mark is not None else stem if stem.isidentifier() else "GVL"
+            name = stem if stem.isidentifier() else "GVL"
         existing = dict.get(self.decls, str(name).lower())
         if existing is not None and existing.kind == "gvl" and not existing.library:
             existing.node.append(item)  # a list gathered from several sources (TwinCAT: one per file)

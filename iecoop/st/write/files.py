@@ -32,8 +32,8 @@ from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
 from iecoop.st.language import PLCOPEN_ELEMENTARY
 from iecoop.st.write.expressions import literal
-from iecoop.st.write.units import Part, Unit, constant_type, initial_text, parameter_groups
-from iecoop.st.write.model import FieldDecl, StExportError, enum_base, enum_members, ident, type_text
+from iecoop.st.write.units import Part, Unit, constant_type, initial_text, parameter_groups, variable_line
+from iecoop.st.write.model import FieldDecl, StExportError, alias_base, enum_base, enum_members, ident, type_text
 
 __all__ = ["guid", "plcopen_project", "twincat_file"]
 
@@ -177,12 +177,23 @@ def _value(parent: ET.Element, info: TypeInfo, value: Any, where: str) -> None:
     _sub(_sub(parent, "initialValue"), "simpleValue", value=initial_text(info, value, where))
 
 
-def _variable(parent: ET.Element, name: str, info: TypeInfo, initial: Any, where: str) -> None:
+#: The addData of a variable whose declaration TC6 has no form for (a VAR_STAT, FB_init values): its ST text,
+#: which iecoop's reader takes (an IDE that does not know the block reads the variable as TC6 declares it).
+ST_DECLARATION = "urn:iecoop:st-declaration"
+
+
+def _st_declaration(variable: ET.Element, section: str, text: str) -> None:
+    data = _sub(_sub(variable, "addData"), "data", name=ST_DECLARATION, handleUnknown="implementation")
+    ET.SubElement(data, _q("StDeclaration"), {"section": section}).text = text
+
+
+def _variable(parent: ET.Element, name: str, info: TypeInfo, initial: Any, where: str) -> ET.Element:
     var = _sub(parent, "variable", name=ident(name))
     _type(_sub(var, "type"), info)
     if initial is not MISSING and initial is not None and not (isinstance(info, (ReferenceInfo, InterfaceInfo, PointerInfo))):
         if not (isinstance(initial, (dict, list)) and not initial):
             _value(var, info, initial, where)
+    return var
 
 
 def _sections(interface: ET.Element, fields: Sequence[FieldDecl], owner: str) -> None:
@@ -196,7 +207,11 @@ def _sections(interface: ET.Element, fields: Sequence[FieldDecl], owner: str) ->
             for field in (f for f in members if f.spec.qualifiers == qualifier):
                 info = field.info.target if section == "VAR_IN_OUT" and isinstance(field.info, ReferenceInfo) else field.info
                 initial = MISSING if section in ("VAR_IN_OUT", "VAR_EXTERNAL") else field.spec.initial
-                _variable(block, field.name, info, initial, f"{owner}.{field.name}")
+                name = field.spec.st_name or field.name
+                variable = _variable(block, name, info, initial, f"{owner}.{field.name}")
+                if section == "VAR_STAT" or field.spec.fb_init:
+                    text = variable_line(name, info, initial, owner, field.spec.fb_init, python_name=field.name)
+                    _st_declaration(variable, section, text)
 
 
 def _st_body(parent: ET.Element, text: str) -> None:
@@ -226,8 +241,27 @@ def _part_interface(parent: ET.Element, part: Part, where: str) -> None:
     if part.result is not None:
         _type(_sub(interface, "returnType"), part.result)
     _parameter_vars(interface, part.inputs, where)
+    _local_vars(interface, part.locals)
+    if part.instance:  # VAR_INST: TC6 has no such section; a localVars block each of whose variables says it
+        block = _sub(interface, "localVars")
+        for field in part.instance:
+            name = field.spec.st_name or field.name
+            variable = _variable(block, name, field.info, field.spec.initial, f"{where}.{field.name}")
+            _st_declaration(variable, "VAR_INST", variable_line(name, field.info, field.spec.initial, where, python_name=field.name))
     _attributes(interface, part.attributes)
     _access_modifiers(interface, part.access)
+
+
+def _local_vars(interface: ET.Element, own: Sequence[tuple[str, TypeInfo | str]], tag: str = "localVars") -> None:
+    """A METHOD's, accessor's or FUNCTION's own variables (their types only: they start at zero on every call)."""
+    if own:
+        block = _sub(interface, tag)
+        for name, local in own:
+            variable = _sub(block, "variable", name=name)
+            if isinstance(local, str):
+                _sub(_sub(variable, "type"), "derived", name=local)
+            else:
+                _type(_sub(variable, "type"), local)
 
 
 def _access_modifiers(interface: ET.Element, access: Access, default: Access = Access.PUBLIC) -> None:
@@ -270,6 +304,7 @@ def _members(pou: ET.Element, unit: Unit, with_bodies: bool) -> None:
             tag = "GetAccessor" if accessor.kind == "get" else "SetAccessor"
             element = ET.SubElement(prop, _q(tag))
             accessor_interface = _sub(element, "interface")
+            _local_vars(accessor_interface, accessor.locals)
             _access_modifiers(accessor_interface, accessor.access, default=own)
             if with_bodies:
                 _st_body(element, accessor.implementation)
@@ -317,9 +352,20 @@ def _data_type(types: ET.Element, unit: Unit) -> None:
         _sub(_sub(enumeration, "baseType"), enum_base(meta.cls))
         _attributes(data_type, unit.attributes)
     elif unit.kind == "alias":
-        from iecoop.memory.typeinfo import resolve_type
+        found = alias_base(meta.cls)
+        if found is None:
+            from iecoop.memory.typeinfo import resolve_type
 
-        _type(base, resolve_type(meta.cls, unit.name))
+            _type(base, resolve_type(meta.cls, unit.name))
+        elif found[1].limits is not None:
+            unsigned = found[0].name in ("USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD")
+            subrange = _sub(base, "subrangeUnsigned" if unsigned else "subrangeSigned")
+            _sub(subrange, "range", lower=str(found[1].limits[0]), upper=str(found[1].limits[1]))
+            _type(_sub(subrange, "baseType"), found[0])
+        else:
+            _type(base, found[0])
+        if found is not None and found[1].initial is not None and found[1].limits is None:
+            _value(data_type, found[0], found[1].initial, unit.name)
     else:
         # TC6 2.01 has no STRUCT EXTENDS and no UNION: the members are listed whole (base members first).
         struct = _sub(base, "struct")
@@ -335,14 +381,7 @@ def _function_interface(interface: ET.Element, unit: Unit) -> None:
     result, inputs, temps = unit.signature
     _type(_sub(interface, "returnType"), result)
     _parameter_vars(interface, inputs, unit.name)
-    if temps:
-        block = _sub(interface, "tempVars")
-        for name, local in temps.items():
-            variable = _sub(block, "variable", name=name)
-            if isinstance(local, str):
-                _sub(_sub(variable, "type"), "derived", name=local)
-            else:
-                _type(_sub(variable, "type"), local)
+    _local_vars(interface, list(temps.items()), "tempVars")
 
 
 def plcopen_project(name: str, units: Sequence[Unit]) -> str:
@@ -392,7 +431,7 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
             block = ET.SubElement(data, _q("globalVars"), {"name": unit.name})
             if unit.meta is not None:
                 for field in unit.meta.fields:
-                    _variable(block, field.name, field.info, field.spec.initial, f"{unit.name}.{field.name}")
+                    _variable(block, field.spec.st_name or field.name, field.info, field.spec.initial, f"{unit.name}.{field.name}")
             else:
                 block.set("constant", "true")
                 for constant, value in unit.constants:

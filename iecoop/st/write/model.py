@@ -531,9 +531,28 @@ def enum_base(cls: Any) -> str:
     return typing.cast(str, cls._iec_base_.name)
 
 
+def alias_base(obj: Any) -> tuple[TypeInfo, Alias] | None:
+    """(the type an alias stands for, its Alias) of ``Annotated[..., Alias(...)]``; None for another annotation."""
+    alias = next((m for m in getattr(obj, "__metadata__", ()) if isinstance(m, Alias)), None)
+    if alias is None:
+        return None
+    others = tuple(m for m in obj.__metadata__ if not isinstance(m, Alias))  # the base type's own marks
+    base = obj.__origin__
+    return resolve_type(typing.Annotated[(base, *others)] if others else base, alias.name, length=alias.length,
+                        bounds=alias.bounds), alias
+
+
 def alias_target(obj: Any) -> str:
-    record = elementary_type(obj)
-    return record.name if record is not None else str(obj.__origin__)
+    """``STRING(20)``, ``ARRAY[1..3] OF INT``, ``INT(0..100)``: what ``TYPE name : ...;`` declares of an alias."""
+    found = alias_base(obj)
+    if found is None:
+        record = elementary_type(obj)
+        return record.name if record is not None else str(getattr(obj, "__origin__", obj))
+    info, alias = found
+    text = type_text(info)
+    if alias.limits is not None:
+        text += f"({alias.limits[0]}..{alias.limits[1]})"
+    return text
 
 
 def functions_of(meta: ClassMeta) -> Iterable[Callable[..., Any]]:

@@ -36,6 +36,7 @@ from iecoop.st.write.model import (
     access_words,
     ident,
     renamed_note,
+    alias_base,
     alias_target,
     enum_base,
     enum_members,
@@ -70,6 +71,14 @@ class Part:
     access: Access = Access.PUBLIC
     #: The ``{attribute '...'}`` pragmas above the header, by name.
     attributes: tuple[str, ...] = ()
+    #: Its own locals (VAR): (ST name, type), as the declaration lists them.
+    locals: tuple[tuple[str, TypeInfo | str], ...] = ()
+    #: A METHOD's VAR_INST: the block's variables it keeps between calls.
+    instance: tuple[FieldDecl, ...] = ()
+
+
+def _locals_of(writer: BodyWriter) -> tuple[tuple[str, TypeInfo | str], ...]:
+    return tuple((writer.name_text(name), info) for name, info in writer.locals.items())
 
 
 #: The attribute of a METHOD the PLC calls after FB_init (``@call_after_init``), and of its FUNCTION_BLOCK.
@@ -253,7 +262,11 @@ def _type_unit(meta: ClassMeta) -> Unit:
         )
         lines = [f"TYPE {name} :", "(", body, f") {enum_base(meta.cls)};", "END_TYPE", ""]
     elif meta.kind == "alias":
-        lines = [f"TYPE {name} : {alias_target(meta.cls)};", "END_TYPE", ""]
+        found = alias_base(meta.cls)
+        # its own initial value (a subrange's lower limit is where it starts anyway)
+        initial = f" := {literal(found[1].initial, found[0])}" if found is not None and found[1].initial is not None \
+            and not (found[1].limits is not None and found[1].initial == found[1].limits[0]) else ""
+        lines = [f"TYPE {name} : {alias_target(meta.cls)}{initial};", "END_TYPE", ""]
     else:
         word = "STRUCT" if meta.kind == "struct" else "UNION"
         extends = f" EXTENDS {meta.parent.__name__}" if meta.parent is not None else ""
@@ -350,15 +363,18 @@ class _Writer:
         declared = passed_inputs(inputs)
         decl = _member_note(member) + _parameter_lines(declared, where, {})
         implementation = ""
+        own: tuple[tuple[str, TypeInfo | str], ...] = ()
         if not interface and not member.flags & Access.ABSTRACT:
             writer = self.body(
                 func, st_name=member.name, result=result, params=_body_params(inputs), by_reference=set(_by_reference(inputs)),
             )
             decl += _local_lines(writer)
+            own = _locals_of(writer)
             implementation = "\n".join(writer.lines)
         if inst:
             decl += sections(inst, meta.name, default="VAR_INST")
-        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags), attributes)
+        return Part("method", member.name, header, "\n".join(decl), implementation, result, tuple(declared), visibility(member.flags),
+                    attributes, own, tuple(inst))
 
     def lifecycle(self, meta: ClassMeta, name: str, func: Any) -> Part:
         st_name = LIFECYCLE[name]
@@ -368,7 +384,8 @@ class _Writer:
 
         decl = _inputs_lines(inputs, where, _LIFECYCLE_INPUTS) + _local_lines(writer)
         renamed = tuple((_LIFECYCLE_INPUTS.get(n, n), i, d) for n, i, d in inputs)
-        return Part("method", st_name, f"METHOD {st_name} : BOOL", "\n".join(decl), "\n".join(writer.lines), _BOOL, renamed)
+        return Part("method", st_name, f"METHOD {st_name} : BOOL", "\n".join(decl), "\n".join(writer.lines), _BOOL, renamed,
+                    locals=_locals_of(writer))
 
     def accessors(self, meta: ClassMeta, member: MemberDecl, interface: bool) -> list[Part]:
         where = f"{meta.name}.{member.name}"
@@ -382,6 +399,7 @@ class _Writer:
             if func is None:
                 continue
             implementation, decl = "", ["VAR", "END_VAR"]
+            own: tuple[tuple[str, TypeInfo | str], ...] = ()
             if not interface and not flags & Access.ABSTRACT:
                 rename: dict[str, str] = {}
                 params: dict[str, TypeInfo] = {}
@@ -393,13 +411,14 @@ class _Writer:
                     params = {inputs[0][0]: inputs[0][1]}
                 writer = self.body(func, st_name=member.name, result=result if kind == "get" else None, params=params, rename=rename)
                 decl = _local_lines(writer) or decl
+                own = _locals_of(writer)
                 implementation = "\n".join(writer.lines)
             decl = _member_note(member) + decl
             if not interface and visibility(flags) != visibility(member.flags):
                 # An accessor's own specifier heads its declaration, as TwinCAT stores it (in the flat
                 # form it follows the PROPERTY line: PROPERTY PUBLIC Capacity : REAL / PRIVATE / VAR ...)
                 decl = [typing.cast(str, visibility(flags).name), *decl]
-            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result, access=visibility(flags)))
+            parts.append(Part(kind, member.name, header, "\n".join(decl), implementation, result, access=visibility(flags), locals=own))
         return parts
 
 

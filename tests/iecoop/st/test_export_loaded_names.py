@@ -133,3 +133,13 @@ def test_a_method_written_inside_its_block_is_written_after_it() -> None:
     block()
     block()
     assert block.n == 4
+
+
+def test_global_lists_dumped_into_one_file_keep_their_names(tmp_path: pathlib.Path) -> None:
+    source = ("VAR_GLOBAL\n    nA : INT := 1;\nEND_VAR\n// GVL GVL_Two\nVAR_GLOBAL\n    nB : INT := 2;\nEND_VAR\n"
+              "PROGRAM MAIN\nVAR n : INT; END_VAR\nn := GVL.nA + GVL_Two.nB;\nEND_PROGRAM\n")
+    path = tmp_path / "plant.st"
+    path.write_text(st.dump(st.load(source)))
+    again = st.load(path)  # a `// GVL name` line names its list in a file too, not only the file's own name
+    again.MAIN()
+    assert again.MAIN.n == 3 and again.GVL_Two.nB == 2 and again.GVL.nA == 1

@@ -133,3 +133,11 @@ def test_load_export_load_export_gives_the_same_files_every_time(tmp_path: pathl
         back = st.load(tmp_path / "python0")
         assert {p.name: p.read_bytes() for p in st.export(back, tmp_path / f"back{round_}")}.keys() >= first.keys()
     assert files[0] == files[1] == files[2]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_project_written_as_plcopen_xml_is_read_back_and_runs_the_same(name: str, tmp_path: pathlib.Path) -> None:
+    """The form CODESYS imports and exports: every object through the PLCopen writer, then through its reader."""
+    (xml,) = st.export(load(PROJECTS / name, name), tmp_path, format="plcopen")
+    again = st.load(xml)
+    assert trace(again, name, 60) == trace(load(PROJECTS / name, name), name, 60)

@@ -356,7 +356,7 @@ nCount := nCount + undefined;]]></ST>
 
 def test_subrange_declarations_read_as_their_base_type() -> None:
     code = st.to_python("TYPE T_Pct : INT(0..100); END_TYPE\n" + prog("b : INT(5..10);", "b := b + 1;"))
-    assert 'T_Pct = Annotated[INT, Alias("T_Pct", initial=0)]' in code
+    assert 'T_Pct = Annotated[INT, Alias("T_Pct", initial=0, limits=(0, 100))]' in code
     assert "b: INT = VAR(5)  # INT(5..10)" in code and "self.b = LIMIT(5, self.b + 1, 10)" in code
 
 
