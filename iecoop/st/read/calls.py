@@ -552,6 +552,9 @@ class Calls(Expressions):
         local = self.local_of(params[0], scope)
         if isinstance(local, ReferenceLocal):
             return Ex(f"bool({local.name})", BOOL)
+        if local is not None and local.place is None and self._local_reference(local.type):
+            # a METHOD's or FUNCTION's REFERENCE TO a STRUCT or block holds its target's view, None until REF= binds it
+            return Ex(f"({local.name} is not None)", BOOL)
         self.need("iecoop", "is_valid_ref")
         holder, field = self.holder_field(params[0], scope)
         return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)

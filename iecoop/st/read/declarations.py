@@ -241,9 +241,18 @@ class Declarations(Statements):
                     match = params[index].name
                 else:
                     raise self.fail(f"FB_init of {type_name} has no input number {index + 1}", init)
-                pairs.append(f'"{match}": {self.expr(param.value, scope).code}')
+                pairs.append(f'"{match}": {self._fb_init_value(param.value, match, type_name, init, scope)}')
             return "{" + ", ".join(pairs) + "}"
         return ""
+
+    def _fb_init_value(self, value: Any, name: str, type_name: str, init: Any, scope: Scope) -> str:
+        """The code of one FB_init argument of a declaration; one naming the block's own variables is refused."""
+        code = self.expr(value, scope).code
+        if re.search(r"\bself\b", code):
+            # FB_init runs as the instance is made, before the block's own variables are there to be passed
+            raise self.fail(f"FB_init argument {name} of {type_name} names a variable of the same block "
+                            f"({value}): not supported (pass a GVL variable, or bind it in code)", init)
+        return code
 
     def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
         """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""

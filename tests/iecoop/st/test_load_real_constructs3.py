@@ -1,0 +1,150 @@
+"""Constructs a fourth set of public TwinCAT projects writes: each loaded and run, the values worked by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+st = pytest.importorskip("iecoop.st")
+
+
+# --- __ISVALIDREF of a METHOD's REFERENCE TO input and local ----------------------------------------
+
+JOG = """TYPE ST_Drive :
+STRUCT
+    nOverride : UDINT;
+    nMoves : INT;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK FB_Move
+VAR_IN_OUT
+    Drive : ST_Drive;
+END_VAR
+VAR_INPUT
+    bGo : BOOL;
+END_VAR
+IF bGo THEN
+    Drive.nMoves := Drive.nMoves + 1;
+END_IF
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Jogger
+VAR
+    _move : FB_Move;
+    _nSaved : UDINT;
+    _bLocalSeen : BOOL;
+END_VAR
+METHOD Jog : BOOL
+VAR_INPUT
+    Drive : REFERENCE TO ST_Drive;
+    bButton : BOOL;
+END_VAR
+VAR
+    rKeep : REFERENCE TO ST_Drive;
+END_VAR
+_bLocalSeen := __ISVALIDREF(rKeep);
+IF __ISVALIDREF(Drive) THEN
+    THIS^._nSaved := Drive.nOverride;
+    rKeep REF= Drive;
+    IF __ISVALIDREF(rKeep) AND bButton THEN
+        rKeep.nOverride := 50;
+    END_IF
+    THIS^._move(Drive := Drive, bGo := bButton);
+    Jog := TRUE;
+END_IF
+END_METHOD
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR_INPUT
+    bPressed : BOOL;
+END_VAR
+VAR
+    fbJog : FB_Jogger;
+    stDrive : ST_Drive := (nOverride := 100);
+    bDone : BOOL;
+END_VAR
+bDone := fbJog.Jog(Drive := stDrive, bButton := bPressed);
+END_PROGRAM
+"""
+
+
+def test_isvalidref_of_a_methods_reference_input_and_local() -> None:
+    plc = st.load(JOG)
+    main = plc.MAIN
+    main()
+    assert (main.bDone, main.stDrive.nMoves, main.stDrive.nOverride) == (True, 0, 100)
+    assert main.fbJog._nSaved == 100 and main.fbJog._bLocalSeen is False  # a fresh local REFERENCE is not bound
+    main(bPressed=True)
+    main(bPressed=True)
+    assert (main.stDrive.nMoves, main.stDrive.nOverride, main.fbJog._nSaved) == (2, 50, 50)
+    assert main.fbJog._bLocalSeen is False  # unbound again at every call
+
+
+# --- an FB_init argument that is a variable of the same block: refused by name ----------------------
+
+INJECTED = """FUNCTION_BLOCK FB_Counter
+VAR
+    nCount : UINT;
+END_VAR
+nCount := nCount + 1;
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_User
+VAR
+    _counter : REFERENCE TO FB_Counter;
+END_VAR
+METHOD FB_init : BOOL
+VAR_INPUT
+    bInitRetains : BOOL;
+    bInCopyCode : BOOL;
+    counter : REFERENCE TO FB_Counter;
+END_VAR
+_counter REF= counter;
+END_METHOD
+_counter();
+END_FUNCTION_BLOCK
+PROGRAM Runner
+VAR
+    counter : FB_Counter;
+    user : FB_User(counter);
+END_VAR
+user();
+END_PROGRAM
+"""
+
+
+def test_an_fb_init_argument_naming_a_variable_of_the_same_block_is_refused_by_name() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r":24: FB_init argument counter of FB_User names a variable of the same block"):
+        st.load(INJECTED)
+
+
+# --- a STRUCT initialiser of four or more elements (blark reads the tail as nested bare arrays) --------
+
+VERSIONED = """TYPE ST_Release :
+STRUCT
+    iMajor : UINT;
+    iMinor : UINT;
+    iBuild : UINT;
+    iRevision : UINT;
+    nFlags : DWORD;
+    sText : STRING(23);
+END_STRUCT
+END_TYPE
+VAR_GLOBAL CONSTANT
+    stRelease : ST_Release := (iMajor := 1, iMinor := 4, iBuild := 7, iRevision := 2, nFlags := 1, sText := '1.4.7');
+END_VAR
+PROGRAM MAIN
+VAR
+    stLocal : ST_Release := (iRevision := 9, iBuild := 8, iMinor := 6, iMajor := 5);
+    nSum : UDINT;
+    sSeen : STRING;
+END_VAR
+nSum := stRelease.iMajor * 1000 + stRelease.iMinor * 100 + stRelease.iBuild * 10 + stRelease.iRevision + stRelease.nFlags;
+sSeen := stRelease.sText;
+END_PROGRAM
+"""
+
+
+def test_a_struct_initialiser_of_six_elements_sets_each_member() -> None:
+    plc = st.load(VERSIONED)
+    plc.MAIN()
+    assert (plc.MAIN.nSum, plc.MAIN.sSeen) == (1473, "1.4.7")
+    local = plc.MAIN.stLocal
+    assert (local.iMajor, local.iMinor, local.iBuild, local.iRevision, local.nFlags) == (5, 6, 8, 9, 0)
