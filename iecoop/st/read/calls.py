@@ -382,8 +382,9 @@ class Calls(Expressions):
         if source is None and value.type is not None and value.type.deref().kind == "string":
             source = value.type.deref().name  # TO_REAL(sText) reads the text as STRING_TO_REAL does
         result_type = self._elem_or_none(target)
-        if result_type is None:
-            raise self.fail(f"conversion to {target} is not supported", node)
+        if result_type is None:  # DEG_TO_RAD, DWORD_TO_HEXSTR: a library's function, not a conversion
+            called = f"{source}_TO_{target}" if source else f"TO_{target}"
+            raise self.fail(f"unknown function {called} (not a conversion: {target} is not an elementary type)", node)
         if target in ("STRING", "WSTRING"):
             return self._to_string(source, target, value, result_type, node)
         if source in ("STRING", "WSTRING"):

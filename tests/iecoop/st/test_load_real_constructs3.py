@@ -148,3 +148,9 @@ def test_a_struct_initialiser_of_six_elements_sets_each_member() -> None:
     assert (plc.MAIN.nSum, plc.MAIN.sSeen) == (1473, "1.4.7")
     local = plc.MAIN.stLocal
     assert (local.iMajor, local.iMinor, local.iBuild, local.iRevision, local.nFlags) == (5, 6, 8, 9, 0)
+
+
+def test_a_library_function_named_like_a_conversion_is_an_unknown_function_without_its_library() -> None:
+    source = "PROGRAM MAIN\nVAR fRad : LREAL; END_VAR\nfRad := DEG_TO_RAD(90.0);\nEND_PROGRAM\n"
+    with pytest.raises(st.StUnsupportedError, match=r":3: unknown function DEG_TO_RAD \(not a conversion: RAD is not an elementary type\)"):
+        st.load(source)
