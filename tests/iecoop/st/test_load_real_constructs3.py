@@ -154,3 +154,93 @@ def test_a_library_function_named_like_a_conversion_is_an_unknown_function_witho
     source = "PROGRAM MAIN\nVAR fRad : LREAL; END_VAR\nfRad := DEG_TO_RAD(90.0);\nEND_PROGRAM\n"
     with pytest.raises(st.StUnsupportedError, match=r":3: unknown function DEG_TO_RAD \(not a conversion: RAD is not an elementary type\)"):
         st.load(source)
+
+
+# --- __NEW(BYTE, n): a buffer whose size is known at run time -----------------------------------------
+
+PAYLOAD = """TYPE ST_Sample :
+STRUCT
+    nId : UINT;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK FB_Payload
+VAR_INPUT
+    nSize : UDINT;
+    bRelease : BOOL;
+END_VAR
+VAR_OUTPUT
+    bAllocated : BOOL;
+    nSum : UDINT;
+    nSecond : WORD;
+END_VAR
+VAR
+    pBuffer : POINTER TO BYTE;
+    pWords : POINTER TO WORD;
+    i : UDINT;
+END_VAR
+IF pBuffer = 0 AND nSize > 0 THEN
+    pBuffer := __NEW(BYTE, nSize);
+    pWords := __NEW(WORD, 3);
+    IF pBuffer <> 0 THEN
+        FOR i := 0 TO nSize - 1 DO
+            pBuffer[i] := UDINT_TO_BYTE(i + 1);
+        END_FOR
+        pWords[1] := 16#BEEF;
+    END_IF
+END_IF
+bAllocated := pBuffer <> 0;
+nSum := 0;
+IF bAllocated THEN
+    FOR i := 0 TO nSize - 1 DO
+        nSum := nSum + pBuffer[i];
+    END_FOR
+    nSecond := pWords[1];
+END_IF
+IF bRelease AND bAllocated THEN
+    __DELETE(pBuffer);
+    __DELETE(pWords);
+END_IF
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Samples
+VAR
+    pSamples : POINTER TO ST_Sample;
+END_VAR
+pSamples := __NEW(ST_Sample, 3);
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK FB_Overrun
+VAR_OUTPUT
+    nLast : BYTE;
+END_VAR
+VAR
+    pBuffer : POINTER TO BYTE;
+END_VAR
+pBuffer := __NEW(BYTE, 4);
+nLast := pBuffer[4];
+END_FUNCTION_BLOCK
+"""
+
+
+def test_new_of_an_elementary_type_or_struct_with_a_count_allocates_a_buffer() -> None:
+    from iecoop.exceptions import ExceptionCode, PlcException
+
+    plc = st.load(PAYLOAD.replace(SAMPLES, ""))
+    fb = plc.FB_Payload()
+    fb(nSize=0)
+    assert (fb.bAllocated, fb.nSum) == (False, 0)
+    fb(nSize=5)
+    assert (fb.bAllocated, fb.nSum, fb.nSecond) == (True, 15, 0xBEEF)  # 1 + 2 + 3 + 4 + 5; the second WORD
+    fb(nSize=5, bRelease=True)
+    released = (fb.bAllocated, fb.nSum)
+    fb(nSize=0)
+    assert released == (True, 15) and fb.bAllocated is False  # __DELETE set the pointer to 0
+    with pytest.raises(PlcException) as raised:
+        plc.FB_Overrun()()
+    assert raised.value.code is ExceptionCode.RTSEXCPT_ACCESS_VIOLATION  # the fifth byte of four
+
+
+SAMPLES = PAYLOAD[PAYLOAD.index("FUNCTION_BLOCK FB_Samples"):PAYLOAD.index("FUNCTION_BLOCK FB_Overrun")]
+
+
+def test_new_of_a_struct_with_a_count_is_refused_by_name() -> None:
+    with pytest.raises(st.StUnsupportedError, match=r"__NEW\(ST_Sample, n\): an array of an elementary type only"):
+        st.load(PAYLOAD)
