@@ -389,7 +389,10 @@ class Calls(Operators):
             return self._to_string(source, target, value, result_type, node)
         if source in ("STRING", "WSTRING"):
             # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
-            if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
+            if target in ("DATE", "TOD", "DT"):  # the date or time of day literal the text starts with
+                self.need("iecoop.stdlib.calendar_text", "string_to_calendar")
+                return Ex(f'string_to_calendar({value.code}, "{target}")', result_type)
+            if result_type.kind != "elem":
                 raise self.fail(f"{source}_TO_{target} is not supported", node)
             self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
             return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)

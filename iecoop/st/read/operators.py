@@ -21,6 +21,8 @@ class Operators(Expressions):
         decl = self.decls.get(str(target.name).lower())
         if len(node.parameters) == 2 and node.parameters[1].name is None and getattr(decl, "kind", None) not in ("fb", "stdfb"):
             return self._new_array(str(target.name), decl, node.parameters[1].value, node, scope)
+        if decl is None and self._elem_or_none(str(target.name)) is not None:
+            raise self.fail(f"__NEW of {target.name} without a count is not supported (__NEW({target.name}, n) allocates n)", node)
         if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
             raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
         if decl.kind == "stdfb":
@@ -44,8 +46,8 @@ class Operators(Expressions):
         element = self._elem_or_none(name) if decl is None else None
         if element is None or element.kind != "elem":
             # __DELETE frees a block through a pointer to its own type, which an array of STRUCTs is not
-            raise self.fail(f"__NEW({name}, n): an array of an elementary type only (declare ARRAY[..] OF {name} "
-                            "in a block or GVL for STRUCTs)", node)
+            raise self.fail(f"__NEW({name}, n): an array of a STRUCT or block is not supported (declare ARRAY[..] OF "
+                            f"{name} in a block or GVL and take its ADR); n elements of an elementary type are", node)
         self.need("iecoop", element.name)
         self.need("iecoop.stdlib.heap", "new_array")
         return Ex(f"new_array({element.annotation()}, {self.expr(count, scope).code})", TypeRef("pointer", "POINTER_TO", of=element))

@@ -242,5 +242,40 @@ SAMPLES = PAYLOAD[PAYLOAD.index("FUNCTION_BLOCK FB_Samples"):PAYLOAD.index("FUNC
 
 
 def test_new_of_a_struct_with_a_count_is_refused_by_name() -> None:
-    with pytest.raises(st.StUnsupportedError, match=r"__NEW\(ST_Sample, n\): an array of an elementary type only"):
+    with pytest.raises(st.StUnsupportedError, match=r"__NEW\(ST_Sample, n\): an array of a STRUCT or block is not supported"):
         st.load(PAYLOAD)
+
+
+# --- STRING_TO_DT, STRING_TO_DATE, STRING_TO_TOD: the literal the text starts with ------------------
+
+STAMPS = """PROGRAM MAIN
+VAR_INPUT
+    sStamp : STRING := 'DT#2024-02-29-13:45:07.250';
+END_VAR
+VAR
+    dtStamp : DT;
+    dDay : DATE;
+    tdShift : TOD;
+    dtBad : DT;
+    sBack : STRING;
+    nSeconds : UDINT;
+END_VAR
+dtStamp := STRING_TO_DT(sStamp);
+dDay := STRING_TO_DATE('  D#2024-02-29 (leap day)');
+tdShift := TO_TOD('TOD#06:30:15.5');
+dtBad := STRING_TO_DT('2024-02-30-00:00:00');
+sBack := DT_TO_STRING(dtStamp);
+nSeconds := DT_TO_UDINT(dtStamp) - DATE_TO_UDINT(dDay);
+END_PROGRAM
+"""
+
+
+def test_string_to_dt_date_and_tod_read_the_literal_the_text_starts_with() -> None:
+    plc = st.load(STAMPS)
+    main = plc.MAIN
+    main()
+    assert (main.sBack, main.nSeconds) == ("DT#2024-02-29-13:45:07", 13 * 3600 + 45 * 60 + 7)  # the fraction dropped
+    assert main.tdShift == ((6 * 60 + 30) * 60 + 15) * 1000 + 500  # TOD: milliseconds since midnight
+    assert main.dtBad == 0  # no prefix, and no 30th of February: no value
+    main(sStamp="DT#2024-13-01-00:00:00")
+    assert main.dtStamp == 0
