@@ -10,7 +10,7 @@ from typing import Any
 import blark.transform as tf
 
 from iecoop.st.read.frames import Scope
-from iecoop.st.read.names import python_name, st_keyword
+from iecoop.st.read.names import field_name, python_name, st_keyword
 from iecoop.st.read.statements import Statements
 from iecoop.st.read.table import Callable_, Decl, Member, TypeRef
 from iecoop.st.read.trees import flag_keywords, lark_token_type, python_string, structure_elements
@@ -198,7 +198,7 @@ class Declarations(Statements):
             kwargs.append(f"fb_init={fb_init}")
         if extra:
             kwargs.append(extra)
-        if member.name != member.st and member.name == python_name(member.st, attribute=True):
+        if member.name != member.st and member.name in (python_name(member.st, attribute=True), field_name(member.st, type_)):
             kwargs.append(st_keyword(member.st, member.name, ""))
         section = member.section if member.section != "VAR_GLOBAL" else "VAR"
         note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""

@@ -12,7 +12,7 @@ import blark.transform as tf
 from iecoop.st.language import ACCESS_SPECIFIERS, LIFECYCLE
 from iecoop.st.read.locals import Locals
 from iecoop.st.read.frames import Scope
-from iecoop.st.read.names import python_name, st_keyword
+from iecoop.st.read.names import field_name, python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
 from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
 from iecoop.st.read.trees import (
@@ -152,7 +152,7 @@ class Pous(Locals):
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
+                    member = Member(field_name(name, type_), type_, located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra + path)), level)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
@@ -504,7 +504,7 @@ class Pous(Locals):
                 index = len(self.out)
                 init = item.init
                 for name, type_ in self._item_types(item):
-                    member = Member(python_name(name, attribute=True), type_, "VAR", st=name)
+                    member = Member(field_name(name, type_), type_, "VAR", st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 

@@ -18,7 +18,7 @@ from iecoop.st.language import ELEMENTARY, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
-from iecoop.st.read.names import python_name
+from iecoop.st.read.names import field_name, python_name
 from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
@@ -254,7 +254,7 @@ class Symbols:
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
             found = [(decl.methods[str(n.name).lower()].name, m) for n in decl.method_nodes for b in n.declarations
                      if isinstance(b, tf.MethodInstanceVariableDeclarations) for m in self._block_members(b, attribute=True)]
-            for method, member, own in own_method_fields(found):  # a METHOD's VAR_INST: fields of the instance
+            for method, member, own in own_method_fields(found, decl.members):  # a METHOD's VAR_INST: fields of the instance
                 self._add_member(decl, own)
                 decl.method_inst.update({(method.lower(), member.st.lower()): own} if own is not member else {})
 
@@ -490,7 +490,8 @@ class Symbols:
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(python_name(name, attribute), type_, section, st=name)
+                python = field_name(name, type_) if attribute else python_name(name)
+                yield Member(python, type_, section, st=name)
 
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
         """The names and types one declaration declares (its bounds may name its POU's VAR CONSTANTs)."""

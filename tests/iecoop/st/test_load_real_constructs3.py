@@ -279,3 +279,55 @@ def test_string_to_dt_date_and_tod_read_the_literal_the_text_starts_with() -> No
     assert main.dtBad == 0  # no prefix, and no 30th of February: no value
     main(sStamp="DT#2024-13-01-00:00:00")
     assert main.dtStamp == 0
+
+
+# --- a variable named as its type, and a METHOD's VAR_INST named as a variable of its block -----------
+
+NAMESAKES = """TYPE zone :
+STRUCT
+    nLux : UINT;
+END_STRUCT
+END_TYPE
+FUNCTION_BLOCK room
+VAR_INPUT
+    bOccupied : BOOL;
+END_VAR
+VAR
+    heating_on : BOOL;
+    nCalls : UINT;
+END_VAR
+METHOD PRIVATE heating : BOOL
+VAR_INST
+    heating_on : BOOL;
+    nSeen : UINT;
+END_VAR
+nSeen := nSeen + 1;
+heating_on := bOccupied AND nSeen > 1;
+heating := heating_on;
+END_METHOD
+heating_on := heating();
+nCalls := nCalls + 1;
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR
+    room : room;
+    rooms : ARRAY[0..1] OF room;
+    zone : zone := (nLux := 300);
+    bWarm : BOOL;
+END_VAR
+room(bOccupied := TRUE);
+rooms[1](bOccupied := TRUE);
+bWarm := room.heating_on;
+zone.nLux := zone.nLux + 1;
+END_PROGRAM
+"""
+
+
+def test_a_variable_named_as_its_type_and_a_var_inst_named_as_a_variable_of_its_block() -> None:
+    plc = st.load(NAMESAKES)
+    main = plc.MAIN
+    main()
+    assert (main.bWarm, main.room.nCalls, main.zone.nLux) == (False, 1, 301)
+    main()
+    assert (main.bWarm, main.room.nCalls, main.zone.nLux) == (True, 2, 302)  # the METHOD's own heating_on, returned
+    assert main.rooms[1].nCalls == 2 and main.rooms[0].nCalls == 0
