@@ -51,7 +51,7 @@ REFUSED: dict[str, list[str]] = {
     ],
     "a METHOD, FUNCTION or PROPERTY result of type `REFERENCE TO` an elementary type": [
         _FB_A + "METHOD Cell : REFERENCE TO INT\nCell REF= n;\nEND_METHOD",
-        _FB_A + "PROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY",
+        _FB_A + "PROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY\nPROPERTY P.Set : REFERENCE TO INT\nEND_PROPERTY",
     ],
     "`__NEW` of an array of STRUCTs, or of an elementary type without a count": [
         "TYPE ST_S : STRUCT x : INT; END_STRUCT END_TYPE\n"

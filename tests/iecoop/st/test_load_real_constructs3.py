@@ -331,3 +331,66 @@ def test_a_variable_named_as_its_type_and_a_var_inst_named_as_a_variable_of_its_
     main()
     assert (main.bWarm, main.room.nCalls, main.zone.nLux) == (True, 2, 302)  # the METHOD's own heating_on, returned
     assert main.rooms[1].nCalls == 2 and main.rooms[0].nCalls == 0
+
+
+# --- a Get-only PROPERTY of type REFERENCE TO an elementary type or STRING -----------------------------
+
+PAD = """FUNCTION_BLOCK FB_Pad
+VAR_INPUT
+    bConnected : BOOL;
+    fRaw : REAL;
+END_VAR
+VAR
+    _fTrigger : REAL;
+    _sName : STRING := 'pad 1';
+END_VAR
+PROPERTY P_Trigger : REFERENCE TO REAL
+VAR
+END_VAR
+IF bConnected THEN
+    _fTrigger := fRaw;
+ELSE
+    _fTrigger := 0;
+END_IF
+P_Trigger REF= THIS^._fTrigger;
+END_PROPERTY
+PROPERTY P_Name : REFERENCE TO STRING
+P_Name REF= _sName;
+END_PROPERTY
+PROPERTY P_Unbound : REFERENCE TO INT
+END_PROPERTY
+END_FUNCTION_BLOCK
+PROGRAM MAIN
+VAR_INPUT
+    bOn : BOOL;
+END_VAR
+VAR
+    pad : FB_Pad;
+    fTwice : REAL;
+    sName : STRING;
+END_VAR
+pad(bConnected := bOn, fRaw := 0.75);
+fTwice := pad.P_Trigger * 2;
+sName := pad.P_Name;
+END_PROGRAM
+"""
+
+
+def test_a_get_only_property_of_type_reference_to_an_elementary_type_reads_its_target() -> None:
+    from iecoop.exceptions import ExceptionCode, PlcException
+
+    plc = st.load(PAD)
+    plc.MAIN(bOn=True)
+    assert (plc.MAIN.fTwice, plc.MAIN.sName) == (1.5, "pad 1")
+    plc.MAIN(bOn=False)
+    assert plc.MAIN.fTwice == 0.0  # the Get ran again: the variable it aims at was set to 0 first
+    with pytest.raises(PlcException) as raised:
+        _ = plc.MAIN.pad.P_Unbound  # a Get that never binds its result: a null reference
+    assert raised.value.code is ExceptionCode.RTSEXCPT_ACCESS_VIOLATION
+
+
+def test_a_property_of_type_reference_to_an_elementary_type_with_a_set_stays_refused() -> None:
+    setter = ("FUNCTION_BLOCK FB_Pad2\nVAR n : INT; END_VAR\nPROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY\n"
+              "PROPERTY P.Set : REFERENCE TO INT\nEND_PROPERTY\nEND_FUNCTION_BLOCK\n")
+    with pytest.raises(st.StUnsupportedError, match=r"a result of type REFERENCE TO INT is not supported"):
+        st.load(setter)
