@@ -541,7 +541,8 @@ class Symbols:
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
         self.line = element.meta.line if element.meta else self.line
         if isinstance(element, tf.UnionElementDeclaration):
-            yield Member(python_name(str(element.name), attribute=True), self._spec_type(element.spec, element), "VAR", st=str(element.name))
+            type_ = self._spec_type(element.spec, element)
+            yield Member(field_name(str(element.name), type_), type_, "VAR", st=str(element.name))
             return
         init = element.init
         if isinstance(init, tf.FunctionCall):
@@ -549,7 +550,7 @@ class Symbols:
         else:
             type_ = self.init_type(init, element)
         for var in element.variables:
-            yield Member(python_name(str(var.variable.name), attribute=True), type_, "VAR", st=str(var.variable.name))
+            yield Member(field_name(str(var.variable.name), type_), type_, "VAR", st=str(var.variable.name))
 
     # --- lookups ---
 

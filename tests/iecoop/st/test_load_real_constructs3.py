@@ -288,6 +288,12 @@ STRUCT
     nLux : UINT;
 END_STRUCT
 END_TYPE
+TYPE floor :
+STRUCT
+    zone : zone;
+    nLevel : INT := 2;
+END_STRUCT
+END_TYPE
 FUNCTION_BLOCK room
 VAR_INPUT
     bOccupied : BOOL;
@@ -313,12 +319,14 @@ VAR
     room : room;
     rooms : ARRAY[0..1] OF room;
     zone : zone := (nLux := 300);
+    floor : floor;
     bWarm : BOOL;
 END_VAR
 room(bOccupied := TRUE);
 rooms[1](bOccupied := TRUE);
 bWarm := room.heating_on;
 zone.nLux := zone.nLux + 1;
+floor.zone.nLux := floor.zone.nLux + UINT#10 * INT_TO_UINT(floor.nLevel);
 END_PROGRAM
 """
 
@@ -331,6 +339,7 @@ def test_a_variable_named_as_its_type_and_a_var_inst_named_as_a_variable_of_its_
     main()
     assert (main.bWarm, main.room.nCalls, main.zone.nLux) == (True, 2, 302)  # the METHOD's own heating_on, returned
     assert main.rooms[1].nCalls == 2 and main.rooms[0].nCalls == 0
+    assert main.floor.zone.nLux == 40  # a STRUCT member named as its type, too
 
 
 # --- a Get-only PROPERTY of type REFERENCE TO an elementary type or STRING -----------------------------
