@@ -51,6 +51,7 @@ from iecoop.runtime.clock import current_clock
 from iecoop.types import BOOL, BYTE, DINT, DWORD, INT, LREAL, SINT, STRING, TIME, UDINT, UINT, ULINT, USINT, StringType
 
 __all__ = [
+    "ADSERR_DEVICE_SRVNOTSUPP", "ADSERR_TARGET_PORT_NOT_FOUND", "ADSRDWRT", "ADSREAD", "ADSREADEX", "ADSWRITE",
     "ADSLOGDINT", "ADSLOGLREAL", "ADSLOGSTR", "ADSLOG_MSGTYPE_ERROR", "ADSLOG_MSGTYPE_HINT", "ADSLOG_MSGTYPE_LOG",
     "ADSLOG_MSGTYPE_MSGBOX", "ADSLOG_MSGTYPE_RESOURCE", "ADSLOG_MSGTYPE_STRING", "ADSLOG_MSGTYPE_WARN",
     "CLEARBIT32", "CSETBIT32", "DEFAULT_ADS_TIMEOUT", "DRAND", "E_OpenPath", "E_SeekOrigin", "FB_CreateDir",
@@ -391,6 +392,82 @@ class GETCURTASKINDEX(FunctionBlock):
 
     def body(self) -> None:
         self.index = GETCURTASKINDEXEX()
+
+
+# --- ADS client blocks: ADSREAD, ADSREADEX, ADSWRITE, ADSRDWRT ------------------------------------
+
+ADSERR_TARGET_PORT_NOT_FOUND = 0x6  #: no ADS device has that port on this system
+ADSERR_DEVICE_SRVNOTSUPP = 0x701  #: the PLC's own port (851) serves nothing to its own code
+
+
+class _AdsCommand(FunctionBlock, abstract=True):
+    """The handshake of the ADS client blocks; ``TRIGGER`` names the block's rising-edge input.
+
+    iecoop gives PLC code no ADS router, so no device answers: a rising edge sets BUSY; the first call in a
+    later cycle (once the task clock has moved on, as an answer comes at a later cycle) drops it and sets
+    ERR with ERRID 7 (another system's NETID), 6 (a port of this system) or 16#701 (the PLC's own port
+    851). The buffers are left as they were; ERR stays until the next edge.
+    """
+
+    TRIGGER = ""
+    NETID: T_AmsNetId = VAR_INPUT("")
+    PORT: T_AmsPort = VAR_INPUT(0)
+    IDXGRP: UDINT = VAR_INPUT(0)
+    IDXOFFS: UDINT = VAR_INPUT(0)
+    TMOUT: TIME = VAR_INPUT(DEFAULT_ADS_TIMEOUT)
+    BUSY: BOOL = VAR_OUTPUT(False)
+    ERR: BOOL = VAR_OUTPUT(False)
+    ERRID: UDINT = VAR_OUTPUT(0)
+    PREV_TRIGGER: BOOL = VAR(False)
+    SENT_NS: ULINT = VAR(0)
+
+    def body(self) -> None:
+        trigger = bool(getattr(self, self.TRIGGER))
+        if self.BUSY and current_clock().now_ns() > self.SENT_NS:
+            self.BUSY, self.ERR = False, True
+            if self.NETID not in ("", "127.0.0.1.1.1"):
+                self.ERRID = ADSERR_TARGET_MACHINE_NOT_FOUND
+            else:
+                self.ERRID = ADSERR_DEVICE_SRVNOTSUPP if self.PORT == 851 else ADSERR_TARGET_PORT_NOT_FOUND
+        elif trigger and not self.PREV_TRIGGER and not self.BUSY:
+            self.BUSY, self.ERR, self.ERRID = True, False, 0
+            self.SENT_NS = current_clock().now_ns()
+        self.PREV_TRIGGER = trigger
+
+
+class ADSREAD(_AdsCommand):
+    """``ADSREAD``: LEN bytes of IDXGRP / IDXOFFS of the device NETID / PORT into DESTADDR, at READ's edge."""
+
+    TRIGGER = "READ"
+    LEN: UDINT = VAR_INPUT(0)
+    DESTADDR: Pointer[Any] = VAR_INPUT()
+    READ: BOOL = VAR_INPUT(False)
+
+
+class ADSREADEX(ADSREAD):
+    """``ADSREADEX``: ADSREAD with COUNT_R, the number of bytes read (0 here)."""
+
+    COUNT_R: UDINT = VAR_OUTPUT(0)
+
+
+class ADSWRITE(_AdsCommand):
+    """``ADSWRITE``: LEN bytes from SRCADDR to IDXGRP / IDXOFFS of the device NETID / PORT, at WRITE's edge."""
+
+    TRIGGER = "WRITE"
+    LEN: UDINT = VAR_INPUT(0)
+    SRCADDR: Pointer[Any] = VAR_INPUT()
+    WRITE: BOOL = VAR_INPUT(False)
+
+
+class ADSRDWRT(_AdsCommand):
+    """``ADSRDWRT``: WRITELEN bytes from SRCADDR written, READLEN bytes into DESTADDR read, at WRTRD's edge."""
+
+    TRIGGER = "WRTRD"
+    WRITELEN: UDINT = VAR_INPUT(0)
+    READLEN: UDINT = VAR_INPUT(0)
+    SRCADDR: Pointer[Any] = VAR_INPUT()
+    DESTADDR: Pointer[Any] = VAR_INPUT()
+    WRTRD: BOOL = VAR_INPUT(False)
 
 
 _MASK64 = 0xFFFF_FFFF_FFFF_FFFF

@@ -32,6 +32,10 @@ from iecoop.declarations import VAR, VAR_IN_OUT, VAR_INPUT, VAR_OUTPUT
 from iecoop.exceptions import ExceptionCode, PlcException
 from iecoop.libraries._cstrings import c_string, put_c_string
 from iecoop.libraries._printf import Arg, FormatError, render
+from iecoop.libraries._utilities_data import (
+    ARG_TO_CSVFIELD, BYTEARR_TO_MAXSTRING, CONCAT2, CSVFIELD_TO_ARG, DATA_TO_HEXSTR, DEG_TO_RAD, DELETE2,
+    DINT_TO_DECSTR, HEXSTR_TO_DATA, RAD_TO_DEG,
+)
 from iecoop.libraries.tc2_system import (
     DEFAULT_ADS_TIMEOUT, MAX_STRING_LENGTH, T_AmsNetId, T_MaxString, filetime_now, lib_version, version_element,
 )
@@ -46,9 +50,11 @@ from iecoop.types import (
 )
 
 __all__ = [
+    "ARG_TO_CSVFIELD", "BYTEARR_TO_MAXSTRING", "CONCAT2", "CSVFIELD_TO_ARG", "DATA_TO_HEXSTR", "DEG_TO_RAD", "DELETE2",
+    "DINT_TO_DECSTR", "HEXSTR_TO_DATA", "RAD_TO_DEG",
     "BYTE_TO_BINSTR", "BYTE_TO_DECSTR", "BYTE_TO_HEXSTR", "BYTE_TO_OCTSTR", "CSVFIELD_TO_STRING", "DT_TO_FILETIME",
     "DT_TO_SYSTEMTIME",
-    "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID",
+    "DWORD_TO_BINSTR", "DWORD_TO_DECSTR", "DWORD_TO_HEXSTR", "DWORD_TO_OCTSTR", "E_ArgType", "E_TimeZoneID", "F_BIGTYPE",
     "E_TypeFieldParam", "FB_FormatString", "FB_LocalSystemTime", "FB_MemRingBuffer", "FB_StringRingBuffer", "FILETIME64_TO_SYSTEMTIME",
     "FILETIME_TO_DT", "FILETIME_TO_SYSTEMTIME", "F_BOOL", "F_BYTE", "F_DINT", "F_DWORD", "F_FormatArgToStr",
     "F_GetDOYOfYearMonthDay", "F_GetMaxMonthDays", "F_GetVersionTcUtilities", "F_INT", "F_LINT", "F_LREAL",
@@ -297,6 +303,13 @@ def F_BOOL(in_: BOOL) -> T_Arg:  # noqa: N802
 def F_STRING(in_: T_MaxString) -> T_Arg:  # noqa: N802
     """``F_STRING(in)``: a STRING as a T_Arg (cbLen: its length + 1)."""
     return _make_arg("STRING", in_)
+
+
+def F_BIGTYPE(pData: Pointer[Any], cbLen: DWORD) -> T_Arg:  # noqa: N802, N803 - the ST names
+    """``F_BIGTYPE(pData, cbLen)``: a STRUCT or ARRAY variable as a T_Arg (ARGTYPE_BIGTYPE): its address and size."""
+    arg = T_Arg(eType=E_ArgType.ARGTYPE_BIGTYPE, cbLen=cbLen)
+    arg.pData = pData
+    return arg
 
 
 def _read_arg(arg: T_Arg) -> Arg | None:

@@ -10,6 +10,8 @@ module                      blocks
                             CTU_DINT CTU_UDINT
 ``bistables``               SR RS
 ``sync``                    test_and_set, CriticalSection, S (``S=``), R (``R=``)
+``heap``                    new_array (``__NEW(BYTE, n)``: n elements on the heap)
+``calendar_text``           string_to_calendar (``STRING_TO_DT``, ``STRING_TO_DATE``, ``STRING_TO_TOD``)
 ==========================  =====================================================
 
 Timers read ``iecoop.runtime.clock.current_clock()``: the task's clock in a

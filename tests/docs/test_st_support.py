@@ -51,10 +51,11 @@ REFUSED: dict[str, list[str]] = {
     ],
     "a METHOD, FUNCTION or PROPERTY result of type `REFERENCE TO` an elementary type": [
         _FB_A + "METHOD Cell : REFERENCE TO INT\nCell REF= n;\nEND_METHOD",
-        _FB_A + "PROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY",
+        _FB_A + "PROPERTY P : REFERENCE TO INT\nP REF= n;\nEND_PROPERTY\nPROPERTY P.Set : REFERENCE TO INT\nEND_PROPERTY",
     ],
-    "`__NEW` of an elementary type, an array on the heap": [
-        "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO DWORD; END_VAR\np := __NEW(DWORD, 16);\nEND_FUNCTION_BLOCK",
+    "`__NEW` of an array of STRUCTs, or of an elementary type without a count": [
+        "TYPE ST_S : STRUCT x : INT; END_STRUCT END_TYPE\n"
+        "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO ST_S; END_VAR\np := __NEW(ST_S, 16);\nEND_FUNCTION_BLOCK",
         "FUNCTION_BLOCK FB_H\nVAR p : POINTER TO BYTE; END_VAR\np := __NEW(BYTE);\nEND_FUNCTION_BLOCK",
     ],
     "`__SYSTEM.AnyType` as the type of a variable or STRUCT member": [
@@ -71,11 +72,6 @@ REFUSED: dict[str, list[str]] = {
     ],
     "an array literal assigned to a local ARRAY of a METHOD or FUNCTION": [
         "FUNCTION F : INT\nVAR a : ARRAY[0..1] OF INT; END_VAR\na := [1, 2];\nF := a[0];\nEND_FUNCTION",
-    ],
-    "`STRING_TO_DATE`, `STRING_TO_TOD`, `STRING_TO_DT`": [
-        "FUNCTION F : DATE\nF := STRING_TO_DATE('D#2024-01-01');\nEND_FUNCTION",
-        "FUNCTION F : TOD\nF := STRING_TO_TOD('TOD#12:00:00');\nEND_FUNCTION",
-        "FUNCTION F : DT\nF := STRING_TO_DT('DT#2024-01-01-12:00:00');\nEND_FUNCTION",
     ],
     "a FUNCTION_BLOCK member of a STRUCT with an initialiser": [
         "TYPE ST_T : STRUCT t : TON := (PT := T#1S); END_STRUCT END_TYPE",

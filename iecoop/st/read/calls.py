@@ -12,10 +12,10 @@ import blark.transform as tf
 from iecoop.exceptions import DefinitionError
 
 from iecoop.st.language import INTEGER_LAYOUT, MATH_FUNCTIONS, STRING_FUNCTIONS, SYSTEM_FUNCTIONS, TYPE_SYNONYMS
-from iecoop.st.read.expressions import Expressions
+from iecoop.st.read.operators import Operators
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.names import python_name
-from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, ReferenceLocal, STRING, TypeRef
+from iecoop.st.read.table import BOOL, Callable_, Decl, LREAL, Member, STRING, TypeRef
 from iecoop.st.read.trees import assigned, variables
 
 
@@ -24,7 +24,7 @@ from iecoop.st.read.trees import assigned, variables
 #: is the same (DATE into DT, TOD into TIME).
 _CALENDAR_UNITS = {"TIME": "ms", "TOD": "ms", "LTIME": "ns", "DATE": "s", "DT": "s"}
 
-class Calls(Expressions):
+class Calls(Operators):
     """Reads calls: the callee, its arguments by name, and the standard functions."""
 
     def assign(self, target: Any, value: Ex, scope: Scope, level: int) -> None:
@@ -384,13 +384,17 @@ class Calls(Expressions):
         if source is None and value.type is not None and value.type.deref().kind == "string":
             source = value.type.deref().name  # TO_REAL(sText) reads the text as STRING_TO_REAL does
         result_type = self._elem_or_none(target)
-        if result_type is None:
-            raise self.fail(f"conversion to {target} is not supported", node)
+        if result_type is None:  # DEG_TO_RAD, DWORD_TO_HEXSTR: a library's function, not a conversion
+            called = f"{source}_TO_{target}" if source else f"TO_{target}"
+            raise self.fail(f"unknown function {called} (not a conversion: {target} is not an elementary type)", node)
         if target in ("STRING", "WSTRING"):
             return self._to_string(source, target, value, result_type, node)
         if source in ("STRING", "WSTRING"):
             # the literal the text starts with, stored in the target type (TwinCAT, CODESYS: '34abc' is 34, 'abc' 0)
-            if result_type.kind != "elem" or target in ("DATE", "TOD", "DT"):
+            if target in ("DATE", "TOD", "DT"):  # the date or time of day literal the text starts with
+                self.need("iecoop.stdlib.calendar_text", "string_to_calendar")
+                return Ex(f'string_to_calendar({value.code}, "{target}")', result_type)
+            if result_type.kind != "elem":
                 raise self.fail(f"{source}_TO_{target} is not supported", node)
             self.need("iecoop.conversions", "STRING_TO_NUMBER", f"TO_{target}")
             return Ex(f'TO_{target}(STRING_TO_NUMBER({value.code}, "{target}"))', result_type)
@@ -515,70 +519,6 @@ class Calls(Expressions):
                 self.need("iecoop.stdlib", decl.name)
             return Ex(f"sizeof({decl.name})", TypeRef("elem", "UDINT"))
         return None
-
-    def _op_new(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
-        self.need("iecoop", "new")
-        target = params[0]
-        if not isinstance(target, tf.SimpleVariable):
-            raise self.fail("__NEW with FB_init arguments or an array is not supported", node)
-        decl = self.decls.get(str(target.name).lower())
-        if decl is None and self._elem_or_none(str(target.name)) is not None:
-            raise self.fail(f"__NEW of {target.name} (an array of an elementary type) is not supported: declare an ARRAY "
-                            f"[0..n] OF {target.name} in the block or a GVL and take its ADR", node)
-        if decl is None or decl.kind not in ("fb", "struct", "stdfb"):
-            raise self.fail(f"__NEW of {target.name}: only function blocks and structs are supported", node)
-        if decl.kind == "stdfb":
-            self.need("iecoop.stdlib", decl.name)
-        # __NEW(FB_X, a := 1): FB_init's inputs by name, as iecoop's new() takes them
-        fb_init = self.find_member(decl, "FB_init")
-        inputs = fb_init[1].params if fb_init is not None and isinstance(fb_init[1], Callable_) else []
-        args = [decl.name]
-        for param in node.parameters[1:]:
-            if not isinstance(param, tf.InputParameterAssignment) or param.name is None:
-                raise self.fail(f"__NEW of {decl.name} with a length (an array) is not supported", node)
-            name = str(param.name.name)
-            match = next((p.name for p in inputs if p.st.lower() == name.lower()), None)
-            if match is None:
-                raise self.fail(f"__NEW of {decl.name}: FB_init has no input {name!r}", node)
-            args.append(f"{match}={self.expr(param.value, scope).code}")
-        return Ex(f"new({', '.join(args)})", TypeRef("pointer", "POINTER_TO", of=TypeRef("user", decl.name)))
-
-    def _op_delete(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
-        if level is None:
-            raise self.fail("__DELETE inside an expression", node)
-        self.need("iecoop", "delete")
-        pointer = self.expr(params[0], scope)
-        return Ex(f"delete({pointer.code})", None)  # delete() makes the pointer variable 0, as __DELETE does
-
-    def _op_isvalidref(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
-        local = self.local_of(params[0], scope)
-        if isinstance(local, ReferenceLocal):
-            return Ex(f"bool({local.name})", BOOL)
-        self.need("iecoop", "is_valid_ref")
-        holder, field = self.holder_field(params[0], scope)
-        return Ex(f'is_valid_ref({holder}, "{field}")', BOOL)
-
-    def _op_test_and_set(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
-        self.need("iecoop", "test_and_set")
-        # the result is BOOL in TwinCAT and the old flag's value in CODESYS: typed as the integer it is
-        return Ex(f"test_and_set({self.address_of(params[0], scope)})", TypeRef("elem", "DWORD"))
-
-    def _op_query(self, upper: str, params: list[Any], node: Any, scope: Scope, level: int | None) -> Ex:
-        at = scope.statement_level if level is None else level
-        if at is None:
-            raise self.fail(f"{upper} is supported as a statement or the right side of an assignment", node)
-        source = self.expr(params[0], scope)
-        dest = self.expr(params[1], scope, store=True)
-        if upper == "__QUERYPOINTER":
-            self.need("iecoop", "query_pointer")
-            self.emit(f"{dest.code} = query_pointer({source.code})", at)
-            return Ex(f"bool({dest.code})" if level is None else "", BOOL)
-        decl = self.decl_of(dest.type)
-        if decl is None or decl.kind != "interface":
-            raise self.fail(f"__QUERYINTERFACE needs an interface variable as its second operand, got {dest.code}", node)
-        self.need("iecoop", "query_interface", "null")
-        self.emit(f"{dest.code} = query_interface({source.code}, {decl.name}) or null({decl.name})", at)
-        return Ex(f"bool({dest.code})" if level is None else "", BOOL)
 
 
 #: The operators whose operands are variables or types, not values: ST name -> Calls method.

@@ -10,7 +10,7 @@ from typing import Any
 import blark.transform as tf
 
 from iecoop.st.read.frames import Scope
-from iecoop.st.read.names import python_name, st_keyword
+from iecoop.st.read.names import field_name, python_name, st_keyword
 from iecoop.st.read.statements import Statements
 from iecoop.st.read.table import Callable_, Decl, Member, TypeRef
 from iecoop.st.read.trees import flag_keywords, lark_token_type, python_string, structure_elements
@@ -205,7 +205,7 @@ class Declarations(Statements):
             kwargs.append(f"fb_init={fb_init}")
         if extra:
             kwargs.append(extra)
-        if member.name != member.st and member.name == python_name(member.st, attribute=True):
+        if member.name != member.st and member.name in (python_name(member.st, attribute=True), field_name(member.st, type_)):
             kwargs.append(st_keyword(member.st, member.name, ""))
         section = member.section if member.section != "VAR_GLOBAL" else "VAR"
         note = f"  # {type_.name}({type_.limits[0]}..{type_.limits[1]})" if type_.limits is not None else ""
@@ -248,9 +248,18 @@ class Declarations(Statements):
                     match = params[index].name
                 else:
                     raise self.fail(f"FB_init of {type_name} has no input number {index + 1}", init)
-                pairs.append(f'"{match}": {self.expr(param.value, scope).code}')
+                pairs.append(f'"{match}": {self._fb_init_value(param.value, match, type_name, init, scope)}')
             return "{" + ", ".join(pairs) + "}"
         return ""
+
+    def _fb_init_value(self, value: Any, name: str, type_name: str, init: Any, scope: Scope) -> str:
+        """The code of one FB_init argument of a declaration; one naming the block's own variables is refused."""
+        code = self.expr(value, scope).code
+        if re.search(r"\bself\b", code):
+            # FB_init runs as the instance is made, before the block's own variables are there to be passed
+            raise self.fail(f"FB_init argument {name} of {type_name} names a variable of the same block "
+                            f"({value}): not supported (pass a GVL variable, or bind it in code)", init)
+        return code
 
     def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
         """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""

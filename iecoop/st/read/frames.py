@@ -83,6 +83,8 @@ class Scope:
         #: ARRAY / STRUCT locals whose initial value reads locals declared before them: (Python name, type, init),
         #: set once those are (the holder that makes them knows only constants)
         self.local_inits: list[tuple[str, Any, Any]] = []
+        #: a PROPERTY's Get with no Set beside it: a REFERENCE TO an elementary result is read through
+        self.get_only = False
 
     def temp(self, stem: str) -> str:
         self.counter += 1

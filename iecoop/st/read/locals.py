@@ -219,7 +219,7 @@ class Locals(Declarations):
             # bound by REF= to a view of its target, which is what a REFERENCE TO reads and writes through
             assert type_.of is not None
             scope.locals[name.lower()] = Member(py, type_, "LOCAL", st=name)
-            self.emit(f"{py}: {type_.of.annotation()}", level)
+            self.emit(f"{py}: {type_.of.annotation()} | None = None", level)  # None: not bound (__ISVALIDREF FALSE)
             return
         if type_.kind == "varinfo":  # set by := __VARINFO(x) before it is read
             self.need("iecoop", "VarInfo")

@@ -6,6 +6,7 @@ import builtins
 import functools
 import keyword
 import re
+from typing import Any
 
 from iecoop.st.language import is_reserved
 
@@ -75,6 +76,15 @@ def python_name(name: str, attribute: bool = False) -> str:
     if name not in reserved_names(attribute) and not name.startswith("_") and not name.endswith("_"):
         return name
     return (NAME_PREFIX if _PREFIXED.match(name) else "") + name + NAME_SUFFIX
+
+
+def field_name(name: str, type_: Any) -> str:
+    """The Python name of a variable of a block or GVL: ``python_name``, with ``_`` at its end when it is the name
+    of a type its own type's annotation names (``kitchen : kitchen;``), which the class body would read instead.
+    ``type_`` is the variable's ``TypeRef`` (or None)."""
+    python = python_name(name, attribute=True)
+    annotation = type_.annotation() if type_ is not None else ""
+    return python + NAME_SUFFIX if re.search(rf"(?<![\w.]){re.escape(python)}(?!\w)", annotation) else python
 
 
 def _keyword_stem(name: str, attribute: bool) -> str | None:

@@ -12,9 +12,9 @@ import blark.transform as tf
 from iecoop.st.language import ACCESS_SPECIFIERS, LIFECYCLE
 from iecoop.st.read.locals import Locals
 from iecoop.st.read.frames import Scope
-from iecoop.st.read.names import python_name, st_keyword
+from iecoop.st.read.names import field_name, python_name, st_keyword
 from iecoop.st.read.symbols import _SECTION_OF
-from iecoop.st.read.table import BOOL, Decl, Member, TypeRef
+from iecoop.st.read.table import BOOL, Decl, Member, ReferenceLocal, TypeRef
 from iecoop.st.read.trees import (
     accessor_access, address_taken, by_reference_arguments, flag_keywords, located_section, location, nodes_below, signature,
     statements_of, variables,
@@ -152,7 +152,7 @@ class Pous(Locals):
                     continue
                 for name, type_ in self._item_types(item):
                     init = item if isinstance(item, (tf.FunctionBlockNameDeclaration, tf.FunctionBlockInvocationDeclaration)) else getattr(item, "init", None)
-                    member = Member(python_name(name, attribute=True), type_, located_section(item, section or "VAR"), st=name)
+                    member = Member(field_name(name, type_), type_, located_section(item, section or "VAR"), st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra + path)), level)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 
@@ -378,6 +378,12 @@ class Pous(Locals):
             # REFERENCE TO a STRUCT or block: ``F REF= x`` names the variable itself, which is what Python returns
             assert returns.of is not None
             self.emit(f"{scope.return_name}: {returns.of.annotation()}", level)
+        elif returns.kind == "reference" and returns.of is not None and scope.get_only and returns.of.kind in ("elem", "string"):
+            # PROPERTY P : REFERENCE TO REAL with a Get only: ``P REF= x`` aims a pointer at x, read when the Get returns
+            self.need("iecoop", "POINTER_TO", "Pointer")
+            of = returns.of.annotation()
+            scope.locals[key] = ReferenceLocal(scope.return_name, returns.of, "VAR_IN_OUT", st=scope.return_st or scope.return_name)
+            self.emit(f"{scope.return_name}: POINTER_TO[{of}] = Pointer(0, None).typed({of})", level)
         elif returns.kind == "reference" and returns.of is not None:
             raise self.fail(f"a result of type REFERENCE TO {returns.of.annotation()} is not supported (REFERENCE TO a "
                             f"STRUCT or block is): return a POINTER TO {returns.of.annotation()}, the ADR of the variable")
@@ -397,7 +403,8 @@ class Pous(Locals):
         self._emit_statements(statements, scope, level)
         if returns is not None and scope.return_name is not None:
             self.at(node)  # the declaration's line: the return is no statement of the body
-            self.emit(f"return {scope.return_name}", level)
+            through = isinstance(scope.locals.get((scope.return_st or scope.return_name).lower()), ReferenceLocal)
+            self.emit(f"return {scope.return_name}{'.deref' if through else ''}", level)
         elif not statements and not scope.output_inits and not any(isinstance(b, (tf.VariableDeclarations, tf.FunctionVariableDeclarations, tf.TemporaryVariableDeclarations)) for b in node.declarations):
             self.emit("pass", level)
 
@@ -440,6 +447,7 @@ class Pous(Locals):
             else:
                 scope = Scope(decl, "getter", return_name=python_name(prop.st))
                 scope.return_st = prop.st
+                scope.get_only = setter is None
                 scope.pou_name = f"{decl.st}.{prop.st}.Get"
                 self._emit_callable_body(getter, scope, prop.type, 2)
             if setter is not None:
@@ -504,7 +512,7 @@ class Pous(Locals):
                 index = len(self.out)
                 init = item.init
                 for name, type_ in self._item_types(item):
-                    member = Member(python_name(name, attribute=True), type_, "VAR", st=name)
+                    member = Member(field_name(name, type_), type_, "VAR", st=name)
                     self.emit(self.field_line(member, init, scope, extra=", ".join(extra)), 1)
                 self.trail(index, ": ".join(filter(None, (location(item), trailing))))
 

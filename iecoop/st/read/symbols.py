@@ -18,7 +18,7 @@ from iecoop.st.language import ELEMENTARY, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
 from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
-from iecoop.st.read.names import python_name
+from iecoop.st.read.names import field_name, python_name
 from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
     IQUERYINTERFACE, Callable_, Decl, FrozenDict, FrozenSet, Member, SYSTEM_DECLS, TypeRef, own_method_fields,
@@ -255,7 +255,7 @@ class Symbols:
                 decl.methods["()"] = Callable_(decl.name, returns, params, st=decl.st)
             found = [(decl.methods[str(n.name).lower()].name, m) for n in decl.method_nodes for b in n.declarations
                      if isinstance(b, tf.MethodInstanceVariableDeclarations) for m in self._block_members(b, attribute=True)]
-            for method, member, own in own_method_fields(found):  # a METHOD's VAR_INST: fields of the instance
+            for method, member, own in own_method_fields(found, decl.members):  # a METHOD's VAR_INST: fields of the instance
                 self._add_member(decl, own)
                 decl.method_inst.update({(method.lower(), member.st.lower()): own} if own is not member else {})
 
@@ -491,7 +491,8 @@ class Symbols:
         for item in block.items:
             self.line = item.meta.line if item.meta else self.line
             for name, type_ in self._item_types(item):
-                yield Member(python_name(name, attribute), type_, section, st=name)
+                python = field_name(name, type_) if attribute else python_name(name)
+                yield Member(python, type_, section, st=name)
 
     def _item_types(self, item: Any) -> Iterator[tuple[str, TypeRef | None]]:
         """The names and types one declaration declares (its bounds may name its POU's VAR CONSTANTs)."""
@@ -541,7 +542,8 @@ class Symbols:
     def _element_members(self, element: Any, kind: str) -> Iterator[Member]:
         self.line = element.meta.line if element.meta else self.line
         if isinstance(element, tf.UnionElementDeclaration):
-            yield Member(python_name(str(element.name), attribute=True), self._spec_type(element.spec, element), "VAR", st=str(element.name))
+            type_ = self._spec_type(element.spec, element)
+            yield Member(field_name(str(element.name), type_), type_, "VAR", st=str(element.name))
             return
         init = element.init
         if isinstance(init, tf.FunctionCall):
@@ -549,7 +551,7 @@ class Symbols:
         else:
             type_ = self.init_type(init, element)
         for var in element.variables:
-            yield Member(python_name(str(var.variable.name), attribute=True), type_, "VAR", st=str(var.variable.name))
+            yield Member(field_name(str(var.variable.name), type_), type_, "VAR", st=str(var.variable.name))
 
     # --- lookups ---
 

@@ -7,6 +7,7 @@ changes it (a write raises ``FrozenTableError``).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterable
 from typing import Any, NoReturn, TypeVar
 
 from iecoop.st.language import INTEGER_LAYOUT, REAL_TYPES
@@ -226,12 +227,14 @@ ANYTYPE = Decl("struct", "AnyType", members={
 })
 
 
-def own_method_fields(found: list[tuple[str, Member]]) -> list[tuple[str, Member, Member]]:
+def own_method_fields(found: list[tuple[str, Member]], taken: Iterable[str] = ()) -> list[tuple[str, Member, Member]]:
     """(METHOD, VAR_INST, its field) for each METHOD's VAR_INST: the variable itself, or, for a name two METHODs
-    declare, a field named after its METHOD (``Up_nCount``): TwinCAT keeps each METHOD's VAR_INST apart, as
-    TcUnit suites' test methods keep their blocks under test."""
+    declare or the block's own variables (``taken``, lower case) hold, a field named after its METHOD
+    (``Up_nCount``): TwinCAT keeps each METHOD's VAR_INST apart, as TcUnit suites' test methods keep their
+    blocks under test, and the METHOD's own name hides the block's variable in its code."""
     methods_of: dict[str, set[str]] = {}
     for method, member in found:
         methods_of.setdefault(member.st.lower(), set()).add(method.lower())
-    return [(method, member, member if len(methods_of[member.st.lower()]) == 1 else
+    clash = set(taken)
+    return [(method, member, member if len(methods_of[member.st.lower()]) == 1 and member.st.lower() not in clash else
              dataclasses.replace(member, name=f"{method}_{member.name}", st=f"{method}_{member.st}")) for method, member in found]

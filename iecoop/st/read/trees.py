@@ -37,8 +37,9 @@ def structure_elements(value: Any) -> list[tuple[str | None, Any]] | None:
 
 
 def misread_elements(name: str | None, value: Any) -> list[tuple[str | None, Any]]:
-    """``name := value`` of a structure initialiser, split again where blark read the next elements into ``value``."""
-    items = value.elements if isinstance(value, tf.ArrayInitialization) and not value.brackets else []
+    """``name := value`` of a structure initialiser, split again where blark read the next elements into ``value``
+    (with four or more elements, as bare array initialisers nested in one another)."""
+    items = list(_bare_items(value.elements)) if isinstance(value, tf.ArrayInitialization) and not value.brackets else []
     rest = items[1:]
     if len(items) > 1 and items[0].count is None and all(
         item.count is None and isinstance(item.element, tf.BinaryOperation) and str(item.element.op) == ":="
@@ -46,6 +47,15 @@ def misread_elements(name: str | None, value: Any) -> list[tuple[str | None, Any
     ):
         return [(name, items[0].element)] + [(str(item.element.left.name), item.element.right) for item in rest]
     return [(name, value)]
+
+
+def _bare_items(items: Sequence[Any]) -> Iterator[Any]:
+    """The elements of a bare array initialiser, those of a bare one nested in it in its place."""
+    for item in items:
+        if item.count is None and isinstance(item.element, tf.ArrayInitialization) and not item.element.brackets:
+            yield from _bare_items(item.element.elements)
+        else:
+            yield item
 
 
 def exact_real(code: str) -> bool:

@@ -245,7 +245,6 @@ def test_function_var_stat_counts_every_call() -> None:
     (prog("i : INT(0..10) := -1;", "i := 1;"), "-1 is outside the subrange"),
     ("FUNCTION F : INT\nVAR_INPUT n : INT(0..10); END_VAR\nF := n;\nEND_FUNCTION\n" + prog("i : INT;", "i := F(n := 11);"),
      "11 is outside the subrange INT[(]0..10[)]"),
-    (prog("d : DATE;", "d := STRING_TO_DATE('D#2024-01-01');"), "STRING_TO_DATE is not supported"),
     ("PROGRAM MAIN\nVAR x : INT; END_VAR\nEND_PROGRAM\nACTION A:\nx := 1;\nEND_ACTION\nACTION A2:\nEND_ACTION\n"
      "FUNCTION F : INT\nF := 1;\nEND_FUNCTION\nACTION B:\nEND_ACTION\n", "ACTION B does not follow a FUNCTION_BLOCK or PROGRAM"),
     ("FUNCTION_BLOCK FB_A\nVAR _n : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROPERTY N : INT\nVAR a : ARRAY[1..2] OF INT; END_VAR\n"
