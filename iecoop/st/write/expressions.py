@@ -18,6 +18,7 @@ from typing import Any
 
 from iecoop.metadata import kind_of
 from iecoop.exceptions import ExceptionCode
+from iecoop import types as iec_types
 from iecoop.literals import D, T, format_date, format_dt, format_ltime, format_time, format_tod, parse_dt, parse_ltime, parse_tod
 from iecoop.parameters import parameter_sections
 from iecoop.memory.typeinfo import (
@@ -439,7 +440,9 @@ class ExpressionWriter(Inference):
         """``self.x``: ``x``, or ``THIS^.x`` where a local, input or the result of the same name hides it (ST ignores case)."""
         hiding = [n for n in self.locals if n not in self.temp_names] + [*self.bound, *self.params, *self.rename.values(), self.st_name]
         name = field_ident(self.scope.cls, attr)
-        if name.lower() in {n.lower() for n in hiding}:
+        # compared by Python name and by ST name: the input `word` (ST `word_`) hides the variable `word`
+        hidden = {n.lower() for n in hiding} | {ident(n).lower() for n in hiding if n.isascii() and n.isidentifier()}
+        if {attr.lower(), name.lower()} & hidden:
             return f"THIS^.{name}"
         return name
 
@@ -629,7 +632,9 @@ class ExpressionWriter(Inference):
     def named_call(self, node: ast.Call, name: str) -> tuple[str, int]:
         value = self.globals.get(name)
         library = _from_iecoop(value)
-        if name == "T" and value is T or name == "D" and value is D or name in ("LTIME", "DT", "TOD") and library:
+        # DT and TOD are an Annotated type that parses its literal: its __module__ is typing's on 3.12
+        if name == "T" and value is T or name == "D" and value is D or name == "LTIME" and library \
+                or name == "DT" and value is iec_types.DT or name == "TOD" and value is iec_types.TOD:
             return self.time_literal(node, name), _ATOM
         # A builtin only while no module name hides it; iecoop's operators only when they are iecoop's.
         rules = _BUILTIN_CALLS if value is None else _LIBRARY_CALLS if library else {}

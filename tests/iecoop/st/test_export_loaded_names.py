@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("blark")
 
-from iecoop import st  # noqa: E402
+from iecoop import INT, VAR, FunctionBlock, method, st  # noqa: E402
 from iecoop.libraries import tc2_utilities  # noqa: E402
 from iecoop.runtime import Runtime, Task  # noqa: E402
 
@@ -143,3 +143,19 @@ def test_global_lists_dumped_into_one_file_keep_their_names(tmp_path: pathlib.Pa
     again = st.load(path)  # a `// GVL name` line names its list in a file too, not only the file's own name
     again.MAIN()
     assert again.MAIN.n == 3 and again.GVL_Two.nB == 2 and again.GVL.nA == 1
+
+
+def test_an_input_named_as_a_keyword_variable_still_hides_it() -> None:
+    """``word`` is an ST keyword: the input and the variable are both ``word_`` in ST, so the variable is THIS^.word_."""
+    class Module(FunctionBlock):
+        word: INT = VAR(-1)
+
+        @method
+        def bind(self, word: INT) -> None:
+            self.word = word
+
+    text = st.dump([Module])
+    assert "THIS^.word_ := word_;" in text
+    loaded = st.load(text).Module()
+    loaded.bind(word=3)
+    assert loaded.word_ == 3
