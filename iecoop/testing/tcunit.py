@@ -223,8 +223,9 @@ def run_project(
     time of the project's task (the ``.TcTTO`` beside it), else 10 ms.
     ``load`` is how the project is read (default ``iecoop.st.load``); a project
     that does not load raises its ``DefinitionError`` / ``StSyntaxError``. A
-    ``.plcproj`` binds the libraries it references; a folder or ST file gets
-    TcUnit bound (``TcUnit.RUN()`` and the plain names work).
+    ``.plcproj`` binds the libraries it references; a folder, ST file or PLCopen
+    export gets TcUnit bound, under CfUnit too (``TcUnit.RUN()``, ``CfUnit.RUN()``
+    and the plain names work).
 
     A project that carries its own copy of TcUnit's source is refused (a
     LookupError naming the choice) unless ``tcunit="iecoop"``: then the folder
@@ -247,10 +248,10 @@ def run_project(
             raise LookupError(f"{copy}: the project carries its own copy of TcUnit (it declares FUNCTION_BLOCK FB_TestSuite): "
                               f"{_choice_text(None, folder)}")
         left_out.append(tcunit_copy_folder(source, copy))
-    # A .plcproj says which libraries it uses; a folder or ST file is TcUnit tests by being run here, and a
-    # project whose copy of TcUnit is left out gets iecoop's in its place.
+    # A .plcproj says which libraries it uses; a folder, ST file or PLCopen export is TcUnit (or CfUnit, its
+    # CODESYS name) tests by being run here, and a project whose copy of TcUnit is left out gets iecoop's in its place.
     bind = pathlib.Path(source).suffix.lower() != ".plcproj" or bool(left_out)
-    extra: dict[str, Any] = {"libraries": {"TcUnit": _tcunit}} if bind else {}
+    extra: dict[str, Any] = {"libraries": {"TcUnit": _tcunit, "CfUnit": _tcunit}} if bind else {}
     from iecoop.st.read.parse import leaving_out
 
     with _tcunit.registry(limit_ms) as registry:

@@ -109,3 +109,49 @@ def test_a_mutated_export_gives_a_named_error_or_loads(tmp_path: pathlib.Path, e
         st.load(path, cache=False)
     except DefinitionError as exc:
         assert "Mutated.xml" in str(exc) or "<st" in str(exc)
+
+
+SUITE = """<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0200">
+  <types><dataTypes /><pous>
+    <pou name="FB_Scale_Test" pouType="functionBlock">
+      <interface />
+      <body><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">TestGain();
+TestOffset();</xhtml></ST></body>
+      <addData>
+        <data name="http://www.3s-software.com/plcopenxml/method" handleUnknown="implementation">
+          <Method name="TestGain" ObjectId="1"><interface /><body><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">TEST('TestGain');
+AssertEquals_INT(Expected := 8, Actual := 2 * 4, Message := 'gain');
+TEST_FINISHED();</xhtml></ST></body></Method>
+        </data>
+        <data name="http://www.3s-software.com/plcopenxml/method" handleUnknown="implementation">
+          <Method name="TestOffset" ObjectId="2"><interface /><body><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">TEST('TestOffset');
+AssertEquals_INT(Expected := 5, Actual := 2 + 4, Message := 'offset');
+TEST_FINISHED();</xhtml></ST></body></Method>
+        </data>
+        <data name="http://www.3s-software.com/plcopenxml/pouinheritance" handleUnknown="implementation">
+          <Inheritance><Extends>CfUnit.FB_TestSuite</Extends></Inheritance>
+        </data>
+      </addData>
+    </pou>
+    <pou name="PRG_TEST" pouType="program">
+      <interface><localVars><variable name="fbScale"><type><derived name="FB_Scale_Test" /></type></variable></localVars></interface>
+      <body><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">CfUnit.RUN();</xhtml></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"""
+
+
+def test_cfunit_suites_of_a_codesys_export_run_as_tcunit_ones(tmp_path: pathlib.Path) -> None:
+    from iecoop.testing.tcunit import run_project
+
+    path = tmp_path / "Scale.xml"
+    path.write_text(SUITE)
+    result = run_project(path, profile="codesys")
+    assert [(t.suite, t.name, t.status) for t in result.tests] == [
+        ("PRG_TEST.fbScale", "TestGain", "passed"), ("PRG_TEST.fbScale", "TestOffset", "failed")]
+    (failure,) = result.tests[1].failures
+    line = next(number for number, text in enumerate(SUITE.splitlines(), 1) if "'offset'" in text)
+    assert (failure.message, failure.expected, failure.actual) == ("offset", "5", "6")
+    assert (failure.file, failure.lineno) == ("Scale.xml", line)  # the assertion's line in the XML file
