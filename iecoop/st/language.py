@@ -37,6 +37,7 @@ __all__ = [
     "INTEGER_TYPES",
     "KEYWORDS",
     "LIFECYCLE",
+    "PLCOPEN_ST_DECLARATION",
     "MATH_BY_PYTHON",
     "MATH_FUNCTIONS",
     "OPERATOR_FUNCTIONS",
@@ -195,3 +196,7 @@ VAR_INFO_MEMBERS: Final = {
     "BitSize": "UDINT", "TypeClass": "DINT", "TypeName": "STRING", "NumElements": "UDINT",
     "ElemBitSize": "UDINT", "BaseTypeClass": "DINT",
 }
+
+#: The PLCopen XML addData block in which iecoop keeps a variable's ST declaration where TC6 has no form for it
+#: (a VAR_STAT, a METHOD's VAR_INST, FB_init values): the writer writes it, the reader takes it.
+PLCOPEN_ST_DECLARATION: Final = "urn:iecoop:st-declaration"

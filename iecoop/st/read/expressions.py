@@ -165,12 +165,16 @@ class Expressions(SystemLists):
             return Ex(f"{value.p()}.typed({type_.of.annotation()})", type_)  # ST converts pointers implicitly: the same address
         return value
 
-    def _refuse_mismatch(self, type_: TypeRef | None, value: Ex, into: str | None) -> None:
-        """A value ST does not convert implicitly (a number stored in a STRING or BOOL, a STRING in an INT...) is
-        refused where a compiler refuses it, not when a cycle stores it (a TypeError there, RTSEXCPT_UNKNOWN)."""
+    def refuse_conversion(self, type_: TypeRef | None, value: Ex, into: str | None) -> None:
+        """A value of a type ST does not convert implicitly into ``type_`` (a STRING into an INT...) is refused where
+        a compiler refuses it, not when a cycle stores it (a TypeError there, RTSEXCPT_UNKNOWN)."""
         why = store_mismatch(type_, value.type, self.decl_of) if value.constant is None else None
         if why is not None:
             raise self.fail(f"{into}: {why}" if into else why)
+
+    def _refuse_mismatch(self, type_: TypeRef | None, value: Ex, into: str | None) -> None:
+        """``refuse_conversion``, and a number stored in a STRING or BOOL."""
+        self.refuse_conversion(type_, value, into)
         target = type_.deref() if type_ is not None else None
         if target is not None and type(value.constant) in (int, float) and (target.is_string or target.is_bool):
             raise self.fail(f"the number {value.code} cannot be stored in a {target.name} "

@@ -17,6 +17,7 @@ import pathlib
 from collections.abc import Iterator
 from typing import Any
 
+from iecoop.st.language import PLCOPEN_ST_DECLARATION
 from iecoop.st.read.errors import StUnsupportedError
 
 __all__ = ["flatten_plcopen"]
@@ -42,9 +43,8 @@ class Element:
     attrs: dict[str, str]
     line: int
     children: list[Element] = dataclasses.field(default_factory=list)
+    #: its text (a body's code starts on the element's line, right after its start tag)
     text: str = ""
-    #: the line the element's text starts on (a body's first line)
-    text_line: int = 0
 
     def child(self, tag: str) -> Element | None:
         return next((c for c in self.children if c.tag == tag), None)
@@ -56,7 +56,7 @@ class Element:
 def _element(node: Any) -> Element:
     """Our element of one of lxml's (namespace left off, comments and processing instructions dropped)."""
     local = node.tag.rpartition("}")[2]
-    element = Element(local, dict(node.attrib), node.sourceline or 0, text=node.text or "", text_line=node.sourceline or 0)
+    element = Element(local, dict(node.attrib), node.sourceline or 0, text=node.text or "")
     element.children = [_element(child) for child in node if isinstance(child.tag, str)]
     return element
 
@@ -186,7 +186,7 @@ class _Flat:
         code = source.text.lstrip("\n")
         if code.strip():
             # the body's lines from its first one on, each at its line of the XML file
-            self.add(code.rstrip(), source.text_line + source.text.count("\n", 0, len(source.text) - len(code)))
+            self.add(code.rstrip(), source.line + source.text.count("\n", 0, len(source.text) - len(code)))
 
     def members(self, owner: Element, name: str, with_bodies: bool) -> None:
         """The METHODs and PROPERTYs of CODESYS's addData blocks, after their POU or INTERFACE."""
@@ -319,9 +319,9 @@ def _add_data(holder: Element | None) -> Iterator[Element]:
 
 
 def _st_declaration(variable: Element) -> tuple[str, str] | None:
-    """(section, ST text) of a variable iecoop's writer declared in ST (``urn:iecoop:st-declaration``)."""
+    """(section, ST text) of a variable iecoop's writer declared in ST (``language.PLCOPEN_ST_DECLARATION``)."""
     for data in _add_data(variable):
-        if data.attrs.get("name") == "urn:iecoop:st-declaration":
+        if data.attrs.get("name") == PLCOPEN_ST_DECLARATION:
             for declaration in data.all("StDeclaration"):
                 section = declaration.attrs.get("section", "")
                 if section in _SECTIONS.values() or section in ("VAR_STAT", "VAR_INST"):

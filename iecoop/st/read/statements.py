@@ -8,7 +8,6 @@ from typing import Any
 
 import blark.transform as tf
 
-from iecoop.st.read.assignable import store_mismatch
 from iecoop.st.read.calls import Calls
 from iecoop.st.read.frames import Ex, PRECEDENCE, Scope
 from iecoop.st.read.table import Member, ReferenceLocal, TypeRef
@@ -125,9 +124,7 @@ class Statements(Calls):
         if target is None:
             return value.code
         target = target.deref()
-        why = store_mismatch(target, value.type, self.decl_of) if value.constant is None else None
-        if why is not None:
-            raise self.fail(f"{into} := ...: {why}" if into else why)
+        self.refuse_conversion(target, value, f"{into} := ..." if into else None)
         value = self.coerce(value, target) if target.is_bool or target.is_string else value  # b := 1; s := 5 is refused
         limited = self.limit(target, value)
         if limited is not value:

@@ -30,7 +30,7 @@ from iecoop.memory.typeinfo import (
 )
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
-from iecoop.st.language import PLCOPEN_ELEMENTARY
+from iecoop.st.language import PLCOPEN_ELEMENTARY, PLCOPEN_ST_DECLARATION
 from iecoop.st.write.expressions import literal
 from iecoop.st.write.units import Part, Unit, constant_type, initial_text, parameter_groups, variable_line
 from iecoop.st.write.model import FieldDecl, StExportError, alias_base, enum_base, enum_members, ident, type_text
@@ -177,13 +177,10 @@ def _value(parent: ET.Element, info: TypeInfo, value: Any, where: str) -> None:
     _sub(_sub(parent, "initialValue"), "simpleValue", value=initial_text(info, value, where))
 
 
-#: The addData of a variable whose declaration TC6 has no form for (a VAR_STAT, FB_init values): its ST text,
-#: which iecoop's reader takes (an IDE that does not know the block reads the variable as TC6 declares it).
-ST_DECLARATION = "urn:iecoop:st-declaration"
-
-
 def _st_declaration(variable: ET.Element, section: str, text: str) -> None:
-    data = _sub(_sub(variable, "addData"), "data", name=ST_DECLARATION, handleUnknown="implementation")
+    """The ST declaration of a variable TC6 cannot declare (an IDE that does not know the block reads the
+    variable as TC6 declares it; iecoop's reader takes the ST)."""
+    data = _sub(_sub(variable, "addData"), "data", name=PLCOPEN_ST_DECLARATION, handleUnknown="implementation")
     ET.SubElement(data, _q("StDeclaration"), {"section": section}).text = text
 
 

@@ -287,13 +287,10 @@ def _gvl_unit(meta: ClassMeta) -> Unit:
 
 
 def _local_lines(writer: BodyWriter) -> list[str]:
-    if not writer.locals:
+    own = _locals_of(writer)
+    if not own:
         return []
-    lines = ["VAR"]
-    for name, info in writer.locals.items():
-        lines.append(f"    {writer.name_text(name)} : {info if isinstance(info, str) else type_text(info)};")
-    lines.append("END_VAR")
-    return lines
+    return ["VAR", *(f"    {name} : {info if isinstance(info, str) else type_text(info)};" for name, info in own), "END_VAR"]
 
 
 def passed_inputs(inputs: Sequence[tuple[str, TypeInfo, Any]]) -> list[tuple[str, TypeInfo, Any]]:
