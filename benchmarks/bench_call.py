@@ -2,7 +2,9 @@
 
 Case 1: ``fb(enable=True)`` on FB_Counter (one BOOL input, an INT count
 incremented when enabled) against a plain callable object doing the same work:
-set the input if given, increment with INT wrap-around.
+set the input if given, increment with INT wrap-around. Beside it, for
+information, the same statements the block's generated call runs, on a bare
+``ctypes.Structure``: the floor of case 1 while a block's memory is ctypes'.
 
 Case 2: ``self.x = self.x + 1`` on an INT variable, in a loop inside an FB
 METHOD (so the call overhead does not dominate), against a plain object doing
@@ -26,6 +28,7 @@ with status 1 if a ratio is above the target of its mode.
 from __future__ import annotations
 
 import argparse
+import ctypes
 import statistics
 import sys
 import time
@@ -64,6 +67,24 @@ class PlainCounter:
             self.enable = enable
         if self.enable:
             self.count = ((self.count + 1 + 0x8000) & 0xFFFF) - 0x8000
+
+
+class BareCounter(ctypes.Structure):
+    """For information: the statements of FB_Counter's generated call (fast mode) on a bare ctypes.Structure.
+
+    What a call costs with the block's memory in ctypes fields and nothing of
+    iecoop's around it: the floor of case 1 while the memory is ctypes'.
+    """
+
+    _fields_ = [("enable", ctypes.c_bool), ("count", ctypes.c_int16)]
+    enable: bool
+    count: int
+
+    def __call__(self, *, enable: bool | None = None) -> None:
+        if enable is not None and enable is not self.enable:
+            self.enable = enable
+        if enable is True or (enable is not False and self.enable):
+            self.count += 1
 
 
 class Accumulator(FunctionBlock):
@@ -135,12 +156,13 @@ def interleaved(
 
 def check_same_work() -> None:
     """Both sides of each case compute the same values, wrap-around included."""
-    fb, plain = Counter(), PlainCounter()
+    fb, plain, bare = Counter(), PlainCounter(), BareCounter()
     for i in range(70_000):
         enable = i % 3 != 0
         fb(enable=enable)
         plain(enable=enable)
-    assert fb.count == plain.count, (fb.count, plain.count)
+        bare(enable=enable)
+    assert fb.count == plain.count == bare.count, (fb.count, plain.count, bare.count)
     acc, plain_acc = Accumulator(), PlainAccumulator()
     acc.run(40_000)
     plain_acc.run(40_000)
@@ -154,17 +176,20 @@ def run(number: int, repeat: int, loop: int) -> list[Result]:
     namespace: dict[str, Any] = {
         "fb": Counter(),
         "plain": PlainCounter(),
+        "bare": BareCounter(),
         "acc": Accumulator(),
         "plain_acc": PlainAccumulator(),
         "loop": loop,
     }
     call = interleaved("fb(enable=True)", "plain(enable=True)", namespace, number, repeat, 1)
+    floor = interleaved("bare(enable=True)", "plain(enable=True)", namespace, number, repeat, 1)
     variable = interleaved("acc.run(loop)", "plain_acc.run(loop)", namespace, max(1, number // loop), repeat, loop)
     noting = interleaved(
         "acc.run_noting(loop)", "plain_acc.run_noting(loop)", namespace, max(1, number // loop // 4), repeat, loop,
     )
     return [
         Result("call", *call),
+        Result("floor", *floor),
         Result("variable", *variable),
         Result("noting", *noting),
     ]
@@ -172,6 +197,7 @@ def run(number: int, repeat: int, loop: int) -> list[Result]:
 
 LABELS = {
     "call": "fb(enable=True) vs plain callable",
+    "floor": "the same on a bare ctypes.Structure",
     "variable": "self.x = self.x + 1 in a METHOD loop",
     "noting": "the same, a METHOD called each pass",
 }

@@ -13,7 +13,7 @@ from iecoop.exceptions import AccessError, DefinitionError, ExceptionCode, PlcEx
 from iecoop.literals import D, T
 from iecoop.memory import (
     ARRAY, POINTER_TO, REFERENCE_TO, TYPE_CLASS, Alias, IecEnum, NullInterface, Pointer, Struct, Union, VarInfo,
-    adr, adr_of, is_valid_ref, memcmp, memcpy, memset, ref_assign, sizeof, var_info,
+    adr, adr_of, is_valid_ref, memcmp, memcpy, memset, ref_assign, sibling, sizeof, var_info,
 )
 from iecoop.profiles import Profile, active_profile, use_profile
 from iecoop.types import (
@@ -28,7 +28,7 @@ __all__ = [
     "null", "query_interface", "query_pointer", "super_set", "CriticalSection", "test_and_set",
     "ARRAY", "Alias", "D", "IecEnum", "NullInterface", "POINTER_TO", "Pointer", "REFERENCE_TO", "Struct", "T",
     "TYPE_CLASS", "Union", "VAR", "VAR_EXTERNAL", "VAR_INPUT", "VAR_INST", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_STAT",
-    "VAR_TEMP", "VarInfo", "adr", "adr_of", "is_valid_ref", "memcmp", "memcpy", "memset", "ref_assign", "sizeof", "var_info",
+    "VAR_TEMP", "VarInfo", "adr", "adr_of", "is_valid_ref", "memcmp", "memcpy", "memset", "ref_assign", "sibling", "sizeof", "var_info",
     "AccessError", "BOOL", "BYTE", "DATE", "DINT", "DT", "DWORD", "DefinitionError", "ExceptionCode",
     "INT", "LINT", "LREAL", "LTIME", "LWORD", "PlcException", "Profile", "REAL", "SINT", "STRING",
     "TIME", "TOD", "UDINT", "UINT", "ULINT", "USINT", "WORD", "WSTRING", "active_profile",

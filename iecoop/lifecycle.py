@@ -46,7 +46,7 @@ from iecoop.memory._infos import StringInfo
 from iecoop.memory._handles import allocation_for_handle, free, poison, register, release_held, resolve, table_lock
 from iecoop.memory._resolve import class_info
 from iecoop.memory.pointers import Pointer
-from iecoop.memory.layout import ClassLayout, FieldRecord
+from iecoop.memory.layout import BlockArgument, ClassLayout, FieldRecord
 from iecoop.members import caller_description
 from iecoop.metadata import Kind, iec_class, kind_of, layout_of, st_name
 
@@ -198,6 +198,9 @@ def _init_tree(
             fb_init = spec.fb_init if spec is not None else None
             if isinstance(fb_init, list):  # one entry per ARRAY element (ST: aAxes : ARRAY[1..2] OF FB_Axis[(n := 1), (n := 2)])
                 fb_init = fb_init[index] if index < len(fb_init) else None
+            if fb_init and any(isinstance(value, BlockArgument) for value in fb_init.values()):
+                # ST: fbUser : FB_User(fbCounter): the variable beside the member, of this instance
+                fb_init = {k: v.resolve(obj) if isinstance(v, BlockArgument) else v for k, v in fb_init.items()}
             _init_tree(child, init_retains, in_copy_code, fb_init or _EMPTY, member_inputs)
     _run_fb_init(obj, init_retains, in_copy_code, args)
     if declared:

@@ -22,6 +22,7 @@ from iecoop.memory.operators import (
     memcpy,
     memset,
     ref_assign,
+    sibling,
     sizeof,
     var_info,
 )
@@ -45,6 +46,7 @@ __all__ = [
     "memcpy",
     "memset",
     "ref_assign",
+    "sibling",
     "sizeof",
     "var_info",
 ]

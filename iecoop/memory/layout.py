@@ -39,6 +39,7 @@ __all__ = [
     "DataClassBuilder",
     "FieldRecord",
     "FieldSpec",
+    "BlockArgument",
     "LateInitial",
     "LayoutBuilder",
     "build_layout",
@@ -305,6 +306,11 @@ class LayoutBuilder:
         for record in own:
             if isinstance(record.spec.initial, LateInitial):
                 record.spec.initial.check(record, layout)
+        for record in own:
+            for arguments in fb_init_entries(record.spec.fb_init):
+                for argument in arguments.values():
+                    if isinstance(argument, BlockArgument):
+                        argument.check_argument(record, layout)
         # the addresses of siblings last: after every value, as a vendor's init code sets them
         last = [record for record in all_fields if isinstance(record.spec.initial, LateInitial)]
         first = [record for record in all_fields if not isinstance(record.spec.initial, LateInitial)]
@@ -544,6 +550,29 @@ class LateInitial:
     def op(self, record: FieldRecord) -> Callable[[Any], None]:
         """The operation that sets ``record`` in a new instance."""
         raise NotImplementedError
+
+
+class BlockArgument:
+    """An FB_init argument of a member that depends on the instance declaring it, as ``sibling(member)`` does.
+
+    It is checked once the class has all its fields (``check_argument``) and
+    taken from each new instance as the member's FB_init runs (``resolve``).
+    """
+
+    __slots__ = ()
+
+    def check_argument(self, record: FieldRecord, layout: ClassLayout) -> None:
+        """Refuse, at definition, an argument the block declaring ``record`` cannot give."""
+        raise NotImplementedError
+
+    def resolve(self, obj: Any) -> Any:
+        """The value passed, taken from ``obj``, the instance whose member's FB_init runs."""
+        raise NotImplementedError
+
+
+def fb_init_entries(fb_init: dict[str, Any] | list[dict[str, Any]] | None) -> list[dict[str, Any]]:
+    """The FB_init argument dicts of a declaration: one, one per ARRAY element, or none."""
+    return [] if not fb_init else [fb_init] if isinstance(fb_init, dict) else list(fb_init)
 
 
 class GlobalAddress(LateInitial):

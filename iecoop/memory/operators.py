@@ -40,7 +40,7 @@ from iecoop.memory._resolve import class_info, resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.references import ReferenceInfo
-from iecoop.memory.layout import ClassLayout, FieldRecord, LateInitial
+from iecoop.memory.layout import BlockArgument, ClassLayout, FieldRecord, LateInitial
 from iecoop.metadata import Kind, kind_of
 
 __all__ = [
@@ -53,6 +53,7 @@ __all__ = [
     "memcpy",
     "memset",
     "ref_assign",
+    "sibling",
     "sizeof",
     "type_info_of",
     "var_info",
@@ -158,19 +159,41 @@ def adr_of(member: str, index: int | tuple[int, ...] | None = None) -> Any:
     return AddressOf(member, index)
 
 
-class AddressOf(LateInitial):
-    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+class _NamedMember(BlockArgument):
+    """A variable of the block being declared, by name (and index into it): what ``adr_of`` and ``sibling`` say."""
 
     __slots__ = ("member", "index")
+    #: the function that makes it, in messages and its repr
+    word: typing.ClassVar[str] = ""
 
     def __init__(self, member: str, index: int | tuple[int, ...] | None = None) -> None:
         if not isinstance(member, str):
-            raise TypeError(f"adr_of: the member is a variable name (a str), got {member!r}")
+            raise TypeError(f"{self.word}: the member is a variable name (a str), got {member!r}")
         self.member = member
         self.index = index
 
     def __repr__(self) -> str:
-        return f"adr_of({self.member!r})" if self.index is None else f"adr_of({self.member!r}, {self.index!r})"
+        return f"{self.word}({self.member!r})" if self.index is None else f"{self.word}({self.member!r}, {self.index!r})"
+
+    def check_argument(self, record: FieldRecord, layout: ClassLayout) -> None:
+        """Refuse, at definition, an FB_init argument of ``record`` naming a variable the block does not declare
+        (or an index into one that is no ARRAY, or the member itself)."""
+        target = layout.by_name.get(self.member)
+        if target is None:
+            raise DefinitionError(f"{record.where}: FB_init argument {self!r} names no variable of the block")
+        if self.index is not None and not isinstance(target.info, ArrayInfo):
+            raise DefinitionError(
+                f"{record.where}: FB_init argument {self!r} needs an ARRAY, {self.member} is {target.info.name}"
+            )
+        if self.member == record.name:
+            raise DefinitionError(f"{record.where}: FB_init argument {self!r} names the member it initialises")
+
+
+class AddressOf(LateInitial, _NamedMember):
+    """The initial value ``ADR(x)`` / ``REF= x`` of a POINTER or REFERENCE: a sibling variable (see ``adr_of``)."""
+
+    __slots__ = ()
+    word = "adr_of"
 
     def check(self, record: FieldRecord, layout: ClassLayout) -> None:
         """Refuse, at definition, a member that is not there or whose type the pointer does not point to."""
@@ -198,6 +221,58 @@ class AddressOf(LateInitial):
             return lambda obj: ref_assign(obj, field, adr(obj, member, index))
         store = record.info.store
         return lambda obj: store(obj, offset, adr(obj, member, index), where)
+
+    def resolve(self, obj: Any) -> Any:
+        """The argument passed to a member's FB_init: ``ADR(member)`` of ``obj``, the instance being made."""
+        return adr(obj, self.member, self.index)
+
+
+def sibling(member: str, index: int | tuple[int, ...] | None = None) -> Any:
+    """An FB_init argument naming a variable declared beside the block that takes it.
+
+    ST: ``fbUser : FB_User(fbCounter);`` (an interface, ``REFERENCE TO`` or
+    value input of FB_User's FB_init given the variable ``fbCounter`` of the
+    same block) is ``user: FB_User = VAR(fb_init={"counter": sibling("counter")})``;
+    ``sibling("values", 2)`` is ``aValues[2]``. Each instance passes its own
+    variable, read when the member's FB_init runs (members in declaration
+    order, after every initial value); ``adr_of("counter")`` passes
+    ``ADR(fbCounter)`` to a ``POINTER TO`` input.
+
+    >>> from iecoop import BOOL, INT, REFERENCE_TO, VAR, VAR_OUTPUT, FunctionBlock, Program, ref_assign
+    >>> class Counter(FunctionBlock):
+    ...     count: INT = VAR_OUTPUT(0)
+    ...     def body(self) -> None:
+    ...         self.count = self.count + 1
+    >>> class User(FunctionBlock):
+    ...     counter: REFERENCE_TO[Counter] = VAR()
+    ...     def fb_init(self, init_retains: BOOL, in_copy_code: BOOL, counter: REFERENCE_TO[Counter]) -> BOOL:
+    ...         ref_assign(self, "counter", adr(counter))
+    ...         return True
+    ...     def body(self) -> None:
+    ...         self.counter()
+    >>> class Cell(Program):
+    ...     counter: Counter = VAR()
+    ...     user: User = VAR(fb_init={"counter": sibling("counter")})
+    ...     def body(self) -> None:
+    ...         self.user()
+    >>> cell = Cell()
+    >>> cell(); cell()
+    >>> cell.counter.count
+    2
+    """
+    return Sibling(member, index)
+
+
+class Sibling(_NamedMember):
+    """An FB_init argument that is a variable of the block declaring the member (see ``sibling``)."""
+
+    __slots__ = ()
+    word = "sibling"
+
+    def resolve(self, obj: Any) -> Any:
+        """The argument passed to a member's FB_init: the variable of ``obj``, the instance being made."""
+        value = getattr(obj, self.member)
+        return value if self.index is None else value[self.index]
 
 
 def _pointer_into(obj: Any, extra: int, target: TypeInfo) -> Pointer[Any]:

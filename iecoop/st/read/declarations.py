@@ -253,23 +253,26 @@ class Declarations(Statements):
         return ""
 
     def _fb_init_value(self, value: Any, name: str, type_name: str, init: Any, scope: Scope) -> str:
-        """The code of one FB_init argument of a declaration; one naming the block's own variables is refused."""
+        """The code of one FB_init argument of a declaration: a variable of the same block is ``sibling("x")``,
+        its address ``adr_of("x")``, taken from each instance as the member's FB_init runs."""
+        if isinstance(value, tf.FunctionCall) and str(value.name).upper() == "ADR" and len(value.parameters) == 1:
+            found = self._sibling_target(value.parameters[0].value, scope)
+            if found is not None:
+                self.need("iecoop", "adr_of")
+                return f"adr_of({found})"
+        found = self._sibling_target(value, scope)
+        if found is not None:
+            self.need("iecoop", "sibling")
+            return f"sibling({found})"
         code = self.expr(value, scope).code
         if re.search(r"\bself\b", code):
-            # FB_init runs as the instance is made, before the block's own variables are there to be passed
-            raise self.fail(f"FB_init argument {name} of {type_name} names a variable of the same block "
-                            f"({value}): not supported (pass a GVL variable, or bind it in code)", init)
+            # an expression of the block's variables has no instance to be computed in before FB_init runs
+            raise self.fail(f"FB_init argument {name} of {type_name} computes with variables of the same block "
+                            f"({value}): not supported (pass the variable itself, or a GVL variable)", init)
         return code
 
-    def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
-        """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""
-        target = getattr(init, "value", None)
-        if type_.kind == "pointer":
-            if not (isinstance(target, tf.FunctionCall) and str(target.name).upper() == "ADR" and len(target.parameters) == 1):
-                return None
-            target = target.parameters[0].value
-        elif isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
-            target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+    def _sibling_target(self, target: Any, scope: Scope) -> str | None:
+        """``"x"`` / ``"a", 3`` when ``target`` is a variable ``x`` (or ``a[3]``) of the block being declared."""
         index = ""
         if isinstance(target, tf.MultiElementVariable) and len(target.elements) == 1 and isinstance(target.elements[0], tf.SubscriptList):
             subscripts = target.elements[0].subscripts
@@ -283,8 +286,22 @@ class Declarations(Statements):
         found = self.find_member(scope.owner, str(target.name))
         if found is None or not isinstance(found[1], Member):
             return None
+        return f'"{found[1].name}"{index}'
+
+    def sibling_address(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
+        """``p : POINTER TO T := ADR(x);`` / ``r : REFERENCE TO T := x;`` of a member beside it: ``adr_of("x")``."""
+        target = getattr(init, "value", None)
+        if type_.kind == "pointer":
+            if not (isinstance(target, tf.FunctionCall) and str(target.name).upper() == "ADR" and len(target.parameters) == 1):
+                return None
+            target = target.parameters[0].value
+        elif isinstance(target, tf.ArrayInitialization) and not target.brackets and len(target.elements) == 1:
+            target = target.elements[0].element  # blark reads `ref : REFERENCE TO ARRAY.. := a` as an array value
+        found = self._sibling_target(target, scope)
+        if found is None:
+            return None
         self.need("iecoop", "adr_of")
-        return f'adr_of("{found[1].name}"{index})'
+        return f"adr_of({found})"
 
     def initial_value(self, type_: TypeRef, init: Any, scope: Scope) -> str | None:
         if type_.kind in ("pointer", "reference"):

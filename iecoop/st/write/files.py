@@ -207,7 +207,8 @@ def _sections(interface: ET.Element, fields: Sequence[FieldDecl], owner: str) ->
                 name = field.spec.st_name or field.name
                 variable = _variable(block, name, info, initial, f"{owner}.{field.name}")
                 if section == "VAR_STAT" or field.spec.fb_init:
-                    text = variable_line(name, info, initial, owner, field.spec.fb_init, python_name=field.name)
+                    names = {f.name: f.spec.st_name or f.name for f in fields}
+                    text = variable_line(name, info, initial, owner, field.spec.fb_init, python_name=field.name, names=names)
                     _st_declaration(variable, section, text)
 
 

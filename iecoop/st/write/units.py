@@ -20,6 +20,7 @@ from iecoop.metadata import field_record, fields_of, is_root, kind_of
 from iecoop.members import Access, visibility
 from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, TypeInfo
 from iecoop.memory.layout import MISSING
+from iecoop.memory.operators import AddressOf, Sibling
 from iecoop.st.language import SECTION_ORDER
 from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
 from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
@@ -160,8 +161,15 @@ def _default_initial(info: TypeInfo, value: Any) -> bool:
     return value is None or isinstance(value, NullInterface) or isinstance(value, Pointer) and not value
 
 
-def _argument(value: Any, where: str) -> str:
-    """An FB_init argument: a literal, or the global instance it designates."""
+def _argument(value: Any, where: str, names: Mapping[str, str]) -> str:
+    """An FB_init argument: a literal, a variable beside the member (``names``: the ST name of each of the
+    block's variables), or the global instance it designates."""
+    if isinstance(value, (Sibling, AddressOf)):
+        target = names.get(value.member, ident(value.member))
+        if value.index is not None:
+            index = value.index if isinstance(value.index, tuple) else (value.index,)
+            target += "[" + ", ".join(str(i) for i in index) + "]"
+        return f"ADR({target})" if isinstance(value, AddressOf) else target
     if kind_of(type(value)) in ("fb", "program"):
         from iecoop.gvl import all_global_lists
 
@@ -178,15 +186,17 @@ def _argument(value: Any, where: str) -> str:
 
 def variable_line(
     name: str, info: TypeInfo, initial: Any, owner: str, fb_init: Any = None, *, python_name: str = "", declared: Declared | None = None,
+    names: Mapping[str, str] | None = None,
 ) -> str:
     """``name : TYPE := initial;`` of a variable of ``owner`` (``python_name``: its name in Python, where it differs);
-    ``declared``: what the loaded source said of it (``AT %I*``, ARRAY bounds by name)."""
+    ``declared``: what the loaded source said of it (``AT %I*``, ARRAY bounds by name); ``names``: the ST name
+    of each variable of ``owner`` by its Python name, for FB_init arguments naming them."""
     where = f"{owner}.{python_name or name}"
     location = declared.locations.get(name.lower()) if declared is not None else None
     bounds = declared.dimensions(name, info.bounds) if declared is not None and isinstance(info, ArrayInfo) else None
     text = f"{ident(name, owner)}{f' {location}' if location else ''} : {type_text(info, bounds)}"
     if fb_init and isinstance(fb_init, Mapping):
-        args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}')}" for k, v in fb_init.items())
+        args = ", ".join(f"{ident(k)} := {_argument(v, f'{where}.{k}', names or {})}" for k, v in fb_init.items())
         text += f"({args})"
     elif fb_init:
         raise StExportError(f"{where}: FB_init inputs per ARRAY element have no declaration form the writer knows")
@@ -219,6 +229,7 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
     """VAR blocks in ST order, one per section and qualifier."""
     lines: list[str] = []
     groups: dict[tuple[str, str], list[FieldDecl]] = {}
+    names = {field.name: field.spec.st_name or field.name for field in fields}
     for field in fields:
         section = default or field.section
         qualifier = field.spec.qualifiers if section != "VAR_IN_OUT" else ("CONSTANT" if field.spec.constant else "")
@@ -232,7 +243,9 @@ def sections(fields: Sequence[FieldDecl], owner: str, *, default: str | None = N
             initial = field.spec.initial if section not in ("VAR_IN_OUT", "VAR_EXTERNAL") else MISSING
             attributes = _INSTANCE_PATH if field.spec.instance_path else ()
             name = field.spec.st_name or field.name
-            line = variable_line(name, _declared_type(field), initial, owner, field.spec.fb_init, python_name=field.name, declared=declared)
+            line = variable_line(
+                name, _declared_type(field), initial, owner, field.spec.fb_init, python_name=field.name, declared=declared, names=names,
+            )
             lines += _noted(line, name, declared, attributes)
         lines.append("END_VAR")
     return lines

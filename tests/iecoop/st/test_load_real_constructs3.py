@@ -78,7 +78,7 @@ def test_isvalidref_of_a_methods_reference_input_and_local() -> None:
     assert main.fbJog._bLocalSeen is False  # unbound again at every call
 
 
-# --- an FB_init argument that is a variable of the same block: refused by name ----------------------
+# --- an FB_init argument that is a variable of the same block: passed from each instance ----------------------
 
 INJECTED = """FUNCTION_BLOCK FB_Counter
 VAR
@@ -110,9 +110,11 @@ END_PROGRAM
 """
 
 
-def test_an_fb_init_argument_naming_a_variable_of_the_same_block_is_refused_by_name() -> None:
-    with pytest.raises(st.StUnsupportedError, match=r":24: FB_init argument counter of FB_User names a variable of the same block"):
-        st.load(INJECTED)
+def test_an_fb_init_argument_naming_a_variable_of_the_same_block_is_that_variable() -> None:
+    runner = st.load(INJECTED).Runner
+    for _ in range(3):
+        runner()
+    assert runner.counter.nCount == 3
 
 
 # --- a STRUCT initialiser of four or more elements (blark reads the tail as nested bare arrays) --------
