@@ -112,7 +112,7 @@ def inline_call(
     """
     code = body.__code__
     node = _function_node(body) if _plain(body) else None
-    # `params` are "name=_M"; the names themselves are the keys of `kwdefaults`.
+    # `params` are "name=..."; the names themselves are the keys of `kwdefaults`.
     setting = _recompiles(node, body, {*kwdefaults, *names}) if node is not None and not _returns_value(node) else None
     if node is None or setting is None:
         return None
@@ -304,7 +304,7 @@ def _rewritten(
     if any(body.__globals__.get(name) is literal for name in code.co_names for literal in _LITERALS):
         statements = [_Literals(body.__globals__, local, names).visit(statement) for statement in statements]
     node.body = _with_views_kept(statements, {key for key, _cls in members.values()}, names, node)
-    call = _with_inputs(node, [p.removesuffix("=_M") for p in params] if positional else params, lines, positional)
+    call = _with_inputs(node, [p.removesuffix("=...") for p in params] if positional else params, lines, positional)
     return call
 
 
@@ -601,10 +601,10 @@ class _MemberCalls(OwnCode):
     holds the class's built call while that is the class's ``__call__``, and a
     function making Python's ordinary call once ``__call__`` is rebound or
     deleted. Keywords in the order the class declares its inputs (any of them
-    left out) pass by position, ``_M`` for one not given; any other call passes
+    left out) pass by position, ``...`` for one not given; any other call passes
     them as written, so its arguments are still evaluated in the source's order::
 
-        _iec_w_position_timer(self._iec_m_0timer, x, _M)    # self.timer(IN=x)
+        _iec_w_position_timer(self._iec_m_0timer, x, ...)    # self.timer(IN=x)
         _iec_w_call_timer(self._iec_m_0timer, PT=t, IN=x)   # self.timer(PT=t, IN=x)
 
     An element of an ``ARRAY[lo..hi] OF`` a block (``arrays``: per such
@@ -691,7 +691,7 @@ class _MemberCalls(OwnCode):
         return located(direct, node)
 
     def _by_position(self, node: ast.Call, cls: type) -> tuple[types.CellType, list[ast.expr]] | None:
-        """The positional call's cell and the arguments in the class's input order (``_M`` for one not
+        """The positional call's cell and the arguments in the class's input order (``...`` for one not
         given), if the keywords are in that order."""
         if self.direct is None or node.args or any(k.arg is None for k in node.keywords):
             return None
@@ -700,7 +700,7 @@ class _MemberCalls(OwnCode):
         if not set(given) <= set(order) or [n for n in order if n in given] != given:
             return None  # an unknown or repeated name, or another order: the call as written
         values = {k.arg: k.value for k in node.keywords}
-        return cell, [values[n] if n in values else ast.Name(id="_M", ctx=ast.Load()) for n in order]
+        return cell, [values[n] if n in values else ast.Constant(value=...) for n in order]
 
 
 class _DirectStores(OwnCode):

@@ -173,14 +173,14 @@ def _int_constant(node: ast.expr) -> int | None:
 class GivenInputs:
     """The body's first reads of a BOOL input given to the call come from the argument, not the block's memory.
 
-    The call stores each given input before the body runs (``if IN is not _M:
+    The call stores each given input before the body runs (``if IN is not ...:
     self.IN = IN``); up to the body's first statement that could change
     anything (a call, a store to the block, a read that runs code), each
     ``self.IN`` is::
 
         (IN if IN is True or IN is False else self.IN)
 
-    An exact ``bool`` given is what the BOOL holds after the store; ``_M`` (not
+    An exact ``bool`` given is what the BOOL holds after the store; ``...`` (not
     given) and any other value read the variable, as before. The leading
     statements taken are assignments to local names and the test of an
     ``if``, or the arguments of one member call, whose values read only

@@ -56,6 +56,7 @@ from iecoop.memory._infos import TypeInfo
 from iecoop.memory._views import CheckedMemberField, VIEW_PREFIX, _MemberProperty, set_state_without_views
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import PointerInfo
+from iecoop.memory.open_arrays import OpenArrayInfo, OpenArrayReferenceInfo
 from iecoop.memory.references import ReferenceInfo
 from iecoop.memory.layout import (
     MISSING,
@@ -346,7 +347,7 @@ class _PouBuilder:
         if spec.section is Section.VAR_IN_OUT:
             if isinstance(info, (ReferenceInfo, InterfaceInfo)):
                 raise DefinitionError(f"{where}: VAR_IN_OUT of {info.name} is not allowed")
-            return ReferenceInfo(info)
+            return OpenArrayReferenceInfo(info) if isinstance(info, OpenArrayInfo) else ReferenceInfo(info)
         if spec.section is Section.VAR_INST and not spec.method:
             raise DefinitionError(f"{where}: VAR_INST needs the method it belongs to: VAR_INST(..., method='name')")
         if spec.section is Section.VAR_INST and spec.method not in self.own:
@@ -666,35 +667,39 @@ def _temp_reset(temps: list[FieldRecord]) -> Callable[[Any], None]:
 # The generated call: fb(IN=..., PT=...)
 # ---------------------------------------------------------------------------
 
-_NOT_GIVEN: Any = type("_NotGiven", (), {"__repr__": lambda self: "<not given>", "__slots__": ()})()
+#: An input not given: the call's default. Ellipsis, no IEC value, is a constant the compiled call loads
+#: itself, where a sentinel object of its own would be a closure cell every call copies and reads.
+_NOT_GIVEN: Any = ...
+#: The same in the generated call's text.
+_M = "..."
 
 
 def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Callable[..., None]:
     """Generate ``__call__`` with one keyword per input, as attrs generates ``__init__``.
 
     ``positional``: the same call taking every input and in-out by position,
-    in declaration order, ``_M`` for one not given (see ``_positional_call``).
+    in declaration order, ``...`` for one not given (see ``_positional_call``).
     """
     inputs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.SET_IF_GIVEN]
     in_outs = [r for r in layout.fields if SECTION_RULES[r.section].at_call is AtCall.BOUND]
     name = cls.__name__
-    globs: dict[str, Any] = {"_M": _NOT_GIVEN, "_call_error": _call_error}
+    globs: dict[str, Any] = {"_call_error": _call_error}
     params: list[str] = []
     lines: list[str] = []
     # The variables a read of `self.x` takes from the ctypes field itself, with no code run.
     plain = raw_elementary(cls, layout)
     raw = {r.name for r in plain}
     for i, record in enumerate(inputs):
-        params.append(f"{record.name}=_M")
+        params.append(f"{record.name}={_M}")
         info = record.info
         if isinstance(info, ReferenceInfo):
             globs[f"_bind{i}"] = info.bind_handle
             globs[f"_raw{i}"] = record.raw.__set__
-            lines.append(f"    if {record.name} is not _M: _raw{i}(self, _bind{i}({record.name}, {record.where!r}))")
+            lines.append(f"    if {record.name} is not {_M}: _raw{i}(self, _bind{i}({record.name}, {record.where!r}))")
         elif isinstance(info, (ArrayInfo, AggregateInfo)):
             # an ARRAY / STRUCT input also takes a list / dict (fb(points := [1, 2, 3]))
             globs[f"_store{i}"] = info.store
-            lines.append(f"    if {record.name} is not _M: _store{i}(self, {record.offset}, {record.name}, {record.where!r})")
+            lines.append(f"    if {record.name} is not {_M}: _store{i}(self, {record.offset}, {record.name}, {record.where!r})")
         elif info.direct:
             accepted = globs[f"_type{i}"] = accepted_type(info)
             # A value equal to the one its field holds stores nothing new (see _changed); only a field
@@ -703,11 +708,11 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
             if not _config.CHECKS:
                 # fast mode: a plain attribute store reaches the ctypes field in C
                 test = f" and ({_changed(record.name, accepted, f'_type{i}')})" if compared else ""
-                lines.append(f"    if {record.name} is not _M{test}: self.{record.name} = {record.name}")
+                lines.append(f"    if {record.name} is not {_M}{test}: self.{record.name} = {record.name}")
                 continue
             globs[f"_check{i}"] = info.validate
             globs[f"_set{i}"] = record.raw.__set__
-            lines.append(f"    if {record.name} is not _M:")
+            lines.append(f"    if {record.name} is not {_M}:")
             lines.append(f"        if {record.name}.__class__ is not _type{i}:")
             lines.append(f"            _check{i}({record.name}, {record.where!r})")
             if compared:
@@ -717,12 +722,12 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
                 lines.append(f"        _set{i}(self, {record.name})")
         else:
             globs[f"_desc{i}"] = getattr(cls, record.name).__set__
-            lines.append(f"    if {record.name} is not _M: _desc{i}(self, {record.name})")
+            lines.append(f"    if {record.name} is not {_M}: _desc{i}(self, {record.name})")
     for j, record in enumerate(in_outs):
-        params.append(f"{record.name}=_M")
+        params.append(f"{record.name}={_M}")
         reference = typing.cast(ReferenceInfo, record.info)
         globs[f"_rawio{j}"] = record.raw.__set__
-        lines.append(f"    if {record.name} is _M: _call_error({name!r}, {record.name!r})")
+        lines.append(f"    if {record.name} is {_M}: _call_error({name!r}, {record.name!r})")
         if record.spec.constant:
             globs[f"_bindio{j}"] = reference.bind_constant
             lines.append(f"    _rawio{j}(self, _bindio{j}(self, {record.name}, {record.where!r}))")
@@ -781,7 +786,7 @@ def _make_call(cls: Any, layout: ClassLayout, positional: bool = False) -> Calla
     else:
         lines.append("    self.body()")
     if positional:
-        signature = ", ".join(["self", *(p.removesuffix("=_M") for p in params)])
+        signature = ", ".join(["self", *(p.removesuffix(f"={_M}") for p in params)])
     else:
         signature = ", ".join(["self", "*", *params]) if params else "self"
     source = f"def __call__({signature}) -> None:\n" + "\n".join(lines) + "\n"
@@ -815,7 +820,7 @@ def _positional_call(cls: Any) -> tuple[types.CellType, tuple[str, ...]]:
 
     ``self.timer(IN=x, PT=t)`` passes its keywords as names the callee matches
     one by one (CPython 3.13 does not specialise such a call); with the inputs
-    by position, ``_M`` for one not given, the callee starts from its
+    by position, ``...`` for one not given, the callee starts from its
     arguments as they come. The positional call is built at the first holder
     that needs it; the cell holds it while ``cls.__call__`` is the built call,
     and a function making Python's ordinary call with the given inputs by

@@ -15,6 +15,7 @@ from iecoop.memory._aggregates import AggregateInfo, ArrayInfo, array_info, norm
 from iecoop.memory._handles import check_block_size
 from iecoop.memory._infos import TypeInfo
 from iecoop.memory._resolve import _Resolver, resolve_type
+from iecoop.memory.open_arrays import OpenArrayInfo, open_dimensions
 from iecoop.memory.references import ReferenceInfo
 from iecoop.metadata import Kind, kind_of
 
@@ -71,6 +72,15 @@ def _resolve_array(annotation: Any, where: str, length: int | None, bounds: obje
         raise DefinitionError(f"{where}: ARRAY is not an IEC type")
     (elem_annotation,) = typing.get_args(annotation)
     depth = _array_depth(annotation)
+    dims = open_dimensions(bounds)
+    if dims is not None:
+        # ARRAY[*]: what a VAR_IN_OUT refers to (the layout refuses it anywhere else)
+        if depth > 1:
+            raise DefinitionError(f"{where}: ARRAY[*] OF ARRAY is not supported; write ARRAY[*, *] OF the element (bounds=('*', '*'))")
+        elem = resolve_type(elem_annotation, where, length=length, bounds=None, resolver=resolver)
+        if isinstance(elem, (ReferenceInfo, OpenArrayInfo)):
+            raise DefinitionError(f"{where}: ARRAY[*] OF {elem.name} is not allowed")
+        return OpenArrayInfo(elem, dims)
     if bounds is None:
         example = "bounds=(1, 10)" if depth == 1 else "bounds=((0, 4), (0, 9)), one (lo, hi) per ARRAY level"
         raise DefinitionError(f"{where}: ARRAY needs bounds=, e.g. VAR({example})")
@@ -87,6 +97,8 @@ def _resolve_array(annotation: Any, where: str, length: int | None, bounds: obje
     elem = resolve_type(elem_annotation, where, length=length, bounds=inner_bounds, resolver=resolver)
     if isinstance(elem, ReferenceInfo):
         raise DefinitionError(f"{where}: ARRAY OF REFERENCE is not allowed")
+    if isinstance(elem, OpenArrayInfo):
+        raise DefinitionError(f"{where}: ARRAY OF {elem.name} is not allowed: an element needs its bounds")
     leaf = _array_leaf(elem)
     if leaf is not elem and isinstance(leaf, AggregateInfo) and kind_of(leaf.cls) in (Kind.FUNCTION_BLOCK, Kind.PROGRAM):
         raise DefinitionError(

@@ -32,6 +32,7 @@ from iecoop.memory._resolve import resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
 from iecoop.memory.pointers import Pointer, PointerInfo
 from iecoop.memory.references import ReferenceInfo
+from iecoop.memory.open_arrays import OpenArrayInfo, OpenArrayReferenceInfo
 
 __all__ = [
     "MISSING",
@@ -258,6 +259,13 @@ class LayoutBuilder:
             info = resolve_type(annotation, where, length=spec.length, bounds=spec.bounds, resolver=resolver)
             if self.adjust is not None:
                 info = self.adjust(info, spec, where)
+            if isinstance(info, ReferenceInfo) and isinstance(info.target, OpenArrayInfo) and not isinstance(info, OpenArrayReferenceInfo):
+                raise DefinitionError(f"{where}: REFERENCE TO {info.target.name} is not allowed; a VAR_IN_OUT takes an ARRAY[*]")
+            if isinstance(info, OpenArrayInfo):
+                raise DefinitionError(
+                    f"{where}: {info.name} (bounds='*') is the type of a block's VAR_IN_OUT only; "
+                    f"a {spec.section} of a {self.kind} needs its bounds, e.g. bounds=(1, 10)"
+                )
             if spec.instance_path and not (isinstance(info, StringInfo) and spec.section is Section.VAR
                                            and self.kind in ("FUNCTION_BLOCK", "PROGRAM")):
                 raise DefinitionError(f"{where}: instance_path= is for a STRING or WSTRING VAR of a FUNCTION_BLOCK or "

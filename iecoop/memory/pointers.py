@@ -24,6 +24,7 @@ from iecoop.memory._infos import Address, TypeInfo, _kind_error
 from iecoop.memory._resolve import _Resolver, _annotation_name, _check_plain, resolve_type
 from iecoop.exceptions import DefinitionError
 from iecoop.memory.arrays import ARRAY
+from iecoop.memory.open_arrays import open_dimensions
 from iecoop.memory.references import REFERENCE, ReferenceInfo
 
 __all__ = ["POINTER_TO", "Pointer", "PointerInfo"]
@@ -271,6 +272,8 @@ def _resolve_pointer(annotation: Any, where: str, length: int | None, bounds: ob
         # CODESYS: a reference type is never the base type of an array, a pointer or a reference.
         raise DefinitionError(f"{where}: POINTER TO REFERENCE is not allowed; point to the referenced type instead")
     to_array = typing.get_origin(target_annotation) is ARRAY
+    if to_array and open_dimensions(bounds) is not None:
+        raise DefinitionError(f"{where}: POINTER TO ARRAY[*] is not allowed; only a block's VAR_IN_OUT takes an ARRAY[*]")
     if not to_array:
         _check_plain(None, bounds, where, "POINTER")
 

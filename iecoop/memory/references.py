@@ -41,7 +41,7 @@ REFERENCE_TO = Annotated[_T, REFERENCE]
 
 class ReferenceInfo(TypeInfo):
     direct = False
-    ctype = ctypes.c_uint64
+    ctype: Any = ctypes.c_uint64
     checked_as_target = True
 
     def __init__(self, target: TypeInfo) -> None:

@@ -25,6 +25,7 @@ from iecoop.memory._aggregates import AggregateInfo, ArrayInfo
 from iecoop.memory._infos import ElementaryInfo, EnumInfo, StringInfo, TypeInfo
 from iecoop.memory._resolve import class_info, resolve_type
 from iecoop.memory.interface_references import InterfaceInfo
+from iecoop.memory.open_arrays import OpenArrayInfo, OpenArrayReferenceInfo
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.references import ReferenceInfo
 
@@ -34,6 +35,8 @@ __all__ = [
     "ElementaryInfo",
     "EnumInfo",
     "InterfaceInfo",
+    "OpenArrayInfo",
+    "OpenArrayReferenceInfo",
     "PointerInfo",
     "ReferenceInfo",
     "StringInfo",

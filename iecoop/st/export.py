@@ -81,7 +81,8 @@ def _unchanged(source: Any, format: str) -> dict[str, Source]:
     return {
         name.lower(): origin
         for name, origin in recorded.items()
-        if origin.format == format and fingerprint(getattr(source, name, None)) == origin.fingerprint
+        # A PLCopen export is one file holding every object: the writer writes it whole, never in pieces.
+        if origin.format == format != "plcopen" and fingerprint(getattr(source, name, None)) == origin.fingerprint
     }
 
 

@@ -83,8 +83,23 @@ class Calls(Operators):
             ex = self.expr(value, scope)
             if ex.type is None or ex.type.deref().kind != "array" or not isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)):
                 raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[*] takes an ARRAY variable, not {ex.code}", value)
+            self.check_open_array(value, ex, param)
             return ex.code
         return self.by_reference_argument(value, scope, ":=")
+
+    def check_open_array(self, value: Any, ex: Ex, param: Member) -> None:
+        """An ``ARRAY[*] OF T`` in-out takes an ARRAY of T with as many dimensions, as the PLC's compiler checks."""
+        assert param.type is not None and ex.type is not None
+        given, wanted = ex.type.deref(), param.type
+        dims = len(given.bounds) if given.bounds is not None else given.open_dims
+        same_element = given.of is None or wanted.of is None or given.of.annotation() == wanted.of.annotation()
+        if same_element and (not wanted.open_dims or dims == wanted.open_dims):
+            return
+        stars = ", ".join("*" * (wanted.open_dims or 1))
+        element = wanted.of.name if wanted.of is not None else "?"
+        raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[{stars}] OF {element} takes an ARRAY of {element} with "
+                        f"{wanted.open_dims or 1} dimension(s), not {value} (of {given.of.name if given.of else '?'}, "
+                        f"{dims} dimension(s))", value)
 
     def generic_argument(self, value: Any, param: Member, scope: Scope) -> str:
         """The ``AnyType`` a generic input (``x : ANY_NUM``) gets: the caller's variable where it has an address,
@@ -252,6 +267,11 @@ class Calls(Operators):
                 outputs.append((member, param.value))
                 continue
             if member.section == "VAR_IN_OUT":
+                if member.type is not None and member.type.kind == "array" and member.type.bounds is None:
+                    given = self.expr(param.value, scope)
+                    if given.type is None or given.type.deref().kind != "array":
+                        raise self.fail(f"VAR_IN_OUT {member.st} : ARRAY[*] takes an ARRAY variable, not {param.value}", param.value)
+                    self.check_open_array(param.value, given, member)
                 value = self.address_of(param.value, scope)
             else:
                 value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type, f"input {member.st}")).code

@@ -39,6 +39,10 @@ def _shape_keywords(type_: TypeRef) -> list[str]:
     if shape.kind != "array":
         return kwargs
     levels = []
+    if shape is type_ and type_.bounds is None:
+        # ARRAY[*] (a block's VAR_IN_OUT): bounds="*", or one "*" per dimension
+        stars = ", ".join(['"*"'] * type_.open_dims)
+        return [*kwargs, f"bounds={stars}" if type_.open_dims == 1 else f"bounds=({stars})"]
     while shape.kind == "array" and shape.of is not None:
         assert shape.bounds is not None
         pairs = [f"({a}, {b})" for a, b in shape.bounds]
@@ -186,8 +190,8 @@ class Declarations(Statements):
         assert type_ is not None
         if type_.kind == "any":
             raise self.fail(f"{member.section} {member.st} : {type_.name}: a generic type is not supported outside a VAR_INPUT of a FUNCTION or METHOD")
-        if type_.kind == "array" and type_.bounds is None:
-            raise self.fail(f"{member.section} {member.st} : ARRAY[*] is not supported outside a VAR_IN_OUT of a FUNCTION or METHOD")
+        if type_.kind == "array" and type_.bounds is None and member.section != "VAR_IN_OUT":
+            raise self.fail(f"{member.section} {member.st} : ARRAY[*] is not supported outside a VAR_IN_OUT (of a block, METHOD or FUNCTION)")
         if type_.kind == "varinfo" and member.section == "VAR_TEMP" and scope.kind == "body":
             # VAR_TEMP is new at every call of the body: a Python local of body(), set by := __VARINFO(x)
             scope.locals[member.st.lower()] = Member(member.name, type_, "LOCAL", st=member.st)

@@ -35,7 +35,8 @@ class Source:
     """What one loaded object was read from."""
 
     name: str
-    #: ``"twincat"`` (``text`` is the whole file) or ``"st"`` (``text`` is the object's lines)
+    #: ``"twincat"`` (``text`` is the whole file), ``"plcopen"`` (the whole PLCopen XML export, which
+    #: holds every object) or ``"st"`` (``text`` is the object's lines)
     format: str
     #: the file read (``"<st>"`` for text passed to ``st.load``)
     file: str
@@ -55,7 +56,13 @@ def sources(units: Sequence[Any], namespace: Mapping[str, Any], text: str | None
     ST text ``st.load`` was given (None for files)."""
     found: dict[str, Source] = {}
     for unit in units:
-        for source in _twincat(unit.filename) if _is_twincat(unit.filename) else _st(unit, text):
+        if _is_twincat(unit.filename):
+            read = _twincat(unit.filename)
+        elif _is_plcopen(unit.filename):
+            read = _plcopen(unit)
+        else:
+            read = _st(unit, text)
+        for source in read:
             if source.name in namespace and source.name not in found:
                 found[source.name] = dataclasses.replace(source, fingerprint=fingerprint(namespace[source.name]))
     return found
@@ -75,6 +82,19 @@ def project_name(source: Any) -> str | None:
 
 def _is_twincat(filename: str) -> bool:
     return pathlib.Path(filename).suffix.lower() in (".tcpou", ".tcdut", ".tcgvl", ".tcio")
+
+
+def _is_plcopen(filename: str) -> bool:
+    return pathlib.Path(filename).suffix.lower() == ".xml" and pathlib.Path(filename).is_file()
+
+
+def _plcopen(unit: Any) -> Iterable[Source]:
+    """Each object of a PLCopen XML export: the file's lines are XML, so no object has ST lines of its own."""
+    data = pathlib.Path(unit.filename).read_bytes()
+    for item in getattr(unit.tree, "items", ()):
+        name = object_name(item)
+        if name is not None and type(item).__name__ not in _MEMBER_NODES:
+            yield Source(name, "plcopen", unit.filename, getattr(getattr(item, "meta", None), "line", 1) or 1, data)
 
 
 def _twincat(filename: str) -> Iterable[Source]:

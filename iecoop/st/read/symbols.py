@@ -429,7 +429,9 @@ class Symbols:
             element = self._array_type(element_spec, None, node)
         else:
             element = self._spec_type(element_spec, node)
-        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds, bound_names=frozenset(names_read(spec.subranges))), indirection)
+        open_dims = len(spec.subranges) if bounds is None else 0
+        return self._indirect(TypeRef("array", "ARRAY", of=element, bounds=bounds, bound_names=frozenset(names_read(spec.subranges)),
+                                      open_dims=open_dims), indirection)
 
     def const_expr(self, node: Any) -> str:
         """A constant expression (ARRAY bounds, STRING length) as Python text; it may name its POU's VAR CONSTANTs."""

@@ -82,6 +82,8 @@ class TypeRef:
     bound_names: frozenset[str] = dataclasses.field(default=frozenset(), compare=False)
     #: a subrange ``INT(0..100)``: its lower and upper limits (Python text)
     limits: tuple[str, str] | None = None
+    #: an ``ARRAY[*, *]`` (``bounds`` None): how many dimensions it leaves open
+    open_dims: int = 0
 
     def annotation(self) -> str:
         if self.kind == "array":

@@ -27,6 +27,7 @@ from iecoop.memory.typeinfo import (
     ElementaryInfo,
     EnumInfo,
     InterfaceInfo,
+    OpenArrayInfo,
     ReferenceInfo,
     StringInfo,
     TypeInfo,
@@ -50,6 +51,7 @@ from iecoop.st.write.infer import (
     _member_function,
 )
 from iecoop.st.language import BUILTIN_FUNCTIONS, ELEMENTARY, INTEGER_TYPES, MATH_BY_PYTHON, OPERATOR_FUNCTIONS, PRECEDENCE
+from iecoop.st.write.literals import literal
 from iecoop.st.write.model import StExportError, field_ident, ident, type_text
 
 __all__ = ["ExpressionWriter", "literal"]
@@ -189,6 +191,9 @@ class ExpressionWriter(Inference):
 
     def visit_Subscript(self, node: ast.Subscript) -> tuple[str, int]:
         """``a[i, j]``: ``a[i, j]`` (a slice has no ST form)."""
+        bound = _bound_function(self, node)
+        if bound is not None:
+            return bound, _ATOM
         base = self.expr(node.value, _ATOM)[0]
         index = node.slice
         parts = index.elts if isinstance(index, ast.Tuple) else [index]
@@ -460,6 +465,10 @@ class ExpressionWriter(Inference):
         if node.attr in ("low", "high") and isinstance(info, ArrayInfo) and len(info.bounds) == 1:
             # An ARRAY's bounds are its declaration's constants (LOWER_BOUND / UPPER_BOUND give the same).
             return str(info.bounds[0][0 if node.attr == "low" else 1])
+        open_array = info.target if isinstance(info, ReferenceInfo) else info
+        if node.attr in ("low", "high") and isinstance(open_array, OpenArrayInfo) and open_array.dims == 1:
+            # ARRAY[*]: the bounds of the array bound at the call
+            return f"{'LOWER_BOUND' if node.attr == 'low' else 'UPPER_BOUND'}({self.expr(node.value)[0]}, 1)"
         if node.attr == "name" and isinstance(info, EnumInfo):
             # TO_STRING gives a component's name where the enumeration has {attribute 'to_string'}.
             self.scope.named_enums.add(info.enum_cls)
@@ -702,64 +711,24 @@ def library_name(name: str, value: Any) -> bool:
     return False
 
 
-def _real_text(value: float) -> str:
-    text = repr(float(value))
-    if not math.isfinite(value):
-        raise ValueError(f"{value!r} has no ST literal")
-    mantissa, _, exponent = text.partition("e")
-    if "." not in mantissa:
-        mantissa += ".0"
-    return f"{mantissa}E{exponent}" if exponent else mantissa
-
-
-#: ST's named string escapes (IEC 61131-3, 6.3.3); every other control character is ``$`` and its code in hex.
-_ESCAPES = {"$": "$$", "\n": "$N", "\t": "$T", "\r": "$R", "\f": "$P"}
-
-
-def _string_text(value: str, quote: str = "'") -> str:
-    """A STRING ('...', ``$xx``) or WSTRING ("...", ``$xxxx``) literal: no control character is written as it is,
-    so the text stays one line and the TwinCAT and PLCopen XML stay well-formed."""
-    digits = 2 if quote == "'" else 4
-    out = []
-    for char in value:
-        if char in _ESCAPES or char == quote:
-            out.append(_ESCAPES.get(char) or "$" + char)
-        elif char < " " or "\x7f" <= char <= "\x9f" or char in "\ufffe\uffff":  # the last two: no XML holds them
-            out.append(f"${ord(char):0{digits}X}")
-        else:
-            out.append(char)
-    return quote + "".join(out) + quote
-
-
-def literal(value: Any, info: TypeInfo | None = None) -> str:
-    """A Python value as an ST literal of type ``info`` (TIME values as ``T#...``, DT as ``DT#...``...)."""
-    if isinstance(value, enum.Enum):
-        return f"{type(value).__name__}.{ident(value.name)}"
-    if isinstance(value, bool):
-        return "TRUE" if value else "FALSE"
-    if isinstance(info, ElementaryInfo) and isinstance(value, int):
-        kind, name = info.record.kind, info.record.name
-        if name == "TIME":
-            return format_time(value).upper()
-        if name == "LTIME":
-            return format_ltime(value).upper()
-        if name == "DATE":
-            return format_date(value)
-        if name in ("DT", "DATE_AND_TIME"):
-            return format_dt(value)
-        if name in ("TOD", "TIME_OF_DAY"):
-            return format_tod(value)
-        if kind == "real":
-            return _real_text(value)
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        return _real_text(value)
-    if isinstance(value, str):
-        return _string_text(value, '"' if isinstance(info, StringInfo) and info.record.name == "WSTRING" else "'")
-    if value is None:
-        return "0"
-    raise ValueError(f"{value!r} has no ST literal")
+def _bound_function(w: ExpressionWriter, node: ast.Subscript) -> str | None:
+    """``a.bounds[d - 1][0]`` / ``[1]``, an ARRAY's bounds in dimension d: ``LOWER_BOUND(a, d)`` / ``UPPER_BOUND(a, d)``."""
+    inner = node.value
+    if not (isinstance(inner, ast.Subscript) and isinstance(inner.value, ast.Attribute) and inner.value.attr == "bounds"
+            and isinstance(node.slice, ast.Constant) and node.slice.value in (0, 1)):
+        return None
+    info = w.typeof(inner.value.value)
+    if not isinstance(info.target if isinstance(info, ReferenceInfo) else info, (ArrayInfo, OpenArrayInfo)):
+        return None
+    dim = inner.slice
+    if isinstance(dim, ast.BinOp) and isinstance(dim.op, ast.Sub) and isinstance(dim.right, ast.Constant) and dim.right.value == 1:
+        text = w.expr(dim.left)[0]  # the reader's `d - 1`
+    elif isinstance(dim, ast.Constant) and isinstance(dim.value, int) and not isinstance(dim.value, bool):
+        text = str(dim.value + 1)
+    else:
+        text = f"{w.expr(dim, _ADD)[0]} + 1"
+    word = "LOWER_BOUND" if node.slice.value == 0 else "UPPER_BOUND"
+    return f"{word}({w.expr(inner.value.value)[0]}, {text})"
 
 
 def _paren(text: str, prec: int, need: int) -> str:

@@ -31,7 +31,7 @@ from iecoop.memory.typeinfo import (
 from iecoop.memory.pointers import PointerInfo
 from iecoop.memory.layout import MISSING
 from iecoop.st.language import PLCOPEN_ELEMENTARY, PLCOPEN_ST_DECLARATION
-from iecoop.st.write.expressions import literal
+from iecoop.st.write.literals import literal
 from iecoop.st.write.units import Part, Unit, constant_type, initial_text, parameter_groups, variable_line
 from iecoop.st.write.model import FieldDecl, StExportError, alias_base, enum_base, enum_members, ident, type_text
 
@@ -412,6 +412,7 @@ def plcopen_project(name: str, units: Sequence[Unit]) -> str:
             interface = _sub(pou, "interface")
             if unit.meta is not None:
                 _sections(interface, [f for f in unit.meta.fields if f.section != "VAR_INST"], unit.name)
+                _local_vars(interface, unit.temps, "tempVars")
             else:
                 _function_interface(interface, unit)
             _attributes(interface, unit.attributes)

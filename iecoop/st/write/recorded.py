@@ -70,7 +70,8 @@ def _item(origin: Any, name: str) -> Any:
     from iecoop.st.read.origin import object_name
     from iecoop.st.read.parse import parse_sources
 
-    if origin.format == "twincat":
+    if origin.format in ("twincat", "plcopen"):
+        # a file of its own (TwinCAT XML, a PLCopen export): parsed again as the loader parsed it
         path = pathlib.Path(origin.file)
         if not path.is_file() or path.read_bytes() != origin.text:
             return None

@@ -22,7 +22,8 @@ from iecoop.memory.typeinfo import AggregateInfo, ArrayInfo, ReferenceInfo, Type
 from iecoop.memory.layout import MISSING
 from iecoop.memory.operators import AddressOf, Sibling
 from iecoop.st.language import SECTION_ORDER
-from iecoop.st.write.expressions import _CONSTANTS_GVL, literal
+from iecoop.st.write.expressions import _CONSTANTS_GVL
+from iecoop.st.write.literals import literal
 from iecoop.st.write.infer import _BOOL, Scope, _body_params, _by_reference, _fields_of
 from iecoop.st.write.infer import result_info as _result_info
 from iecoop.st.write.recorded import Declared
@@ -107,6 +108,8 @@ class Unit:
     attributes: list[str] = dataclasses.field(default_factory=list)
     #: The module constants of the constants' GVL: (Python name, value).
     constants: list[tuple[str, Any]] = dataclasses.field(default_factory=list)
+    #: A block's or PROGRAM's body locals (its VAR_TEMP): (ST name, type).
+    temps: tuple[tuple[str, TypeInfo | str], ...] = ()
 
     def add_attribute(self, attribute: str) -> None:
         """Set an attribute on the object: its pragma heads the declaration (once: a loaded object may have it)."""
@@ -446,11 +449,13 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     # TwinCAT wants call_after_init above the FUNCTION_BLOCK too, not only above the METHOD it calls.
     after_init = any(getattr(m.function, "_iec_call_after_init_", False) for m in meta.members if m.kind == "method")
     decl_lines = [_pou_header(meta)]
+    own_temps: tuple[tuple[str, TypeInfo | str], ...] = ()
     if not interface:
         temps: list[str] = []
         if meta.body is not None:
             body = writer.body(meta.body, st_name=name)
             implementation = "\n".join(body.lines)
+            own_temps = _locals_of(body)
             temps = _local_lines(body)
             if temps:
                 temps[0] = "VAR_TEMP"
@@ -460,7 +465,7 @@ def _pou_unit(meta: ClassMeta, writer: _Writer) -> Unit:
     if any(field.spec.instance_path for field in meta.fields):
         own.append(_REFLECTION)  # the PLC's compiler fills an instance-path STRING of a POU marked so only
     declaration, attributes = _headed(meta, own, decl_lines)
-    return Unit(meta.kind, name, declaration + "\n", implementation, parts, meta, attributes=attributes)
+    return Unit(meta.kind, name, declaration + "\n", implementation, parts, meta, attributes=attributes, temps=own_temps)
 
 
 def _pou_header(meta: ClassMeta) -> str:
