@@ -94,13 +94,8 @@ def gvl(cls: type[_G]) -> _G:
     layout: ClassLayout | None = getattr(cls, "_iec_layout_", None)
     if layout is None:
         raise DefinitionError(f"@gvl needs a GlobalVariables subclass with variables, got {cls.__name__}")
+    # Two lists may declare one name (TwinCAT: reached as GVL_A.x and GVL_B.x); a VAR_EXTERNAL of it is refused.
     namespace = namespace_of(cls.__module__)
-    for record in layout.fields:
-        for (other_space, other_name), other in list(_lists.items()):
-            if other_space == namespace and other_name != cls.__name__ and record.name in type(other)._iec_layout_.by_name:
-                raise DefinitionError(
-                    f"GVL {cls.__name__}: global {record.name!r} is already declared in GVL {other_name}"
-                )
     instance: Any = typing.cast(Any, cls).__new__(cls)
     # Function block instances in a GVL get their FB_init, as global instances do on the PLC.
     cls_any: Any = cls
@@ -145,6 +140,10 @@ def find_global(name: str, where: str, module: str = "") -> tuple[Any, FieldReco
         if (record := type(instance)._iec_layout_.by_name.get(name)) is not None
     ]
     own = [(instance, record) for space, instance, record in found if space == namespace]
+    if len(own) > 1:
+        lists = ", ".join(sorted(type(instance).__name__ for instance, _record in own))
+        raise DefinitionError(f"{where}: VAR_EXTERNAL {name!r} is declared by several global lists ({lists}): "
+                              "read it through its list (GVL_A.x) instead")
     if own:
         return own[-1]
     if len(found) == 1:

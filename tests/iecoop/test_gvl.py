@@ -59,12 +59,18 @@ def test_a_global_of_the_wrong_kind_names_the_variable() -> None:
         GVL_CountingLine.parts = "x"  # type: ignore[assignment]
 
 
-def test_a_global_name_is_declared_once() -> None:
-    with pytest.raises(DefinitionError, match=r"GVL GVL_Other: global 'parts' is already declared in GVL GVL_CountingLine"):
+def test_two_lists_may_declare_one_name_each_read_through_its_list() -> None:
+    @gvl
+    class GVL_Other(GlobalVariables):
+        parts: INT = 7
 
-        @gvl
-        class GVL_Other(GlobalVariables):
-            parts: INT = 0
+    GVL_CountingLine.parts = 3
+    assert (GVL_CountingLine.parts, GVL_Other.parts) == (3, 7)
+    with pytest.raises(DefinitionError, match=r"Shared\.parts: VAR_EXTERNAL 'parts' is declared by several global lists "
+                                              r"\(GVL_CountingLine, GVL_Other\): read it through its list"):
+
+        class Shared(FunctionBlock):
+            parts: INT = VAR_EXTERNAL()
 
 
 def test_var_external_needs_a_global_of_that_name() -> None:

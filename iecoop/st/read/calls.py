@@ -246,6 +246,20 @@ class Calls(Operators):
             return found[1]
         return None
 
+    def _block_argument(self, member: Member, value: Any, scope: Scope) -> str:
+        """What a block's call passes for ``member := value``: an in-out's or a REFERENCE TO input's variable, else the value."""
+        if member.section == "VAR_IN_OUT":
+            if member.type is not None and member.type.kind == "array" and member.type.bounds is None:
+                given = self.expr(value, scope)
+                if given.type is None or given.type.deref().kind != "array":
+                    raise self.fail(f"VAR_IN_OUT {member.st} : ARRAY[*] takes an ARRAY variable, not {value}", value)
+                self.check_open_array(value, given, member)
+            return self.address_of(value, scope)
+        if member.type is not None and member.type.kind == "reference":
+            # a REFERENCE TO input given a variable at the call is bound to it (REF= at the call)
+            return self.address_of(value, scope)
+        return self.limit(member.type, self.coerce(self.expr(value, scope), member.type, f"input {member.st}")).code
+
     def fb_call(self, callee: Ex, decl: Decl, node: Any, scope: Scope, level: int | None) -> Ex | None:
         inputs, outputs = [], []
         # IEC 61131-3's non-formal call: fb(1, 2) sets the inputs (and in-outs) in the order the block declares them
@@ -266,16 +280,7 @@ class Calls(Operators):
                     raise self.fail("an inverted output (=> NOT) is not supported", node)
                 outputs.append((member, param.value))
                 continue
-            if member.section == "VAR_IN_OUT":
-                if member.type is not None and member.type.kind == "array" and member.type.bounds is None:
-                    given = self.expr(param.value, scope)
-                    if given.type is None or given.type.deref().kind != "array":
-                        raise self.fail(f"VAR_IN_OUT {member.st} : ARRAY[*] takes an ARRAY variable, not {param.value}", param.value)
-                    self.check_open_array(param.value, given, member)
-                value = self.address_of(param.value, scope)
-            else:
-                value = self.limit(member.type, self.coerce(self.expr(param.value, scope), member.type, f"input {member.st}")).code
-            inputs.append(f"{member.name}={value}")
+            inputs.append(f"{member.name}={self._block_argument(member, param.value, scope)}")
         code = f"{callee.code}({', '.join(inputs)})"
         if outputs:
             if level is None:

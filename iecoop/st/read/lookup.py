@@ -141,3 +141,16 @@ def unknown_name(what: str, name: str, decls: Lookup[Any]) -> str:
         return f"unknown {what} {name!r}: library {namespace} declares no {last}"
     return (f"unknown {what} {name!r}: {namespace!r} is no namespace of a bound library "
             f"(the project's references and libraries= name them)")
+
+
+def add_global(globals_: Lookup[Any], lists_of: dict[str, list[str]], list_name: str, value: Any, name: str) -> None:
+    """A global's plain name: its list's, or refused where two lists declare it (each is reached as ``GVL_A.name``,
+    as TwinCAT takes two lists of one name, ``{attribute 'qualified_only'}`` or not)."""
+    key = name.lower()
+    lists = lists_of.setdefault(key, [])
+    if list_name not in lists:
+        lists.append(list_name)
+    if len(lists) == 1:
+        globals_[key] = value
+    else:
+        globals_.refuse(key, f"global {name} is declared in {' and '.join(lists)}: name its list ({lists[0]}.{name})")

@@ -17,7 +17,7 @@ from iecoop.metadata import fields_of
 from iecoop.st.language import ELEMENTARY, STANDARD_FBS, canonical_type
 from iecoop.st.read.parse import StUnsupportedError, Unit
 from iecoop.st.read.frames import Ex, Scope
-from iecoop.st.read.lookup import BoundLibrary, Lookup, unknown_name
+from iecoop.st.read.lookup import BoundLibrary, Lookup, add_global, unknown_name
 from iecoop.st.read.names import field_name, python_name
 from iecoop.st.read.table import (
     ANYTYPE, GENERIC_FAMILIES,
@@ -58,6 +58,7 @@ class Symbols:
         self.declared: dict[str, tuple[str, str]] = {}
         self.enum_values: Lookup[tuple[str, str]] = Lookup()
         self.globals: Lookup[tuple[str, Member]] = Lookup()
+        self.global_lists: dict[str, list[str]] = {}  # a global's ST name (lower case) -> the lists declaring it
         #: the libraries the source uses, bound before pass 1 (``read.libraries``)
         self.libraries = libraries
         self.externals = {name.lower() for name in externals}
@@ -274,7 +275,7 @@ class Symbols:
                 self.unit = decl.units.get(id(block), decl.unit)
                 for member in self._block_members(block, attribute=True):
                     self._add_member(decl, member)
-                    self.globals[member.st.lower()] = (decl.name, member)
+                    add_global(self.globals, self.global_lists, decl.st, (decl.name, member), member.st)
         elif decl.kind == "alias":
             decl.alias_of = self._alias_target(decl.node)
 
