@@ -78,7 +78,7 @@ def _resolve_array(annotation: Any, where: str, length: int | None, bounds: obje
         if depth > 1:
             raise DefinitionError(f"{where}: ARRAY[*] OF ARRAY is not supported; write ARRAY[*, *] OF the element (bounds=('*', '*'))")
         elem = resolve_type(elem_annotation, where, length=length, bounds=None, resolver=resolver)
-        if isinstance(elem, (ReferenceInfo, OpenArrayInfo)):
+        if isinstance(elem, ReferenceInfo):
             raise DefinitionError(f"{where}: ARRAY[*] OF {elem.name} is not allowed")
         return OpenArrayInfo(elem, dims)
     if bounds is None:

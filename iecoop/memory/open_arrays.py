@@ -84,9 +84,13 @@ class OpenArrayReferenceInfo(ReferenceInfo):
         pairs = tuple((values[i], values[i + 1]) for i in range(0, len(values), 2))
         return record.handle, array_info(self.open.elem, pairs)
 
+    def array_at(self, root: Any, offset: int, where: str) -> Any:
+        """The array last bound, a view with its bounds."""
+        handle, info = self.bound(root, offset, where)
+        return info.load_handle(handle, where)
+
     def load(self, root: Any, offset: int) -> Any:
-        handle, info = self.bound(root, offset, self.name)
-        return info.load_handle(handle, self.name)
+        return self.array_at(root, offset, self.name)
 
     def store(self, root: Any, offset: int, value: Any, where: str) -> None:
         handle, info = self.bound(root, offset, where)
@@ -121,16 +125,15 @@ class OpenArrayReferenceInfo(ReferenceInfo):
 class _OpenArrayField:
     """``self.aData``: the array bound at the last call, with its bounds; ``self.aData = other`` copies into it."""
 
-    __slots__ = ("info", "raw", "offset", "where")
+    __slots__ = ("info", "offset", "where")
 
     def __init__(self, info: OpenArrayReferenceInfo, raw: Any, where: str) -> None:
-        self.info, self.raw, self.offset, self.where = info, raw, raw.offset, where
+        self.info, self.offset, self.where = info, raw.offset, where
 
     def __get__(self, obj: Any, owner: Any = None) -> Any:
         if obj is None:
             return self
-        handle, info = self.info.bound(obj, self.offset, self.where)
-        return info.load_handle(handle, self.where)
+        return self.info.array_at(obj, self.offset, self.where)
 
     def __set__(self, obj: Any, value: Any) -> None:
         self.info.store(obj, self.offset, value, self.where)

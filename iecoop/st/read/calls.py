@@ -81,7 +81,7 @@ class Calls(Operators):
         """The caller's variable a VAR_IN_OUT gets: its address, or for an ``ARRAY[*]`` the array itself (a view of it)."""
         if param.type is not None and param.type.kind == "array" and param.type.bounds is None:
             ex = self.expr(value, scope)
-            if ex.type is None or ex.type.deref().kind != "array" or not isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)):
+            if not isinstance(value, (tf.SimpleVariable, tf.MultiElementVariable)):
                 raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[*] takes an ARRAY variable, not {ex.code}", value)
             self.check_open_array(value, ex, param)
             return ex.code
@@ -89,7 +89,9 @@ class Calls(Operators):
 
     def check_open_array(self, value: Any, ex: Ex, param: Member) -> None:
         """An ``ARRAY[*] OF T`` in-out takes an ARRAY of T with as many dimensions, as the PLC's compiler checks."""
-        assert param.type is not None and ex.type is not None
+        assert param.type is not None
+        if ex.type is None or ex.type.deref().kind != "array":
+            raise self.fail(f"VAR_IN_OUT {param.st} : ARRAY[*] takes an ARRAY variable, not {value}", value)
         given, wanted = ex.type.deref(), param.type
         dims = len(given.bounds) if given.bounds is not None else given.open_dims
         same_element = given.of is None or wanted.of is None or given.of.annotation() == wanted.of.annotation()
@@ -250,10 +252,7 @@ class Calls(Operators):
         """What a block's call passes for ``member := value``: an in-out's or a REFERENCE TO input's variable, else the value."""
         if member.section == "VAR_IN_OUT":
             if member.type is not None and member.type.kind == "array" and member.type.bounds is None:
-                given = self.expr(value, scope)
-                if given.type is None or given.type.deref().kind != "array":
-                    raise self.fail(f"VAR_IN_OUT {member.st} : ARRAY[*] takes an ARRAY variable, not {value}", value)
-                self.check_open_array(value, given, member)
+                self.check_open_array(value, self.expr(value, scope), member)
             return self.address_of(value, scope)
         if member.type is not None and member.type.kind == "reference":
             # a REFERENCE TO input given a variable at the call is bound to it (REF= at the call)

@@ -54,7 +54,7 @@ from iecoop.st.language import BUILTIN_FUNCTIONS, ELEMENTARY, INTEGER_TYPES, MAT
 from iecoop.st.write.literals import literal
 from iecoop.st.write.model import StExportError, field_ident, ident, type_text
 
-__all__ = ["ExpressionWriter", "literal"]
+__all__ = ["ExpressionWriter"]
 
 #: ST operator precedence (language.PRECEDENCE), loosest first; an atom (a name, a literal, a call) binds tightest.
 _OR, _XOR, _AND, _EQ, _CMP, _ADD, _MUL, _UNARY = (PRECEDENCE[op] for op in ("OR", "XOR", "AND", "=", "<", "+", "*", "NOT"))
